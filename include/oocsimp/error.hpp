@@ -1,0 +1,41 @@
+// oocsimp — error types.
+//
+// Every failure leaves the library as an exception of one of three kinds; the
+// CLI maps each kind to an exit code (usage 2, bad input 3, I/O or resources 4).
+// Messages are one line and name the file and the position (byte offset or line).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace oocsimp {
+
+/// Inconsistent or impossible options (exit code 2).
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The input file is malformed: truncated, wrong counts, bad indices, NaN coordinates
+/// (exit code 3). The message starts with "FILE: byte N:" or "FILE: line N:".
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Reading, writing, mapping or allocating failed for a reason outside the input's
+/// content: missing file, full disk, permissions, memory (exit code 4).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Builds "FILE: byte OFFSET: WHAT" for an InputError in a binary section.
+std::string at_byte(const std::string& file, std::uint64_t offset, const std::string& what);
+/// Builds "FILE: line LINE: WHAT" for an InputError in a text section.
+std::string at_line(const std::string& file, std::uint64_t line, const std::string& what);
+/// Builds "FILE: WHAT: strerror(errno)" for an IoError after a failed system call.
+std::string system_error_text(const std::string& file, const std::string& what, int errnum);
+
+}  // namespace oocsimp

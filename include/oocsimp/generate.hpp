@@ -1,0 +1,35 @@
+// oocsimp — synthetic dense meshes of any size.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace oocsimp {
+
+enum class SyntheticShape { sphere, terrain, parts };
+
+struct GenerateOptions {
+  std::uint64_t triangles = 1000000;  ///< target; the result is within 1% (and at least 1 part)
+  SyntheticShape shape = SyntheticShape::sphere;
+  std::uint64_t seed = 1;
+  bool ascii = false;                 ///< ascii PLY instead of binary little-endian
+};
+
+struct GenerateResult {
+  std::uint64_t vertices = 0;
+  std::uint64_t triangles = 0;
+};
+
+/// Streams a synthetic mesh to `path` as PLY (".zst" compresses) in O(1) memory,
+/// deterministically from the seed:
+///  - sphere: a closed genus-0 surface (latitude-longitude tessellation) displaced by
+///    a sum of seeded sinusoids of several frequencies;
+///  - terrain: an open height field over the unit square with a boundary;
+///  - parts: intersecting boxes and cylinders with sharp edges and small features.
+/// Written to a temporary name and renamed when complete. `progress` (optional) is
+/// called with (triangles written, total).
+GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options,
+                             void (*progress)(std::uint64_t, std::uint64_t, void*) = nullptr,
+                             void* progress_user = nullptr);
+
+}  // namespace oocsimp

@@ -1,0 +1,143 @@
+// oocsimp — streaming mesh input.
+//
+// A mesh file is opened as two things: a random-access array of vertex positions
+// that lives in a memory-mapped file (the input itself for binary PLY with
+// fixed-size vertex records, otherwise a temporary float array under the temp
+// directory), and a sequential stream of triangles (polygons are fanned). Neither
+// ever holds the whole input in heap memory.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace oocsimp {
+
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+
+/// Axis-aligned bounding box; empty when min > max.
+struct Box3d {
+  Vec3d min{1e300, 1e300, 1e300};
+  Vec3d max{-1e300, -1e300, -1e300};
+  bool empty() const { return min.x > max.x; }
+  /// Length of the diagonal; 0 when empty.
+  double diagonal() const;
+  void add(const Vec3d& p);
+  void add(const Box3d& b);
+};
+
+enum class ScalarType : std::uint8_t { f32, f64 };
+
+/// Read-only view of vertex positions in mapped memory: vertex i's x, y and z are
+/// at base + i*stride + offset[k], stored as `type`, byte-swapped when `swap`.
+struct PositionArray {
+  const unsigned char* base = nullptr;
+  std::uint64_t count = 0;
+  std::size_t stride = 12;
+  std::size_t offset[3] = {0, 4, 8};
+  ScalarType type = ScalarType::f32;
+  bool swap = false;
+
+  /// Position of vertex i (i < count, unchecked) in double precision.
+  inline Vec3d get(std::uint64_t i) const;
+};
+
+/// What `oocsimp info` prints: the format and the header-level facts of a mesh.
+struct MeshInfo {
+  std::string path;
+  std::string format;            ///< e.g. "ply binary_little_endian", "obj", "stl binary"
+  bool compressed = false;       ///< read through zstd
+  std::uint64_t vertex_count = 0;
+  std::uint64_t face_count = 0;  ///< faces as stored (polygons); STL: triangles
+  std::vector<std::string> elements;    ///< "vertex 100 (x float, y float, ...)" per element
+  std::vector<std::string> comments;    ///< PLY comment / obj_info lines
+  bool positions_in_place = false;      ///< true when positions are read from the input through mmap
+  Box3d bounds;
+};
+
+/// A sequential source of triangles as vertex-index triples, in file order.
+class TriangleStream {
+ public:
+  virtual ~TriangleStream() = default;
+  /// Writes up to `max_triangles` triangles (3 indices each) into `out` and returns how
+  /// many; 0 means the stream is exhausted. Indices are validated against the vertex
+  /// count; a bad record throws InputError naming the file and position.
+  virtual std::size_t read(std::uint64_t* out, std::size_t max_triangles) = 0;
+  /// Input bytes consumed so far (compressed bytes for .zst), for progress reports.
+  virtual std::uint64_t bytes_consumed() const = 0;
+  /// Faces skipped because they had fewer than three corners.
+  virtual std::uint64_t skipped_faces() const { return 0; }
+};
+
+class MappedFile;
+class TempFile;
+
+/// An opened mesh: info, positions and a triangle stream. Owns the mappings and
+/// temporary files behind them; they are released (and deleted) with it.
+class MeshInput {
+ public:
+  MeshInput();
+  MeshInput(MeshInput&&) noexcept;
+  MeshInput& operator=(MeshInput&&) noexcept;
+  ~MeshInput();
+
+  MeshInfo info;
+  PositionArray positions;
+  /// Triangles in file order. Call `restart_triangles()` to read them again.
+  std::unique_ptr<TriangleStream> triangles;
+  /// Total input size in bytes (compressed size for .zst), the denominator of progress.
+  std::uint64_t file_size = 0;
+
+  /// Reopens the triangle stream at the first triangle.
+  void restart_triangles();
+
+  // Implementation state (format reader, mappings, temp files).
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
+struct OpenOptions {
+  std::string temp_dir;          ///< where temporary position arrays go; empty = $TMPDIR or /tmp
+  /// Called with (bytes consumed, total bytes) while positions are converted.
+  void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr;
+  void* progress_user = nullptr;
+};
+
+/// Opens a PLY (ascii / binary LE / binary BE), OBJ or STL (ascii / binary) file,
+/// optionally zstd-compressed (".zst"). Detects the format from the content (the
+/// extension is only a tie-breaker), maps or converts the positions, computes the
+/// bounding box and rejects NaN or infinite coordinates with InputError.
+MeshInput open_mesh_input(const std::string& path, const OpenOptions& options = {});
+
+inline Vec3d PositionArray::get(std::uint64_t i) const {
+  const unsigned char* rec = base + i * stride;
+  double v[3];
+  if (type == ScalarType::f32) {
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t u;
+      std::memcpy(&u, rec + offset[k], 4);
+      if (swap) u = __builtin_bswap32(u);
+      float f;
+      std::memcpy(&f, &u, 4);
+      v[k] = f;
+    }
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t u;
+      std::memcpy(&u, rec + offset[k], 8);
+      if (swap) u = __builtin_bswap64(u);
+      std::memcpy(&v[k], &u, 8);
+    }
+  }
+  return {v[0], v[1], v[2]};
+}
+
+/// The default temporary directory: $TMPDIR if set and non-empty, else /tmp.
+std::string default_temp_dir();
+
+}  // namespace oocsimp

@@ -1,0 +1,36 @@
+// oocsimp — quadric error metric (Garland & Heckbert; shared/papers/004, "Quadratic
+// error-metric").
+//
+// The squared distance to a plane n·x + d = 0 (|n| = 1) is x^T (n n^T) x + 2 d n·x + d^2.
+// A quadric stores the sums of these terms, weighted by triangle area, as
+// E(x) = x^T A x - 2 b^T x + c with A symmetric (6 unique entries).
+#pragma once
+
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp {
+
+struct Quadric {
+  // A = [a00 a01 a02; a01 a11 a12; a02 a12 a22]
+  double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
+  double b0 = 0, b1 = 0, b2 = 0;
+  double c = 0;
+
+  /// Adds the area-weighted plane quadric of triangle (p, q, r). A triangle of zero
+  /// area adds nothing.
+  void add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r);
+  void add(const Quadric& o);
+  /// E(x): the area-weighted sum of squared distances from x to the planes.
+  double error(const Vec3d& x) const;
+};
+
+/// The point that minimises `q`, found robustly: A is eigen-decomposed and directions
+/// whose eigenvalue is below `rel_threshold` times the largest are left free
+/// (Lindstrom's truncated pseudo-inverse), so the answer is the minimiser closest to
+/// `anchor` (the cell's mean vertex). A flat cell thus gives the anchor projected onto
+/// its plane, a linear one the projection onto its line. The result is clamped to the
+/// box [lo, hi].
+Vec3d minimize_quadric(const Quadric& q, const Vec3d& anchor, const Vec3d& lo, const Vec3d& hi,
+                       double rel_threshold = 1e-3);
+
+}  // namespace oocsimp

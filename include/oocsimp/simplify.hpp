@@ -1,0 +1,83 @@
+// oocsimp — out-of-core simplification.
+//
+// simplify() streams a MeshInput once for its vertices and once for its triangles and
+// returns the simplified mesh; the heap it uses grows with the number of occupied
+// cells and output triangles, never with the input.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oocsimp/grid_spec.hpp"
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp {
+
+class ProgressReporter;
+
+enum class ClusterMethod {
+  uniform,  ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
+};
+
+/// How the cell size is chosen; exactly one of the three is set (> 0).
+struct CellSizing {
+  double cell = 0;            ///< absolute cell side in model units
+  std::uint32_t grid = 0;     ///< cells along the bounding box's longest axis
+  double ratio = 0;           ///< approximate fraction of input triangles to keep
+};
+
+struct SimplifyOptions {
+  CellSizing sizing;
+  ClusterMethod method = ClusterMethod::uniform;
+  unsigned threads = 0;             ///< 0 = all cores
+  std::string temp_dir;             ///< empty = default_temp_dir()
+  ProgressReporter* progress = nullptr;
+};
+
+struct SimplifyStats {
+  std::uint64_t input_vertices = 0;
+  std::uint64_t input_triangles = 0;
+  std::uint64_t skipped_faces = 0;  ///< faces with fewer than 3 corners
+  std::uint64_t occupied_cells = 0;
+  std::uint64_t output_vertices = 0;
+  std::uint64_t output_triangles = 0;
+  double cell_size = 0;
+  std::uint32_t grid_dims[3] = {0, 0, 0};
+  double seconds_open = 0;      ///< header, positions conversion/mapping, bounding box
+  double seconds_vertices = 0;  ///< per-cell vertex means
+  double seconds_faces = 0;     ///< per-cell quadrics and surviving triangles
+  double seconds_solve = 0;     ///< representative vertices
+  double seconds_write = 0;
+  double seconds_total = 0;
+  std::uint64_t peak_rss_bytes = 0;
+  std::uint64_t peak_anon_bytes = 0;
+};
+
+struct SimplifiedMesh {
+  std::vector<float> positions;          ///< 3 per vertex
+  std::vector<std::uint32_t> triangles;  ///< 3 per face
+};
+
+/// The grid `sizing` asks for over `input` (for `ratio`, estimated from a pass over
+/// the vertices that counts occupied cells of a coarse grid and scales it as a
+/// surface, i.e. with the square of the resolution). Throws UsageError.
+GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned threads);
+
+/// Clusters `input` on a uniform grid (OoCS): per cell the area-weighted plane
+/// quadrics of every triangle with a corner in it and the mean of its vertices; the
+/// representative minimises the quadric around that mean and stays in its cell.
+/// Keeps triangles whose corners fall in three different cells, each unordered triple
+/// once with the orientation of its first occurrence in file order. The result is
+/// byte-identical for any thread count.
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+
+/// Opens `input_path`, simplifies it and writes `output_path` (format and compression
+/// from its name, ascii PLY when `ascii`). Fills `stats` when given.
+void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                   const SimplifyOptions& options, SimplifyStats* stats);
+
+/// `stats` as a JSON object (counts, seconds per phase, peak memory, input Mtri/s).
+std::string stats_to_json(const SimplifyStats& stats);
+
+}  // namespace oocsimp

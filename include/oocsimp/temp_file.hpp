@@ -1,0 +1,48 @@
+// oocsimp — temporary files that never outlive a run.
+//
+// Every temporary file is registered in a process-wide table; it is deleted when its
+// owner goes away, and by the SIGINT/SIGTERM handler that install_signal_cleanup()
+// sets up, which unlinks every registered path before the process dies.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace oocsimp {
+
+/// A uniquely named file created in `dir` (mkstemp) with the given prefix; removed
+/// on destruction unless `release()` was called. Throws IoError naming the folder.
+class TempFile {
+ public:
+  TempFile(const std::string& dir, const std::string& prefix);
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile();
+
+  const std::string& path() const { return path_; }
+  /// The open descriptor (read-write), owned by this object.
+  int fd() const { return fd_; }
+  /// Closes the descriptor (the file stays until destruction).
+  void close();
+  /// Renames the file to `dest` (atomic within one filesystem) and forgets it.
+  /// Throws IoError.
+  void commit(const std::string& dest);
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  int slot_ = -1;
+};
+
+/// A temporary file in the folder of `dest`, named ".NAME.tmp-XXXXXX" after it, for
+/// writing an output that commit(dest) then renames into place.
+std::unique_ptr<TempFile> temp_file_beside(const std::string& dest);
+
+/// Writes `content` to `path` through temp_file_beside and a rename. Throws IoError.
+void write_file_atomically(const std::string& path, const std::string& content);
+
+/// Installs SIGINT and SIGTERM handlers that delete all registered temporary files
+/// and then terminate the process with the conventional status (128 + signal).
+void install_signal_cleanup();
+
+}  // namespace oocsimp

@@ -1,0 +1,113 @@
+#include "oocsimp/quadric.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace oocsimp {
+
+void Quadric::add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
+  double ux = q.x - p.x, uy = q.y - p.y, uz = q.z - p.z;
+  double vx = r.x - p.x, vy = r.y - p.y, vz = r.z - p.z;
+  double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+  double len = std::sqrt(nx * nx + ny * ny + nz * nz);  // twice the area
+  if (!(len > 0)) return;
+  // Area-weighted plane quadric: area * (n n^T, -d n, d^2) with unit n and d = -n.p.
+  // With the unnormalised normal m (|m| = 2 area): area * n n^T = m m^T / (2 |m|).
+  double w = 0.5 / len;
+  double d = nx * p.x + ny * p.y + nz * p.z;  // |m| * (n.p)
+  a00 += w * nx * nx;
+  a01 += w * nx * ny;
+  a02 += w * nx * nz;
+  a11 += w * ny * ny;
+  a12 += w * ny * nz;
+  a22 += w * nz * nz;
+  b0 += w * d * nx;
+  b1 += w * d * ny;
+  b2 += w * d * nz;
+  c += w * d * d;
+}
+
+void Quadric::add(const Quadric& o) {
+  a00 += o.a00;
+  a01 += o.a01;
+  a02 += o.a02;
+  a11 += o.a11;
+  a12 += o.a12;
+  a22 += o.a22;
+  b0 += o.b0;
+  b1 += o.b1;
+  b2 += o.b2;
+  c += o.c;
+}
+
+double Quadric::error(const Vec3d& x) const {
+  double ax = a00 * x.x + a01 * x.y + a02 * x.z;
+  double ay = a01 * x.x + a11 * x.y + a12 * x.z;
+  double az = a02 * x.x + a12 * x.y + a22 * x.z;
+  return x.x * ax + x.y * ay + x.z * az - 2 * (b0 * x.x + b1 * x.y + b2 * x.z) + c;
+}
+
+namespace {
+
+// Cyclic Jacobi eigen-decomposition of a symmetric 3x3 matrix: on return m's
+// diagonal holds the eigenvalues and the columns of v the eigenvectors.
+void jacobi3(double m[3][3], double v[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) v[i][j] = i == j ? 1 : 0;
+  for (int sweep = 0; sweep < 32; ++sweep) {
+    double off = std::fabs(m[0][1]) + std::fabs(m[0][2]) + std::fabs(m[1][2]);
+    double scale = std::fabs(m[0][0]) + std::fabs(m[1][1]) + std::fabs(m[2][2]);
+    if (off <= 1e-18 * scale || off == 0) return;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (m[p][q] == 0) continue;
+        double theta = (m[q][q] - m[p][p]) / (2 * m[p][q]);
+        double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+        double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // m = J^T m J
+          double mkp = m[k][p], mkq = m[k][q];
+          m[k][p] = c * mkp - s * mkq;
+          m[k][q] = s * mkp + c * mkq;
+        }
+        for (int k = 0; k < 3; ++k) {
+          double mpk = m[p][k], mqk = m[q][k];
+          m[p][k] = c * mpk - s * mqk;
+          m[q][k] = s * mpk + c * mqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Vec3d minimize_quadric(const Quadric& q, const Vec3d& anchor, const Vec3d& lo, const Vec3d& hi, double rel_threshold) {
+  // Lindstrom (2000), after Garland: x = x0 + A^+ (b - A x0) with the pseudo-inverse
+  // truncated at rel_threshold * largest eigenvalue. Directions the quadric does
+  // not constrain keep x0's coordinate, so flat and linear cells stay near the mean.
+  double m[3][3] = {{q.a00, q.a01, q.a02}, {q.a01, q.a11, q.a12}, {q.a02, q.a12, q.a22}};
+  double v[3][3];
+  jacobi3(m, v);
+  double lam[3] = {m[0][0], m[1][1], m[2][2]};
+  double lmax = std::max({std::fabs(lam[0]), std::fabs(lam[1]), std::fabs(lam[2])});
+  double x0[3] = {anchor.x, anchor.y, anchor.z};
+  double r[3] = {q.b0 - (q.a00 * x0[0] + q.a01 * x0[1] + q.a02 * x0[2]),
+                 q.b1 - (q.a01 * x0[0] + q.a11 * x0[1] + q.a12 * x0[2]),
+                 q.b2 - (q.a02 * x0[0] + q.a12 * x0[1] + q.a22 * x0[2])};
+  double x[3] = {x0[0], x0[1], x0[2]};
+  if (lmax > 0) {
+    for (int k = 0; k < 3; ++k) {
+      if (lam[k] <= rel_threshold * lmax) continue;
+      double proj = (v[0][k] * r[0] + v[1][k] * r[1] + v[2][k] * r[2]) / lam[k];
+      for (int i = 0; i < 3; ++i) x[i] += v[i][k] * proj;
+    }
+  }
+  return {std::clamp(x[0], lo.x, hi.x), std::clamp(x[1], lo.y, hi.y), std::clamp(x[2], lo.z, hi.z)};
+}
+
+}  // namespace oocsimp

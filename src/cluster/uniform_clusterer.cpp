@@ -1,0 +1,216 @@
+// Uniform-grid vertex clustering with quadric representatives: Lindstrom,
+// "Out-of-Core Simplification of Large Polygonal Models" (SIGGRAPH 2000), OoCS.
+//
+// Two streaming passes over the input, each cut into fixed-size chunks that all
+// threads process into private cell tables, merged in input order:
+//   1. vertices: per cell, the sum and count of the vertex positions in it (the
+//      anchor of the quadric solve);
+//   2. triangles: per cell, the sum of the area-weighted plane quadrics of every
+//      triangle with a corner in it; triangles whose corners fall in three different
+//      cells survive, each unordered cell triple once.
+// Then every surviving cell gets the point that minimises its quadric (see
+// minimize_quadric). Memory holds the occupied cells and the surviving triangles,
+// never the input.
+#include "cluster/uniform_clusterer.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "cluster/ordered_pipeline.hpp"
+#include "cluster/triangle_set.hpp"
+#include "grid/cell_map.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/progress.hpp"
+#include "oocsimp/quadric.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+struct VertexSum {
+  double x = 0, y = 0, z = 0;
+  std::uint64_t n = 0;
+};
+
+struct CellRecord {
+  Quadric q;
+  VertexSum vertices;
+};
+
+// Chunk sizes are constants: they fix the order of floating-point sums, so they
+// must not depend on the thread count.
+constexpr std::uint64_t kVertexChunk = 1 << 16;
+constexpr std::size_t kFaceChunk = 1 << 15;
+
+struct VertexChunk {
+  std::uint64_t begin = 0, end = 0;
+  CellMap<VertexSum> cells{4096};
+};
+
+struct FaceChunk {
+  std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
+  std::size_t count = 0;
+  CellMap<Quadric> cells{4096};
+  std::vector<std::uint32_t> kept;  // local cell indices, 3 per surviving triangle
+};
+
+std::size_t pipeline_tokens() { return 4 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
+
+void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, CellMap<CellRecord>& cells,
+                         ProgressReporter* progress) {
+  std::uint64_t next = 0;
+  if (progress) progress->begin("cell means", positions.count, "vtx");
+  run_ordered_pipeline<VertexChunk>(
+      pipeline_tokens(),
+      [&](VertexChunk& c) {
+        if (next >= positions.count) return false;
+        c.begin = next;
+        c.end = std::min(positions.count, next + kVertexChunk);
+        next = c.end;
+        return true;
+      },
+      [&](VertexChunk& c) {
+        c.cells.clear();
+        for (std::uint64_t i = c.begin; i < c.end; ++i) {
+          Vec3d p = grid.relative(positions.get(i));
+          VertexSum& s = c.cells.record(c.cells.insert(grid.key_relative(p)));
+          s.x += p.x;
+          s.y += p.y;
+          s.z += p.z;
+          ++s.n;
+        }
+      },
+      [&](VertexChunk& c) {
+        for (std::size_t i = 0; i < c.cells.size(); ++i) {
+          VertexSum& dst = cells.record(cells.insert(c.cells.key(i))).vertices;
+          const VertexSum& src = c.cells.record(i);
+          dst.x += src.x;
+          dst.y += src.y;
+          dst.z += src.z;
+          dst.n += src.n;
+        }
+        if (progress) progress->set(c.end);
+      });
+  if (progress) progress->end();
+}
+
+void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
+                          std::uint64_t* triangle_count, ProgressReporter* progress) {
+  const PositionArray& positions = input.positions;
+  TriangleStream& stream = *input.triangles;
+  std::vector<std::uint32_t> to_global;
+  std::uint64_t total = 0;
+  if (progress) progress->begin("cell quadrics", input.file_size, "B");
+  run_ordered_pipeline<FaceChunk>(
+      pipeline_tokens(),
+      [&](FaceChunk& c) {
+        c.count = stream.read(c.tris.data(), kFaceChunk);
+        if (progress) progress->set(stream.bytes_consumed());
+        return c.count > 0;
+      },
+      [&](FaceChunk& c) {
+        c.cells.clear();
+        c.kept.clear();
+        for (std::size_t t = 0; t < c.count; ++t) {
+          const std::uint64_t* v = &c.tris[3 * t];
+          Vec3d p0 = grid.relative(positions.get(v[0]));
+          Vec3d p1 = grid.relative(positions.get(v[1]));
+          Vec3d p2 = grid.relative(positions.get(v[2]));
+          std::uint64_t k0 = grid.key_relative(p0), k1 = grid.key_relative(p1), k2 = grid.key_relative(p2);
+          Quadric q;
+          q.add_triangle(p0, p1, p2);
+          // The quadric goes once to each distinct cell the triangle touches.
+          std::uint32_t i0 = c.cells.insert(k0), i1 = i0, i2 = i0;
+          c.cells.record(i0).add(q);
+          if (k1 != k0) {
+            i1 = c.cells.insert(k1);
+            c.cells.record(i1).add(q);
+          }
+          if (k2 != k0 && k2 != k1) {
+            i2 = c.cells.insert(k2);
+            c.cells.record(i2).add(q);
+          }
+          // Only a triangle spanning three cells survives the collapse.
+          if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
+        }
+      },
+      [&](FaceChunk& c) {
+        total += c.count;
+        to_global.resize(c.cells.size());
+        for (std::size_t i = 0; i < c.cells.size(); ++i) {
+          std::uint32_t g = cells.insert(c.cells.key(i));
+          cells.record(g).q.add(c.cells.record(i));
+          to_global[i] = g;
+        }
+        for (std::size_t t = 0; t < c.kept.size(); t += 3)
+          kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
+        if (progress) progress->set(stream.bytes_consumed());
+      });
+  if (progress) progress->end();
+  *triangle_count = total;
+}
+
+}  // namespace
+
+SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressReporter* progress,
+                               SimplifyStats* stats) {
+  CellMap<CellRecord> cells(1 << 16);
+  TriangleSet kept;
+
+  double t0 = now_seconds();
+  accumulate_vertices(input.positions, grid, cells, progress);
+  double t1 = now_seconds();
+  std::uint64_t triangles = 0;
+  accumulate_triangles(input, grid, cells, kept, &triangles, progress);
+  double t2 = now_seconds();
+
+  // Output vertices are the cells the kept triangles use, numbered by first use.
+  const std::vector<std::uint32_t>& tri = kept.triangles();
+  constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> out_index(cells.size(), kUnused);
+  std::vector<std::uint32_t> order;
+  SimplifiedMesh mesh;
+  mesh.triangles.resize(tri.size());
+  for (std::size_t i = 0; i < tri.size(); ++i) {
+    std::uint32_t c = tri[i];
+    if (out_index[c] == kUnused) {
+      out_index[c] = std::uint32_t(order.size());
+      order.push_back(c);
+    }
+    mesh.triangles[i] = out_index[c];
+  }
+  std::vector<std::uint32_t>().swap(out_index);
+
+  mesh.positions.resize(3 * order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const CellRecord& rec = cells.record(order[i]);
+      Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
+      Vec3d hi{lo.x + grid.cell, lo.y + grid.cell, lo.z + grid.cell};
+      const VertexSum& s = rec.vertices;
+      Vec3d mean = s.n ? Vec3d{s.x / double(s.n), s.y / double(s.n), s.z / double(s.n)}
+                       : Vec3d{lo.x + 0.5 * grid.cell, lo.y + 0.5 * grid.cell, lo.z + 0.5 * grid.cell};
+      Vec3d x = minimize_quadric(rec.q, mean, lo, hi);
+      mesh.positions[3 * i] = float(x.x + grid.origin.x);
+      mesh.positions[3 * i + 1] = float(x.y + grid.origin.y);
+      mesh.positions[3 * i + 2] = float(x.z + grid.origin.z);
+    }
+  });
+  double t3 = now_seconds();
+
+  if (stats) {
+    stats->input_triangles = triangles;
+    stats->skipped_faces = input.triangles->skipped_faces();
+    stats->occupied_cells = cells.size();
+    stats->output_vertices = order.size();
+    stats->output_triangles = tri.size() / 3;
+    stats->seconds_vertices = t1 - t0;
+    stats->seconds_faces = t2 - t1;
+    stats->seconds_solve = t3 - t2;
+  }
+  return mesh;
+}
+
+}  // namespace oocsimp

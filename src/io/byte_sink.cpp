@@ -1,0 +1,76 @@
+#include "io/byte_sink.hpp"
+
+#include <unistd.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+bool has_zst_suffix(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".zst") == 0;
+}
+
+ByteSink::ByteSink(int fd, const std::string& path, bool compress, int level) : fd_(fd), path_(path) {
+  buf_.resize(1 << 20);
+  if (compress) {
+    zstd_ = ZSTD_createCCtx();
+    if (!zstd_) throw IoError(path + ": cannot create a zstd compression context");
+    ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, level);
+    ZSTD_CCtx_setParameter(zstd_, ZSTD_c_checksumFlag, 1);
+    zout_.resize(ZSTD_CStreamOutSize());
+  }
+}
+
+ByteSink::~ByteSink() {
+  if (zstd_) ZSTD_freeCCtx(zstd_);
+}
+
+void ByteSink::write_fd(const void* data, std::size_t n) {
+  auto* p = static_cast<const unsigned char*>(data);
+  while (n > 0) {
+    ssize_t w = ::write(fd_, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(system_error_text(path_, "write failed", errno));
+    }
+    p += w;
+    n -= std::size_t(w);
+  }
+}
+
+void ByteSink::flush_buffer(bool end) {
+  if (!zstd_) {
+    write_fd(buf_.data(), used_);
+  } else {
+    ZSTD_inBuffer in{buf_.data(), used_, 0};
+    for (;;) {
+      ZSTD_outBuffer out{zout_.data(), zout_.size(), 0};
+      std::size_t r = ZSTD_compressStream2(zstd_, &out, &in, end ? ZSTD_e_end : ZSTD_e_continue);
+      if (ZSTD_isError(r)) throw IoError(path_ + ": zstd compression failed: " + ZSTD_getErrorName(r));
+      write_fd(zout_.data(), out.pos);
+      if (end ? r == 0 : in.pos == in.size) break;
+    }
+  }
+  total_ += used_;
+  used_ = 0;
+}
+
+void ByteSink::write_slow(const void* data, std::size_t n) {
+  auto* p = static_cast<const unsigned char*>(data);
+  while (n > 0) {
+    if (used_ == buf_.size()) flush_buffer(false);
+    std::size_t k = std::min(n, buf_.size() - used_);
+    std::memcpy(buf_.data() + used_, p, k);
+    used_ += k;
+    p += k;
+    n -= k;
+  }
+}
+
+void ByteSink::finish() { flush_buffer(true); }
+
+}  // namespace oocsimp

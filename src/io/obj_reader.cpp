@@ -1,0 +1,133 @@
+// Wavefront OBJ reader: `v` and `f` lines; everything else is ignored.
+//
+// Two streaming passes: the first converts `v` lines to a temporary float array
+// (and counts `f` lines), the second streams the faces. An index refers to the
+// vertices defined so far (negative ones count back from the latest), as in the
+// format's definition, so forward references are rejected.
+#include <memory>
+#include <string>
+
+#include "io/position_array.hpp"
+#include "io/readers.hpp"
+#include "io/text_scan.hpp"
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+bool is_keyword(std::string_view line, char c) {
+  return line.size() >= 2 && line[0] == c && TokenScanner::is_space(line[1]);
+}
+
+// Lines may start with blanks; returns the line from its first non-blank character.
+std::string_view trim_front(std::string_view line) {
+  std::size_t i = 0;
+  while (i < line.size() && TokenScanner::is_space(line[i])) ++i;
+  return line.substr(i);
+}
+
+class ObjTriangleStream : public TriangleStream {
+ public:
+  ObjTriangleStream(const std::string& path, std::uint64_t vertex_count) : src_(path), vertex_count_(vertex_count) {}
+
+  std::size_t read(std::uint64_t* out, std::size_t max) override {
+    std::size_t n = 0;
+    std::string_view line;
+    while (n < max) {
+      if (fan_.pending()) {
+        n += fan_.emit(out + 3 * n, max - n);
+        continue;
+      }
+      if (!src_.next_line(&line)) break;
+      line = trim_front(line);
+      if (is_keyword(line, 'v')) {
+        ++defined_;
+      } else if (is_keyword(line, 'f')) {
+        parse_face(line);
+        fan_.start();
+      }
+    }
+    return n;
+  }
+  std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
+  std::uint64_t skipped_faces() const override { return skipped_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(at_line(src_.path(), src_.line_number(), what));
+  }
+
+  void parse_face(std::string_view line) {
+    TokenScanner t(line.substr(1));
+    auto& poly = fan_.polygon();
+    poly.clear();
+    for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
+      // v, v/vt, v//vn, v/vt/vn: the position index is the part before the first '/'.
+      std::string_view vtok = tok.substr(0, tok.find('/'));
+      std::int64_t idx;
+      if (!parse_int(vtok, &idx)) fail("malformed face index \"" + std::string(tok) + "\"");
+      std::int64_t abs;
+      if (idx > 0) abs = idx - 1;
+      else if (idx < 0) abs = std::int64_t(defined_) + idx;
+      else fail("face index 0 (OBJ indices start at 1)");
+      if (abs < 0 || std::uint64_t(abs) >= defined_)
+        fail("face index " + std::to_string(idx) + " refers to a vertex not defined yet (" + std::to_string(defined_) +
+             " so far)");
+      if (poly.size() >= kMaxPolygonCorners) fail("polygon with more than 2^20 corners");
+      poly.push_back(std::uint64_t(abs));
+    }
+    if (poly.size() < 3) {
+      ++skipped_;
+      poly.clear();
+    }
+    (void)vertex_count_;
+  }
+
+  ByteSource src_;
+  std::uint64_t vertex_count_;
+  std::uint64_t defined_ = 0;
+  std::uint64_t skipped_ = 0;
+  FanTriangulator fan_;
+};
+
+}  // namespace
+
+void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
+  out.info.format = "obj";
+  PositionArrayBuilder builder(options.temp_dir, src.path());
+  std::uint64_t faces = 0;
+  std::string_view line;
+  while (src.next_line(&line)) {
+    line = trim_front(line);
+    if (is_keyword(line, 'v')) {
+      // "v x y z [w]" or "v x y z r g b": the first three values are the position.
+      TokenScanner t(line.substr(1));
+      double c[3];
+      for (int k = 0; k < 3; ++k) {
+        std::string_view tok = t.next();
+        if (!parse_double(tok, &c[k]))
+          throw InputError(at_line(src.path(), src.line_number(),
+                                   tok.empty() ? "vertex with fewer than 3 coordinates"
+                                               : "malformed vertex coordinate \"" + std::string(tok) + "\""));
+      }
+      if (!builder.add(c[0], c[1], c[2]))
+        throw InputError(at_line(src.path(), src.line_number(), "vertex has a NaN or infinite coordinate"));
+    } else if (is_keyword(line, 'f')) {
+      ++faces;
+    }
+    if (options.progress && (src.line_number() & 0xFFFF) == 0)
+      options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+  }
+  out.info.vertex_count = builder.count();
+  out.info.face_count = faces;
+  out.info.elements = {"v " + std::to_string(builder.count()), "f " + std::to_string(faces)};
+  builder.finish(out);
+  std::string path = src.path();
+  std::uint64_t vcount = out.info.vertex_count;
+  out.impl->make_triangles = [path, vcount]() -> std::unique_ptr<TriangleStream> {
+    return std::make_unique<ObjTriangleStream>(path, vcount);
+  };
+}
+
+}  // namespace oocsimp

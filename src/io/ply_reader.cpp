@@ -1,0 +1,535 @@
+// PLY reader: ascii, binary_little_endian and binary_big_endian (Turk's format).
+//
+// Positions: a binary, uncompressed file whose vertex records have a fixed size and
+// hold x, y, z as float or double is read in place through mmap; anything else is
+// converted to a temporary float array. Faces are streamed record by record and
+// fanned; other elements are skipped.
+#include <tbb/parallel_reduce.h>
+#include <tbb/blocked_range.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/position_array.hpp"
+#include "io/readers.hpp"
+#include "io/text_scan.hpp"
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+enum class PlyType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
+enum class PlyFormat { ascii, binary_le, binary_be };
+
+std::size_t type_size(PlyType t) {
+  switch (t) {
+    case PlyType::i8: case PlyType::u8: return 1;
+    case PlyType::i16: case PlyType::u16: return 2;
+    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
+    case PlyType::f64: return 8;
+  }
+  return 0;
+}
+
+bool parse_type(std::string_view s, PlyType* t) {
+  static const struct { const char* name; PlyType type; } names[] = {
+      {"char", PlyType::i8},     {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
+      {"short", PlyType::i16},   {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
+      {"int", PlyType::i32},     {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
+      {"float", PlyType::f32},   {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
+  for (const auto& n : names)
+    if (s == n.name) {
+      *t = n.type;
+      return true;
+    }
+  return false;
+}
+
+const char* type_name(PlyType t) {
+  static const char* names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+  return names[int(t)];
+}
+
+bool is_integer(PlyType t) { return t != PlyType::f32 && t != PlyType::f64; }
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::f32;  // item type for lists
+  bool is_list = false;
+  PlyType count_type = PlyType::u8;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> props;
+  bool fixed_size() const {
+    for (const auto& p : props)
+      if (p.is_list) return false;
+    return true;
+  }
+  std::size_t record_size() const {  // fixed-size elements only
+    std::size_t s = 0;
+    for (const auto& p : props) s += type_size(p.type);
+    return s;
+  }
+  int find(const char* n) const {
+    for (std::size_t i = 0; i < props.size(); ++i)
+      if (props[i].name == n) return int(i);
+    return -1;
+  }
+};
+
+struct PlyHeader {
+  std::string path;
+  PlyFormat format = PlyFormat::ascii;
+  std::vector<PlyElement> elements;
+  std::vector<std::string> comments;
+  std::uint64_t header_bytes = 0;
+  int vertex = -1, face = -1;  // element indices
+  int xyz[3] = {-1, -1, -1};   // property indices in the vertex element
+  int indices = -1;            // list property index in the face element
+};
+
+// Loads one binary scalar, byte-swapping when needed.
+template <class T>
+T load(const unsigned char* p, bool swap) {
+  T v;
+  if (!swap || sizeof(T) == 1) {
+    std::memcpy(&v, p, sizeof(T));
+  } else {
+    unsigned char b[sizeof(T)];
+    for (std::size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
+    std::memcpy(&v, b, sizeof(T));
+  }
+  return v;
+}
+
+double load_double(const unsigned char* p, PlyType t, bool swap) {
+  switch (t) {
+    case PlyType::i8: return load<std::int8_t>(p, swap);
+    case PlyType::u8: return load<std::uint8_t>(p, swap);
+    case PlyType::i16: return load<std::int16_t>(p, swap);
+    case PlyType::u16: return load<std::uint16_t>(p, swap);
+    case PlyType::i32: return load<std::int32_t>(p, swap);
+    case PlyType::u32: return load<std::uint32_t>(p, swap);
+    case PlyType::f32: return load<float>(p, swap);
+    case PlyType::f64: return load<double>(p, swap);
+  }
+  return 0;
+}
+
+// Integer types only (checked when the header is read).
+std::int64_t load_int(const unsigned char* p, PlyType t, bool swap) {
+  switch (t) {
+    case PlyType::i8: return load<std::int8_t>(p, swap);
+    case PlyType::u8: return load<std::uint8_t>(p, swap);
+    case PlyType::i16: return load<std::int16_t>(p, swap);
+    case PlyType::u16: return load<std::uint16_t>(p, swap);
+    case PlyType::i32: return load<std::int32_t>(p, swap);
+    case PlyType::u32: return load<std::uint32_t>(p, swap);
+    default: return 0;
+  }
+}
+
+[[noreturn]] void header_error(const ByteSource& src, const std::string& what) {
+  throw InputError(at_line(src.path(), src.line_number(), what));
+}
+
+PlyHeader read_header(ByteSource& src) {
+  PlyHeader h;
+  h.path = src.path();
+  std::string_view line;
+  if (!src.next_line(&line) || line != "ply") header_error(src, "not a PLY file (first line must be \"ply\")");
+  bool have_format = false;
+  constexpr std::uint64_t kMaxHeaderBytes = 16u << 20;
+  for (;;) {
+    if (src.offset() > kMaxHeaderBytes) header_error(src, "header longer than 16 MiB (missing end_header?)");
+    if (!src.next_line(&line)) header_error(src, "end of file inside the header (missing end_header)");
+    TokenScanner t(line);
+    std::string_view kw = t.next();
+    if (kw.empty()) continue;
+    if (kw == "comment" || kw == "obj_info") {
+      h.comments.emplace_back(line);
+    } else if (kw == "format") {
+      std::string_view f = t.next(), v = t.next();
+      if (f == "ascii") h.format = PlyFormat::ascii;
+      else if (f == "binary_little_endian") h.format = PlyFormat::binary_le;
+      else if (f == "binary_big_endian") h.format = PlyFormat::binary_be;
+      else header_error(src, "unknown PLY format \"" + std::string(f) + "\"");
+      if (v != "1.0" && v != "1") header_error(src, "unsupported PLY version \"" + std::string(v) + "\" (expected 1.0)");
+      have_format = true;
+    } else if (kw == "element") {
+      PlyElement e;
+      e.name = std::string(t.next());
+      if (e.name.empty() || !parse_uint(t.next(), &e.count) || !t.at_end())
+        header_error(src, "malformed element line (expected \"element NAME COUNT\")");
+      h.elements.push_back(std::move(e));
+    } else if (kw == "property") {
+      if (h.elements.empty()) header_error(src, "property before any element");
+      PlyProperty p;
+      std::string_view ty = t.next();
+      if (ty == "list") {
+        p.is_list = true;
+        std::string_view ct = t.next(), it = t.next();
+        if (!parse_type(ct, &p.count_type)) header_error(src, "unknown list count type \"" + std::string(ct) + "\"");
+        if (!is_integer(p.count_type)) header_error(src, "list count type must be an integer type");
+        if (!parse_type(it, &p.type)) header_error(src, "unknown list item type \"" + std::string(it) + "\"");
+      } else if (!parse_type(ty, &p.type)) {
+        header_error(src, "unknown property type \"" + std::string(ty) + "\"");
+      }
+      p.name = std::string(t.next());
+      if (p.name.empty() || !t.at_end()) header_error(src, "malformed property line");
+      h.elements.back().props.push_back(std::move(p));
+    } else if (kw == "end_header") {
+      break;
+    } else {
+      header_error(src, "unknown header keyword \"" + std::string(kw) + "\"");
+    }
+  }
+  if (!have_format) header_error(src, "header has no format line");
+  h.header_bytes = src.offset();
+
+  for (std::size_t i = 0; i < h.elements.size(); ++i) {
+    if (h.elements[i].name == "vertex" && h.vertex < 0) h.vertex = int(i);
+    if (h.elements[i].name == "face" && h.face < 0) h.face = int(i);
+  }
+  if (h.vertex < 0) throw InputError(src.path() + ": PLY header declares no vertex element");
+  const PlyElement& v = h.elements[h.vertex];
+  const char* axes[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    h.xyz[k] = v.find(axes[k]);
+    if (h.xyz[k] < 0 || v.props[h.xyz[k]].is_list)
+      throw InputError(src.path() + ": PLY vertex element has no scalar property \"" + axes[k] + "\"");
+  }
+  if (h.face >= 0) {
+    const PlyElement& f = h.elements[h.face];
+    h.indices = f.find("vertex_indices");
+    if (h.indices < 0) h.indices = f.find("vertex_index");
+    if (h.indices < 0 || !f.props[h.indices].is_list)
+      throw InputError(src.path() + ": PLY face element has no vertex_indices list");
+    if (!is_integer(f.props[h.indices].type))
+      throw InputError(src.path() + ": PLY face indices must have an integer type");
+  }
+  return h;
+}
+
+// Reads the records of one element from a ByteSource, binary or ascii. Positions in
+// errors are byte offsets (binary) or line numbers (ascii).
+class ElementReader {
+ public:
+  ElementReader(ByteSource& src, const PlyHeader& h) : src_(src), h_(h), swap_(h.format == PlyFormat::binary_be) {}
+
+  // Skips a whole element.
+  void skip(const PlyElement& e) {
+    if (h_.format != PlyFormat::ascii && e.fixed_size()) {
+      std::uint64_t bytes = e.count * e.record_size();
+      if (e.record_size() != 0 && bytes / e.record_size() != e.count)
+        throw InputError(at_byte(src_.path(), src_.offset(), "element \"" + e.name + "\" count overflows"));
+      src_.skip(bytes, ("element \"" + e.name + "\"").c_str());
+      return;
+    }
+    for (std::uint64_t i = 0; i < e.count; ++i) read_record(e, -1, nullptr, nullptr);
+  }
+
+  // Reads one record; scalar values of properties listed in `want` (-1 terminated
+  // list of property indices, or null) go to `values`; the items of list property
+  // `list_prop` go to `list`.
+  void read_record(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values,
+                   const int* want = nullptr, int nwant = 0) {
+    record_start_ = h_.format == PlyFormat::ascii ? src_.line_number() + 1 : src_.offset();
+    if (h_.format == PlyFormat::ascii) read_ascii(e, list_prop, list, values, want, nwant);
+    else read_binary(e, list_prop, list, values, want, nwant);
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    if (h_.format == PlyFormat::ascii) throw InputError(at_line(src_.path(), record_start_, what));
+    throw InputError(at_byte(src_.path(), record_start_, what));
+  }
+
+ private:
+  const unsigned char* need(std::size_t n, const PlyElement& e) {
+    const unsigned char* p = src_.peek(n);
+    if (!p) fail("unexpected end of file in element \"" + e.name + "\" (truncated body?)");
+    return p;
+  }
+
+  void check_index(std::int64_t v, PlyType t) {
+    if (v < 0) fail("negative vertex index " + std::to_string(v));
+    (void)t;
+  }
+
+  void read_binary(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values,
+                   const int* want, int nwant) {
+    for (int pi = 0; pi < int(e.props.size()); ++pi) {
+      const PlyProperty& p = e.props[pi];
+      if (!p.is_list) {
+        std::size_t sz = type_size(p.type);
+        const unsigned char* b = need(sz, e);
+        for (int w = 0; w < nwant; ++w)
+          if (want[w] == pi) values[w] = load_double(b, p.type, swap_);
+        src_.consume(sz);
+        continue;
+      }
+      std::size_t csz = type_size(p.count_type);
+      std::int64_t count = load_int(need(csz, e), p.count_type, swap_);
+      src_.consume(csz);
+      if (count < 0) fail("negative list count " + std::to_string(count));
+      if (std::uint64_t(count) > kMaxPolygonCorners) fail("list count " + std::to_string(count) + " is implausibly large");
+      std::size_t isz = type_size(p.type);
+      if (pi == list_prop) {
+        list->clear();
+        for (std::int64_t k = 0; k < count; ++k) {
+          std::int64_t v = load_int(need(isz, e), p.type, swap_);
+          src_.consume(isz);
+          check_index(v, p.type);
+          list->push_back(std::uint64_t(v));
+        }
+      } else {
+        src_.skip(std::uint64_t(count) * isz, "list items");
+      }
+    }
+  }
+
+  void read_ascii(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values,
+                  const int* want, int nwant) {
+    std::string_view line;
+    do {
+      if (!src_.next_line(&line)) fail("unexpected end of file in element \"" + e.name + "\"");
+      record_start_ = src_.line_number();
+    } while (TokenScanner(line).at_end());  // tolerate blank lines
+    TokenScanner t(line);
+    for (int pi = 0; pi < int(e.props.size()); ++pi) {
+      const PlyProperty& p = e.props[pi];
+      if (!p.is_list) {
+        std::string_view tok = t.next();
+        if (tok.empty()) fail("too few values in \"" + e.name + "\" record (missing \"" + p.name + "\")");
+        bool wanted = false;
+        for (int w = 0; w < nwant; ++w)
+          if (want[w] == pi) {
+            wanted = true;
+            if (!parse_double(tok, &values[w])) fail("malformed number \"" + std::string(tok) + "\" for \"" + p.name + "\"");
+          }
+        if (!wanted) {
+          double dummy;
+          if (!parse_double(tok, &dummy)) fail("malformed number \"" + std::string(tok) + "\" for \"" + p.name + "\"");
+        }
+        continue;
+      }
+      std::int64_t count;
+      std::string_view tok = t.next();
+      if (!parse_int(tok, &count)) fail("malformed list count \"" + std::string(tok) + "\"");
+      if (count < 0) fail("negative list count " + std::to_string(count));
+      if (std::uint64_t(count) > kMaxPolygonCorners) fail("list count " + std::to_string(count) + " is implausibly large");
+      if (pi == list_prop) list->clear();
+      for (std::int64_t k = 0; k < count; ++k) {
+        tok = t.next();
+        if (tok.empty()) fail("list has fewer items than its count " + std::to_string(count));
+        if (pi == list_prop) {
+          std::int64_t v;
+          if (!parse_int(tok, &v)) fail("malformed vertex index \"" + std::string(tok) + "\"");
+          check_index(v, p.type);
+          list->push_back(std::uint64_t(v));
+        }
+      }
+    }
+    if (!t.at_end()) fail("extra values at the end of a \"" + e.name + "\" record");
+  }
+
+  ByteSource& src_;
+  const PlyHeader& h_;
+  bool swap_;
+  std::uint64_t record_start_ = 0;
+};
+
+// Streams the face element's polygons as fanned triangles.
+class PlyTriangleStream : public TriangleStream {
+ public:
+  PlyTriangleStream(std::shared_ptr<const PlyHeader> h, std::uint64_t vertex_count)
+      : h_(std::move(h)), src_(h_->path), reader_(src_, *h_), vertex_count_(vertex_count) {
+    src_.skip(h_->header_bytes, "header");
+    for (int i = 0; i < h_->face; ++i) reader_.skip(h_->elements[i]);
+    remaining_ = h_->elements[h_->face].count;
+  }
+
+  std::size_t read(std::uint64_t* out, std::size_t max) override {
+    const PlyElement& face = h_->elements[h_->face];
+    std::size_t n = 0;
+    while (n < max) {
+      if (fan_.pending()) {
+        n += fan_.emit(out + 3 * n, max - n);
+        continue;
+      }
+      if (remaining_ == 0) {
+        if (!finished_) finish();
+        break;
+      }
+      reader_.read_record(face, h_->indices, &fan_.polygon(), nullptr);
+      --remaining_;
+      auto& poly = fan_.polygon();
+      for (std::uint64_t v : poly)
+        if (v >= vertex_count_)
+          reader_.fail("vertex index " + std::to_string(v) + " out of range (" + std::to_string(vertex_count_) +
+                       " vertices)");
+      if (poly.size() < 3) {
+        ++skipped_;
+        poly.clear();
+      }
+      fan_.start();
+    }
+    return n;
+  }
+  std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
+  std::uint64_t skipped_faces() const override { return skipped_; }
+
+ private:
+  // After the last face: the elements that follow must be complete, and nothing
+  // may follow them (blank lines are tolerated in ascii).
+  void finish() {
+    finished_ = true;
+    for (std::size_t i = std::size_t(h_->face) + 1; i < h_->elements.size(); ++i) reader_.skip(h_->elements[i]);
+    if (h_->format == PlyFormat::ascii) {
+      std::string_view line;
+      while (src_.next_line(&line))
+        if (!TokenScanner(line).at_end())
+          throw InputError(at_line(src_.path(), src_.line_number(), "trailing data after the last element"));
+    } else if (!src_.at_end()) {
+      throw InputError(at_byte(src_.path(), src_.offset(), "trailing data after the last element"));
+    }
+  }
+
+  std::shared_ptr<const PlyHeader> h_;
+  ByteSource src_;
+  ElementReader reader_;
+  std::uint64_t vertex_count_;
+  std::uint64_t remaining_ = 0;
+  std::uint64_t skipped_ = 0;
+  bool finished_ = false;
+  FanTriangulator fan_;
+};
+
+class EmptyTriangleStream : public TriangleStream {
+ public:
+  std::size_t read(std::uint64_t*, std::size_t) override { return 0; }
+  std::uint64_t bytes_consumed() const override { return 0; }
+};
+
+// Bounding box of mapped positions, rejecting NaN / infinity (reports the first bad
+// vertex in index order, so the message does not depend on the thread count).
+void scan_mapped_positions(MeshInput& out, std::uint64_t vertex_offset) {
+  struct Scan {
+    Box3d box;
+    std::uint64_t first_bad = ~std::uint64_t(0);
+  };
+  const PositionArray& pa = out.positions;
+  Scan s = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint64_t>(0, pa.count, 1 << 16), Scan{},
+      [&](const tbb::blocked_range<std::uint64_t>& r, Scan acc) {
+        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+          Vec3d p = pa.get(i);
+          if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            if (i < acc.first_bad) acc.first_bad = i;
+            continue;
+          }
+          acc.box.add(p);
+        }
+        return acc;
+      },
+      [](Scan a, const Scan& b) {
+        a.box.add(b.box);
+        if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
+        return a;
+      });
+  if (s.first_bad != ~std::uint64_t(0))
+    throw InputError(at_byte(out.info.path, vertex_offset + s.first_bad * pa.stride,
+                             "vertex " + std::to_string(s.first_bad) + " has a NaN or infinite coordinate"));
+  out.info.bounds = s.box;
+}
+
+std::string describe(const PlyElement& e) {
+  std::string s = e.name + " " + std::to_string(e.count) + " (";
+  for (std::size_t i = 0; i < e.props.size(); ++i) {
+    const PlyProperty& p = e.props[i];
+    if (i) s += ", ";
+    s += p.name + " ";
+    if (p.is_list) s += std::string("list ") + type_name(p.count_type) + " ";
+    s += type_name(p.type);
+  }
+  return s + ")";
+}
+
+}  // namespace
+
+void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
+  auto h = std::make_shared<PlyHeader>(read_header(src));
+  static const char* fmt_names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+  out.info.format = std::string("ply ") + fmt_names[int(h->format)];
+  for (const auto& e : h->elements) out.info.elements.push_back(describe(e));
+  out.info.comments = h->comments;
+  const PlyElement& v = h->elements[h->vertex];
+  out.info.vertex_count = v.count;
+  out.info.face_count = h->face >= 0 ? h->elements[h->face].count : 0;
+
+  // Where the vertex element starts, if every element before it has a fixed size.
+  bool binary = h->format != PlyFormat::ascii;
+  std::uint64_t vertex_offset = h->header_bytes;
+  bool offset_known = binary;
+  for (int i = 0; i < h->vertex && offset_known; ++i) {
+    if (!h->elements[i].fixed_size()) offset_known = false;
+    else vertex_offset += h->elements[i].count * h->elements[i].record_size();
+  }
+  PlyType xt = v.props[h->xyz[0]].type;
+  bool same_float_type = (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt &&
+                         v.props[h->xyz[2]].type == xt;
+  if (offset_known && !src.compressed() && v.fixed_size() && same_float_type) {
+    std::size_t rs = v.record_size();
+    std::uint64_t end = vertex_offset + v.count * rs;
+    if (v.count != 0 && (end - vertex_offset) / rs != v.count) throw InputError(src.path() + ": vertex count overflows");
+    if (end > src.file_size())
+      throw InputError(at_byte(src.path(), src.file_size(),
+                               "file ends inside the vertex element (header declares " + std::to_string(v.count) +
+                                   " vertices of " + std::to_string(rs) + " bytes from byte " +
+                                   std::to_string(vertex_offset) + ")"));
+    out.impl->position_map = std::make_unique<MappedFile>(src.path());
+    PositionArray& pa = out.positions;
+    pa.base = out.impl->position_map->data() + vertex_offset;
+    pa.count = v.count;
+    pa.stride = rs;
+    pa.type = xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64;
+    pa.swap = h->format == PlyFormat::binary_be;
+    for (int k = 0; k < 3; ++k) {
+      std::size_t off = 0;
+      for (int pi = 0; pi < h->xyz[k]; ++pi) off += type_size(v.props[pi].type);
+      pa.offset[k] = off;
+    }
+    out.info.positions_in_place = true;
+    scan_mapped_positions(out, vertex_offset);
+  } else {
+    ElementReader reader(src, *h);
+    for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
+    PositionArrayBuilder builder(options.temp_dir, src.path());
+    double xyz[3];
+    for (std::uint64_t i = 0; i < v.count; ++i) {
+      reader.read_record(v, -1, nullptr, xyz, h->xyz, 3);
+      if (!builder.add(xyz[0], xyz[1], xyz[2]))
+        reader.fail("vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+      if (options.progress && (i & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+    }
+    builder.finish(out);
+  }
+
+  std::uint64_t vcount = v.count;
+  if (h->face >= 0) {
+    out.impl->make_triangles = [h, vcount]() -> std::unique_ptr<TriangleStream> {
+      return std::make_unique<PlyTriangleStream>(h, vcount);
+    };
+  } else {
+    out.impl->make_triangles = []() -> std::unique_ptr<TriangleStream> { return std::make_unique<EmptyTriangleStream>(); };
+  }
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,53 @@
+#include "io/position_array.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+double Box3d::diagonal() const {
+  if (empty()) return 0;
+  double dx = max.x - min.x, dy = max.y - min.y, dz = max.z - min.z;
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+void Box3d::add(const Vec3d& p) {
+  min.x = std::min(min.x, p.x);
+  min.y = std::min(min.y, p.y);
+  min.z = std::min(min.z, p.z);
+  max.x = std::max(max.x, p.x);
+  max.y = std::max(max.y, p.y);
+  max.z = std::max(max.z, p.z);
+}
+
+void Box3d::add(const Box3d& b) {
+  if (b.empty()) return;
+  add(b.min);
+  add(b.max);
+}
+
+PositionArrayBuilder::PositionArrayBuilder(const std::string& temp_dir, const std::string& source_path)
+    : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-positions-")),
+      sink_(std::make_unique<ByteSink>(file_->fd(), file_->path(), false)),
+      source_path_(source_path) {}
+
+PositionArrayBuilder::~PositionArrayBuilder() = default;
+
+void PositionArrayBuilder::finish(MeshInput& out) {
+  sink_->finish();
+  sink_.reset();
+  file_->close();
+  auto map = std::make_unique<MappedFile>(file_->path());
+  out.positions = PositionArray{};
+  out.positions.base = map->data();
+  out.positions.count = count_;
+  out.info.bounds = bounds_;
+  out.impl->position_map = std::move(map);
+  out.impl->position_file = std::move(file_);
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,46 @@
+// The per-format readers behind open_mesh_input(). Each fills `out` (info, positions,
+// impl->make_triangles) from the ByteSource it is given, positioned at the start.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/byte_source.hpp"
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp {
+
+void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out);
+void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out);
+void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out);
+
+/// Largest polygon accepted (corners); more is treated as a corrupt count.
+constexpr std::uint64_t kMaxPolygonCorners = 1u << 20;
+
+/// Emits the fan triangulation (p0, pi, pi+1) of a polygon held in a buffer, a few
+/// triangles at a time, so polygons of any size stream through fixed-size output.
+class FanTriangulator {
+ public:
+  std::vector<std::uint64_t>& polygon() { return poly_; }
+  /// Starts fanning the polygon just stored in polygon().
+  void start() { next_ = 1; }
+  /// Writes pending triangles into out (up to max); returns the number written.
+  std::size_t emit(std::uint64_t* out, std::size_t max) {
+    std::size_t n = 0;
+    while (n < max && next_ + 1 < poly_.size()) {
+      out[3 * n] = poly_[0];
+      out[3 * n + 1] = poly_[next_];
+      out[3 * n + 2] = poly_[next_ + 1];
+      ++next_;
+      ++n;
+    }
+    return n;
+  }
+  bool pending() const { return next_ + 1 < poly_.size(); }
+
+ private:
+  std::vector<std::uint64_t> poly_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace oocsimp

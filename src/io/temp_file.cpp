@@ -1,0 +1,135 @@
+#include "oocsimp/temp_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <vector>
+
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// The registry is a fixed table of fixed-size paths so the signal handler can walk
+// it without allocating or locking (unlink is async-signal-safe).
+constexpr int kSlots = 256;
+constexpr std::size_t kPathMax = 4096;
+char g_paths[kSlots][kPathMax];
+std::atomic<bool> g_used[kSlots];
+std::mutex g_mutex;
+
+int register_path(const std::string& path) {
+  if (path.size() >= kPathMax) return -1;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  for (int i = 0; i < kSlots; ++i) {
+    if (!g_used[i].load()) {
+      std::memcpy(g_paths[i], path.c_str(), path.size() + 1);
+      g_used[i].store(true);
+      return i;
+    }
+  }
+  return -1;
+}
+
+void unregister_path(int slot) {
+  if (slot < 0) return;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_used[slot].store(false);
+}
+
+extern "C" void cleanup_and_die(int sig) {
+  for (int i = 0; i < kSlots; ++i)
+    if (g_used[i].load()) ::unlink(g_paths[i]);
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+}  // namespace
+
+TempFile::TempFile(const std::string& dir, const std::string& prefix) {
+  std::string pattern = (dir.empty() ? std::string(".") : dir) + "/" + prefix + "XXXXXX";
+  std::vector<char> buf(pattern.begin(), pattern.end());
+  buf.push_back('\0');
+  // Block the cleanup signals between creating and registering the file, so an
+  // interrupt cannot leave it behind.
+  sigset_t block, old;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &block, &old);
+  fd_ = ::mkostemp(buf.data(), O_CLOEXEC);
+  int err = errno;
+  if (fd_ >= 0) {
+    path_ = buf.data();
+    slot_ = register_path(path_);
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  if (fd_ < 0) throw IoError(system_error_text(dir, "cannot create a temporary file in", err));
+}
+
+TempFile::~TempFile() {
+  close();
+  if (!path_.empty()) ::unlink(path_.c_str());
+  unregister_path(slot_);
+}
+
+void TempFile::close() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+void TempFile::commit(const std::string& dest) {
+  // mkstemp creates 0600; a finished output gets the usual 0666 & ~umask.
+  mode_t mask = ::umask(0);
+  ::umask(mask);
+  if (fd_ >= 0) ::fchmod(fd_, 0666 & ~mask);
+  close();
+  if (::rename(path_.c_str(), dest.c_str()) != 0)
+    throw IoError(system_error_text(dest, "cannot rename " + path_ + " to", errno));
+  unregister_path(slot_);
+  slot_ = -1;
+  path_.clear();
+}
+
+std::unique_ptr<TempFile> temp_file_beside(const std::string& dest) {
+  std::size_t slash = dest.find_last_of('/');
+  std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : dest.substr(0, slash);
+  std::string name = slash == std::string::npos ? dest : dest.substr(slash + 1);
+  return std::make_unique<TempFile>(dir, "." + name + ".tmp-");
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  auto tmp = temp_file_beside(path);
+  const char* p = content.data();
+  std::size_t n = content.size();
+  while (n > 0) {
+    ssize_t w = ::write(tmp->fd(), p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(system_error_text(path, "write failed", errno));
+    }
+    p += w;
+    n -= std::size_t(w);
+  }
+  tmp->commit(path);
+}
+
+void install_signal_cleanup() {
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof sa);
+  sa.sa_handler = cleanup_and_die;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,104 @@
+#include "oocsimp/progress.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace oocsimp {
+
+namespace {
+constexpr double kSampleSeconds = 0.02;  // memory sampling period
+constexpr double kTtyRefresh = 0.2;
+constexpr double kLogInterval = 5.0;     // plain lines for batch logs
+}  // namespace
+
+ProgressReporter::ProgressReporter(bool quiet) : quiet_(quiet), tty_(::isatty(2) == 1) {
+  peak_anon_ = current_anon_bytes();
+  thread_ = std::thread([this] { loop(); });
+}
+
+ProgressReporter::~ProgressReporter() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+std::uint64_t ProgressReporter::peak_anon_bytes() const {
+  std::uint64_t now = current_anon_bytes();
+  std::uint64_t peak = peak_anon_.load();
+  return now > peak ? now : peak;
+}
+
+void ProgressReporter::begin(const std::string& name, std::uint64_t total, const char* unit) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  name_ = name;
+  unit_ = unit;
+  total_ = total;
+  done_ = 0;
+  phase_start_ = now_seconds();
+  last_print_ = phase_start_;
+  active_ = true;
+}
+
+void ProgressReporter::end() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!active_) return;
+  if (total_ > 0) done_ = total_.load();
+  print(true);
+  active_ = false;
+}
+
+void ProgressReporter::loop() {
+  double last_sample_print = now_seconds();
+  while (!stop_) {
+    std::uint64_t a = current_anon_bytes();
+    std::uint64_t p = peak_anon_.load();
+    while (a > p && !peak_anon_.compare_exchange_weak(p, a)) {
+    }
+    double t = now_seconds();
+    if (!quiet_ && active_ && t - last_sample_print >= (tty_ ? kTtyRefresh : kLogInterval)) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (active_) print(false);
+      last_sample_print = t;
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(kSampleSeconds));
+  }
+}
+
+// Called with mutex_ held.
+void ProgressReporter::print(bool final_line) {
+  if (quiet_) return;
+  double t = now_seconds();
+  double elapsed = t - phase_start_;
+  std::uint64_t done = done_.load(), total = total_.load();
+  double rate = elapsed > 0 ? double(done) / elapsed : 0;
+  double frac = total > 0 ? double(done) / double(total) : 0;
+  if (frac > 1) frac = 1;
+  char rate_text[32];
+  double r = rate;
+  const char* prefix = "";
+  if (r >= 1e9) { r /= 1e9; prefix = "G"; }
+  else if (r >= 1e6) { r /= 1e6; prefix = "M"; }
+  else if (r >= 1e3) { r /= 1e3; prefix = "k"; }
+  std::snprintf(rate_text, sizeof rate_text, "%.1f %s%s/s", r, prefix, unit_);
+  double eta = (rate > 0 && total > done) ? double(total - done) / rate : 0;
+  if (tty_) {
+    constexpr int kWidth = 30;
+    int filled = int(frac * kWidth);
+    char bar[kWidth + 1];
+    for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '-';
+    bar[kWidth] = '\0';
+    if (final_line)
+      std::fprintf(stderr, "\r\033[K%-16s [%s] 100%%  %s  %.2fs\n", name_.c_str(), bar, rate_text, elapsed);
+    else
+      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text, eta);
+  } else {
+    if (final_line)
+      std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, rate_text);
+    else
+      std::fprintf(stderr, "oocsimp: %s %d%% (%s, ETA %.0fs)\n", name_.c_str(), int(frac * 100), rate_text, eta);
+  }
+  std::fflush(stderr);
+}
+
+}  // namespace oocsimp

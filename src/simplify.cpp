@@ -1,0 +1,71 @@
+// The simplify entry points: open, choose the grid, cluster, write.
+#include "oocsimp/simplify.hpp"
+
+#include <tbb/global_control.h>
+
+#include <memory>
+
+#include "cluster/uniform_clusterer.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/mesh_writer.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
+  if (threads == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+}
+
+}  // namespace
+
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+  auto threads = limit_threads(options.threads);
+  GridSpec grid = choose_grid(input, options.sizing, options.threads);
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  st.input_vertices = input.positions.count;
+  st.cell_size = grid.cell;
+  for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
+  input.restart_triangles();
+  switch (options.method) {
+    case ClusterMethod::uniform:
+      return cluster_uniform(input, grid, options.progress, &st);
+  }
+  throw UsageError("unknown clustering method");
+}
+
+void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                   const SimplifyOptions& options, SimplifyStats* stats) {
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  auto threads = limit_threads(options.threads);
+  double t0 = now_seconds();
+  OpenOptions open;
+  open.temp_dir = options.temp_dir;
+  if (options.progress) {
+    options.progress->begin("read positions", 0, "B");
+    open.progress = [](std::uint64_t done, std::uint64_t total, void* user) {
+      auto* p = static_cast<ProgressReporter*>(user);
+      p->set_total(total);
+      p->set(done);
+    };
+    open.progress_user = options.progress;
+  }
+  MeshInput input = open_mesh_input(input_path, open);
+  if (options.progress) options.progress->end();
+  double t1 = now_seconds();
+  SimplifiedMesh mesh = simplify(input, options, &st);
+  double t2 = now_seconds();
+  write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+  double t3 = now_seconds();
+  st.seconds_open = t1 - t0;
+  st.seconds_write = t3 - t2;
+  st.seconds_total = t3 - t0;
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+}
+
+}  // namespace oocsimp
