@@ -9,7 +9,7 @@ namespace oocsimp {
 enum class SyntheticShape { sphere, terrain, parts };
 
 struct GenerateOptions {
-  std::uint64_t triangles = 1000000;  ///< target; the result is within 1% (and at least 1 part)
+  std::uint64_t triangles = 1000000;  ///< target; the result is within 2% for 10^4 and more
   SyntheticShape shape = SyntheticShape::sphere;
   std::uint64_t seed = 1;
   bool ascii = false;                 ///< ascii PLY instead of binary little-endian

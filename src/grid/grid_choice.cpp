@@ -13,44 +13,43 @@ namespace oocsimp {
 
 namespace {
 
-// Occupied cells at two coarse resolutions (kCoarse and 2 * kCoarse cells along the
-// longest axis), counted over every vertex with per-thread bitmaps.
-constexpr std::uint32_t kCoarse = 128;
+// Occupied cells at the resolutions kLevels[i] (cells along the longest axis),
+// counted over every vertex with per-thread bitmaps.
+constexpr std::uint32_t kLevels[] = {16, 32, 64, 128, 256};
+constexpr int kLevelCount = 5;
 
-struct Occupancy {
-  std::uint64_t coarse = 0, fine = 0;
-};
-
-Occupancy count_occupancy(const PositionArray& positions, const Box3d& bounds) {
-  GridSpec g0 = GridSpec::with_divisions(bounds, kCoarse);
-  GridSpec g1 = GridSpec::with_divisions(bounds, 2 * kCoarse);
+std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds) {
+  std::vector<GridSpec> grids;
+  for (std::uint32_t n : kLevels) grids.push_back(GridSpec::with_divisions(bounds, n));
   auto cells = [](const GridSpec& g) { return std::size_t(g.dims[0]) * g.dims[1] * g.dims[2]; };
   auto index = [](const GridSpec& g, std::uint64_t k) {
     return (std::size_t((k >> 42) & GridSpec::kMaxDim) * g.dims[1] + ((k >> 21) & GridSpec::kMaxDim)) * g.dims[0] +
            (k & GridSpec::kMaxDim);
   };
-  struct Bits {
-    std::vector<bool> b0, b1;
+  using Bits = std::vector<std::vector<bool>>;
+  auto empty_bits = [&] {
+    Bits b;
+    for (const GridSpec& g : grids) b.emplace_back(cells(g));
+    return b;
   };
-  tbb::combinable<Bits> local([&] { return Bits{std::vector<bool>(cells(g0)), std::vector<bool>(cells(g1))}; });
+  tbb::combinable<Bits> local(empty_bits);
   tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, positions.count, 1 << 16),
                     [&](const tbb::blocked_range<std::uint64_t>& r) {
                       Bits& b = local.local();
                       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
                         Vec3d p = positions.get(i);
-                        b.b0[index(g0, g0.key(p))] = true;
-                        b.b1[index(g1, g1.key(p))] = true;
+                        for (int l = 0; l < kLevelCount; ++l) b[l][index(grids[l], grids[l].key(p))] = true;
                       }
                     });
-  std::vector<bool> b0(cells(g0)), b1(cells(g1));
+  Bits all = empty_bits();
   local.combine_each([&](const Bits& b) {
-    for (std::size_t i = 0; i < b0.size(); ++i) if (b.b0[i]) b0[i] = true;
-    for (std::size_t i = 0; i < b1.size(); ++i) if (b.b1[i]) b1[i] = true;
+    for (int l = 0; l < kLevelCount; ++l)
+      for (std::size_t i = 0; i < all[l].size(); ++i)
+        if (b[l][i]) all[l][i] = true;
   });
-  Occupancy o;
-  o.coarse = std::uint64_t(std::count(b0.begin(), b0.end(), true));
-  o.fine = std::uint64_t(std::count(b1.begin(), b1.end(), true));
-  return o;
+  std::vector<std::uint64_t> counts;
+  for (const auto& b : all) counts.push_back(std::uint64_t(std::count(b.begin(), b.end(), true)));
+  return counts;
 }
 
 }  // namespace
@@ -64,14 +63,17 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& s, unsigned) {
   if (!(s.ratio > 0 && s.ratio <= 1)) throw UsageError("--ratio must be in (0, 1]");
   if (input.positions.count == 0 || input.info.face_count == 0) return GridSpec::with_divisions(bounds, 1);
   // A clustered surface keeps about two triangles per occupied cell (Euler: F ~ 2V),
-  // so the target is ratio * F / 2 cells. Occupancy grows as resolution^k with k ~ 2
-  // for surfaces; k is measured between the two coarse grids and the target
-  // resolution extrapolated from the finer one.
-  Occupancy o = count_occupancy(input.positions, bounds);
+  // so the target is ratio * F / 2 cells. Occupancy grows as resolution^k (k ~ 2 for
+  // surfaces). k is measured between two coarse grids fine enough to resolve the
+  // shape yet coarse enough that the vertices sample every occupied cell (at most
+  // one cell per 8 vertices), and the target resolution extrapolated from there.
+  std::vector<std::uint64_t> occ = count_occupancy(input.positions, bounds);
+  int l = 0;
+  while (l + 2 < kLevelCount && occ[l + 2] * 8 <= input.positions.count) ++l;
   double target = std::max(1.0, s.ratio * double(input.info.face_count) / 2);
-  double k = (o.coarse > 0 && o.fine > o.coarse) ? std::log2(double(o.fine) / double(o.coarse)) : 2.0;
+  double k = occ[l + 1] > occ[l] && occ[l] > 0 ? std::log2(double(occ[l + 1]) / double(occ[l])) : 2.0;
   k = std::clamp(k, 1.0, 3.0);
-  double res = 2.0 * kCoarse * std::pow(target / double(std::max<std::uint64_t>(o.fine, 1)), 1.0 / k);
+  double res = double(kLevels[l + 1]) * std::pow(target / double(std::max<std::uint64_t>(occ[l + 1], 1)), 1.0 / k);
   res = std::clamp(res, 1.0, double(GridSpec::kMaxDim));
   return GridSpec::with_divisions(bounds, std::uint32_t(std::lround(res)));
 }

@@ -191,7 +191,6 @@ constexpr int kBoxFaces[6][4] = {{0, 1, 1, 2}, {0, -1, 2, 1}, {1, 1, 2, 0}, {1, 
 GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) {
   SplitMix64 rng{o.seed};
   std::uint64_t count = std::max<std::uint64_t>(1, std::min<std::uint64_t>(48, o.triangles / 2000));
-  std::uint64_t per_part = std::max<std::uint64_t>(24, o.triangles / count);
   std::vector<Part> ps(count);
   std::uint64_t nv = 0, nf = 0;
   for (std::uint64_t i = 0; i < count; ++i) {
@@ -203,8 +202,16 @@ GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
     for (int a = 0; a < 3; ++a) p.h[a] = rng.uniform(0.3, 1.0) * scale;
     if (!p.box) p.h[1] = p.h[0];
     p.angle = rng.uniform(0, kPi);
-    p.k = p.box ? std::max<std::uint64_t>(1, std::llround(std::sqrt(double(per_part) / 12.0)))
-                : std::max<std::uint64_t>(1, std::llround(std::sqrt(double(per_part) / 24.0)));
+    // Tessellate so the running face count tracks the target: the total then misses
+    // it by at most half a tessellation step of the last part.
+    double want = double(o.triangles) * double(i + 1) / double(count) - double(nf);
+    p.k = p.box ? std::max<std::uint64_t>(1, std::llround(std::sqrt(std::max(want, 12.0) / 12.0)))
+                : std::max<std::uint64_t>(1, std::llround(std::sqrt(std::max(want, 24.0) / 24.0)));
+    for (std::uint64_t k : {p.k - 1, p.k + 1}) {  // the neighbour may be closer
+      Part alt = p;
+      alt.k = k;
+      if (k >= 1 && std::fabs(double(alt.faces()) - want) < std::fabs(double(p.faces()) - want)) p.k = k;
+    }
     p.first_vertex = nv;
     nv += p.vertices();
     nf += p.faces();

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs from Debian only the build dependencies that are missing. Idempotent and
+# quiet when everything is there.
+set -euo pipefail
+
+packages=(cmake g++ make pkg-config libtbb-dev libopenmesh-dev libzstd-dev libcli11-dev catch2 libmeshoptimizer-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "setup-deps: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -ne 0 ] && sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq >/dev/null
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

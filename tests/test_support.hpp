@@ -1,0 +1,75 @@
+// Helpers shared by the tests: scratch folders, file writing, whole-mesh reading
+// (small test meshes only) and running the CLI.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp_test {
+
+/// A fresh folder under $TMPDIR (or /tmp), removed with its content on destruction.
+class ScratchDir {
+ public:
+  ScratchDir();
+  ~ScratchDir();
+  const std::string& path() const { return path_; }
+  /// path() + "/" + name
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+  /// Names of the entries in the folder (not . and ..), sorted.
+  std::vector<std::string> entries() const;
+
+ private:
+  std::string path_;
+};
+
+/// Writes `bytes` to `path` (overwrites).
+void write_file(const std::string& path, const std::string& bytes);
+/// Reads a whole (small) file.
+std::string read_file(const std::string& path);
+/// Writes `bytes` zstd-compressed to `path`.
+void write_zstd_file(const std::string& path, const std::string& bytes);
+bool file_exists(const std::string& path);
+
+/// A whole mesh read through open_mesh_input: 3 doubles per vertex, 3 indices per
+/// triangle (polygons fanned).
+struct LoadedMesh {
+  std::vector<double> positions;
+  std::vector<std::uint64_t> triangles;
+  oocsimp::MeshInfo info;
+  std::uint64_t skipped_faces = 0;
+  std::size_t vertex_count() const { return positions.size() / 3; }
+  std::size_t triangle_count() const { return triangles.size() / 3; }
+};
+LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir = "");
+
+/// Little-endian / big-endian byte appenders for building binary files.
+template <class T>
+void put_le(std::string& s, T v) {
+  const unsigned char* p = reinterpret_cast<const unsigned char*>(&v);
+  for (std::size_t i = 0; i < sizeof(T); ++i) s.push_back(char(p[i]));
+}
+template <class T>
+void put_be(std::string& s, T v) {
+  const unsigned char* p = reinterpret_cast<const unsigned char*>(&v);
+  for (std::size_t i = sizeof(T); i-- > 0;) s.push_back(char(p[i]));
+}
+
+/// Result of running the oocsimp binary.
+struct CliResult {
+  int exit_code = -1;
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+};
+/// Runs the built oocsimp CLI with `args` (a shell-quoted argument string).
+CliResult run_cli(const std::string& args);
+
+/// Writes a finely tessellated triangle mesh as binary PLY: an n x n grid on the
+/// unit square in the plane z = a*x + b*y + c (plane()), or the surface of the
+/// cube [0,1]^3 with n x n quads per side (cube()).
+void write_plane_ply(const std::string& path, int n, double a, double b, double c);
+void write_cube_ply(const std::string& path, int n);
+
+}  // namespace oocsimp_test

@@ -1,0 +1,142 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+
+#include "oocsimp/error.hpp"
+#include "oocsimp/simplify.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+SimplifiedMesh simplify_path(const std::string& path, const CellSizing& sizing, unsigned threads = 0,
+                             SimplifyStats* stats = nullptr) {
+  MeshInput in = open_mesh_input(path);
+  SimplifyOptions o;
+  o.sizing = sizing;
+  o.threads = threads;
+  return simplify(in, o, stats);
+}
+
+CellSizing grid(std::uint32_t n) {
+  CellSizing s;
+  s.grid = n;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a finely tessellated plane simplifies to vertices on the plane", "[uniform]") {
+  ScratchDir d;
+  // z = 0.3x - 0.2y + 0.1 over the unit square.
+  write_plane_ply(d.file("plane.ply"), 200, 0.3, -0.2, 0.1);
+  SimplifyStats st;
+  SimplifiedMesh m = simplify_path(d.file("plane.ply"), grid(16), 0, &st);
+  REQUIRE(m.positions.size() > 100 * 3);
+  REQUIRE(st.input_triangles == 2 * 200 * 200);
+  double diag = std::sqrt(1 + 1 + 0.5 * 0.5);
+  double norm = std::sqrt(0.3 * 0.3 + 0.2 * 0.2 + 1);
+  double worst = 0;
+  for (std::size_t i = 0; i < m.positions.size(); i += 3) {
+    double x = m.positions[i], y = m.positions[i + 1], z = m.positions[i + 2];
+    worst = std::max(worst, std::fabs(0.3 * x - 0.2 * y + 0.1 - z) / norm);
+  }
+  CHECK(worst <= 1e-6 * diag);
+}
+
+TEST_CASE("the eight corners of a tessellated cube survive quadric clustering", "[uniform]") {
+  ScratchDir d;
+  write_cube_ply(d.file("cube.ply"), 60);
+  SimplifiedMesh m = simplify_path(d.file("cube.ply"), grid(7));
+  double diag = std::sqrt(3.0);
+  for (int c = 0; c < 8; ++c) {
+    double cx = c & 1, cy = (c >> 1) & 1, cz = (c >> 2) & 1;
+    double best = 1e9;
+    for (std::size_t i = 0; i < m.positions.size(); i += 3)
+      best = std::min(best, std::sqrt((m.positions[i] - cx) * (m.positions[i] - cx) +
+                                      (m.positions[i + 1] - cy) * (m.positions[i + 1] - cy) +
+                                      (m.positions[i + 2] - cz) * (m.positions[i + 2] - cz)));
+    INFO("corner " << cx << " " << cy << " " << cz);
+    CHECK(best <= 1e-5 * diag);
+  }
+}
+
+TEST_CASE("output keeps only triangles spanning three cells, each cell triple once", "[uniform]") {
+  ScratchDir d;
+  write_plane_ply(d.file("plane.ply"), 64, 0, 0, 0);
+  SimplifiedMesh m = simplify_path(d.file("plane.ply"), grid(8));
+  std::set<std::array<std::uint32_t, 3>> seen;
+  for (std::size_t i = 0; i < m.triangles.size(); i += 3) {
+    std::array<std::uint32_t, 3> t{m.triangles[i], m.triangles[i + 1], m.triangles[i + 2]};
+    CHECK(t[0] != t[1]);
+    CHECK(t[1] != t[2]);
+    CHECK(t[0] != t[2]);
+    std::sort(t.begin(), t.end());
+    CHECK(seen.insert(t).second);
+    for (auto v : t) CHECK(v < m.positions.size() / 3);
+  }
+  // An 8x8 grid of cells on a flat square: 9x9 = 81 cell vertices at most, and the
+  // surviving triangles cover the square with all normals pointing up (+z), like
+  // the input.
+  CHECK(m.positions.size() / 3 <= 81);
+  double area = 0;
+  for (std::size_t i = 0; i < m.triangles.size(); i += 3) {
+    const float* a = &m.positions[3 * m.triangles[i]];
+    const float* b = &m.positions[3 * m.triangles[i + 1]];
+    const float* c = &m.positions[3 * m.triangles[i + 2]];
+    double nz = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    CHECK(nz > 0);
+    area += nz / 2;
+  }
+  CHECK(area > 0.7);
+  CHECK(area <= 1.0 + 1e-6);
+}
+
+TEST_CASE("output is byte-identical for any thread count", "[uniform]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 300000 --shape parts --seed 3 --quiet -o " + d.file("p.ply")).exit_code == 0);
+  SimplifiedMesh a = simplify_path(d.file("p.ply"), grid(97), 1);
+  SimplifiedMesh b = simplify_path(d.file("p.ply"), grid(97), 2);
+  SimplifiedMesh c = simplify_path(d.file("p.ply"), grid(97), 8);
+  REQUIRE(a.triangles.size() > 1000);
+  CHECK(a.positions == b.positions);
+  CHECK(a.triangles == b.triangles);
+  CHECK(a.positions == c.positions);
+  CHECK(a.triangles == c.triangles);
+}
+
+TEST_CASE("--ratio lands near the requested fraction", "[uniform]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 400000 --shape sphere --quiet -o " + d.file("s.ply")).exit_code == 0);
+  CellSizing s;
+  s.ratio = 0.05;
+  SimplifyStats st;
+  simplify_path(d.file("s.ply"), s, 0, &st);
+  double kept = double(st.output_triangles) / double(st.input_triangles);
+  CHECK(kept > 0.05 / 2);
+  CHECK(kept < 0.05 * 2);
+}
+
+TEST_CASE("grid choice validates its options", "[uniform]") {
+  ScratchDir d;
+  write_plane_ply(d.file("plane.ply"), 4, 0, 0, 0);
+  MeshInput in = open_mesh_input(d.file("plane.ply"));
+  CellSizing none;
+  CHECK_THROWS_AS(choose_grid(in, none, 0), UsageError);
+  CellSizing two;
+  two.grid = 4;
+  two.cell = 0.1;
+  CHECK_THROWS_AS(choose_grid(in, two, 0), UsageError);
+  CellSizing tiny;
+  tiny.cell = 1e-9;
+  CHECK_THROWS_AS(choose_grid(in, tiny, 0), UsageError);
+  GridSpec g = choose_grid(in, grid(4), 0);
+  CHECK(g.dims[0] == 4);
+  CHECK(g.dims[1] == 4);
+  CHECK(g.cell == Approx(0.25));
+}
