@@ -56,7 +56,33 @@ struct FaceChunk {
   std::vector<std::uint32_t> kept;  // local cell indices, 3 per surviving triangle
 };
 
-std::size_t pipeline_tokens() { return 4 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
+// Remembers the last cells looked up: neighbouring vertices and triangles in a file
+// mostly fall in the same few cells, so this skips most hash probes.
+template <class Record>
+class CellIndexCache {
+ public:
+  explicit CellIndexCache(CellMap<Record>& map) : map_(map) {}
+  std::uint32_t operator()(std::uint64_t key) {
+    if (key == key_[0]) return idx_[0];
+    if (key == key_[1]) {
+      std::swap(key_[0], key_[1]);
+      std::swap(idx_[0], idx_[1]);
+      return idx_[0];
+    }
+    key_[1] = key_[0];
+    idx_[1] = idx_[0];
+    key_[0] = key;
+    idx_[0] = map_.insert(key);
+    return idx_[0];
+  }
+
+ private:
+  CellMap<Record>& map_;
+  std::uint64_t key_[2] = {~std::uint64_t(0), ~std::uint64_t(0)};
+  std::uint32_t idx_[2] = {0, 0};
+};
+
+std::size_t pipeline_tokens() { return 2 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
 
 void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, CellMap<CellRecord>& cells,
                          ProgressReporter* progress) {
@@ -73,9 +99,10 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
       },
       [&](VertexChunk& c) {
         c.cells.clear();
+        CellIndexCache<VertexSum> index(c.cells);
         for (std::uint64_t i = c.begin; i < c.end; ++i) {
           Vec3d p = grid.relative(positions.get(i));
-          VertexSum& s = c.cells.record(c.cells.insert(grid.key_relative(p)));
+          VertexSum& s = c.cells.record(index(grid.key_relative(p)));
           s.x += p.x;
           s.y += p.y;
           s.z += p.z;
@@ -113,6 +140,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
       [&](FaceChunk& c) {
         c.cells.clear();
         c.kept.clear();
+        CellIndexCache<Quadric> index(c.cells);
         for (std::size_t t = 0; t < c.count; ++t) {
           const std::uint64_t* v = &c.tris[3 * t];
           Vec3d p0 = grid.relative(positions.get(v[0]));
@@ -122,14 +150,14 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           Quadric q;
           q.add_triangle(p0, p1, p2);
           // The quadric goes once to each distinct cell the triangle touches.
-          std::uint32_t i0 = c.cells.insert(k0), i1 = i0, i2 = i0;
+          std::uint32_t i0 = index(k0), i1 = i0, i2 = i0;
           c.cells.record(i0).add(q);
           if (k1 != k0) {
-            i1 = c.cells.insert(k1);
+            i1 = index(k1);
             c.cells.record(i1).add(q);
           }
           if (k2 != k0 && k2 != k1) {
-            i2 = c.cells.insert(k2);
+            i2 = index(k2);
             c.cells.record(i2).add(q);
           }
           // Only a triangle spanning three cells survives the collapse.
@@ -166,21 +194,26 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
   accumulate_triangles(input, grid, cells, kept, &triangles, progress);
   double t2 = now_seconds();
 
+  // The hash indexes are not needed any more; free them before the output arrays
+  // are allocated, which keeps the peak down.
+  cells.release_index();
+  kept.release_index();
+
   // Output vertices are the cells the kept triangles use, numbered by first use.
-  const std::vector<std::uint32_t>& tri = kept.triangles();
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> out_index(cells.size(), kUnused);
   std::vector<std::uint32_t> order;
   SimplifiedMesh mesh;
-  mesh.triangles.resize(tri.size());
-  for (std::size_t i = 0; i < tri.size(); ++i) {
-    std::uint32_t c = tri[i];
-    if (out_index[c] == kUnused) {
-      out_index[c] = std::uint32_t(order.size());
-      order.push_back(c);
+  mesh.triangles.resize(3 * kept.size());
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t c = kept[t][std::size_t(k)];
+      if (out_index[c] == kUnused) {
+        out_index[c] = std::uint32_t(order.size());
+        order.push_back(c);
+      }
+      mesh.triangles[3 * t + k] = out_index[c];
     }
-    mesh.triangles[i] = out_index[c];
-  }
   std::vector<std::uint32_t>().swap(out_index);
 
   mesh.positions.resize(3 * order.size());
@@ -205,7 +238,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
     stats->skipped_faces = input.triangles->skipped_faces();
     stats->occupied_cells = cells.size();
     stats->output_vertices = order.size();
-    stats->output_triangles = tri.size() / 3;
+    stats->output_triangles = kept.size();
     stats->seconds_vertices = t1 - t0;
     stats->seconds_faces = t2 - t1;
     stats->seconds_solve = t3 - t2;

@@ -6,12 +6,14 @@
 #include <cstring>
 #include <vector>
 
+#include "grid/paged_array.hpp"
+
 namespace oocsimp {
 
 /// Maps 64-bit cell keys to records stored densely in insertion order, so records
 /// can be walked (and merged) in a deterministic order. Linear probing over a
-/// power-of-two slot table of 32-bit record indices; no per-insert allocation once
-/// the table has grown.
+/// power-of-two slot table of 32-bit record indices; keys and records live in pages
+/// (PagedArray), so growth never copies them and the overshoot is one page.
 template <class Record>
 class CellMap {
  public:
@@ -50,8 +52,8 @@ class CellMap {
   /// Empties the map but keeps its capacity.
   void clear() {
     if (keys_.size() * 8 < slots_.size()) {
-      for (std::uint64_t k : keys_) {
-        std::size_t s = slot_of(k);
+      for (std::size_t i = 0; i < keys_.size(); ++i) {
+        std::size_t s = slot_of(keys_[i]);
         while (slots_[s] != 0) {
           slots_[s] = 0;
           s = (s + 1) & mask_;
@@ -63,6 +65,9 @@ class CellMap {
     keys_.clear();
     records_.clear();
   }
+  /// Frees the hash index, keeping keys and records; only key(), record() and
+  /// size() may be used afterwards.
+  void release_index() { std::vector<std::uint32_t>().swap(slots_); }
   /// Heap bytes held.
   std::size_t bytes() const {
     return keys_.capacity() * sizeof(std::uint64_t) + records_.capacity() * sizeof(Record) +
@@ -88,8 +93,8 @@ class CellMap {
     }
   }
 
-  std::vector<std::uint64_t> keys_;
-  std::vector<Record> records_;
+  PagedArray<std::uint64_t> keys_;
+  PagedArray<Record> records_;
   std::vector<std::uint32_t> slots_;
   std::size_t mask_ = 0;
   int shift_ = 60;

@@ -354,15 +354,40 @@ class PlyTriangleStream : public TriangleStream {
     src_.skip(h_->header_bytes, "header");
     for (int i = 0; i < h_->face; ++i) reader_.skip(h_->elements[i]);
     remaining_ = h_->elements[h_->face].count;
+    // The common binary layout, "property list uchar int|uint vertex_indices" alone,
+    // gets a direct path for its triangles (13-byte records).
+    const PlyElement& f = h_->elements[h_->face];
+    const PlyProperty& p = f.props[h_->indices];
+    fast_ = h_->format != PlyFormat::ascii && f.props.size() == 1 && p.count_type == PlyType::u8 &&
+            (p.type == PlyType::i32 || p.type == PlyType::u32);
+    fast_signed_ = p.type == PlyType::i32;
   }
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
     const PlyElement& face = h_->elements[h_->face];
+    const bool swap = h_->format == PlyFormat::binary_be;
     std::size_t n = 0;
     while (n < max) {
       if (fan_.pending()) {
         n += fan_.emit(out + 3 * n, max - n);
         continue;
+      }
+      if (fast_) {
+        const unsigned char* rec;
+        while (n < max && remaining_ > 0 && (rec = src_.peek(13)) != nullptr && rec[0] == 3) {
+          std::uint32_t v[3];
+          std::memcpy(v, rec + 1, 12);
+          for (int k = 0; k < 3; ++k) {
+            if (swap) v[k] = __builtin_bswap32(v[k]);
+            // A negative int index reads as a huge unsigned one: both fail this test.
+            if (v[k] >= vertex_count_) fast_index_error(std::int64_t(fast_signed_ ? std::int32_t(v[k]) : v[k]));
+            out[3 * n + k] = v[k];
+          }
+          src_.consume(13);
+          --remaining_;
+          ++n;
+        }
+        if (n == max) break;
       }
       if (remaining_ == 0) {
         if (!finished_) finish();
@@ -402,7 +427,15 @@ class PlyTriangleStream : public TriangleStream {
     }
   }
 
+  [[noreturn]] void fast_index_error(std::int64_t v) const {
+    std::string what = v < 0 ? "negative vertex index " + std::to_string(v)
+                             : "vertex index " + std::to_string(v) + " out of range (" +
+                                   std::to_string(vertex_count_) + " vertices)";
+    throw InputError(at_byte(src_.path(), src_.offset(), what));
+  }
+
   std::shared_ptr<const PlyHeader> h_;
+  bool fast_ = false, fast_signed_ = false;
   ByteSource src_;
   ElementReader reader_;
   std::uint64_t vertex_count_;
