@@ -110,7 +110,7 @@ TEST_CASE("output is byte-identical for any thread count", "[uniform]") {
   CHECK(a.triangles == c.triangles);
 }
 
-TEST_CASE("--ratio lands near the requested fraction", "[uniform]") {
+TEST_CASE("ratio sizing lands near the requested fraction", "[uniform]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 400000 --shape sphere --quiet -o " + d.file("s.ply")).exit_code == 0);
   CellSizing s;

@@ -68,7 +68,7 @@ void write_body(ByteSink& sink, const std::vector<float>& pos, const std::vector
   if (!ascii) {
     static_assert(sizeof(float) == 4, "float must be 32-bit");
     // x86 and ARM are little-endian: the arrays are written as they are.
-    sink.write(pos.data(), pos.size() * sizeof(float));
+    if (!pos.empty()) sink.write(pos.data(), pos.size() * sizeof(float));  // data() may be null when empty
     for (std::size_t i = 0; i < nf; ++i) {
       unsigned char rec[13];
       rec[0] = 3;

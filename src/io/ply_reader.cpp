@@ -351,7 +351,14 @@ class PlyTriangleStream : public TriangleStream {
  public:
   PlyTriangleStream(std::shared_ptr<const PlyHeader> h, std::uint64_t vertex_count)
       : h_(std::move(h)), src_(h_->path), reader_(src_, *h_), vertex_count_(vertex_count) {
-    src_.skip(h_->header_bytes, "header");
+    if (h_->format == PlyFormat::ascii) {
+      // Read the header as lines, so that error line numbers count from the file's start.
+      std::string_view line;
+      while (src_.offset() < h_->header_bytes && src_.next_line(&line)) {
+      }
+    } else {
+      src_.skip(h_->header_bytes, "header");
+    }
     for (int i = 0; i < h_->face; ++i) reader_.skip(h_->elements[i]);
     remaining_ = h_->elements[h_->face].count;
     // The common binary layout, "property list uchar int|uint vertex_indices" alone,
@@ -380,7 +387,7 @@ class PlyTriangleStream : public TriangleStream {
           for (int k = 0; k < 3; ++k) {
             if (swap) v[k] = __builtin_bswap32(v[k]);
             // A negative int index reads as a huge unsigned one: both fail this test.
-            if (v[k] >= vertex_count_) fast_index_error(std::int64_t(fast_signed_ ? std::int32_t(v[k]) : v[k]));
+            if (v[k] >= vertex_count_) fast_index_error(fast_signed_ ? std::int64_t(std::int32_t(v[k])) : std::int64_t(v[k]));
             out[3 * n + k] = v[k];
           }
           src_.consume(13);
@@ -512,17 +519,23 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   std::uint64_t vertex_offset = h->header_bytes;
   bool offset_known = binary;
   for (int i = 0; i < h->vertex && offset_known; ++i) {
-    if (!h->elements[i].fixed_size()) offset_known = false;
-    else vertex_offset += h->elements[i].count * h->elements[i].record_size();
+    const PlyElement& e = h->elements[i];
+    if (!e.fixed_size()) {
+      offset_known = false;
+    } else {
+      std::uint64_t rs = e.record_size();
+      if (rs != 0 && e.count > (~std::uint64_t(0) - vertex_offset) / rs)
+        throw InputError(at_byte(src.path(), vertex_offset, "element \"" + e.name + "\" count overflows"));
+      vertex_offset += e.count * rs;
+    }
   }
   PlyType xt = v.props[h->xyz[0]].type;
   bool same_float_type = (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt &&
                          v.props[h->xyz[2]].type == xt;
   if (offset_known && !src.compressed() && v.fixed_size() && same_float_type) {
     std::size_t rs = v.record_size();
-    std::uint64_t end = vertex_offset + v.count * rs;
-    if (v.count != 0 && (end - vertex_offset) / rs != v.count) throw InputError(src.path() + ": vertex count overflows");
-    if (end > src.file_size())
+    // Compared by division: vertex_offset + count * rs may wrap around 2^64.
+    if (vertex_offset > src.file_size() || v.count > (src.file_size() - vertex_offset) / rs)
       throw InputError(at_byte(src.path(), src.file_size(),
                                "file ends inside the vertex element (header declares " + std::to_string(v.count) +
                                    " vertices of " + std::to_string(rs) + " bytes from byte " +

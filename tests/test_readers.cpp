@@ -1,0 +1,1328 @@
+// Tests of the streaming mesh readers (PLY, OBJ, STL, each optionally zstd-compressed)
+// through the public open_mesh_input() API. Every input is written by the test itself
+// into a scratch folder.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "oocsimp/error.hpp"
+#include "oocsimp/mesh_input.hpp"
+#include "test_support.hpp"
+
+using oocsimp_test::LoadedMesh;
+using oocsimp_test::load_mesh;
+using oocsimp_test::put_be;
+using oocsimp_test::put_le;
+using oocsimp_test::ScratchDir;
+using oocsimp_test::write_file;
+using oocsimp_test::write_zstd_file;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+// The reference mesh used by most tests: five vertices, one quad and one triangle.
+const std::vector<float> kPos = {0.0f,    0.0f,   0.0f,   1.5f,   -2.25f, 0.1f,    -3.25e7f, 1e-20f,
+                                 42.0f,   7.5f,   8.125f, -9.0625f, 100.0f, 0.2f,    -0.3f};
+// The same coordinates as text, one vertex per entry.
+const char* const kPosText[5] = {"0 0 0", "1.5 -2.25 0.1", "-3.25e7 1e-20 42", "7.5 8.125 -9.0625", "100 0.2 -0.3"};
+const std::vector<std::vector<int>> kFaces = {{0, 1, 2, 3}, {1, 4, 2}};
+// kFaces fanned into triangles.
+const std::vector<std::uint64_t> kTris = {0, 1, 2, 0, 2, 3, 1, 4, 2};
+
+std::vector<double> as_doubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
+
+const std::vector<double> kPosD = as_doubles(kPos);
+
+template <class T>
+void put(std::string& s, T v, bool big_endian) {
+  if (big_endian) put_be(s, v);
+  else put_le(s, v);
+}
+
+// Appends integer `v` stored as the PLY scalar type `type`.
+void put_typed(std::string& s, const std::string& type, long long v, bool be) {
+  if (type == "char") put(s, std::int8_t(v), be);
+  else if (type == "uchar") put(s, std::uint8_t(v), be);
+  else if (type == "short") put(s, std::int16_t(v), be);
+  else if (type == "ushort") put(s, std::uint16_t(v), be);
+  else if (type == "int") put(s, std::int32_t(v), be);
+  else if (type == "uint") put(s, std::uint32_t(v), be);
+  else FAIL("bad type " << type);
+}
+
+const char* format_line(bool big_endian) {
+  return big_endian ? "format binary_big_endian 1.0\n" : "format binary_little_endian 1.0\n";
+}
+
+const char* const kXyzFloat = "property float x\nproperty float y\nproperty float z\n";
+
+// The reference mesh as ascii PLY (10 header lines, vertices on lines 11-15, faces on 16-17).
+std::string ascii_ply() {
+  std::string s = "ply\nformat ascii 1.0\ncomment reference mesh\nelement vertex 5\n";
+  s += kXyzFloat;
+  s += "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const char* v : kPosText) s += std::string(v) + "\n";
+  s += "4 0 1 2 3\n3 1 4 2\n";
+  return s;
+}
+
+// The reference mesh as binary PLY with float x,y,z and "list uchar int" faces.
+std::string binary_ply_header(bool be, std::uint64_t vertices = 5, std::uint64_t faces = 2) {
+  return std::string("ply\n") + format_line(be) + "element vertex " + std::to_string(vertices) + "\n" + kXyzFloat +
+         "element face " + std::to_string(faces) + "\nproperty list uchar int vertex_indices\nend_header\n";
+}
+
+void put_faces(std::string& s, const std::vector<std::vector<int>>& faces, bool be) {
+  for (const auto& f : faces) {
+    s.push_back(char(f.size()));
+    for (int i : f) put(s, std::int32_t(i), be);
+  }
+}
+
+std::string binary_ply(bool be) {
+  std::string s = binary_ply_header(be);
+  for (float f : kPos) put(s, f, be);
+  put_faces(s, kFaces, be);
+  return s;
+}
+
+std::string obj_text() {
+  std::string s = "# reference mesh\n";
+  for (const char* v : kPosText) s += std::string("v ") + v + "\n";
+  s += "f 1 2 3 4\nf 2 5 3\n";
+  return s;
+}
+
+// Two triangles with corners kPos[0..2] and kPos[3..5] (vertex 5 of the second
+// triangle is (1, 2, 3)).
+const std::vector<float> kStlPos = {0.0f,    0.0f,   0.0f,    1.5f, -2.25f, 0.1f, -3.25e7f, 1e-20f, 42.0f,
+                                    7.5f,    8.125f, -9.0625f, 100.0f, 0.2f, -0.3f, 1.0f,     2.0f,   3.0f};
+
+std::string ascii_stl() {
+  return "solid reference\n"
+         "  facet normal 0 0 1\n"
+         "    outer loop\n"
+         "      vertex 0 0 0\n"
+         "      vertex 1.5 -2.25 0.1\n"
+         "      vertex -3.25e7 1e-20 42\n"
+         "    endloop\n"
+         "  endfacet\n"
+         "  facet normal 0 0 -1\n"
+         "    outer loop\n"
+         "      vertex 7.5 8.125 -9.0625\n"
+         "      vertex 100 0.2 -0.3\n"
+         "      vertex 1 2 3\n"
+         "    endloop\n"
+         "  endfacet\n"
+         "endsolid reference\n";
+}
+
+std::string binary_stl(const std::string& header_text, std::uint32_t declared, std::size_t triangles) {
+  std::string s = header_text;
+  s.resize(80, ' ');
+  put_le(s, declared);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) put_le(s, 0.0f);  // normal
+    for (int k = 0; k < 9; ++k) put_le(s, kStlPos[(9 * t + std::size_t(k)) % kStlPos.size()]);
+    put_le(s, std::uint16_t(0));  // attribute byte count
+  }
+  return s;
+}
+
+// Runs f, which must throw InputError, and returns its message.
+template <class F>
+std::string input_error(F&& f) {
+  try {
+    f();
+  } catch (const oocsimp::InputError& e) {
+    return e.what();
+  }
+  FAIL("no InputError was thrown");
+  return {};
+}
+
+// The message of the InputError that loading `path` (positions and all triangles) throws.
+std::string load_error(const std::string& path, const ScratchDir& tmp) {
+  return input_error([&] { load_mesh(path, tmp.path()); });
+}
+
+// The message of the InputError that open_mesh_input itself throws.
+std::string open_error(const std::string& path, const ScratchDir& tmp) {
+  oocsimp::OpenOptions o;
+  o.temp_dir = tmp.path();
+  return input_error([&] { oocsimp::open_mesh_input(path, o); });
+}
+
+void check_same_mesh(const LoadedMesh& a, const LoadedMesh& b) {
+  CHECK(a.positions == b.positions);
+  CHECK(a.triangles == b.triangles);
+  CHECK(a.info.format == b.info.format);
+  CHECK(a.info.vertex_count == b.info.vertex_count);
+  CHECK(a.info.face_count == b.info.face_count);
+  CHECK(a.skipped_faces == b.skipped_faces);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------
+// PLY
+
+TEST_CASE("PLY ascii: positions fanned faces and info", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  write_file(path, ascii_ply());
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "ply ascii");
+  CHECK_FALSE(m.info.compressed);
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.path == path);
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.vertex_count() == 5);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+  CHECK(m.skipped_faces == 0);
+  CHECK(m.info.elements ==
+        std::vector<std::string>{"vertex 5 (x float, y float, z float)", "face 2 (vertex_indices list uchar int)"});
+  CHECK(m.info.comments == std::vector<std::string>{"comment reference mesh"});
+  CHECK(m.info.bounds.min.x == double(-3.25e7f));
+  CHECK(m.info.bounds.max.x == 100.0);
+  CHECK(m.info.bounds.min.y == -2.25);
+  CHECK(m.info.bounds.max.y == double(8.125f));
+  CHECK(m.info.bounds.min.z == -9.0625);
+  CHECK(m.info.bounds.max.z == 42.0);
+}
+
+TEST_CASE("PLY binary_little_endian with float coordinates is read in place", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  write_file(path, binary_ply(false));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "ply binary_little_endian");
+  CHECK(m.info.positions_in_place);
+  CHECK_FALSE(m.info.compressed);
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+  // Read in place: no temporary position file.
+  CHECK(dir.entries() == std::vector<std::string>{"mesh.ply"});
+}
+
+TEST_CASE("PLY binary_big_endian with float coordinates is read in place and byte-swapped", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  write_file(path, binary_ply(true));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "ply binary_big_endian");
+  CHECK(m.info.positions_in_place);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY binary with double coordinates is read in place at full precision", "[readers][ply]") {
+  bool be = GENERATE(false, true);
+  CAPTURE(be);
+  // Values that a float cannot hold exactly.
+  const std::vector<double> pos = {0.1, -1e-300, 123456789.123456789, 1e300, 2.0 / 3.0, -0.3, 5, 6, 7};
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(be) +
+                  "element vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+                  "element face 1\nproperty list uchar uint vertex_indices\nend_header\n";
+  for (double d : pos) put(s, d, be);
+  s.push_back(3);
+  for (std::uint32_t i : {2u, 0u, 1u}) put(s, i, be);
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == (be ? "ply binary_big_endian" : "ply binary_little_endian"));
+  CHECK(m.info.positions_in_place);
+  CHECK(m.positions == pos);
+  CHECK(m.triangles == std::vector<std::uint64_t>{2, 0, 1});
+  CHECK(m.info.bounds.max.x == 1e300);
+  CHECK(m.info.bounds.min.y == -1e-300);
+}
+
+TEST_CASE("PLY binary with extra vertex properties around xyz is read in place", "[readers][ply]") {
+  bool be = GENERATE(false, true);
+  CAPTURE(be);
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(be) +
+                  "element vertex 5\nproperty uchar red\nproperty float confidence\n" + kXyzFloat +
+                  "property float nx\nproperty float ny\nproperty float nz\nproperty short flags\n"
+                  "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int v = 0; v < 5; ++v) {
+    put(s, std::uint8_t(200 + v), be);
+    put(s, 0.5f * float(v) - 7.0f, be);
+    for (int k = 0; k < 3; ++k) put(s, kPos[std::size_t(3 * v + k)], be);
+    for (int k = 0; k < 3; ++k) put(s, -1.0f - float(k), be);
+    put(s, std::int16_t(-v), be);
+  }
+  put_faces(s, kFaces, be);
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.positions_in_place);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+  // Confidence values and normals (up to -7) must not leak into the bounds.
+  CHECK(m.info.bounds.min.z == -9.0625);
+  CHECK(m.info.bounds.min.y == -2.25);
+}
+
+TEST_CASE("PLY ascii with extra vertex properties around xyz", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = "ply\nformat ascii 1.0\nelement vertex 5\nproperty uchar red\nproperty float confidence\n" +
+                  std::string(kXyzFloat) +
+                  "property float nx\nproperty float ny\nproperty float nz\n"
+                  "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int v = 0; v < 5; ++v) s += std::to_string(200 + v) + " -1e30 " + kPosText[v] + " 0 0 1\n";
+  s += "4 0 1 2 3\n3 1 4 2\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "ply ascii");
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY vertex element with a list property is converted and not read in place", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  SECTION("binary") {
+    bool be = GENERATE(false, true);
+    CAPTURE(be);
+    std::string s = std::string("ply\n") + format_line(be) +
+                    "element vertex 5\nproperty float x\nproperty list uchar int tags\nproperty float y\n"
+                    "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    for (int v = 0; v < 5; ++v) {
+      put(s, kPos[std::size_t(3 * v)], be);
+      s.push_back(char(v));  // v tags
+      for (int t = 0; t < v; ++t) put(s, std::int32_t(1000 + t), be);
+      put(s, kPos[std::size_t(3 * v + 1)], be);
+      put(s, kPos[std::size_t(3 * v + 2)], be);
+    }
+    put_faces(s, kFaces, be);
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.info.format == (be ? "ply binary_big_endian" : "ply binary_little_endian"));
+    CHECK_FALSE(m.info.positions_in_place);
+    CHECK(m.positions == kPosD);
+    CHECK(m.triangles == kTris);
+  }
+  SECTION("ascii") {
+    std::string s =
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty list uchar int tags\nproperty float y\n"
+        "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0 0\n1.5 1 7 -2.25 0.1\n-3.25e7 2 7 8 1e-20 42\n7.5 3 1 2 3 8.125 -9.0625\n100 0 0.2 -0.3\n"
+        "4 0 1 2 3\n3 1 4 2\n";
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK_FALSE(m.info.positions_in_place);
+    CHECK(m.positions == kPosD);
+    CHECK(m.triangles == kTris);
+  }
+}
+
+TEST_CASE("PLY binary face list count and index types", "[readers][ply]") {
+  std::string count_type = GENERATE(as<std::string>{}, "uchar", "ushort", "uint", "int", "char", "short");
+  std::string index_type = GENERATE(as<std::string>{}, "int", "uint");
+  bool be = GENERATE(false, true);
+  CAPTURE(count_type, index_type, be);
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(be) + "element vertex 5\n" + kXyzFloat +
+                  "element face 2\nproperty list " + count_type + " " + index_type + " vertex_indices\nend_header\n";
+  for (float f : kPos) put(s, f, be);
+  for (const auto& f : kFaces) {
+    put_typed(s, count_type, static_cast<long long>(f.size()), be);
+    for (int i : f) put_typed(s, index_type, i, be);
+  }
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.positions_in_place);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY face element with other properties and the vertex_index name", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(false) + "element vertex 5\n" + kXyzFloat +
+                  "element face 2\nproperty uchar flags\nproperty list uchar float texcoord\n"
+                  "property list ushort uint vertex_index\nproperty int material\nend_header\n";
+  for (float f : kPos) put_le(s, f);
+  for (const auto& f : kFaces) {
+    put_le(s, std::uint8_t(9));
+    put_le(s, std::uint8_t(2));
+    put_le(s, 0.25f);
+    put_le(s, 0.75f);
+    put_le(s, std::uint16_t(f.size()));
+    for (int i : f) put_le(s, std::uint32_t(i));
+    put_le(s, std::int32_t(-5));
+  }
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY quads and pentagons are fanned into (v0 vi vi+1) triangles", "[readers][ply]") {
+  ScratchDir dir;
+  const std::vector<std::vector<int>> faces = {{4, 3, 2, 1, 0}, {1, 2, 3, 4}, {0, 2, 4}, {3, 0, 1, 4, 2}};
+  const std::vector<std::uint64_t> tris = {4, 3, 2, 4, 2, 1, 4, 1, 0,  // pentagon
+                                           1, 2, 3, 1, 3, 4,           // quad
+                                           0, 2, 4,                    // triangle
+                                           3, 0, 1, 3, 1, 4, 3, 4, 2};
+  SECTION("binary") {
+    std::string path = dir.file("binary.ply");
+    std::string s = binary_ply_header(false, 5, 4);
+    for (float f : kPos) put_le(s, f);
+    put_faces(s, faces, false);
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.info.face_count == 4);
+    CHECK(m.triangles == tris);
+  }
+  SECTION("ascii") {
+    std::string path = dir.file("ascii.ply");
+    std::string s = "ply\nformat ascii 1.0\nelement vertex 5\n" + std::string(kXyzFloat) +
+                    "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const char* v : kPosText) s += std::string(v) + "\n";
+    s += "5 4 3 2 1 0\n4 1 2 3 4\n3 0 2 4\n5 3 0 1 4 2\n";
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.triangles == tris);
+  }
+}
+
+TEST_CASE("PLY extra elements before and between and after vertex and face are skipped", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  SECTION("binary, fixed-size element before the vertices (still in place)") {
+    bool be = GENERATE(false, true);
+    CAPTURE(be);
+    std::string s = std::string("ply\n") + format_line(be) +
+                    "element camera 1\nproperty double fx\nproperty uchar id\n"
+                    "element vertex 5\n" + kXyzFloat +
+                    "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+                    "element face 2\nproperty list uchar int vertex_indices\n"
+                    "element material 2\nproperty uchar ambient_red\nproperty list uchar float coefficients\n"
+                    "end_header\n";
+    put(s, 1234.5, be);
+    put(s, std::uint8_t(7), be);
+    for (float f : kPos) put(s, f, be);
+    for (int e = 0; e < 2; ++e) {
+      put(s, std::int32_t(e), be);
+      put(s, std::int32_t(e + 1), be);
+    }
+    put_faces(s, kFaces, be);
+    for (int k = 0; k < 2; ++k) {
+      put(s, std::uint8_t(k), be);
+      put(s, std::uint8_t(k + 1), be);
+      for (int j = 0; j <= k; ++j) put(s, 0.5f, be);
+    }
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.info.positions_in_place);
+    CHECK(m.info.vertex_count == 5);
+    CHECK(m.info.face_count == 2);
+    CHECK(m.info.elements.size() == 5);
+    CHECK(m.positions == kPosD);
+    CHECK(m.triangles == kTris);
+  }
+  SECTION("binary, variable-size element before the vertices (converted)") {
+    std::string s = std::string("ply\n") + format_line(false) +
+                    "element header_info 2\nproperty list uchar uchar text\n"
+                    "element vertex 5\n" + kXyzFloat +
+                    "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+                    "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    s += std::string("\x03" "abc" "\x01" "z", 6);
+    for (float f : kPos) put_le(s, f);
+    for (int e = 0; e < 4; ++e) put_le(s, std::int32_t(e));
+    put_faces(s, kFaces, false);
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK_FALSE(m.info.positions_in_place);
+    CHECK(m.positions == kPosD);
+    CHECK(m.triangles == kTris);
+  }
+  SECTION("ascii") {
+    std::string s = "ply\nformat ascii 1.0\nelement camera 1\nproperty float f\nelement vertex 5\n" +
+                    std::string(kXyzFloat) +
+                    "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+                    "element face 2\nproperty list uchar int vertex_indices\n"
+                    "element material 1\nproperty list uchar float coefficients\nproperty uchar id\nend_header\n"
+                    "35.5\n";
+    for (const char* v : kPosText) s += std::string(v) + "\n";
+    s += "0 1\n1 2\n4 0 1 2 3\n3 1 4 2\n3 0.5 0.25 0.125 9\n";
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.positions == kPosD);
+    CHECK(m.triangles == kTris);
+  }
+}
+
+TEST_CASE("PLY without a face element has positions and no triangles", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("points.ply");
+  std::string s = std::string("ply\n") + format_line(false) + "element vertex 5\n" + kXyzFloat + "end_header\n";
+  for (float f : kPos) put_le(s, f);
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.face_count == 0);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles.empty());
+}
+
+TEST_CASE("PLY face element before the vertex element", "[readers][ply]") {
+  bool be = GENERATE(false, true);
+  CAPTURE(be);
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(be) +
+                  "element face 2\nproperty list uchar int vertex_indices\nelement vertex 5\n" + kXyzFloat +
+                  "end_header\n";
+  put_faces(s, kFaces, be);
+  for (float f : kPos) put(s, f, be);
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK_FALSE(m.info.positions_in_place);  // the face records have variable size
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY comment and obj_info lines are reported and otherwise ignored", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\ncomment first line\n") + format_line(false) +
+                  "obj_info scanner 3 v1.2\nelement vertex 5\ncomment between element and property\n" + kXyzFloat +
+                  "comment\nelement face 2\nproperty list uchar int vertex_indices\ncomment last one\nend_header\n";
+  for (float f : kPos) put_le(s, f);
+  put_faces(s, kFaces, false);
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.comments == std::vector<std::string>{"comment first line", "obj_info scanner 3 v1.2",
+                                                    "comment between element and property", "comment",
+                                                    "comment last one"});
+  CHECK(m.info.positions_in_place);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY ascii with CRLF line endings", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string lf = ascii_ply(), crlf;
+  for (char c : lf) {
+    if (c == '\n') crlf += "\r\n";
+    else crlf += c;
+  }
+  write_file(path, crlf);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "ply ascii");
+  CHECK(m.info.comments == std::vector<std::string>{"comment reference mesh"});
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY ascii tolerates blank lines and tabs and a missing final newline", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = "ply\nformat ascii 1.0\nelement vertex 5\n" + std::string(kXyzFloat) +
+                  "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                  "0\t0 0\n\n1.5   -2.25\t0.1 \n-3.25e7 1e-20 +42\n7.5 8.125 -9.0625\n100 0.2 -0.3\n"
+                  "\n4 0 1 2 3\n3 1 4 2";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("PLY faces with fewer than three corners are skipped and counted", "[readers][ply]") {
+  ScratchDir dir;
+  const std::vector<std::vector<int>> faces = {{0, 1}, {0, 1, 2}, {}, {3}, {1, 4, 2}};
+  SECTION("binary") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = binary_ply_header(false, 5, 5);
+    for (float f : kPos) put_le(s, f);
+    put_faces(s, faces, false);
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 1, 4, 2});
+    CHECK(m.skipped_faces == 3);
+  }
+  SECTION("ascii, a single two-corner face") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = "ply\nformat ascii 1.0\nelement vertex 5\n" + std::string(kXyzFloat) +
+                    "element face 3\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const char* v : kPosText) s += std::string(v) + "\n";
+    s += "3 0 1 2\n2 3 4\n3 1 4 2\n";
+    write_file(path, s);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 1, 4, 2});
+    CHECK(m.skipped_faces == 1);
+  }
+}
+
+TEST_CASE("PLY triangle stream can be restarted", "[readers][ply]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  write_file(path, binary_ply(false));
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::uint64_t> got, buf(6);
+    // Two triangles at a time, so the quad's fan is split across calls.
+    while (std::size_t n = in.triangles->read(buf.data(), 2)) got.insert(got.end(), buf.begin(), buf.begin() + 3 * std::ptrdiff_t(n));
+    CHECK(got == kTris);
+    in.restart_triangles();
+  }
+}
+
+// ---------------------------------------------------------------------------------
+// OBJ
+
+TEST_CASE("OBJ v and f lines", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  write_file(path, obj_text());
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "obj");
+  CHECK_FALSE(m.info.compressed);
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s;
+  for (const char* v : kPosText) s += std::string("v ") + v + "\n";
+  s += "vt 0.5 0.5\nvt 0.25 0.75\nvn 0 0 1\n"
+       "f 1 2 3\n"
+       "f 1/1 3/2 4/1\n"
+       "f 2//1 5//1 3//1\n"
+       "f 5/2/1 4/1/1 3/2/1 2/1/1\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.face_count == 4);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 2, 3, 1, 4, 2, 4, 3, 2, 4, 2, 1});
+}
+
+TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s = "v 0 0 0 1 0 0\n"
+                  "v 1.5 -2.25 0.1 0.5 0.5 0.5\n"
+                  "v -3.25e7 1e-20 42 1\n"  // with w
+                  "v 7.5 8.125 -9.0625 0 1 0\n"
+                  "v 100 0.2 -0.3 0.1 0.2 0.3\n"
+                  "f 1 2 3 4\nf 2 5 3\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ negative indices count back from the latest vertex", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s = "v 0 0 0\nv 1.5 -2.25 0.1\nv -3.25e7 1e-20 42\n"
+                  "f -3 -2 -1\n"  // 0 1 2
+                  "v 7.5 8.125 -9.0625\n"
+                  "f -1/1/1 -4//2 -2\n"  // 3 0 2
+                  "v 100 0.2 -0.3\n"
+                  "f 1 -1 -3 -2\n";  // 0 4 2 3 -> (0 4 2) (0 2 3)
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 0, 2, 0, 4, 2, 0, 2, 3});
+}
+
+TEST_CASE("OBJ polygons are fanned", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s;
+  for (const char* v : kPosText) s += std::string("v ") + v + "\n";
+  s += "f 5 4 3 2 1\nf 2 3 4 5\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.triangles == std::vector<std::uint64_t>{4, 3, 2, 4, 2, 1, 4, 1, 0, 1, 2, 3, 1, 3, 4});
+}
+
+TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s = "# exported by a test\n"
+                  "mtllib scene.mtl\n"
+                  "o object\n"
+                  "\n"
+                  "v 0 0 0\n"
+                  "vn 0 0 1\n"
+                  "vt 0.5 0.5\n"
+                  "vp 0.1 0.2\n"
+                  "  v 1.5 -2.25 0.1\n"
+                  "\tv -3.25e7 1e-20 42\n"
+                  "g group1\n"
+                  "usemtl red\n"
+                  "s off\n"
+                  "v 7.5 8.125 -9.0625\r\n"
+                  "v 100 0.2 -0.3\n"
+                  "# f 9 9 9\n"
+                  "l 1 2\n"
+                  "f 1 2 3 4\r\n"
+                  "  f 2 5 3\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kPosD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ faces with fewer than three corners are skipped and counted", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  write_file(path, obj_text() + "f 1 2\nf 3\n");
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.triangles == kTris);
+  CHECK(m.skipped_faces == 2);
+}
+
+// ---------------------------------------------------------------------------------
+// STL
+
+TEST_CASE("STL ascii gives three vertices per triangle", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  write_file(path, ascii_stl());
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl ascii");
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("STL binary gives three vertices per triangle", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  write_file(path, binary_stl("binary STL written by a test", 2, 2));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl binary");
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("STL binary whose header starts with solid is detected by its size", "[readers][stl]") {
+  ScratchDir dir;
+  // With and without the .stl extension (content detection by the "solid" prefix).
+  std::string name = GENERATE(as<std::string>{}, "mesh.stl", "mesh.STL", "mesh.dat");
+  CAPTURE(name);
+  std::string path = dir.file(name);
+  write_file(path, binary_stl("solid exported-by-cad-tool", 4, 4));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl binary");
+  CHECK(m.info.vertex_count == 12);
+  CHECK(m.info.face_count == 4);
+  std::vector<double> expected = as_doubles(kStlPos);
+  expected.insert(expected.end(), kStlPos.begin(), kStlPos.end());
+  CHECK(m.positions == expected);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+}
+
+TEST_CASE("STL ascii with several solids", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  std::string s = ascii_stl() + "solid second\nfacet normal 0 0 1\nouter loop\nvertex 1 1 1\nvertex 2 2 2\n"
+                                "vertex 3 3 3\nendloop\nendfacet\nendsolid second\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.face_count == 3);
+  std::vector<double> expected = as_doubles(kStlPos);
+  expected.insert(expected.end(), {1, 1, 1, 2, 2, 2, 3, 3, 3});
+  CHECK(m.positions == expected);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8});
+}
+
+// ---------------------------------------------------------------------------------
+// zstd
+
+TEST_CASE("zstd-compressed PLY OBJ and STL give the same mesh as uncompressed", "[readers][zstd]") {
+  struct Case {
+    const char* name;
+    std::string content;
+  };
+  const Case cases[] = {
+      {"mesh.ply", binary_ply(false)}, {"mesh_be.ply", binary_ply(true)}, {"mesh_ascii.ply", ascii_ply()},
+      {"mesh.obj", obj_text()},        {"mesh.stl", ascii_stl()},
+      {"mesh_binary.stl", binary_stl("binary STL", 2, 2)},
+      {"mesh_solid.stl", binary_stl("solid but binary", 2, 2)}};
+  ScratchDir dir;
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    std::string plain = dir.file(c.name), packed = dir.file(std::string(c.name) + ".zst");
+    write_file(plain, c.content);
+    write_zstd_file(packed, c.content);
+    LoadedMesh a = load_mesh(plain, dir.path());
+    LoadedMesh b = load_mesh(packed, dir.path());
+    CHECK_FALSE(a.info.compressed);
+    CHECK(b.info.compressed);
+    CHECK_FALSE(b.info.positions_in_place);  // compressed input is always converted
+    CHECK(b.info.path == packed);
+    check_same_mesh(a, b);
+    CHECK(a.vertex_count() > 0);
+    CHECK(a.triangle_count() > 0);
+  }
+}
+
+TEST_CASE("zstd-compressed PLY with multi-megabyte content", "[readers][zstd]") {
+  // Larger than the 1 MiB read buffer, so refills happen mid-record.
+  ScratchDir dir;
+  const std::uint32_t n = 100003;
+  std::string s = std::string("ply\n") + format_line(false) + "element vertex " + std::to_string(n) + "\n" +
+                  "property uchar pad\n" + kXyzFloat + "element face " + std::to_string(n - 2) +
+                  "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::uint32_t i = 0; i < n; ++i) {
+    put_le(s, std::uint8_t(i));
+    put_le(s, float(i) * 0.5f);
+    put_le(s, -float(i));
+    put_le(s, 1.0f / float(i + 1));
+  }
+  for (std::uint32_t i = 0; i + 2 < n; ++i) {
+    s.push_back(3);
+    put_le(s, std::int32_t(i));
+    put_le(s, std::int32_t(i + 2));
+    put_le(s, std::int32_t(i + 1));
+  }
+  write_file(dir.file("big.ply"), s);
+  write_zstd_file(dir.file("big.ply.zst"), s);
+  LoadedMesh a = load_mesh(dir.file("big.ply"), dir.path());
+  LoadedMesh b = load_mesh(dir.file("big.ply.zst"), dir.path());
+  CHECK(a.info.positions_in_place);
+  CHECK(b.info.compressed);
+  REQUIRE(a.vertex_count() == n);
+  REQUIRE(a.triangle_count() == n - 2);
+  CHECK(a.positions[3 * 99999 + 2] == double(1.0f / 100000.0f));
+  CHECK(a.triangles[3 * 77777 + 1] == 77779);
+  check_same_mesh(a, b);
+}
+
+// ---------------------------------------------------------------------------------
+// Bad input
+
+TEST_CASE("PLY binary truncated inside the vertex element", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = binary_ply(false);
+  std::size_t header = binary_ply_header(false).size();
+  s.resize(header + 4 * 12 + 5);  // four and a bit vertices
+  write_file(path, s);
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte "));
+  CHECK_THAT(msg, Contains("vertex"));
+  CHECK(dir.entries() == std::vector<std::string>{"mesh.ply"});
+}
+
+TEST_CASE("PLY binary truncated inside the vertex element when converted", "[readers][errors]") {
+  // A list property forces conversion, so the truncation is found record by record.
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = std::string("ply\n") + format_line(false) +
+                  "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                  "property list uchar int tags\nend_header\n";
+  std::size_t header = s.size();
+  for (int v = 0; v < 2; ++v) {
+    for (int k = 0; k < 3; ++k) put_le(s, 1.0f);
+    s.push_back(0);
+  }
+  put_le(s, 1.0f);
+  write_file(path, s);
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte " + std::to_string(header + 2 * 13) + ":"));
+  CHECK(dir.entries() == std::vector<std::string>{"mesh.ply"});  // no temporary file left
+}
+
+TEST_CASE("PLY binary truncated inside the face element fails while reading triangles", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = binary_ply(false);
+  std::size_t second_face = binary_ply_header(false).size() + kPos.size() * 4 + 1 + 4 * 4;
+  s.resize(s.size() - 3);  // the last index is cut
+  write_file(path, s);
+  // Opening succeeds: faces are read lazily.
+  {
+    oocsimp::OpenOptions o;
+    o.temp_dir = dir.path();
+    oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+    CHECK(in.info.face_count == 2);
+  }
+  std::string msg = load_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte " + std::to_string(second_face) + ":"));
+  CHECK_THAT(msg, Contains("face"));
+}
+
+TEST_CASE("PLY face element with fewer records than declared", "[readers][errors]") {
+  ScratchDir dir;
+  SECTION("binary") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = binary_ply_header(false, 5, 3);
+    for (float f : kPos) put_le(s, f);
+    put_faces(s, kFaces, false);
+    write_file(path, s);
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": byte " + std::to_string(s.size()) + ":"));
+  }
+  SECTION("ascii") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = ascii_ply();
+    s.replace(s.find("element face 2"), 14, "element face 3");
+    write_file(path, s);
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": line "));
+  }
+}
+
+TEST_CASE("PLY face index out of range", "[readers][errors]") {
+  ScratchDir dir;
+  SECTION("binary int index") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = binary_ply_header(false);
+    for (float f : kPos) put_le(s, f);
+    put_faces(s, {{0, 1, 2}, {1, 5, 2}}, false);
+    write_file(path, s);
+    std::size_t second_face = binary_ply_header(false).size() + kPos.size() * 4 + 13;
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": byte " + std::to_string(second_face) + ":"));
+    CHECK_THAT(msg, Contains("out of range"));
+  }
+  SECTION("binary uint index 0xFFFFFFFF, big-endian") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = std::string("ply\n") + format_line(true) + "element vertex 5\n" + kXyzFloat +
+                    "element face 1\nproperty list uchar uint vertex_indices\nend_header\n";
+    for (float f : kPos) put_be(s, f);
+    s.push_back(3);
+    for (std::uint32_t i : {0u, 0xFFFFFFFFu, 1u}) put_be(s, i);
+    write_file(path, s);
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": byte "));
+    CHECK_THAT(msg, Contains("4294967295"));
+  }
+  SECTION("ascii") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = ascii_ply();
+    s.replace(s.find("3 1 4 2"), 7, "3 1 5 2");
+    write_file(path, s);
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": line 17:"));  // the second face's line in the file
+    CHECK_THAT(msg, Contains("out of range"));
+  }
+}
+
+TEST_CASE("PLY negative face index", "[readers][errors]") {
+  ScratchDir dir;
+  SECTION("binary") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = binary_ply_header(false);
+    for (float f : kPos) put_le(s, f);
+    put_faces(s, {{-1, 1, 2}, {1, 4, 2}}, false);
+    write_file(path, s);
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": byte " + std::to_string(binary_ply_header(false).size() + 60) + ":"));
+    CHECK_THAT(msg, Contains("negative"));
+  }
+  SECTION("ascii") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = ascii_ply();
+    s.replace(s.find("4 0 1 2 3"), 9, "4 0 1 -2 3");
+    write_file(path, s);
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": line 16:"));
+    CHECK_THAT(msg, Contains("negative"));
+  }
+}
+
+TEST_CASE("NaN and infinite coordinates are rejected", "[readers][errors]") {
+  ScratchDir dir;
+  SECTION("ascii PLY") {
+    std::string token = GENERATE(as<std::string>{}, "nan", "NaN", "inf", "-inf", "1e39");
+    CAPTURE(token);
+    std::string path = dir.file("mesh.ply");
+    std::string s = ascii_ply();
+    s.replace(s.find("1e-20"), 5, token);
+    write_file(path, s);
+    std::string msg = open_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": line 13:"));
+    CHECK_THAT(msg, Contains("NaN"));
+  }
+  SECTION("OBJ") {
+    std::string path = dir.file("mesh.obj");
+    std::string s = obj_text();
+    s.replace(s.find("-9.0625"), 7, "nan");
+    write_file(path, s);
+    std::string msg = open_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": line 5:"));
+    CHECK_THAT(msg, Contains("NaN"));
+  }
+  SECTION("binary PLY read in place") {
+    bool be = GENERATE(false, true);
+    CAPTURE(be);
+    std::string path = dir.file("mesh.ply");
+    std::string s = binary_ply_header(be);
+    std::vector<float> pos = kPos;
+    pos[3 * 3 + 1] = std::numeric_limits<float>::quiet_NaN();
+    for (float f : pos) put(s, f, be);
+    put_faces(s, kFaces, be);
+    write_file(path, s);
+    std::string msg = open_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": byte " + std::to_string(binary_ply_header(be).size() + 3 * 12) + ":"));
+    CHECK_THAT(msg, Contains("vertex 3"));
+  }
+  SECTION("binary PLY with double infinity") {
+    std::string path = dir.file("mesh.ply");
+    std::string s = std::string("ply\n") + format_line(false) +
+                    "element vertex 2\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+    std::size_t header = s.size();
+    for (double d : {1.0, 2.0, 3.0, 4.0, 5.0, -std::numeric_limits<double>::infinity()}) put_le(s, d);
+    write_file(path, s);
+    CHECK_THAT(open_error(path, dir), StartsWith(path + ": byte " + std::to_string(header + 24) + ":"));
+  }
+  SECTION("binary STL") {
+    std::string path = dir.file("mesh.stl");
+    std::string s = binary_stl("nan inside", 2, 2);
+    float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&s[84 + 50 + 12 + 12 + 4], &nan, 4);  // second triangle, corner 1, y
+    write_file(path, s);
+    CHECK_THAT(open_error(path, dir), StartsWith(path + ": byte "));
+  }
+  CHECK(dir.entries().size() == 1);  // the input only: no temporary file left behind
+}
+
+TEST_CASE("OBJ face index 0 is rejected", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  write_file(path, obj_text() + "f 0 1 2\n");
+  std::string msg = load_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": line 9:"));
+  CHECK_THAT(msg, Contains("index 0"));
+}
+
+TEST_CASE("OBJ forward and out-of-range references are rejected", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  SECTION("forward reference to a vertex defined later") {
+    write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\nv 1 1 0\n");
+    std::string msg = load_error(path, dir);
+    CHECK_THAT(msg, StartsWith(path + ": line 4:"));
+    CHECK_THAT(msg, Contains("not defined yet"));
+  }
+  SECTION("index beyond all vertices") {
+    write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1/1/1 2/2/2 9/9/9\n");
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": line 5:"));
+  }
+  SECTION("negative index reaching before the first vertex") {
+    write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": line 4:"));
+  }
+  SECTION("malformed index") {
+    write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n");
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": line 4:"));
+  }
+  SECTION("vertex with two coordinates") {
+    write_file(path, "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n");
+    CHECK_THAT(open_error(path, dir), StartsWith(path + ": line 2:"));
+  }
+}
+
+TEST_CASE("STL binary whose triangle count disagrees with its size", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  SECTION("count too large") { write_file(path, binary_stl("binary", 3, 2)); }
+  SECTION("count too small") { write_file(path, binary_stl("binary", 1, 2)); }
+  SECTION("count too large, header says solid") { write_file(path, binary_stl("solid x", 5, 2)); }
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte 80:"));
+  CHECK(dir.entries() == std::vector<std::string>{"mesh.stl"});
+}
+
+TEST_CASE("STL ascii with a malformed facet", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  std::string s = ascii_stl();
+  std::string expected;
+  SECTION("missing endloop") {
+    s.erase(s.find("    endloop\n"), 12);
+    expected = ": line 7:";  // endfacet where endloop belongs
+  }
+  SECTION("two vertices in a loop") {
+    s.erase(s.find("      vertex 1.5 -2.25 0.1\n"), 27);
+    expected = ": line 6:";
+  }
+  SECTION("missing endsolid") {
+    s.erase(s.find("endsolid"));
+    expected = ": line ";
+  }
+  SECTION("malformed coordinate") {
+    s.replace(s.find("8.125"), 5, "8.1.25");
+    expected = ": line 11:";
+  }
+  write_file(path, s);
+  CHECK_THAT(open_error(path, dir), StartsWith(path + expected));
+}
+
+TEST_CASE("PLY header errors", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s = binary_ply(false), expected = ": line 2:", what;
+  SECTION("unknown format") {
+    s.replace(s.find("binary_little_endian"), 20, "binary_middle_endian");
+    what = "binary_middle_endian";
+  }
+  SECTION("format version 2.0") {
+    s.replace(s.find("1.0"), 3, "2.0");
+    what = "2.0";
+  }
+  SECTION("unknown property type") {
+    s.replace(s.find("float y"), 7, "quad y");
+    expected = ": line 5:";
+  }
+  SECTION("unknown keyword") {
+    s.replace(s.find("element face"), 0, "elephant 3\n");
+    expected = ": line 7:";
+  }
+  SECTION("missing end_header") {
+    s = "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n";
+    expected = ": line ";
+  }
+  SECTION("missing format line") {
+    s.erase(s.find("format"), s.find("element") - s.find("format"));
+    expected = ": line ";
+  }
+  SECTION("vertex element without z") {
+    s.replace(s.find("property float z"), 16, "property float w");
+    expected = "";
+  }
+  write_file(path, s);
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + expected));
+  if (!what.empty()) CHECK_THAT(msg, Contains(what));
+}
+
+TEST_CASE("PLY .ply file that does not start with ply is rejected", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  write_file(path, "plx\nformat ascii 1.0\n");
+  CHECK_THAT(open_error(path, dir), StartsWith(path + ": byte 0:"));
+}
+
+TEST_CASE("PLY header claiming 10^12 vertices on a tiny file fails promptly", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  std::string s;
+  SECTION("binary, read in place") {
+    s = binary_ply(false);
+    s.replace(s.find("element vertex 5"), 16, "element vertex 1000000000000");
+    write_file(path, s);
+  }
+  SECTION("binary big-endian with doubles") {
+    s = std::string("ply\n") + format_line(true) +
+        "element vertex 1000000000000\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+    for (int k = 0; k < 6; ++k) put_be(s, 1.0);
+    write_file(path, s);
+  }
+  SECTION("binary with a list property (converted)") {
+    s = std::string("ply\n") + format_line(false) +
+        "element vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\n"
+        "property list uchar int tags\nend_header\n";
+    for (int k = 0; k < 3; ++k) put_le(s, 1.0f);
+    s.push_back(0);
+    write_file(path, s);
+  }
+  SECTION("binary, zstd-compressed") {
+    s = binary_ply(false);
+    s.replace(s.find("element vertex 5"), 16, "element vertex 1000000000000");
+    path = dir.file("mesh.ply.zst");
+    write_zstd_file(path, s);
+  }
+  SECTION("ascii") {
+    s = ascii_ply();
+    s.replace(s.find("element vertex 5"), 16, "element vertex 1000000000000");
+    write_file(path, s);
+  }
+  SECTION("faces, read lazily") {
+    s = binary_ply(false);
+    s.replace(s.find("element face 2"), 14, "element face 1000000000000");
+    write_file(path, s);
+  }
+  auto start = std::chrono::steady_clock::now();
+  std::string msg = load_error(path, dir);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(seconds < 5);
+  CHECK_THAT(msg, StartsWith(path + ": "));
+  CHECK((msg.find(": byte ") != std::string::npos || msg.find(": line ") != std::string::npos));
+}
+
+TEST_CASE("PLY vertex count whose byte size wraps around 2^64 is rejected", "[readers][errors]") {
+  // 1537228672809129301 records of 12 bytes are 2^64 - 4 bytes: the end offset wraps
+  // around to just before the start of the vertex data.
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  bool faces = GENERATE(true, false);
+  CAPTURE(faces);
+  std::string s = binary_ply(false);
+  if (!faces) s.erase(s.find("element face"), s.find("end_header") - s.find("element face"));
+  s.replace(s.find("element vertex 5"), 16, "element vertex 1537228672809129301");
+  write_file(path, s);
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte "));
+  CHECK_THAT(msg, Contains("vertex"));
+}
+
+TEST_CASE("PLY element before the vertices whose byte size exceeds the file is rejected", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  // Records of 4 bytes: 2^62 + 1 (2^64 + 4 bytes, i.e. 4 modulo 2^64), 2^62 (0 modulo
+  // 2^64) and 2^40 (no overflow, just far beyond the end of the file).
+  std::string count = GENERATE(as<std::string>{}, "4611686018427387905", "4611686018427387904", "1099511627776");
+  bool faces = GENERATE(true, false);
+  std::string s = binary_ply(false);
+  CAPTURE(count, faces);
+  if (!faces) s.erase(s.find("element face"), s.find("end_header") - s.find("element face"));
+  s.replace(s.find("element vertex"), 0, "element junk " + count + "\nproperty int j\n");
+  std::size_t header = s.find("end_header\n") + 11;
+  s.insert(header, 4, 'j');  // as if there were one junk record
+  write_file(path, s);
+  std::string msg = open_error(path, dir);
+  CHECK_THAT(msg, StartsWith(path + ": byte "));
+}
+
+TEST_CASE("PLY trailing data after the last element", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.ply");
+  SECTION("binary") {
+    std::string s = binary_ply(false);
+    std::size_t end = s.size();
+    s += "garbage";
+    write_file(path, s);
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": byte " + std::to_string(end) + ":"));
+  }
+  SECTION("binary, zstd-compressed") {
+    std::string s = binary_ply(false);
+    std::size_t end = s.size();
+    s.push_back('\0');
+    path += ".zst";
+    write_zstd_file(path, s);
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": byte " + std::to_string(end) + ":"));
+  }
+  SECTION("ascii") {
+    write_file(path, ascii_ply() + "\n3 0 1 2\n");
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": line 19:"));
+  }
+  SECTION("binary, after an element that follows the faces") {
+    std::string s = binary_ply(false);
+    s.replace(s.find("end_header"), 0, "element edge 2\nproperty int a\nproperty int b\n");
+    for (int k = 0; k < 4; ++k) put_le(s, std::int32_t(k));
+    std::size_t end = s.size();
+    s += "x";
+    write_file(path, s);
+    CHECK_THAT(load_error(path, dir), StartsWith(path + ": byte " + std::to_string(end) + ":"));
+  }
+}
+
+TEST_CASE("Truncated or corrupt zstd stream is an InputError", "[readers][errors]") {
+  ScratchDir dir, tmp;
+  std::string name = GENERATE(as<std::string>{}, "mesh.ply.zst", "mesh.obj.zst", "mesh.stl.zst");
+  CAPTURE(name);
+  std::string content = name == "mesh.ply.zst" ? ascii_ply() : name == "mesh.obj.zst" ? obj_text() : ascii_stl();
+  std::string path = dir.file(name);
+  write_zstd_file(path, content);
+  std::string packed = oocsimp_test::read_file(path);
+  SECTION("truncated") { packed.resize(packed.size() / 2); }
+  SECTION("corrupt") {
+    for (std::size_t i = 8; i < packed.size(); ++i) packed[i] = char(0xA5 ^ int(i));
+  }
+  write_file(path, packed);
+  CHECK_THAT(load_error(path, tmp), StartsWith(path + ": byte "));
+  CHECK(tmp.entries().empty());
+}
+
+TEST_CASE("Empty PLY and STL files are rejected and an empty OBJ is an empty mesh", "[readers][errors]") {
+  ScratchDir dir;
+  write_file(dir.file("empty.ply"), "");
+  write_file(dir.file("empty.stl"), "");
+  write_file(dir.file("empty.obj"), "");
+  CHECK_THAT(open_error(dir.file("empty.ply"), dir), StartsWith(dir.file("empty.ply") + ": byte 0:"));
+  CHECK_THAT(open_error(dir.file("empty.stl"), dir), StartsWith(dir.file("empty.stl") + ": byte 0:"));
+  LoadedMesh m = load_mesh(dir.file("empty.obj"), dir.path());
+  CHECK(m.info.format == "obj");
+  CHECK(m.vertex_count() == 0);
+  CHECK(m.triangle_count() == 0);
+}
+
+TEST_CASE("Missing input file throws IoError", "[readers][errors]") {
+  ScratchDir dir;
+  CHECK_THROWS_AS(oocsimp::open_mesh_input(dir.file("absent.ply")), oocsimp::IoError);
+}
+
+TEST_CASE("Unknown format is rejected", "[readers][errors]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.xyz");
+  write_file(path, "1 2 3\n");
+  CHECK_THAT(input_error([&] { oocsimp::open_mesh_input(path); }), StartsWith(path + ": "));
+}
+
+// ---------------------------------------------------------------------------------
+// Temporary files
+
+TEST_CASE("Temporary position files live exactly as long as the MeshInput", "[readers][temp]") {
+  ScratchDir inputs, tmp;
+  std::string name = GENERATE(as<std::string>{}, "mesh.obj", "mesh.ply", "mesh.stl", "mesh_binary.ply.zst");
+  CAPTURE(name);
+  std::string path = inputs.file(name);
+  if (name == "mesh.obj") write_file(path, obj_text());
+  else if (name == "mesh.ply") write_file(path, ascii_ply());
+  else if (name == "mesh.stl") write_file(path, ascii_stl());
+  else write_zstd_file(path, binary_ply(false));
+  {
+    oocsimp::OpenOptions o;
+    o.temp_dir = tmp.path();
+    oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+    CHECK_FALSE(in.info.positions_in_place);
+    std::vector<std::string> e = tmp.entries();
+    REQUIRE(e.size() == 1);
+    CHECK_THAT(e[0], StartsWith("oocsimp-positions-"));
+    // Moving the input keeps the file alive.
+    oocsimp::MeshInput moved = std::move(in);
+    CHECK(tmp.entries().size() == 1);
+    CHECK(moved.positions.get(1).y == -2.25);
+  }
+  CHECK(tmp.entries().empty());
+  CHECK(inputs.entries() == std::vector<std::string>{name});
+}
+
+TEST_CASE("Binary PLY read in place creates no temporary file", "[readers][temp]") {
+  ScratchDir inputs, tmp;
+  std::string path = inputs.file("mesh.ply");
+  write_file(path, binary_ply(false));
+  oocsimp::OpenOptions o;
+  o.temp_dir = tmp.path();
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  CHECK(in.info.positions_in_place);
+  CHECK(tmp.entries().empty());
+}
