@@ -54,10 +54,12 @@ namespace {
 void jacobi3(double m[3][3], double v[3][3]) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) v[i][j] = i == j ? 1 : 0;
-  for (int sweep = 0; sweep < 32; ++sweep) {
+  // Jacobi converges quadratically: a handful of sweeps reach the point where the
+  // off-diagonal part is below rounding of the diagonal.
+  for (int sweep = 0; sweep < 16; ++sweep) {
     double off = std::fabs(m[0][1]) + std::fabs(m[0][2]) + std::fabs(m[1][2]);
     double scale = std::fabs(m[0][0]) + std::fabs(m[1][1]) + std::fabs(m[2][2]);
-    if (off <= 1e-18 * scale || off == 0) return;
+    if (off <= 1e-12 * scale) return;
     for (int p = 0; p < 2; ++p) {
       for (int q = p + 1; q < 3; ++q) {
         if (m[p][q] == 0) continue;
