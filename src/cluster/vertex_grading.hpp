@@ -1,0 +1,37 @@
+// Vertex grading, Low & Tan §3.1 (shared/papers/000).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp {
+
+/// A vertex with its position and its grading weight.
+struct GradedVertex {
+  std::uint64_t index = 0;  ///< input index: the stable key that breaks weight ties
+  Vec3d p;
+  double weight = 0;
+};
+
+/// The weight of a vertex whose incident edges (from the vertex to its neighbours,
+/// one per triangle side, duplicates allowed) are `edges`:
+///   w = cos(theta / 2) * L
+/// with theta the largest angle between two incident edges (Factor 1, the chance
+/// that the vertex lies on a silhouette: cos(theta/2), §3.1) and L the longest
+/// incident edge (Factor 2, the size of the faces it bounds). The product is the
+/// expected size of the silhouette feature the vertex carries: it is scale-covariant
+/// (scaling the model scales every weight alike, so the order, and hence the
+/// clustering, does not change) and neither factor can swamp the other as 1/theta
+/// could. Zero-length edges count for L but have no direction. No edges: 0.
+double vertex_weight(const Vec3d* edges, std::size_t count);
+
+/// Weights for the vertices `owned` (sorted input indices) from the triangles that
+/// use them: `triangles` holds 3 input indices per triangle and must contain every
+/// triangle with a corner in `owned` (it may hold others). Positions come from
+/// `positions`. Returns one GradedVertex per owned vertex, in the order of `owned`.
+std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
+                                         std::size_t triangle_count, const PositionArray& positions);
+
+}  // namespace oocsimp

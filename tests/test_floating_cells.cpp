@@ -1,0 +1,131 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+#include "cluster/floating_cells.hpp"
+#include "floating_cells_reference.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+// Random points in a box with weights drawn from a few levels, so that ties are
+// common and broken by index; some points are exact duplicates.
+std::vector<GradedVertex> random_vertices(std::uint32_t seed, std::size_t n, double extent, int weight_levels) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, extent);
+  std::uniform_int_distribution<int> w(0, weight_levels - 1);
+  std::vector<GradedVertex> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    v[i].index = i * 3 + 7;  // indices need not be dense
+    if (i > 0 && i % 17 == 0) v[i].p = v[i - 1].p;  // duplicate point
+    else v[i].p = {u(rng), u(rng), u(rng) * 0.3};
+    v[i].weight = weight_levels > 0 ? double(w(rng)) : u(rng);
+  }
+  return v;
+}
+
+std::vector<GradedVertex> sorted_copy(std::vector<GradedVertex> v) {
+  std::sort(v.begin(), v.end(), precedes);
+  return v;
+}
+
+std::vector<std::uint64_t> indices(const std::vector<GradedVertex>& v) {
+  std::vector<std::uint64_t> out;
+  for (const auto& x : v) out.push_back(x.index);
+  return out;
+}
+
+// The rounds scheme of floating_cells_design.md on an in-memory split of the
+// vertices into slabs along x: each tile runs the greedy with the other tiles'
+// centres of the previous round as external input, until nothing changes.
+std::vector<std::uint64_t> tiled_centres(const std::vector<GradedVertex>& all, const FloatingCellShape& cell,
+                                         double tile_width, int* rounds) {
+  std::map<std::int64_t, std::vector<GradedVertex>> tiles;
+  for (const auto& v : all) tiles[std::int64_t(std::floor(v.p.x / tile_width))].push_back(v);
+  for (auto& t : tiles) std::sort(t.second.begin(), t.second.end(), precedes);
+  std::map<std::int64_t, std::vector<GradedVertex>> centres;
+  *rounds = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    ++*rounds;
+    std::map<std::int64_t, std::vector<GradedVertex>> next;
+    for (auto& t : tiles) {
+      std::vector<GradedVertex> external;
+      for (auto& c : centres)
+        if (c.first != t.first) external.insert(external.end(), c.second.begin(), c.second.end());
+      next[t.first] = choose_centres(t.second, external, cell);
+      if (indices(next[t.first]) != indices(centres[t.first])) changed = true;
+    }
+    centres = next;
+    REQUIRE(*rounds < 1000);
+  }
+  std::vector<GradedVertex> flat;
+  for (auto& c : centres) flat.insert(flat.end(), c.second.begin(), c.second.end());
+  std::sort(flat.begin(), flat.end(), precedes);
+  return indices(flat);
+}
+
+}  // namespace
+
+TEST_CASE("floating cells equal the sequential reference on random inputs", "[floating]") {
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    for (CellShape shape : {CellShape::cube, CellShape::sphere}) {
+      for (AssignRule rule : {AssignRule::nearest, AssignRule::heaviest}) {
+        auto v = random_vertices(seed, 600, 10.0, seed % 3 == 0 ? 0 : int(seed % 4) + 1);
+        FloatingCellShape cell{0.9 + 0.1 * seed, shape};
+        ReferenceClustering ref = reference_floating_cells(v, cell.size, shape, rule);
+        auto centres = choose_centres(sorted_copy(v), {}, cell);
+        INFO("seed " << seed << " shape " << int(shape) << " rule " << int(rule));
+        REQUIRE(indices(centres) == ref.centres);
+        CHECK(assign_to_centres(v, centres, cell, rule) == ref.cluster);
+      }
+    }
+  }
+}
+
+TEST_CASE("every vertex is within half a cell of its centre", "[floating]") {
+  auto v = random_vertices(99, 2000, 20.0, 3);
+  FloatingCellShape cell{1.5, CellShape::cube};
+  auto centres = choose_centres(sorted_copy(v), {}, cell);
+  auto cluster = assign_to_centres(v, centres, cell, AssignRule::nearest);
+  std::map<std::uint64_t, Vec3d> where;
+  for (const auto& c : centres) where[c.index] = c.p;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    REQUIRE(where.count(cluster[i]));
+    CHECK(cell.contains(where[cluster[i]], v[i].p));
+  }
+  // No centre lies in another centre's cell.
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    for (std::size_t j = i + 1; j < centres.size(); ++j) CHECK_FALSE(cell.contains(centres[i].p, centres[j].p));
+}
+
+TEST_CASE("tiles exchanging border centres in rounds reach the sequential result", "[floating]") {
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    // Many ties (1 weight level): decisions chain along the index order, the hard
+    // case for a partitioned greedy.
+    auto v = random_vertices(seed, 1500, 12.0, seed % 2 ? 1 : 0);
+    FloatingCellShape cell{1.0, seed % 4 < 2 ? CellShape::cube : CellShape::sphere};
+    ReferenceClustering ref = reference_floating_cells(v, cell.size, cell.shape, AssignRule::nearest);
+    for (double width : {1.3, 2.0, 5.0}) {
+      int rounds = 0;
+      INFO("seed " << seed << " tile width " << width);
+      CHECK(tiled_centres(v, cell, width, &rounds) == ref.centres);
+      CHECK(rounds >= 1);
+    }
+  }
+}
+
+TEST_CASE("an external centre only covers the vertices it precedes", "[floating]") {
+  FloatingCellShape cell{1.0, CellShape::cube};
+  GradedVertex a{10, {0, 0, 0}, 5.0}, b{11, {0.2, 0, 0}, 1.0};
+  GradedVertex light_external{3, {0.3, 0, 0}, 0.5}, heavy_external{4, {0.3, 0, 0}, 9.0};
+  CHECK(indices(choose_centres({a, b}, {light_external}, cell)) == std::vector<std::uint64_t>{10});
+  CHECK(choose_centres({a, b}, {heavy_external}, cell).empty());
+  // Equal weights: the smaller index precedes.
+  GradedVertex tie{2, {0.3, 0, 0}, 5.0};
+  CHECK(choose_centres({a, b}, {tie}, cell).empty());
+}
