@@ -3,8 +3,11 @@
 
 #include <tbb/global_control.h>
 
+#include <unistd.h>
+
 #include <memory>
 
+#include "cluster/floating_clusterer.hpp"
 #include "cluster/uniform_clusterer.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/mesh_writer.hpp"
@@ -21,6 +24,12 @@ std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
 
 }  // namespace
 
+std::uint64_t default_memory_budget() {
+  long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
+  return std::uint64_t(pages) * std::uint64_t(page) / 4;
+}
+
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
   auto threads = limit_threads(options.threads);
   GridSpec grid = choose_grid(input, options.sizing, options.threads);
@@ -33,6 +42,14 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   switch (options.method) {
     case ClusterMethod::uniform:
       return cluster_uniform(input, grid, options.progress, &st);
+    case ClusterMethod::floating: {
+      SimplifyOptions o = options;
+      if (o.memory_budget == 0) o.memory_budget = default_memory_budget();
+      double t0 = now_seconds();
+      SimplifiedMesh m = cluster_floating(input, o, grid.cell, &st);
+      st.seconds_faces = now_seconds() - t0;
+      return m;
+    }
   }
   throw UsageError("unknown clustering method");
 }
@@ -66,6 +83,29 @@ void simplify_file(const std::string& input_path, const std::string& output_path
   st.seconds_total = t3 - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+}
+
+}  // namespace oocsimp
+
+namespace oocsimp {
+
+std::uint64_t parse_byte_size(const std::string& text) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw UsageError("bad size \"" + text + "\" (expected a number with an optional k, M, G or T suffix)");
+  }
+  std::string suffix = text.substr(used);
+  double mult = 1;
+  if (suffix == "k" || suffix == "K" || suffix == "KiB") mult = 1024.0;
+  else if (suffix == "M" || suffix == "MiB") mult = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "GiB") mult = 1024.0 * 1024 * 1024;
+  else if (suffix == "T" || suffix == "TiB") mult = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty()) throw UsageError("bad size suffix in \"" + text + "\" (k, M, G or T)");
+  if (!(v > 0)) throw UsageError("size \"" + text + "\" must be positive");
+  return std::uint64_t(v * mult);
 }
 
 }  // namespace oocsimp

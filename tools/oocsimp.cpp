@@ -6,11 +6,14 @@
 #include <cinttypes>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <new>
 #include <thread>
+#include <utility>
 
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
+#include "oocsimp/measure.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/simplify.hpp"
@@ -28,19 +31,20 @@ void progress_callback(std::uint64_t done, std::uint64_t total, void* user) {
   p->set(done);
 }
 
-int run_simplify(const std::string& in, const std::string& out, const CellSizing& sizing, unsigned threads,
-                 const std::string& tmp, const std::string& stats_path, bool quiet, bool ascii) {
+int run_simplify(const std::string& in, const std::string& out, SimplifyOptions options, const std::string& mem,
+                 const std::string& stats_path, bool quiet, bool ascii) {
   ProgressReporter progress(quiet);
-  SimplifyOptions options;
-  options.sizing = sizing;
   if (options.sizing.cell <= 0 && options.sizing.grid == 0 && options.sizing.ratio <= 0) options.sizing.grid = 256;
-  options.threads = threads;
-  options.temp_dir = tmp;
+  if (!mem.empty()) options.memory_budget = parse_byte_size(mem);
   options.progress = &progress;
   SimplifyStats stats;
   simplify_file(in, out, ascii, options, &stats);
   if (!stats_path.empty()) write_file_atomically(stats_path, stats_to_json(stats));
   if (!quiet) {
+    if (options.method == ClusterMethod::floating)
+      std::fprintf(stdout, "tiles   %" PRIu64 " tiles, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
+                   stats.tiles, stats.rounds, double(stats.spill_bytes) / 1048576.0,
+                   double(stats.spill_raw_bytes) / 1048576.0);
     double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
     std::fprintf(stdout,
                  "input   %" PRIu64 " vertices, %" PRIu64 " triangles\n"
@@ -99,6 +103,32 @@ int run_generate(std::uint64_t tris, const std::string& shape, std::uint64_t see
   return kOk;
 }
 
+int run_measure(const std::string& a, const std::string& b, MeasureOptions options, bool json, bool quiet) {
+  ProgressReporter progress(quiet);
+  options.progress = &progress;
+  DistanceReport r = measure_surface_distance(a, b, options);
+  if (json) {
+    std::fputs(distance_report_to_json(r).c_str(), stdout);
+    return kOk;
+  }
+  std::printf("A  %s: %" PRIu64 " triangles, area %.6g, bounding-box diagonal %.6g\n", a.c_str(), r.a_triangles,
+              r.a_area, r.a_diagonal);
+  std::printf("B  %s: %" PRIu64 " triangles, area %.6g\n", b.c_str(), r.b_triangles, r.b_area);
+  std::printf("%-10s %9s %13s %13s %13s %11s %11s %11s\n", "", "samples", "hausdorff", "mean", "rms", "haus/diag",
+              "mean/diag", "rms/diag");
+  const std::pair<const char*, const DistanceStats*> rows[] = {
+      {"A -> B", &r.a_to_b}, {"B -> A", &r.b_to_a}, {"symmetric", &r.symmetric}};
+  for (const auto& row : rows) {
+    const DistanceStats& s = *row.second;
+    DistanceStats f = r.fraction_of_diagonal(s);
+    std::printf("%-10s %9" PRIu64 " %13.6e %13.6e %13.6e %11.4e %11.4e %11.4e\n", row.first, s.samples, s.max, s.mean,
+                s.rms, f.max, f.mean, f.rms);
+  }
+  std::printf("time %.3f s, peak RSS %.1f MiB, peak anonymous %.1f MiB\n", r.seconds,
+              double(r.peak_rss_bytes) / 1048576.0, double(r.peak_anon_bytes) / 1048576.0);
+  return kOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -106,9 +136,9 @@ int main(int argc, char** argv) {
   CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
   app.require_subcommand(1);
 
-  std::string in, out, tmp, stats_path, shape = "sphere";
-  CellSizing sizing;
-  unsigned threads = 0;
+  std::string in, out, tmp, stats_path, shape = "sphere", mem;
+  SimplifyOptions so;
+  CellSizing& sizing = so.sizing;
   bool quiet = false, ascii = false;
   std::uint64_t tris = 1000000, seed = 1;
 
@@ -120,8 +150,23 @@ int main(int argc, char** argv) {
   auto* ratio = simplify->add_option("--ratio", sizing.ratio, "Approximate fraction of triangles to keep");
   cell->excludes(grid)->excludes(ratio);
   grid->excludes(ratio);
-  simplify->add_option("--threads", threads, "Worker threads (default: all cores)");
-  simplify->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
+  simplify->add_option("--method", so.method, "floating (Low & Tan) or uniform (OoCS grid)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, ClusterMethod>{{"floating", ClusterMethod::floating}, {"uniform", ClusterMethod::uniform}}));
+  simplify->add_option("--cell-shape", so.cell_shape, "Floating cell shape: cube or sphere")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, CellShape>{{"cube", CellShape::cube}, {"sphere", CellShape::sphere}}));
+  simplify->add_option("--assign", so.assign, "Vertex in several cells: nearest (centre) or heaviest")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, AssignRule>{{"nearest", AssignRule::nearest}, {"heaviest", AssignRule::heaviest}}));
+  simplify->add_option("--rep", so.representative, "Representative vertex: quadric, centre or mean")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, RepresentativeRule>{
+          {"quadric", RepresentativeRule::quadric}, {"centre", RepresentativeRule::centre},
+          {"mean", RepresentativeRule::mean}}));
+  simplify->add_option("--mem", mem, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)");
+  simplify->add_option("--tile", so.tile_side, "Floating: tile side in model units (default: from --mem)");
+  simplify->add_option("--threads", so.threads, "Worker threads (default: all cores)");
+  simplify->add_option("--tmp", so.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
   simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");
   simplify->add_flag("--quiet", quiet, "No progress and no summary");
   simplify->add_flag("--ascii", ascii, "Write ascii PLY instead of binary");
@@ -138,6 +183,19 @@ int main(int argc, char** argv) {
   generate->add_flag("--ascii", ascii, "Write ascii PLY");
   generate->add_flag("--quiet", quiet, "No progress");
 
+  std::string second;
+  MeasureOptions measure_options;
+  bool json = false;
+  CLI::App* measure = app.add_subcommand("measure", "Hausdorff, mean and RMS distance between two surfaces");
+  measure->add_option("a", in, "Mesh A, streamed (the original; any size)")->required();
+  measure->add_option("b", second, "Mesh B, loaded into memory (e.g. the simplification)")->required();
+  measure->add_option("--samples", measure_options.samples, "Points sampled on each surface (default 1000000)");
+  measure->add_option("--seed", measure_options.seed, "Random seed of the samples");
+  measure->add_option("--threads", measure_options.threads, "Worker threads (default: all cores)");
+  measure->add_option("--tmp", measure_options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
+  measure->add_flag("--json", json, "Print the report as JSON");
+  measure->add_flag("--quiet", quiet, "No progress");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -146,9 +204,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*simplify) return run_simplify(in, out, sizing, threads, tmp, stats_path, quiet, ascii);
+    if (*simplify) return run_simplify(in, out, so, mem, stats_path, quiet, ascii);
     if (*info) return run_info(in, tmp);
     if (*generate) return run_generate(tris, shape, seed, out, ascii, quiet);
+    if (*measure) return run_measure(in, second, measure_options, json, quiet);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "oocsimp: %s\n", e.what());
     return kUsage;

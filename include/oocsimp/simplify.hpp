@@ -17,7 +17,24 @@ namespace oocsimp {
 class ProgressReporter;
 
 enum class ClusterMethod {
-  uniform,  ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
+  uniform,   ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
+  floating,  ///< Low & Tan's floating cells on a tiled out-of-core grid
+};
+
+/// Floating cells: a cube of side `cell`, or a sphere of diameter `cell`.
+enum class CellShape { cube, sphere };
+
+/// Floating cells: which cell takes a vertex that lies in several.
+enum class AssignRule {
+  nearest,   ///< Low & Tan §3.2.3: the nearest centre (ties: the heavier)
+  heaviest,  ///< Low & Tan §3.2: the heaviest centre (the first cell that took it)
+};
+
+/// Floating cells: where a cluster's output vertex goes.
+enum class RepresentativeRule {
+  quadric,  ///< minimiser of the cluster's summed vertex quadrics, kept in the cell
+  centre,   ///< the centre vertex (Low & Tan)
+  mean,     ///< the mean of the cluster's vertices
 };
 
 /// How the cell size is chosen; exactly one of the three is set (> 0).
@@ -30,6 +47,11 @@ struct CellSizing {
 struct SimplifyOptions {
   CellSizing sizing;
   ClusterMethod method = ClusterMethod::uniform;
+  CellShape cell_shape = CellShape::cube;                     ///< floating only
+  AssignRule assign = AssignRule::nearest;                    ///< floating only
+  RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
+  std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
+  double tile_side = 0;             ///< floating: tile side in model units; 0 = from the budget
   unsigned threads = 0;             ///< 0 = all cores
   std::string temp_dir;             ///< empty = default_temp_dir()
   ProgressReporter* progress = nullptr;
@@ -50,6 +72,10 @@ struct SimplifyStats {
   double seconds_solve = 0;     ///< representative vertices
   double seconds_write = 0;
   double seconds_total = 0;
+  std::uint64_t tiles = 0;            ///< floating: occupied tiles
+  std::uint64_t rounds = 0;           ///< floating: rounds of border decisions
+  std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
+  std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
   std::uint64_t peak_rss_bytes = 0;
   std::uint64_t peak_anon_bytes = 0;
 };
@@ -58,6 +84,13 @@ struct SimplifiedMesh {
   std::vector<float> positions;          ///< 3 per vertex
   std::vector<std::uint32_t> triangles;  ///< 3 per face
 };
+
+/// A quarter of physical memory: the default working-set budget.
+std::uint64_t default_memory_budget();
+
+/// Parses a byte size with an optional binary suffix: "256M", "2G", "512k", "1048576".
+/// Throws UsageError.
+std::uint64_t parse_byte_size(const std::string& text);
 
 /// The grid `sizing` asks for over `input` (for `ratio`, estimated from a pass over
 /// the vertices that counts occupied cells of a coarse grid and scales it as a

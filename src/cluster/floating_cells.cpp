@@ -1,10 +1,11 @@
 #include "cluster/floating_cells.hpp"
 
+#include "grid/grid_coord.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace oocsimp {
 
@@ -16,12 +17,12 @@ namespace {
 // centres of a round may crowd it, so the lists are unbounded.
 class CentreGrid {
  public:
-  explicit CentreGrid(double size) : size_(size) {}
+  explicit CentreGrid(double size, std::size_t expected = 16) : size_(size) { rehash(4 * expected + 16); }
 
   void add(const GradedVertex& c) {
     std::uint32_t id = std::uint32_t(centres_.size());
     centres_.push_back(c);
-    std::uint32_t& head = heads_.try_emplace(key(cell_of(c.p.x), cell_of(c.p.y), cell_of(c.p.z)), kNone).first->second;
+    std::uint32_t& head = head_of(GridCoord::of(c.p, size_));
     next_.push_back(head);
     head = id;
   }
@@ -33,47 +34,77 @@ class CentreGrid {
     // The range is widened by a relative epsilon so rounding in the division never
     // drops a candidate; contains() decides exactly.
     double h = 0.5 * size_ * (1 + 1e-12);
-    std::int64_t lo[3] = {cell_of(p.x - h), cell_of(p.y - h), cell_of(p.z - h)};
-    std::int64_t hi[3] = {cell_of(p.x + h), cell_of(p.y + h), cell_of(p.z + h)};
-    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
-          auto it = heads_.find(key(x, y, z));
-          if (it == heads_.end()) continue;
-          for (std::uint32_t id = it->second; id != kNone; id = next_[id]) f(centres_[id]);
-        }
+    GridCoord lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size_);
+    GridCoord hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size_);
+    for (std::int64_t x = lo.x; x <= hi.x; ++x)
+      for (std::int64_t y = lo.y; y <= hi.y; ++y)
+        for (std::int64_t z = lo.z; z <= hi.z; ++z)
+          for (std::uint32_t id = find(GridCoord{x, y, z}); id != kNone; id = next_[id]) f(centres_[id]);
   }
 
  private:
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  struct Key {
-    std::int64_t x, y, z;
-    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  struct Slot {
+    GridCoord cell;
+    std::uint32_t head = kNone;  // kNone: empty slot
   };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::uint64_t h = std::uint64_t(k.x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(k.y) * 0xC2B2AE3D27D4EB4Full ^
-                        std::uint64_t(k.z) * 0x165667B19E3779F9ull;
-      return std::size_t(h ^ (h >> 31));
+
+  // Open addressing with linear probing over grid cells: no allocation per lookup,
+  // which matters as every vertex probes up to 8 cells.
+  std::uint32_t find(const GridCoord& c) const {
+    for (std::size_t s = GridCoordHash()(c) & mask_;; s = (s + 1) & mask_) {
+      const Slot& slot = slots_[s];
+      if (slot.head == kNone) return kNone;
+      if (slot.cell == c) return slot.head;
     }
-  };
-  std::int64_t cell_of(double v) const { return std::int64_t(std::floor(v / size_)); }
-  static Key key(std::int64_t x, std::int64_t y, std::int64_t z) { return {x, y, z}; }
+  }
+  std::uint32_t& head_of(const GridCoord& c) {
+    if (2 * (used_ + 1) > slots_.size()) rehash(2 * slots_.size());
+    std::size_t s = GridCoordHash()(c) & mask_;
+    while (slots_[s].head != kNone && !(slots_[s].cell == c)) s = (s + 1) & mask_;
+    if (slots_[s].head == kNone) {
+      slots_[s].cell = c;
+      ++used_;
+    }
+    return slots_[s].head;  // kNone for a new cell: the caller links the centre in
+  }
+  void rehash(std::size_t n) {
+    std::size_t cap = 16;
+    while (cap < n) cap *= 2;
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(cap, Slot{});
+    mask_ = cap - 1;
+    for (const Slot& o : old) {
+      if (o.head == kNone) continue;
+      std::size_t s = GridCoordHash()(o.cell) & mask_;
+      while (slots_[s].head != kNone) s = (s + 1) & mask_;
+      slots_[s] = o;
+    }
+  }
 
   double size_;
   std::vector<GradedVertex> centres_;
   std::vector<std::uint32_t> next_;
-  std::unordered_map<Key, std::uint32_t, KeyHash> heads_;
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0, used_ = 0;
 };
 
 }  // namespace
 
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell) {
-  CentreGrid grid(cell.size);
+  return choose_centres(sorted, 0, {}, external, cell);
+}
+
+std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted, std::size_t start,
+                                         std::vector<GradedVertex> prefix, const std::vector<GradedVertex>& external,
+                                         const FloatingCellShape& cell) {
+  CentreGrid grid(cell.size, external.size() + prefix.size() + sorted.size() / 4);
   for (const GradedVertex& c : external) grid.add(c);
-  std::vector<GradedVertex> centres;
-  for (const GradedVertex& v : sorted) {
+  for (const GradedVertex& c : prefix) grid.add(c);
+  std::vector<GradedVertex> centres = std::move(prefix);
+  for (std::size_t i = start; i < sorted.size(); ++i) {
+    const GradedVertex& v = sorted[i];
     bool covered = false;
     // Every own centre found precedes v (it was chosen earlier); an external one
     // counts only if it precedes v, as in the sequential visit.
@@ -91,7 +122,7 @@ std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted
 std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
                                              const std::vector<GradedVertex>& centres, const FloatingCellShape& cell,
                                              AssignRule rule) {
-  CentreGrid grid(cell.size);
+  CentreGrid grid(cell.size, centres.size());
   for (const GradedVertex& c : centres) grid.add(c);
   std::vector<std::uint64_t> out(vertices.size());
   for (std::size_t i = 0; i < vertices.size(); ++i) {

@@ -7,14 +7,9 @@
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
+#include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
-
-enum class CellShape { cube, sphere };
-enum class AssignRule {
-  nearest,   ///< §3.2.3: the nearest centre among the cells holding the vertex
-  heaviest,  ///< §3.2: the heaviest such centre (the first cell that took it)
-};
 
 /// The §3.2 visiting order: heavier first; equal weights by smaller input index, so
 /// the order is total and the same in every partition of the input.
@@ -44,6 +39,13 @@ struct FloatingCellShape {
 /// its own cell overlaps, so the pass is linear after the sort.
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell);
+
+/// The same greedy resumed at `sorted[start]`: `prefix` are the centres it chose
+/// among `sorted[0, start)` (valid when nothing that precedes sorted[start] changed).
+/// Returns prefix followed by the new centres.
+std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted, std::size_t start,
+                                         std::vector<GradedVertex> prefix, const std::vector<GradedVertex>& external,
+                                         const FloatingCellShape& cell);
 
 /// For each vertex of `vertices`, the input index of the centre of its cluster:
 /// among the centres in `centres` that precede it and hold it in their cell, the

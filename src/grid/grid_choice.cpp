@@ -6,17 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "grid/occupancy.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
-
-namespace {
-
-// Occupied cells at the resolutions kLevels[i] (cells along the longest axis),
-// counted over every vertex with per-thread bitmaps.
-constexpr std::uint32_t kLevels[] = {16, 32, 64, 128, 256};
-constexpr int kLevelCount = 5;
 
 std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds) {
   std::vector<GridSpec> grids;
@@ -51,8 +45,6 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
   for (const auto& b : all) counts.push_back(std::uint64_t(std::count(b.begin(), b.end(), true)));
   return counts;
 }
-
-}  // namespace
 
 GridSpec choose_grid(const MeshInput& input, const CellSizing& s, unsigned) {
   int given = (s.cell > 0) + (s.grid > 0) + (s.ratio > 0);

@@ -1,0 +1,66 @@
+// oocsimp — distance between two surfaces (shared/papers/004, "Polygonal Model
+// Simplification (8)": Hausdorff and mean distance, discretised by sampling points
+// on both surfaces).
+//
+// measure_surface_distance() samples points uniformly by area on both meshes and
+// measures each sample's exact distance to the other surface. The first mesh (A, the
+// original) is streamed and may be far larger than memory; the second (B, typically
+// its simplification) is loaded into memory.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace oocsimp {
+
+class ProgressReporter;
+
+struct MeasureOptions {
+  std::uint64_t samples = 1000000;  ///< points sampled on each surface (to within one)
+  std::uint64_t seed = 1;           ///< the same seed gives the same samples and results
+  unsigned threads = 0;             ///< 0 = all cores; results are identical for any count
+  std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
+  ProgressReporter* progress = nullptr;
+};
+
+/// Statistics of the distances of one set of sample points to a surface, in model units.
+struct DistanceStats {
+  std::uint64_t samples = 0;
+  double max = 0;   ///< the largest distance: the one-sided Hausdorff distance of a direction
+  double mean = 0;  ///< mean distance
+  double rms = 0;   ///< root of the mean squared distance
+};
+
+struct DistanceReport {
+  DistanceStats a_to_b;     ///< samples on A, distances to surface B
+  DistanceStats b_to_a;     ///< samples on B, distances to surface A
+  DistanceStats symmetric;  ///< max of both (the Hausdorff distance); mean and rms over both sample sets
+  double a_diagonal = 0;    ///< length of A's bounding-box diagonal, the scale of the fractions
+  double a_area = 0, b_area = 0;
+  std::uint64_t a_triangles = 0, b_triangles = 0;  ///< triangles read (polygons fanned), degenerate ones included
+  double seconds = 0;                              ///< wall time of measure_surface_distance
+  std::uint64_t peak_rss_bytes = 0;
+  std::uint64_t peak_anon_bytes = 0;  ///< heap and other anonymous memory (not the mapped input)
+
+  /// `stats` with every distance divided by a_diagonal (samples unchanged); all zero
+  /// when the diagonal is zero.
+  DistanceStats fraction_of_diagonal(const DistanceStats& stats) const;
+};
+
+/// Measures the distance between the surfaces of the meshes at `a_path` and `b_path`
+/// (any format open_mesh_input reads): options.samples points uniformly by area on
+/// each, deterministic for a seed, each with its exact distance to the other surface
+/// (closest point on a triangle, not on a vertex). Zero-area triangles are not part
+/// of either surface. Heap memory grows with the sample count and with B, never with
+/// A, which is streamed three times (twice to sample, once to measure B's samples).
+/// Throws InputError for a malformed mesh or one without area, IoError for an
+/// unreadable file, UsageError for options.samples of 0.
+DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
+                                        const MeasureOptions& options);
+
+/// `report` as a JSON object: per direction and symmetric, samples and the hausdorff,
+/// mean and rms distances, absolute and as fractions of A's diagonal; the meshes'
+/// triangle counts, areas and A's diagonal; seconds and peak memory.
+std::string distance_report_to_json(const DistanceReport& report);
+
+}  // namespace oocsimp

@@ -1,0 +1,16 @@
+// Floating-cell clustering out of core; see floating_clusterer.cpp and
+// floating_cells_design.md.
+#pragma once
+
+#include "oocsimp/simplify.hpp"
+
+namespace oocsimp {
+
+/// Clusters `input` (triangle stream at its start) with floating cells of side
+/// `cell` as `options` say (shape, assignment, representative, memory budget, tile
+/// side, temp folder); fills the clustering fields of `stats`. The result equals the
+/// sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
+/// count. Only vertices used by a triangle take part.
+SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, double cell, SimplifyStats* stats);
+
+}  // namespace oocsimp

@@ -1,0 +1,19 @@
+// How many cells of coarse grids a mesh occupies: the basis of size estimates.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp {
+
+/// The resolutions (cells along the bounding box's longest axis) count_occupancy uses.
+constexpr std::uint32_t kLevels[] = {16, 32, 64, 128, 256};
+constexpr int kLevelCount = 5;
+
+/// Occupied cells of the grids with kLevels[i] cells along the longest axis of
+/// `bounds`, counted over every vertex (per-thread bitmaps, at most 2 MiB each).
+std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds);
+
+}  // namespace oocsimp

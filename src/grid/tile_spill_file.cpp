@@ -1,0 +1,169 @@
+#include "grid/tile_spill_file.hpp"
+
+#include <unistd.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr std::uint64_t kNoBlock = ~std::uint64_t(0);
+
+// On disk, each block is this header followed by its payload.
+struct BlockHeader {
+  std::uint64_t previous;     // offset of the tile's previous block, or kNoBlock
+  std::uint32_t raw_bytes;    // payload size before compression
+  std::uint32_t stored_bytes; // payload size on disk (== raw_bytes: stored raw)
+};
+
+void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std::string& path) {
+  auto* p = static_cast<unsigned char*>(dst);
+  while (n > 0) {
+    ssize_t r = ::pread(fd, p, n, off_t(offset));
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) throw IoError(system_error_text(path, "spill read failed", r < 0 ? errno : EIO));
+    p += r;
+    n -= std::size_t(r);
+    offset += std::uint64_t(r);
+  }
+}
+
+}  // namespace
+
+struct TileSpillFile::Tile {
+  std::vector<unsigned char> buffer;
+  std::size_t buffered = 0;  // records in buffer
+  std::uint64_t last_block = kNoBlock;
+  std::uint64_t records = 0;
+  std::mutex mutex;  // guards buffer, buffered and records for this tile
+};
+
+TileSpillFile::TileSpillFile(const std::string& temp_dir, const std::string& name, std::size_t record_size,
+                             std::size_t buffer_records, bool compress)
+    : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-" + name + "-")),
+      dir_(temp_dir),
+      record_size_(record_size),
+      buffer_records_(buffer_records < 1 ? 1 : buffer_records),
+      compress_(compress) {}
+
+TileSpillFile::~TileSpillFile() = default;
+
+const std::string& TileSpillFile::path() const { return file_->path(); }
+
+std::uint32_t TileSpillFile::add_tile() {
+  tiles_.push_back(std::make_unique<Tile>());
+  return std::uint32_t(tiles_.size() - 1);
+}
+
+void TileSpillFile::write_block(Tile& t) {
+  std::size_t raw = t.buffered * record_size_;
+  std::vector<unsigned char> packed;
+  const unsigned char* payload = t.buffer.data();
+  std::size_t stored = raw;
+  if (compress_) {
+    packed.resize(ZSTD_compressBound(raw));
+    std::size_t z = ZSTD_compress(packed.data(), packed.size(), t.buffer.data(), raw, 1);
+    if (!ZSTD_isError(z) && z < raw) {
+      payload = packed.data();
+      stored = z;
+    }
+  }
+  std::lock_guard<std::mutex> lock(write_mutex_);
+  BlockHeader h{t.last_block, std::uint32_t(raw), std::uint32_t(stored)};
+  std::uint64_t at = end_;
+  auto write_at = [&](const void* data, std::size_t n, std::uint64_t offset) {
+    auto* p = static_cast<const unsigned char*>(data);
+    while (n > 0) {
+      ssize_t w = ::pwrite(file_->fd(), p, n, off_t(offset));
+      if (w < 0 && errno == EINTR) continue;
+      if (w < 0) {
+        int e = errno;
+        throw IoError(dir_ + ": cannot write the tile spill file (" + std::to_string(end_) + " bytes written, " +
+                      std::to_string(n) + " more needed): " + std::strerror(e));
+      }
+      p += w;
+      n -= std::size_t(w);
+      offset += std::uint64_t(w);
+    }
+  };
+  write_at(&h, sizeof h, at);
+  write_at(payload, stored, at + sizeof h);
+  end_ = at + sizeof h + stored;
+  t.last_block = at;
+  t.buffered = 0;
+}
+
+void TileSpillFile::append(std::uint32_t tile, const void* records, std::size_t count) {
+  Tile& t = *tiles_[tile];
+  std::lock_guard<std::mutex> lock(t.mutex);
+  auto* p = static_cast<const unsigned char*>(records);
+  t.records += count;
+  {
+    std::lock_guard<std::mutex> g(write_mutex_);
+    appended_ += count * record_size_;
+  }
+  while (count > 0) {
+    if (t.buffer.empty()) t.buffer.resize(buffer_records_ * record_size_);
+    std::size_t k = std::min(count, buffer_records_ - t.buffered);
+    std::memcpy(t.buffer.data() + t.buffered * record_size_, p, k * record_size_);
+    t.buffered += k;
+    p += k * record_size_;
+    count -= k;
+    if (t.buffered == buffer_records_) write_block(t);
+  }
+}
+
+void TileSpillFile::flush() {
+  for (auto& tp : tiles_) {
+    Tile& t = *tp;
+    std::lock_guard<std::mutex> lock(t.mutex);
+    if (t.buffered > 0) write_block(t);
+    std::vector<unsigned char>().swap(t.buffer);
+  }
+}
+
+void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) const {
+  const Tile& t = *tiles_[tile];
+  std::lock_guard<std::mutex> lock(const_cast<Tile&>(t).mutex);
+  out->resize(t.records * record_size_);
+  // Blocks are chained backwards: fill the output from its end.
+  std::size_t tail = t.buffered * record_size_;
+  std::size_t pos = out->size() - tail;
+  if (tail) std::memcpy(out->data() + pos, t.buffer.data(), tail);
+  std::vector<unsigned char> packed;
+  for (std::uint64_t b = t.last_block; b != kNoBlock;) {
+    BlockHeader h;
+    pread_all(file_->fd(), &h, sizeof h, b, file_->path());
+    if (h.raw_bytes > pos) throw IoError(file_->path() + ": corrupt tile spill block");
+    pos -= h.raw_bytes;
+    if (h.stored_bytes == h.raw_bytes) {
+      pread_all(file_->fd(), out->data() + pos, h.raw_bytes, b + sizeof h, file_->path());
+    } else {
+      packed.resize(h.stored_bytes);
+      pread_all(file_->fd(), packed.data(), h.stored_bytes, b + sizeof h, file_->path());
+      std::size_t r = ZSTD_decompress(out->data() + pos, h.raw_bytes, packed.data(), h.stored_bytes);
+      if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(file_->path() + ": corrupt compressed tile spill block");
+    }
+    b = h.previous;
+  }
+  if (pos != 0) throw IoError(file_->path() + ": tile spill chain shorter than its record count");
+}
+
+std::uint64_t TileSpillFile::record_count(std::uint32_t tile) const { return tiles_[tile]->records; }
+
+std::uint64_t TileSpillFile::bytes_on_disk() const {
+  std::lock_guard<std::mutex> lock(write_mutex_);
+  return end_;
+}
+
+std::uint64_t TileSpillFile::bytes_appended() const {
+  std::lock_guard<std::mutex> lock(write_mutex_);
+  return appended_;
+}
+
+}  // namespace oocsimp

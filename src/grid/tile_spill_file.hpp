@@ -1,0 +1,62 @@
+// Per-tile record streams on disk: the out-of-core store behind tiled clustering.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "oocsimp/temp_file.hpp"
+
+namespace oocsimp {
+
+/// Many append-only streams of fixed-size records ("tiles") in one temporary file.
+/// Each tile buffers its records in memory; a full buffer is written at the end of
+/// the file as a block that points back to the tile's previous block, so the file is
+/// written strictly sequentially and memory holds only one buffer and one block
+/// offset per tile. Blocks are zstd-compressed when `compress` is set (a block that
+/// does not shrink is stored raw). Appends and reads may come from several threads.
+class TileSpillFile {
+ public:
+  /// `buffer_records`: records per in-memory buffer (and per block on disk).
+  TileSpillFile(const std::string& temp_dir, const std::string& name, std::size_t record_size,
+                std::size_t buffer_records, bool compress);
+  ~TileSpillFile();
+
+  /// Adds an empty tile and returns its id (0, 1, 2, ...).
+  std::uint32_t add_tile();
+  std::uint32_t tile_count() const { return std::uint32_t(tiles_.size()); }
+  /// Appends `count` records to tile `tile`. Throws IoError (naming the folder and
+  /// the bytes written so far) when the disk is full.
+  void append(std::uint32_t tile, const void* records, std::size_t count);
+  /// Writes every partly filled buffer to disk and frees the buffers; append() may
+  /// still be called afterwards (buffers are recreated on demand).
+  void flush();
+  /// All records of `tile` in append order, into `out` (resized). Reads unflushed
+  /// buffers too. Thread-safe.
+  void read(std::uint32_t tile, std::vector<unsigned char>* out) const;
+  /// Number of records appended to `tile`.
+  std::uint64_t record_count(std::uint32_t tile) const;
+  /// Bytes written to the file so far.
+  std::uint64_t bytes_on_disk() const;
+  /// Bytes appended (before compression).
+  std::uint64_t bytes_appended() const;
+  const std::string& path() const;
+
+ private:
+  struct Tile;
+  void write_block(Tile& t);
+
+  std::unique_ptr<TempFile> file_;
+  std::string dir_;
+  std::size_t record_size_, buffer_records_;
+  bool compress_;
+  std::vector<std::unique_ptr<Tile>> tiles_;
+  mutable std::mutex write_mutex_;  // guards the file end and tile chains
+  std::uint64_t end_ = 0;
+  std::uint64_t appended_ = 0;
+};
+
+}  // namespace oocsimp

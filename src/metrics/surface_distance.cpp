@@ -1,0 +1,520 @@
+// Distance between two surfaces: the one-sided and symmetric Hausdorff, mean and RMS
+// distances of shared/papers/004 ("Polygonal Model Simplification (8)"), which
+// discretises them "by sampling a number of points on both surfaces" — as Metro
+// (Cignoni, Rocchini & Scopigno, 1998) does, but with A streamed instead of loaded.
+//
+// A is the big mesh: its positions stay in the mapping open_mesh_input made, its
+// triangles are only ever streamed, in fixed-size chunks through the ordered pipeline
+// (cluster/ordered_pipeline.hpp). B is small and loaded into memory.
+//
+//  1. Samples. Points are spread uniformly by area with systematic sampling over the
+//     cumulative area in file order (metrics/area_sampler.hpp): a first pass over A
+//     sums its area, a second places the samples. B is sampled the same way in memory.
+//  2. A -> B. B's non-degenerate triangles go into a box tree (metrics/box_tree.hpp);
+//     every A sample finds its exact closest point on B (Ericson's closest point on a
+//     triangle) by a nearest-first descent. Parallel over the samples.
+//  3. B -> A, the direction whose target cannot be held in memory:
+//     a. every B sample gets an upper bound u, its distance to the nearest A sample
+//        (A samples lie on A), from a box tree over the A samples;
+//     b. a box tree over the B samples keeps, per node, the largest u² below it;
+//     c. A's triangles are streamed once more; each triangle descends into the nodes
+//        its box may be closer to than that bound and lowers, with an atomic minimum,
+//        the squared distance of each B sample its box is closer to than the sample's
+//        current value. The triangle nearest to a sample is within u of it, so every
+//        sample ends with its exact distance to A.
+//     Triangle distances are clamped from below by the distance to the triangle's box
+//     (metrics/triangle_geometry.hpp), so skipping a pair whose box distance is not
+//     below the current value never discards a smaller computed value: each final
+//     value is the minimum over a fixed set of pairs, whatever order the threads
+//     visit them in.
+//  4. Statistics are summed serially in a fixed order (file order for A's samples,
+//     tree order for B's), so the report is byte-identical for any thread count.
+//
+// Memory: the samples of both sides (24 bytes each plus 8 for a distance), the trees
+// over them and B; never A's triangles or vertices (see measure.hpp).
+#include "oocsimp/measure.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "cluster/ordered_pipeline.hpp"
+#include "metrics/area_sampler.hpp"
+#include "metrics/box_tree.hpp"
+#include "metrics/triangle_geometry.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+using namespace metrics;
+
+namespace {
+
+// Chunks of A's triangle stream. A constant, so that the work does not depend on the
+// thread count (the results would not either: see the top of the file).
+constexpr std::size_t kChunkTriangles = 1 << 14;
+constexpr std::uint32_t kTriangleLeaf = 4;  // exact triangle tests cost several box tests
+constexpr std::uint32_t kPointLeaf = 8;
+constexpr std::uint64_t kStreamA = 1, kStreamB = 2;  // separate sample sequences per surface
+constexpr std::size_t kQueryGrain = 1 << 12;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+struct TriangleCorners {
+  std::uint32_t v[3];
+};
+
+// Mesh B, read whole into memory.
+struct InMemoryMesh {
+  std::vector<Vec3d> positions;
+  std::vector<TriangleCorners> triangles;  // file order, degenerate ones included
+};
+
+// Sum of distances in a fixed order.
+struct DistanceSums {
+  std::uint64_t count = 0;
+  double max2 = 0, sum = 0, sum2 = 0;
+
+  void add(double distance2) {
+    ++count;
+    max2 = std::max(max2, distance2);
+    sum += std::sqrt(distance2);
+    sum2 += distance2;
+  }
+  void add(const DistanceSums& o) {
+    count += o.count;
+    max2 = std::max(max2, o.max2);
+    sum += o.sum;
+    sum2 += o.sum2;
+  }
+  DistanceStats stats() const {
+    DistanceStats s;
+    s.samples = count;
+    if (count == 0) return s;
+    s.max = std::sqrt(max2);
+    s.mean = sum / double(count);
+    s.rms = std::sqrt(sum2 / double(count));
+    return s;
+  }
+};
+
+DistanceSums sum_in_order(const std::vector<double>& distances2) {
+  DistanceSums s;
+  for (double d2 : distances2) s.add(d2);
+  return s;
+}
+
+// Reports progress of a phase through the library's reporter, when there is one.
+class Phase {
+ public:
+  Phase(ProgressReporter* progress, const char* name, std::uint64_t total, const char* unit) : progress_(progress) {
+    if (progress_) progress_->begin(name, total, unit);
+  }
+  ~Phase() {
+    if (progress_) progress_->end();
+  }
+  void set(std::uint64_t done) {
+    if (progress_) progress_->set(done);
+  }
+  /// Adds `n` units done from any thread.
+  void advance(std::uint64_t n) { set(done_.fetch_add(n, std::memory_order_relaxed) + n); }
+
+ private:
+  ProgressReporter* progress_;
+  std::atomic<std::uint64_t> done_{0};
+};
+
+MeshInput open_input(const std::string& path, const MeasureOptions& options, const char* phase_name) {
+  OpenOptions open;
+  open.temp_dir = options.temp_dir;
+  Phase phase(options.progress, phase_name, 0, "B");
+  if (options.progress) {
+    open.progress = [](std::uint64_t done, std::uint64_t total, void* user) {
+      auto* p = static_cast<ProgressReporter*>(user);
+      p->set_total(total);
+      p->set(done);
+    };
+    open.progress_user = options.progress;
+  }
+  return open_mesh_input(path, open);
+}
+
+InMemoryMesh load_in_memory(MeshInput& input) {
+  if (input.positions.count > std::numeric_limits<std::uint32_t>::max())
+    throw UsageError(input.info.path +
+                     ": more than 2^32 - 1 vertices; measure loads the second mesh into memory, so pass the "
+                     "larger one first");
+  InMemoryMesh mesh;
+  mesh.triangles.reserve(input.info.face_count);  // a hint: polygons fan into more
+  mesh.positions.resize(input.positions.count);
+  for (std::uint64_t i = 0; i < input.positions.count; ++i) mesh.positions[i] = input.positions.get(i);
+  std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
+  while (std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles))
+    for (std::size_t t = 0; t < n; ++t)
+      mesh.triangles.push_back({{std::uint32_t(buffer[3 * t]), std::uint32_t(buffer[3 * t + 1]),
+                                 std::uint32_t(buffer[3 * t + 2])}});
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------
+// Surface B in memory: exact distance queries.
+
+class InMemorySurface {
+ public:
+  /// Keeps the non-degenerate triangles of `mesh`, in the leaf order of their tree.
+  explicit InMemorySurface(InMemoryMesh mesh) : positions_(std::move(mesh.positions)) {
+    std::vector<TriangleCorners> kept;
+    for (const TriangleCorners& t : mesh.triangles)
+      if (triangle_area(corner(t, 0), corner(t, 1), corner(t, 2)) > 0) kept.push_back(t);
+    tree_ = std::make_unique<BoxTree>(kept.size(), kTriangleLeaf, [&](std::uint32_t i) {
+      return triangle_box(corner(kept[i], 0), corner(kept[i], 1), corner(kept[i], 2));
+    });
+    triangles_ = permuted(kept, tree_->order());
+    tree_->release_order();
+  }
+
+  /// Squared distance from p to the closest point of the surface.
+  double distance2(const Vec3d& p) const {
+    return tree_->nearest(p, kInfinity, [&](std::uint32_t k) {
+      const Vec3d &a = corner(triangles_[k], 0), &b = corner(triangles_[k], 1), &c = corner(triangles_[k], 2);
+      return point_triangle_distance2(p, a, b, c, triangle_box(a, b, c));
+    });
+  }
+
+ private:
+  const Vec3d& corner(const TriangleCorners& t, int i) const { return positions_[t.v[i]]; }
+
+  std::vector<Vec3d> positions_;
+  std::vector<TriangleCorners> triangles_;
+  std::unique_ptr<BoxTree> tree_;
+};
+
+std::vector<Vec3d> sample_in_memory(const InMemoryMesh& mesh, const MeasureOptions& options, double* total_area) {
+  auto corner = [&](const TriangleCorners& t, int i) -> const Vec3d& { return mesh.positions[t.v[i]]; };
+  double area = 0;
+  for (const TriangleCorners& t : mesh.triangles) area += triangle_area(corner(t, 0), corner(t, 1), corner(t, 2));
+  *total_area = area;
+  std::vector<Vec3d> samples;
+  if (!(area > 0)) return samples;
+  samples.reserve(options.samples);
+  SystematicAreaSampler sampler(area, options.samples, options.seed, kStreamB);
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+    const TriangleCorners& t = mesh.triangles[k];
+    const Vec3d &a = corner(t, 0), &b = corner(t, 1), &c = corner(t, 2);
+    if (std::uint64_t n = sampler.take(triangle_area(a, b, c))) sampler.place(k, a, b, c, n, samples);
+  }
+  return samples;
+}
+
+// ---------------------------------------------------------------------------------
+// Surface A, streamed.
+
+struct StreamChunk {
+  std::vector<std::uint64_t> corners = std::vector<std::uint64_t>(3 * kChunkTriangles);
+  std::vector<double> areas = std::vector<double>(kChunkTriangles);
+  std::size_t count = 0;
+  std::uint64_t first = 0;  // index in the stream of the chunk's first triangle
+  std::vector<std::uint32_t> reached_leaves;  // scratch of the distance pass
+
+  void corner_positions(const PositionArray& positions, std::size_t t, Vec3d* a, Vec3d* b, Vec3d* c) const {
+    *a = positions.get(corners[3 * t]);
+    *b = positions.get(corners[3 * t + 1]);
+    *c = positions.get(corners[3 * t + 2]);
+  }
+  void compute_areas(const PositionArray& positions) {
+    Vec3d a, b, c;
+    for (std::size_t t = 0; t < count; ++t) {
+      corner_positions(positions, t, &a, &b, &c);
+      areas[t] = triangle_area(a, b, c);
+    }
+  }
+};
+
+// One pass over A's triangles: `work(chunk)` runs in parallel, `merge(chunk)` serially
+// in stream order. Returns the number of triangles.
+template <class Work, class Merge>
+std::uint64_t stream_triangles(MeshInput& input, ProgressReporter* progress, const char* phase_name, const Work& work,
+                               const Merge& merge) {
+  input.restart_triangles();
+  TriangleStream& stream = *input.triangles;
+  Phase phase(progress, phase_name, input.file_size, "B");
+  std::uint64_t next = 0;
+  std::size_t tokens = 2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  run_ordered_pipeline<StreamChunk>(
+      tokens,
+      [&](StreamChunk& c) {
+        c.count = stream.read(c.corners.data(), kChunkTriangles);
+        c.first = next;
+        next += c.count;
+        return c.count > 0;
+      },
+      work,
+      [&](StreamChunk& c) {
+        merge(c);
+        phase.set(stream.bytes_consumed());
+      });
+  return next;
+}
+
+// Sums A's area in the order the sampler will add it up again.
+double streamed_area(MeshInput& input, ProgressReporter* progress, std::uint64_t* triangles) {
+  double area = 0;
+  *triangles = stream_triangles(
+      input, progress, "area of A", [&](StreamChunk& c) { c.compute_areas(input.positions); },
+      [&](StreamChunk& c) {
+        for (std::size_t t = 0; t < c.count; ++t) area += c.areas[t];
+      });
+  return area;
+}
+
+std::vector<Vec3d> sample_streamed(MeshInput& input, double area, const MeasureOptions& options) {
+  std::vector<Vec3d> samples;
+  samples.reserve(options.samples);
+  SystematicAreaSampler sampler(area, options.samples, options.seed, kStreamA);
+  stream_triangles(
+      input, options.progress, "sample A", [&](StreamChunk& c) { c.compute_areas(input.positions); },
+      [&](StreamChunk& c) {
+        Vec3d a, b, c2;
+        for (std::size_t t = 0; t < c.count; ++t) {
+          if (std::uint64_t n = sampler.take(c.areas[t])) {
+            c.corner_positions(input.positions, t, &a, &b, &c2);
+            sampler.place(c.first + t, a, b, c2, n, samples);
+          }
+        }
+      });
+  return samples;
+}
+
+// Squared distance of every point to `surface`, in parallel.
+std::vector<double> distances2_to(const InMemorySurface& surface, const std::vector<Vec3d>& points,
+                                  ProgressReporter* progress) {
+  std::vector<double> result(points.size());
+  Phase phase(progress, "distance A->B", points.size(), "pt");
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kQueryGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) result[i] = surface.distance2(points[i]);
+                      phase.advance(r.size());
+                    });
+  return result;
+}
+
+// For every query point, the squared distance to the nearest of `sites` (step 3a).
+std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std::vector<Vec3d>& queries,
+                                            ProgressReporter* progress) {
+  BoxTree tree(sites.size(), kPointLeaf, [&](std::uint32_t i) {
+    Box3d b;
+    b.min = b.max = sites[i];
+    return b;
+  });
+  sites = permuted(sites, tree.order());
+  tree.release_order();
+  std::vector<double> result(queries.size());
+  Phase phase(progress, "bound B->A", queries.size(), "pt");
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), kQueryGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const Vec3d& q = queries[i];
+                        result[i] = tree.nearest(q, kInfinity, [&](std::uint32_t k) { return distance2(q, sites[k]); });
+                      }
+                      phase.advance(r.size());
+                    });
+  return result;
+}
+
+// Step 3b-c: the samples of B in a box tree whose nodes carry the largest squared
+// upper bound below them; the bounds are lowered, triangle by triangle, as A streams
+// past, until each is the exact squared distance to A.
+std::atomic<std::uint64_t> g_groups, g_leaftests, g_leaves, g_prims, g_exact;
+class StreamedDistanceSearch {
+ public:
+  /// Takes the samples and their squared upper bounds; `points` is permuted into the
+  /// tree's leaf order, the order of distances2().
+  StreamedDistanceSearch(std::vector<Vec3d>& points, std::vector<double> bounds2)
+      : tree_(points.size(), kPointLeaf, [&](std::uint32_t i) {
+          Box3d b;
+          b.min = b.max = points[i];
+          return b;
+        }),
+        best2_(points.size()) {
+    points = permuted(points, tree_.order());
+    bounds2 = permuted(bounds2, tree_.order());
+    tree_.release_order();
+    points_ = &points;
+    reach2_ = tree_.max_per_node([&](std::uint32_t k) { return bounds2[k]; });
+    for (std::size_t k = 0; k < bounds2.size(); ++k) best2_[k].store(bounds2[k], std::memory_order_relaxed);
+  }
+
+  /// Lowers the bound of every sample by its distance to each triangle of `chunk`.
+  /// Safe to call from several threads at once; `reached_leaves` is the caller's
+  /// scratch buffer.
+  void lower_by(const StreamChunk& chunk, const PositionArray& positions, std::vector<std::uint32_t>& reached_leaves) {
+    // Consecutive triangles of a file are mostly neighbours, and far smaller than the
+    // sample spacing: a group of them reaches about the leaves one does, so the tree is
+    // descended once per group and each triangle then only tests those leaves.
+    constexpr std::size_t kGroup = 16;
+    struct Triangle {
+      Vec3d a, b, c;
+      Box3d box;
+    } group[kGroup];
+    for (std::size_t first = 0; first < chunk.count; first += kGroup) {
+      std::size_t n = 0;
+      Box3d group_box;
+      for (std::size_t t = first; t < std::min(chunk.count, first + kGroup); ++t) {
+        Triangle& tri = group[n];
+        chunk.corner_positions(positions, t, &tri.a, &tri.b, &tri.c);
+        if (!(triangle_area(tri.a, tri.b, tri.c) > 0)) continue;  // not part of the surface
+        tri.box = triangle_box(tri.a, tri.b, tri.c);
+        expand(group_box, tri.box.min);
+        expand(group_box, tri.box.max);
+        ++n;
+      }
+      if (n == 0) continue;
+      reached_leaves.clear(); g_groups++;
+      tree_.for_each_leaf_reached([&](std::size_t node) { return may_lower(group_box, node); },
+                                  [&](std::size_t leaf) { reached_leaves.push_back(std::uint32_t(leaf)); });
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::uint32_t leaf : reached_leaves)
+          { g_leaftests++; if (may_lower(group[i].box, leaf)) { g_leaves++; lower_leaf(leaf, group[i]); } }
+    }
+  }
+
+  /// The squared distances, in leaf order; call when the stream is done.
+  std::vector<double> distances2() const {
+    std::vector<double> result(best2_.size());
+    for (std::size_t k = 0; k < best2_.size(); ++k) result[k] = best2_[k].load(std::memory_order_relaxed);
+    return result;
+  }
+
+ private:
+  // Whether anything in `box` can be closer than the initial bound of some sample
+  // below the node. The test at a sample (lower_leaf) is at least as strict, as
+  // computed, so skipping a node never skips a sample that the sample test passes.
+  bool may_lower(const Box3d& box, std::size_t node) const {
+    return box_box_distance2(box, tree_.node(node).box) < reach2_[node];
+  }
+
+  template <class Triangle>
+  void lower_leaf(std::size_t leaf, const Triangle& tri) {
+    const BoxTree::Node& node = tree_.node(leaf);
+    for (std::uint32_t k = node.begin; k < node.end; ++k) {
+      const Vec3d& p = (*points_)[k];
+      double current = best2_[k].load(std::memory_order_relaxed);
+      g_prims++; if (point_box_distance2(p, tri.box) >= current) continue; g_exact++;
+      double d2 = point_triangle_distance2(p, tri.a, tri.b, tri.c, tri.box);
+      while (d2 < current && !best2_[k].compare_exchange_weak(current, d2, std::memory_order_relaxed)) {
+      }
+    }
+  }
+
+  BoxTree tree_;
+  const std::vector<Vec3d>* points_ = nullptr;
+  std::vector<double> reach2_;
+  std::vector<std::atomic<double>> best2_;
+};
+
+// Step 3: the exact squared distance to streamed surface A of every point of B, given
+// `bounds2`, squared distances to points on A. `points` is permuted into the order of
+// the result.
+std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d>& points, std::vector<double> bounds2,
+                                           ProgressReporter* progress) {
+  StreamedDistanceSearch search(points, std::move(bounds2));
+  stream_triangles(
+      input, progress, "distance B->A", [&](StreamChunk& c) { search.lower_by(c, input.positions, c.reached_leaves); },
+      [](StreamChunk&) {});
+  fprintf(stderr, "groups %llu leaftests %llu leaves %llu prims %llu exact %llu\n", (unsigned long long)g_groups, (unsigned long long)g_leaftests, (unsigned long long)g_leaves, (unsigned long long)g_prims, (unsigned long long)g_exact);
+  return search.distances2();
+}
+
+}  // namespace
+
+DistanceStats DistanceReport::fraction_of_diagonal(const DistanceStats& stats) const {
+  DistanceStats f;
+  f.samples = stats.samples;
+  if (!(a_diagonal > 0)) return f;
+  f.max = stats.max / a_diagonal;
+  f.mean = stats.mean / a_diagonal;
+  f.rms = stats.rms / a_diagonal;
+  return f;
+}
+
+DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
+                                        const MeasureOptions& options) {
+  if (options.samples == 0) throw UsageError("the number of samples must be at least 1");
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (options.threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
+  const double t0 = now_seconds();
+  DistanceReport report;
+
+  MeshInput a = open_input(a_path, options, "open A");
+  report.a_diagonal = a.info.bounds.diagonal();
+  InMemoryMesh b_mesh;
+  {
+    MeshInput b = open_input(b_path, options, "open B");
+    b_mesh = load_in_memory(b);
+  }
+  report.b_triangles = b_mesh.triangles.size();
+  std::vector<Vec3d> b_samples = sample_in_memory(b_mesh, options, &report.b_area);
+  if (b_samples.empty()) throw InputError(b_path + ": no triangle with nonzero area to sample");
+
+  report.a_area = streamed_area(a, options.progress, &report.a_triangles);
+  if (!(report.a_area > 0)) throw InputError(a_path + ": no triangle with nonzero area to sample");
+  std::vector<Vec3d> a_samples = sample_streamed(a, report.a_area, options);
+
+  DistanceSums a_to_b;
+  {
+    InMemorySurface b_surface(std::move(b_mesh));
+    a_to_b = sum_in_order(distances2_to(b_surface, a_samples, options.progress));
+  }
+  std::vector<double> b_bounds2 = nearest_site_distances2(std::move(a_samples), b_samples, options.progress);
+  DistanceSums b_to_a = sum_in_order(distances2_to_streamed(a, b_samples, std::move(b_bounds2), options.progress));
+
+  DistanceSums both = a_to_b;
+  both.add(b_to_a);
+  report.a_to_b = a_to_b.stats();
+  report.b_to_a = b_to_a.stats();
+  report.symmetric = both.stats();
+  report.seconds = now_seconds() - t0;
+  report.peak_rss_bytes = peak_rss_bytes();
+  report.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+  return report;
+}
+
+std::string distance_report_to_json(const DistanceReport& r) {
+  auto stats_json = [&](const DistanceStats& s) {
+    DistanceStats f = r.fraction_of_diagonal(s);
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "{\"samples\": %llu, \"hausdorff\": %.9g, \"mean\": %.9g, \"rms\": %.9g, "
+                  "\"of_diagonal\": {\"hausdorff\": %.9g, \"mean\": %.9g, \"rms\": %.9g}}",
+                  (unsigned long long)s.samples, s.max, s.mean, s.rms, f.max, f.mean, f.rms);
+    return std::string(buf);
+  };
+  char head[512];
+  std::snprintf(head, sizeof head,
+                "{\n"
+                "  \"a\": {\"triangles\": %llu, \"area\": %.9g, \"diagonal\": %.9g},\n"
+                "  \"b\": {\"triangles\": %llu, \"area\": %.9g},\n",
+                (unsigned long long)r.a_triangles, r.a_area, r.a_diagonal, (unsigned long long)r.b_triangles, r.b_area);
+  char tail[256];
+  std::snprintf(tail, sizeof tail,
+                "  \"seconds\": %.6f,\n"
+                "  \"memory\": {\"peak_rss_bytes\": %llu, \"peak_anon_bytes\": %llu}\n"
+                "}\n",
+                r.seconds, (unsigned long long)r.peak_rss_bytes, (unsigned long long)r.peak_anon_bytes);
+  return std::string(head) + "  \"a_to_b\": " + stats_json(r.a_to_b) + ",\n  \"b_to_a\": " + stats_json(r.b_to_a) +
+         ",\n  \"symmetric\": " + stats_json(r.symmetric) + ",\n" + tail;
+}
+
+}  // namespace oocsimp

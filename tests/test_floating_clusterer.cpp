@@ -1,0 +1,209 @@
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <random>
+#include <set>
+#include <tbb/global_control.h>
+
+#include "cluster/vertex_grading.hpp"
+#include "floating_cells_reference.hpp"
+#include "oocsimp/generate.hpp"
+#include "oocsimp/simplify.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+// What the sequential algorithm gives on the whole mesh in memory, with the centre
+// vertex as representative (so the output is exact and comparable bit for bit):
+// the referenced vertices, graded; the reference clustering; the triangles over
+// three clusters, first occurrence in file order; vertices numbered by first use.
+SimplifiedMesh expected_mesh(const std::string& path, double cell, CellShape shape, AssignRule rule) {
+  LoadedMesh m = load_mesh(path);
+  MeshInput in = open_mesh_input(path);
+  std::vector<std::uint64_t> used(m.triangles.begin(), m.triangles.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<GradedVertex> graded = grade_vertices(used, m.triangles.data(), m.triangle_count(), in.positions);
+  ReferenceClustering ref = reference_floating_cells(graded, cell, shape, rule);
+  std::map<std::uint64_t, std::uint64_t> cluster;  // vertex -> centre
+  std::map<std::uint64_t, Vec3d> where;
+  for (std::size_t i = 0; i < graded.size(); ++i) {
+    cluster[graded[i].index] = ref.cluster[i];
+    where[graded[i].index] = graded[i].p;
+  }
+  std::set<std::array<std::uint64_t, 3>> seen;
+  std::map<std::uint64_t, std::uint32_t> number;
+  SimplifiedMesh out;
+  for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+    std::array<std::uint64_t, 3> c = {cluster[m.triangles[3 * t]], cluster[m.triangles[3 * t + 1]],
+                                      cluster[m.triangles[3 * t + 2]]};
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+    std::array<std::uint64_t, 3> key = c;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    for (std::uint64_t x : c) {
+      auto it = number.emplace(x, std::uint32_t(number.size())).first;
+      if (it->second == number.size() - 1 && out.positions.size() / 3 < number.size()) {
+        const Vec3d& p = where[x];
+        out.positions.insert(out.positions.end(), {float(p.x), float(p.y), float(p.z)});
+      }
+      out.triangles.push_back(it->second);
+    }
+  }
+  return out;
+}
+
+SimplifiedMesh run_floating(const std::string& path, double cell, CellShape shape, AssignRule rule,
+                            RepresentativeRule rep, double tile, unsigned threads, SimplifyStats* st = nullptr) {
+  MeshInput in = open_mesh_input(path);
+  SimplifyOptions o;
+  o.method = ClusterMethod::floating;
+  o.sizing.cell = cell;
+  o.cell_shape = shape;
+  o.assign = rule;
+  o.representative = rep;
+  o.tile_side = tile;
+  o.threads = threads;
+  return simplify(in, o, st);
+}
+
+// A noisy plane with coincident weights (a regular grid: all interior vertices
+// have the same weight) and duplicated points, as an ascii PLY.
+void write_grid_with_duplicates(const std::string& path, int n) {
+  std::string v, f;
+  int count = 0;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i, ++count) v += std::to_string(i * 0.1) + " " + std::to_string(j * 0.1) + " 0\n";
+  int nv = count;
+  std::vector<std::array<int, 3>> tris;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i;
+      tris.push_back({a, a + 1, a + n + 2});
+      tris.push_back({a, a + n + 2, a + n + 1});
+    }
+  // A second copy of the first row's vertices (duplicate points) used by a strip.
+  for (int i = 0; i <= n; ++i) v += std::to_string(i * 0.1) + " 0 0\n";
+  for (int i = 0; i < n; ++i) tris.push_back({nv + i, nv + i + 1, (n + 1) + i});
+  nv += n + 1;
+  for (auto& t : tris) f += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  write_file(path, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(nv) +
+                       "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                       std::to_string(tris.size()) + "\nproperty list uchar int vertex_indices\nend_header\n" + v + f);
+}
+
+// A soup of random triangles (boundaries everywhere, many tiny and long ones).
+void write_random_soup(const std::string& path, int n, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::string v, f;
+  for (int i = 0; i < 3 * n; ++i) v += std::to_string(u(rng)) + " " + std::to_string(u(rng)) + " " + std::to_string(0.2 * u(rng)) + "\n";
+  std::uniform_int_distribution<int> pick(0, 3 * n - 1);
+  for (int i = 0; i < n; ++i) {
+    int a = pick(rng), b = pick(rng), c = pick(rng);
+    // Mostly local triangles: pick neighbours by index.
+    if (i % 4) { b = (a + 1) % (3 * n); c = (a + 2) % (3 * n); }
+    f += "3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+  }
+  write_file(path, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(3 * n) +
+                       "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(n) +
+                       "\nproperty list uchar int vertex_indices\nend_header\n" + v + f);
+}
+
+}  // namespace
+
+TEST_CASE("floating cells out of core equal the sequential algorithm in memory", "[floating][clusterer]") {
+  ScratchDir d;
+  struct Case {
+    std::string name;
+    double cell;
+  };
+  std::vector<Case> cases;
+  GenerateOptions g;
+  g.triangles = 20000;
+  g.shape = SyntheticShape::sphere;
+  generate_mesh(d.file("sphere.ply"), g);
+  cases.push_back({"sphere.ply", 0.09});
+  g.shape = SyntheticShape::parts;
+  g.triangles = 30000;
+  g.seed = 4;
+  generate_mesh(d.file("parts.ply"), g);
+  cases.push_back({"parts.ply", 0.04});
+  g.shape = SyntheticShape::terrain;
+  g.triangles = 8000;
+  generate_mesh(d.file("terrain.ply"), g);
+  cases.push_back({"terrain.ply", 0.07});
+  write_grid_with_duplicates(d.file("grid.ply"), 40);
+  cases.push_back({"grid.ply", 0.35});
+  write_random_soup(d.file("soup.ply"), 3000, 9);
+  cases.push_back({"soup.ply", 0.08});
+
+  for (const Case& c : cases) {
+    for (CellShape shape : {CellShape::cube, CellShape::sphere}) {
+      for (AssignRule rule : {AssignRule::nearest, AssignRule::heaviest}) {
+        SimplifiedMesh want = expected_mesh(d.file(c.name), c.cell, shape, rule);
+        REQUIRE(want.triangles.size() > 30);
+        for (double tile : {0.0, c.cell * 1.0, c.cell * 2.7}) {
+          for (unsigned threads : {1u, 2u}) {
+            SimplifyStats st;
+            SimplifiedMesh got = run_floating(d.file(c.name), c.cell, shape, rule, RepresentativeRule::centre, tile,
+                                              threads, &st);
+            INFO(c.name << " shape " << int(shape) << " rule " << int(rule) << " tile " << tile << " threads "
+                        << threads << " tiles " << st.tiles << " rounds " << st.rounds);
+            CHECK(got.triangles == want.triangles);
+            CHECK(got.positions == want.positions);
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("floating output is byte-identical for any tile size and thread count", "[floating][clusterer]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = 60000;
+  g.shape = SyntheticShape::parts;
+  generate_mesh(d.file("parts.ply"), g);
+  for (RepresentativeRule rep : {RepresentativeRule::quadric, RepresentativeRule::mean}) {
+    SimplifiedMesh ref = run_floating(d.file("parts.ply"), 0.02, CellShape::cube, AssignRule::nearest, rep, 0, 1);
+    REQUIRE(ref.triangles.size() > 1000);
+    for (double tile : {0.02, 0.05, 0.13}) {
+      for (unsigned threads : {1u, 2u, 4u}) {
+        SimplifyStats st;
+        SimplifiedMesh got = run_floating(d.file("parts.ply"), 0.02, CellShape::cube, AssignRule::nearest, rep, tile,
+                                          threads, &st);
+        INFO("rep " << int(rep) << " tile " << tile << " threads " << threads << " tiles " << st.tiles);
+        CHECK(st.tiles > 1);
+        CHECK(got.positions == ref.positions);
+        CHECK(got.triangles == ref.triangles);
+      }
+    }
+  }
+}
+
+TEST_CASE("quadric representatives stay in their floating cell and sharpen corners", "[floating][clusterer]") {
+  ScratchDir d;
+  write_cube_ply(d.file("cube.ply"), 40);
+  double cell = 0.15;
+  SimplifiedMesh q = run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest,
+                                  RepresentativeRule::quadric, 0, 0);
+  SimplifiedMesh c = run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest,
+                                  RepresentativeRule::centre, 0, 0);
+  // Same clusters, same connectivity: only positions differ.
+  REQUIRE(q.triangles == c.triangles);
+  for (std::size_t i = 0; i < q.positions.size(); ++i) CHECK(std::abs(q.positions[i] - c.positions[i]) <= 0.5 * cell + 1e-6);
+  // Every cube corner is reproduced exactly by some quadric representative.
+  for (int k = 0; k < 8; ++k) {
+    double best = 1e9;
+    for (std::size_t i = 0; i < q.positions.size(); i += 3)
+      best = std::min<double>(best, std::abs(q.positions[i] - (k & 1)) + std::abs(q.positions[i + 1] - ((k >> 1) & 1)) +
+                                std::abs(q.positions[i + 2] - ((k >> 2) & 1)));
+    CHECK(best < 1e-5);
+  }
+}
