@@ -2,6 +2,7 @@
 
 #include "grid/grid_coord.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -89,29 +90,81 @@ class CentreGrid {
   std::size_t mask_ = 0, used_ = 0;
 };
 
+// Whether a centre filed in `grid` that precedes v holds v in its cell: in the
+// sequential visit, exactly the centres that precede v exist when v is visited.
+bool covered_by_preceding(const CentreGrid& grid, const GradedVertex& v, const FloatingCellShape& cell) {
+  bool covered = false;
+  grid.for_each_near(v.p, [&](const GradedVertex& c) {
+    if (!covered && precedes(c, v) && cell.contains(c.p, v.p)) covered = true;
+  });
+  return covered;
+}
+
 }  // namespace
 
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell) {
-  return choose_centres(sorted, 0, {}, external, cell);
+  CentreGrid grid(cell.size, external.size() + sorted.size() / 4);
+  for (const GradedVertex& c : external) grid.add(c);
+  std::vector<GradedVertex> centres;
+  for (const GradedVertex& v : sorted) {
+    if (!covered_by_preceding(grid, v, cell)) {
+      centres.push_back(v);
+      grid.add(v);
+    }
+  }
+  return centres;
 }
 
-std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted, std::size_t start,
-                                         std::vector<GradedVertex> prefix, const std::vector<GradedVertex>& external,
-                                         const FloatingCellShape& cell) {
-  CentreGrid grid(cell.size, external.size() + prefix.size() + sorted.size() / 4);
-  for (const GradedVertex& c : external) grid.add(c);
-  for (const GradedVertex& c : prefix) grid.add(c);
-  std::vector<GradedVertex> centres = std::move(prefix);
+std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
+                                           const std::vector<GradedVertex>& old_centres,
+                                           const std::vector<GradedVertex>& old_external,
+                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
+  // The changed items so far: externals added or removed (symmetric difference of
+  // two precedes-sorted lists), later also own vertices whose decision flipped.
+  CentreGrid changed(cell.size, 64);
+  const GradedVertex* heaviest_change = nullptr;
+  {
+    std::size_t i = 0, j = 0;
+    auto note = [&](const GradedVertex& c) {
+      changed.add(c);
+      if (!heaviest_change || precedes(c, *heaviest_change)) heaviest_change = &c;
+    };
+    while (i < old_external.size() || j < new_external.size()) {
+      if (j == new_external.size() || (i < old_external.size() && precedes(old_external[i], new_external[j]))) {
+        note(old_external[i++]);
+      } else if (i == old_external.size() || precedes(new_external[j], old_external[i])) {
+        note(new_external[j++]);
+      } else {  // same priority: the same vertex
+        ++i;
+        ++j;
+      }
+    }
+  }
+  if (!heaviest_change) return old_centres;
+  // Nothing that precedes the heaviest change can flip: resume there.
+  std::size_t start = std::size_t(std::partition_point(sorted.begin(), sorted.end(), [&](const GradedVertex& v) {
+                                    return precedes(v, *heaviest_change);
+                                  }) - sorted.begin());
+  CentreGrid grid(cell.size, new_external.size() + old_centres.size());
+  for (const GradedVertex& c : new_external) grid.add(c);
+  std::vector<GradedVertex> centres;
+  std::size_t k = 0;  // walks old_centres alongside sorted
+  for (; k < old_centres.size() && precedes(old_centres[k], *heaviest_change); ++k) {
+    centres.push_back(old_centres[k]);
+    grid.add(old_centres[k]);
+  }
   for (std::size_t i = start; i < sorted.size(); ++i) {
     const GradedVertex& v = sorted[i];
-    bool covered = false;
-    // Every own centre found precedes v (it was chosen earlier); an external one
-    // counts only if it precedes v, as in the sequential visit.
-    grid.for_each_near(v.p, [&](const GradedVertex& c) {
-      if (!covered && precedes(c, v) && cell.contains(c.p, v.p)) covered = true;
+    bool was_centre = k < old_centres.size() && old_centres[k].index == v.index;
+    if (was_centre) ++k;
+    bool near_change = false;
+    changed.for_each_near(v.p, [&](const GradedVertex& c) {
+      if (!near_change && precedes(c, v) && cell.contains(c.p, v.p)) near_change = true;
     });
-    if (!covered) {
+    bool is_centre = near_change ? !covered_by_preceding(grid, v, cell) : was_centre;
+    if (is_centre != was_centre) changed.add(v);
+    if (is_centre) {
       centres.push_back(v);
       grid.add(v);
     }

@@ -40,12 +40,17 @@ struct FloatingCellShape {
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell);
 
-/// The same greedy resumed at `sorted[start]`: `prefix` are the centres it chose
-/// among `sorted[0, start)` (valid when nothing that precedes sorted[start] changed).
-/// Returns prefix followed by the new centres.
-std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted, std::size_t start,
-                                         std::vector<GradedVertex> prefix, const std::vector<GradedVertex>& external,
-                                         const FloatingCellShape& cell);
+/// The greedy again after the external centres changed from `old_external` to
+/// `new_external` (both in `precedes` order), given `old_centres`, its result for the
+/// old input. Only vertices near a change are re-decided: a vertex whose cell holds
+/// no changed item (an external centre added or removed, or a vertex of the tile
+/// whose decision changed earlier in the pass) keeps its decision, because the
+/// heavier centres around it are the same. Returns the same as choose_centres with
+/// `new_external`, in time proportional to the tile plus the changes.
+std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
+                                           const std::vector<GradedVertex>& old_centres,
+                                           const std::vector<GradedVertex>& old_external,
+                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
 
 /// For each vertex of `vertices`, the input index of the centre of its cluster:
 /// among the centres in `centres` that precede it and hold it in their cell, the

@@ -39,15 +39,15 @@ class SampleRng {
 /// share to within one sample, zero-area triangles get none, and the counts depend only
 /// on the areas in stream order — not on how the stream is cut into chunks or threads.
 /// Within a triangle the points are uniform, drawn from a generator seeded by
-/// (seed, stream, triangle index).
+/// (seed, surface, triangle index).
 class SystematicAreaSampler {
  public:
   /// `total_area` must be the sum of the areas passed to take(), added in the same
-  /// order; `stream` separates the sample sets of the two surfaces.
-  SystematicAreaSampler(double total_area, std::uint64_t count, std::uint64_t seed, std::uint64_t stream)
+  /// order; `surface` separates the random sequences of the two surfaces.
+  SystematicAreaSampler(double total_area, std::uint64_t count, std::uint64_t seed, std::uint64_t surface)
       : count_(count),
         step_(count > 0 ? total_area / double(count) : 0),
-        seed_(mix64(seed ^ mix64(stream))),
+        seed_(mix64(seed ^ mix64(surface))),
         offset_(step_ * SampleRng(seed_).unit()) {}
 
   /// The number of samples on the next triangle in stream order, whose area is `area`.

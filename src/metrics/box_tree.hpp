@@ -54,17 +54,20 @@ class BoxTree {
   double nearest(const Vec3d& p, double bound2, const PrimitiveDistance2& primitive_distance2) const;
 
   /// Calls `visit_leaf(node index)` for every leaf reached by descending from the root
-  /// into the nodes for which `enter(node index)` is true.
+  /// into the nodes for which `enter(node index)` is true, until visit_leaf returns
+  /// false; returns false when it did.
   template <class Enter, class VisitLeaf>
-  void for_each_leaf_reached(const Enter& enter, const VisitLeaf& visit_leaf) const;
+  bool for_each_leaf_reached(const Enter& enter, const VisitLeaf& visit_leaf) const;
 
  private:
   // A tree over < 2^32 primitives with at least one per leaf has fewer than 33
   // levels; a depth-first traversal holds at most one pending sibling per level.
   static constexpr int kStackSize = 64;
 
+  // A primitive's centre, in float: it only steers the splits (the boxes are exact),
+  // and halves the build's memory.
   struct BuildItem {
-    Vec3d centre;
+    float centre[3];
     std::uint32_t index;
   };
   template <class BoxOf>
@@ -99,7 +102,8 @@ BoxTree::BoxTree(std::uint64_t count, std::uint32_t leaf_size, const BoxOf& box_
   std::vector<BuildItem> items(n);
   for (std::uint32_t i = 0; i < n; ++i) {
     Box3d b = box_of(i);
-    items[i] = {{0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y), 0.5 * (b.min.z + b.max.z)}, i};
+    items[i] = {{float(0.5 * (b.min.x + b.max.x)), float(0.5 * (b.min.y + b.max.y)), float(0.5 * (b.min.z + b.max.z))},
+                i};
   }
   build(0, 0, n, items, box_of);
   order_.resize(n);
@@ -120,19 +124,20 @@ void BoxTree::build(std::size_t node, std::uint32_t begin, std::uint32_t end, st
     }
     return;
   }
-  Box3d spread;
-  for (std::uint32_t k = begin; k < end; ++k) expand(spread, items[k].centre);
-  double extent[3] = {spread.max.x - spread.min.x, spread.max.y - spread.min.y, spread.max.z - spread.min.z};
+  float lo[3] = {items[begin].centre[0], items[begin].centre[1], items[begin].centre[2]};
+  float hi[3] = {lo[0], lo[1], lo[2]};
+  for (std::uint32_t k = begin + 1; k < end; ++k)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], items[k].centre[a]);
+      hi[a] = std::max(hi[a], items[k].centre[a]);
+    }
+  float extent[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
   int axis = int(std::max_element(extent, extent + 3) - extent);
-  auto coordinate = [axis](const BuildItem& item) {
-    return axis == 0 ? item.centre.x : axis == 1 ? item.centre.y : item.centre.z;
-  };
   std::uint32_t mid = begin + (end - begin) / 2;
   // Ties are broken by index, so the split does not depend on the input permutation.
   std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                   [&](const BuildItem& a, const BuildItem& b) {
-                     double ca = coordinate(a), cb = coordinate(b);
-                     return ca < cb || (ca == cb && a.index < b.index);
+                   [axis](const BuildItem& a, const BuildItem& b) {
+                     return a.centre[axis] < b.centre[axis] || (a.centre[axis] == b.centre[axis] && a.index < b.index);
                    });
   std::size_t left = 2 * node + 1;
   constexpr std::uint32_t kParallelRange = 1 << 14;  // below this a task costs more than it saves
@@ -196,7 +201,7 @@ double BoxTree::nearest(const Vec3d& p, double bound2, const PrimitiveDistance2&
 }
 
 template <class Enter, class VisitLeaf>
-void BoxTree::for_each_leaf_reached(const Enter& enter, const VisitLeaf& visit_leaf) const {
+bool BoxTree::for_each_leaf_reached(const Enter& enter, const VisitLeaf& visit_leaf) const {
   std::size_t stack[kStackSize];
   int top = 0;
   stack[top++] = 0;
@@ -204,12 +209,13 @@ void BoxTree::for_each_leaf_reached(const Enter& enter, const VisitLeaf& visit_l
     std::size_t i = stack[--top];
     if (!enter(i)) continue;
     if (is_leaf(i)) {
-      visit_leaf(i);
+      if (!visit_leaf(i)) return false;
     } else {
       stack[top++] = 2 * i + 2;
       stack[top++] = 2 * i + 1;
     }
   }
+  return true;
 }
 
 }  // namespace metrics

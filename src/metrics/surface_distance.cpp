@@ -16,10 +16,12 @@
 //  3. B -> A, the direction whose target cannot be held in memory:
 //     a. every B sample gets an upper bound u, its distance to the nearest A sample
 //        (A samples lie on A), from a box tree over the A samples;
-//     b. a box tree over the B samples keeps, per node, the largest u² below it;
-//     c. A's triangles are streamed once more; each triangle descends into the nodes
-//        its box may be closer to than that bound and lowers, with an atomic minimum,
-//        the squared distance of each B sample its box is closer to than the sample's
+//     b. a box tree over the B samples keeps, per node, the largest u² below it (per
+//        leaf, the largest current squared distance, lowered as the samples' are);
+//     c. A's triangles are streamed once more; each run of 16 consecutive triangles
+//        descends into the nodes its box may be closer to than that bound, then each
+//        of its triangles lowers, with an atomic minimum, the squared distance of every
+//        B sample in the leaves reached that its box is closer to than the sample's
 //        current value. The triangle nearest to a sample is within u of it, so every
 //        sample ends with its exact distance to A.
 //     Triangle distances are clamped from below by the distance to the triangle's box
@@ -66,7 +68,8 @@ namespace {
 constexpr std::size_t kChunkTriangles = 1 << 14;
 constexpr std::uint32_t kTriangleLeaf = 4;  // exact triangle tests cost several box tests
 constexpr std::uint32_t kPointLeaf = 8;
-constexpr std::uint64_t kStreamA = 1, kStreamB = 2;  // separate sample sequences per surface
+constexpr std::uint32_t kSampleLeaf = 4;  // B samples: their leaves are tested once per triangle
+constexpr std::uint64_t kSurfaceA = 1, kSurfaceB = 2;  // separate random sequences per surface
 constexpr std::size_t kQueryGrain = 1 << 12;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -208,7 +211,7 @@ std::vector<Vec3d> sample_in_memory(const InMemoryMesh& mesh, const MeasureOptio
   std::vector<Vec3d> samples;
   if (!(area > 0)) return samples;
   samples.reserve(options.samples);
-  SystematicAreaSampler sampler(area, options.samples, options.seed, kStreamB);
+  SystematicAreaSampler sampler(area, options.samples, options.seed, kSurfaceB);
   for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
     const TriangleCorners& t = mesh.triangles[k];
     const Vec3d &a = corner(t, 0), &b = corner(t, 1), &c = corner(t, 2);
@@ -281,7 +284,7 @@ double streamed_area(MeshInput& input, ProgressReporter* progress, std::uint64_t
 std::vector<Vec3d> sample_streamed(MeshInput& input, double area, const MeasureOptions& options) {
   std::vector<Vec3d> samples;
   samples.reserve(options.samples);
-  SystematicAreaSampler sampler(area, options.samples, options.seed, kStreamA);
+  SystematicAreaSampler sampler(area, options.samples, options.seed, kSurfaceA);
   stream_triangles(
       input, options.progress, "sample A", [&](StreamChunk& c) { c.compute_areas(input.positions); },
       [&](StreamChunk& c) {
@@ -335,23 +338,27 @@ std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std:
 // Step 3b-c: the samples of B in a box tree whose nodes carry the largest squared
 // upper bound below them; the bounds are lowered, triangle by triangle, as A streams
 // past, until each is the exact squared distance to A.
-std::atomic<std::uint64_t> g_groups, g_leaftests, g_leaves, g_prims, g_exact;
 class StreamedDistanceSearch {
  public:
-  /// Takes the samples and their squared upper bounds; `points` is permuted into the
-  /// tree's leaf order, the order of distances2().
-  StreamedDistanceSearch(std::vector<Vec3d>& points, std::vector<double> bounds2)
-      : tree_(points.size(), kPointLeaf, [&](std::uint32_t i) {
+  struct Triangle {
+    Vec3d a, b, c;
+    Box3d box;
+  };
+
+  /// Takes the samples and their squared upper bounds.
+  StreamedDistanceSearch(const std::vector<Vec3d>& points, std::vector<double> bounds2)
+      : tree_(points.size(), kSampleLeaf, [&](std::uint32_t i) {
           Box3d b;
           b.min = b.max = points[i];
           return b;
         }),
+        points_(permuted(points, tree_.order())),
+        reach2_(tree_.node_count()),
         best2_(points.size()) {
-    points = permuted(points, tree_.order());
     bounds2 = permuted(bounds2, tree_.order());
     tree_.release_order();
-    points_ = &points;
-    reach2_ = tree_.max_per_node([&](std::uint32_t k) { return bounds2[k]; });
+    std::vector<double> reach2 = tree_.max_per_node([&](std::uint32_t k) { return bounds2[k]; });
+    for (std::size_t i = 0; i < reach2.size(); ++i) reach2_[i].store(reach2[i], std::memory_order_relaxed);
     for (std::size_t k = 0; k < bounds2.size(); ++k) best2_[k].store(bounds2[k], std::memory_order_relaxed);
   }
 
@@ -361,12 +368,11 @@ class StreamedDistanceSearch {
   void lower_by(const StreamChunk& chunk, const PositionArray& positions, std::vector<std::uint32_t>& reached_leaves) {
     // Consecutive triangles of a file are mostly neighbours, and far smaller than the
     // sample spacing: a group of them reaches about the leaves one does, so the tree is
-    // descended once per group and each triangle then only tests those leaves.
+    // descended once per group and each triangle then only tests those leaves. When a
+    // group is spread out (a file in no spatial order), its triangles descend alone.
     constexpr std::size_t kGroup = 16;
-    struct Triangle {
-      Vec3d a, b, c;
-      Box3d box;
-    } group[kGroup];
+    constexpr std::size_t kMaxGroupLeaves = 4 * kGroup;
+    Triangle group[kGroup];
     for (std::size_t first = 0; first < chunk.count; first += kGroup) {
       std::size_t n = 0;
       Box3d group_box;
@@ -380,16 +386,21 @@ class StreamedDistanceSearch {
         ++n;
       }
       if (n == 0) continue;
-      reached_leaves.clear(); g_groups++;
-      tree_.for_each_leaf_reached([&](std::size_t node) { return may_lower(group_box, node); },
-                                  [&](std::size_t leaf) { reached_leaves.push_back(std::uint32_t(leaf)); });
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::uint32_t leaf : reached_leaves)
-          { g_leaftests++; if (may_lower(group[i].box, leaf)) { g_leaves++; lower_leaf(leaf, group[i]); } }
+      if (collect_leaves(group_box, kMaxGroupLeaves, reached_leaves)) {
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::uint32_t leaf : reached_leaves)
+            if (may_lower(group[i].box, leaf)) lower_leaf(leaf, group[i]);
+      } else {
+        for (std::size_t i = 0; i < n; ++i) {
+          collect_leaves(group[i].box, std::numeric_limits<std::size_t>::max(), reached_leaves);
+          for (std::uint32_t leaf : reached_leaves) lower_leaf(leaf, group[i]);
+        }
+      }
     }
   }
 
-  /// The squared distances, in leaf order; call when the stream is done.
+  /// The squared distances, in the tree's leaf order (fixed for given samples); call
+  /// when the stream is done.
   std::vector<double> distances2() const {
     std::vector<double> result(best2_.size());
     for (std::size_t k = 0; k < best2_.size(); ++k) result[k] = best2_[k].load(std::memory_order_relaxed);
@@ -397,42 +408,62 @@ class StreamedDistanceSearch {
   }
 
  private:
-  // Whether anything in `box` can be closer than the initial bound of some sample
-  // below the node. The test at a sample (lower_leaf) is at least as strict, as
-  // computed, so skipping a node never skips a sample that the sample test passes.
+  // Whether anything in `box` can be closer than the bound of some sample below the
+  // node. The test at a sample (lower_leaf) is at least as strict, as computed, so
+  // skipping a node never skips a sample that the sample test would pass.
   bool may_lower(const Box3d& box, std::size_t node) const {
-    return box_box_distance2(box, tree_.node(node).box) < reach2_[node];
+    return box_box_distance2(box, tree_.node(node).box) < reach2_[node].load(std::memory_order_relaxed);
   }
 
-  template <class Triangle>
+  // The leaves `box` may lower a bound in, unless there are more than `max_leaves`
+  // (then false).
+  bool collect_leaves(const Box3d& box, std::size_t max_leaves, std::vector<std::uint32_t>& leaves) const {
+    leaves.clear();
+    return tree_.for_each_leaf_reached([&](std::size_t node) { return may_lower(box, node); },
+                                       [&](std::size_t leaf) {
+                                         leaves.push_back(std::uint32_t(leaf));
+                                         return leaves.size() <= max_leaves;
+                                       });
+  }
+
   void lower_leaf(std::size_t leaf, const Triangle& tri) {
     const BoxTree::Node& node = tree_.node(leaf);
+    bool lowered = false;
     for (std::uint32_t k = node.begin; k < node.end; ++k) {
-      const Vec3d& p = (*points_)[k];
+      const Vec3d& p = points_[k];
       double current = best2_[k].load(std::memory_order_relaxed);
-      g_prims++; if (point_box_distance2(p, tri.box) >= current) continue; g_exact++;
+      if (point_box_distance2(p, tri.box) >= current) continue;
       double d2 = point_triangle_distance2(p, tri.a, tri.b, tri.c, tri.box);
       while (d2 < current && !best2_[k].compare_exchange_weak(current, d2, std::memory_order_relaxed)) {
       }
+      lowered |= d2 < current;
     }
+    if (!lowered) return;
+    // The bounds only decrease, so a maximum read now bounds them from above from
+    // now on, whichever thread's store lands last.
+    double reach2 = 0;
+    for (std::uint32_t k = node.begin; k < node.end; ++k)
+      reach2 = std::max(reach2, best2_[k].load(std::memory_order_relaxed));
+    reach2_[leaf].store(reach2, std::memory_order_relaxed);
   }
 
   BoxTree tree_;
-  const std::vector<Vec3d>* points_ = nullptr;
-  std::vector<double> reach2_;
+  std::vector<Vec3d> points_;  // leaf order
+  // Per node the largest squared bound below it: the initial bounds for inner nodes,
+  // the current ones (lowered as the samples' bounds are) for leaves.
+  std::vector<std::atomic<double>> reach2_;
   std::vector<std::atomic<double>> best2_;
 };
 
-// Step 3: the exact squared distance to streamed surface A of every point of B, given
-// `bounds2`, squared distances to points on A. `points` is permuted into the order of
-// the result.
-std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d>& points, std::vector<double> bounds2,
+// Step 3: the exact squared distance to streamed surface A of every point, given
+// `bounds2`, squared distances to points on A; in an order fixed by the points.
+std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d> points, std::vector<double> bounds2,
                                            ProgressReporter* progress) {
   StreamedDistanceSearch search(points, std::move(bounds2));
+  std::vector<Vec3d>().swap(points);
   stream_triangles(
       input, progress, "distance B->A", [&](StreamChunk& c) { search.lower_by(c, input.positions, c.reached_leaves); },
       [](StreamChunk&) {});
-  fprintf(stderr, "groups %llu leaftests %llu leaves %llu prims %llu exact %llu\n", (unsigned long long)g_groups, (unsigned long long)g_leaftests, (unsigned long long)g_leaves, (unsigned long long)g_prims, (unsigned long long)g_exact);
   return search.distances2();
 }
 
@@ -450,7 +481,8 @@ DistanceStats DistanceReport::fraction_of_diagonal(const DistanceStats& stats) c
 
 DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
                                         const MeasureOptions& options) {
-  if (options.samples == 0) throw UsageError("the number of samples must be at least 1");
+  if (options.samples == 0 || options.samples > std::numeric_limits<std::uint32_t>::max())
+    throw UsageError("the number of samples must be between 1 and 2^32 - 1");
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
@@ -478,7 +510,8 @@ DistanceReport measure_surface_distance(const std::string& a_path, const std::st
     a_to_b = sum_in_order(distances2_to(b_surface, a_samples, options.progress));
   }
   std::vector<double> b_bounds2 = nearest_site_distances2(std::move(a_samples), b_samples, options.progress);
-  DistanceSums b_to_a = sum_in_order(distances2_to_streamed(a, b_samples, std::move(b_bounds2), options.progress));
+  DistanceSums b_to_a =
+      sum_in_order(distances2_to_streamed(a, std::move(b_samples), std::move(b_bounds2), options.progress));
 
   DistanceSums both = a_to_b;
   both.add(b_to_a);
