@@ -167,7 +167,7 @@ TEST_CASE("floating cells out of core equal the sequential algorithm in memory",
 TEST_CASE("floating output is byte-identical for any tile size and thread count", "[floating][clusterer]") {
   ScratchDir d;
   GenerateOptions g;
-  g.triangles = 60000;
+  g.triangles = 30000;
   g.shape = SyntheticShape::parts;
   generate_mesh(d.file("parts.ply"), g);
   for (RepresentativeRule rep : {RepresentativeRule::quadric, RepresentativeRule::mean}) {
@@ -206,4 +206,64 @@ TEST_CASE("quadric representatives stay in their floating cell and sharpen corne
                                 std::abs(q.positions[i + 2] - ((k >> 2) & 1)));
     CHECK(best < 1e-5);
   }
+}
+
+namespace {
+
+void write_mesh_ply(const std::string& path, const std::vector<double>& pos, const std::vector<std::uint64_t>& tri) {
+  std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(pos.size() / 3) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                  std::to_string(tri.size() / 3) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  for (double v : pos) put_le(s, float(v));
+  for (std::size_t i = 0; i < tri.size(); i += 3) {
+    s.push_back(3);
+    for (int k = 0; k < 3; ++k) put_le(s, std::uint32_t(tri[i + std::size_t(k)]));
+  }
+  write_file(path, s);
+}
+
+SimplifiedMesh simplify_with(const std::string& path, ClusterMethod method, double cell) {
+  MeshInput in = open_mesh_input(path);
+  SimplifyOptions o;
+  o.method = method;
+  o.sizing.cell = cell;
+  return simplify(in, o, nullptr);
+}
+
+}  // namespace
+
+TEST_CASE("consistency (Low & Tan 3.2.2, Plate 5): a distant object leaves A's floating cells alone",
+          "[floating][clusterer]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = 40000;
+  g.shape = SyntheticShape::parts;
+  generate_mesh(d.file("a.ply"), g);
+  LoadedMesh a = load_mesh(d.file("a.ply"));
+  // B: a cube far from A that moves the bounding box; its vertices follow A's.
+  write_cube_ply(d.file("b.ply"), 20);
+  LoadedMesh b = load_mesh(d.file("b.ply"));
+  std::vector<double> pos = a.positions;
+  for (std::size_t i = 0; i < b.positions.size(); i += 3)
+    pos.insert(pos.end(), {b.positions[i] - 7.3, b.positions[i + 1] + 3.1, b.positions[i + 2] - 5.9});
+  std::vector<std::uint64_t> tri = a.triangles;
+  for (std::uint64_t v : b.triangles) tri.push_back(v + a.vertex_count());
+  write_mesh_ply(d.file("ab.ply"), pos, tri);
+
+  const double cell = 0.013;
+  SimplifiedMesh fa = simplify_with(d.file("a.ply"), ClusterMethod::floating, cell);
+  SimplifiedMesh fab = simplify_with(d.file("ab.ply"), ClusterMethod::floating, cell);
+  // A's triangles come first in the input, so A's part of the output is a prefix:
+  // the same triangles, the same vertex numbers, the same positions.
+  REQUIRE(fab.triangles.size() > fa.triangles.size());
+  CHECK(std::equal(fa.triangles.begin(), fa.triangles.end(), fab.triangles.begin()));
+  CHECK(std::equal(fa.positions.begin(), fa.positions.end(), fab.positions.begin()));
+
+  // The uniform grid follows the bounding box, so A's part moves with B (this is
+  // what Plate 5(a) shows); record that it indeed differs.
+  SimplifiedMesh ua = simplify_with(d.file("a.ply"), ClusterMethod::uniform, cell);
+  SimplifiedMesh uab = simplify_with(d.file("ab.ply"), ClusterMethod::uniform, cell);
+  bool same_prefix = uab.positions.size() >= ua.positions.size() &&
+                     std::equal(ua.positions.begin(), ua.positions.end(), uab.positions.begin());
+  CHECK_FALSE(same_prefix);
 }
