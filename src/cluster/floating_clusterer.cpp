@@ -158,6 +158,9 @@ class FloatingRun {
     if (side <= 0) {
       double per_tile = std::max(1.0, double(budget) / 2 / threads / kBytesPerTriangle);
       double tiles_needed = std::max(1.0, double(input_.info.face_count) / per_tile);
+      // Enough tiles to keep every thread busy, once tiles are worth their overhead.
+      constexpr double kMinTileTriangles = 1 << 17;
+      tiles_needed = std::max(tiles_needed, std::min(4.0 * threads, double(input_.info.face_count) / kMinTileTriangles));
       const Box3d& b = input_.info.bounds;
       double longest = b.empty() ? 1 : std::max({b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z});
       if (tiles_needed <= 1 || longest <= 0) {
