@@ -3,7 +3,7 @@
 # file to file, on generated spheres cached under build/bench/.
 #
 #   scripts/bench.sh [SIZES...]     default sizes: 1000000 10000000 50000000
-#   GRIDS="256 1024" THREADS="1 2" SHAPE=sphere scripts/bench.sh
+#   GRIDS="256 1024" THREADS="1 2" SHAPE=sphere METHOD=uniform MEM=256M scripts/bench.sh
 #
 # For each size and grid, oocsimp runs with each thread count; sloppy then gets our
 # output triangle count as its target (it searches its grid for it, its normal use).
@@ -25,6 +25,9 @@ sizes=("$@")
 grids=(${GRIDS:-256 1024})
 threads=(${THREADS:-1 2})
 shape="${SHAPE:-sphere}"
+method="${METHOD:-uniform}"
+mem_opt=()
+[ -n "${MEM:-}" ] && mem_opt=(--mem "$MEM")
 
 json_field() {  # json_field FILE KEY -> first number after "KEY":
   grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'
@@ -32,6 +35,7 @@ json_field() {  # json_field FILE KEY -> first number after "KEY":
 now() { date +%s.%N; }
 calc() { awk "BEGIN { print $1 }"; }
 
+echo "method $method${MEM:+, --mem $MEM}"
 printf '%-10s %-5s %-8s %8s %8s %9s %9s %10s %8s %9s %8s\n' \
   size grid run seconds Mtri/s anon_MiB rss_MiB out_tris ratio peer_s peer_MiB
 for n in "${sizes[@]}"; do
@@ -43,7 +47,8 @@ for n in "${sizes[@]}"; do
     out_tris=0
     for t in "${threads[@]}"; do
       t0=$(now)
-      "$bin" simplify "$mesh" -o "$dir/out.ply" --grid "$g" --threads "$t" --quiet --stats "$dir/stats.json"
+      "$bin" simplify "$mesh" -o "$dir/out.ply" --method "$method" "${mem_opt[@]}" --grid "$g" --threads "$t" --quiet \
+        --stats "$dir/stats.json"
       t1=$(now)
       s=$(calc "$t1 - $t0")
       secs[$t]=$s

@@ -34,9 +34,13 @@ struct DistanceStats {
 struct DistanceReport {
   DistanceStats a_to_b;     ///< samples on A, distances to surface B
   DistanceStats b_to_a;     ///< samples on B, distances to surface A
-  DistanceStats symmetric;  ///< max of both (the Hausdorff distance); mean and rms over both sample sets
+  /// The larger max of the two (the paper's Hausdorff distance d_inf); mean and rms over
+  /// both sample sets. The paper's "mean square distance" d_2 integrates the distance
+  /// (not its square) over each surface divided by its area, i.e. a_to_b.mean +
+  /// b_to_a.mean; with equal sample counts symmetric.mean is half of it.
+  DistanceStats symmetric;
   double a_diagonal = 0;    ///< length of A's bounding-box diagonal, the scale of the fractions
-  double a_area = 0, b_area = 0;
+  double a_area = 0, b_area = 0;                   ///< surface areas, model units squared
   std::uint64_t a_triangles = 0, b_triangles = 0;  ///< triangles read (polygons fanned), degenerate ones included
   double seconds = 0;                              ///< wall time of measure_surface_distance
   std::uint64_t peak_rss_bytes = 0;
@@ -54,7 +58,8 @@ struct DistanceReport {
 /// of either surface. Heap memory grows with the sample count and with B, never with
 /// A, which is streamed three times (twice to sample, once to measure B's samples).
 /// Throws InputError for a malformed mesh or one without area, IoError for an
-/// unreadable file, UsageError for options.samples of 0.
+/// unreadable file, UsageError for options.samples outside 1 .. 2^32 - 1 or a B of
+/// 2^32 vertices or more.
 DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
                                         const MeasureOptions& options);
 
