@@ -124,10 +124,15 @@ std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sort
   // two precedes-sorted lists), later also own vertices whose decision flipped.
   CentreGrid changed(cell.size, 64);
   const GradedVertex* heaviest_change = nullptr;
+  // Quick rejection: the grid cubes within reach of a changed item (its cube and
+  // the 26 around it); a vertex in no such cube is far from every change.
+  GridCoordSet reach;
+  auto grow = [&](const Vec3d& p) { reach.insert_block(GridCoord::of(p, cell.size)); };
   {
     std::size_t i = 0, j = 0;
     auto note = [&](const GradedVertex& c) {
       changed.add(c);
+      grow(c.p);
       if (!heaviest_change || precedes(c, *heaviest_change)) heaviest_change = &c;
     };
     while (i < old_external.size() || j < new_external.size()) {
@@ -159,11 +164,15 @@ std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sort
     bool was_centre = k < old_centres.size() && old_centres[k].index == v.index;
     if (was_centre) ++k;
     bool near_change = false;
-    changed.for_each_near(v.p, [&](const GradedVertex& c) {
-      if (!near_change && precedes(c, v) && cell.contains(c.p, v.p)) near_change = true;
-    });
+    if (reach.contains(GridCoord::of(v.p, cell.size)))
+      changed.for_each_near(v.p, [&](const GradedVertex& c) {
+        if (!near_change && precedes(c, v) && cell.contains(c.p, v.p)) near_change = true;
+      });
     bool is_centre = near_change ? !covered_by_preceding(grid, v, cell) : was_centre;
-    if (is_centre != was_centre) changed.add(v);
+    if (is_centre != was_centre) {
+      changed.add(v);
+      grow(v.p);
+    }
     if (is_centre) {
       centres.push_back(v);
       grid.add(v);
