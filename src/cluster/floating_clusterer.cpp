@@ -260,7 +260,7 @@ class FloatingRun {
     std::vector<unsigned char> bytes;
     triangles_->read(tile, &bytes);
     std::vector<TriangleRecord> t(bytes.size() / sizeof(TriangleRecord));
-    std::memcpy(t.data(), bytes.data(), bytes.size());
+    if (!bytes.empty()) std::memcpy(t.data(), bytes.data(), bytes.size());
     std::sort(t.begin(), t.end(), [](const TriangleRecord& a, const TriangleRecord& b) { return a.t < b.t; });
     return t;
   }
@@ -269,7 +269,7 @@ class FloatingRun {
     std::vector<unsigned char> bytes;
     vertices_->read(tile, &bytes);
     std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
-    std::memcpy(v.data(), bytes.data(), bytes.size());
+    if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
   }
 
@@ -473,7 +473,7 @@ class FloatingRun {
       std::vector<unsigned char> bytes;
       corners_->read(b, &bytes);
       std::vector<CornerRecord> rec(bytes.size() / sizeof(CornerRecord));
-      std::memcpy(rec.data(), bytes.data(), bytes.size());
+      if (!bytes.empty()) std::memcpy(rec.data(), bytes.data(), bytes.size());
       std::sort(rec.begin(), rec.end(), [](const CornerRecord& a, const CornerRecord& c) { return a.t_and_slot < c.t_and_slot; });
       for (std::size_t i = 0; i < rec.size();) {
         std::uint64_t t = rec[i].t_and_slot >> 2;
