@@ -44,8 +44,13 @@ namespace {
 // --- records on disk ---
 
 struct TriangleRecord {
-  std::uint64_t t;     // input triangle index (file order)
+  std::uint64_t tm;    // input triangle index (file order) | owned-corner mask << 61
   std::uint64_t v[3];  // input vertex indices
+
+  static constexpr int kMaskShift = 61;
+  std::uint64_t index() const { return tm & ((std::uint64_t(1) << kMaskShift) - 1); }
+  /// Whether corner k lies in the tile holding this record (the binning knew).
+  bool owned(int k) const { return (tm >> (kMaskShift + k)) & 1; }
 };
 
 // One corner of a cross-tile triangle, with the cluster its owner tile gave it.
@@ -223,12 +228,17 @@ class FloatingRun {
         [&](BinChunk& c) {
           c.out.clear();
           for (std::size_t i = 0; i < c.count; ++i) {
-            TriangleRecord r{c.first + i, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
+            std::uint64_t t = c.first + i;
+            TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
             GridCoord k[3];
             for (int j = 0; j < 3; ++j) k[j] = tiles_.of(pos.get(r.v[j]));
-            c.out.push_back({k[0], r});
-            if (k[1] != k[0]) c.out.push_back({k[1], r});
-            if (k[2] != k[0] && k[2] != k[1]) c.out.push_back({k[2], r});
+            for (int j = 0; j < 3; ++j) {
+              if ((j >= 1 && k[j] == k[0]) || (j == 2 && k[2] == k[1])) continue;  // tile already has it
+              std::uint64_t mask = 0;
+              for (int m = 0; m < 3; ++m) mask |= std::uint64_t(k[m] == k[j]) << m;
+              r.tm = t | mask << TriangleRecord::kMaskShift;
+              c.out.push_back({k[j], r});
+            }
           }
           std::stable_sort(c.out.begin(), c.out.end(),
                            [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -261,7 +271,7 @@ class FloatingRun {
     triangles_->read(tile, &bytes);
     std::vector<TriangleRecord> t(bytes.size() / sizeof(TriangleRecord));
     if (!bytes.empty()) std::memcpy(t.data(), bytes.data(), bytes.size());
-    std::sort(t.begin(), t.end(), [](const TriangleRecord& a, const TriangleRecord& b) { return a.t < b.t; });
+    std::sort(t.begin(), t.end(), [](const TriangleRecord& a, const TriangleRecord& b) { return a.tm < b.tm; });
     return t;
   }
 
@@ -271,10 +281,6 @@ class FloatingRun {
     std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
     if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
-  }
-
-  bool owns(std::uint32_t tile, std::uint64_t vertex) const {
-    return tiles_.of(input_.positions.get(vertex)) == tile_coords_[tile];
   }
 
   // Neighbouring tile ids (up to 26).
@@ -318,16 +324,23 @@ class FloatingRun {
     // external centres.
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
-      std::vector<std::uint64_t> owned, flat;
-      flat.reserve(3 * tris.size());
-      for (const TriangleRecord& r : tris)
-        for (std::uint64_t v : r.v) {
-          flat.push_back(v);
-          if (owns(tile, v)) owned.push_back(v);
+      std::vector<std::uint64_t> owned, flat(3 * tris.size());
+      std::vector<std::int64_t> corner_local(3 * tris.size());
+      CellMap<std::uint32_t> local(2 * tris.size() + 16);
+      for (std::size_t t = 0; t < tris.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+          std::uint64_t v = tris[t].v[k];
+          flat[3 * t + std::size_t(k)] = v;
+          std::int64_t id = -1;
+          if (tris[t].owned(k)) {
+            std::size_t before = local.size();
+            id = local.insert(v);
+            if (local.size() != before) owned.push_back(v);
+          }
+          corner_local[3 * t + std::size_t(k)] = id;
         }
-      std::sort(owned.begin(), owned.end());
-      owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
-      std::vector<GradedVertex> graded = grade_vertices(owned, flat.data(), tris.size(), input_.positions);
+      std::vector<GradedVertex> graded =
+          grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
       std::sort(graded.begin(), graded.end(), precedes);
       vertices_->append(tile, graded.data(), graded.size());
       centres_[tile] = choose_centres(graded, {}, cell_);
@@ -412,7 +425,7 @@ class FloatingRun {
         std::int64_t local[3];
         int owned_count = 0;
         for (int k = 0; k < 3; ++k) {
-          local[k] = owned_id.find(r.v[k]);
+          local[k] = r.owned(k) ? owned_id.find(r.v[k]) : -1;
           owned_count += local[k] >= 0;
         }
         Vec3d p[3] = {input_.positions.get(r.v[0]), input_.positions.get(r.v[1]), input_.positions.get(r.v[2])};
@@ -426,10 +439,10 @@ class FloatingRun {
         if (owned_count == 3) {
           std::uint64_t c0 = cluster_of[std::size_t(local[0])], c1 = cluster_of[std::size_t(local[1])],
                         c2 = cluster_of[std::size_t(local[2])];
-          if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back({r.t, c0, c1, c2});
+          if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back({r.index(), c0, c1, c2});
         } else {
           for (int k = 0; k < 3; ++k)
-            if (local[k] >= 0) corners.push_back({r.t << 2 | std::uint64_t(k), cluster_of[std::size_t(local[k])]});
+            if (local[k] >= 0) corners.push_back({r.index() << 2 | std::uint64_t(k), cluster_of[std::size_t(local[k])]});
         }
       }
       std::vector<ClusterRecord> sums(near.size());

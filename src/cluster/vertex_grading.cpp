@@ -34,17 +34,21 @@ double vertex_weight(const Vec3d* edges, std::size_t count) {
 
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions) {
-  auto local = [&](std::uint64_t v) -> std::int64_t {
-    auto it = std::lower_bound(owned.begin(), owned.end(), v);
-    return (it != owned.end() && *it == v) ? std::int64_t(it - owned.begin()) : -1;
-  };
-  // Incident edges in compressed rows: count, prefix-sum, fill.
-  std::vector<std::uint32_t> start(owned.size() + 1, 0);
   std::vector<std::int64_t> corner_local(3 * triangle_count);
   for (std::size_t t = 0; t < 3 * triangle_count; ++t) {
-    corner_local[t] = local(triangles[t]);
-    if (corner_local[t] >= 0) start[std::size_t(corner_local[t]) + 1] += 2;
+    auto it = std::lower_bound(owned.begin(), owned.end(), triangles[t]);
+    corner_local[t] = (it != owned.end() && *it == triangles[t]) ? std::int64_t(it - owned.begin()) : -1;
   }
+  return grade_vertices(owned, corner_local.data(), triangles, triangle_count, positions);
+}
+
+std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::int64_t* corner_local,
+                                         const std::uint64_t* triangles, std::size_t triangle_count,
+                                         const PositionArray& positions) {
+  // Incident edges in compressed rows: count, prefix-sum, fill.
+  std::vector<std::uint32_t> start(owned.size() + 1, 0);
+  for (std::size_t t = 0; t < 3 * triangle_count; ++t)
+    if (corner_local[t] >= 0) start[std::size_t(corner_local[t]) + 1] += 2;
   for (std::size_t i = 0; i < owned.size(); ++i) start[i + 1] += start[i];
   std::vector<Vec3d> edges(start.back());
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);

@@ -34,4 +34,11 @@ double vertex_weight(const Vec3d* edges, std::size_t count);
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions);
 
+/// grade_vertices when the caller already knows, for corner k of triangle t, the
+/// position of its vertex in `owned` (`corner_local[3 t + k]`, -1 when not owned).
+/// `owned` need not be sorted; the result follows its order.
+std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::int64_t* corner_local,
+                                         const std::uint64_t* triangles, std::size_t triangle_count,
+                                         const PositionArray& positions);
+
 }  // namespace oocsimp
