@@ -267,3 +267,43 @@ TEST_CASE("consistency (Low & Tan 3.2.2, Plate 5): a distant object leaves A's f
                      std::equal(ua.positions.begin(), ua.positions.end(), uab.positions.begin());
   CHECK_FALSE(same_prefix);
 }
+
+TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options reuses them",
+          "[floating][clusterer]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = 20000;
+  g.shape = SyntheticShape::parts;
+  generate_mesh(d.file("p.ply"), g);
+  std::string kept = d.file("kept"), fresh = d.file("fresh");
+  REQUIRE(system(("mkdir '" + kept + "' '" + fresh + "'").c_str()) == 0);
+  auto run = [&](double cell, RepresentativeRule rep, const std::string& tmp, bool keep, SimplifyStats* st) {
+    MeshInput in = open_mesh_input(d.file("p.ply"));
+    SimplifyOptions o;
+    o.method = ClusterMethod::floating;
+    o.sizing.cell = cell;
+    o.representative = rep;
+    o.tile_side = 0.1;
+    o.temp_dir = tmp;
+    o.keep_temp = keep;
+    return simplify(in, o, st);
+  };
+  SimplifyStats first, second;
+  run(0.02, RepresentativeRule::quadric, kept, true, &first);
+  CHECK_FALSE(first.resumed);
+  SimplifiedMesh resumed = run(0.03, RepresentativeRule::mean, kept, true, &second);
+  CHECK(second.resumed);
+  CHECK(second.input_triangles == first.input_triangles);
+  SimplifyStats third;
+  SimplifiedMesh plain = run(0.03, RepresentativeRule::mean, fresh, false, &third);
+  CHECK_FALSE(third.resumed);
+  CHECK(resumed.triangles == plain.triangles);
+  CHECK(resumed.positions == plain.positions);
+  // The kept files stay (tiles, vertices, manifest); a run without --keep-tmp leaves nothing.
+  CHECK(system(("test $(ls '" + kept + "' | grep -c '^oocsimp-kept-') -eq 3").c_str()) == 0);
+  CHECK(system(("test -z \"$(ls -A '" + fresh + "')\"").c_str()) == 0);
+  // A cell wider than the kept tiles cannot reuse them: they are rebuilt.
+  SimplifyStats wide;
+  run(0.2, RepresentativeRule::quadric, kept, true, &wide);
+  CHECK_FALSE(wide.resumed);
+}

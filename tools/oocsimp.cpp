@@ -42,9 +42,9 @@ int run_simplify(const std::string& in, const std::string& out, SimplifyOptions 
   if (!stats_path.empty()) write_file_atomically(stats_path, stats_to_json(stats));
   if (!quiet) {
     if (options.method == ClusterMethod::floating)
-      std::fprintf(stdout, "tiles   %" PRIu64 " tiles, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
-                   stats.tiles, stats.rounds, double(stats.spill_bytes) / 1048576.0,
-                   double(stats.spill_raw_bytes) / 1048576.0);
+      std::fprintf(stdout, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
+                   stats.tiles, stats.resumed ? " (kept by an earlier run)" : "", stats.rounds,
+                   double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
     double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
     std::fprintf(stdout,
                  "input   %" PRIu64 " vertices, %" PRIu64 " triangles\n"
@@ -165,6 +165,8 @@ int main(int argc, char** argv) {
           {"mean", RepresentativeRule::mean}}));
   simplify->add_option("--mem", mem, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)");
   simplify->add_option("--tile", so.tile_side, "Floating: tile side in model units (default: from --mem)");
+  simplify->add_flag("--keep-tmp", so.keep_temp,
+                     "Floating: keep the binned tiles in --tmp and reuse them on the next run of the same input");
   simplify->add_option("--threads", so.threads, "Worker threads (default: all cores)");
   simplify->add_option("--tmp", so.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
   simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");

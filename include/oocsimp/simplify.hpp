@@ -52,6 +52,10 @@ struct SimplifyOptions {
   RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   double tile_side = 0;             ///< floating: tile side in model units; 0 = from the budget
+  /// Floating: keep the binned and graded tiles in temp_dir after the run, and reuse
+  /// tiles kept by an earlier run on the same input (same path, size and time) when
+  /// the cell still fits in a tile, skipping binning and grading.
+  bool keep_temp = false;
   unsigned threads = 0;             ///< 0 = all cores
   std::string temp_dir;             ///< empty = default_temp_dir()
   ProgressReporter* progress = nullptr;
@@ -76,6 +80,7 @@ struct SimplifyStats {
   std::uint64_t rounds = 0;           ///< floating: rounds of border decisions
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
+  bool resumed = false;               ///< floating: reused tiles kept by an earlier run
   std::uint64_t peak_rss_bytes = 0;
   std::uint64_t peak_anon_bytes = 0;
 };

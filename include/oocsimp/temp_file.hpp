@@ -27,11 +27,15 @@ class TempFile {
   /// Renames the file to `dest` (atomic within one filesystem) and forgets it.
   /// Throws IoError.
   void commit(const std::string& dest);
+  /// Renames the file to `dest` and stops tracking it (it is no longer removed at
+  /// exit), keeping the descriptor open for further use. Throws IoError.
+  void persist(const std::string& dest);
 
  private:
   std::string path_;
   int fd_ = -1;
   int slot_ = -1;
+  bool persisted_ = false;
 };
 
 /// A temporary file in the folder of `dest`, named ".NAME.tmp-XXXXXX" after it, for

@@ -15,6 +15,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <limits.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -36,6 +41,7 @@
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
+#include "oocsimp/temp_file.hpp"
 
 namespace oocsimp {
 
@@ -135,10 +141,19 @@ class FloatingRun {
 
   SimplifiedMesh run() {
     double t0 = now_seconds();
-    plan_tiles();
-    bin_triangles();
+    bool resumed = options_.keep_temp && resume_kept_tiles();
+    if (!resumed) {
+      plan_tiles();
+      bin_triangles();
+    }
     double t1 = now_seconds();
-    grade_and_choose();
+    if (resumed) {
+      choose_from_kept();
+    } else {
+      grade_and_choose();
+      if (options_.keep_temp) keep_tiles();
+    }
+    run_rounds();
     double t2 = now_seconds();
     assign_and_accumulate();
     double t3 = now_seconds();
@@ -348,7 +363,97 @@ class FloatingRun {
     });
     vertices_->flush();
     if (progress) progress->end();
+  }
 
+  // --- --keep-tmp: the binned and graded tiles outlive the run ---
+  //
+  // Binning and grading depend only on the input and the tile side, not on the
+  // cell, its shape, the assignment rule or the representative, so a later run on
+  // the same input with other options reuses them, provided its cell still fits in
+  // a tile. The files are oocsimp-kept-KEY.{tiles,vertices,manifest} in the temp
+  // folder, KEY naming the input (path, size, modification time).
+
+  std::string kept_path(const char* ext) const {
+    struct stat st;
+    std::string id = input_.info.path;
+    if (::stat(input_.info.path.c_str(), &st) == 0)
+      id += "|" + std::to_string(st.st_size) + "|" + std::to_string(st.st_mtim.tv_sec) + "." +
+            std::to_string(st.st_mtim.tv_nsec);
+    char real[PATH_MAX];
+    if (::realpath(input_.info.path.c_str(), real)) id = real + id;
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+    for (unsigned char ch : id) h = (h ^ ch) * 1099511628211ull;
+    char key[17];
+    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)h);
+    return temp_dir() + "/oocsimp-kept-" + key + "." + ext;
+  }
+
+  void keep_tiles() {
+    // The old manifest goes first: a crash below must not leave it describing new files.
+    ::unlink(kept_path("manifest").c_str());
+    triangles_->keep_as(kept_path("tiles"));
+    vertices_->keep_as(kept_path("vertices"));
+    std::string m = "oocsimp-kept-tiles 1\n";
+    char line[256];
+    std::snprintf(line, sizeof line, "%a %llu %llu %u\n", tiles_.side, (unsigned long long)triangle_count_,
+                  (unsigned long long)input_.triangles->skipped_faces(), triangles_->tile_count());
+    m += line;
+    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t) {
+      const GridCoord& c = tile_coords_[t];
+      TileSpillFile::Chain a = triangles_->chain(t), b = vertices_->chain(t);
+      std::snprintf(line, sizeof line, "%lld %lld %lld %llu %llu %llu %llu\n", (long long)c.x, (long long)c.y,
+                    (long long)c.z, (unsigned long long)a.last_block, (unsigned long long)a.records,
+                    (unsigned long long)b.last_block, (unsigned long long)b.records);
+      m += line;
+    }
+    write_file_atomically(kept_path("manifest"), m);
+  }
+
+  // Loads kept tiles when a manifest for this input exists and its tiles are at
+  // least a cell wide; false (and nothing changed) otherwise.
+  bool resume_kept_tiles() {
+    FILE* f = std::fopen(kept_path("manifest").c_str(), "r");
+    if (!f) return false;
+    char magic[64] = {0};
+    unsigned version = 0, n = 0;
+    double side = 0;
+    unsigned long long tris = 0, skipped = 0;
+    bool ok = std::fscanf(f, "%63s %u", magic, &version) == 2 && std::string(magic) == "oocsimp-kept-tiles" &&
+              version == 1 && std::fscanf(f, "%la %llu %llu %u", &side, &tris, &skipped, &n) == 4 && side >= cell_.size;
+    std::vector<GridCoord> coords;
+    std::vector<TileSpillFile::Chain> tri_chains, vtx_chains;
+    for (unsigned i = 0; ok && i < n; ++i) {
+      long long x, y, z;
+      unsigned long long a, b, c, d;
+      ok = std::fscanf(f, "%lld %lld %lld %llu %llu %llu %llu", &x, &y, &z, &a, &b, &c, &d) == 7;
+      coords.push_back({x, y, z});
+      tri_chains.push_back({a, b});
+      vtx_chains.push_back({c, d});
+    }
+    std::fclose(f);
+    if (!ok) return false;
+    triangles_ = TileSpillFile::open_kept(kept_path("tiles"), sizeof(TriangleRecord), tri_chains);
+    vertices_ = TileSpillFile::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
+    tiles_.side = side;
+    triangle_count_ = tris;
+    resumed_skipped_ = skipped;
+    tile_coords_ = coords;
+    for (std::uint32_t i = 0; i < coords.size(); ++i) tile_ids_.emplace(coords[i], i);
+    centres_.resize(n);
+    border_.resize(n);
+    if (stats_) stats_->resumed = true;
+    return true;
+  }
+
+  // Round 1 on kept tiles: the graded vertices are on disk already.
+  void choose_from_kept() {
+    tbb::parallel_for(std::uint32_t(0), triangles_->tile_count(), [&](std::uint32_t tile) {
+      centres_[tile] = choose_centres(load_vertices(tile), {}, cell_);
+    });
+  }
+
+  void run_rounds() {
+    std::uint32_t n = triangles_->tile_count();
     // Rounds: a tile runs again when the external centres it sees (its neighbours'
     // border centres) changed since its last run; rechoose_centres re-decides only
     // the vertices near a change. Every tile's last run used the borders of the
@@ -566,7 +671,7 @@ class FloatingRun {
     });
     if (stats_) {
       stats_->input_triangles = triangle_count_;
-      stats_->skipped_faces = input_.triangles->skipped_faces();
+      stats_->skipped_faces = resumed_skipped_ ? resumed_skipped_ : input_.triangles->skipped_faces();
       stats_->occupied_cells = clusters_.size();
       stats_->output_vertices = order.size();
       stats_->output_triangles = tris.size();
@@ -587,6 +692,7 @@ class FloatingRun {
   std::vector<TriangleRecord> run_buffer_;
   std::uint64_t triangle_count_ = 0;
   double rounds_seconds_ = 0;
+  std::uint64_t resumed_skipped_ = 0;
   // zstd pays for the triangle spill (measured on the 10M sphere, 56 tiles: 498 MiB
   // raw -> 238 MiB written, +0.4 s of binning) but not for the vertex spill, which
   // every round reads again and which barely compresses (positions and weights are

@@ -1,5 +1,6 @@
 #include "grid/tile_spill_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -46,14 +47,46 @@ struct TileSpillFile::Tile {
 TileSpillFile::TileSpillFile(const std::string& temp_dir, const std::string& name, std::size_t record_size,
                              std::size_t buffer_records, bool compress)
     : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-" + name + "-")),
+      fd_(file_->fd()),
+      path_(file_->path()),
       dir_(temp_dir),
       record_size_(record_size),
       buffer_records_(buffer_records < 1 ? 1 : buffer_records),
       compress_(compress) {}
 
-TileSpillFile::~TileSpillFile() = default;
+TileSpillFile::TileSpillFile(std::size_t record_size)
+    : record_size_(record_size), buffer_records_(1), compress_(false) {}
 
-const std::string& TileSpillFile::path() const { return file_->path(); }
+TileSpillFile::~TileSpillFile() {
+  if (!file_ && fd_ >= 0) ::close(fd_);
+}
+
+const std::string& TileSpillFile::path() const { return path_; }
+
+TileSpillFile::Chain TileSpillFile::chain(std::uint32_t tile) const {
+  return {tiles_[tile]->last_block, tiles_[tile]->records};
+}
+
+void TileSpillFile::keep_as(const std::string& path) {
+  flush();
+  file_->persist(path);
+  path_ = path;
+}
+
+std::unique_ptr<TileSpillFile> TileSpillFile::open_kept(const std::string& path, std::size_t record_size,
+                                                        const std::vector<Chain>& chains) {
+  std::unique_ptr<TileSpillFile> f(new TileSpillFile(record_size));
+  f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (f->fd_ < 0) throw IoError(system_error_text(path, "cannot open kept tiles", errno));
+  f->path_ = path;
+  for (const Chain& c : chains) {
+    auto t = std::make_unique<Tile>();
+    t->last_block = c.last_block;
+    t->records = c.records;
+    f->tiles_.push_back(std::move(t));
+  }
+  return f;
+}
 
 std::uint32_t TileSpillFile::add_tile() {
   tiles_.push_back(std::make_unique<Tile>());
@@ -79,7 +112,7 @@ void TileSpillFile::write_block(Tile& t) {
   auto write_at = [&](const void* data, std::size_t n, std::uint64_t offset) {
     auto* p = static_cast<const unsigned char*>(data);
     while (n > 0) {
-      ssize_t w = ::pwrite(file_->fd(), p, n, off_t(offset));
+      ssize_t w = ::pwrite(fd_, p, n, off_t(offset));
       if (w < 0 && errno == EINTR) continue;
       if (w < 0) {
         int e = errno;
@@ -138,20 +171,20 @@ void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) co
   std::vector<unsigned char> packed;
   for (std::uint64_t b = t.last_block; b != kNoBlock;) {
     BlockHeader h;
-    pread_all(file_->fd(), &h, sizeof h, b, file_->path());
-    if (h.raw_bytes > pos) throw IoError(file_->path() + ": corrupt tile spill block");
+    pread_all(fd_, &h, sizeof h, b, path_);
+    if (h.raw_bytes > pos) throw IoError(path_ + ": corrupt tile spill block");
     pos -= h.raw_bytes;
     if (h.stored_bytes == h.raw_bytes) {
-      pread_all(file_->fd(), out->data() + pos, h.raw_bytes, b + sizeof h, file_->path());
+      pread_all(fd_, out->data() + pos, h.raw_bytes, b + sizeof h, path_);
     } else {
       packed.resize(h.stored_bytes);
-      pread_all(file_->fd(), packed.data(), h.stored_bytes, b + sizeof h, file_->path());
+      pread_all(fd_, packed.data(), h.stored_bytes, b + sizeof h, path_);
       std::size_t r = ZSTD_decompress(out->data() + pos, h.raw_bytes, packed.data(), h.stored_bytes);
-      if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(file_->path() + ": corrupt compressed tile spill block");
+      if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(path_ + ": corrupt compressed tile spill block");
     }
     b = h.previous;
   }
-  if (pos != 0) throw IoError(file_->path() + ": tile spill chain shorter than its record count");
+  if (pos != 0) throw IoError(path_ + ": tile spill chain shorter than its record count");
 }
 
 std::uint64_t TileSpillFile::record_count(std::uint32_t tile) const { return tiles_[tile]->records; }

@@ -25,6 +25,20 @@ class TileSpillFile {
                 std::size_t buffer_records, bool compress);
   ~TileSpillFile();
 
+  /// Where a flushed tile's records are: its last block and its record count. With
+  /// the file, this is all it takes to read the tile again (see open_kept).
+  struct Chain {
+    std::uint64_t last_block;
+    std::uint64_t records;
+  };
+  Chain chain(std::uint32_t tile) const;
+  /// Flushes, renames the file to `path` and keeps it after the run (for --keep-tmp).
+  void keep_as(const std::string& path);
+  /// Opens a file written by keep_as, read-only, with the chains of its tiles.
+  /// Throws IoError.
+  static std::unique_ptr<TileSpillFile> open_kept(const std::string& path, std::size_t record_size,
+                                                  const std::vector<Chain>& chains);
+
   /// Adds an empty tile and returns its id (0, 1, 2, ...).
   std::uint32_t add_tile();
   std::uint32_t tile_count() const { return std::uint32_t(tiles_.size()); }
@@ -49,7 +63,11 @@ class TileSpillFile {
   struct Tile;
   void write_block(Tile& t);
 
-  std::unique_ptr<TempFile> file_;
+  TileSpillFile(std::size_t record_size);  // for open_kept
+
+  std::unique_ptr<TempFile> file_;  // null for a kept file opened read-only
+  int fd_ = -1;
+  std::string path_;
   std::string dir_;
   std::size_t record_size_, buffer_records_;
   bool compress_;

@@ -78,7 +78,7 @@ TempFile::TempFile(const std::string& dir, const std::string& prefix) {
 
 TempFile::~TempFile() {
   close();
-  if (!path_.empty()) ::unlink(path_.c_str());
+  if (!path_.empty() && !persisted_) ::unlink(path_.c_str());
   unregister_path(slot_);
 }
 
@@ -121,6 +121,15 @@ void write_file_atomically(const std::string& path, const std::string& content) 
     n -= std::size_t(w);
   }
   tmp->commit(path);
+}
+
+void TempFile::persist(const std::string& dest) {
+  if (::rename(path_.c_str(), dest.c_str()) != 0)
+    throw IoError(system_error_text(dest, "cannot rename " + path_ + " to", errno));
+  unregister_path(slot_);
+  slot_ = -1;
+  path_ = dest;
+  persisted_ = true;
 }
 
 void install_signal_cleanup() {

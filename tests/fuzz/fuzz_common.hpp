@@ -1,0 +1,221 @@
+// Shared by the libFuzzer targets in this folder (built only with -DOOCSIMP_FUZZ=ON;
+// scripts/fuzz.sh builds and runs them).
+//
+// Each target writes the input bytes to a file in a per-process scratch folder, reads
+// it through the public API and checks what the API promises. Bad input must end in
+// one of the library's error types; anything else is a finding and aborts, so that
+// libFuzzer saves the input: an escaping exception of another type, a broken
+// invariant (an index out of range, a NaN position, a position outside the bounding
+// box, a mapping that the positions overrun, a temporary file left behind), as well
+// as anything the sanitizers report.
+#pragma once
+
+#include <dirent.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <unistd.h>
+#include <zstd.h>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/position_array.hpp"  // MeshInput::Impl: the mapping behind the positions
+#include "oocsimp/error.hpp"
+#include "oocsimp/mesh_input.hpp"
+
+namespace oocsimp_fuzz {
+
+[[noreturn]] inline void finding(const std::string& what) {
+  std::fprintf(stderr, "\n==oocsimp-fuzz== FINDING: %s\n", what.c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+inline std::vector<std::string> folder_entries(const std::string& dir) {
+  std::vector<std::string> names;
+  if (DIR* d = ::opendir(dir.c_str())) {
+    while (dirent* e = ::readdir(d)) {
+      std::string n = e->d_name;
+      if (n != "." && n != "..") names.push_back(n);
+    }
+    ::closedir(d);
+  }
+  return names;
+}
+
+// The per-process scratch folder: created on first use under $TMPDIR (or /tmp),
+// removed with whatever is left in it at exit.
+class Scratch {
+ public:
+  static const std::string& path() {
+    static Scratch s;
+    return s.path_;
+  }
+
+ private:
+  Scratch() {
+    std::string pattern = oocsimp::default_temp_dir() + "/oocsimp-fuzz-XXXXXX";
+    std::vector<char> buf(pattern.begin(), pattern.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data())) finding("cannot create the scratch folder " + pattern);
+    path_ = buf.data();
+  }
+  ~Scratch() {
+    for (const std::string& n : folder_entries(path_)) ::unlink((path_ + "/" + n).c_str());
+    ::rmdir(path_.c_str());
+  }
+  std::string path_;
+};
+
+// Once per process: one thread (deterministic, and cheap on a shared machine), and
+// a cap on the size of any file written (temporary position arrays, spill files), so
+// a tiny input that declares a huge mesh fails with an IoError instead of filling
+// the disk.
+inline void init_process() {
+  static tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  static bool done = [] {
+    ::signal(SIGXFSZ, SIG_IGN);  // writes past the limit then fail with EFBIG
+    struct rlimit lim;
+    if (::getrlimit(RLIMIT_FSIZE, &lim) == 0) {
+      rlim_t cap = rlim_t(256) << 20;
+      if (lim.rlim_max == RLIM_INFINITY || lim.rlim_max > cap) {
+        lim.rlim_cur = cap;
+        ::setrlimit(RLIMIT_FSIZE, &lim);
+      }
+    }
+    (void)Scratch::path();
+    return true;
+  }();
+  (void)done;
+}
+
+inline void write_bytes(const std::string& path, const void* data, std::size_t size) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) finding("cannot write " + path);
+  if (size > 0 && std::fwrite(data, 1, size, f) != size) finding("cannot write " + path);
+  if (std::fclose(f) != 0) finding("cannot write " + path);
+}
+
+inline std::string zstd_compress(const std::uint8_t* data, std::size_t size) {
+  std::string out(ZSTD_compressBound(size), '\0');
+  std::size_t n = ZSTD_compress(&out[0], out.size(), data, size, 1);
+  if (ZSTD_isError(n)) finding(std::string("ZSTD_compress failed: ") + ZSTD_getErrorName(n));
+  out.resize(n);
+  return out;
+}
+
+// Every file in the scratch folder other than `keep` is a temporary file the library
+// failed to remove.
+inline void check_no_leftovers(const std::vector<std::string>& keep) {
+  for (const std::string& n : folder_entries(Scratch::path())) {
+    bool kept = false;
+    for (const std::string& k : keep) kept = kept || n == k;
+    if (!kept) finding("temporary file left behind: " + Scratch::path() + "/" + n);
+  }
+}
+
+// Checks what an opened MeshInput promises about its positions: they lie inside the
+// mapping behind them, are finite and inside info.bounds.
+inline void check_positions(const oocsimp::MeshInput& in) {
+  const oocsimp::PositionArray& pa = in.positions;
+  if (pa.count == 0) return;
+  if (!in.impl || !in.impl->position_map) finding("positions without a mapping");
+  const unsigned char* data = in.impl->position_map->data();
+  std::uint64_t size = in.impl->position_map->size();
+  std::size_t scalar = pa.type == oocsimp::ScalarType::f32 ? 4 : 8;
+  std::size_t record_end = 0;
+  for (std::size_t off : pa.offset) record_end = std::max(record_end, off + scalar);
+  if (pa.base < data || std::uint64_t(pa.base - data) > size) finding("positions start outside their mapping");
+  std::uint64_t last = 0, end = 0;
+  if (__builtin_mul_overflow(pa.count - 1, std::uint64_t(pa.stride), &last) ||
+      __builtin_add_overflow(last, std::uint64_t(pa.base - data) + record_end, &end) || end > size)
+    finding("positions (" + std::to_string(pa.count) + " x " + std::to_string(pa.stride) +
+            " bytes) overrun their mapping of " + std::to_string(size) + " bytes");
+  const oocsimp::Box3d& b = in.info.bounds;
+  for (std::uint64_t i = 0; i < pa.count; ++i) {
+    oocsimp::Vec3d p = pa.get(i);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      finding("vertex " + std::to_string(i) + " is not finite");
+    if (p.x < b.min.x || p.y < b.min.y || p.z < b.min.z || p.x > b.max.x || p.y > b.max.y || p.z > b.max.z)
+      finding("vertex " + std::to_string(i) + " lies outside info.bounds");
+  }
+}
+
+// Reads all triangles, checking every index; returns (count, a hash of the sequence).
+inline std::pair<std::uint64_t, std::uint64_t> drain_triangles(oocsimp::MeshInput& in) {
+  constexpr std::size_t kBatch = 97;  // odd, so fans straddle batch boundaries
+  std::uint64_t buf[3 * kBatch];
+  std::uint64_t count = 0, hash = 1469598103934665603ull;
+  for (;;) {
+    std::size_t n = in.triangles->read(buf, kBatch);
+    if (n == 0) break;
+    if (n > kBatch) finding("TriangleStream::read returned more than asked");
+    for (std::size_t i = 0; i < 3 * n; ++i) {
+      if (buf[i] >= in.positions.count)
+        finding("triangle index " + std::to_string(buf[i]) + " >= vertex count " + std::to_string(in.positions.count));
+      hash = (hash ^ buf[i]) * 1099511628211ull;
+    }
+    count += n;
+  }
+  return {count, hash};
+}
+
+// Opens `path`, reads every position once and drains the triangle stream twice (the
+// second time after restart_triangles(), which must give the same triangles).
+inline void read_whole_mesh(const std::string& path) {
+  oocsimp::OpenOptions o;
+  o.temp_dir = Scratch::path();
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  if (in.info.vertex_count != in.positions.count) finding("info.vertex_count differs from positions.count");
+  check_positions(in);
+  auto first = drain_triangles(in);
+  in.restart_triangles();
+  auto second = drain_triangles(in);
+  if (first != second) finding("restart_triangles() gave different triangles");
+}
+
+// Runs f; InputError and IoError (and UsageError when `usage_ok`) are the clean
+// outcomes for bad input; any other exception is a finding.
+template <class F>
+void expect_clean(F&& f, bool usage_ok) {
+  try {
+    f();
+  } catch (const oocsimp::InputError&) {
+  } catch (const oocsimp::IoError&) {
+  } catch (const oocsimp::UsageError& e) {
+    if (!usage_ok) finding(std::string("unexpected UsageError: ") + e.what());
+  } catch (const std::exception& e) {
+    finding(std::string("unexpected exception: ") + e.what());
+  } catch (...) {
+    finding("unexpected exception of unknown type");
+  }
+}
+
+// The reader targets: the bytes as `input.EXT`, and, for about half the inputs, the
+// same bytes zstd-compressed as `input.EXT.zst`.
+inline void fuzz_reader(const std::uint8_t* data, std::size_t size, const char* ext) {
+  init_process();
+  const std::string name = std::string("input") + ext;
+  const std::string path = Scratch::path() + "/" + name;
+  write_bytes(path, data, size);
+  expect_clean([&] { read_whole_mesh(path); }, false);
+  check_no_leftovers({name});
+  if (size > 0 && ((size + data[size - 1]) & 1)) {
+    std::string packed = zstd_compress(data, size);
+    write_bytes(path + ".zst", packed.data(), packed.size());
+    expect_clean([&] { read_whole_mesh(path + ".zst"); }, false);
+    check_no_leftovers({name, name + ".zst"});
+    ::unlink((path + ".zst").c_str());
+  }
+  ::unlink(path.c_str());
+}
+
+}  // namespace oocsimp_fuzz
