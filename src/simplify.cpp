@@ -31,6 +31,12 @@ std::uint64_t default_memory_budget() {
 }
 
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+  // Below this a run cannot hold its buffers (I/O buffers, one tile's spill
+  // buffers, the pipeline's chunks), whatever the input: say so before starting.
+  constexpr std::uint64_t kMinimumBudget = 32u << 20;
+  if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
+    throw UsageError("--mem " + std::to_string(options.memory_budget >> 20) + " MiB is below the minimum of " +
+                     std::to_string(kMinimumBudget >> 20) + " MiB");
   auto threads = limit_threads(options.threads);
   GridSpec grid = choose_grid(input, options.sizing, options.threads);
   SimplifyStats local;

@@ -164,3 +164,15 @@ TEST_CASE("SIGTERM during a run removes temporary files and leaves no output", "
   CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
   CHECK_FALSE(file_exists(d.file("o.ply")));
 }
+
+TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 1000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  CliResult r = run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --method floating --mem 1M");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--mem") != std::string::npos);
+  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --mem lots").exit_code == 2);
+  CHECK_FALSE(file_exists(d.file("o.ply")));
+  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --method floating --mem 64M --quiet")
+            .exit_code == 0);
+}
