@@ -286,7 +286,10 @@ class FloatingRun {
     triangles_->read(tile, &bytes);
     std::vector<TriangleRecord> t(bytes.size() / sizeof(TriangleRecord));
     if (!bytes.empty()) std::memcpy(t.data(), bytes.data(), bytes.size());
-    std::sort(t.begin(), t.end(), [](const TriangleRecord& a, const TriangleRecord& b) { return a.tm < b.tm; });
+    // Input order matters: a vertex quadric sums its faces in this order. Binning
+    // appends in input order, so this is normally sorted already.
+    auto by_index = [](const TriangleRecord& a, const TriangleRecord& b) { return a.index() < b.index(); };
+    if (!std::is_sorted(t.begin(), t.end(), by_index)) std::sort(t.begin(), t.end(), by_index);
     return t;
   }
 
