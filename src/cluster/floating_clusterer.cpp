@@ -162,6 +162,9 @@ class FloatingRun {
     SimplifiedMesh m = assemble();
     double t5 = now_seconds();
     if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
+      std::fprintf(stderr, "anon %.1f MiB; kept %zu; clusters %zu\n", double(current_anon_bytes()) / 1048576.0,
+                   kept_.size(), clusters_.size());
+    if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
       std::fprintf(stderr, "bin %.3f grade+rounds %.3f (rounds %.3f) cluster %.3f stitch %.3f assemble %.3f\n", t1 - t0,
                    t2 - t1, rounds_seconds_, t3 - t2, t4 - t3, t5 - t4);
     return m;
@@ -573,6 +576,7 @@ class FloatingRun {
         corners_->append(bucket, &corners[i], j - i);
         i = j;
       }
+      dedupe(kept);  // outside the lock
       std::lock_guard<std::mutex> lock(merge);
       for (std::size_t i = 0; i < near.size(); ++i) {
         if (sums[i].members == 0) continue;
@@ -590,6 +594,7 @@ class FloatingRun {
   // Cross-tile triangles: their corners' clusters were written by the tiles owning
   // the corners into buckets by triangle index; a bucket fits in memory.
   void stitch_cross_tile_triangles() {
+    std::vector<std::array<std::uint64_t, 4>> bucket_kept;
     for (std::uint32_t b = 0; b < corners_->tile_count(); ++b) {
       std::vector<unsigned char> bytes;
       corners_->read(b, &bytes);
@@ -601,9 +606,12 @@ class FloatingRun {
         if (i + 2 >= rec.size() || (rec[i + 2].t_and_slot >> 2) != t)
           throw std::logic_error("stitch: triangle " + std::to_string(t) + " lacks a corner");
         std::uint64_t c0 = rec[i].cluster, c1 = rec[i + 1].cluster, c2 = rec[i + 2].cluster;
-        if (c0 != c1 && c1 != c2 && c0 != c2) kept_.push_back({t, c0, c1, c2});
+        if (c0 != c1 && c1 != c2 && c0 != c2) bucket_kept.push_back({t, c0, c1, c2});
         i += 3;
       }
+      dedupe(bucket_kept);
+      kept_.insert(kept_.end(), bucket_kept.begin(), bucket_kept.end());
+      bucket_kept.clear();
     }
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk();
@@ -638,22 +646,27 @@ class FloatingRun {
     return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
   }
 
-  SimplifiedMesh assemble() {
-    // Each cluster triple once: the occurrence with the smallest input index gives
-    // the orientation and the place in the output order. Minima do not depend on
-    // the order in which tiles reported.
-    std::vector<std::array<std::uint64_t, 4>>& tris = kept_;
-    auto triple = [](const std::array<std::uint64_t, 4>& k) {
-      std::array<std::uint64_t, 3> s = {k[1], k[2], k[3]};
-      std::sort(s.begin(), s.end());
-      return s;
-    };
-    tbb::parallel_sort(tris.begin(), tris.end(), [&](const auto& a, const auto& b) {
+  static std::array<std::uint64_t, 3> triple(const std::array<std::uint64_t, 4>& k) {
+    std::array<std::uint64_t, 3> s = {k[1], k[2], k[3]};
+    std::sort(s.begin(), s.end());
+    return s;
+  }
+
+  // Each cluster triple once, the occurrence with the smallest input index (its
+  // orientation and its place in the output order): a minimum, so it does not
+  // depend on the order in which tiles report.
+  static void dedupe(std::vector<std::array<std::uint64_t, 4>>& kept) {
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) {
       auto ta = triple(a), tb = triple(b);
       return ta != tb ? ta < tb : a[0] < b[0];
     });
-    tris.erase(std::unique(tris.begin(), tris.end(), [&](const auto& a, const auto& b) { return triple(a) == triple(b); }),
-               tris.end());
+    kept.erase(std::unique(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return triple(a) == triple(b); }),
+               kept.end());
+  }
+
+  SimplifiedMesh assemble() {
+    std::vector<std::array<std::uint64_t, 4>>& tris = kept_;
+    dedupe(tris);
     tbb::parallel_sort(tris.begin(), tris.end());  // by input index of first occurrence
     std::unordered_map<std::uint64_t, std::uint32_t> index;
     std::vector<std::uint64_t> order;
