@@ -5,7 +5,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
+#include <sstream>
 
 #include "cluster/floating_clusterer.hpp"
 #include "cluster/uniform_clusterer.hpp"
@@ -20,6 +24,34 @@ namespace {
 std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
   if (threads == 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+}
+
+// The output is written as float: an input coordinate beyond the float range (possible
+// in double PLY, which is read in place at full precision) would come out infinite.
+// Rejected up front, naming the first such vertex.
+void check_float_range(const MeshInput& input) {
+  const Box3d& b = input.info.bounds;
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (b.empty() || (std::max({-b.min.x, -b.min.y, -b.min.z, b.max.x, b.max.y, b.max.z}) <= kMax)) return;
+  for (std::uint64_t i = 0; i < input.positions.count; ++i) {
+    Vec3d p = input.positions.get(i);
+    for (double c : {p.x, p.y, p.z})
+      if (std::abs(c) > kMax) {
+        std::ostringstream msg;
+        msg << input.info.path << ": vertex " << i << " has the coordinate " << c
+            << ", beyond the float range of the output";
+        throw InputError(msg.str());
+      }
+  }
+}
+
+// A cluster's output vertex may lie up to a cell beyond the bounding box: for inputs
+// near the float limit it can overflow where the input did not.
+void check_output_finite(const MeshInput& input, const SimplifiedMesh& m) {
+  for (std::size_t i = 0; i < m.positions.size(); ++i)
+    if (std::isinf(m.positions[i]))
+      throw InputError(input.info.path + ": output vertex " + std::to_string(i / 3) +
+                       " overflows the float range (input coordinates too close to the float limit)");
 }
 
 }  // namespace
@@ -38,6 +70,7 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
     throw UsageError("--mem " + std::to_string(options.memory_budget >> 20) + " MiB is below the minimum of " +
                      std::to_string(kMinimumBudget >> 20) + " MiB");
   auto threads = limit_threads(options.threads);
+  check_float_range(input);
   GridSpec grid = choose_grid(input, options.sizing, options.threads);
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
@@ -45,19 +78,24 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   st.cell_size = grid.cell;
   for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
   input.restart_triangles();
+  SimplifiedMesh m;
   switch (options.method) {
     case ClusterMethod::uniform:
-      return cluster_uniform(input, grid, options.progress, &st);
+      m = cluster_uniform(input, grid, options.progress, &st);
+      break;
     case ClusterMethod::floating: {
       SimplifyOptions o = options;
       if (o.memory_budget == 0) o.memory_budget = default_memory_budget();
       double t0 = now_seconds();
-      SimplifiedMesh m = cluster_floating(input, o, grid.cell, &st);
+      m = cluster_floating(input, o, grid.cell, &st);
       st.seconds_faces = now_seconds() - t0;
-      return m;
+      break;
     }
+    default:
+      throw UsageError("unknown clustering method");
   }
-  throw UsageError("unknown clustering method");
+  check_output_finite(input, m);
+  return m;
 }
 
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,

@@ -135,9 +135,11 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
     return;
   }
   if (!zstd_) {
-    std::uint64_t target = offset() + n;
-    if (target > file_size_)
+    // Compared as a difference: offset() + n may wrap around 2^64 (n comes from
+    // counts in the file) and would then seek backwards.
+    if (offset() > file_size_ || n > file_size_ - offset())
       throw InputError(at_byte(path_, file_size_, std::string("unexpected end of file reading ") + what));
+    std::uint64_t target = offset() + n;
     if (::lseek(fd_, off_t(target), SEEK_SET) < 0) throw IoError(system_error_text(path_, "seek failed", errno));
     raw_consumed_ = target;
     base_ = target;

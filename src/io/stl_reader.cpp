@@ -30,7 +30,10 @@ class ImplicitTriangleStream : public TriangleStream {
     }
     return n;
   }
-  std::uint64_t bytes_consumed() const override { return count_ ? bytes_ * next_ / count_ : bytes_; }
+  // In floating point: bytes_ * next_ overflows 64 bits past about 6e8 triangles.
+  std::uint64_t bytes_consumed() const override {
+    return count_ ? std::uint64_t(double(bytes_) * double(next_) / double(count_)) : bytes_;
+  }
 
  private:
   std::uint64_t count_, bytes_, next_ = 0;
