@@ -16,6 +16,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <limits.h>
+#include <malloc.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -117,6 +118,11 @@ bool near_border(const Vec3d& c, const Box3d& box, double half) {
          c.z - half < box.min.z || c.z + half >= box.max.z;
 }
 
+// Tiles allocate and free large vectors on several threads; glibc keeps the freed
+// memory in per-thread arenas, where it counts against the budget. Give it back
+// between phases.
+void release_free_heap() { ::malloc_trim(0); }
+
 bool same_centres(const std::vector<GradedVertex>& a, const std::vector<GradedVertex>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -155,7 +161,12 @@ class FloatingRun {
     }
     run_rounds();
     double t2 = now_seconds();
+    release_free_heap();
     assign_and_accumulate();
+    // Centres live on in the cluster records; the per-tile lists are done.
+    std::vector<std::vector<GradedVertex>>().swap(centres_);
+    std::vector<std::vector<GradedVertex>>().swap(border_);
+    release_free_heap();
     double t3 = now_seconds();
     stitch_cross_tile_triangles();
     double t4 = now_seconds();
@@ -668,16 +679,19 @@ class FloatingRun {
     std::vector<std::array<std::uint64_t, 4>>& tris = kept_;
     dedupe(tris);
     tbb::parallel_sort(tris.begin(), tris.end());  // by input index of first occurrence
-    std::unordered_map<std::uint64_t, std::uint32_t> index;
+    // Output vertices are the clusters in order of first use; CellMap numbers its
+    // keys in insertion order, which is exactly that.
+    CellMap<char> index(2 * tris.size() + 16);
     std::vector<std::uint64_t> order;
     SimplifiedMesh mesh;
     mesh.triangles.reserve(3 * tris.size());
     for (const auto& t : tris)
       for (int k = 1; k <= 3; ++k) {
-        auto it = index.try_emplace(t[std::size_t(k)], std::uint32_t(order.size())).first;
-        if (it->second == order.size()) order.push_back(t[std::size_t(k)]);
-        mesh.triangles.push_back(it->second);
+        std::uint32_t id = index.insert(t[std::size_t(k)]);
+        if (id == order.size()) order.push_back(t[std::size_t(k)]);
+        mesh.triangles.push_back(id);
       }
+    index.release_index();
     mesh.positions.resize(3 * order.size());
     tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t i) {
       Vec3d p = representative(order[i]);
