@@ -176,3 +176,30 @@ TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
   CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --method floating --mem 64M --quiet")
             .exit_code == 0);
 }
+
+TEST_CASE("SIGINT during a floating-cells run removes the tile spill files", "[cli]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 3000000 --quiet -o " + q(d.file("big.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp");
+  REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
+  pid_t pid = fork();
+  if (pid == 0) {
+    execl(OOCSIMP_CLI, OOCSIMP_CLI, "simplify", "--quiet", "--method", "floating", "--grid", "256", "--threads", "1",
+          d.file("big.ply").c_str(), "-o", d.file("o.ply").c_str(), "--tmp", tmp.c_str(), (char*)nullptr);
+    _exit(127);
+  }
+  // Wait until the tile spill exists, i.e. the run is binning or clustering tiles.
+  bool seen = false;
+  for (int i = 0; i < 4000 && !seen; ++i) {
+    seen = system(("ls " + q(tmp) + " | grep -q oocsimp-tiles").c_str()) == 0;
+    if (!seen) usleep(5000);
+  }
+  REQUIRE(seen);
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGINT);
+  CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
+  CHECK_FALSE(file_exists(d.file("o.ply")));
+}
