@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <vector>
 #include <cmath>
 
 #include "test_support.hpp"
@@ -42,6 +43,34 @@ void expect_bad_input(const ScratchDir& d, const std::string& file, const char* 
   CHECK(r.err.find(file) != std::string::npos);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
   CHECK_FALSE(file_exists(d.file("out.ply")));
+}
+
+// Starts the CLI with `args`, waits until a file whose name contains `marker`
+// appears in `tmp` (the run reached the phase that writes it), sends `sig`, and
+// checks the run died of it leaving `tmp` empty and no `output`.
+void interrupt_when(const std::vector<std::string>& args, const std::string& tmp, const char* marker, int sig,
+                    const std::string& output) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> argv{const_cast<char*>(OOCSIMP_CLI)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(OOCSIMP_CLI, argv.data());
+    _exit(127);
+  }
+  bool seen = false;
+  for (int i = 0; i < 4000 && !seen; ++i) {
+    seen = system(("ls " + q(tmp) + " | grep -q " + marker).c_str()) == 0;
+    if (!seen) usleep(5000);
+  }
+  REQUIRE(seen);
+  kill(pid, sig);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == sig);
+  CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
+  CHECK_FALSE(file_exists(output));
 }
 
 }  // namespace
@@ -142,27 +171,8 @@ TEST_CASE("SIGTERM during a run removes temporary files and leaves no output", "
   REQUIRE(run_cli("generate --tris 3000000 --ascii --quiet -o " + q(d.file("big.ply"))).exit_code == 0);
   std::string tmp = d.file("tmp");
   REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
-  pid_t pid = fork();
-  if (pid == 0) {
-    execl(OOCSIMP_CLI, OOCSIMP_CLI, "simplify", "--quiet", d.file("big.ply").c_str(), "-o", d.file("o.ply").c_str(),
-          "--tmp", tmp.c_str(), (char*)nullptr);
-    _exit(127);
-  }
-  // Wait until the temporary positions file appears (or the run ends).
-  bool seen = false;
-  for (int i = 0; i < 2000 && !seen; ++i) {
-    std::string ls = "ls " + q(tmp) + " | grep -q oocsimp-positions";
-    seen = system(ls.c_str()) == 0;
-    if (!seen) usleep(5000);
-  }
-  REQUIRE(seen);
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  CHECK(WIFSIGNALED(status));
-  CHECK(WTERMSIG(status) == SIGTERM);
-  CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
-  CHECK_FALSE(file_exists(d.file("o.ply")));
+  interrupt_when({"simplify", "--quiet", d.file("big.ply"), "-o", d.file("o.ply"), "--tmp", tmp}, tmp,
+                 "oocsimp-positions", SIGTERM, d.file("o.ply"));
 }
 
 TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
@@ -182,24 +192,8 @@ TEST_CASE("SIGINT during a floating-cells run removes the tile spill files", "[c
   REQUIRE(run_cli("generate --tris 3000000 --quiet -o " + q(d.file("big.ply"))).exit_code == 0);
   std::string tmp = d.file("tmp");
   REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
-  pid_t pid = fork();
-  if (pid == 0) {
-    execl(OOCSIMP_CLI, OOCSIMP_CLI, "simplify", "--quiet", "--method", "floating", "--grid", "256", "--threads", "1",
-          d.file("big.ply").c_str(), "-o", d.file("o.ply").c_str(), "--tmp", tmp.c_str(), (char*)nullptr);
-    _exit(127);
-  }
-  // Wait until the tile spill exists, i.e. the run is binning or clustering tiles.
-  bool seen = false;
-  for (int i = 0; i < 4000 && !seen; ++i) {
-    seen = system(("ls " + q(tmp) + " | grep -q oocsimp-tiles").c_str()) == 0;
-    if (!seen) usleep(5000);
-  }
-  REQUIRE(seen);
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  CHECK(WIFSIGNALED(status));
-  CHECK(WTERMSIG(status) == SIGINT);
-  CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
-  CHECK_FALSE(file_exists(d.file("o.ply")));
+  // The tile spill exists while the run bins or clusters tiles.
+  interrupt_when({"simplify", "--quiet", "--method", "floating", "--grid", "256", "--threads", "1", d.file("big.ply"),
+                  "-o", d.file("o.ply"), "--tmp", tmp},
+                 tmp, "oocsimp-tiles", SIGINT, d.file("o.ply"));
 }
