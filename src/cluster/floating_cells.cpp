@@ -28,6 +28,9 @@ class CentreGrid {
     head = id;
   }
 
+  /// The position of a filed centre in filing order (0, 1, 2, ...).
+  std::uint32_t id_of(const GradedVertex& c) const { return std::uint32_t(&c - centres_.data()); }
+
   /// Calls f(centre) for every filed centre whose cell may hold p.
   template <class F>
   void for_each_near(const Vec3d& p, F&& f) const {
@@ -181,19 +184,19 @@ std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sort
   return centres;
 }
 
-std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
+std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
                                              const std::vector<GradedVertex>& centres, const FloatingCellShape& cell,
                                              AssignRule rule) {
   CentreGrid grid(cell.size, centres.size());
   for (const GradedVertex& c : centres) grid.add(c);
-  std::vector<std::uint64_t> out(vertices.size());
+  std::vector<std::uint32_t> out(vertices.size());
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     const GradedVertex& v = vertices[i];
     const GradedVertex* best = nullptr;
+    const GradedVertex* self = nullptr;
     double best_d2 = 0;
-    bool is_centre = false;
     grid.for_each_near(v.p, [&](const GradedVertex& c) {
-      if (c.index == v.index) is_centre = true;
+      if (c.index == v.index) self = &c;
       if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
       double dx = v.p.x - c.p.x, dy = v.p.y - c.p.y, dz = v.p.z - c.p.z;
       double d2 = dx * dx + dy * dy + dz * dz;
@@ -206,8 +209,8 @@ std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& ve
         best_d2 = d2;
       }
     });
-    if (is_centre) out[i] = v.index;
-    else if (best) out[i] = best->index;
+    if (self) out[i] = grid.id_of(*self);
+    else if (best) out[i] = grid.id_of(*best);
     else throw std::logic_error("floating cells: vertex " + std::to_string(v.index) + " is covered by no centre");
   }
   return out;

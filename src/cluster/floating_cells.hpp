@@ -52,12 +52,12 @@ std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sort
                                            const std::vector<GradedVertex>& old_external,
                                            const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
 
-/// For each vertex of `vertices`, the input index of the centre of its cluster:
-/// among the centres in `centres` that precede it and hold it in their cell, the
-/// nearest (ties: the one that precedes) or the heaviest, by `rule`. A centre is its
-/// own cluster. Throws std::logic_error for a vertex no centre covers (the centres
-/// were not the greedy result for these vertices).
-std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
+/// For each vertex of `vertices` (in any order), the position in `centres` of the
+/// centre of its cluster: among the centres that precede it and hold it in their
+/// cell, the nearest (ties: the one that precedes) or the heaviest, by `rule`. A
+/// centre is its own cluster. Throws std::logic_error for a vertex no centre covers
+/// (the centres were not the greedy result for these vertices).
+std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
                                              const std::vector<GradedVertex>& centres, const FloatingCellShape& cell,
                                              AssignRule rule);
 

@@ -524,18 +524,21 @@ class FloatingRun {
     std::mutex merge;
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
+      // Owned vertices by input index: assignment and the triangle loop below then
+      // visit them roughly in the input's order, which keeps lookups near each other.
       std::vector<GradedVertex> owned = load_vertices(tile);
+      std::sort(owned.begin(), owned.end(),
+                [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
+      std::vector<std::uint64_t> owned_key(owned.size());
+      for (std::size_t i = 0; i < owned.size(); ++i) owned_key[i] = owned[i].index;
+      auto local_of = [&](std::uint64_t v) {
+        return std::size_t(std::lower_bound(owned_key.begin(), owned_key.end(), v) - owned_key.begin());
+      };
       std::vector<GradedVertex> near = centres_[tile];
       std::vector<GradedVertex> ext = external_centres(tile, border_);
       near.insert(near.end(), ext.begin(), ext.end());
-      std::vector<std::uint64_t> cluster_of = assign_to_centres(owned, near, cell_, options_.assign);
-
-      // Dense local ids: owned vertices by input index, clusters by centre index.
-      CellMap<std::uint32_t> owned_id(2 * owned.size() + 16), cluster_id(2 * near.size() + 16);
-      for (std::size_t i = 0; i < owned.size(); ++i) owned_id.insert(owned[i].index);  // id == i
-      for (const GradedVertex& c : near) cluster_id.insert(c.index);                     // id == position in near
-      std::vector<std::uint32_t> local_cluster(owned.size());
-      for (std::size_t i = 0; i < owned.size(); ++i) local_cluster[i] = std::uint32_t(cluster_id.find(cluster_of[i]));
+      // Per owned vertex: the position in `near` of its cluster's centre.
+      std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell_, options_.assign);
 
       // Vertex quadrics (Garland & Heckbert: the sum of the incident faces' plane
       // quadrics), in double, relative to the vertex's cluster centre in cell
@@ -547,34 +550,41 @@ class FloatingRun {
       std::vector<CornerRecord> corners;
       const double inv = 1.0 / cell_.size;
       for (const TriangleRecord& r : tris) {
-        std::int64_t local[3];
+        std::size_t local[3];
         int owned_count = 0;
         for (int k = 0; k < 3; ++k) {
-          local[k] = r.owned(k) ? owned_id.find(r.v[k]) : -1;
-          owned_count += local[k] >= 0;
+          local[k] = r.owned(k) ? local_of(r.v[k]) : SIZE_MAX;
+          owned_count += local[k] != SIZE_MAX;
         }
         Vec3d p[3] = {input_.positions.get(r.v[0]), input_.positions.get(r.v[1]), input_.positions.get(r.v[2])};
-        for (int k = 0; k < 3; ++k) {
-          if (local[k] < 0) continue;
-          const Vec3d& c = near[local_cluster[std::size_t(local[k])]].p;
-          Vec3d q[3];
-          for (int m = 0; m < 3; ++m) q[m] = {(p[m].x - c.x) * inv, (p[m].y - c.y) * inv, (p[m].z - c.z) * inv};
-          vertex_q[std::size_t(local[k])].add_triangle(q[0], q[1], q[2]);
-        }
+        // The face's plane once, in cell units relative to its first corner; each
+        // owned corner adds it relative to its own cluster's centre.
+        Vec3d e1{(p[1].x - p[0].x) * inv, (p[1].y - p[0].y) * inv, (p[1].z - p[0].z) * inv};
+        Vec3d e2{(p[2].x - p[0].x) * inv, (p[2].y - p[0].y) * inv, (p[2].z - p[0].z) * inv};
+        Vec3d m{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+        double len = std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z);  // twice the area, in cells^2
+        if (len > 0)
+          for (int k = 0; k < 3; ++k) {
+            if (local[k] == SIZE_MAX) continue;
+            const Vec3d& c = near[cluster_of[local[k]]].p;
+            double d = m.x * (p[0].x - c.x) * inv + m.y * (p[0].y - c.y) * inv + m.z * (p[0].z - c.z) * inv;
+            vertex_q[local[k]].add_plane(m, 0.5 / len, d);
+          }
         if (owned_count == 3) {
-          std::uint64_t c0 = cluster_of[std::size_t(local[0])], c1 = cluster_of[std::size_t(local[1])],
-                        c2 = cluster_of[std::size_t(local[2])];
+          std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
+                        c2 = near[cluster_of[local[2]]].index;
           if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back({r.index(), c0, c1, c2});
         } else {
           for (int k = 0; k < 3; ++k)
-            if (local[k] >= 0) corners.push_back({r.index() << 2 | std::uint64_t(k), cluster_of[std::size_t(local[k])]});
+            if (local[k] != SIZE_MAX)
+              corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index});
         }
       }
       std::vector<ClusterRecord> sums(near.size());
       for (std::size_t i = 0; i < owned.size(); ++i) {
-        ClusterRecord& s = sums[local_cluster[i]];
+        ClusterRecord& s = sums[cluster_of[i]];
         const Quadric& q = vertex_q[i];
-        const Vec3d& c = near[local_cluster[i]].p;
+        const Vec3d& c = near[cluster_of[i]].p;
         double terms[12] = {q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2,
                             (owned[i].p.x - c.x) * inv, (owned[i].p.y - c.y) * inv, (owned[i].p.z - c.z) * inv};
         for (int k = 0; k < 12; ++k) s.sum[k].add(Fixed::of(terms[k]));
