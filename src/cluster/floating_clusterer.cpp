@@ -310,9 +310,10 @@ class FloatingRun {
     return t;
   }
 
-  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const {
+  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const { return load_graded(*vertices_, tile); }
+  static std::vector<GradedVertex> load_graded(const TileSpillFile& spill, std::uint32_t tile) {
     std::vector<unsigned char> bytes;
-    vertices_->read(tile, &bytes);
+    spill.read(tile, &bytes);
     std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
     if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
@@ -338,7 +339,7 @@ class FloatingRun {
                                              const std::vector<std::vector<GradedVertex>>& borders) const {
     std::vector<GradedVertex> ext;
     for (std::uint32_t n : neighbours(tile)) ext.insert(ext.end(), borders[n].begin(), borders[n].end());
-    std::sort(ext.begin(), ext.end(), precedes);
+    std::sort(ext.begin(), ext.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
     return ext;
   }
 
@@ -376,7 +377,7 @@ class FloatingRun {
         }
       std::vector<GradedVertex> graded =
           grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
-      std::sort(graded.begin(), graded.end(), precedes);
+      std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
       vertices_->append(tile, graded.data(), graded.size());
       centres_[tile] = choose_centres(graded, {}, cell_);
       if (progress) progress->set(++done);
