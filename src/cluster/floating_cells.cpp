@@ -3,6 +3,7 @@
 #include "grid/grid_coord.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -13,6 +14,16 @@
 namespace oocsimp {
 
 namespace {
+
+// The cubes (side `size`, anchored at the origin: §4's lookup grid) that the cell
+// around p, [p - s/2, p + s/2] on each axis, overlaps: at most 2 per axis. Widened by
+// a relative epsilon so rounding in the division never drops a candidate;
+// FloatingCellShape::contains decides exactly.
+void cubes_near(const Vec3d& p, double size, GridCoord* lo, GridCoord* hi) {
+  double h = 0.5 * size * (1 + 1e-12);
+  *lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size);
+  *hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size);
+}
 
 // Cubes of side `size` anchored at the origin (§4's lookup grid) over a box known in
 // advance: the cubes holding every point that will be filed or queried, widened by one
@@ -46,7 +57,9 @@ class CubeLists {
     dims_[1] = box_.hi.y - box_.lo.y + 1;
     dims_[2] = box_.hi.z - box_.lo.z + 1;
     double cubes = double(dims_[0]) * double(dims_[1]) * double(dims_[2]);
-    dense_ = cubes <= double(kDenseCubes);
+    // Dense when the heads are not much more than the items (clearing them must not
+    // cost more than the lookups save) and fit kDenseCubes.
+    dense_ = cubes <= double(kDenseCubes) && cubes <= 64.0 * double(expected_items) + 4096;
     if (dense_) dense_heads_.assign(std::size_t(cubes), kNone);
     else rehash(4 * expected_items + 16);
     next_.reserve(expected_items);
@@ -65,11 +78,8 @@ class CubeLists {
   /// around p: the cell spans [p - s/2, p + s/2] on each axis, at most 2 cubes.
   template <class F>
   void for_each_near(const Vec3d& p, F&& f) const {
-    // Widened by a relative epsilon so rounding in the division never drops a
-    // candidate; contains() decides exactly.
-    double h = 0.5 * size_ * (1 + 1e-12);
-    GridCoord lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size_);
-    GridCoord hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size_);
+    GridCoord lo, hi;
+    cubes_near(p, size_, &lo, &hi);
     lo = {std::max(lo.x, box_.lo.x), std::max(lo.y, box_.lo.y), std::max(lo.z, box_.lo.z)};
     hi = {std::min(hi.x, box_.hi.x), std::min(hi.y, box_.hi.y), std::min(hi.z, box_.hi.z)};
     for (std::int64_t x = lo.x; x <= hi.x; ++x)
@@ -187,85 +197,6 @@ std::vector<const GradedVertex*> changed_externals(const std::vector<GradedVerte
   return changed;
 }
 
-// The core of the re-runs. `vertices` (precedes order) have their old decisions in
-// `is_centre`, which receives the new ones. `fixed` are centres that keep their
-// decision; `changed` the externals added or removed, `new_external` the externals
-// now. Only a vertex whose cell holds a changed item preceding it can change: an
-// external added or removed, or a vertex whose decision flipped. Vertices are
-// re-decided heaviest first and a flip queues only lighter ones, so when a vertex is
-// decided every heavier decision is final; the others keep theirs. Returns false as
-// soon as a flipped vertex v has escapes(v): its cell may reach vertices that are
-// not in `vertices`, whose decisions this run cannot update.
-template <class Escapes>
-bool redecide(const std::vector<GradedVertex>& vertices, std::vector<char>& is_centre,
-              const std::vector<const GradedVertex*>& fixed, const std::vector<const GradedVertex*>& changed,
-              const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell, Escapes&& escapes) {
-  const std::size_t n = vertices.size();
-  CubeBox box;
-  box.add(vertices, cell.size);
-  box.add(new_external, cell.size);
-  for (const GradedVertex* c : changed) box.add(*c, cell.size);
-  for (const GradedVertex* c : fixed) box.add(*c, cell.size);
-  // The vertices by cube (id = position), to find those a change reaches.
-  CubeLists by_cube(cell.size, box, n);
-  for (const GradedVertex& v : vertices) by_cube.add(v.p);
-  // The centres: own (item = position; a centre that stops being one stays filed,
-  // is_centre says), new externals and fixed ones (item -1 - j, j in `others`).
-  std::vector<const GradedVertex*> others(new_external.size());
-  for (std::size_t j = 0; j < new_external.size(); ++j) others[j] = &new_external[j];
-  others.insert(others.end(), fixed.begin(), fixed.end());
-  CubeLists centres(cell.size, box, n / 4 + others.size());
-  std::vector<std::int64_t> item;
-  item.reserve(n / 4 + others.size());
-  for (std::size_t i = 0; i < n; ++i)
-    if (is_centre[i]) {
-      centres.add(vertices[i].p);
-      item.push_back(std::int64_t(i));
-    }
-  for (std::size_t j = 0; j < others.size(); ++j) {
-    centres.add(others[j]->p);
-    item.push_back(-1 - std::int64_t(j));
-  }
-
-  std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<std::uint32_t>> queue;
-  std::vector<char> queued(n, 0);
-  auto queue_reached = [&](const Vec3d& p, auto&& preceded_by) {
-    by_cube.for_each_near(p, [&](std::uint32_t j) {
-      if (!queued[j] && preceded_by(j) && cell.contains(p, vertices[j].p)) {
-        queued[j] = 1;
-        queue.push(j);
-      }
-    });
-  };
-  for (const GradedVertex* c : changed)
-    queue_reached(c->p, [&](std::uint32_t j) { return precedes(*c, vertices[j]); });
-  while (!queue.empty()) {
-    std::uint32_t i = queue.top();
-    queue.pop();
-    const GradedVertex& v = vertices[i];
-    bool covered = false;
-    centres.for_each_near(v.p, [&](std::uint32_t id) {
-      if (covered) return;
-      std::int64_t k = item[id];
-      if (k >= 0) {
-        covered = std::size_t(k) < i && is_centre[std::size_t(k)] && cell.contains(vertices[std::size_t(k)].p, v.p);
-      } else {
-        const GradedVertex& e = *others[std::size_t(-1 - k)];
-        covered = precedes(e, v) && cell.contains(e.p, v.p);
-      }
-    });
-    if (char(!covered) == is_centre[i]) continue;
-    if (escapes(v)) return false;
-    is_centre[i] = char(!covered);
-    if (!covered) {  // a new centre (filed at most once: each vertex is decided once)
-      centres.add(v.p);
-      item.push_back(std::int64_t(i));
-    }
-    queue_reached(v.p, [&](std::uint32_t j) { return j > i; });
-  }
-  return true;
-}
-
 // is_centre over `vertices` from `centres`, a subsequence of them (both in precedes order).
 std::vector<char> decisions(const std::vector<GradedVertex>& vertices, const std::vector<GradedVertex>& centres) {
   std::vector<char> is_centre(vertices.size(), 0);
@@ -279,19 +210,164 @@ std::vector<char> decisions(const std::vector<GradedVertex>& vertices, const std
 
 }  // namespace
 
-std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
-                                           const std::vector<GradedVertex>& old_centres,
-                                           const std::vector<GradedVertex>& old_external,
-                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
-  std::vector<const GradedVertex*> changed = changed_externals(old_external, new_external);
-  if (changed.empty()) return old_centres;
-  std::vector<char> is_centre = decisions(sorted, old_centres);
-  redecide(sorted, is_centre, {}, changed, new_external, cell, [](const GradedVertex&) { return false; });
+// --- TileVertexBlock ---
+
+namespace {
+constexpr int kKeyBits = 21;  // per axis, relative to the block's origin cube
+constexpr std::int64_t kKeyRange = std::int64_t(1) << kKeyBits;
+}  // namespace
+
+struct TileVertexBlock::Header {
+  std::uint64_t count, cubes;
+  std::int64_t origin[3];
+  double cell_size;
+};
+
+std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex>& sorted,
+                                                  const std::vector<GradedVertex>& centres, double cell_size) {
+  Header h{};
+  h.count = sorted.size();
+  h.cell_size = cell_size;
+  CubeBox box;
+  box.add(sorted, cell_size);
+  if (sorted.empty()) box.lo = box.hi = GridCoord{};
+  h.origin[0] = box.lo.x;
+  h.origin[1] = box.lo.y;
+  h.origin[2] = box.lo.z;
+  if (box.hi.x - box.lo.x >= kKeyRange || box.hi.y - box.lo.y >= kKeyRange || box.hi.z - box.lo.z >= kKeyRange)
+    throw std::logic_error("floating cells: a tile spans more than 2^21 cells");
+  // (cube key, position) sorted: positions grouped by cube, in precedes order within.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> filed(sorted.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    GridCoord c = GridCoord::of(sorted[i].p, cell_size);
+    filed[i] = {pack(c.x - h.origin[0], c.y - h.origin[1], c.z - h.origin[2]), std::uint32_t(i)};
+  }
+  std::sort(filed.begin(), filed.end());
+  std::vector<std::uint64_t> keys;
+  std::vector<std::uint32_t> starts;
+  for (std::size_t i = 0; i < filed.size(); ++i)
+    if (i == 0 || filed[i].first != filed[i - 1].first) {
+      keys.push_back(filed[i].first);
+      starts.push_back(std::uint32_t(i));
+    }
+  starts.push_back(std::uint32_t(filed.size()));
+  h.cubes = keys.size();
+
+  TileVertexBlock layout(h);
+  std::vector<unsigned char> bytes(layout.bytes_, 0);
+  std::memcpy(bytes.data(), &h, sizeof h);
+  TileVertexBlock b(bytes.data());
+  if (!sorted.empty()) std::memcpy(b.vertices_, sorted.data(), sorted.size() * sizeof(GradedVertex));
+  if (!keys.empty()) std::memcpy(b.cube_keys_, keys.data(), keys.size() * sizeof(std::uint64_t));
+  std::memcpy(b.cube_starts_, starts.data(), starts.size() * sizeof(std::uint32_t));
+  for (std::size_t i = 0; i < filed.size(); ++i) b.by_cube_[i] = filed[i].second;
+  std::vector<char> is_centre = decisions(sorted, centres);
+  if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());
+  return bytes;
+}
+
+TileVertexBlock::TileVertexBlock(const Header& h) { lay_out(nullptr, h); }
+
+TileVertexBlock::TileVertexBlock(unsigned char* block) {
+  Header h;
+  std::memcpy(&h, block, sizeof h);
+  lay_out(block, h);
+}
+
+void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
+  count_ = std::size_t(h.count);
+  cubes_ = std::size_t(h.cubes);
+  for (int a = 0; a < 3; ++a) origin_[a] = h.origin[a];
+  cell_size_ = h.cell_size;
+  std::size_t at = sizeof(Header);
+  auto take = [&](std::size_t bytes) {
+    unsigned char* p = base ? base + at : nullptr;
+    at += (bytes + 7) & ~std::size_t(7);
+    return p;
+  };
+  vertices_ = reinterpret_cast<GradedVertex*>(take(count_ * sizeof(GradedVertex)));
+  cube_keys_ = reinterpret_cast<std::uint64_t*>(take(cubes_ * sizeof(std::uint64_t)));
+  cube_starts_ = reinterpret_cast<std::uint32_t*>(take((cubes_ + 1) * sizeof(std::uint32_t)));
+  by_cube_ = reinterpret_cast<std::uint32_t*>(take(count_ * sizeof(std::uint32_t)));
+  is_centre_ = reinterpret_cast<char*>(take(count_));
+  bytes_ = at;
+}
+
+std::uint64_t TileVertexBlock::pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return std::uint64_t(x) << (2 * kKeyBits) | std::uint64_t(y) << kKeyBits | std::uint64_t(z);
+}
+
+std::vector<GradedVertex> TileVertexBlock::centres() const {
   std::vector<GradedVertex> out;
-  out.reserve(old_centres.size() + 16);
-  for (std::size_t i = 0; i < sorted.size(); ++i)
-    if (is_centre[i]) out.push_back(sorted[i]);
+  for (std::size_t i = 0; i < count_; ++i)
+    if (is_centre_[i]) out.push_back(vertices_[i]);
   return out;
+}
+
+template <class F>
+bool TileVertexBlock::any_near(const Vec3d& p, F&& f) const {
+  GridCoord lo, hi;
+  cubes_near(p, cell_size_, &lo, &hi);
+  for (std::int64_t x = std::max(lo.x - origin_[0], std::int64_t(0)); x <= std::min(hi.x - origin_[0], kKeyRange - 1); ++x)
+    for (std::int64_t y = std::max(lo.y - origin_[1], std::int64_t(0)); y <= std::min(hi.y - origin_[1], kKeyRange - 1); ++y)
+      for (std::int64_t z = std::max(lo.z - origin_[2], std::int64_t(0)); z <= std::min(hi.z - origin_[2], kKeyRange - 1);
+           ++z) {
+        std::uint64_t key = pack(x, y, z);
+        const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
+        if (k == cube_keys_ + cubes_ || *k != key) continue;
+        std::size_t c = std::size_t(k - cube_keys_);
+        for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1]; ++j)
+          if (f(by_cube_[j])) return true;
+      }
+  return false;
+}
+
+bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,
+                      const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
+  std::vector<const GradedVertex*> changed = changed_externals(old_external, new_external);
+  if (changed.empty()) return false;
+  const std::size_t n = block.size();
+  CubeBox box;
+  box.add(new_external, cell.size);
+  CubeLists externals(cell.size, box, new_external.size());
+  for (const GradedVertex& e : new_external) externals.add(e.p);  // id == position
+
+  // Only a vertex whose cell holds a changed item preceding it can change: an
+  // external added or removed, or a vertex of the tile whose decision flipped.
+  // Vertices are re-decided heaviest first and a flip queues only lighter ones, so
+  // when a vertex is decided every heavier decision is final; the others keep theirs.
+  std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<std::uint32_t>> queue;
+  std::vector<char> queued(n, 0);
+  auto queue_reached = [&](const Vec3d& p, auto&& preceded_by) {
+    block.any_near(p, [&](std::uint32_t j) {
+      if (!queued[j] && preceded_by(j) && cell.contains(p, block.vertex(j).p)) {
+        queued[j] = 1;
+        queue.push(j);
+      }
+      return false;
+    });
+  };
+  for (const GradedVertex* c : changed)
+    queue_reached(c->p, [&](std::uint32_t j) { return precedes(*c, block.vertex(j)); });
+  bool any = false;
+  while (!queue.empty()) {
+    std::uint32_t i = queue.top();
+    queue.pop();
+    const GradedVertex& v = block.vertex(i);
+    bool covered = block.any_near(v.p, [&](std::uint32_t k) {
+      return k < i && block.is_centre(k) && cell.contains(block.vertex(k).p, v.p);
+    });
+    if (!covered)
+      externals.for_each_near(v.p, [&](std::uint32_t id) {
+        const GradedVertex& e = new_external[id];
+        if (!covered && precedes(e, v) && cell.contains(e.p, v.p)) covered = true;
+      });
+    if (!covered == block.is_centre(i)) continue;
+    block.set_centre(i, !covered);
+    any = true;
+    queue_reached(v.p, [&](std::uint32_t j) { return j > i; });
+  }
+  return any;
 }
 
 std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& vertices,

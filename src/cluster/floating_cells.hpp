@@ -40,17 +40,59 @@ struct FloatingCellShape {
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell);
 
-/// The greedy again after the external centres changed from `old_external` to
-/// `new_external` (both in `precedes` order), given `old_centres`, its result for the
-/// old input. Only vertices near a change are re-decided: a vertex whose cell holds
-/// no changed item (an external centre added or removed, or a vertex of the tile
-/// whose decision changed earlier in the pass) keeps its decision, because the
-/// heavier centres around it are the same. Returns the same as choose_centres with
-/// `new_external`, in time proportional to the tile plus the changes.
-std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
-                                           const std::vector<GradedVertex>& old_centres,
-                                           const std::vector<GradedVertex>& old_external,
-                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
+/// A tile's graded vertices laid out for the rounds in one block of bytes (in the
+/// clusterer, a TileBlockFile block): in `precedes` order, filed by lookup cube
+/// (§4's grid: cubes of the cell size, anchored at the origin), with their current
+/// decisions. Built once per tile; re-runs read it and update the decisions in place,
+/// so a round costs what its changes reach, not the whole tile.
+class TileVertexBlock {
+ public:
+  /// The bytes of a block for `sorted` (in `precedes` order) whose centres are
+  /// `centres` (a subsequence of `sorted`). Throws std::logic_error for vertices
+  /// spanning more than 2^21 cells on an axis.
+  static std::vector<unsigned char> build(const std::vector<GradedVertex>& sorted,
+                                          const std::vector<GradedVertex>& centres, double cell_size);
+  /// A view of the block at `block`, made by build() (8-byte aligned).
+  explicit TileVertexBlock(unsigned char* block);
+
+  std::size_t size() const { return count_; }
+  const GradedVertex& vertex(std::size_t i) const { return vertices_[i]; }
+  const GradedVertex* vertices() const { return vertices_; }
+  bool is_centre(std::size_t i) const { return is_centre_[i] != 0; }
+  void set_centre(std::size_t i, bool c) { is_centre_[i] = char(c); }
+  /// The centres, in `precedes` order.
+  std::vector<GradedVertex> centres() const;
+  /// Calls f(i) for the vertices i whose cube the cell around p overlaps until f
+  /// returns true; returns whether one did. (Defined in floating_cells.cpp.)
+  template <class F>
+  bool any_near(const Vec3d& p, F&& f) const;
+
+ private:
+  struct Header;
+  explicit TileVertexBlock(const Header& h);  // sizes only, for build()
+  void lay_out(unsigned char* base, const Header& h);
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z);
+
+  std::size_t count_ = 0, cubes_ = 0, bytes_ = 0;
+  std::int64_t origin_[3] = {0, 0, 0};
+  double cell_size_ = 1;
+  GradedVertex* vertices_ = nullptr;
+  std::uint64_t* cube_keys_ = nullptr;    // occupied cubes, sorted
+  std::uint32_t* cube_starts_ = nullptr;  // per cube, its first entry in by_cube_
+  std::uint32_t* by_cube_ = nullptr;      // vertex positions grouped by cube
+  char* is_centre_ = nullptr;
+};
+
+/// The greedy again, in place, after the external centres of `block`'s tile
+/// changed from `old_external` to `new_external` (both in `precedes` order): only
+/// vertices near a change are re-decided. A vertex whose cell holds no changed item
+/// (an external centre added or removed, or a vertex whose decision changed earlier
+/// in the pass) keeps its decision, because the heavier centres around it are the
+/// same. Afterwards the block holds what choose_centres gives with `new_external`;
+/// the time is proportional to what the changes reach. Returns whether any
+/// decision changed.
+bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,
+                      const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
 
 /// For each vertex of `vertices` (in any order), the position in `centres` of the
 /// centre of its cluster: among the centres that precede it and hold it in their

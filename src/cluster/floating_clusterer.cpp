@@ -41,6 +41,7 @@
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
+#include "grid/tile_block_file.hpp"
 #include "grid/tile_spill_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
@@ -358,6 +359,7 @@ class FloatingRun {
     std::atomic<std::uint32_t> done{0};
     // Round 1: grade, sort and spill every tile's vertices; greedy without
     // external centres.
+    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", n);
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       std::vector<std::uint64_t> owned, flat(3 * tris.size());
@@ -378,11 +380,14 @@ class FloatingRun {
       std::vector<GradedVertex> graded =
           grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
       std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
-      vertices_->append(tile, graded.data(), graded.size());
+      if (options_.keep_temp) vertices_->append(tile, graded.data(), graded.size());
       centres_[tile] = choose_centres(graded, {}, cell_);
+      std::vector<unsigned char> block = TileVertexBlock::build(graded, centres_[tile], cell_.size);
+      blocks_->put(tile, block.data(), block.size());
       if (progress) progress->set(++done);
     });
     vertices_->flush();
+    blocks_->map();
     if (progress) progress->end();
   }
 
@@ -468,9 +473,14 @@ class FloatingRun {
 
   // Round 1 on kept tiles: the graded vertices are on disk already.
   void choose_from_kept() {
+    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", triangles_->tile_count());
     tbb::parallel_for(std::uint32_t(0), triangles_->tile_count(), [&](std::uint32_t tile) {
-      centres_[tile] = choose_centres(load_vertices(tile), {}, cell_);
+      std::vector<GradedVertex> sorted = load_vertices(tile);
+      centres_[tile] = choose_centres(sorted, {}, cell_);
+      std::vector<unsigned char> block = TileVertexBlock::build(sorted, centres_[tile], cell_.size);
+      blocks_->put(tile, block.data(), block.size());
     });
+    blocks_->map();
   }
 
   void run_rounds() {
@@ -503,7 +513,8 @@ class FloatingRun {
       tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
         std::uint32_t tile = dirty[i];
         std::vector<GradedVertex> old_ext = external_centres(tile, previous), new_ext = external_centres(tile, border_);
-        centres_[tile] = rechoose_centres(load_vertices(tile), centres_[tile], old_ext, new_ext, cell_);
+        TileVertexBlock block(blocks_->block(tile));
+        if (rechoose_centres(block, old_ext, new_ext, cell_)) centres_[tile] = block.centres();
       });
       previous.swap(border_);
     }
@@ -527,7 +538,8 @@ class FloatingRun {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       // Owned vertices by input index: assignment and the triangle loop below then
       // visit them roughly in the input's order, which keeps lookups near each other.
-      std::vector<GradedVertex> owned = load_vertices(tile);
+      TileVertexBlock block(blocks_->block(tile));
+      std::vector<GradedVertex> owned(block.vertices(), block.vertices() + block.size());
       std::sort(owned.begin(), owned.end(),
                 [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
       std::vector<std::uint64_t> owned_key(owned.size());
@@ -639,9 +651,10 @@ class FloatingRun {
       bucket_kept.clear();
     }
     if (stats_) {
-      stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk();
-      stats_->spill_raw_bytes =
-          triangles_->bytes_appended() + vertices_->bytes_appended() + corners_->bytes_appended();
+      stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
+                            blocks_->bytes_on_disk();
+      stats_->spill_raw_bytes = triangles_->bytes_appended() + vertices_->bytes_appended() +
+                                corners_->bytes_appended() + blocks_->bytes_on_disk();
     }
   }
 
@@ -731,6 +744,9 @@ class FloatingRun {
   SimplifyStats* stats_;
   TileGeometry tiles_;
   std::unique_ptr<TileSpillFile> triangles_, vertices_, corners_;
+  // Per tile its graded vertices for the rounds and the clustering (TileVertexBlock).
+  // The vertices_ spill holds the same only for --keep-tmp, in the kept format.
+  std::unique_ptr<TileBlockFile> blocks_;
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_ids_;
   std::vector<GridCoord> tile_coords_;
   std::vector<TriangleRecord> run_buffer_;
