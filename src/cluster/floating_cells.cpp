@@ -15,16 +15,6 @@ namespace oocsimp {
 
 namespace {
 
-// The cubes (side `size`, anchored at the origin: §4's lookup grid) that the cell
-// around p, [p - s/2, p + s/2] on each axis, overlaps: at most 2 per axis. Widened by
-// a relative epsilon so rounding in the division never drops a candidate;
-// FloatingCellShape::contains decides exactly.
-void cubes_near(const Vec3d& p, double size, GridCoord* lo, GridCoord* hi) {
-  double h = 0.5 * size * (1 + 1e-12);
-  *lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size);
-  *hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size);
-}
-
 // Cubes of side `size` anchored at the origin (§4's lookup grid) over a box known in
 // advance: the cubes holding every point that will be filed or queried, widened by one
 // cube on each side (a query reaches half a cube beyond its point).
@@ -212,11 +202,6 @@ std::vector<char> decisions(const std::vector<GradedVertex>& vertices, const std
 
 // --- TileVertexBlock ---
 
-namespace {
-constexpr int kKeyBits = 21;  // per axis, relative to the block's origin cube
-constexpr std::int64_t kKeyRange = std::int64_t(1) << kKeyBits;
-}  // namespace
-
 struct TileVertexBlock::Header {
   std::uint64_t count, cubes;
   std::int64_t origin[3];
@@ -293,33 +278,11 @@ void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
   bytes_ = at;
 }
 
-std::uint64_t TileVertexBlock::pack(std::int64_t x, std::int64_t y, std::int64_t z) {
-  return std::uint64_t(x) << (2 * kKeyBits) | std::uint64_t(y) << kKeyBits | std::uint64_t(z);
-}
-
 std::vector<GradedVertex> TileVertexBlock::centres() const {
   std::vector<GradedVertex> out;
   for (std::size_t i = 0; i < count_; ++i)
     if (is_centre_[i]) out.push_back(vertices_[i]);
   return out;
-}
-
-template <class F>
-bool TileVertexBlock::any_near(const Vec3d& p, F&& f) const {
-  GridCoord lo, hi;
-  cubes_near(p, cell_size_, &lo, &hi);
-  for (std::int64_t x = std::max(lo.x - origin_[0], std::int64_t(0)); x <= std::min(hi.x - origin_[0], kKeyRange - 1); ++x)
-    for (std::int64_t y = std::max(lo.y - origin_[1], std::int64_t(0)); y <= std::min(hi.y - origin_[1], kKeyRange - 1); ++y)
-      for (std::int64_t z = std::max(lo.z - origin_[2], std::int64_t(0)); z <= std::min(hi.z - origin_[2], kKeyRange - 1);
-           ++z) {
-        std::uint64_t key = pack(x, y, z);
-        const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
-        if (k == cube_keys_ + cubes_ || *k != key) continue;
-        std::size_t c = std::size_t(k - cube_keys_);
-        for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1]; ++j)
-          if (f(by_cube_[j])) return true;
-      }
-  return false;
 }
 
 bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,

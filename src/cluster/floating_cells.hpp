@@ -2,11 +2,13 @@
 // See floating_cells_design.md for how tiles combine into the exact global result.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
+#include "grid/grid_coord.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
@@ -30,6 +32,16 @@ struct FloatingCellShape {
     return dx * dx + dy * dy + dz * dz <= h * h;
   }
 };
+
+/// The cubes (side `size`, anchored at the origin: §4's lookup grid) that the cell
+/// around p, [p - size/2, p + size/2] on each axis, overlaps: at most 2 per axis,
+/// from *lo to *hi. Widened by a relative epsilon so rounding in the division never
+/// drops a candidate; FloatingCellShape::contains decides exactly.
+inline void cubes_near(const Vec3d& p, double size, GridCoord* lo, GridCoord* hi) {
+  double h = 0.5 * size * (1 + 1e-12);
+  *lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size);
+  *hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size);
+}
 
 /// The centres among `sorted` (vertices in `precedes` order) chosen by the §3.2
 /// greedy: a vertex becomes a centre unless a centre heavier than it holds it in its
@@ -63,15 +75,36 @@ class TileVertexBlock {
   /// The centres, in `precedes` order.
   std::vector<GradedVertex> centres() const;
   /// Calls f(i) for the vertices i whose cube the cell around p overlaps until f
-  /// returns true; returns whether one did. (Defined in floating_cells.cpp.)
+  /// returns true; returns whether one did.
   template <class F>
-  bool any_near(const Vec3d& p, F&& f) const;
+  bool any_near(const Vec3d& p, F&& f) const {
+    GridCoord lo, hi;
+    cubes_near(p, cell_size_, &lo, &hi);
+    auto from = [](std::int64_t c, std::int64_t o) { return std::max(c - o, std::int64_t(0)); };
+    auto to = [](std::int64_t c, std::int64_t o) { return std::min(c - o, kKeyRange - 1); };
+    for (std::int64_t x = from(lo.x, origin_[0]); x <= to(hi.x, origin_[0]); ++x)
+      for (std::int64_t y = from(lo.y, origin_[1]); y <= to(hi.y, origin_[1]); ++y)
+        for (std::int64_t z = from(lo.z, origin_[2]); z <= to(hi.z, origin_[2]); ++z) {
+          std::uint64_t key = pack(x, y, z);
+          const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
+          if (k == cube_keys_ + cubes_ || *k != key) continue;
+          std::size_t c = std::size_t(k - cube_keys_);
+          for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1]; ++j)
+            if (f(by_cube_[j])) return true;
+        }
+    return false;
+  }
 
  private:
   struct Header;
   explicit TileVertexBlock(const Header& h);  // sizes only, for build()
   void lay_out(unsigned char* base, const Header& h);
-  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z);
+  // Cube keys: coordinates relative to the block's origin cube, 21 bits per axis.
+  static constexpr int kKeyBits = 21;
+  static constexpr std::int64_t kKeyRange = std::int64_t(1) << kKeyBits;
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return std::uint64_t(x) << (2 * kKeyBits) | std::uint64_t(y) << kKeyBits | std::uint64_t(z);
+  }
 
   std::size_t count_ = 0, cubes_ = 0, bytes_ = 0;
   std::int64_t origin_[3] = {0, 0, 0};
