@@ -102,6 +102,38 @@ struct ClusterRecord {
   }
 };
 
+// A triangle over three clusters: its clusters sorted (the key that finds the same
+// triangle from other tiles and faces), where each of its corners went in that
+// order, and its input index (the first occurrence wins: its corners' order and its
+// place set the output).
+struct KeptTriangle {
+  std::uint64_t t_and_order;  // t | (3 * rank of corner 0 + rank of corner 1) << 60
+  std::uint64_t c[3];         // cluster centres' input indices, ascending
+
+  static constexpr int kOrderShift = 60;
+  static KeptTriangle of(std::uint64_t t, std::uint64_t c0, std::uint64_t c1, std::uint64_t c2) {
+    // rank of each corner among the three (the clusters are distinct)
+    std::uint64_t r0 = std::uint64_t(c0 > c1) + std::uint64_t(c0 > c2);
+    std::uint64_t r1 = std::uint64_t(c1 > c0) + std::uint64_t(c1 > c2);
+    KeptTriangle k{t | (3 * r0 + r1) << kOrderShift, {c0, c1, c2}};
+    std::sort(k.c, k.c + 3);
+    return k;
+  }
+  std::uint64_t index() const { return t_and_order & ((std::uint64_t(1) << kOrderShift) - 1); }
+  /// The clusters in file order.
+  std::array<std::uint64_t, 3> corners() const {
+    std::uint64_t code = t_and_order >> kOrderShift, r0 = code / 3, r1 = code % 3;
+    return {c[r0], c[r1], c[3 - r0 - r1]};
+  }
+  bool same_clusters(const KeptTriangle& o) const { return c[0] == o.c[0] && c[1] == o.c[1] && c[2] == o.c[2]; }
+};
+
+// One tile's share of a cluster, spilled by centre index and merged in assemble().
+struct PartialCluster {
+  std::uint64_t centre;  // input index of the centre
+  ClusterRecord sums;
+};
+
 // --- tiles ---
 
 struct TileGeometry {
@@ -150,6 +182,10 @@ class FloatingRun {
       : input_(input), options_(options), cell_{cell, options.cell_shape}, half_(0.5 * cell), stats_(stats) {}
 
   SimplifiedMesh run() {
+    const bool debug = std::getenv("OOCSIMP_DEBUG_ROUNDS") != nullptr;
+    auto note = [&](const char* phase) {
+      if (debug) std::fprintf(stderr, "after %s: anon %.1f MiB\n", phase, double(current_anon_bytes()) / 1048576.0);
+    };
     double t0 = now_seconds();
     bool resumed = options_.keep_temp && resume_kept_tiles();
     if (!resumed) {
@@ -157,29 +193,32 @@ class FloatingRun {
       bin_triangles();
     }
     double t1 = now_seconds();
+    note("binning");
     if (resumed) {
       choose_from_kept();
     } else {
       grade_and_choose();
       if (options_.keep_temp) keep_tiles();
     }
+    note("grading");
     run_rounds();
+    note("rounds");
     double t2 = now_seconds();
     release_free_heap();
     assign_and_accumulate();
+    note("clustering");
     // Centres live on in the cluster records; the per-tile lists are done.
     std::vector<std::vector<GradedVertex>>().swap(centres_);
     std::vector<std::vector<GradedVertex>>().swap(border_);
     release_free_heap();
     double t3 = now_seconds();
     stitch_cross_tile_triangles();
+    note("stitch");
     double t4 = now_seconds();
     SimplifiedMesh m = assemble();
     double t5 = now_seconds();
-    if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
-      std::fprintf(stderr, "anon %.1f MiB; kept %zu; clusters %zu\n", double(current_anon_bytes()) / 1048576.0,
-                   kept_.size(), clusters_.size());
-    if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
+    note("assembly");
+    if (debug)
       std::fprintf(stderr, "bin %.3f grade+rounds %.3f (rounds %.3f) cluster %.3f stitch %.3f assemble %.3f\n", t1 - t0,
                    t2 - t1, rounds_seconds_, t3 - t2, t4 - t3, t5 - t4);
     return m;
@@ -535,6 +574,12 @@ class FloatingRun {
     bucket_span_ = std::max<std::uint64_t>(1, (triangle_count_ + buckets - 1) / buckets);
     corners_ = std::make_unique<TileSpillFile>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, true);
     for (std::size_t b = 0; b < buckets; ++b) corners_->add_tile();
+    // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
+    // the budget even if every vertex were a centre.
+    cluster_span_ = std::max<std::uint64_t>(1, options_.memory_budget / 8 / sizeof(PartialCluster));
+    std::uint64_t cluster_buckets = input_.positions.count / cluster_span_ + 1;
+    partials_ = std::make_unique<TileSpillFile>(temp_dir(), "clusters", sizeof(PartialCluster), 64, false);
+    for (std::uint64_t b = 0; b < cluster_buckets; ++b) partials_->add_tile();
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("cluster tiles", n, "tile");
     std::atomic<std::uint32_t> done{0};
@@ -564,7 +609,7 @@ class FloatingRun {
       // so Q_v is the same for any tiling; Q_v then goes into the cluster's
       // fixed-point sum.
       std::vector<Quadric> vertex_q(owned.size());
-      std::vector<std::array<std::uint64_t, 4>> kept;  // (t, clusters in file orientation)
+      std::vector<KeptTriangle> kept;
       std::vector<CornerRecord> corners;
       const double inv = 1.0 / cell_.size;
       for (const TriangleRecord& r : tris) {
@@ -591,7 +636,7 @@ class FloatingRun {
         if (owned_count == 3) {
           std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
                         c2 = near[cluster_of[local[2]]].index;
-          if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back({r.index(), c0, c1, c2});
+          if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back(KeptTriangle::of(r.index(), c0, c1, c2));
         } else {
           for (int k = 0; k < 3; ++k)
             if (local[k] != SIZE_MAX)
@@ -618,25 +663,36 @@ class FloatingRun {
         corners_->append(bucket, &corners[i], j - i);
         i = j;
       }
+      // This tile's shares of clusters go to the cluster buckets, by centre index.
+      std::vector<PartialCluster> partial;
+      for (std::size_t i = 0; i < near.size(); ++i)
+        if (sums[i].members) {
+          sums[i].centre = near[i].p;
+          partial.push_back({near[i].index, sums[i]});
+        }
+      std::sort(partial.begin(), partial.end(),
+                [](const PartialCluster& a, const PartialCluster& b) { return a.centre < b.centre; });
+      for (std::size_t i = 0; i < partial.size();) {
+        std::uint32_t bucket = std::uint32_t(partial[i].centre / cluster_span_);
+        std::size_t j = i;
+        while (j < partial.size() && std::uint32_t(partial[j].centre / cluster_span_) == bucket) ++j;
+        partials_->append(bucket, &partial[i], j - i);
+        i = j;
+      }
       dedupe(kept);  // outside the lock
       std::lock_guard<std::mutex> lock(merge);
-      for (std::size_t i = 0; i < near.size(); ++i) {
-        if (sums[i].members == 0) continue;
-        ClusterRecord& g = clusters_.record(clusters_.insert(near[i].index));
-        g.centre = near[i].p;
-        g.add(sums[i]);
-      }
       kept_.insert(kept_.end(), kept.begin(), kept.end());
       if (progress) progress->set(++done);
     });
     corners_->flush();
+    partials_->flush();
     if (progress) progress->end();
   }
 
   // Cross-tile triangles: their corners' clusters were written by the tiles owning
   // the corners into buckets by triangle index; a bucket fits in memory.
   void stitch_cross_tile_triangles() {
-    std::vector<std::array<std::uint64_t, 4>> bucket_kept;
+    std::vector<KeptTriangle> bucket_kept;
     for (std::uint32_t b = 0; b < corners_->tile_count(); ++b) {
       std::vector<unsigned char> bytes;
       corners_->read(b, &bytes);
@@ -648,7 +704,7 @@ class FloatingRun {
         if (i + 2 >= rec.size() || (rec[i + 2].t_and_slot >> 2) != t)
           throw std::logic_error("stitch: triangle " + std::to_string(t) + " lacks a corner");
         std::uint64_t c0 = rec[i].cluster, c1 = rec[i + 1].cluster, c2 = rec[i + 2].cluster;
-        if (c0 != c1 && c1 != c2 && c0 != c2) bucket_kept.push_back({t, c0, c1, c2});
+        if (c0 != c1 && c1 != c2 && c0 != c2) bucket_kept.push_back(KeptTriangle::of(t, c0, c1, c2));
         i += 3;
       }
       dedupe(bucket_kept);
@@ -657,14 +713,13 @@ class FloatingRun {
     }
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
-                            blocks_->bytes_on_disk();
+                            partials_->bytes_on_disk() + blocks_->bytes_on_disk();
       stats_->spill_raw_bytes = triangles_->bytes_appended() + vertices_->bytes_appended() +
-                                corners_->bytes_appended() + blocks_->bytes_on_disk();
+                                corners_->bytes_appended() + partials_->bytes_appended() + blocks_->bytes_on_disk();
     }
   }
 
-  Vec3d representative(std::uint64_t centre) const {
-    const ClusterRecord& s = clusters_.record(std::size_t(clusters_.find(centre)));
+  Vec3d representative(const ClusterRecord& s) const {
     const Vec3d& c = s.centre;
     double m = double(std::max<std::uint64_t>(s.members, 1));
     Vec3d mean{s.sum[9].value() / m, s.sum[10].value() / m, s.sum[11].value() / m};  // relative, in cells
@@ -691,58 +746,66 @@ class FloatingRun {
 
   // Each cluster triple once, the occurrence with the smallest input index (its
   // orientation and its place in the output order): a minimum, so it does not
-  // depend on the order in which tiles report.
-  static void dedupe(std::vector<std::array<std::uint64_t, 4>>& kept) {
-    struct Keyed {
-      std::array<std::uint64_t, 3> triple;  // the clusters, sorted
-      std::size_t at;                       // position in kept
-    };
-    std::vector<Keyed> keys(kept.size());
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      std::array<std::uint64_t, 3> s = {kept[i][1], kept[i][2], kept[i][3]};
-      std::sort(s.begin(), s.end());
-      keys[i] = {s, i};
-    }
-    std::sort(keys.begin(), keys.end(), [&](const Keyed& a, const Keyed& b) {
-      return a.triple != b.triple ? a.triple < b.triple : kept[a.at][0] < kept[b.at][0];
+  // depend on the order in which tiles report. In place.
+  static void dedupe(std::vector<KeptTriangle>& kept) {
+    std::sort(kept.begin(), kept.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
+      if (!a.same_clusters(b)) return std::lexicographical_compare(a.c, a.c + 3, b.c, b.c + 3);
+      return a.index() < b.index();
     });
-    std::vector<std::array<std::uint64_t, 4>> out;
-    out.reserve(keys.size());
-    for (std::size_t i = 0; i < keys.size(); ++i)
-      if (i == 0 || keys[i].triple != keys[i - 1].triple) out.push_back(kept[keys[i].at]);
-    kept.swap(out);
+    kept.erase(std::unique(kept.begin(), kept.end(),
+                           [](const KeptTriangle& a, const KeptTriangle& b) { return a.same_clusters(b); }),
+               kept.end());
   }
 
   SimplifiedMesh assemble() {
-    std::vector<std::array<std::uint64_t, 4>>& tris = kept_;
+    std::vector<KeptTriangle>& tris = kept_;
     dedupe(tris);
-    tbb::parallel_sort(tris.begin(), tris.end());  // by input index of first occurrence
+    tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
+      return a.index() < b.index();  // input order of first occurrence
+    });
     // Output vertices are the clusters in order of first use; CellMap numbers its
     // keys in insertion order, which is exactly that.
     CellMap<char> index(2 * tris.size() + 16);
-    std::vector<std::uint64_t> order;
     SimplifiedMesh mesh;
     mesh.triangles.reserve(3 * tris.size());
-    for (const auto& t : tris)
-      for (int k = 1; k <= 3; ++k) {
-        std::uint32_t id = index.insert(t[std::size_t(k)]);
-        if (id == order.size()) order.push_back(t[std::size_t(k)]);
-        mesh.triangles.push_back(id);
-      }
-    index.release_index();
-    mesh.positions.resize(3 * order.size());
-    tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t i) {
-      Vec3d p = representative(order[i]);
-      mesh.positions[3 * i] = float(p.x);
-      mesh.positions[3 * i + 1] = float(p.y);
-      mesh.positions[3 * i + 2] = float(p.z);
-    });
+    for (const KeptTriangle& t : tris)
+      for (std::uint64_t c : t.corners()) mesh.triangles.push_back(index.insert(c));
+    const std::uint64_t output_triangles = tris.size();
+    std::vector<KeptTriangle>().swap(kept_);
+    // Representatives, a cluster bucket at a time: merge each centre's shares (in
+    // fixed point, so in any order) and solve for the clusters some triangle uses.
+    mesh.positions.assign(3 * index.size(), 0.0f);
+    std::uint64_t clusters = 0;
+    for (std::uint32_t b = 0; b < partials_->tile_count(); ++b) {
+      std::vector<unsigned char> bytes;
+      partials_->read(b, &bytes);
+      std::vector<PartialCluster> shares(bytes.size() / sizeof(PartialCluster));
+      if (!bytes.empty()) std::memcpy(shares.data(), bytes.data(), bytes.size());
+      std::vector<unsigned char>().swap(bytes);
+      std::sort(shares.begin(), shares.end(),
+                [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });
+      std::vector<std::size_t> starts;  // first share of each centre
+      for (std::size_t i = 0; i < shares.size(); ++i)
+        if (i == 0 || shares[i].centre != shares[i - 1].centre) starts.push_back(i);
+      clusters += starts.size();
+      starts.push_back(shares.size());
+      tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t k) {
+        std::int64_t id = index.find(shares[starts[k]].centre);
+        if (id < 0) return;  // a cluster no output triangle uses
+        ClusterRecord sum = shares[starts[k]].sums;
+        for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
+        Vec3d p = representative(sum);
+        mesh.positions[3 * std::size_t(id)] = float(p.x);
+        mesh.positions[3 * std::size_t(id) + 1] = float(p.y);
+        mesh.positions[3 * std::size_t(id) + 2] = float(p.z);
+      });
+    }
     if (stats_) {
       stats_->input_triangles = triangle_count_;
       stats_->skipped_faces = resumed_skipped_ ? resumed_skipped_ : input_.triangles->skipped_faces();
-      stats_->occupied_cells = clusters_.size();
-      stats_->output_vertices = order.size();
-      stats_->output_triangles = tris.size();
+      stats_->occupied_cells = clusters;
+      stats_->output_vertices = index.size();
+      stats_->output_triangles = output_triangles;
       stats_->tiles = triangles_->tile_count();
     }
     return mesh;
@@ -772,13 +835,19 @@ class FloatingRun {
   static constexpr bool compress_vertices_ = false;
   std::uint64_t bucket_span_ = 1;
   std::vector<std::vector<GradedVertex>> centres_, border_;
-  CellMap<ClusterRecord> clusters_{1 << 12};              // by centre index
-  std::vector<std::array<std::uint64_t, 4>> kept_;  // (t, c0, c1, c2) candidates
+  std::unique_ptr<TileSpillFile> partials_;  // PartialCluster shares, bucketed by centre index
+  std::uint64_t cluster_span_ = 1;           // centre indices per bucket
+  std::vector<KeptTriangle> kept_;           // candidates, deduplicated per tile and bucket
 };
 
 }  // namespace
 
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, double cell, SimplifyStats* stats) {
+  // Tiles allocate and free buffers of 0.1-10 MiB on every thread. glibc's dynamic
+  // threshold would soon serve those from its per-thread arenas, which keep freed
+  // memory: a fixed threshold maps each one and unmaps it on free, so the heap follows
+  // what is in use (10M sphere, --mem 64M: peak anonymous 117 -> 99 MiB).
+  ::mallopt(M_MMAP_THRESHOLD, 256 << 10);
   FloatingRun run(input, options, cell, stats);
   return run.run();
 }
