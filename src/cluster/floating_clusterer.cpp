@@ -34,6 +34,8 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <chrono>
+#include <thread>
 #include <unordered_map>
 
 #include "cluster/floating_cells.hpp"
@@ -183,8 +185,31 @@ class FloatingRun {
 
   SimplifiedMesh run() {
     const bool debug = std::getenv("OOCSIMP_DEBUG_ROUNDS") != nullptr;
+    // Debug: the peak anonymous memory of each phase, sampled every 20 ms.
+    std::atomic<std::uint64_t> phase_peak{0};
+    std::atomic<bool> sampling{debug};
+    std::thread sampler;
+    if (debug)
+      sampler = std::thread([&] {
+        while (sampling) {
+          std::uint64_t a = current_anon_bytes(), p = phase_peak.load();
+          while (a > p && !phase_peak.compare_exchange_weak(p, a)) {
+          }
+          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+      });
+    struct StopSampler {
+      std::atomic<bool>& on;
+      std::thread& t;
+      ~StopSampler() {
+        on = false;
+        if (t.joinable()) t.join();
+      }
+    } stop_sampler{sampling, sampler};
     auto note = [&](const char* phase) {
-      if (debug) std::fprintf(stderr, "after %s: anon %.1f MiB\n", phase, double(current_anon_bytes()) / 1048576.0);
+      if (debug)
+        std::fprintf(stderr, "%s: anon now %.1f MiB, peak %.1f MiB\n", phase, double(current_anon_bytes()) / 1048576.0,
+                     double(phase_peak.exchange(0)) / 1048576.0);
     };
     double t0 = now_seconds();
     bool resumed = options_.keep_temp && resume_kept_tiles();
@@ -194,6 +219,11 @@ class FloatingRun {
     }
     double t1 = now_seconds();
     note("binning");
+    if (debug) {
+      std::uint64_t most = 0;
+      for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t) most = std::max(most, triangles_->record_count(t));
+      std::fprintf(stderr, "tiles %u, largest %llu triangle records\n", triangles_->tile_count(), (unsigned long long)most);
+    }
     if (resumed) {
       choose_from_kept();
     } else {
@@ -256,11 +286,38 @@ class FloatingRun {
         double divisions =
             double(kLevels[l]) * std::sqrt(tiles_needed / double(std::max<std::uint64_t>(occ[std::size_t(l)], 1)));
         side = longest / divisions;
+        // That is the average tile; the fullest one can hold several times as much
+        // (measured: 6.4x on the generated sphere, whose poles are dense), and the
+        // fullest sets the memory. Shrink the side until the fullest, estimated from
+        // a sample of the vertices, fits, but to no less than half: a denser part
+        // would otherwise cut the whole mesh into tiny tiles (11064 tiles instead
+        // of 243 on the 10M sphere at --mem 64M), each costing buffers and rounds.
+        const double average_side = side;
+        for (int pass = 0; pass < 4 && side > 0.5 * average_side; ++pass) {
+          double fullest = 2 * fullest_tile_vertices(std::max(side, cell_.size));  // ~2 triangles per vertex
+          if (fullest <= per_tile) break;
+          side = std::max(0.5 * average_side, side * 0.95 * std::sqrt(per_tile / fullest));
+        }
       }
     }
     // A tile is at least one floating cell wide, so a cell reaches only into the
     // adjacent tiles.
     tiles_.side = std::max(side, cell_.size);
+  }
+
+  // The vertex count of the fullest tile of side `side`, estimated from at most
+  // about 4M evenly spaced vertices.
+  double fullest_tile_vertices(double side) const {
+    const PositionArray& pos = input_.positions;
+    std::uint64_t stride = std::max<std::uint64_t>(1, pos.count / (std::uint64_t(1) << 22));
+    std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> count;
+    std::uint64_t most = 0;
+    for (std::uint64_t i = 0; i < pos.count; i += stride) {
+      Vec3d p = pos.get(i);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+      most = std::max(most, ++count[GridCoord::of(p, side)]);
+    }
+    return double(most) * double(stride);
   }
 
   std::uint32_t tile_id(const GridCoord& c) {
@@ -379,11 +436,19 @@ class FloatingRun {
     return out;
   }
 
-  // The border centres of the neighbours of `tile` in `borders`, in precedes order.
+  // The external centres of `tile`: its neighbours' border centres whose cells can
+  // reach into its box (within half a cell of it, widened by a rounding margin;
+  // contains() decides exactly), in precedes order.
   std::vector<GradedVertex> external_centres(std::uint32_t tile,
                                              const std::vector<std::vector<GradedVertex>>& borders) const {
+    Box3d box = tiles_.box(tile_coords_[tile]);
+    double reach = half_ * (1 + 1e-9);
     std::vector<GradedVertex> ext;
-    for (std::uint32_t n : neighbours(tile)) ext.insert(ext.end(), borders[n].begin(), borders[n].end());
+    for (std::uint32_t n : neighbours(tile))
+      for (const GradedVertex& c : borders[n])
+        if (c.p.x >= box.min.x - reach && c.p.x <= box.max.x + reach && c.p.y >= box.min.y - reach &&
+            c.p.y <= box.max.y + reach && c.p.z >= box.min.z - reach && c.p.z <= box.max.z + reach)
+          ext.push_back(c);
     std::sort(ext.begin(), ext.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
     return ext;
   }
@@ -530,39 +595,57 @@ class FloatingRun {
   void run_rounds() {
     std::uint32_t n = triangles_->tile_count();
     // Rounds: a tile runs again when the external centres it sees (its neighbours'
-    // border centres) changed since its last run; rechoose_centres re-decides only
-    // the vertices near a change. Every tile's last run used the borders of the
-    // previous round (a tile whose input did not change is up to date), so only two
-    // generations of borders are kept, not a copy of each tile's input.
+    // border centres near it) changed since its last run; rechoose_centres
+    // re-decides only the vertices near a change. Each round reads the borders of
+    // the previous one, so tiles run in parallel and the result does not depend on
+    // their order; only tiles next to a changed border are looked at.
     double rounds_start = now_seconds();
-    std::vector<std::vector<GradedVertex>> previous(n);  // borders as of the last check
+    std::vector<std::vector<GradedVertex>> ext(n);  // what each tile last ran with
+    std::vector<char> changed(n, 0);
+    for (std::uint32_t t = 0; t < n; ++t) {
+      border_[t] = border_of(t);
+      changed[t] = !border_[t].empty();
+    }
     std::uint64_t rounds = 1;
     for (;;) {
-      std::vector<char> changed(n, 0);
-      for (std::uint32_t t = 0; t < n; ++t) {
-        border_[t] = border_of(t);
-        changed[t] = !same_centres(border_[t], previous[t]);
-      }
+      std::vector<char> candidate(n, 0);
+      for (std::uint32_t t = 0; t < n; ++t)
+        if (changed[t])
+          for (std::uint32_t nb : neighbours(t)) candidate[nb] = 1;
       std::vector<std::uint32_t> dirty;
       for (std::uint32_t t = 0; t < n; ++t)
-        for (std::uint32_t nb : neighbours(t))
-          if (changed[nb]) {
-            dirty.push_back(t);
-            break;
-          }
-      if (dirty.empty()) break;
-      ++rounds;
-      if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
-        std::fprintf(stderr, "round %llu: %zu dirty tiles\n", (unsigned long long)rounds, dirty.size());
+        if (candidate[t]) dirty.push_back(t);
+      // New inputs from this round's borders, then the re-runs, then the new borders.
+      std::vector<std::vector<GradedVertex>> next_ext(dirty.size()), next_border(dirty.size());
+      std::vector<char> ran(dirty.size(), 0);
       tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
         std::uint32_t tile = dirty[i];
-        std::vector<GradedVertex> old_ext = external_centres(tile, previous), new_ext = external_centres(tile, border_);
+        next_ext[i] = external_centres(tile, border_);
+        if (same_centres(next_ext[i], ext[tile])) return;
+        ran[i] = 1;
         TileVertexBlock block(blocks_->block(tile));
-        if (rechoose_centres(block, old_ext, new_ext, cell_)) centres_[tile] = block.centres();
+        if (rechoose_centres(block, ext[tile], next_ext[i], cell_)) {
+          centres_[tile] = block.centres();
+          next_border[i] = border_of(tile);
+        } else {
+          next_border[i] = border_[tile];
+        }
       });
-      previous.swap(border_);
+      std::fill(changed.begin(), changed.end(), 0);
+      std::size_t runs = 0;
+      for (std::size_t i = 0; i < dirty.size(); ++i) {
+        if (!ran[i]) continue;
+        ++runs;
+        std::uint32_t tile = dirty[i];
+        ext[tile] = std::move(next_ext[i]);
+        changed[tile] = !same_centres(next_border[i], border_[tile]);
+        border_[tile] = std::move(next_border[i]);
+      }
+      if (runs == 0) break;
+      ++rounds;
+      if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
+        std::fprintf(stderr, "round %llu: %zu tiles ran\n", (unsigned long long)rounds, runs);
     }
-    border_ = std::move(previous);
     rounds_seconds_ = now_seconds() - rounds_start;
     if (stats_) stats_->rounds = rounds;
   }
