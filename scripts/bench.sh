@@ -3,7 +3,7 @@
 # file to file, on generated spheres cached under build/bench/.
 #
 #   scripts/bench.sh [SIZES...]     default sizes: 1000000 10000000 50000000
-#   GRIDS="256 1024" THREADS="1 2" SHAPE=sphere METHOD=uniform MEM=256M scripts/bench.sh
+#   GRIDS="256 1024" THREADS="1 2" SHAPE=sphere METHOD=uniform MEM=256M scripts/bench.sh  (METHOD: floating by default)
 #
 # For each size and grid, oocsimp runs with each thread count; sloppy then gets our
 # output triangle count as its target (it searches its grid for it, its normal use).
@@ -25,7 +25,7 @@ sizes=("$@")
 grids=(${GRIDS:-256 1024})
 threads=(${THREADS:-1 2})
 shape="${SHAPE:-sphere}"
-method="${METHOD:-uniform}"
+method="${METHOD:-floating}"
 mem_opt=()
 [ -n "${MEM:-}" ] && mem_opt=(--mem "$MEM")
 

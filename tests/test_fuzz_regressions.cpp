@@ -101,6 +101,7 @@ TEST_CASE("fuzz: double PLY coordinates beyond the float range are rejected by s
   o.threads = 1;
   o.temp_dir = d.path();
   SECTION("uniform") {
+    o.method = oocsimp::ClusterMethod::uniform;
     o.sizing.grid = 8;
   }
   SECTION("floating") {

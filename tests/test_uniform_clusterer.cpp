@@ -18,6 +18,7 @@ SimplifiedMesh simplify_path(const std::string& path, const CellSizing& sizing, 
                              SimplifyStats* stats = nullptr) {
   MeshInput in = open_mesh_input(path);
   SimplifyOptions o;
+  o.method = ClusterMethod::uniform;
   o.sizing = sizing;
   o.threads = threads;
   return simplify(in, o, stats);

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
   auto* ratio = simplify->add_option("--ratio", sizing.ratio, "Approximate fraction of triangles to keep");
   cell->excludes(grid)->excludes(ratio);
   grid->excludes(ratio);
-  simplify->add_option("--method", so.method, "floating (Low & Tan) or uniform (OoCS grid)")
+  simplify->add_option("--method", so.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, ClusterMethod>{{"floating", ClusterMethod::floating}, {"uniform", ClusterMethod::uniform}}));
   simplify->add_option("--cell-shape", so.cell_shape, "Floating cell shape: cube or sphere")

@@ -46,7 +46,7 @@ struct CellSizing {
 
 struct SimplifyOptions {
   CellSizing sizing;
-  ClusterMethod method = ClusterMethod::uniform;
+  ClusterMethod method = ClusterMethod::floating;
   CellShape cell_shape = CellShape::cube;                     ///< floating only
   AssignRule assign = AssignRule::nearest;                    ///< floating only
   RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
@@ -102,12 +102,16 @@ std::uint64_t parse_byte_size(const std::string& text);
 /// surface, i.e. with the square of the resolution). Throws UsageError.
 GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned threads);
 
-/// Clusters `input` on a uniform grid (OoCS): per cell the area-weighted plane
-/// quadrics of every triangle with a corner in it and the mean of its vertices; the
-/// representative minimises the quadric around that mean and stays in its cell.
-/// Keeps triangles whose corners fall in three different cells, each unordered triple
-/// once with the orientation of its first occurrence in file order. The result is
-/// byte-identical for any thread count.
+/// Clusters `input` by `options.method`: floating cells (the default; Low & Tan,
+/// see src/cluster/floating_cells_design.md: cells centred on the heaviest vertices,
+/// quadric representatives kept in their cell, tiles of the grid spilled to
+/// `options.temp_dir` and sized from `options.memory_budget`) or a uniform grid
+/// (OoCS: per cell the area-weighted plane quadrics of every triangle with a corner
+/// in it and the mean of its vertices; the representative minimises the quadric
+/// around that mean and stays in its cell). Either way a triangle survives when its
+/// corners fall in three different clusters, each unordered triple once with the
+/// orientation of its first occurrence in file order, and the result is
+/// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
 
 /// Opens `input_path`, simplifies it and writes `output_path` (format and compression
