@@ -317,9 +317,8 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
     std::uint32_t i = queue.top();
     queue.pop();
     const GradedVertex& v = block.vertex(i);
-    bool covered = block.any_near(v.p, [&](std::uint32_t k) {
-      return k < i && block.is_centre(k) && cell.contains(block.vertex(k).p, v.p);
-    });
+    bool covered = block.any_near(
+        v.p, [&](std::uint32_t k) { return block.is_centre(k) && cell.contains(block.vertex(k).p, v.p); }, i);
     if (!covered)
       externals.for_each_near(v.p, [&](std::uint32_t id) {
         const GradedVertex& e = new_external[id];

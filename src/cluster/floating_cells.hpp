@@ -75,9 +75,11 @@ class TileVertexBlock {
   /// The centres, in `precedes` order.
   std::vector<GradedVertex> centres() const;
   /// Calls f(i) for the vertices i whose cube the cell around p overlaps until f
-  /// returns true; returns whether one did.
+  /// returns true; returns whether one did. With `before`, only vertices i < before
+  /// (those that precede vertex `before`) are visited: a cube lists its vertices in
+  /// priority order, so its scan stops at the first later one.
   template <class F>
-  bool any_near(const Vec3d& p, F&& f) const {
+  bool any_near(const Vec3d& p, F&& f, std::uint32_t before = ~std::uint32_t(0)) const {
     GridCoord lo, hi;
     cubes_near(p, cell_size_, &lo, &hi);
     auto from = [](std::int64_t c, std::int64_t o) { return std::max(c - o, std::int64_t(0)); };
@@ -89,7 +91,7 @@ class TileVertexBlock {
           const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
           if (k == cube_keys_ + cubes_ || *k != key) continue;
           std::size_t c = std::size_t(k - cube_keys_);
-          for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1]; ++j)
+          for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1] && by_cube_[j] < before; ++j)
             if (f(by_cube_[j])) return true;
         }
     return false;
