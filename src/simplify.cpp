@@ -36,7 +36,7 @@ void check_float_range(const MeshInput& input) {
   for (std::uint64_t i = 0; i < input.positions.count; ++i) {
     Vec3d p = input.positions.get(i);
     for (double c : {p.x, p.y, p.z})
-      if (std::abs(c) > kMax) {
+      if (std::isfinite(c) && std::abs(c) > kMax) {  // non-finite vertices are skipped, not out of range
         std::ostringstream msg;
         msg << input.info.path << ": vertex " << i << " has the coordinate " << c
             << ", beyond the float range of the output";
@@ -75,6 +75,9 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   st.input_vertices = input.positions.count;
+  st.non_finite_vertices = input.info.non_finite_vertices;
+  st.first_non_finite_vertex = input.info.first_non_finite_vertex;
+  st.first_non_finite_position = input.info.first_non_finite_position;
   st.cell_size = grid.cell;
   for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
   input.restart_triangles();
@@ -132,6 +135,25 @@ void simplify_file(const std::string& input_path, const std::string& output_path
 }  // namespace oocsimp
 
 namespace oocsimp {
+
+std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& s) {
+  if (s.skipped.total() == 0 && s.non_finite_vertices == 0) return "";
+  std::string parts;
+  auto add = [&](std::uint64_t n, const std::string& what) {
+    if (n == 0) return;
+    parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  };
+  add(s.skipped.non_finite, "triangles with a NaN or infinite corner");
+  add(s.skipped.repeated_index, "triangles naming one vertex twice");
+  add(s.skipped.short_faces, "faces with fewer than 3 corners");
+  std::string text = input_path + ": skipped " + std::to_string(s.skipped.total()) + " faces";
+  if (!parts.empty()) text += " (" + parts + ")";
+  if (s.non_finite_vertices > 0)
+    text += "; ignored " + std::to_string(s.non_finite_vertices) +
+            " vertices with a NaN or infinite coordinate, the first vertex " + std::to_string(s.first_non_finite_vertex) +
+            " at " + s.first_non_finite_position;
+  return text;
+}
 
 std::uint64_t parse_byte_size(const std::string& text) {
   std::size_t used = 0;

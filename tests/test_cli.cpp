@@ -128,10 +128,9 @@ TEST_CASE("bad input exits 3 with one line naming the file and no output", "[cli
   expect_bad_input(d, d.file("truncated.ply"), "truncated");
   write_file(d.file("range.ply"), small_ply(4, 1.0f));
   expect_bad_input(d, d.file("range.ply"), "out of range");
-  write_file(d.file("nan.ply"), small_ply(3, std::nanf("")));
-  expect_bad_input(d, d.file("nan.ply"), "NaN");
-  write_file(d.file("nan.obj"), "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-  expect_bad_input(d, d.file("nan.obj"), "NaN obj");
+  // (NaN coordinates are not among these: their faces are skipped, see test_damaged_input.)
+  write_file(d.file("huge.obj"), "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_bad_input(d, d.file("huge.obj"), "beyond float range");
   write_file(d.file("garbage.ply"), "plyx\n\x01\x02");
   expect_bad_input(d, d.file("garbage.ply"), "garbage");
 }

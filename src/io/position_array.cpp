@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 
 #include "oocsimp/error.hpp"
 
@@ -37,6 +38,23 @@ PositionArrayBuilder::PositionArrayBuilder(const std::string& temp_dir, const st
 
 PositionArrayBuilder::~PositionArrayBuilder() = default;
 
+Vec3d PositionArrayBuilder::widen(const float* f) { return {double(f[0]), double(f[1]), double(f[2])}; }
+
+void PositionArrayBuilder::not_finite_as_float(double x, double y, double z, const std::string& where) {
+  if (std::isfinite(x) && std::isfinite(y) && std::isfinite(z)) {
+    // The value is a number, just not one a float holds: converting would invent an
+    // infinity, so this is bad input rather than a vertex to skip.
+    std::ostringstream msg;
+    msg << source_path_ << ": " << where << ": vertex " << count_ << " (" << x << ", " << y << ", " << z
+        << ") is beyond the float range";
+    throw InputError(msg.str());
+  }
+  if (non_finite_++ == 0) {
+    first_non_finite_ = count_;
+    first_non_finite_position_ = where;
+  }
+}
+
 void PositionArrayBuilder::finish(MeshInput& out) {
   sink_->finish();
   sink_.reset();
@@ -46,6 +64,9 @@ void PositionArrayBuilder::finish(MeshInput& out) {
   out.positions.base = map->data();
   out.positions.count = count_;
   out.info.bounds = bounds_;
+  out.info.non_finite_vertices = non_finite_;
+  out.info.first_non_finite_vertex = first_non_finite_;
+  out.info.first_non_finite_position = first_non_finite_position_;
   out.impl->position_map = std::move(map);
   out.impl->position_file = std::move(file_);
 }
