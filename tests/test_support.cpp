@@ -88,9 +88,10 @@ LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir) {
   return m;
 }
 
-CliResult run_cli(const std::string& args) {
+CliResult run_cli(const std::string& args, const std::string& setup) {
   ScratchDir d;
   std::string cmd = std::string(OOCSIMP_CLI) + " " + args + " >'" + d.file("out") + "' 2>'" + d.file("err") + "' </dev/null";
+  if (!setup.empty()) cmd = setup + " && exec " + cmd;
   int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

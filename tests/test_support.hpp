@@ -64,8 +64,9 @@ struct CliResult {
   std::string out;  ///< stdout
   std::string err;  ///< stderr
 };
-/// Runs the built oocsimp CLI with `args` (a shell-quoted argument string).
-CliResult run_cli(const std::string& args);
+/// Runs the built oocsimp CLI with `args` (a shell-quoted argument string), after the
+/// shell commands `setup` (e.g. "ulimit -f 100") when given.
+CliResult run_cli(const std::string& args, const std::string& setup = "");
 
 /// Writes binary little-endian PLY: 3 floats per vertex, 3 indices per triangle.
 void write_binary_ply(const std::string& path, const std::vector<float>& positions,

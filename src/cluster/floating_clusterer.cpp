@@ -241,7 +241,16 @@ class FloatingRun {
     }
     std::size_t buffer_records =
         std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), 256, 8192);
+    // Free space for the spill, checked before writing it. A lower estimate, so no
+    // run that fits is refused: every used vertex is spilled once, raw; the triangle
+    // records compress to an eighth or more, and (a header's face count being
+    // unchecked so far) to no less than the input file holds.
+    const std::uint64_t spill_estimate =
+        input_.positions.count * sizeof(GradedVertex) +
+        std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
+    require_free_space(temp_dir(), spill_estimate, "the tile spill");
     triangles_ = std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_triangles_);
+    triangles_->set_expected_bytes(spill_estimate);
 
     const PositionArray& pos = input_.positions;
     TriangleStream& stream = *input_.triangles;
@@ -291,6 +300,7 @@ class FloatingRun {
     centres_.resize(triangles_->tile_count());
     border_.resize(triangles_->tile_count());
     vertices_ = std::make_unique<TileSpillFile>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
+    vertices_->set_expected_bytes(spill_estimate);
     for (std::uint32_t i = 0; i < triangles_->tile_count(); ++i) vertices_->add_tile();
   }
 

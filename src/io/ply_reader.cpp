@@ -567,6 +567,15 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
+    if (!src.compressed()) {
+      // A record takes at least this many bytes, so the file's size bounds the vertex
+      // count: a header claiming 10^12 vertices on a small file is a truncated file
+      // (InputError below), not a request for terabytes of temporary space.
+      std::uint64_t min_record = 0;
+      for (const PlyProperty& p : v.props)
+        min_record += binary ? type_size(p.is_list ? p.count_type : p.type) : 2;  // ascii: a digit and a blank
+      builder.expect(std::min(v.count, src.file_size() / std::max<std::uint64_t>(min_record, 1)));
+    }
     double xyz[3];
     for (std::uint64_t i = 0; i < v.count; ++i) {
       reader.read_record(v, -1, nullptr, xyz, h->xyz, 3);

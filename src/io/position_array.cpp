@@ -34,7 +34,19 @@ void Box3d::add(const Box3d& b) {
 PositionArrayBuilder::PositionArrayBuilder(const std::string& temp_dir, const std::string& source_path)
     : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-positions-")),
       sink_(std::make_unique<ByteSink>(file_->fd(), file_->path(), false)),
-      source_path_(source_path) {}
+      source_path_(source_path),
+      temp_dir_(temp_dir) {
+  sink_->on_write_error([this](std::uint64_t on_disk, int err) {
+    std::string need = expected_bytes_ ? ", of about " + mib_text(expected_bytes_) + " needed" : "";
+    return temp_dir_ + ": cannot write the temporary position array of " + source_path_ + " (" + mib_text(on_disk) +
+           " written" + need + "): " + std::strerror(err);
+  });
+}
+
+void PositionArrayBuilder::expect(std::uint64_t vertices) {
+  expected_bytes_ = vertices * 3 * sizeof(float);
+  require_free_space(temp_dir_, expected_bytes_, "the temporary position array of " + source_path_);
+}
 
 PositionArrayBuilder::~PositionArrayBuilder() = default;
 

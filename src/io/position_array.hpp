@@ -44,6 +44,10 @@ class PositionArrayBuilder {
     ++count_;
   }
   std::uint64_t count() const { return count_; }
+  /// Announces how many vertices the file will give (when its header says so and the
+  /// file's size makes that plausible): throws IoError up front when the temp folder
+  /// lacks the room, and lets a failed write say how much was needed.
+  void expect(std::uint64_t vertices);
   /// Flushes, maps the file and stores positions, bounds and ownership in `out`.
   void finish(MeshInput& out);
 
@@ -58,6 +62,8 @@ class PositionArrayBuilder {
   std::unique_ptr<TempFile> file_;
   std::unique_ptr<ByteSink> sink_;
   std::string source_path_;
+  std::string temp_dir_;
+  std::uint64_t expected_bytes_ = 0;  // 0: unknown
   Box3d bounds_;
   std::uint64_t count_ = 0;
   std::uint64_t non_finite_ = 0, first_non_finite_ = 0;

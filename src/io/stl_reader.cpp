@@ -69,6 +69,7 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
     throw InputError(at_byte(src.path(), 80,
                              "binary STL declares " + std::to_string(n) + " triangles (" + std::to_string(84 + 50 * n) +
                                  " bytes) but the file has " + std::to_string(src.file_size()) + " bytes"));
+  if (!src.compressed()) builder.expect(3 * n);  // the size formula vouched for n
   for (std::uint64_t t = 0; t < n; ++t) {
     const unsigned char* p = src.peek(50);
     if (!p)

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -132,7 +133,27 @@ void TempFile::persist(const std::string& dest) {
   persisted_ = true;
 }
 
+std::uint64_t free_bytes(const std::string& dir) {
+  struct statvfs fs;
+  if (::statvfs(dir.empty() ? "." : dir.c_str(), &fs) != 0) return ~std::uint64_t(0);
+  return std::uint64_t(fs.f_bavail) * std::uint64_t(fs.f_frsize);
+}
+
+std::string mib_text(std::uint64_t bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / 1048576.0);
+  return buf;
+}
+
+void require_free_space(const std::string& dir, std::uint64_t bytes, const std::string& what) {
+  std::uint64_t free = free_bytes(dir);
+  if (free >= bytes) return;
+  throw IoError(dir + ": " + what + " needs about " + mib_text(bytes) + ", but only " + mib_text(free) +
+                " are free (--tmp chooses the folder)");
+}
+
 void install_signal_cleanup() {
+  ::signal(SIGXFSZ, SIG_IGN);
   struct sigaction sa;
   std::memset(&sa, 0, sizeof sa);
   sa.sa_handler = cleanup_and_die;

@@ -1,0 +1,142 @@
+// Faults from outside the input: a failing output write, a full temporary folder, and
+// SIGINT / SIGTERM in every phase of both methods. Each must end the run with its
+// exit status, the destination as it was and no temporary file left.
+#include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+using namespace oocsimp_test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+const std::string kOldContent = "the destination as it was before the run\n";
+
+// A scratch folder with a generated input, a `tmp` folder and a destination that
+// already exists (so "untouched" can be checked).
+struct Setup {
+  ScratchDir d;
+  std::string input, tmp, output;
+  Setup(const std::string& generate_args, const std::string& input_name, const std::string& output_name) {
+    input = d.file(input_name);
+    tmp = d.file("tmp");
+    output = d.file(output_name);
+    REQUIRE(run_cli("generate --quiet " + generate_args + " -o " + q(input)).exit_code == 0);
+    REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
+    write_file(output, kOldContent);
+  }
+  // The destination is as it was, `tmp` is empty and the folder holds nothing else.
+  void check_untouched() const {
+    CHECK(read_file(output) == kOldContent);
+    CHECK(ScratchDirEntries(tmp).empty());
+    std::vector<std::string> expected = {input.substr(d.path().size() + 1), output.substr(d.path().size() + 1), "tmp"};
+    std::sort(expected.begin(), expected.end());
+    CHECK(d.entries() == expected);
+  }
+  static std::vector<std::string> ScratchDirEntries(const std::string& dir) {
+    std::vector<std::string> names;
+    std::string listing = dir + "/.listing";
+    if (system(("ls -A " + q(dir) + " > " + q(listing)).c_str()) != 0) return {"<ls failed>"};
+    std::string text = read_file(listing);
+    std::remove(listing.c_str());
+    for (std::size_t p = 0, e; (e = text.find('\n', p)) != std::string::npos; p = e + 1)
+      if (text.substr(p, e - p) != ".listing") names.push_back(text.substr(p, e - p));
+    return names;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a failed output write (file-size limit) exits 4, the destination untouched, no temporary file",
+          "[faults]") {
+  // A binary PLY is read in place: the output is the only file the run writes. The
+  // limit lets nothing past a few hundred KiB; the program itself must ignore
+  // SIGXFSZ (nothing here does) so that the write fails with EFBIG.
+  for (const char* name : {"o.ply", "o.ply.zst", "o.obj"}) {
+    CAPTURE(name);
+    Setup s("--tris 400000", "in.ply", name);
+    CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) + " --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 400");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.output));
+    CHECK_THAT(r.err, Contains("File too large"));
+    s.check_untouched();
+  }
+}
+
+TEST_CASE("a --tmp that fills up exits 4 naming the folder and the space needed; nothing left behind", "[faults]") {
+  SECTION("floating cells: the tile spill") {
+    Setup s("--tris 400000", "in.ply", "o.ply");  // read in place: the spill is the first file written
+    CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) +
+                              " --method floating --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 2000");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.tmp + ": cannot write the tile spill file"));
+    CHECK_THAT(r.err, Contains("the run's spill needs about 9.2 MiB"));  // 200030 vertices, 400056 triangles
+    CHECK_THAT(r.err, Contains("File too large"));
+    s.check_untouched();
+  }
+  SECTION("the temporary position array of a converted input") {
+    Setup s("--tris 400000 --ascii", "in.ply", "o.ply");
+    CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) + " --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 1000");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.tmp + ": cannot write the temporary position array of " + s.input));
+    CHECK_THAT(r.err, Contains("of about 2.3 MiB needed"));  // 200030 vertices x 12 bytes
+    s.check_untouched();
+  }
+}
+
+TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, where one can be mounted)", "[faults]") {
+  // A private mount namespace (unshare -rm) mounts a tmpfs that vanishes with the
+  // run, so the listing of what it held is taken inside.
+  for (const char* method : {"uniform", "floating"}) {
+    CAPTURE(method);
+    // The uniform run converts an ascii input (2.3 MiB of positions); the floating
+    // run spills a binary one read in place (9.2 MiB).
+    bool ascii = std::string(method) == "uniform";
+    Setup s(std::string("--tris 400000") + (ascii ? " --ascii" : ""), "in.ply", "o.ply");
+    std::string listing = s.d.file("tmp-listing");
+    std::string cmd = "unshare -rm sh -c " +
+                      q("mount -t tmpfs -o size=1m tmpfs " + s.tmp + " 2>/dev/null || exit 99; " + OOCSIMP_CLI +
+                        " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --method " + method +
+                        " --tmp " + s.tmp + " 2>" + s.d.file("err") + "; rc=$?; ls -A " + s.tmp + " >" + listing +
+                        "; exit $rc");
+    int status = system(cmd.c_str());
+    int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (rc == 99 || rc == 127 || rc == -1) {
+      WARN("cannot mount a tmpfs here (rc " << rc << "): the statvfs check is not exercised");
+      return;
+    }
+    std::string err = read_file(s.d.file("err"));
+    INFO(err);
+    CHECK(rc == 4);
+    CHECK(lines(err) == 1);
+    CHECK_THAT(err, Contains(s.tmp + ": the t"));  // "the temporary position array" / "the tile spill"
+    CHECK_THAT(err, Contains(ascii ? "needs about 2.3 MiB" : "needs about 9.2 MiB"));
+    CHECK_THAT(err, Contains("are free"));
+    CHECK(read_file(listing).empty());
+    CHECK(read_file(s.output) == kOldContent);
+  }
+}
