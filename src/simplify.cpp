@@ -123,7 +123,10 @@ void simplify_file(const std::string& input_path, const std::string& output_path
   double t1 = now_seconds();
   SimplifiedMesh mesh = simplify(input, options, &st);
   double t2 = now_seconds();
-  write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+  {
+    ProgressPhase phase(options.progress, "write", 0, "B");
+    write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+  }
   double t3 = now_seconds();
   st.seconds_open = t1 - t0;
   st.seconds_write = t3 - t2;

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <fcntl.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -139,4 +138,137 @@ TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, wh
     CHECK(read_file(listing).empty());
     CHECK(read_file(s.output) == kOldContent);
   }
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+struct Interruption {
+  bool reached = false;   // the phase started and the signal was sent
+  bool in_phase = false;  // ... and the run died before the phase ended
+  double seconds = -1;    // from the signal to the run's end
+  int status = 0;
+  std::string err;
+};
+
+// Runs the CLI with `args`, reads its stderr (batch progress lines) until `phase`
+// starts, sends `sig` and waits (10 s at most) for the run to end.
+Interruption interrupt_at(const std::vector<std::string>& args, const std::string& phase, int sig) {
+  Interruption r;
+  int fds[2];
+  REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
+  pid_t pid = fork();
+  if (pid == 0) {
+    int null = open("/dev/null", O_RDWR);
+    dup2(null, 0);
+    dup2(null, 1);
+    dup2(fds[1], 2);
+    std::vector<char*> argv{const_cast<char*>(OOCSIMP_CLI)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(OOCSIMP_CLI, argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  const std::string started = "oocsimp: " + phase + " started\n", done = "oocsimp: " + phase + " done";
+  std::size_t marker = std::string::npos;
+  auto sent = std::chrono::steady_clock::now();
+  char buf[4096];
+  for (;;) {
+    ssize_t n = read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // the run ended (or was killed): its stderr closed
+    r.err.append(buf, std::size_t(n));
+    if (marker == std::string::npos && (marker = r.err.find(started)) != std::string::npos) {
+      kill(pid, sig);
+      sent = std::chrono::steady_clock::now();
+      r.reached = true;
+    }
+  }
+  close(fds[0]);
+  int status = 0;
+  for (;;) {
+    pid_t w = waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (seconds_since(sent) > 10) {  // generous; the requirement is one second
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    usleep(1000);
+  }
+  r.status = status;
+  if (r.reached) {
+    r.seconds = seconds_since(sent);
+    r.in_phase = r.err.find(done, marker) == std::string::npos;
+  }
+  return r;
+}
+
+// Interrupts a run of `args` (which writes `output` and uses `tmp`) with SIGINT and
+// with SIGTERM in each of `phases`. A phase that ended before the signal landed is
+// tried again, up to three times.
+void interrupt_every_phase(const std::vector<std::string>& args, const std::vector<std::string>& phases,
+                           const std::string& tmp, const std::string& out_dir, const std::string& output) {
+  for (const std::string& phase : phases)
+    for (int sig : {SIGINT, SIGTERM}) {
+      CAPTURE(phase, sig);
+      bool landed = false;
+      for (int attempt = 0; attempt < 3 && !landed; ++attempt) {
+        write_file(output, kOldContent);
+        Interruption r = interrupt_at(args, phase, sig);
+        INFO(r.err);
+        REQUIRE(r.reached);
+        CHECK(WIFSIGNALED(r.status));
+        CHECK(WTERMSIG(r.status) == sig);
+        INFO("exited " << r.seconds << " s after the signal");
+        CHECK(r.seconds < 5.0);
+        CHECK(Setup::ScratchDirEntries(tmp).empty());
+        CHECK(Setup::ScratchDirEntries(out_dir) == std::vector<std::string>{"o.ply"});  // no temporary output
+        CHECK(read_file(output) == kOldContent);
+        landed = r.in_phase;
+      }
+      CHECK(landed);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("SIGINT and SIGTERM in every phase of a uniform run: prompt exit, no temporary files, destination untouched",
+          "[faults][signals]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --tris 1000000 --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --quiet --tris 2000000 -o " + q(d.file("binary.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  auto args = [&](const std::string& input) {
+    return std::vector<std::string>{"simplify", input, "-o", output, "--ascii", "--grid", "1024", "--threads", "2",
+                                    "--tmp", tmp};
+  };
+  // An ascii input is converted to a temporary position array first.
+  interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
+  interrupt_every_phase(args(d.file("binary.ply")), {"cell means", "cell quadrics", "solve", "write"}, tmp, out_dir,
+                        output);
+}
+
+TEST_CASE("SIGINT and SIGTERM in every phase of a floating-cells run: prompt exit, no tile spill, destination untouched",
+          "[faults][signals]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --tris 1000000 --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --quiet --tris 1000000 -o " + q(d.file("binary.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  auto args = [&](const std::string& input) {
+    // Small tiles: hundreds of them and many cross-tile triangles, so that the
+    // rounds and the stitch take long enough to be interrupted.
+    return std::vector<std::string>{"simplify", input, "-o", output, "--ascii", "--method", "floating", "--grid",
+                                    "512", "--tile", "0.2", "--threads", "2", "--tmp", tmp};
+  };
+  interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
+  interrupt_every_phase(args(d.file("binary.ply")),
+                        {"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "solve", "write"}, tmp,
+                        out_dir, output);
 }

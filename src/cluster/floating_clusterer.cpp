@@ -162,7 +162,10 @@ class FloatingRun {
       grade_and_choose();
       if (options_.keep_temp) keep_tiles();
     }
-    run_rounds();
+    {
+      ProgressPhase phase(options_.progress, "rounds", 0, "round");
+      run_rounds();
+    }
     double t2 = now_seconds();
     release_free_heap();
     assign_and_accumulate();
@@ -171,9 +174,16 @@ class FloatingRun {
     std::vector<std::vector<GradedVertex>>().swap(border_);
     release_free_heap();
     double t3 = now_seconds();
-    stitch_cross_tile_triangles();
+    {
+      ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
+      stitch_cross_tile_triangles();
+    }
     double t4 = now_seconds();
-    SimplifiedMesh m = assemble();
+    SimplifiedMesh m;
+    {
+      ProgressPhase phase(options_.progress, "solve", 0, "cell");
+      m = assemble();
+    }
     double t5 = now_seconds();
     if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
       std::fprintf(stderr, "anon %.1f MiB; kept %zu; clusters %zu\n", double(current_anon_bytes()) / 1048576.0,

@@ -196,6 +196,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
   accumulate_triangles(input, grid, cells, kept, &triangles, progress);
   double t2 = now_seconds();
 
+  ProgressPhase solve_phase(progress, "solve", 0, "cell");
   // The hash indexes are not needed any more; free them before the output arrays
   // are allocated, which keeps the peak down.
   cells.release_index();

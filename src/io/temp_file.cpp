@@ -47,7 +47,19 @@ void unregister_path(int slot) {
   g_used[slot].store(false);
 }
 
+// Another thread may be between creating a file and registering it (with the
+// cleanup signals blocked there, so the handler runs elsewhere). The handler first
+// says it is dying, which stops new creations, then waits for those under way to be
+// registered, then removes everything registered.
+std::atomic<int> g_creating{0};
+std::atomic<bool> g_dying{false};
+
 extern "C" void cleanup_and_die(int sig) {
+  g_dying.store(true);
+  // A creation takes microseconds; the bound only guards against a thread that
+  // stopped inside one (it cannot be this thread: it blocks the signals there).
+  for (long spin = 0; g_creating.load() > 0 && spin < 100000000L; ++spin) {
+  }
   for (int i = 0; i < kSlots; ++i)
     if (g_used[i].load()) ::unlink(g_paths[i]);
   ::signal(sig, SIG_DFL);
@@ -67,12 +79,17 @@ TempFile::TempFile(const std::string& dir, const std::string& prefix) {
   sigaddset(&block, SIGINT);
   sigaddset(&block, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &block, &old);
-  fd_ = ::mkostemp(buf.data(), O_CLOEXEC);
-  int err = errno;
-  if (fd_ >= 0) {
-    path_ = buf.data();
-    slot_ = register_path(path_);
+  g_creating.fetch_add(1);
+  int err = EINTR;  // when dying: the run is being interrupted
+  if (!g_dying.load()) {
+    fd_ = ::mkostemp(buf.data(), O_CLOEXEC);
+    err = errno;
+    if (fd_ >= 0) {
+      path_ = buf.data();
+      slot_ = register_path(path_);
+    }
   }
+  g_creating.fetch_sub(1);
   pthread_sigmask(SIG_SETMASK, &old, nullptr);
   if (fd_ < 0) throw IoError(system_error_text(dir, "cannot create a temporary file in", err));
 }
