@@ -141,20 +141,22 @@ namespace oocsimp {
 
 std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& s) {
   if (s.skipped.total() == 0 && s.non_finite_vertices == 0) return "";
-  std::string parts;
-  auto add = [&](std::uint64_t n, const std::string& what) {
-    if (n == 0) return;
-    parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  auto count = [](std::uint64_t n, const char* noun, const char* what) {
+    std::string plural = std::string(noun) == "vertex" ? "vertices" : std::string(noun) + "s";
+    return std::to_string(n) + " " + (n == 1 ? std::string(noun) : plural) + what;
   };
-  add(s.skipped.non_finite, "triangles with a NaN or infinite corner");
-  add(s.skipped.repeated_index, "triangles naming one vertex twice");
-  add(s.skipped.short_faces, "faces with fewer than 3 corners");
-  std::string text = input_path + ": skipped " + std::to_string(s.skipped.total()) + " faces";
+  std::string parts;
+  auto add = [&](std::uint64_t n, const char* noun, const char* what) {
+    if (n > 0) parts += (parts.empty() ? "" : ", ") + count(n, noun, what);
+  };
+  add(s.skipped.non_finite, "triangle", " with a NaN or infinite corner");
+  add(s.skipped.repeated_index, "triangle", " naming one vertex twice");
+  add(s.skipped.short_faces, "face", " with fewer than 3 corners");
+  std::string text = input_path + ": skipped " + count(s.skipped.total(), "face", "");
   if (!parts.empty()) text += " (" + parts + ")";
   if (s.non_finite_vertices > 0)
-    text += "; ignored " + std::to_string(s.non_finite_vertices) +
-            " vertices with a NaN or infinite coordinate, the first vertex " + std::to_string(s.first_non_finite_vertex) +
-            " at " + s.first_non_finite_position;
+    text += "; ignored " + count(s.non_finite_vertices, "vertex", "") + " with a NaN or infinite coordinate, the first vertex " +
+            std::to_string(s.first_non_finite_vertex) + " at " + s.first_non_finite_position;
   return text;
 }
 

@@ -82,6 +82,10 @@ int run_info(const std::string& in, const std::string& tmp) {
     std::printf("          max %.9g %.9g %.9g\n", i.bounds.max.x, i.bounds.max.y, i.bounds.max.z);
     std::printf("diagonal  %.9g\n", i.bounds.diagonal());
   }
+  if (i.non_finite_vertices > 0)
+    std::printf("non-finite %" PRIu64 " (vertices with a NaN or infinite coordinate, ignored; the first: vertex %" PRIu64
+                " at %s)\n",
+                i.non_finite_vertices, i.first_non_finite_vertex, i.first_non_finite_position.c_str());
   return kOk;
 }
 
