@@ -181,6 +181,29 @@ TEST_CASE("damaged faces are skipped, counted in --stats and in one warning line
   }
 }
 
+TEST_CASE("floating --keep-tmp: a run on kept tiles reports the same skipped counts", "[cli][damaged]") {
+  // The resumed run does not read the faces again: the counts come from the manifest.
+  ScratchDir d;
+  Grid g = grid_mesh(16);
+  g.v.insert(g.v.end(), {0.5f, std::numeric_limits<float>::quiet_NaN(), 0.5f});
+  const int nan_vertex = int(g.v.size() / 3) - 1;
+  g.faces.push_back({0, 1, nan_vertex});
+  g.faces.push_back({3, 3, 4});
+  g.faces.push_back({5, 6});
+  write_polygon_ply(d.file("damaged.ply"), g.v, g.faces);
+  std::string skipped = "\"skipped\": {\"faces\": 3, \"short_faces\": 1, \"non_finite_triangles\": 1, "
+                        "\"repeated_index_triangles\": 1, \"non_finite_vertices\": 1}";
+  for (const char* cell : {"0.1", "0.2"}) {  // the second run reuses the first one's tiles
+    CAPTURE(cell);
+    Run r = simplify(d, d.file("damaged.ply"), "floating", std::string("--keep-tmp --cell ") + cell);
+    INFO(r.cli.err);
+    REQUIRE(r.cli.exit_code == 0);
+    CHECK_THAT(r.stats, Contains(skipped));
+    CHECK_THAT(r.cli.err, Contains("skipped 3 faces"));
+    CHECK_THAT(r.stats, Contains(std::string("\"resumed\": ") + (std::string(cell) == "0.1" ? "false" : "true")));
+  }
+}
+
 TEST_CASE("a file whose every vertex is NaN gives an empty output and the warning", "[cli][damaged]") {
   ScratchDir d;
   write_file(d.file("nan.obj"), "v nan 0 0\nv 0 nan 0\nv 0 0 nan\nf 1 2 3\n");

@@ -17,7 +17,8 @@ std::string stats_to_json(const SimplifyStats& s) {
                 "\"repeated_index_triangles\": %llu, \"non_finite_vertices\": %llu},\n"
                 "  \"output\": {\"vertices\": %llu, \"triangles\": %llu},\n"
                 "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %llu},\n"
-                "  \"tiles\": {\"count\": %llu, \"rounds\": %llu, \"spill_bytes\": %llu, \"spill_raw_bytes\": %llu},\n"
+                "  \"tiles\": {\"count\": %llu, \"rounds\": %llu, \"spill_bytes\": %llu, \"spill_raw_bytes\": %llu, "
+                "\"resumed\": %s},\n"
                 "  \"seconds\": {\"open\": %.6f, \"vertices\": %.6f, \"faces\": %.6f, \"solve\": %.6f, "
                 "\"write\": %.6f, \"total\": %.6f},\n"
                 "  \"memory\": {\"peak_rss_bytes\": %llu, \"peak_anon_bytes\": %llu},\n"
@@ -29,7 +30,7 @@ std::string stats_to_json(const SimplifyStats& s) {
                 (unsigned long long)s.non_finite_vertices, (unsigned long long)s.output_vertices,
                 (unsigned long long)s.output_triangles, s.cell_size, s.grid_dims[0], s.grid_dims[1], s.grid_dims[2],
                 (unsigned long long)s.occupied_cells, (unsigned long long)s.tiles, (unsigned long long)s.rounds,
-                (unsigned long long)s.spill_bytes, (unsigned long long)s.spill_raw_bytes, s.seconds_open, s.seconds_vertices, s.seconds_faces,
+                (unsigned long long)s.spill_bytes, (unsigned long long)s.spill_raw_bytes, s.resumed ? "true" : "false", s.seconds_open, s.seconds_vertices, s.seconds_faces,
                 s.seconds_solve, s.seconds_write, total, (unsigned long long)s.peak_rss_bytes,
                 (unsigned long long)s.peak_anon_bytes, mtris);
   return buf;
