@@ -81,7 +81,9 @@ TEST_CASE("floating cells equal the sequential reference on random inputs", "[fl
         auto centres = choose_centres(sorted_copy(v), {}, cell);
         INFO("seed " << seed << " shape " << int(shape) << " rule " << int(rule));
         REQUIRE(indices(centres) == ref.centres);
-        CHECK(assign_to_centres(v, centres, cell, rule) == ref.cluster);
+        std::vector<std::uint64_t> cluster;
+        for (std::uint32_t c : assign_to_centres(v, centres, cell, rule)) cluster.push_back(centres[c].index);
+        CHECK(cluster == ref.cluster);
       }
     }
   }
@@ -92,11 +94,9 @@ TEST_CASE("every vertex is within half a cell of its centre", "[floating]") {
   FloatingCellShape cell{1.5, CellShape::cube};
   auto centres = choose_centres(sorted_copy(v), {}, cell);
   auto cluster = assign_to_centres(v, centres, cell, AssignRule::nearest);
-  std::map<std::uint64_t, Vec3d> where;
-  for (const auto& c : centres) where[c.index] = c.p;
   for (std::size_t i = 0; i < v.size(); ++i) {
-    REQUIRE(where.count(cluster[i]));
-    CHECK(cell.contains(where[cluster[i]], v[i].p));
+    REQUIRE(cluster[i] < centres.size());
+    CHECK(cell.contains(centres[cluster[i]].p, v[i].p));
   }
   // No centre lies in another centre's cell.
   for (std::size_t i = 0; i < centres.size(); ++i)
@@ -128,4 +128,69 @@ TEST_CASE("an external centre only covers the vertices it precedes", "[floating]
   // Equal weights: the smaller index precedes.
   GradedVertex tie{2, {0.3, 0, 0}, 5.0};
   CHECK(choose_centres({a, b}, {tie}, cell).empty());
+}
+
+namespace {
+
+// Random external centres around (and inside) the tile of `v`, in precedes order.
+std::vector<GradedVertex> random_externals(std::uint32_t seed, std::size_t n, double extent, int weight_levels) {
+  auto e = random_vertices(seed + 1000, n, extent, weight_levels);
+  for (auto& x : e) x.index += 1;  // indices not shared with the tile's (those are 7 mod 3)
+  return sorted_copy(e);
+}
+
+std::vector<GradedVertex> every_other(const std::vector<GradedVertex>& v, std::size_t phase) {
+  std::vector<GradedVertex> out;
+  for (std::size_t i = phase; i < v.size(); i += 2) out.push_back(v[i]);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a vertex block finds every vertex near a point", "[floating]") {
+  auto v = sorted_copy(random_vertices(5, 800, 8.0, 0));
+  FloatingCellShape cell{0.7, CellShape::cube};
+  std::vector<unsigned char> bytes = TileVertexBlock::build(v, {}, cell.size);
+  TileVertexBlock block(bytes.data());
+  REQUIRE(block.size() == v.size());
+  for (std::size_t q = 0; q < v.size(); q += 7) {
+    std::vector<std::uint32_t> found;
+    block.any_near(v[q].p, [&](std::uint32_t j) {
+      if (cell.contains(v[q].p, block.vertex(j).p)) found.push_back(j);
+      return false;
+    });
+    std::sort(found.begin(), found.end());
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t j = 0; j < v.size(); ++j)
+      if (cell.contains(v[q].p, v[j].p)) expected.push_back(j);
+    CHECK(found == expected);
+  }
+}
+
+TEST_CASE("a re-run in a vertex block equals the greedy with the new external centres", "[floating]") {
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) {
+    for (CellShape shape : {CellShape::cube, CellShape::sphere}) {
+      int levels = seed % 3 == 0 ? 0 : int(seed % 3);  // continuous weights, or ties
+      auto v = sorted_copy(random_vertices(seed, 700, 9.0, levels));
+      auto ext = random_externals(seed, 120, 9.0, levels);
+      FloatingCellShape cell{0.8 + 0.05 * seed, shape};
+      // External inputs of two rounds: two overlapping halves of the same set.
+      std::vector<GradedVertex> before = every_other(ext, 0), after = every_other(ext, seed % 2);
+      after.insert(after.end(), ext.begin(), ext.begin() + 10);
+      std::sort(after.begin(), after.end(), precedes);
+      after.erase(std::unique(after.begin(), after.end(),
+                              [](const GradedVertex& a, const GradedVertex& b) { return a.index == b.index; }),
+                  after.end());
+      std::vector<unsigned char> bytes = TileVertexBlock::build(v, choose_centres(v, before, cell), cell.size);
+      TileVertexBlock block(bytes.data());
+      INFO("seed " << seed << " shape " << int(shape));
+      CHECK(indices(block.centres()) == indices(choose_centres(v, before, cell)));
+      bool changed = rechoose_centres(block, before, after, cell);
+      std::vector<GradedVertex> expected = choose_centres(v, after, cell);
+      CHECK(indices(block.centres()) == indices(expected));
+      CHECK(changed == (indices(expected) != indices(choose_centres(v, before, cell))));
+      // No change in the input: nothing to do.
+      CHECK_FALSE(rechoose_centres(block, after, after, cell));
+    }
+  }
 }

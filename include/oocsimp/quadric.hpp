@@ -19,6 +19,22 @@ struct Quadric {
   /// Adds the area-weighted plane quadric of triangle (p, q, r). A triangle of zero
   /// area adds nothing.
   void add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r);
+  /// Adds w * (m m^T, d m, d^2): the plane quadric of a triangle with unnormalised
+  /// normal m through a point P with d = m.P, weighted by w = 1 / (2 |m|) so that the
+  /// total is area * (squared distance). One triangle's plane can so be added in
+  /// several frames (P shifted) without recomputing its normal.
+  void add_plane(const Vec3d& m, double w, double d) {
+    a00 += w * m.x * m.x;
+    a01 += w * m.x * m.y;
+    a02 += w * m.x * m.z;
+    a11 += w * m.y * m.y;
+    a12 += w * m.y * m.z;
+    a22 += w * m.z * m.z;
+    b0 += w * d * m.x;
+    b1 += w * d * m.y;
+    b2 += w * d * m.z;
+    c += w * d * d;
+  }
   void add(const Quadric& o);
   /// E(x): the area-weighted sum of squared distances from x to the planes.
   double error(const Vec3d& x) const;

@@ -3,8 +3,11 @@
 #include "grid/grid_coord.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <queue>
 #include <stdexcept>
 #include <string>
 
@@ -12,47 +15,82 @@ namespace oocsimp {
 
 namespace {
 
-// Centres filed by the grid cell (side = cell size, anchored at the origin) that
-// holds them (§4). Cells are chained lists in arrays: head per grid cell, next per
-// centre. A grid cell holds at most 8 final centres, but provisional external
-// centres of a round may crowd it, so the lists are unbounded.
-class CentreGrid {
- public:
-  explicit CentreGrid(double size, std::size_t expected = 16) : size_(size) { rehash(4 * expected + 16); }
+// Cubes of side `size` anchored at the origin (§4's lookup grid) over a box known in
+// advance: the cubes holding every point that will be filed or queried, widened by one
+// cube on each side (a query reaches half a cube beyond its point).
+struct CubeBox {
+  GridCoord lo{std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::max(),
+               std::numeric_limits<std::int64_t>::max()};
+  GridCoord hi{std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::min(),
+               std::numeric_limits<std::int64_t>::min()};
+  void add(const GradedVertex& x, double size) {
+    GridCoord c = GridCoord::of(x.p, size);
+    lo = {std::min(lo.x, c.x - 1), std::min(lo.y, c.y - 1), std::min(lo.z, c.z - 1)};
+    hi = {std::max(hi.x, c.x + 1), std::max(hi.y, c.y + 1), std::max(hi.z, c.z + 1)};
+  }
+  void add(const std::vector<GradedVertex>& v, double size) {
+    for (const GradedVertex& x : v) add(x, size);
+  }
+};
 
-  void add(const GradedVertex& c) {
-    std::uint32_t id = std::uint32_t(centres_.size());
-    centres_.push_back(c);
-    std::uint32_t& head = head_of(GridCoord::of(c.p, size_));
-    next_.push_back(head);
-    head = id;
+// Items (ids 0, 1, 2, ... in filing order) filed by the cube holding their point, as
+// chained lists: a head per cube, a next per item. Over a box of at most kDenseCubes
+// cubes the heads are a dense array, so a lookup is arithmetic and neighbouring
+// cubes are neighbours in memory: every vertex probes up to 8 cubes, in an order
+// (by weight) that jumps all over the tile. Larger boxes fall back to open
+// addressing over the cube coordinates.
+class CubeLists {
+ public:
+  CubeLists(double size, const CubeBox& box, std::size_t expected_items) : size_(size), box_(box) {
+    if (box.lo.x > box.hi.x) box_.lo = box_.hi = GridCoord{};  // nothing will be filed
+    dims_[0] = box_.hi.x - box_.lo.x + 1;
+    dims_[1] = box_.hi.y - box_.lo.y + 1;
+    dims_[2] = box_.hi.z - box_.lo.z + 1;
+    double cubes = double(dims_[0]) * double(dims_[1]) * double(dims_[2]);
+    // Dense when the heads are not much more than the items (clearing them must not
+    // cost more than the lookups save) and fit kDenseCubes.
+    dense_ = cubes <= double(kDenseCubes) && cubes <= 64.0 * double(expected_items) + 4096;
+    if (dense_) dense_heads_.assign(std::size_t(cubes), kNone);
+    else rehash(4 * expected_items + 16);
+    next_.reserve(expected_items);
   }
 
-  /// Calls f(centre) for every filed centre whose cell may hold p.
+  /// Files an item at p (inside the box) and returns its id.
+  std::uint32_t add(const Vec3d& p) {
+    std::uint32_t id = std::uint32_t(next_.size());
+    std::uint32_t& head = head_of(GridCoord::of(p, size_));
+    next_.push_back(head);
+    head = id;
+    return id;
+  }
+
+  /// Calls f(id) for every filed item whose cube may hold a point of the cell
+  /// around p: the cell spans [p - s/2, p + s/2] on each axis, at most 2 cubes.
   template <class F>
   void for_each_near(const Vec3d& p, F&& f) const {
-    // The cell around p spans [p - s/2, p + s/2] on each axis: at most 2 grid cells.
-    // The range is widened by a relative epsilon so rounding in the division never
-    // drops a candidate; contains() decides exactly.
-    double h = 0.5 * size_ * (1 + 1e-12);
-    GridCoord lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size_);
-    GridCoord hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size_);
+    GridCoord lo, hi;
+    cubes_near(p, size_, &lo, &hi);
+    lo = {std::max(lo.x, box_.lo.x), std::max(lo.y, box_.lo.y), std::max(lo.z, box_.lo.z)};
+    hi = {std::min(hi.x, box_.hi.x), std::min(hi.y, box_.hi.y), std::min(hi.z, box_.hi.z)};
     for (std::int64_t x = lo.x; x <= hi.x; ++x)
       for (std::int64_t y = lo.y; y <= hi.y; ++y)
         for (std::int64_t z = lo.z; z <= hi.z; ++z)
-          for (std::uint32_t id = find(GridCoord{x, y, z}); id != kNone; id = next_[id]) f(centres_[id]);
+          for (std::uint32_t id = find(GridCoord{x, y, z}); id != kNone; id = next_[id]) f(id);
   }
 
  private:
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  static constexpr std::size_t kDenseCubes = std::size_t(1) << 20;  // 4 MiB of heads
   struct Slot {
     GridCoord cell;
     std::uint32_t head = kNone;  // kNone: empty slot
   };
 
-  // Open addressing with linear probing over grid cells: no allocation per lookup,
-  // which matters as every vertex probes up to 8 cells.
+  std::size_t dense_index(const GridCoord& c) const {
+    return std::size_t(((c.x - box_.lo.x) * dims_[1] + (c.y - box_.lo.y)) * dims_[2] + (c.z - box_.lo.z));
+  }
   std::uint32_t find(const GridCoord& c) const {
+    if (dense_) return dense_heads_[dense_index(c)];
     for (std::size_t s = GridCoordHash()(c) & mask_;; s = (s + 1) & mask_) {
       const Slot& slot = slots_[s];
       if (slot.head == kNone) return kNone;
@@ -60,6 +98,12 @@ class CentreGrid {
     }
   }
   std::uint32_t& head_of(const GridCoord& c) {
+    if (dense_) {
+      if (c.x < box_.lo.x || c.x > box_.hi.x || c.y < box_.lo.y || c.y > box_.hi.y || c.z < box_.lo.z ||
+          c.z > box_.hi.z)
+        throw std::logic_error("floating cells: a point outside the lookup box");
+      return dense_heads_[dense_index(c)];
+    }
     if (2 * (used_ + 1) > slots_.size()) rehash(2 * slots_.size());
     std::size_t s = GridCoordHash()(c) & mask_;
     while (slots_[s].head != kNone && !(slots_[s].cell == c)) s = (s + 1) & mask_;
@@ -67,7 +111,7 @@ class CentreGrid {
       slots_[s].cell = c;
       ++used_;
     }
-    return slots_[s].head;  // kNone for a new cell: the caller links the centre in
+    return slots_[s].head;  // kNone for a new cube: the caller links the item in
   }
   void rehash(std::size_t n) {
     std::size_t cap = 16;
@@ -84,116 +128,228 @@ class CentreGrid {
   }
 
   double size_;
-  std::vector<GradedVertex> centres_;
+  CubeBox box_;
+  std::int64_t dims_[3] = {1, 1, 1};
+  bool dense_ = true;
+  std::vector<std::uint32_t> dense_heads_;
   std::vector<std::uint32_t> next_;
   std::vector<Slot> slots_;
   std::size_t mask_ = 0, used_ = 0;
 };
 
-// Whether a centre filed in `grid` that precedes v holds v in its cell: in the
-// sequential visit, exactly the centres that precede v exist when v is visited.
-bool covered_by_preceding(const CentreGrid& grid, const GradedVertex& v, const FloatingCellShape& cell) {
-  bool covered = false;
-  grid.for_each_near(v.p, [&](const GradedVertex& c) {
-    if (!covered && precedes(c, v) && cell.contains(c.p, v.p)) covered = true;
-  });
-  return covered;
-}
-
 }  // namespace
 
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell) {
-  CentreGrid grid(cell.size, external.size() + sorted.size() / 4);
-  for (const GradedVertex& c : external) grid.add(c);
+  CubeBox box;
+  box.add(sorted, cell.size);
+  box.add(external, cell.size);
+  CubeLists grid(cell.size, box, external.size() + sorted.size() / 4);
+  std::vector<const GradedVertex*> filed;  // by id
+  filed.reserve(external.size() + sorted.size() / 4);
+  for (const GradedVertex& c : external) {
+    grid.add(c.p);
+    filed.push_back(&c);
+  }
   std::vector<GradedVertex> centres;
   for (const GradedVertex& v : sorted) {
-    if (!covered_by_preceding(grid, v, cell)) {
+    // In the sequential visit, exactly the centres that precede v exist when v is
+    // visited; v is a centre unless one of them holds it.
+    bool covered = false;
+    grid.for_each_near(v.p, [&](std::uint32_t id) {
+      if (!covered && precedes(*filed[id], v) && cell.contains(filed[id]->p, v.p)) covered = true;
+    });
+    if (!covered) {
       centres.push_back(v);
-      grid.add(v);
+      grid.add(v.p);
+      filed.push_back(&v);
     }
   }
   return centres;
 }
 
-std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
-                                           const std::vector<GradedVertex>& old_centres,
-                                           const std::vector<GradedVertex>& old_external,
-                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
-  // The changed items so far: externals added or removed (symmetric difference of
-  // two precedes-sorted lists), later also own vertices whose decision flipped.
-  CentreGrid changed(cell.size, 64);
-  const GradedVertex* heaviest_change = nullptr;
-  // Quick rejection: the grid cubes within reach of a changed item (its cube and
-  // the 26 around it); a vertex in no such cube is far from every change.
-  GridCoordSet reach;
-  auto grow = [&](const Vec3d& p) { reach.insert_block(GridCoord::of(p, cell.size)); };
-  {
-    std::size_t i = 0, j = 0;
-    auto note = [&](const GradedVertex& c) {
-      changed.add(c);
-      grow(c.p);
-      if (!heaviest_change || precedes(c, *heaviest_change)) heaviest_change = &c;
-    };
-    while (i < old_external.size() || j < new_external.size()) {
-      if (j == new_external.size() || (i < old_external.size() && precedes(old_external[i], new_external[j]))) {
-        note(old_external[i++]);
-      } else if (i == old_external.size() || precedes(new_external[j], old_external[i])) {
-        note(new_external[j++]);
-      } else {  // same priority: the same vertex
-        ++i;
-        ++j;
+namespace {
+
+// The externals added or removed: the symmetric difference of two precedes-sorted lists.
+std::vector<const GradedVertex*> changed_externals(const std::vector<GradedVertex>& old_external,
+                                                   const std::vector<GradedVertex>& new_external) {
+  std::vector<const GradedVertex*> changed;
+  for (std::size_t i = 0, j = 0; i < old_external.size() || j < new_external.size();) {
+    if (j == new_external.size() || (i < old_external.size() && precedes(old_external[i], new_external[j])))
+      changed.push_back(&old_external[i++]);
+    else if (i == old_external.size() || precedes(new_external[j], old_external[i]))
+      changed.push_back(&new_external[j++]);
+    else {  // same priority: the same vertex
+      ++i;
+      ++j;
+    }
+  }
+  return changed;
+}
+
+// is_centre over `vertices` from `centres`, a subsequence of them (both in precedes order).
+std::vector<char> decisions(const std::vector<GradedVertex>& vertices, const std::vector<GradedVertex>& centres) {
+  std::vector<char> is_centre(vertices.size(), 0);
+  for (std::size_t i = 0, k = 0; i < vertices.size() && k < centres.size(); ++i)
+    if (centres[k].index == vertices[i].index) {
+      is_centre[i] = 1;
+      ++k;
+    }
+  return is_centre;
+}
+
+}  // namespace
+
+// --- TileVertexBlock ---
+
+struct TileVertexBlock::Header {
+  std::uint64_t count, cubes;
+  std::int64_t origin[3];
+  double cell_size;
+};
+
+std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex>& sorted,
+                                                  const std::vector<GradedVertex>& centres, double cell_size) {
+  Header h{};
+  h.count = sorted.size();
+  h.cell_size = cell_size;
+  CubeBox box;
+  box.add(sorted, cell_size);
+  if (sorted.empty()) box.lo = box.hi = GridCoord{};
+  h.origin[0] = box.lo.x;
+  h.origin[1] = box.lo.y;
+  h.origin[2] = box.lo.z;
+  if (box.hi.x - box.lo.x >= kKeyRange || box.hi.y - box.lo.y >= kKeyRange || box.hi.z - box.lo.z >= kKeyRange)
+    throw std::logic_error("floating cells: a tile spans more than 2^21 cells");
+  // (cube key, position) sorted: positions grouped by cube, in precedes order within.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> filed(sorted.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    GridCoord c = GridCoord::of(sorted[i].p, cell_size);
+    filed[i] = {pack(c.x - h.origin[0], c.y - h.origin[1], c.z - h.origin[2]), std::uint32_t(i)};
+  }
+  std::sort(filed.begin(), filed.end());
+  std::vector<std::uint64_t> keys;
+  std::vector<std::uint32_t> starts;
+  for (std::size_t i = 0; i < filed.size(); ++i)
+    if (i == 0 || filed[i].first != filed[i - 1].first) {
+      keys.push_back(filed[i].first);
+      starts.push_back(std::uint32_t(i));
+    }
+  starts.push_back(std::uint32_t(filed.size()));
+  h.cubes = keys.size();
+
+  TileVertexBlock layout(h);
+  std::vector<unsigned char> bytes(layout.bytes_, 0);
+  std::memcpy(bytes.data(), &h, sizeof h);
+  TileVertexBlock b(bytes.data());
+  if (!sorted.empty()) std::memcpy(b.vertices_, sorted.data(), sorted.size() * sizeof(GradedVertex));
+  if (!keys.empty()) std::memcpy(b.cube_keys_, keys.data(), keys.size() * sizeof(std::uint64_t));
+  std::memcpy(b.cube_starts_, starts.data(), starts.size() * sizeof(std::uint32_t));
+  for (std::size_t i = 0; i < filed.size(); ++i) b.by_cube_[i] = filed[i].second;
+  std::vector<char> is_centre = decisions(sorted, centres);
+  if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());
+  return bytes;
+}
+
+TileVertexBlock::TileVertexBlock(const Header& h) { lay_out(nullptr, h); }
+
+TileVertexBlock::TileVertexBlock(unsigned char* block) {
+  Header h;
+  std::memcpy(&h, block, sizeof h);
+  lay_out(block, h);
+}
+
+void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
+  count_ = std::size_t(h.count);
+  cubes_ = std::size_t(h.cubes);
+  for (int a = 0; a < 3; ++a) origin_[a] = h.origin[a];
+  cell_size_ = h.cell_size;
+  std::size_t at = sizeof(Header);
+  auto take = [&](std::size_t bytes) {
+    unsigned char* p = base ? base + at : nullptr;
+    at += (bytes + 7) & ~std::size_t(7);
+    return p;
+  };
+  vertices_ = reinterpret_cast<GradedVertex*>(take(count_ * sizeof(GradedVertex)));
+  cube_keys_ = reinterpret_cast<std::uint64_t*>(take(cubes_ * sizeof(std::uint64_t)));
+  cube_starts_ = reinterpret_cast<std::uint32_t*>(take((cubes_ + 1) * sizeof(std::uint32_t)));
+  by_cube_ = reinterpret_cast<std::uint32_t*>(take(count_ * sizeof(std::uint32_t)));
+  is_centre_ = reinterpret_cast<char*>(take(count_));
+  bytes_ = at;
+}
+
+std::vector<GradedVertex> TileVertexBlock::centres() const {
+  std::vector<GradedVertex> out;
+  for (std::size_t i = 0; i < count_; ++i)
+    if (is_centre_[i]) out.push_back(vertices_[i]);
+  return out;
+}
+
+bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,
+                      const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
+  std::vector<const GradedVertex*> changed = changed_externals(old_external, new_external);
+  if (changed.empty()) return false;
+  const std::size_t n = block.size();
+  CubeBox box;
+  box.add(new_external, cell.size);
+  CubeLists externals(cell.size, box, new_external.size());
+  for (const GradedVertex& e : new_external) externals.add(e.p);  // id == position
+
+  // Only a vertex whose cell holds a changed item preceding it can change: an
+  // external added or removed, or a vertex of the tile whose decision flipped.
+  // Vertices are re-decided heaviest first and a flip queues only lighter ones, so
+  // when a vertex is decided every heavier decision is final; the others keep theirs.
+  std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<std::uint32_t>> queue;
+  std::vector<char> queued(n, 0);
+  auto queue_reached = [&](const Vec3d& p, auto&& preceded_by) {
+    block.any_near(p, [&](std::uint32_t j) {
+      if (!queued[j] && preceded_by(j) && cell.contains(p, block.vertex(j).p)) {
+        queued[j] = 1;
+        queue.push(j);
       }
-    }
-  }
-  if (!heaviest_change) return old_centres;
-  // Nothing that precedes the heaviest change can flip: resume there.
-  std::size_t start = std::size_t(std::partition_point(sorted.begin(), sorted.end(), [&](const GradedVertex& v) {
-                                    return precedes(v, *heaviest_change);
-                                  }) - sorted.begin());
-  CentreGrid grid(cell.size, new_external.size() + old_centres.size());
-  for (const GradedVertex& c : new_external) grid.add(c);
-  std::vector<GradedVertex> centres;
-  std::size_t k = 0;  // walks old_centres alongside sorted
-  for (; k < old_centres.size() && precedes(old_centres[k], *heaviest_change); ++k) {
-    centres.push_back(old_centres[k]);
-    grid.add(old_centres[k]);
-  }
-  for (std::size_t i = start; i < sorted.size(); ++i) {
-    const GradedVertex& v = sorted[i];
-    bool was_centre = k < old_centres.size() && old_centres[k].index == v.index;
-    if (was_centre) ++k;
-    bool near_change = false;
-    if (reach.contains(GridCoord::of(v.p, cell.size)))
-      changed.for_each_near(v.p, [&](const GradedVertex& c) {
-        if (!near_change && precedes(c, v) && cell.contains(c.p, v.p)) near_change = true;
+      return false;
+    });
+  };
+  for (const GradedVertex* c : changed)
+    queue_reached(c->p, [&](std::uint32_t j) { return precedes(*c, block.vertex(j)); });
+  bool any = false;
+  while (!queue.empty()) {
+    std::uint32_t i = queue.top();
+    queue.pop();
+    const GradedVertex& v = block.vertex(i);
+    bool covered = block.any_near(v.p, [&](std::uint32_t k) {
+      return k < i && block.is_centre(k) && cell.contains(block.vertex(k).p, v.p);
+    });
+    if (!covered)
+      externals.for_each_near(v.p, [&](std::uint32_t id) {
+        const GradedVertex& e = new_external[id];
+        if (!covered && precedes(e, v) && cell.contains(e.p, v.p)) covered = true;
       });
-    bool is_centre = near_change ? !covered_by_preceding(grid, v, cell) : was_centre;
-    if (is_centre != was_centre) {
-      changed.add(v);
-      grow(v.p);
-    }
-    if (is_centre) {
-      centres.push_back(v);
-      grid.add(v);
-    }
+    if (!covered == block.is_centre(i)) continue;
+    block.set_centre(i, !covered);
+    any = true;
+    queue_reached(v.p, [&](std::uint32_t j) { return j > i; });
   }
-  return centres;
+  return any;
 }
 
-std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
+std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
                                              const std::vector<GradedVertex>& centres, const FloatingCellShape& cell,
                                              AssignRule rule) {
-  CentreGrid grid(cell.size, centres.size());
-  for (const GradedVertex& c : centres) grid.add(c);
-  std::vector<std::uint64_t> out(vertices.size());
+  CubeBox box;
+  box.add(vertices, cell.size);
+  box.add(centres, cell.size);
+  CubeLists grid(cell.size, box, centres.size());
+  for (const GradedVertex& c : centres) grid.add(c.p);  // id == position in centres
+  std::vector<std::uint32_t> out(vertices.size());
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     const GradedVertex& v = vertices[i];
     const GradedVertex* best = nullptr;
+    const GradedVertex* self = nullptr;
     double best_d2 = 0;
-    bool is_centre = false;
-    grid.for_each_near(v.p, [&](const GradedVertex& c) {
-      if (c.index == v.index) is_centre = true;
+    grid.for_each_near(v.p, [&](std::uint32_t id) {
+      const GradedVertex& c = centres[id];
+      if (c.index == v.index) self = &c;
       if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
       double dx = v.p.x - c.p.x, dy = v.p.y - c.p.y, dz = v.p.z - c.p.z;
       double d2 = dx * dx + dy * dy + dz * dz;
@@ -206,8 +362,8 @@ std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& ve
         best_d2 = d2;
       }
     });
-    if (is_centre) out[i] = v.index;
-    else if (best) out[i] = best->index;
+    if (self) out[i] = std::uint32_t(self - centres.data());
+    else if (best) out[i] = std::uint32_t(best - centres.data());
     else throw std::logic_error("floating cells: vertex " + std::to_string(v.index) + " is covered by no centre");
   }
   return out;

@@ -2,11 +2,13 @@
 // See floating_cells_design.md for how tiles combine into the exact global result.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
+#include "grid/grid_coord.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
@@ -31,6 +33,16 @@ struct FloatingCellShape {
   }
 };
 
+/// The cubes (side `size`, anchored at the origin: §4's lookup grid) that the cell
+/// around p, [p - size/2, p + size/2] on each axis, overlaps: at most 2 per axis,
+/// from *lo to *hi. Widened by a relative epsilon so rounding in the division never
+/// drops a candidate; FloatingCellShape::contains decides exactly.
+inline void cubes_near(const Vec3d& p, double size, GridCoord* lo, GridCoord* hi) {
+  double h = 0.5 * size * (1 + 1e-12);
+  *lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size);
+  *hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size);
+}
+
 /// The centres among `sorted` (vertices in `precedes` order) chosen by the §3.2
 /// greedy: a vertex becomes a centre unless a centre heavier than it holds it in its
 /// cell. `external` are centres owned by other tiles; each covers only vertices it
@@ -40,24 +52,87 @@ struct FloatingCellShape {
 std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted,
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell);
 
-/// The greedy again after the external centres changed from `old_external` to
-/// `new_external` (both in `precedes` order), given `old_centres`, its result for the
-/// old input. Only vertices near a change are re-decided: a vertex whose cell holds
-/// no changed item (an external centre added or removed, or a vertex of the tile
-/// whose decision changed earlier in the pass) keeps its decision, because the
-/// heavier centres around it are the same. Returns the same as choose_centres with
-/// `new_external`, in time proportional to the tile plus the changes.
-std::vector<GradedVertex> rechoose_centres(const std::vector<GradedVertex>& sorted,
-                                           const std::vector<GradedVertex>& old_centres,
-                                           const std::vector<GradedVertex>& old_external,
-                                           const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
+/// A tile's graded vertices laid out for the rounds in one block of bytes (in the
+/// clusterer, a TileBlockFile block): in `precedes` order, filed by lookup cube
+/// (§4's grid: cubes of the cell size, anchored at the origin), with their current
+/// decisions. Built once per tile; re-runs read it and update the decisions in place,
+/// so a round costs what its changes reach, not the whole tile.
+class TileVertexBlock {
+ public:
+  /// The bytes of a block for `sorted` (in `precedes` order) whose centres are
+  /// `centres` (a subsequence of `sorted`). Throws std::logic_error for vertices
+  /// spanning more than 2^21 cells on an axis.
+  static std::vector<unsigned char> build(const std::vector<GradedVertex>& sorted,
+                                          const std::vector<GradedVertex>& centres, double cell_size);
+  /// A view of the block at `block`, made by build() (8-byte aligned).
+  explicit TileVertexBlock(unsigned char* block);
 
-/// For each vertex of `vertices`, the input index of the centre of its cluster:
-/// among the centres in `centres` that precede it and hold it in their cell, the
-/// nearest (ties: the one that precedes) or the heaviest, by `rule`. A centre is its
-/// own cluster. Throws std::logic_error for a vertex no centre covers (the centres
-/// were not the greedy result for these vertices).
-std::vector<std::uint64_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
+  std::size_t size() const { return count_; }
+  const GradedVertex& vertex(std::size_t i) const { return vertices_[i]; }
+  const GradedVertex* vertices() const { return vertices_; }
+  bool is_centre(std::size_t i) const { return is_centre_[i] != 0; }
+  void set_centre(std::size_t i, bool c) { is_centre_[i] = char(c); }
+  /// The centres, in `precedes` order.
+  std::vector<GradedVertex> centres() const;
+  /// Calls f(i) for the vertices i whose cube the cell around p overlaps until f
+  /// returns true; returns whether one did.
+  template <class F>
+  bool any_near(const Vec3d& p, F&& f) const {
+    GridCoord lo, hi;
+    cubes_near(p, cell_size_, &lo, &hi);
+    auto from = [](std::int64_t c, std::int64_t o) { return std::max(c - o, std::int64_t(0)); };
+    auto to = [](std::int64_t c, std::int64_t o) { return std::min(c - o, kKeyRange - 1); };
+    for (std::int64_t x = from(lo.x, origin_[0]); x <= to(hi.x, origin_[0]); ++x)
+      for (std::int64_t y = from(lo.y, origin_[1]); y <= to(hi.y, origin_[1]); ++y)
+        for (std::int64_t z = from(lo.z, origin_[2]); z <= to(hi.z, origin_[2]); ++z) {
+          std::uint64_t key = pack(x, y, z);
+          const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
+          if (k == cube_keys_ + cubes_ || *k != key) continue;
+          std::size_t c = std::size_t(k - cube_keys_);
+          for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1]; ++j)
+            if (f(by_cube_[j])) return true;
+        }
+    return false;
+  }
+
+ private:
+  struct Header;
+  explicit TileVertexBlock(const Header& h);  // sizes only, for build()
+  void lay_out(unsigned char* base, const Header& h);
+  // Cube keys: coordinates relative to the block's origin cube, 21 bits per axis.
+  static constexpr int kKeyBits = 21;
+  static constexpr std::int64_t kKeyRange = std::int64_t(1) << kKeyBits;
+  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return std::uint64_t(x) << (2 * kKeyBits) | std::uint64_t(y) << kKeyBits | std::uint64_t(z);
+  }
+
+  std::size_t count_ = 0, cubes_ = 0, bytes_ = 0;
+  std::int64_t origin_[3] = {0, 0, 0};
+  double cell_size_ = 1;
+  GradedVertex* vertices_ = nullptr;
+  std::uint64_t* cube_keys_ = nullptr;    // occupied cubes, sorted
+  std::uint32_t* cube_starts_ = nullptr;  // per cube, its first entry in by_cube_
+  std::uint32_t* by_cube_ = nullptr;      // vertex positions grouped by cube
+  char* is_centre_ = nullptr;
+};
+
+/// The greedy again, in place, after the external centres of `block`'s tile
+/// changed from `old_external` to `new_external` (both in `precedes` order): only
+/// vertices near a change are re-decided. A vertex whose cell holds no changed item
+/// (an external centre added or removed, or a vertex whose decision changed earlier
+/// in the pass) keeps its decision, because the heavier centres around it are the
+/// same. Afterwards the block holds what choose_centres gives with `new_external`;
+/// the time is proportional to what the changes reach. Returns whether any
+/// decision changed.
+bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,
+                      const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell);
+
+/// For each vertex of `vertices` (in any order), the position in `centres` of the
+/// centre of its cluster: among the centres that precede it and hold it in their
+/// cell, the nearest (ties: the one that precedes) or the heaviest, by `rule`. A
+/// centre is its own cluster. Throws std::logic_error for a vertex no centre covers
+/// (the centres were not the greedy result for these vertices).
+std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& vertices,
                                              const std::vector<GradedVertex>& centres, const FloatingCellShape& cell,
                                              AssignRule rule);
 

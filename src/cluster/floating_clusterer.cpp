@@ -41,6 +41,7 @@
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
+#include "grid/tile_block_file.hpp"
 #include "grid/tile_spill_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
@@ -203,10 +204,15 @@ class FloatingRun {
     unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
     double side = options_.tile_side;
     if (side <= 0) {
-      double per_tile = std::max(1.0, double(budget) / 2 / threads / kBytesPerTriangle);
+      // Tiles beyond kMaxTileTriangles outgrow the processor caches: measured on the
+      // 10M sphere (--grid 256, 1 thread), 8 tiles of 1.25M triangles took 23.7 s,
+      // 128 tiles of 78k 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
+      constexpr double kMaxTileTriangles = 1 << 16;
+      double per_tile =
+          std::clamp(double(budget) / 2 / threads / kBytesPerTriangle, 1.0, kMaxTileTriangles);
       double tiles_needed = std::max(1.0, double(input_.info.face_count) / per_tile);
       // Enough tiles to keep every thread busy, once tiles are worth their overhead.
-      constexpr double kMinTileTriangles = 1 << 17;
+      constexpr double kMinTileTriangles = 1 << 15;
       tiles_needed = std::max(tiles_needed, std::min(4.0 * threads, double(input_.info.face_count) / kMinTileTriangles));
       const Box3d& b = input_.info.bounds;
       double longest = b.empty() ? 1 : std::max({b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z});
@@ -330,9 +336,10 @@ class FloatingRun {
     return t;
   }
 
-  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const {
+  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const { return load_graded(*vertices_, tile); }
+  static std::vector<GradedVertex> load_graded(const TileSpillFile& spill, std::uint32_t tile) {
     std::vector<unsigned char> bytes;
-    vertices_->read(tile, &bytes);
+    spill.read(tile, &bytes);
     std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
     if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
@@ -358,7 +365,7 @@ class FloatingRun {
                                              const std::vector<std::vector<GradedVertex>>& borders) const {
     std::vector<GradedVertex> ext;
     for (std::uint32_t n : neighbours(tile)) ext.insert(ext.end(), borders[n].begin(), borders[n].end());
-    std::sort(ext.begin(), ext.end(), precedes);
+    std::sort(ext.begin(), ext.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
     return ext;
   }
 
@@ -377,6 +384,7 @@ class FloatingRun {
     std::atomic<std::uint32_t> done{0};
     // Round 1: grade, sort and spill every tile's vertices; greedy without
     // external centres.
+    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", n);
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       std::vector<std::uint64_t> owned, flat(3 * tris.size());
@@ -396,12 +404,15 @@ class FloatingRun {
         }
       std::vector<GradedVertex> graded =
           grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
-      std::sort(graded.begin(), graded.end(), precedes);
-      vertices_->append(tile, graded.data(), graded.size());
+      std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
+      if (options_.keep_temp) vertices_->append(tile, graded.data(), graded.size());
       centres_[tile] = choose_centres(graded, {}, cell_);
+      std::vector<unsigned char> block = TileVertexBlock::build(graded, centres_[tile], cell_.size);
+      blocks_->put(tile, block.data(), block.size());
       if (progress) progress->set(++done);
     });
     vertices_->flush();
+    blocks_->map();
     if (progress) progress->end();
   }
 
@@ -492,9 +503,14 @@ class FloatingRun {
 
   // Round 1 on kept tiles: the graded vertices are on disk already.
   void choose_from_kept() {
+    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", triangles_->tile_count());
     tbb::parallel_for(std::uint32_t(0), triangles_->tile_count(), [&](std::uint32_t tile) {
-      centres_[tile] = choose_centres(load_vertices(tile), {}, cell_);
+      std::vector<GradedVertex> sorted = load_vertices(tile);
+      centres_[tile] = choose_centres(sorted, {}, cell_);
+      std::vector<unsigned char> block = TileVertexBlock::build(sorted, centres_[tile], cell_.size);
+      blocks_->put(tile, block.data(), block.size());
     });
+    blocks_->map();
   }
 
   void run_rounds() {
@@ -527,7 +543,8 @@ class FloatingRun {
       tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
         std::uint32_t tile = dirty[i];
         std::vector<GradedVertex> old_ext = external_centres(tile, previous), new_ext = external_centres(tile, border_);
-        centres_[tile] = rechoose_centres(load_vertices(tile), centres_[tile], old_ext, new_ext, cell_);
+        TileVertexBlock block(blocks_->block(tile));
+        if (rechoose_centres(block, old_ext, new_ext, cell_)) centres_[tile] = block.centres();
       });
       previous.swap(border_);
     }
@@ -549,18 +566,22 @@ class FloatingRun {
     std::mutex merge;
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
-      std::vector<GradedVertex> owned = load_vertices(tile);
+      // Owned vertices by input index: assignment and the triangle loop below then
+      // visit them roughly in the input's order, which keeps lookups near each other.
+      TileVertexBlock block(blocks_->block(tile));
+      std::vector<GradedVertex> owned(block.vertices(), block.vertices() + block.size());
+      std::sort(owned.begin(), owned.end(),
+                [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
+      std::vector<std::uint64_t> owned_key(owned.size());
+      for (std::size_t i = 0; i < owned.size(); ++i) owned_key[i] = owned[i].index;
+      auto local_of = [&](std::uint64_t v) {
+        return std::size_t(std::lower_bound(owned_key.begin(), owned_key.end(), v) - owned_key.begin());
+      };
       std::vector<GradedVertex> near = centres_[tile];
       std::vector<GradedVertex> ext = external_centres(tile, border_);
       near.insert(near.end(), ext.begin(), ext.end());
-      std::vector<std::uint64_t> cluster_of = assign_to_centres(owned, near, cell_, options_.assign);
-
-      // Dense local ids: owned vertices by input index, clusters by centre index.
-      CellMap<std::uint32_t> owned_id(2 * owned.size() + 16), cluster_id(2 * near.size() + 16);
-      for (std::size_t i = 0; i < owned.size(); ++i) owned_id.insert(owned[i].index);  // id == i
-      for (const GradedVertex& c : near) cluster_id.insert(c.index);                     // id == position in near
-      std::vector<std::uint32_t> local_cluster(owned.size());
-      for (std::size_t i = 0; i < owned.size(); ++i) local_cluster[i] = std::uint32_t(cluster_id.find(cluster_of[i]));
+      // Per owned vertex: the position in `near` of its cluster's centre.
+      std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell_, options_.assign);
 
       // Vertex quadrics (Garland & Heckbert: the sum of the incident faces' plane
       // quadrics), in double, relative to the vertex's cluster centre in cell
@@ -572,34 +593,41 @@ class FloatingRun {
       std::vector<CornerRecord> corners;
       const double inv = 1.0 / cell_.size;
       for (const TriangleRecord& r : tris) {
-        std::int64_t local[3];
+        std::size_t local[3];
         int owned_count = 0;
         for (int k = 0; k < 3; ++k) {
-          local[k] = r.owned(k) ? owned_id.find(r.v[k]) : -1;
-          owned_count += local[k] >= 0;
+          local[k] = r.owned(k) ? local_of(r.v[k]) : SIZE_MAX;
+          owned_count += local[k] != SIZE_MAX;
         }
         Vec3d p[3] = {input_.positions.get(r.v[0]), input_.positions.get(r.v[1]), input_.positions.get(r.v[2])};
-        for (int k = 0; k < 3; ++k) {
-          if (local[k] < 0) continue;
-          const Vec3d& c = near[local_cluster[std::size_t(local[k])]].p;
-          Vec3d q[3];
-          for (int m = 0; m < 3; ++m) q[m] = {(p[m].x - c.x) * inv, (p[m].y - c.y) * inv, (p[m].z - c.z) * inv};
-          vertex_q[std::size_t(local[k])].add_triangle(q[0], q[1], q[2]);
-        }
+        // The face's plane once, in cell units relative to its first corner; each
+        // owned corner adds it relative to its own cluster's centre.
+        Vec3d e1{(p[1].x - p[0].x) * inv, (p[1].y - p[0].y) * inv, (p[1].z - p[0].z) * inv};
+        Vec3d e2{(p[2].x - p[0].x) * inv, (p[2].y - p[0].y) * inv, (p[2].z - p[0].z) * inv};
+        Vec3d m{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+        double len = std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z);  // twice the area, in cells^2
+        if (len > 0)
+          for (int k = 0; k < 3; ++k) {
+            if (local[k] == SIZE_MAX) continue;
+            const Vec3d& c = near[cluster_of[local[k]]].p;
+            double d = m.x * (p[0].x - c.x) * inv + m.y * (p[0].y - c.y) * inv + m.z * (p[0].z - c.z) * inv;
+            vertex_q[local[k]].add_plane(m, 0.5 / len, d);
+          }
         if (owned_count == 3) {
-          std::uint64_t c0 = cluster_of[std::size_t(local[0])], c1 = cluster_of[std::size_t(local[1])],
-                        c2 = cluster_of[std::size_t(local[2])];
+          std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
+                        c2 = near[cluster_of[local[2]]].index;
           if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back({r.index(), c0, c1, c2});
         } else {
           for (int k = 0; k < 3; ++k)
-            if (local[k] >= 0) corners.push_back({r.index() << 2 | std::uint64_t(k), cluster_of[std::size_t(local[k])]});
+            if (local[k] != SIZE_MAX)
+              corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index});
         }
       }
       std::vector<ClusterRecord> sums(near.size());
       for (std::size_t i = 0; i < owned.size(); ++i) {
-        ClusterRecord& s = sums[local_cluster[i]];
+        ClusterRecord& s = sums[cluster_of[i]];
         const Quadric& q = vertex_q[i];
-        const Vec3d& c = near[local_cluster[i]].p;
+        const Vec3d& c = near[cluster_of[i]].p;
         double terms[12] = {q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2,
                             (owned[i].p.x - c.x) * inv, (owned[i].p.y - c.y) * inv, (owned[i].p.z - c.z) * inv};
         for (int k = 0; k < 12; ++k) s.sum[k].add(Fixed::of(terms[k]));
@@ -653,9 +681,10 @@ class FloatingRun {
       bucket_kept.clear();
     }
     if (stats_) {
-      stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk();
-      stats_->spill_raw_bytes =
-          triangles_->bytes_appended() + vertices_->bytes_appended() + corners_->bytes_appended();
+      stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
+                            blocks_->bytes_on_disk();
+      stats_->spill_raw_bytes = triangles_->bytes_appended() + vertices_->bytes_appended() +
+                                corners_->bytes_appended() + blocks_->bytes_on_disk();
     }
   }
 
@@ -685,22 +714,28 @@ class FloatingRun {
     return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
   }
 
-  static std::array<std::uint64_t, 3> triple(const std::array<std::uint64_t, 4>& k) {
-    std::array<std::uint64_t, 3> s = {k[1], k[2], k[3]};
-    std::sort(s.begin(), s.end());
-    return s;
-  }
-
   // Each cluster triple once, the occurrence with the smallest input index (its
   // orientation and its place in the output order): a minimum, so it does not
   // depend on the order in which tiles report.
   static void dedupe(std::vector<std::array<std::uint64_t, 4>>& kept) {
-    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) {
-      auto ta = triple(a), tb = triple(b);
-      return ta != tb ? ta < tb : a[0] < b[0];
+    struct Keyed {
+      std::array<std::uint64_t, 3> triple;  // the clusters, sorted
+      std::size_t at;                       // position in kept
+    };
+    std::vector<Keyed> keys(kept.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      std::array<std::uint64_t, 3> s = {kept[i][1], kept[i][2], kept[i][3]};
+      std::sort(s.begin(), s.end());
+      keys[i] = {s, i};
+    }
+    std::sort(keys.begin(), keys.end(), [&](const Keyed& a, const Keyed& b) {
+      return a.triple != b.triple ? a.triple < b.triple : kept[a.at][0] < kept[b.at][0];
     });
-    kept.erase(std::unique(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return triple(a) == triple(b); }),
-               kept.end());
+    std::vector<std::array<std::uint64_t, 4>> out;
+    out.reserve(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      if (i == 0 || keys[i].triple != keys[i - 1].triple) out.push_back(kept[keys[i].at]);
+    kept.swap(out);
   }
 
   SimplifiedMesh assemble() {
@@ -745,6 +780,9 @@ class FloatingRun {
   SimplifyStats* stats_;
   TileGeometry tiles_;
   std::unique_ptr<TileSpillFile> triangles_, vertices_, corners_;
+  // Per tile its graded vertices for the rounds and the clustering (TileVertexBlock).
+  // The vertices_ spill holds the same only for --keep-tmp, in the kept format.
+  std::unique_ptr<TileBlockFile> blocks_;
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_ids_;
   std::vector<GridCoord> tile_coords_;
   std::vector<TriangleRecord> run_buffer_;

@@ -13,18 +13,8 @@ void Quadric::add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
   if (!(len > 0)) return;
   // Area-weighted plane quadric: area * (n n^T, -d n, d^2) with unit n and d = -n.p.
   // With the unnormalised normal m (|m| = 2 area): area * n n^T = m m^T / (2 |m|).
-  double w = 0.5 / len;
   double d = nx * p.x + ny * p.y + nz * p.z;  // |m| * (n.p)
-  a00 += w * nx * nx;
-  a01 += w * nx * ny;
-  a02 += w * nx * nz;
-  a11 += w * ny * ny;
-  a12 += w * ny * nz;
-  a22 += w * nz * nz;
-  b0 += w * d * nx;
-  b1 += w * d * ny;
-  b2 += w * d * nz;
-  c += w * d * d;
+  add_plane({nx, ny, nz}, 0.5 / len, d);
 }
 
 void Quadric::add(const Quadric& o) {

@@ -1,0 +1,61 @@
+#include <catch2/catch.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "grid/tile_block_file.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+
+namespace {
+
+std::vector<unsigned char> pattern(std::uint32_t tile) {
+  std::vector<unsigned char> b(tile % 5 == 0 ? 0 : 37 * tile + 3);  // odd sizes, some empty
+  for (std::size_t i = 0; i < b.size(); ++i) b[i] = static_cast<unsigned char>(tile * 31 + i);
+  return b;
+}
+
+std::size_t files_named(const oocsimp_test::ScratchDir& dir, const std::string& prefix) {
+  std::size_t n = 0;
+  for (const std::string& e : dir.entries()) n += e.rfind(prefix, 0) == 0;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("tile blocks written from many threads read back in place, aligned and writable", "[tiles]") {
+  oocsimp_test::ScratchDir scratch;
+  const std::string& dir = scratch.path();
+  constexpr std::uint32_t kTiles = 200;
+  {
+    TileBlockFile f(dir, "blocks-test", kTiles);
+    tbb::parallel_for(std::uint32_t(0), kTiles, [&](std::uint32_t t) {
+      std::vector<unsigned char> b = pattern(t);
+      f.put(t, b.data(), b.size());
+    });
+    f.map();
+    for (std::uint32_t t = 0; t < kTiles; ++t) {
+      std::vector<unsigned char> b = pattern(t);
+      REQUIRE(f.block_size(t) == b.size());
+      if (b.empty()) {
+        CHECK(f.block(t) == nullptr);
+        continue;
+      }
+      REQUIRE(f.block(t) != nullptr);
+      CHECK(reinterpret_cast<std::uintptr_t>(f.block(t)) % 8 == 0);
+      CHECK(std::memcmp(f.block(t), b.data(), b.size()) == 0);
+    }
+    // Blocks are updated in place and do not overlap.
+    for (std::uint32_t t = 0; t < kTiles; ++t)
+      if (f.block_size(t)) std::memset(f.block(t), int(t & 0xff), f.block_size(t));
+    for (std::uint32_t t = 0; t < kTiles; ++t)
+      for (std::size_t i = 0; i < f.block_size(t); ++i) REQUIRE(f.block(t)[i] == static_cast<unsigned char>(t));
+    CHECK(files_named(scratch, "oocsimp-blocks-test-") == 1);
+  }
+  CHECK(files_named(scratch, "oocsimp-blocks-test-") == 0);  // the file goes with its owner
+}
