@@ -36,7 +36,7 @@ void check_float_range(const MeshInput& input) {
   for (std::uint64_t i = 0; i < input.positions.count; ++i) {
     Vec3d p = input.positions.get(i);
     for (double c : {p.x, p.y, p.z})
-      if (std::abs(c) > kMax) {
+      if (std::isfinite(c) && std::abs(c) > kMax) {  // non-finite vertices are skipped, not out of range
         std::ostringstream msg;
         msg << input.info.path << ": vertex " << i << " has the coordinate " << c
             << ", beyond the float range of the output";
@@ -75,6 +75,9 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   st.input_vertices = input.positions.count;
+  st.non_finite_vertices = input.info.non_finite_vertices;
+  st.first_non_finite_vertex = input.info.first_non_finite_vertex;
+  st.first_non_finite_position = input.info.first_non_finite_position;
   st.cell_size = grid.cell;
   for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
   input.restart_triangles();
@@ -120,7 +123,10 @@ void simplify_file(const std::string& input_path, const std::string& output_path
   double t1 = now_seconds();
   SimplifiedMesh mesh = simplify(input, options, &st);
   double t2 = now_seconds();
-  write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+  {
+    ProgressPhase phase(options.progress, "write", 0, "B");
+    write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+  }
   double t3 = now_seconds();
   st.seconds_open = t1 - t0;
   st.seconds_write = t3 - t2;
@@ -132,6 +138,27 @@ void simplify_file(const std::string& input_path, const std::string& output_path
 }  // namespace oocsimp
 
 namespace oocsimp {
+
+std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& s) {
+  if (s.skipped.total() == 0 && s.non_finite_vertices == 0) return "";
+  auto count = [](std::uint64_t n, const char* noun, const char* what) {
+    std::string plural = std::string(noun) == "vertex" ? "vertices" : std::string(noun) + "s";
+    return std::to_string(n) + " " + (n == 1 ? std::string(noun) : plural) + what;
+  };
+  std::string parts;
+  auto add = [&](std::uint64_t n, const char* noun, const char* what) {
+    if (n > 0) parts += (parts.empty() ? "" : ", ") + count(n, noun, what);
+  };
+  add(s.skipped.non_finite, "triangle", " with a NaN or infinite corner");
+  add(s.skipped.repeated_index, "triangle", " naming one vertex twice");
+  add(s.skipped.short_faces, "face", " with fewer than 3 corners");
+  std::string text = input_path + ": skipped " + count(s.skipped.total(), "face", "");
+  if (!parts.empty()) text += " (" + parts + ")";
+  if (s.non_finite_vertices > 0)
+    text += "; ignored " + count(s.non_finite_vertices, "vertex", "") + " with a NaN or infinite coordinate, the first vertex " +
+            std::to_string(s.first_non_finite_vertex) + " at " + s.first_non_finite_position;
+  return text;
+}
 
 std::uint64_t parse_byte_size(const std::string& text) {
   std::size_t used = 0;

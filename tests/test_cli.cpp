@@ -45,34 +45,6 @@ void expect_bad_input(const ScratchDir& d, const std::string& file, const char* 
   CHECK_FALSE(file_exists(d.file("out.ply")));
 }
 
-// Starts the CLI with `args`, waits until a file whose name contains `marker`
-// appears in `tmp` (the run reached the phase that writes it), sends `sig`, and
-// checks the run died of it leaving `tmp` empty and no `output`.
-void interrupt_when(const std::vector<std::string>& args, const std::string& tmp, const char* marker, int sig,
-                    const std::string& output) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> argv{const_cast<char*>(OOCSIMP_CLI)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(OOCSIMP_CLI, argv.data());
-    _exit(127);
-  }
-  bool seen = false;
-  for (int i = 0; i < 4000 && !seen; ++i) {
-    seen = system(("ls " + q(tmp) + " | grep -q " + marker).c_str()) == 0;
-    if (!seen) usleep(5000);
-  }
-  REQUIRE(seen);
-  kill(pid, sig);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  CHECK(WIFSIGNALED(status));
-  CHECK(WTERMSIG(status) == sig);
-  CHECK(system(("test -z \"$(ls -A " + q(tmp) + ")\"").c_str()) == 0);
-  CHECK_FALSE(file_exists(output));
-}
-
 }  // namespace
 
 TEST_CASE("simplify writes the output, the stats and a summary", "[cli]") {
@@ -128,10 +100,9 @@ TEST_CASE("bad input exits 3 with one line naming the file and no output", "[cli
   expect_bad_input(d, d.file("truncated.ply"), "truncated");
   write_file(d.file("range.ply"), small_ply(4, 1.0f));
   expect_bad_input(d, d.file("range.ply"), "out of range");
-  write_file(d.file("nan.ply"), small_ply(3, std::nanf("")));
-  expect_bad_input(d, d.file("nan.ply"), "NaN");
-  write_file(d.file("nan.obj"), "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
-  expect_bad_input(d, d.file("nan.obj"), "NaN obj");
+  // (NaN coordinates are not among these: their faces are skipped, see test_damaged_input.)
+  write_file(d.file("huge.obj"), "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_bad_input(d, d.file("huge.obj"), "beyond float range");
   write_file(d.file("garbage.ply"), "plyx\n\x01\x02");
   expect_bad_input(d, d.file("garbage.ply"), "garbage");
 }
@@ -162,17 +133,15 @@ TEST_CASE("info prints format, counts, properties and bounds", "[cli]") {
   CHECK(r.out.find("faces     2") != std::string::npos);
   CHECK(r.out.find("x float") != std::string::npos);
   CHECK(r.out.find("max 1 1 0") != std::string::npos);
-}
-
-TEST_CASE("SIGTERM during a run removes temporary files and leaves no output", "[cli]") {
-  ScratchDir d;
-  // An ascii input is converted to a temporary position array first; kill the run
-  // while that file exists.
-  REQUIRE(run_cli("generate --tris 3000000 --ascii --quiet -o " + q(d.file("big.ply"))).exit_code == 0);
-  std::string tmp = d.file("tmp");
-  REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
-  interrupt_when({"simplify", "--quiet", d.file("big.ply"), "-o", d.file("o.ply"), "--tmp", tmp}, tmp,
-                 "oocsimp-positions", SIGTERM, d.file("o.ply"));
+  CHECK(r.out.find("non-finite") == std::string::npos);
+  // Vertex 1 NaN: left out of the box, counted, the first named with its byte offset.
+  write_file(d.file("nan.ply"), small_ply(3, std::nanf("")));
+  r = run_cli("info " + q(d.file("nan.ply")));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("max 1 1 0") != std::string::npos);
+  std::size_t vertex1 = small_ply_header(4, 2).size() + 12;
+  CHECK(r.out.find("non-finite 1 (vertices with a NaN or infinite coordinate, ignored; the first: vertex 1 at byte " +
+                   std::to_string(vertex1) + ")") != std::string::npos);
 }
 
 TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
@@ -185,15 +154,4 @@ TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
   CHECK_FALSE(file_exists(d.file("o.ply")));
   CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --method floating --mem 64M --quiet")
             .exit_code == 0);
-}
-
-TEST_CASE("SIGINT during a floating-cells run removes the tile spill files", "[cli]") {
-  ScratchDir d;
-  REQUIRE(run_cli("generate --tris 3000000 --quiet -o " + q(d.file("big.ply"))).exit_code == 0);
-  std::string tmp = d.file("tmp");
-  REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
-  // The tile spill exists while the run bins or clusters tiles.
-  interrupt_when({"simplify", "--quiet", "--method", "floating", "--grid", "256", "--threads", "1", d.file("big.ply"),
-                  "-o", d.file("o.ply"), "--tmp", tmp},
-                 tmp, "oocsimp-tiles", SIGINT, d.file("o.ply"));
 }

@@ -83,13 +83,15 @@ LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir) {
   }
   std::vector<std::uint64_t> buf(3 * 1000);
   while (std::size_t n = in.triangles->read(buf.data(), 1000)) m.triangles.insert(m.triangles.end(), buf.begin(), buf.begin() + 3 * n);
-  m.skipped_faces = in.triangles->skipped_faces();
+  m.skipped = in.triangles->skipped();
+  m.skipped_faces = m.skipped.short_faces;
   return m;
 }
 
-CliResult run_cli(const std::string& args) {
+CliResult run_cli(const std::string& args, const std::string& setup) {
   ScratchDir d;
   std::string cmd = std::string(OOCSIMP_CLI) + " " + args + " >'" + d.file("out") + "' 2>'" + d.file("err") + "' </dev/null";
+  if (!setup.empty()) cmd = setup + " && exec " + cmd;
   int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -97,8 +99,6 @@ CliResult run_cli(const std::string& args) {
   r.err = read_file(d.file("err"));
   return r;
 }
-
-namespace {
 
 void write_binary_ply(const std::string& path, const std::vector<float>& v, const std::vector<std::uint32_t>& t) {
   std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(v.size() / 3) +
@@ -111,8 +111,6 @@ void write_binary_ply(const std::string& path, const std::vector<float>& v, cons
   }
   write_file(path, s);
 }
-
-}  // namespace
 
 void write_plane_ply(const std::string& path, int n, double a, double b, double c) {
   std::vector<float> v;

@@ -39,7 +39,8 @@ struct LoadedMesh {
   std::vector<double> positions;
   std::vector<std::uint64_t> triangles;
   oocsimp::MeshInfo info;
-  std::uint64_t skipped_faces = 0;
+  oocsimp::SkippedFaces skipped;
+  std::uint64_t skipped_faces = 0;  ///< skipped.short_faces
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t triangle_count() const { return triangles.size() / 3; }
 };
@@ -63,8 +64,13 @@ struct CliResult {
   std::string out;  ///< stdout
   std::string err;  ///< stderr
 };
-/// Runs the built oocsimp CLI with `args` (a shell-quoted argument string).
-CliResult run_cli(const std::string& args);
+/// Runs the built oocsimp CLI with `args` (a shell-quoted argument string), after the
+/// shell commands `setup` (e.g. "ulimit -f 100") when given.
+CliResult run_cli(const std::string& args, const std::string& setup = "");
+
+/// Writes binary little-endian PLY: 3 floats per vertex, 3 indices per triangle.
+void write_binary_ply(const std::string& path, const std::vector<float>& positions,
+                      const std::vector<std::uint32_t>& triangles);
 
 /// Writes a finely tessellated triangle mesh as binary PLY: an n x n grid on the
 /// unit square in the plane z = a*x + b*y + c (plane()), or the surface of the

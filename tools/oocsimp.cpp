@@ -56,10 +56,10 @@ int run_simplify(const std::string& in, const std::string& out, SimplifyOptions 
                  stats.seconds_open, stats.seconds_vertices, stats.seconds_faces, stats.seconds_solve,
                  stats.seconds_write, mtri, double(stats.peak_rss_bytes) / 1048576.0,
                  double(stats.peak_anon_bytes) / 1048576.0);
-    if (stats.skipped_faces)
-      std::fprintf(stderr, "oocsimp: warning: skipped %" PRIu64 " faces with fewer than 3 corners\n",
-                   stats.skipped_faces);
   }
+  // Not silenced by --quiet: the output lacks part of the input.
+  std::string skipped = skipped_input_summary(in, stats);
+  if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
   return kOk;
 }
 
@@ -82,6 +82,10 @@ int run_info(const std::string& in, const std::string& tmp) {
     std::printf("          max %.9g %.9g %.9g\n", i.bounds.max.x, i.bounds.max.y, i.bounds.max.z);
     std::printf("diagonal  %.9g\n", i.bounds.diagonal());
   }
+  if (i.non_finite_vertices > 0)
+    std::printf("non-finite %" PRIu64 " (vertices with a NaN or infinite coordinate, ignored; the first: vertex %" PRIu64
+                " at %s)\n",
+                i.non_finite_vertices, i.first_non_finite_vertex, i.first_non_finite_position.c_str());
   return kOk;
 }
 

@@ -7,6 +7,7 @@
 // ever holds the whole input in heap memory.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -19,6 +20,12 @@ namespace oocsimp {
 struct Vec3d {
   double x = 0, y = 0, z = 0;
 };
+
+/// Whether all three coordinates are finite. Vertices that are not are kept in the
+/// position array (so indices stay valid) but take no part in anything: the bounding
+/// box, the grid and the vertex passes skip them, and the triangle stream drops the
+/// triangles that use them.
+inline bool is_finite(const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 /// Axis-aligned bounding box; empty when min > max.
 struct Box3d {
@@ -57,10 +64,31 @@ struct MeshInfo {
   std::vector<std::string> elements;    ///< "vertex 100 (x float, y float, ...)" per element
   std::vector<std::string> comments;    ///< PLY comment / obj_info lines
   bool positions_in_place = false;      ///< true when positions are read from the input through mmap
-  Box3d bounds;
+  Box3d bounds;                         ///< of the finite vertices
+  /// Vertices with a NaN or infinite coordinate (see is_finite), the first of them by
+  /// index and where it is in the file ("byte N" or "line N"); only the first is
+  /// described, so a file full of them costs no memory.
+  std::uint64_t non_finite_vertices = 0;
+  std::uint64_t first_non_finite_vertex = 0;
+  std::string first_non_finite_position;
+};
+
+/// Faces that the triangle stream left out instead of failing, by reason. Polygons are
+/// fanned first, so the last two count triangles of the fan.
+struct SkippedFaces {
+  std::uint64_t short_faces = 0;     ///< faces with fewer than 3 corners
+  std::uint64_t non_finite = 0;      ///< triangles with a corner that is not finite
+  std::uint64_t repeated_index = 0;  ///< triangles that name one vertex twice (no area, no edge of their own)
+  std::uint64_t total() const { return short_faces + non_finite + repeated_index; }
 };
 
 /// A sequential source of triangles as vertex-index triples, in file order.
+///
+/// MeshInput::triangles only yields triangles with three distinct vertex indices whose
+/// vertices are all finite: every clustering method and `measure` read it, so this is
+/// the one place where such faces are dropped (and counted, see skipped()).
+/// Zero-area triangles with three distinct indices are kept: they still connect their
+/// vertices, and the clusterers weight them by their area (zero).
 class TriangleStream {
  public:
   virtual ~TriangleStream() = default;
@@ -70,8 +98,8 @@ class TriangleStream {
   virtual std::size_t read(std::uint64_t* out, std::size_t max_triangles) = 0;
   /// Input bytes consumed so far (compressed bytes for .zst), for progress reports.
   virtual std::uint64_t bytes_consumed() const = 0;
-  /// Faces skipped because they had fewer than three corners.
-  virtual std::uint64_t skipped_faces() const { return 0; }
+  /// Faces left out so far, by reason.
+  virtual SkippedFaces skipped() const { return {}; }
 };
 
 class MappedFile;
@@ -110,8 +138,10 @@ struct OpenOptions {
 
 /// Opens a PLY (ascii / binary LE / binary BE), OBJ or STL (ascii / binary) file,
 /// optionally zstd-compressed (".zst"). Detects the format from the content (the
-/// extension is only a tie-breaker), maps or converts the positions, computes the
-/// bounding box and rejects NaN or infinite coordinates with InputError.
+/// extension is only a tie-breaker), maps or converts the positions and computes the
+/// bounding box of the finite ones. NaN or infinite coordinates are counted in
+/// info.non_finite_vertices, not rejected; a finite coordinate beyond the float range
+/// in a file that is converted to float is an InputError.
 MeshInput open_mesh_input(const std::string& path, const OpenOptions& options = {});
 
 inline Vec3d PositionArray::get(std::uint64_t i) const {

@@ -10,8 +10,8 @@
 namespace oocsimp {
 
 /// Reports one phase at a time on stderr: a bar with percent, rate and ETA when
-/// stderr is a terminal, a plain line every few seconds otherwise (batch logs), and
-/// nothing when quiet. A background thread also samples the process's anonymous
+/// stderr is a terminal; otherwise (batch logs) "oocsimp: NAME started", a plain line
+/// every few seconds and "oocsimp: NAME done in ..."; nothing when quiet. A background thread also samples the process's anonymous
 /// resident memory so the peak can be reported (see peak_anon_bytes()).
 class ProgressReporter {
  public:
@@ -46,6 +46,30 @@ class ProgressReporter {
   double phase_start_ = 0;
   double last_print_ = 0;
   std::thread thread_;
+};
+
+/// One phase on a reporter that may be null: begun on construction, ended on
+/// destruction (also when the phase fails).
+class ProgressPhase {
+ public:
+  ProgressPhase(ProgressReporter* progress, const char* name, std::uint64_t total, const char* unit)
+      : progress_(progress) {
+    if (progress_) progress_->begin(name, total, unit);
+  }
+  ~ProgressPhase() {
+    if (progress_) progress_->end();
+  }
+  ProgressPhase(const ProgressPhase&) = delete;
+  ProgressPhase& operator=(const ProgressPhase&) = delete;
+  void set(std::uint64_t done) {
+    if (progress_) progress_->set(done);
+  }
+  /// Adds `n` units done from any thread.
+  void advance(std::uint64_t n) { set(done_.fetch_add(n, std::memory_order_relaxed) + n); }
+
+ private:
+  ProgressReporter* progress_;
+  std::atomic<std::uint64_t> done_{0};
 };
 
 /// Current anonymous resident memory of this process in bytes (RssAnon).

@@ -64,7 +64,10 @@ struct SimplifyOptions {
 struct SimplifyStats {
   std::uint64_t input_vertices = 0;
   std::uint64_t input_triangles = 0;
-  std::uint64_t skipped_faces = 0;  ///< faces with fewer than 3 corners
+  SkippedFaces skipped;                  ///< faces the input lost, by reason (see TriangleStream)
+  std::uint64_t non_finite_vertices = 0;  ///< vertices with a NaN or infinite coordinate, ignored
+  std::uint64_t first_non_finite_vertex = 0;     ///< the first of them by index
+  std::string first_non_finite_position;         ///< where it is in the file ("byte N", "line N")
   std::uint64_t occupied_cells = 0;
   std::uint64_t output_vertices = 0;
   std::uint64_t output_triangles = 0;
@@ -121,5 +124,10 @@ void simplify_file(const std::string& input_path, const std::string& output_path
 
 /// `stats` as a JSON object (counts, seconds per phase, peak memory, input Mtri/s).
 std::string stats_to_json(const SimplifyStats& stats);
+
+/// One line (no newline) naming `input_path` and every count of skipped faces and
+/// ignored vertices in `stats`, with the first non-finite vertex; empty when the input
+/// lost nothing.
+std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& stats);
 
 }  // namespace oocsimp

@@ -5,6 +5,7 @@
 // sets up, which unlinks every registered path before the process dies.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -45,8 +46,22 @@ std::unique_ptr<TempFile> temp_file_beside(const std::string& dest);
 /// Writes `content` to `path` through temp_file_beside and a rename. Throws IoError.
 void write_file_atomically(const std::string& path, const std::string& content);
 
+/// Bytes that an unprivileged writer can still put on the filesystem holding `dir`
+/// (statvfs), or UINT64_MAX when that cannot be told.
+std::uint64_t free_bytes(const std::string& dir);
+
+/// Throws IoError "DIR: WHAT needs about N MiB, but only M MiB are free" when the
+/// filesystem holding `dir` has less than `bytes` free: checked before a run writes
+/// what it can estimate, rather than failing half-way.
+void require_free_space(const std::string& dir, std::uint64_t bytes, const std::string& what);
+
+/// `bytes` as "N.N MiB", for messages.
+std::string mib_text(std::uint64_t bytes);
+
 /// Installs SIGINT and SIGTERM handlers that delete all registered temporary files
-/// and then terminate the process with the conventional status (128 + signal).
+/// and then terminate the process with the conventional status (128 + signal), and
+/// ignores SIGXFSZ, so that a write beyond a file-size limit (ulimit -f) fails with
+/// EFBIG and the run cleans up and exits 4 instead of being killed.
 void install_signal_cleanup();
 
 }  // namespace oocsimp

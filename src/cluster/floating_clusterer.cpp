@@ -231,7 +231,10 @@ class FloatingRun {
       if (options_.keep_temp) keep_tiles();
     }
     note("grading");
-    run_rounds();
+    {
+      ProgressPhase phase(options_.progress, "rounds", 0, "round");
+      run_rounds();
+    }
     note("rounds");
     double t2 = now_seconds();
     release_free_heap();
@@ -242,10 +245,17 @@ class FloatingRun {
     std::vector<std::vector<GradedVertex>>().swap(border_);
     release_free_heap();
     double t3 = now_seconds();
-    stitch_cross_tile_triangles();
+    {
+      ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
+      stitch_cross_tile_triangles();
+    }
     note("stitch");
     double t4 = now_seconds();
-    SimplifiedMesh m = assemble();
+    SimplifiedMesh m;
+    {
+      ProgressPhase phase(options_.progress, "solve", 0, "cell");
+      m = assemble();
+    }
     double t5 = now_seconds();
     note("assembly");
     if (debug)
@@ -343,7 +353,16 @@ class FloatingRun {
     }
     std::size_t buffer_records =
         std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), 256, 8192);
+    // Free space for the spill, checked before writing it. A lower estimate, so no
+    // run that fits is refused: every used vertex is spilled once, raw; the triangle
+    // records compress to an eighth or more, and (a header's face count being
+    // unchecked so far) to no less than the input file holds.
+    const std::uint64_t spill_estimate =
+        input_.positions.count * sizeof(GradedVertex) +
+        std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
+    require_free_space(temp_dir(), spill_estimate, "the tile spill");
     triangles_ = std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_triangles_);
+    triangles_->set_expected_bytes(spill_estimate);
 
     const PositionArray& pos = input_.positions;
     TriangleStream& stream = *input_.triangles;
@@ -393,6 +412,7 @@ class FloatingRun {
     centres_.resize(triangles_->tile_count());
     border_.resize(triangles_->tile_count());
     vertices_ = std::make_unique<TileSpillFile>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
+    vertices_->set_expected_bytes(spill_estimate);
     for (std::uint32_t i = 0; i < triangles_->tile_count(); ++i) vertices_->add_tile();
   }
 
@@ -528,10 +548,12 @@ class FloatingRun {
     ::unlink(kept_path("manifest").c_str());
     triangles_->keep_as(kept_path("tiles"));
     vertices_->keep_as(kept_path("vertices"));
-    std::string m = "oocsimp-kept-tiles 1\n";
+    std::string m = "oocsimp-kept-tiles 2\n";
     char line[256];
-    std::snprintf(line, sizeof line, "%a %llu %llu %u\n", tiles_.side, (unsigned long long)triangle_count_,
-                  (unsigned long long)input_.triangles->skipped_faces(), triangles_->tile_count());
+    const SkippedFaces skipped = input_.triangles->skipped();  // a resumed run does not read the stream
+    std::snprintf(line, sizeof line, "%a %llu %llu %llu %llu %u\n", tiles_.side, (unsigned long long)triangle_count_,
+                  (unsigned long long)skipped.short_faces, (unsigned long long)skipped.non_finite,
+                  (unsigned long long)skipped.repeated_index, triangles_->tile_count());
     m += line;
     for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t) {
       const GridCoord& c = tile_coords_[t];
@@ -552,9 +574,11 @@ class FloatingRun {
     char magic[64] = {0};
     unsigned version = 0, n = 0;
     double side = 0;
-    unsigned long long tris = 0, skipped = 0;
+    unsigned long long tris = 0, short_faces = 0, non_finite = 0, repeated_index = 0;
     bool ok = std::fscanf(f, "%63s %u", magic, &version) == 2 && std::string(magic) == "oocsimp-kept-tiles" &&
-              version == 1 && std::fscanf(f, "%la %llu %llu %u", &side, &tris, &skipped, &n) == 4 && side >= cell_.size;
+              version == 2 &&
+              std::fscanf(f, "%la %llu %llu %llu %llu %u", &side, &tris, &short_faces, &non_finite, &repeated_index, &n) == 6 &&
+              side >= cell_.size;
     std::vector<GridCoord> coords;
     std::vector<TileSpillFile::Chain> tri_chains, vtx_chains;
     for (unsigned i = 0; ok && i < n; ++i) {
@@ -571,11 +595,12 @@ class FloatingRun {
     vertices_ = TileSpillFile::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
     tiles_.side = side;
     triangle_count_ = tris;
-    resumed_skipped_ = skipped;
+    resumed_skipped_ = SkippedFaces{short_faces, non_finite, repeated_index};
     tile_coords_ = coords;
     for (std::uint32_t i = 0; i < coords.size(); ++i) tile_ids_.emplace(coords[i], i);
     centres_.resize(n);
     border_.resize(n);
+    resumed_ = true;
     if (stats_) stats_->resumed = true;
     return true;
   }
@@ -885,7 +910,7 @@ class FloatingRun {
     }
     if (stats_) {
       stats_->input_triangles = triangle_count_;
-      stats_->skipped_faces = resumed_skipped_ ? resumed_skipped_ : input_.triangles->skipped_faces();
+      stats_->skipped = resumed_ ? resumed_skipped_ : input_.triangles->skipped();
       stats_->occupied_cells = clusters;
       stats_->output_vertices = index.size();
       stats_->output_triangles = output_triangles;
@@ -909,7 +934,8 @@ class FloatingRun {
   std::vector<TriangleRecord> run_buffer_;
   std::uint64_t triangle_count_ = 0;
   double rounds_seconds_ = 0;
-  std::uint64_t resumed_skipped_ = 0;
+  bool resumed_ = false;
+  SkippedFaces resumed_skipped_;
   // zstd pays for the triangle spill (measured on the 10M sphere, 56 tiles: 498 MiB
   // raw -> 238 MiB written, +0.4 s of binning) but not for the vertex spill, which
   // every round reads again and which barely compresses (positions and weights are

@@ -101,7 +101,9 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
         c.cells.clear();
         CellIndexCache<VertexSum> index(c.cells);
         for (std::uint64_t i = c.begin; i < c.end; ++i) {
-          Vec3d p = grid.relative(positions.get(i));
+          Vec3d q = positions.get(i);
+          if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
+          Vec3d p = grid.relative(q);
           VertexSum& s = c.cells.record(index(grid.key_relative(p)));
           s.x += p.x;
           s.y += p.y;
@@ -194,6 +196,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
   accumulate_triangles(input, grid, cells, kept, &triangles, progress);
   double t2 = now_seconds();
 
+  ProgressPhase solve_phase(progress, "solve", 0, "cell");
   // The hash indexes are not needed any more; free them before the output arrays
   // are allocated, which keeps the peak down.
   cells.release_index();
@@ -235,7 +238,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
 
   if (stats) {
     stats->input_triangles = triangles;
-    stats->skipped_faces = input.triangles->skipped_faces();
+    stats->skipped = input.triangles->skipped();
     stats->occupied_cells = cells.size();
     stats->output_vertices = order.size();
     stats->output_triangles = kept.size();

@@ -32,6 +32,7 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
                       Bits& b = local.local();
                       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
                         Vec3d p = positions.get(i);
+                        if (!is_finite(p)) continue;  // outside every grid (see is_finite)
                         for (int l = 0; l < kLevelCount; ++l) b[l][index(grids[l], grids[l].key(p))] = true;
                       }
                     });

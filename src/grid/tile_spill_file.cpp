@@ -116,8 +116,9 @@ void TileSpillFile::write_block(Tile& t) {
       if (w < 0 && errno == EINTR) continue;
       if (w < 0) {
         int e = errno;
-        throw IoError(dir_ + ": cannot write the tile spill file (" + std::to_string(end_) + " bytes written, " +
-                      std::to_string(n) + " more needed): " + std::strerror(e));
+        std::string need = expected_bytes_ ? "; the run's spill needs about " + mib_text(expected_bytes_) : "";
+        throw IoError(dir_ + ": cannot write the tile spill file " + path_ + " (" + mib_text(end_) + " written" + need +
+                      "): " + std::strerror(e));
       }
       p += w;
       n -= std::size_t(w);

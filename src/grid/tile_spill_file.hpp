@@ -39,6 +39,10 @@ class TileSpillFile {
   static std::unique_ptr<TileSpillFile> open_kept(const std::string& path, std::size_t record_size,
                                                   const std::vector<Chain>& chains);
 
+  /// What the whole spill of the run is estimated to need, for the message of a write
+  /// that fails (0: unknown).
+  void set_expected_bytes(std::uint64_t bytes) { expected_bytes_ = bytes; }
+
   /// Adds an empty tile and returns its id (0, 1, 2, ...).
   std::uint32_t add_tile();
   std::uint32_t tile_count() const { return std::uint32_t(tiles_.size()); }
@@ -75,6 +79,7 @@ class TileSpillFile {
   mutable std::mutex write_mutex_;  // guards the file end and tile chains
   std::uint64_t end_ = 0;
   std::uint64_t appended_ = 0;
+  std::uint64_t expected_bytes_ = 0;
 };
 
 }  // namespace oocsimp

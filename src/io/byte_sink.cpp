@@ -34,11 +34,14 @@ void ByteSink::write_fd(const void* data, std::size_t n) {
   while (n > 0) {
     ssize_t w = ::write(fd_, p, n);
     if (w < 0) {
-      if (errno == EINTR) continue;
-      throw IoError(system_error_text(path_, "write failed", errno));
+      int err = errno;
+      if (err == EINTR) continue;
+      if (describe_error_) throw IoError(describe_error_(on_disk_, err));
+      throw IoError(system_error_text(path_, "write failed", err));
     }
     p += w;
     n -= std::size_t(w);
+    on_disk_ += std::uint64_t(w);
   }
 }
 

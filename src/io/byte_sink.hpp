@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstring>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ class ByteSink {
   void finish();
   /// Content bytes written so far (before compression).
   std::uint64_t bytes_written() const { return total_ + used_; }
+  /// Replaces the message of a failed write: `describe(bytes already on disk, errno)`
+  /// becomes the IoError's text, so the owner can say what the file was for and how
+  /// much room it needs.
+  void on_write_error(std::function<std::string(std::uint64_t, int)> describe) { describe_error_ = std::move(describe); }
 
  private:
   void write_slow(const void* data, std::size_t n);
@@ -44,8 +49,10 @@ class ByteSink {
   std::vector<unsigned char> buf_;
   std::size_t used_ = 0;
   std::uint64_t total_ = 0;
+  std::uint64_t on_disk_ = 0;
   ZSTD_CCtx* zstd_ = nullptr;
   std::vector<unsigned char> zout_;
+  std::function<std::string(std::uint64_t, int)> describe_error_;
 };
 
 /// True when `path` ends with ".zst".

@@ -14,7 +14,61 @@ MeshInput::~MeshInput() {
   triangles.reset();  // streams first: they may refer to the mappings
 }
 
-void MeshInput::restart_triangles() { triangles = impl->make_triangles(); }
+namespace {
+
+// Wraps a format's triangle stream and drops, counting them, the triangles no
+// clusterer can use: one vertex named twice (no area and no edge of its own; a
+// cluster could only ever collapse it) and, when the file has any, those with a
+// corner that is not finite. Doing it here gives every method the same input.
+class CheckedTriangleStream : public TriangleStream {
+ public:
+  CheckedTriangleStream(std::unique_ptr<TriangleStream> inner, const PositionArray& positions, bool check_finite)
+      : inner_(std::move(inner)), positions_(positions), check_finite_(check_finite) {}
+
+  std::size_t read(std::uint64_t* out, std::size_t max_triangles) override {
+    for (;;) {
+      std::size_t n = inner_->read(out, max_triangles);
+      if (n == 0) return 0;
+      std::size_t kept = 0;
+      for (std::size_t t = 0; t < n; ++t) {
+        const std::uint64_t a = out[3 * t], b = out[3 * t + 1], c = out[3 * t + 2];
+        if (a == b || b == c || a == c) {
+          ++repeated_index_;
+          continue;
+        }
+        if (check_finite_ && !(is_finite(positions_.get(a)) && is_finite(positions_.get(b)) && is_finite(positions_.get(c)))) {
+          ++non_finite_;
+          continue;
+        }
+        out[3 * kept] = a;
+        out[3 * kept + 1] = b;
+        out[3 * kept + 2] = c;
+        ++kept;
+      }
+      // 0 would mean the end of the stream: read on while whole batches are dropped.
+      if (kept > 0) return kept;
+    }
+  }
+  std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
+  SkippedFaces skipped() const override {
+    SkippedFaces s = inner_->skipped();
+    s.non_finite += non_finite_;
+    s.repeated_index += repeated_index_;
+    return s;
+  }
+
+ private:
+  std::unique_ptr<TriangleStream> inner_;
+  PositionArray positions_;
+  bool check_finite_;
+  std::uint64_t non_finite_ = 0, repeated_index_ = 0;
+};
+
+}  // namespace
+
+void MeshInput::restart_triangles() {
+  triangles = std::make_unique<CheckedTriangleStream>(impl->make_triangles(), positions, info.non_finite_vertices > 0);
+}
 
 std::string default_temp_dir() {
   const char* t = std::getenv("TMPDIR");

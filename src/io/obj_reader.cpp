@@ -51,7 +51,7 @@ class ObjTriangleStream : public TriangleStream {
     return n;
   }
   std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
-  std::uint64_t skipped_faces() const override { return skipped_; }
+  SkippedFaces skipped() const override { return {skipped_, 0, 0}; }
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
@@ -111,8 +111,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
                                    tok.empty() ? "vertex with fewer than 3 coordinates"
                                                : "malformed vertex coordinate \"" + std::string(tok) + "\""));
       }
-      if (!builder.add(c[0], c[1], c[2]))
-        throw InputError(at_line(src.path(), src.line_number(), "vertex has a NaN or infinite coordinate"));
+      builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
     } else if (is_keyword(line, 'f')) {
       ++faces;
     }

@@ -250,6 +250,10 @@ class ElementReader {
     if (h_.format == PlyFormat::ascii) throw InputError(at_line(src_.path(), record_start_, what));
     throw InputError(at_byte(src_.path(), record_start_, what));
   }
+  /// Where the last record read starts: "line N" (ascii) or "byte N".
+  std::string record_position() const {
+    return (h_.format == PlyFormat::ascii ? "line " : "byte ") + std::to_string(record_start_);
+  }
 
  private:
   const unsigned char* need(std::size_t n, const PlyElement& e) {
@@ -416,7 +420,7 @@ class PlyTriangleStream : public TriangleStream {
     return n;
   }
   std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
-  std::uint64_t skipped_faces() const override { return skipped_; }
+  SkippedFaces skipped() const override { return {skipped_, 0, 0}; }
 
  private:
   // After the last face: the elements that follow must be complete, and nothing
@@ -458,12 +462,13 @@ class EmptyTriangleStream : public TriangleStream {
   std::uint64_t bytes_consumed() const override { return 0; }
 };
 
-// Bounding box of mapped positions, rejecting NaN / infinity (reports the first bad
-// vertex in index order, so the message does not depend on the thread count).
+// Bounding box of the finite mapped positions, and the count of the others (the first
+// in index order is described, so the report does not depend on the thread count).
 void scan_mapped_positions(MeshInput& out, std::uint64_t vertex_offset) {
   struct Scan {
     Box3d box;
-    std::uint64_t first_bad = ~std::uint64_t(0);
+    std::uint64_t non_finite = 0;
+    std::uint64_t first_non_finite = ~std::uint64_t(0);
   };
   const PositionArray& pa = out.positions;
   Scan s = tbb::parallel_reduce(
@@ -471,8 +476,9 @@ void scan_mapped_positions(MeshInput& out, std::uint64_t vertex_offset) {
       [&](const tbb::blocked_range<std::uint64_t>& r, Scan acc) {
         for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
           Vec3d p = pa.get(i);
-          if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-            if (i < acc.first_bad) acc.first_bad = i;
+          if (!is_finite(p)) {
+            ++acc.non_finite;
+            acc.first_non_finite = std::min(acc.first_non_finite, i);
             continue;
           }
           acc.box.add(p);
@@ -481,13 +487,16 @@ void scan_mapped_positions(MeshInput& out, std::uint64_t vertex_offset) {
       },
       [](Scan a, const Scan& b) {
         a.box.add(b.box);
-        if (b.first_bad < a.first_bad) a.first_bad = b.first_bad;
+        a.non_finite += b.non_finite;
+        a.first_non_finite = std::min(a.first_non_finite, b.first_non_finite);
         return a;
       });
-  if (s.first_bad != ~std::uint64_t(0))
-    throw InputError(at_byte(out.info.path, vertex_offset + s.first_bad * pa.stride,
-                             "vertex " + std::to_string(s.first_bad) + " has a NaN or infinite coordinate"));
   out.info.bounds = s.box;
+  out.info.non_finite_vertices = s.non_finite;
+  if (s.non_finite > 0) {
+    out.info.first_non_finite_vertex = s.first_non_finite;
+    out.info.first_non_finite_position = "byte " + std::to_string(vertex_offset + s.first_non_finite * pa.stride);
+  }
 }
 
 std::string describe(const PlyElement& e) {
@@ -558,11 +567,19 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
+    if (!src.compressed()) {
+      // A record takes at least this many bytes, so the file's size bounds the vertex
+      // count: a header claiming 10^12 vertices on a small file is a truncated file
+      // (InputError below), not a request for terabytes of temporary space.
+      std::uint64_t min_record = 0;
+      for (const PlyProperty& p : v.props)
+        min_record += binary ? type_size(p.is_list ? p.count_type : p.type) : 2;  // ascii: a digit and a blank
+      builder.expect(std::min(v.count, src.file_size() / std::max<std::uint64_t>(min_record, 1)));
+    }
     double xyz[3];
     for (std::uint64_t i = 0; i < v.count; ++i) {
       reader.read_record(v, -1, nullptr, xyz, h->xyz, 3);
-      if (!builder.add(xyz[0], xyz[1], xyz[2]))
-        reader.fail("vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+      builder.add(xyz[0], xyz[1], xyz[2], [&] { return reader.record_position(); });
       if (options.progress && (i & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
     }
     builder.finish(out);

@@ -69,6 +69,7 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
     throw InputError(at_byte(src.path(), 80,
                              "binary STL declares " + std::to_string(n) + " triangles (" + std::to_string(84 + 50 * n) +
                                  " bytes) but the file has " + std::to_string(src.file_size()) + " bytes"));
+  if (!src.compressed()) builder.expect(3 * n);  // the size formula vouched for n
   for (std::uint64_t t = 0; t < n; ++t) {
     const unsigned char* p = src.peek(50);
     if (!p)
@@ -76,9 +77,8 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
                                "file ends inside triangle " + std::to_string(t) + " of " + std::to_string(n)));
     for (int c = 0; c < 3; ++c) {
       const unsigned char* q = p + 12 + 12 * c;
-      if (!builder.add(load_f32le(q), load_f32le(q + 4), load_f32le(q + 8)))
-        throw InputError(at_byte(src.path(), src.offset() + 12 + 12 * c,
-                                 "triangle " + std::to_string(t) + " has a NaN or infinite coordinate"));
+      builder.add(load_f32le(q), load_f32le(q + 4), load_f32le(q + 8),
+                  [&] { return "byte " + std::to_string(src.offset() + 12 + 12 * c); });
     }
     src.consume(50);
     if (options.progress && (t & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
@@ -130,7 +130,7 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
           std::string_view tok = t.next();
           if (!parse_double(tok, &c[k])) fail("malformed vertex coordinate \"" + std::string(tok) + "\"");
         }
-        if (!builder.add(c[0], c[1], c[2])) fail("vertex has a NaN or infinite coordinate");
+        builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
         if (++corners == 3) st = kEndLoop;
         break;
       }

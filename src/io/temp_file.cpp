@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -46,7 +47,19 @@ void unregister_path(int slot) {
   g_used[slot].store(false);
 }
 
+// Another thread may be between creating a file and registering it (with the
+// cleanup signals blocked there, so the handler runs elsewhere). The handler first
+// says it is dying, which stops new creations, then waits for those under way to be
+// registered, then removes everything registered.
+std::atomic<int> g_creating{0};
+std::atomic<bool> g_dying{false};
+
 extern "C" void cleanup_and_die(int sig) {
+  g_dying.store(true);
+  // A creation takes microseconds; the bound only guards against a thread that
+  // stopped inside one (it cannot be this thread: it blocks the signals there).
+  for (long spin = 0; g_creating.load() > 0 && spin < 100000000L; ++spin) {
+  }
   for (int i = 0; i < kSlots; ++i)
     if (g_used[i].load()) ::unlink(g_paths[i]);
   ::signal(sig, SIG_DFL);
@@ -66,12 +79,17 @@ TempFile::TempFile(const std::string& dir, const std::string& prefix) {
   sigaddset(&block, SIGINT);
   sigaddset(&block, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &block, &old);
-  fd_ = ::mkostemp(buf.data(), O_CLOEXEC);
-  int err = errno;
-  if (fd_ >= 0) {
-    path_ = buf.data();
-    slot_ = register_path(path_);
+  g_creating.fetch_add(1);
+  int err = EINTR;  // when dying: the run is being interrupted
+  if (!g_dying.load()) {
+    fd_ = ::mkostemp(buf.data(), O_CLOEXEC);
+    err = errno;
+    if (fd_ >= 0) {
+      path_ = buf.data();
+      slot_ = register_path(path_);
+    }
   }
+  g_creating.fetch_sub(1);
   pthread_sigmask(SIG_SETMASK, &old, nullptr);
   if (fd_ < 0) throw IoError(system_error_text(dir, "cannot create a temporary file in", err));
 }
@@ -132,7 +150,27 @@ void TempFile::persist(const std::string& dest) {
   persisted_ = true;
 }
 
+std::uint64_t free_bytes(const std::string& dir) {
+  struct statvfs fs;
+  if (::statvfs(dir.empty() ? "." : dir.c_str(), &fs) != 0) return ~std::uint64_t(0);
+  return std::uint64_t(fs.f_bavail) * std::uint64_t(fs.f_frsize);
+}
+
+std::string mib_text(std::uint64_t bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / 1048576.0);
+  return buf;
+}
+
+void require_free_space(const std::string& dir, std::uint64_t bytes, const std::string& what) {
+  std::uint64_t free = free_bytes(dir);
+  if (free >= bytes) return;
+  throw IoError(dir + ": " + what + " needs about " + mib_text(bytes) + ", but only " + mib_text(free) +
+                " are free (--tmp chooses the folder)");
+}
+
 void install_signal_cleanup() {
+  ::signal(SIGXFSZ, SIG_IGN);
   struct sigaction sa;
   std::memset(&sa, 0, sizeof sa);
   sa.sa_handler = cleanup_and_die;

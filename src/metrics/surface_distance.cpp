@@ -118,25 +118,7 @@ DistanceSums sum_in_order(const std::vector<double>& distances2) {
   return s;
 }
 
-// Reports progress of a phase through the library's reporter, when there is one.
-class Phase {
- public:
-  Phase(ProgressReporter* progress, const char* name, std::uint64_t total, const char* unit) : progress_(progress) {
-    if (progress_) progress_->begin(name, total, unit);
-  }
-  ~Phase() {
-    if (progress_) progress_->end();
-  }
-  void set(std::uint64_t done) {
-    if (progress_) progress_->set(done);
-  }
-  /// Adds `n` units done from any thread.
-  void advance(std::uint64_t n) { set(done_.fetch_add(n, std::memory_order_relaxed) + n); }
-
- private:
-  ProgressReporter* progress_;
-  std::atomic<std::uint64_t> done_{0};
-};
+using Phase = ProgressPhase;
 
 MeshInput open_input(const std::string& path, const MeasureOptions& options, const char* phase_name) {
   OpenOptions open;

@@ -38,6 +38,12 @@ void ProgressReporter::begin(const std::string& name, std::uint64_t total, const
   phase_start_ = now_seconds();
   last_print_ = phase_start_;
   active_ = true;
+  // Batch logs (and whoever watches them) see when each phase starts, not only when
+  // it ends.
+  if (!quiet_ && !tty_) {
+    std::fprintf(stderr, "oocsimp: %s started\n", name_.c_str());
+    std::fflush(stderr);
+  }
 }
 
 void ProgressReporter::end() {

@@ -5,8 +5,9 @@
 // it through the public API and checks what the API promises. Bad input must end in
 // one of the library's error types; anything else is a finding and aborts, so that
 // libFuzzer saves the input: an escaping exception of another type, a broken
-// invariant (an index out of range, a NaN position, a position outside the bounding
-// box, a mapping that the positions overrun, a temporary file left behind, a plain
+// invariant (an index out of range, a triangle naming a vertex twice or using a
+// non-finite one, a miscount of the non-finite vertices, a finite position outside the
+// bounding box, a mapping that the positions overrun, a temporary file left behind, a plain
 // and a zstd-compressed copy of the same bytes that read differently), as well as
 // anything the sanitizers report.
 #pragma once
@@ -125,7 +126,8 @@ inline void check_no_leftovers(const std::vector<std::string>& keep) {
 }
 
 // Checks what an opened MeshInput promises about its positions: they lie inside the
-// mapping behind them, are finite and inside info.bounds.
+// mapping behind them, the finite ones inside info.bounds, and the others are counted
+// in info.non_finite_vertices, the first of them named.
 inline void check_positions(const oocsimp::MeshInput& in) {
   const oocsimp::PositionArray& pa = in.positions;
   if (pa.count == 0) return;
@@ -142,16 +144,25 @@ inline void check_positions(const oocsimp::MeshInput& in) {
     finding("positions (" + std::to_string(pa.count) + " x " + std::to_string(pa.stride) +
             " bytes) overrun their mapping of " + std::to_string(size) + " bytes");
   const oocsimp::Box3d& b = in.info.bounds;
+  std::uint64_t non_finite = 0;
   for (std::uint64_t i = 0; i < pa.count; ++i) {
     oocsimp::Vec3d p = pa.get(i);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      finding("vertex " + std::to_string(i) + " is not finite");
+    if (!oocsimp::is_finite(p)) {
+      if (non_finite++ == 0 && in.info.first_non_finite_vertex != i)
+        finding("the first non-finite vertex is " + std::to_string(i) + ", not " +
+                std::to_string(in.info.first_non_finite_vertex));
+      continue;
+    }
     if (p.x < b.min.x || p.y < b.min.y || p.z < b.min.z || p.x > b.max.x || p.y > b.max.y || p.z > b.max.z)
       finding("vertex " + std::to_string(i) + " lies outside info.bounds");
   }
+  if (non_finite != in.info.non_finite_vertices)
+    finding(std::to_string(non_finite) + " non-finite vertices, info says " + std::to_string(in.info.non_finite_vertices));
+  if (non_finite > 0 && in.info.first_non_finite_position.empty()) finding("the first non-finite vertex has no position");
 }
 
-// Reads all triangles, checking every index; returns (count, a hash of the sequence).
+// Reads all triangles, checking every index (in range, three distinct vertices, all
+// finite); returns (count, a hash of the sequence).
 inline std::pair<std::uint64_t, std::uint64_t> drain_triangles(oocsimp::MeshInput& in) {
   constexpr std::size_t kBatch = 97;  // odd, so fans straddle batch boundaries
   std::uint64_t buf[3 * kBatch];
@@ -163,8 +174,12 @@ inline std::pair<std::uint64_t, std::uint64_t> drain_triangles(oocsimp::MeshInpu
     for (std::size_t i = 0; i < 3 * n; ++i) {
       if (buf[i] >= in.positions.count)
         finding("triangle index " + std::to_string(buf[i]) + " >= vertex count " + std::to_string(in.positions.count));
+      if (!oocsimp::is_finite(in.positions.get(buf[i]))) finding("a triangle uses the non-finite vertex " + std::to_string(buf[i]));
       hash = (hash ^ buf[i]) * 1099511628211ull;
     }
+    for (std::size_t t = 0; t < n; ++t)
+      if (buf[3 * t] == buf[3 * t + 1] || buf[3 * t + 1] == buf[3 * t + 2] || buf[3 * t] == buf[3 * t + 2])
+        finding("a triangle names one vertex twice");
     count += n;
   }
   return {count, hash};
@@ -175,7 +190,7 @@ inline std::pair<std::uint64_t, std::uint64_t> drain_triangles(oocsimp::MeshInpu
 struct Outcome {
   enum Kind { accepted, input_error, io_error } kind = accepted;
   std::string format;
-  std::uint64_t vertices = 0, faces = 0, triangles = 0;
+  std::uint64_t vertices = 0, faces = 0, triangles = 0, non_finite = 0, skipped = 0;
   std::uint64_t position_hash = 0, triangle_hash = 0;  // positions hashed as floats
   bool beyond_float = false;  // a coordinate (double PLY) that no float holds
   bool in_place = false;
@@ -195,11 +210,13 @@ inline Outcome read_whole_mesh(const std::string& path) {
   r.faces = in.info.face_count;
   r.in_place = in.info.positions_in_place;
   r.position_hash = 1469598103934665603ull;
+  r.non_finite = in.info.non_finite_vertices;
   for (std::uint64_t i = 0; i < in.positions.count; ++i) {
     oocsimp::Vec3d p = in.positions.get(i);
     for (double c : {p.x, p.y, p.z}) {
-      if (std::abs(c) > double(std::numeric_limits<float>::max())) r.beyond_float = true;
-      float f = float(c);
+      if (std::isfinite(c) && std::abs(c) > double(std::numeric_limits<float>::max())) r.beyond_float = true;
+      // NaN payloads need not survive a conversion: every NaN hashes alike.
+      float f = std::isnan(c) ? std::numeric_limits<float>::quiet_NaN() : float(c);
       std::uint32_t u;
       std::memcpy(&u, &f, 4);
       r.position_hash = (r.position_hash ^ u) * 1099511628211ull;
@@ -211,6 +228,7 @@ inline Outcome read_whole_mesh(const std::string& path) {
   if (first != second) finding("restart_triangles() gave different triangles");
   r.triangles = first.first;
   r.triangle_hash = first.second;
+  r.skipped = in.triangles->skipped().total();
   return r;
 }
 
@@ -260,6 +278,7 @@ inline void compare_outcomes(const Outcome& plain, const Outcome& packed, const 
   bool solid = size >= 5 && std::memcmp(data, "solid", 5) == 0;
   if (plain.kind == Outcome::accepted && packed.kind == Outcome::accepted) {
     if (plain.vertices != packed.vertices || plain.faces != packed.faces || plain.triangles != packed.triangles ||
+        plain.non_finite != packed.non_finite || plain.skipped != packed.skipped ||
         plain.position_hash != packed.position_hash || plain.triangle_hash != packed.triangle_hash ||
         (plain.format != packed.format && !solid))
       finding("the plain and the zstd-compressed file read as different meshes (" + plain.format + ", " +

@@ -1,0 +1,288 @@
+// Faults from outside the input: a failing output write, a full temporary folder, and
+// SIGINT / SIGTERM in every phase of both methods. Each must end the run with its
+// exit status, the destination as it was and no temporary file left.
+#include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+using namespace oocsimp_test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+const std::string kOldContent = "the destination as it was before the run\n";
+
+// A scratch folder with a generated input, a `tmp` folder and a destination that
+// already exists (so "untouched" can be checked).
+struct Setup {
+  ScratchDir d;
+  std::string input, tmp, output;
+  Setup(const std::string& generate_args, const std::string& input_name, const std::string& output_name) {
+    input = d.file(input_name);
+    tmp = d.file("tmp");
+    output = d.file(output_name);
+    REQUIRE(run_cli("generate --quiet " + generate_args + " -o " + q(input)).exit_code == 0);
+    REQUIRE(system(("mkdir " + q(tmp)).c_str()) == 0);
+    write_file(output, kOldContent);
+  }
+  // The destination is as it was, `tmp` is empty and the folder holds nothing else.
+  void check_untouched() const {
+    CHECK(read_file(output) == kOldContent);
+    CHECK(ScratchDirEntries(tmp).empty());
+    std::vector<std::string> expected = {input.substr(d.path().size() + 1), output.substr(d.path().size() + 1), "tmp"};
+    std::sort(expected.begin(), expected.end());
+    CHECK(d.entries() == expected);
+  }
+  static std::vector<std::string> ScratchDirEntries(const std::string& dir) {
+    std::vector<std::string> names;
+    std::string listing = dir + "/.listing";
+    if (system(("ls -A " + q(dir) + " > " + q(listing)).c_str()) != 0) return {"<ls failed>"};
+    std::string text = read_file(listing);
+    std::remove(listing.c_str());
+    for (std::size_t p = 0, e; (e = text.find('\n', p)) != std::string::npos; p = e + 1)
+      if (text.substr(p, e - p) != ".listing") names.push_back(text.substr(p, e - p));
+    return names;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a failed output write (file-size limit) exits 4, the destination untouched, no temporary file",
+          "[faults]") {
+  // A binary PLY is read in place: the output is the only file the run writes. The
+  // limit lets nothing past a few hundred KiB; the program itself must ignore
+  // SIGXFSZ (nothing here does) so that the write fails with EFBIG.
+  for (const char* name : {"o.ply", "o.ply.zst", "o.obj"}) {
+    CAPTURE(name);
+    Setup s("--tris 400000", "in.ply", name);
+    CliResult r = run_cli("simplify --quiet --method uniform " + q(s.input) + " -o " + q(s.output) +
+                              " --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 400");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.output));
+    CHECK_THAT(r.err, Contains("File too large"));
+    s.check_untouched();
+  }
+}
+
+TEST_CASE("a --tmp that fills up exits 4 naming the folder and the space needed; nothing left behind", "[faults]") {
+  SECTION("floating cells: the tile spill") {
+    Setup s("--tris 400000", "in.ply", "o.ply");  // read in place: the spill is the first file written
+    CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) +
+                              " --method floating --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 2000");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.tmp + ": cannot write the tile spill file"));
+    CHECK_THAT(r.err, Contains("the run's spill needs about 9.2 MiB"));  // 200030 vertices, 400056 triangles
+    CHECK_THAT(r.err, Contains("File too large"));
+    s.check_untouched();
+  }
+  SECTION("the temporary position array of a converted input") {
+    Setup s("--tris 400000 --ascii", "in.ply", "o.ply");
+    CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) + " --grid 256 --tmp " + q(s.tmp),
+                          "ulimit -f 1000");
+    INFO(r.err);
+    CHECK(r.exit_code == 4);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Contains(s.tmp + ": cannot write the temporary position array of " + s.input));
+    CHECK_THAT(r.err, Contains("of about 2.3 MiB needed"));  // 200030 vertices x 12 bytes
+    s.check_untouched();
+  }
+}
+
+TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, where one can be mounted)", "[faults]") {
+  // A private mount namespace (unshare -rm) mounts a tmpfs that vanishes with the
+  // run, so the listing of what it held is taken inside.
+  for (const char* method : {"uniform", "floating"}) {
+    CAPTURE(method);
+    // The uniform run converts an ascii input (2.3 MiB of positions); the floating
+    // run spills a binary one read in place (9.2 MiB).
+    bool ascii = std::string(method) == "uniform";
+    Setup s(std::string("--tris 400000") + (ascii ? " --ascii" : ""), "in.ply", "o.ply");
+    // Where unprivileged user namespaces or tmpfs mounts are not allowed, skip.
+    std::string probe = "unshare -rm sh -c " + q("mount -t tmpfs -o size=1m tmpfs " + s.tmp) + " >/dev/null 2>&1";
+    if (system(probe.c_str()) != 0) {
+      WARN("cannot mount a tmpfs in a private namespace here: the statvfs check is not exercised");
+      return;
+    }
+    std::string listing = s.d.file("tmp-listing");
+    std::string cmd = "unshare -rm sh -c " +
+                      q("mount -t tmpfs -o size=1m tmpfs " + s.tmp + " 2>/dev/null || exit 99; " + OOCSIMP_CLI +
+                        " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --method " + method +
+                        " --tmp " + s.tmp + " 2>" + s.d.file("err") + "; rc=$?; ls -A " + s.tmp + " >" + listing +
+                        "; exit $rc");
+    int status = system(cmd.c_str());
+    int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    REQUIRE(rc != 99);  // the probe could mount
+    std::string err = read_file(s.d.file("err"));
+    INFO(err);
+    CHECK(rc == 4);
+    CHECK(lines(err) == 1);
+    CHECK_THAT(err, Contains(s.tmp + ": the t"));  // "the temporary position array" / "the tile spill"
+    CHECK_THAT(err, Contains(ascii ? "needs about 2.3 MiB" : "needs about 9.2 MiB"));
+    CHECK_THAT(err, Contains("are free"));
+    CHECK(read_file(listing).empty());
+    CHECK(read_file(s.output) == kOldContent);
+  }
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+struct Interruption {
+  bool reached = false;   // the phase started and the signal was sent
+  bool in_phase = false;  // ... and the run died before the phase ended
+  double seconds = -1;    // from the signal to the run's end
+  int status = 0;
+  std::string err;
+};
+
+// Runs the CLI with `args`, reads its stderr (batch progress lines) until `phase`
+// starts, sends `sig` and waits (10 s at most) for the run to end.
+Interruption interrupt_at(const std::vector<std::string>& args, const std::string& phase, int sig) {
+  Interruption r;
+  int fds[2];
+  REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
+  pid_t pid = fork();
+  if (pid == 0) {
+    int null = open("/dev/null", O_RDWR);
+    dup2(null, 0);
+    dup2(null, 1);
+    dup2(fds[1], 2);
+    std::vector<char*> argv{const_cast<char*>(OOCSIMP_CLI)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(OOCSIMP_CLI, argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  const std::string started = "oocsimp: " + phase + " started\n", done = "oocsimp: " + phase + " done";
+  std::size_t marker = std::string::npos;
+  auto sent = std::chrono::steady_clock::now();
+  char buf[4096];
+  for (;;) {
+    ssize_t n = read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // the run ended (or was killed): its stderr closed
+    r.err.append(buf, std::size_t(n));
+    if (marker == std::string::npos && (marker = r.err.find(started)) != std::string::npos) {
+      kill(pid, sig);
+      sent = std::chrono::steady_clock::now();
+      r.reached = true;
+    }
+  }
+  close(fds[0]);
+  int status = 0;
+  for (;;) {
+    pid_t w = waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (seconds_since(sent) > 10) {  // generous; the requirement is one second
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    usleep(1000);
+  }
+  r.status = status;
+  if (r.reached) {
+    r.seconds = seconds_since(sent);
+    r.in_phase = r.err.find(done, marker) == std::string::npos;
+  }
+  return r;
+}
+
+// Interrupts a run of `args` (which writes `output` and uses `tmp`) with SIGINT and
+// with SIGTERM in each of `phases`. A phase that ended before the signal landed is
+// tried again, up to three times.
+void interrupt_every_phase(const std::vector<std::string>& args, const std::vector<std::string>& phases,
+                           const std::string& tmp, const std::string& out_dir, const std::string& output) {
+  for (const std::string& phase : phases)
+    for (int sig : {SIGINT, SIGTERM}) {
+      CAPTURE(phase, sig);
+      bool landed = false;
+      for (int attempt = 0; attempt < 3 && !landed; ++attempt) {
+        write_file(output, kOldContent);
+        Interruption r = interrupt_at(args, phase, sig);
+        INFO(r.err);
+        REQUIRE(r.reached);
+        CHECK(WIFSIGNALED(r.status));
+        CHECK(WTERMSIG(r.status) == sig);
+        INFO("exited " << r.seconds << " s after the signal");
+        CHECK(r.seconds < 5.0);
+        CHECK(Setup::ScratchDirEntries(tmp).empty());
+        CHECK(Setup::ScratchDirEntries(out_dir) == std::vector<std::string>{"o.ply"});  // no temporary output
+        CHECK(read_file(output) == kOldContent);
+        landed = r.in_phase;
+      }
+      CHECK(landed);
+    }
+}
+
+// Sanitizer builds run the phases several times slower, so a third of the input
+// keeps them about as long to hit (and the suite within the CI time).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kSignalInputScale = 3;
+#else
+constexpr int kSignalInputScale = 1;
+#endif
+
+std::string triangles(int n) { return std::to_string(n / kSignalInputScale); }
+
+}  // namespace
+
+TEST_CASE("SIGINT and SIGTERM in every phase of a uniform run: prompt exit, no temporary files, destination untouched",
+          "[faults][signals]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(2000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  auto args = [&](const std::string& input) {
+    return std::vector<std::string>{"simplify", input,     "-o",        output, "--ascii", "--method", "uniform",
+                                    "--grid",   "1024",    "--threads", "2",    "--tmp",   tmp};
+  };
+  // An ascii input is converted to a temporary position array first.
+  interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
+  interrupt_every_phase(args(d.file("binary.ply")), {"cell means", "cell quadrics", "solve", "write"}, tmp, out_dir,
+                        output);
+}
+
+TEST_CASE("SIGINT and SIGTERM in every phase of a floating-cells run: prompt exit, no tile spill, destination untouched",
+          "[faults][signals]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  auto args = [&](const std::string& input) {
+    // Small tiles: hundreds of them and many cross-tile triangles, so that the
+    // rounds and the stitch take long enough to be interrupted.
+    return std::vector<std::string>{"simplify", input, "-o", output, "--ascii", "--method", "floating", "--grid",
+                                    "512", "--tile", "0.2", "--threads", "2", "--tmp", tmp};
+  };
+  interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
+  interrupt_every_phase(args(d.file("binary.ply")),
+                        {"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "solve", "write"}, tmp,
+                        out_dir, output);
+}
