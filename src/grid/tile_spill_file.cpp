@@ -15,6 +15,22 @@ namespace {
 
 constexpr std::uint64_t kNoBlock = ~std::uint64_t(0);
 
+// zstd contexts, one per thread and kept: ZSTD_compress and ZSTD_decompress would
+// allocate (and, above the mmap threshold, map and unmap) a context per block.
+struct ZstdContexts {
+  ZSTD_CCtx* c = ZSTD_createCCtx();
+  ZSTD_DCtx* d = ZSTD_createDCtx();
+  std::vector<unsigned char> packed;  // a compressed block
+  ~ZstdContexts() {
+    ZSTD_freeCCtx(c);
+    ZSTD_freeDCtx(d);
+  }
+};
+ZstdContexts& zstd_contexts() {
+  thread_local ZstdContexts z;
+  return z;
+}
+
 // On disk, each block is this header followed by its payload.
 struct BlockHeader {
   std::uint64_t previous;     // offset of the tile's previous block, or kNoBlock
@@ -95,12 +111,13 @@ std::uint32_t TileSpillFile::add_tile() {
 
 void TileSpillFile::write_block(Tile& t) {
   std::size_t raw = t.buffered * record_size_;
-  std::vector<unsigned char> packed;
   const unsigned char* payload = t.buffer.data();
   std::size_t stored = raw;
   if (compress_) {
+    ZstdContexts& zc = zstd_contexts();
+    std::vector<unsigned char>& packed = zc.packed;
     packed.resize(ZSTD_compressBound(raw));
-    std::size_t z = ZSTD_compress(packed.data(), packed.size(), t.buffer.data(), raw, 1);
+    std::size_t z = ZSTD_compressCCtx(zc.c, packed.data(), packed.size(), t.buffer.data(), raw, 1);
     if (!ZSTD_isError(z) && z < raw) {
       payload = packed.data();
       stored = z;
@@ -169,7 +186,8 @@ void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) co
   std::size_t tail = t.buffered * record_size_;
   std::size_t pos = out->size() - tail;
   if (tail) std::memcpy(out->data() + pos, t.buffer.data(), tail);
-  std::vector<unsigned char> packed;
+  ZstdContexts& zc = zstd_contexts();
+  std::vector<unsigned char>& packed = zc.packed;
   for (std::uint64_t b = t.last_block; b != kNoBlock;) {
     BlockHeader h;
     pread_all(fd_, &h, sizeof h, b, path_);
@@ -180,7 +198,7 @@ void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) co
     } else {
       packed.resize(h.stored_bytes);
       pread_all(fd_, packed.data(), h.stored_bytes, b + sizeof h, path_);
-      std::size_t r = ZSTD_decompress(out->data() + pos, h.raw_bytes, packed.data(), h.stored_bytes);
+      std::size_t r = ZSTD_decompressDCtx(zc.d, out->data() + pos, h.raw_bytes, packed.data(), h.stored_bytes);
       if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(path_ + ": corrupt compressed tile spill block");
     }
     b = h.previous;
