@@ -11,15 +11,8 @@
 # Columns: input Mtri/s (input triangles / wall seconds), peak anonymous and total
 # RSS, output triangles, and our speed relative to sloppy (sloppy s / our s).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-if [ -z "${BENCH_NO_BUILD:-}" ]; then
-  "$root/scripts/setup-deps.sh"
-  "$root/scripts/build.sh"
-fi
-bin="$root/build/oocsimp"
+source "$(dirname "$0")/bench-setup.sh"
 peer="$root/build/meshopt_sloppy_bench"
-dir="$root/build/bench"
-mkdir -p "$dir"
 sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(1000000 10000000 50000000)
 grids=(${GRIDS:-256 1024})
@@ -29,9 +22,6 @@ method="${METHOD:-floating}"
 mem_opt=()
 [ -n "${MEM:-}" ] && mem_opt=(--mem "$MEM")
 
-json_field() {  # json_field FILE KEY -> first number after "KEY":
-  grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'
-}
 now() { date +%s.%N; }
 calc() { awk "BEGIN { print $1 }"; }
 
@@ -53,7 +43,7 @@ for n in "${sizes[@]}"; do
       s=$(calc "$t1 - $t0")
       secs[$t]=$s
       tris=$(json_field "$dir/stats.json" triangles | head -1)
-      out_tris=$(grep -o '"output": {"vertices": [0-9]*, "triangles": [0-9]*' "$dir/stats.json" | awk '{print $NF}')
+      out_tris=$(output_triangles "$dir/stats.json")
       anon=$(json_field "$dir/stats.json" peak_anon_bytes)
       rss=$(json_field "$dir/stats.json" peak_rss_bytes)
       printf '%-10s %-5s %-8s %8.3f %8.2f %9.1f %9.1f %10s %8s %9s %8s\n' "$n" "$g" "oocs-t$t" "$s" \

@@ -8,22 +8,12 @@
 #
 # Each argument is "SHAPE CELL"; both methods run at that --cell.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-if [ -z "${BENCH_NO_BUILD:-}" ]; then
-  "$root/scripts/setup-deps.sh"
-  "$root/scripts/build.sh"
-fi
-bin="$root/build/oocsimp"
-dir="$root/build/bench"
-mkdir -p "$dir"
+source "$(dirname "$0")/bench-setup.sh"
 size="${SIZE:-2000000}"
 samples="${SAMPLES:-1000000}"
 cases=("$@")
 [ ${#cases[@]} -eq 0 ] && cases=("sphere 0.0325" "parts 0.0125")
 
-json_field() {  # json_field FILE KEY -> the first number after "KEY":
-  grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'
-}
 printf '%-8s %-9s %8s %10s %11s %15s\n' shape method cell triangles rms/diag hausdorff/diag
 for c in "${cases[@]}"; do
   read -r shape cell <<<"$c"
@@ -31,7 +21,7 @@ for c in "${cases[@]}"; do
   [ -f "$mesh" ] || "$bin" generate --tris "$size" --shape "$shape" --seed 1 --quiet -o "$mesh"
   for method in uniform floating; do
     "$bin" simplify "$mesh" -o "$dir/q.ply" --method "$method" --cell "$cell" --quiet --stats "$dir/q.json"
-    tris=$(grep -o '"output": {"vertices": [0-9]*, "triangles": [0-9]*' "$dir/q.json" | awk '{print $NF}')
+    tris=$(output_triangles "$dir/q.json")
     "$bin" measure "$mesh" "$dir/q.ply" --samples "$samples" --json --quiet >"$dir/m.json"
     rel=$(grep '"symmetric"' "$dir/m.json" |
       sed -E 's/.*"of_diagonal": \{"hausdorff": ([^,]*), "mean": [^,]*, "rms": ([^}]*)\}.*/\2 \1/' |

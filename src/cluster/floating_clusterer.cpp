@@ -435,10 +435,9 @@ class FloatingRun {
     return t;
   }
 
-  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const { return load_graded(*vertices_, tile); }
-  static std::vector<GradedVertex> load_graded(const TileSpillFile& spill, std::uint32_t tile) {
+  std::vector<GradedVertex> load_vertices(std::uint32_t tile) const {
     std::vector<unsigned char> bytes;
-    spill.read(tile, &bytes);
+    vertices_->read(tile, &bytes);
     std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
     if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
