@@ -75,6 +75,15 @@ TEST_CASE("simplify output is byte-identical for --threads 1 and 2", "[cli]") {
   std::string a = read_file(d.file("o1.ply")), b = read_file(d.file("o2.ply"));
   CHECK(a.size() > 10000);
   CHECK(a == b);
+  // Nor does the spill's compression change it.
+  for (const char* c : {"zstd", "none"}) {
+    REQUIRE(run_cli(std::string("simplify --quiet --spill-compress ") + c + " " + q(d.file("t.ply")) + " -o " +
+                    q(d.file(std::string("o") + c + ".ply")) + " --grid 100")
+                .exit_code == 0);
+    CHECK(read_file(d.file(std::string("o") + c + ".ply")) == a);
+  }
+  CHECK(run_cli("simplify --quiet --spill-compress lz4 " + q(d.file("t.ply")) + " -o " + q(d.file("x.ply")))
+            .exit_code == 2);
 }
 
 TEST_CASE("every output format is chosen by extension", "[cli]") {

@@ -194,6 +194,39 @@ TEST_CASE("floating output is byte-identical for any tile size and thread count"
   }
 }
 
+TEST_CASE("the triangle spill is zstd-compressed or not as asked, with the same output", "[floating][clusterer]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = 40000;
+  g.shape = SyntheticShape::sphere;
+  generate_mesh(d.file("sphere.ply"), g);
+  auto run = [&](SpillCompression c, SimplifyStats* st) {
+    MeshInput in = open_mesh_input(d.file("sphere.ply"));
+    SimplifyOptions o;
+    o.sizing.cell = 0.06;
+    o.tile_side = 0.3;
+    o.spill_compression = c;
+    return simplify(in, o, st);
+  };
+  SimplifyStats none, zstd, automatic;
+  SimplifiedMesh a = run(SpillCompression::none, &none);
+  SimplifiedMesh b = run(SpillCompression::zstd, &zstd);
+  SimplifiedMesh c = run(SpillCompression::automatic, &automatic);
+  REQUIRE(a.triangles.size() > 1000);
+  CHECK(b.positions == a.positions);
+  CHECK(b.triangles == a.triangles);
+  CHECK(c.positions == a.positions);
+  CHECK(c.triangles == a.triangles);
+  // The same records either way; zstd stores the triangle and stitch records in
+  // well under what they take raw (the vertex blocks are never compressed).
+  CHECK(zstd.spill_raw_bytes == none.spill_raw_bytes);
+  CHECK(none.spill_bytes >= none.spill_raw_bytes);  // block headers on top
+  CHECK(double(none.spill_bytes) < 1.01 * double(none.spill_raw_bytes));
+  CHECK(double(zstd.spill_bytes) < 0.8 * double(none.spill_bytes));
+  // A 40k-triangle spill fits in any machine's memory: automatic leaves it raw.
+  CHECK(automatic.spill_bytes == none.spill_bytes);
+}
+
 TEST_CASE("quadric representatives stay in their floating cell and sharpen corners", "[floating][clusterer]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 40);

@@ -74,6 +74,9 @@ class ProgressPhase {
 
 /// Current anonymous resident memory of this process in bytes (RssAnon).
 std::uint64_t current_anon_bytes();
+/// MemAvailable of /proc/meminfo: memory the kernel can give without swapping,
+/// page cache included (0 where unknown).
+std::uint64_t available_memory_bytes();
 /// Peak resident memory of this process in bytes (VmHWM: anonymous and file-backed).
 std::uint64_t peak_rss_bytes();
 /// Monotonic seconds.

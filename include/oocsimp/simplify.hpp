@@ -37,6 +37,13 @@ enum class RepresentativeRule {
   mean,     ///< the mean of the cluster's vertices
 };
 
+/// Floating: whether the triangle spill under temp_dir is compressed with zstd.
+enum class SpillCompression {
+  automatic,  ///< zstd when the raw spill would not fit in half the available memory
+  zstd,       ///< always (slow disks: the spill shrinks to about half)
+  none,       ///< never (the spill stays in the page cache, or the disk is fast)
+};
+
 /// How the cell size is chosen; exactly one of the three is set (> 0).
 struct CellSizing {
   double cell = 0;            ///< absolute cell side in model units
@@ -56,6 +63,7 @@ struct SimplifyOptions {
   /// tiles kept by an earlier run on the same input (same path, size and time) when
   /// the cell still fits in a tile, skipping binning and grading.
   bool keep_temp = false;
+  SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
   unsigned threads = 0;             ///< 0 = all cores
   std::string temp_dir;             ///< empty = default_temp_dir()
   ProgressReporter* progress = nullptr;

@@ -361,7 +361,21 @@ class FloatingRun {
         input_.positions.count * sizeof(GradedVertex) +
         std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
     require_free_space(temp_dir(), spill_estimate, "the tile spill");
-    triangles_ = std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_triangles_);
+    // zstd halves the triangle spill (10M sphere: 620 -> 346 MB) but costs 1.4 s of
+    // a 10.6 s run on 2 threads; it pays only where the spill goes to the disk, not
+    // where the page cache holds it (and kept tiles outlive the run on disk).
+    const std::uint64_t raw_estimate = input_.info.face_count * sizeof(TriangleRecord) * 5 / 4;
+    bool& compress = compress_spill_;
+    compress = true;
+    switch (options_.spill_compression) {
+      case SpillCompression::zstd: break;
+      case SpillCompression::none: compress = false; break;
+      case SpillCompression::automatic:
+        compress = options_.keep_temp || raw_estimate > available_memory_bytes() / 2;
+        break;
+    }
+    triangles_ =
+        std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_spill_);
     triangles_->set_expected_bytes(spill_estimate);
 
     const PositionArray& pos = input_.positions;
@@ -682,7 +696,7 @@ class FloatingRun {
     std::uint32_t n = triangles_->tile_count();
     std::size_t buckets = std::max<std::size_t>(1, std::size_t(triangle_count_ / (1 << 22)) + 1);
     bucket_span_ = std::max<std::uint64_t>(1, (triangle_count_ + buckets - 1) / buckets);
-    corners_ = std::make_unique<TileSpillFile>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, true);
+    corners_ = std::make_unique<TileSpillFile>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_);
     for (std::size_t b = 0; b < buckets; ++b) corners_->add_tile();
     // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
     // the budget even if every vertex were a centre.
@@ -938,12 +952,11 @@ class FloatingRun {
   double rounds_seconds_ = 0;
   bool resumed_ = false;
   SkippedFaces resumed_skipped_;
-  // zstd pays for the triangle spill (measured on the 10M sphere, 56 tiles: 498 MiB
-  // raw -> 238 MiB written, +0.4 s of binning) but not for the vertex spill, which
-  // every round reads again and which barely compresses (positions and weights are
-  // noise to zstd: 422 vs 498 MiB for the whole spill, rounds 2.2 s -> 5.4 s).
-  static constexpr bool compress_triangles_ = true;
+  // The kept vertex spill barely compresses (positions and weights are noise to
+  // zstd: 422 vs 498 MiB for the whole spill of the 10M sphere, when every round
+  // read it). The triangle spill: see bin_triangles().
   static constexpr bool compress_vertices_ = false;
+  bool compress_spill_ = true;  // the triangle and stitch spills; see bin_triangles()
   std::uint64_t bucket_span_ = 1;
   std::vector<std::vector<GradedVertex>> centres_, border_;
   std::unique_ptr<TileSpillFile> partials_;  // PartialCluster shares, bucketed by centre index

@@ -11,9 +11,9 @@ namespace oocsimp {
 
 namespace {
 
-// Reads a "Key:   N kB" line of /proc/self/status, in bytes.
-std::uint64_t status_field(const char* key) {
-  int fd = ::open("/proc/self/status", O_RDONLY | O_CLOEXEC);
+// Reads a "Key:   N kB" line of a /proc file (/proc/self/status), in bytes.
+std::uint64_t status_field(const char* key, const char* file = "/proc/self/status") {
+  int fd = ::open(file, O_RDONLY | O_CLOEXEC);
   if (fd < 0) return 0;
   char buf[8192];
   ssize_t n = ::read(fd, buf, sizeof buf - 1);
@@ -32,6 +32,7 @@ std::uint64_t status_field(const char* key) {
 
 std::uint64_t current_anon_bytes() { return status_field("RssAnon"); }
 std::uint64_t peak_rss_bytes() { return status_field("VmHWM"); }
+std::uint64_t available_memory_bytes() { return status_field("MemAvailable", "/proc/meminfo"); }
 
 double now_seconds() {
   using namespace std::chrono;
