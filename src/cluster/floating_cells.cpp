@@ -205,6 +205,7 @@ std::vector<char> decisions(const std::vector<GradedVertex>& vertices, const std
 struct TileVertexBlock::Header {
   std::uint64_t count, cubes;
   std::int64_t origin[3];
+  std::int64_t dims[3];  // the box of cubes; all 0 when the block has no dense table
   double cell_size;
 };
 
@@ -237,6 +238,15 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
     }
   starts.push_back(std::uint32_t(filed.size()));
   h.cubes = keys.size();
+  // A dense table of the box's cubes turns the 8 binary searches of every lookup
+  // into arithmetic; it is kept when it is not much larger than the vertices (a
+  // surface occupies a small fraction of its box, so allow 4 entries per vertex).
+  double box_cubes = double(box.hi.x - box.lo.x + 1) * double(box.hi.y - box.lo.y + 1) * double(box.hi.z - box.lo.z + 1);
+  if (!sorted.empty() && box_cubes <= 4.0 * double(sorted.size()) + 4096) {
+    h.dims[0] = box.hi.x - box.lo.x + 1;
+    h.dims[1] = box.hi.y - box.lo.y + 1;
+    h.dims[2] = box.hi.z - box.lo.z + 1;
+  }
 
   TileVertexBlock layout(h);
   std::vector<unsigned char> bytes(layout.bytes_, 0);
@@ -246,6 +256,15 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
   if (!keys.empty()) std::memcpy(b.cube_keys_, keys.data(), keys.size() * sizeof(std::uint64_t));
   std::memcpy(b.cube_starts_, starts.data(), starts.size() * sizeof(std::uint32_t));
   for (std::size_t i = 0; i < filed.size(); ++i) b.by_cube_[i] = filed[i].second;
+  if (b.dense_cubes_) {
+    std::fill(b.dense_cubes_, b.dense_cubes_ + h.dims[0] * h.dims[1] * h.dims[2], ~std::uint32_t(0));
+    const std::uint64_t mask = (std::uint64_t(1) << kKeyBits) - 1;
+    for (std::size_t c = 0; c < keys.size(); ++c) {
+      std::int64_t x = std::int64_t(keys[c] >> (2 * kKeyBits)), y = std::int64_t((keys[c] >> kKeyBits) & mask),
+                   z = std::int64_t(keys[c] & mask);
+      b.dense_cubes_[std::size_t((x * h.dims[1] + y) * h.dims[2] + z)] = std::uint32_t(c);
+    }
+  }
   std::vector<char> is_centre = decisions(sorted, centres);
   if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());
   return bytes;
@@ -262,7 +281,10 @@ TileVertexBlock::TileVertexBlock(unsigned char* block) {
 void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
   count_ = std::size_t(h.count);
   cubes_ = std::size_t(h.cubes);
-  for (int a = 0; a < 3; ++a) origin_[a] = h.origin[a];
+  for (int a = 0; a < 3; ++a) {
+    origin_[a] = h.origin[a];
+    dims_[a] = h.dims[a];
+  }
   cell_size_ = h.cell_size;
   std::size_t at = sizeof(Header);
   auto take = [&](std::size_t bytes) {
@@ -275,6 +297,8 @@ void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
   cube_starts_ = reinterpret_cast<std::uint32_t*>(take((cubes_ + 1) * sizeof(std::uint32_t)));
   by_cube_ = reinterpret_cast<std::uint32_t*>(take(count_ * sizeof(std::uint32_t)));
   is_centre_ = reinterpret_cast<char*>(take(count_));
+  std::size_t dense = std::size_t(dims_[0] * dims_[1] * dims_[2]);
+  dense_cubes_ = dense ? reinterpret_cast<std::uint32_t*>(take(dense * sizeof(std::uint32_t))) : nullptr;
   bytes_ = at;
 }
 

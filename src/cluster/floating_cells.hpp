@@ -87,10 +87,8 @@ class TileVertexBlock {
     for (std::int64_t x = from(lo.x, origin_[0]); x <= to(hi.x, origin_[0]); ++x)
       for (std::int64_t y = from(lo.y, origin_[1]); y <= to(hi.y, origin_[1]); ++y)
         for (std::int64_t z = from(lo.z, origin_[2]); z <= to(hi.z, origin_[2]); ++z) {
-          std::uint64_t key = pack(x, y, z);
-          const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
-          if (k == cube_keys_ + cubes_ || *k != key) continue;
-          std::size_t c = std::size_t(k - cube_keys_);
+          std::size_t c = cube_at(x, y, z);
+          if (c == kNoCube) continue;
           for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1] && by_cube_[j] < before; ++j)
             if (f(by_cube_[j])) return true;
         }
@@ -107,13 +105,29 @@ class TileVertexBlock {
   static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
     return std::uint64_t(x) << (2 * kKeyBits) | std::uint64_t(y) << kKeyBits | std::uint64_t(z);
   }
+  static constexpr std::size_t kNoCube = ~std::size_t(0);
+  // The position of cube (x, y, z) (relative to the origin cube) among the occupied
+  // ones, or kNoCube: from the dense table over the block's box of cubes when it
+  // has one, else by binary search over the keys.
+  std::size_t cube_at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    if (dense_cubes_) {
+      if (x >= dims_[0] || y >= dims_[1] || z >= dims_[2]) return kNoCube;
+      std::uint32_t c = dense_cubes_[std::size_t((x * dims_[1] + y) * dims_[2] + z)];
+      return c == ~std::uint32_t(0) ? kNoCube : std::size_t(c);
+    }
+    std::uint64_t key = pack(x, y, z);
+    const std::uint64_t* k = std::lower_bound(cube_keys_, cube_keys_ + cubes_, key);
+    return k == cube_keys_ + cubes_ || *k != key ? kNoCube : std::size_t(k - cube_keys_);
+  }
 
   std::size_t count_ = 0, cubes_ = 0, bytes_ = 0;
   std::int64_t origin_[3] = {0, 0, 0};
+  std::int64_t dims_[3] = {0, 0, 0};  // the box of cubes, when dense_cubes_ is laid out
   double cell_size_ = 1;
   GradedVertex* vertices_ = nullptr;
   std::uint64_t* cube_keys_ = nullptr;    // occupied cubes, sorted
   std::uint32_t* cube_starts_ = nullptr;  // per cube, its first entry in by_cube_
+  std::uint32_t* dense_cubes_ = nullptr;  // per cube of the box, its position in cube_keys_ (or ~0)
   std::uint32_t* by_cube_ = nullptr;      // vertex positions grouped by cube
   char* is_centre_ = nullptr;
 };

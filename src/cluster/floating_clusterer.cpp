@@ -716,11 +716,11 @@ class FloatingRun {
       std::vector<GradedVertex> owned(block.vertices(), block.vertices() + block.size());
       std::sort(owned.begin(), owned.end(),
                 [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
-      std::vector<std::uint64_t> owned_key(owned.size());
-      for (std::size_t i = 0; i < owned.size(); ++i) owned_key[i] = owned[i].index;
-      auto local_of = [&](std::uint64_t v) {
-        return std::size_t(std::lower_bound(owned_key.begin(), owned_key.end(), v) - owned_key.begin());
-      };
+      // Input index -> position in `owned` (a hash: a binary search per corner took
+      // 40% of this pass).
+      CellMap<char> owned_at(2 * owned.size() + 16);
+      for (const GradedVertex& v : owned) owned_at.insert(v.index);  // ids are positions
+      auto local_of = [&](std::uint64_t v) { return std::size_t(owned_at.find(v)); };
       std::vector<GradedVertex> near = centres_[tile];
       std::vector<GradedVertex> ext = external_centres(tile, border_);
       near.insert(near.end(), ext.begin(), ext.end());

@@ -50,7 +50,11 @@ std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned
   for (std::size_t t = 0; t < 3 * triangle_count; ++t)
     if (corner_local[t] >= 0) start[std::size_t(corner_local[t]) + 1] += 2;
   for (std::size_t i = 0; i < owned.size(); ++i) start[i + 1] += start[i];
+  // Each edge once: in a manifold fan every spoke comes from two triangles, and the
+  // copies (bit-identical differences of the same positions) change neither factor
+  // but double the directions and quadruple the pairs vertex_weight compares.
   std::vector<Vec3d> edges(start.back());
+  std::vector<std::uint64_t> edge_to(start.back());
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
   for (std::size_t t = 0; t < triangle_count; ++t) {
     Vec3d p[3];
@@ -62,15 +66,21 @@ std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned
         for (int m = 0; m < 3; ++m) p[m] = positions.get(triangles[3 * t + std::size_t(m)]);
         loaded = true;
       }
-      for (int m : {(k + 1) % 3, (k + 2) % 3})
-        edges[fill[std::size_t(l)]++] = {p[m].x - p[k].x, p[m].y - p[k].y, p[m].z - p[k].z};
+      for (int m : {(k + 1) % 3, (k + 2) % 3}) {
+        const std::uint64_t to = triangles[3 * t + std::size_t(m)];
+        std::uint32_t& f = fill[std::size_t(l)];
+        if (std::find(edge_to.begin() + start[std::size_t(l)], edge_to.begin() + f, to) != edge_to.begin() + f)
+          continue;
+        edge_to[f] = to;
+        edges[f++] = {p[m].x - p[k].x, p[m].y - p[k].y, p[m].z - p[k].z};
+      }
     }
   }
   std::vector<GradedVertex> out(owned.size());
   for (std::size_t i = 0; i < owned.size(); ++i) {
     out[i].index = owned[i];
     out[i].p = positions.get(owned[i]);
-    out[i].weight = vertex_weight(edges.data() + start[i], start[i + 1] - start[i]);
+    out[i].weight = vertex_weight(edges.data() + start[i], fill[i] - start[i]);
   }
   return out;
 }
