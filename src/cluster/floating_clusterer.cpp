@@ -174,8 +174,41 @@ struct BinChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kBinChunk);
   std::size_t count = 0;
   std::uint64_t first = 0;  // input index of the first triangle
-  // (tile coordinate, record) pairs, sorted by tile so each tile gets one append.
-  std::vector<std::pair<GridCoord, TriangleRecord>> out;
+  // The chunk's records grouped by tile, each group in input order, so each tile
+  // gets one append: group g is records[group_start[g], group_start[g + 1]) of
+  // tile group_tile[g].
+  std::vector<TriangleRecord> records;
+  std::vector<GridCoord> group_tile;
+  std::vector<std::uint32_t> group_start;
+  // Scratch: the chunk-local tile of each record in input order, and an open-
+  // addressing table from tile coordinate to chunk-local tile.
+  std::vector<std::pair<std::uint32_t, TriangleRecord>> filed;
+  std::vector<std::uint32_t> slots;
+
+  // Groups `filed` by chunk-local tile with a counting sort (stable: input order
+  // within a tile), instead of sorting 56-byte (coordinate, record) pairs.
+  void group() {
+    const std::size_t tiles = group_tile.size();
+    group_start.assign(tiles + 1, 0);
+    for (const auto& f : filed) ++group_start[f.first + 1];
+    for (std::size_t g = 0; g < tiles; ++g) group_start[g + 1] += group_start[g];
+    records.resize(filed.size());
+    std::vector<std::uint32_t>& at = slots;  // the table is done with: reuse it
+    at.assign(group_start.begin(), group_start.end() - 1);
+    for (const auto& f : filed) records[at[f.first]++] = f.second;
+  }
+  std::uint32_t local_tile(const GridCoord& c) {
+    std::size_t mask = slots.size() - 1;
+    for (std::size_t s = GridCoordHash()(c) & mask;; s = (s + 1) & mask) {
+      std::uint32_t e = slots[s];
+      if (e == 0) {
+        group_tile.push_back(c);
+        slots[s] = std::uint32_t(group_tile.size());
+        return std::uint32_t(group_tile.size() - 1);
+      }
+      if (group_tile[e - 1] == c) return e - 1;
+    }
+  }
 };
 
 class FloatingRun {
@@ -290,7 +323,10 @@ class FloatingRun {
       } else {
         // Occupied tiles grow as divisions^2 on a surface: scale from the finest
         // counted level that does not exceed the need (or the coarsest one).
-        std::vector<std::uint64_t> occ = count_occupancy(input_.positions, b);
+        // An estimate is enough (the tiling never changes the output): about 2^20
+        // vertices, a few per cell of the finest level on a surface.
+        std::uint64_t stride = std::max<std::uint64_t>(1, input_.positions.count >> 20);
+        std::vector<std::uint64_t> occ = count_occupancy(input_.positions, b, stride);
         int l = 0;
         while (l + 1 < kLevelCount && double(occ[std::size_t(l + 1)]) <= tiles_needed) ++l;
         double divisions =
@@ -393,7 +429,12 @@ class FloatingRun {
           return c.count > 0;
         },
         [&](BinChunk& c) {
-          c.out.clear();
+          c.filed.clear();
+          c.group_tile.clear();
+          // At most 3 tiles per triangle: a table of twice that never fills.
+          std::size_t slots = 16;
+          while (slots < 6 * c.count) slots *= 2;
+          c.slots.assign(slots, 0);
           for (std::size_t i = 0; i < c.count; ++i) {
             std::uint64_t t = c.first + i;
             TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
@@ -404,24 +445,15 @@ class FloatingRun {
               std::uint64_t mask = 0;
               for (int m = 0; m < 3; ++m) mask |= std::uint64_t(k[m] == k[j]) << m;
               r.tm = t | mask << TriangleRecord::kMaskShift;
-              c.out.push_back({k[j], r});
+              c.filed.push_back({c.local_tile(k[j]), r});
             }
           }
-          // By tile, then input index (unique per tile: a triangle goes to a tile
-          // once): the stable order, without stable_sort's buffer per chunk.
-          std::sort(c.out.begin(), c.out.end(), [](const auto& a, const auto& b) {
-            return a.first != b.first ? a.first < b.first : a.second.index() < b.second.index();
-          });
+          c.group();
         },
         [&](BinChunk& c) {
-          for (std::size_t i = 0; i < c.out.size();) {
-            std::size_t j = i;
-            std::vector<TriangleRecord>& run = run_buffer_;
-            run.clear();
-            while (j < c.out.size() && c.out[j].first == c.out[i].first) run.push_back(c.out[j++].second);
-            triangles_->append(tile_id(c.out[i].first), run.data(), run.size());
-            i = j;
-          }
+          for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g)
+            triangles_->append(tile_id(c.group_tile[g]), &c.records[c.group_start[g]],
+                               c.group_start[g + 1] - c.group_start[g]);
         });
     triangles_->flush();
     if (progress) progress->end();
@@ -947,7 +979,6 @@ class FloatingRun {
   std::unique_ptr<TileBlockFile> blocks_;
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_ids_;
   std::vector<GridCoord> tile_coords_;
-  std::vector<TriangleRecord> run_buffer_;
   std::uint64_t triangle_count_ = 0;
   double rounds_seconds_ = 0;
   bool resumed_ = false;

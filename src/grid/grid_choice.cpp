@@ -12,7 +12,9 @@
 
 namespace oocsimp {
 
-std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds) {
+std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds,
+                                           std::uint64_t stride) {
+  stride = std::max<std::uint64_t>(stride, 1);
   std::vector<GridSpec> grids;
   for (std::uint32_t n : kLevels) grids.push_back(GridSpec::with_divisions(bounds, n));
   auto cells = [](const GridSpec& g) { return std::size_t(g.dims[0]) * g.dims[1] * g.dims[2]; };
@@ -27,11 +29,12 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
     return b;
   };
   tbb::combinable<Bits> local(empty_bits);
-  tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, positions.count, 1 << 16),
+  const std::uint64_t samples = (positions.count + stride - 1) / stride;
+  tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, samples, 1 << 16),
                     [&](const tbb::blocked_range<std::uint64_t>& r) {
                       Bits& b = local.local();
                       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-                        Vec3d p = positions.get(i);
+                        Vec3d p = positions.get(i * stride);
                         if (!is_finite(p)) continue;  // outside every grid (see is_finite)
                         for (int l = 0; l < kLevelCount; ++l) b[l][index(grids[l], grids[l].key(p))] = true;
                       }

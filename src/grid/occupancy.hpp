@@ -13,7 +13,9 @@ constexpr std::uint32_t kLevels[] = {16, 32, 64, 128, 256};
 constexpr int kLevelCount = 5;
 
 /// Occupied cells of the grids with kLevels[i] cells along the longest axis of
-/// `bounds`, counted over every vertex (per-thread bitmaps, at most 2 MiB each).
-std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds);
+/// `bounds`, counted over every `stride`-th vertex (per-thread bitmaps, at most
+/// 2 MiB each). A stride above 1 undercounts cells holding fewer vertices than it.
+std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds,
+                                           std::uint64_t stride = 1);
 
 }  // namespace oocsimp
