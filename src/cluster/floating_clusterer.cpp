@@ -267,6 +267,7 @@ class FloatingRun {
     {
       ProgressPhase phase(options_.progress, "rounds", 0, "round");
       run_rounds();
+      std::vector<std::vector<GradedVertex>>().swap(ext_);
     }
     note("rounds");
     double t2 = now_seconds();
@@ -460,6 +461,7 @@ class FloatingRun {
     triangle_count_ = next;
     centres_.resize(triangles_->tile_count());
     border_.resize(triangles_->tile_count());
+    ext_.resize(triangles_->tile_count());
     vertices_ = std::make_unique<TileSpillFile>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
     vertices_->set_expected_bytes(spill_estimate);
     for (std::uint32_t i = 0; i < triangles_->tile_count(); ++i) vertices_->add_tile();
@@ -534,10 +536,10 @@ class FloatingRun {
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("grade tiles", n, "tile");
     std::atomic<std::uint32_t> done{0};
-    // Round 1: grade, sort and spill every tile's vertices; greedy without
-    // external centres.
+    // Round 1: grade, sort and spill every tile's vertices; the greedy with the
+    // borders of the neighbours graded before.
     blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", n);
-    tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
+    for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       std::vector<std::uint64_t> owned, flat(3 * tris.size());
       std::vector<std::int64_t> corner_local(3 * tris.size());
@@ -558,7 +560,7 @@ class FloatingRun {
           grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
       std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
       if (options_.keep_temp) vertices_->append(tile, graded.data(), graded.size());
-      centres_[tile] = choose_centres(graded, {}, cell_);
+      choose_first(tile, graded);
       std::vector<unsigned char> block = TileVertexBlock::build(graded, centres_[tile], cell_.size);
       blocks_->put(tile, block.data(), block.size());
       if (progress) progress->set(++done);
@@ -648,6 +650,7 @@ class FloatingRun {
     for (std::uint32_t i = 0; i < coords.size(); ++i) tile_ids_.emplace(coords[i], i);
     centres_.resize(n);
     border_.resize(n);
+    ext_.resize(n);
     resumed_ = true;
     if (stats_) stats_->resumed = true;
     return true;
@@ -656,71 +659,97 @@ class FloatingRun {
   // Round 1 on kept tiles: the graded vertices are on disk already.
   void choose_from_kept() {
     blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", triangles_->tile_count());
-    tbb::parallel_for(std::uint32_t(0), triangles_->tile_count(), [&](std::uint32_t tile) {
+    for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<GradedVertex> sorted = load_vertices(tile);
-      centres_[tile] = choose_centres(sorted, {}, cell_);
+      choose_first(tile, sorted);
       std::vector<unsigned char> block = TileVertexBlock::build(sorted, centres_[tile], cell_.size);
       blocks_->put(tile, block.data(), block.size());
     });
     blocks_->map();
   }
 
+  // The colour class of a tile: the parity of its coordinates. Tiles of a class
+  // are never adjacent (a cell reaches only adjacent tiles), so they can run at
+  // once while the borders they read, their neighbours', hold still.
+  int colour(std::uint32_t tile) const {
+    const GridCoord& c = tile_coords_[tile];
+    return int(c.x & 1) | int(c.y & 1) << 1 | int(c.z & 1) << 2;
+  }
+
+  // f(tile) for every tile: the 8 colour classes one after the other, each in parallel.
+  template <class F>
+  void for_each_tile_by_colour(F&& f) {
+    std::uint32_t n = triangles_->tile_count();
+    for (int k = 0; k < 8; ++k) {
+      std::vector<std::uint32_t> of_colour;
+      for (std::uint32_t t = 0; t < n; ++t)
+        if (colour(t) == k) of_colour.push_back(t);
+      tbb::parallel_for(std::size_t(0), of_colour.size(), [&](std::size_t i) { f(of_colour[i]); });
+    }
+  }
+
+  // The first greedy over a tile's graded vertices (in precedes order), with the
+  // border centres its neighbours published so far; then its own border.
+  void choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
+    ext_[tile] = external_centres(tile, border_);
+    centres_[tile] = choose_centres(sorted, ext_[tile], cell_);
+    border_[tile] = border_of(tile);
+  }
+
   void run_rounds() {
     std::uint32_t n = triangles_->tile_count();
-    // Rounds: a tile runs again when the external centres it sees (its neighbours'
-    // border centres near it) changed since its last run; rechoose_centres
-    // re-decides only the vertices near a change. Each round reads the borders of
-    // the previous one, so tiles run in parallel and the result does not depend on
-    // their order; only tiles next to a changed border are looked at.
+    // A tile runs again when the external centres it sees (its neighbours' border
+    // centres near it) changed since its last run; rechoose_centres re-decides only
+    // the vertices near a change. Tiles are visited by colour class, one class after
+    // the other, as in the first round: each class sees the borders the classes
+    // before it just published (Gauss-Seidel rather than Jacobi: a chain of
+    // decisions crosses several tiles in one sweep). The order depends only on the
+    // tiling, not on the threads, and the end is the unique fixed point whatever
+    // the order (design note).
     double rounds_start = now_seconds();
-    std::vector<std::vector<GradedVertex>> ext(n);  // what each tile last ran with
-    std::vector<char> changed(n, 0);
-    for (std::uint32_t t = 0; t < n; ++t) {
-      border_[t] = border_of(t);
-      changed[t] = !border_[t].empty();
-    }
-    std::uint64_t rounds = 1;
+    std::vector<std::vector<std::uint32_t>> adjacent(n);
+    for (std::uint32_t t = 0; t < n; ++t) adjacent[t] = neighbours(t);
+    std::vector<std::vector<GradedVertex>>& ext = ext_;
+    // Whether a neighbour's border may have changed since the tile's last run: in
+    // the first round the later classes' borders came after it.
+    std::vector<char> stale(n, 1);
+    std::uint64_t sweeps = 1;
+    const bool debug = std::getenv("OOCSIMP_DEBUG_ROUNDS") != nullptr;
     for (;;) {
-      std::vector<char> candidate(n, 0);
-      for (std::uint32_t t = 0; t < n; ++t)
-        if (changed[t])
-          for (std::uint32_t nb : neighbours(t)) candidate[nb] = 1;
-      std::vector<std::uint32_t> dirty;
-      for (std::uint32_t t = 0; t < n; ++t)
-        if (candidate[t]) dirty.push_back(t);
-      // New inputs from this round's borders, then the re-runs, then the new borders.
-      std::vector<std::vector<GradedVertex>> next_ext(dirty.size()), next_border(dirty.size());
-      std::vector<char> ran(dirty.size(), 0);
-      tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
-        std::uint32_t tile = dirty[i];
-        next_ext[i] = external_centres(tile, border_);
-        if (same_centres(next_ext[i], ext[tile])) return;
-        ran[i] = 1;
-        TileVertexBlock block(blocks_->block(tile));
-        if (rechoose_centres(block, ext[tile], next_ext[i], cell_)) {
-          centres_[tile] = block.centres();
-          next_border[i] = border_of(tile);
-        } else {
-          next_border[i] = border_[tile];
-        }
-      });
-      std::fill(changed.begin(), changed.end(), 0);
       std::size_t runs = 0;
-      for (std::size_t i = 0; i < dirty.size(); ++i) {
-        if (!ran[i]) continue;
-        ++runs;
-        std::uint32_t tile = dirty[i];
-        ext[tile] = std::move(next_ext[i]);
-        changed[tile] = !same_centres(next_border[i], border_[tile]);
-        border_[tile] = std::move(next_border[i]);
+      for (int k = 0; k < 8; ++k) {
+        std::vector<std::uint32_t> dirty;
+        for (std::uint32_t t = 0; t < n; ++t)
+          if (stale[t] && colour(t) == k) dirty.push_back(t);
+        std::vector<char> border_changed(dirty.size(), 0);
+        std::vector<std::vector<GradedVertex>> next_border(dirty.size());
+        tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
+          std::uint32_t tile = dirty[i];
+          std::vector<GradedVertex> next_ext = external_centres(tile, border_);
+          if (same_centres(next_ext, ext[tile])) return;
+          TileVertexBlock block(blocks_->block(tile));
+          if (rechoose_centres(block, ext[tile], next_ext, cell_)) {
+            centres_[tile] = block.centres();
+            next_border[i] = border_of(tile);
+            border_changed[i] = !same_centres(next_border[i], border_[tile]);
+          }
+          ext[tile] = std::move(next_ext);  // only this tile's own slot
+        });
+        for (std::size_t i = 0; i < dirty.size(); ++i) {
+          std::uint32_t tile = dirty[i];
+          stale[tile] = 0;
+          ++runs;
+          if (!border_changed[i]) continue;
+          border_[tile] = std::move(next_border[i]);
+          for (std::uint32_t nb : adjacent[tile]) stale[nb] = 1;
+        }
       }
       if (runs == 0) break;
-      ++rounds;
-      if (std::getenv("OOCSIMP_DEBUG_ROUNDS"))
-        std::fprintf(stderr, "round %llu: %zu tiles ran\n", (unsigned long long)rounds, runs);
+      ++sweeps;
+      if (debug) std::fprintf(stderr, "sweep %llu: %zu tiles looked at\n", (unsigned long long)sweeps, runs);
     }
     rounds_seconds_ = now_seconds() - rounds_start;
-    if (stats_) stats_->rounds = rounds;
+    if (stats_) stats_->rounds = sweeps;
   }
 
   // Per tile: assignment, vertex quadrics into cluster sums, surviving triangles.
@@ -990,6 +1019,7 @@ class FloatingRun {
   bool compress_spill_ = true;  // the triangle and stitch spills; see bin_triangles()
   std::uint64_t bucket_span_ = 1;
   std::vector<std::vector<GradedVertex>> centres_, border_;
+  std::vector<std::vector<GradedVertex>> ext_;  // per tile, the external centres it last ran with
   std::unique_ptr<TileSpillFile> partials_;  // PartialCluster shares, bucketed by centre index
   std::uint64_t cluster_span_ = 1;           // centre indices per bucket
   std::vector<KeptTriangle> kept_;           // candidates, deduplicated per tile and bucket
