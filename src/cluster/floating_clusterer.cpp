@@ -168,6 +168,37 @@ bool same_centres(const std::vector<GradedVertex>& a, const std::vector<GradedVe
   return true;
 }
 
+// A tile's triangles over local vertex ids (in order of first use), with each
+// vertex's input index and position (read once) and the owned ones.
+struct TileLocalMesh {
+  std::vector<std::uint32_t> corners;  // 3 per triangle
+  std::vector<std::uint64_t> index;
+  std::vector<Vec3d> positions;
+  std::vector<std::uint32_t> owned;  // local ids, in order of first use
+
+  CellMap<char> ids;  // input index -> local id
+
+  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
+      : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        std::uint64_t v = tris[t].v[k];
+        std::size_t before = ids.size();
+        std::uint32_t id = ids.insert(v);
+        if (ids.size() != before) {
+          index.push_back(v);
+          positions.push_back(pos.get(v));
+          // A vertex is owned by one tile, so every corner of it here says the same.
+          if (tris[t].owned(k)) owned.push_back(id);
+        }
+        corners[3 * t + std::size_t(k)] = id;
+      }
+  }
+  LocalMesh mesh() const {
+    return {corners.data(), corners.size() / 3, index.data(), positions.data(), index.size()};
+  }
+};
+
 constexpr std::size_t kBinChunk = 1 << 15;
 
 struct BinChunk {
@@ -541,23 +572,10 @@ class FloatingRun {
     blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", n);
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
-      std::vector<std::uint64_t> owned, flat(3 * tris.size());
-      std::vector<std::int64_t> corner_local(3 * tris.size());
-      CellMap<std::uint32_t> local(2 * tris.size() + 16);
-      for (std::size_t t = 0; t < tris.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-          std::uint64_t v = tris[t].v[k];
-          flat[3 * t + std::size_t(k)] = v;
-          std::int64_t id = -1;
-          if (tris[t].owned(k)) {
-            std::size_t before = local.size();
-            id = local.insert(v);
-            if (local.size() != before) owned.push_back(v);
-          }
-          corner_local[3 * t + std::size_t(k)] = id;
-        }
-      std::vector<GradedVertex> graded =
-          grade_vertices(owned, corner_local.data(), flat.data(), tris.size(), input_.positions);
+      // The tile's vertices as local ids in order of first use, each position read
+      // once; the owned ones (whose fans are complete here) are graded.
+      TileLocalMesh local(tris, input_.positions);
+      std::vector<GradedVertex> graded = grade_local_vertices(local.mesh(), local.owned);
       std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
       if (options_.keep_temp) vertices_->append(tile, graded.data(), graded.size());
       choose_first(tile, graded);
@@ -777,11 +795,11 @@ class FloatingRun {
       std::vector<GradedVertex> owned(block.vertices(), block.vertices() + block.size());
       std::sort(owned.begin(), owned.end(),
                 [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
-      // Input index -> position in `owned` (a hash: a binary search per corner took
-      // 40% of this pass).
-      CellMap<char> owned_at(2 * owned.size() + 16);
-      for (const GradedVertex& v : owned) owned_at.insert(v.index);  // ids are positions
-      auto local_of = [&](std::uint64_t v) { return std::size_t(owned_at.find(v)); };
+      // Local vertex id -> position in `owned` (a binary search per corner took 40%
+      // of this pass).
+      TileLocalMesh mesh(tris, input_.positions);
+      std::vector<std::size_t> owned_at(mesh.index.size(), SIZE_MAX);
+      for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
       std::vector<GradedVertex> near = centres_[tile];
       std::vector<GradedVertex> ext = external_centres(tile, border_);
       near.insert(near.end(), ext.begin(), ext.end());
@@ -797,14 +815,16 @@ class FloatingRun {
       std::vector<KeptTriangle> kept;
       std::vector<CornerRecord> corners;
       const double inv = 1.0 / cell_.size;
-      for (const TriangleRecord& r : tris) {
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        const TriangleRecord& r = tris[t];
+        const std::uint32_t* id = &mesh.corners[3 * t];
         std::size_t local[3];
         int owned_count = 0;
         for (int k = 0; k < 3; ++k) {
-          local[k] = r.owned(k) ? local_of(r.v[k]) : SIZE_MAX;
+          local[k] = r.owned(k) ? owned_at[id[k]] : SIZE_MAX;
           owned_count += local[k] != SIZE_MAX;
         }
-        Vec3d p[3] = {input_.positions.get(r.v[0]), input_.positions.get(r.v[1]), input_.positions.get(r.v[2])};
+        const Vec3d p[3] = {mesh.positions[id[0]], mesh.positions[id[1]], mesh.positions[id[2]]};
         // The face's plane once, in cell units relative to its first corner; each
         // owned corner adds it relative to its own cluster's centre.
         Vec3d e1{(p[1].x - p[0].x) * inv, (p[1].y - p[0].y) * inv, (p[1].z - p[0].z) * inv};

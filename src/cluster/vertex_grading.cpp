@@ -34,53 +34,68 @@ double vertex_weight(const Vec3d* edges, std::size_t count) {
 
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions) {
-  std::vector<std::int64_t> corner_local(3 * triangle_count);
-  for (std::size_t t = 0; t < 3 * triangle_count; ++t) {
-    auto it = std::lower_bound(owned.begin(), owned.end(), triangles[t]);
-    corner_local[t] = (it != owned.end() && *it == triangles[t]) ? std::int64_t(it - owned.begin()) : -1;
-  }
-  return grade_vertices(owned, corner_local.data(), triangles, triangle_count, positions);
+  // Local ids: the owned vertices first, in their order, then the other corners.
+  std::vector<std::uint64_t> index(owned.begin(), owned.end());
+  std::vector<std::uint64_t> others(triangles, triangles + 3 * triangle_count);
+  std::sort(others.begin(), others.end());
+  others.erase(std::unique(others.begin(), others.end()), others.end());
+  std::vector<std::uint64_t> sorted_owned(owned.begin(), owned.end());
+  std::sort(sorted_owned.begin(), sorted_owned.end());
+  for (std::uint64_t v : others)
+    if (!std::binary_search(sorted_owned.begin(), sorted_owned.end(), v)) index.push_back(v);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> id_of(index.size());
+  for (std::size_t i = 0; i < index.size(); ++i) id_of[i] = {index[i], std::uint32_t(i)};
+  std::sort(id_of.begin(), id_of.end());
+  std::vector<std::uint32_t> corners(3 * triangle_count);
+  for (std::size_t c = 0; c < corners.size(); ++c)
+    corners[c] = std::lower_bound(id_of.begin(), id_of.end(), std::make_pair(triangles[c], std::uint32_t(0)))->second;
+  std::vector<Vec3d> p(index.size());
+  for (std::size_t i = 0; i < index.size(); ++i) p[i] = positions.get(index[i]);
+  std::vector<std::uint32_t> local(owned.size());
+  for (std::size_t i = 0; i < owned.size(); ++i) local[i] = std::uint32_t(i);
+  LocalMesh m{corners.data(), triangle_count, index.data(), p.data(), index.size()};
+  return grade_local_vertices(m, local);
 }
 
-std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::int64_t* corner_local,
-                                         const std::uint64_t* triangles, std::size_t triangle_count,
-                                         const PositionArray& positions) {
-  // Incident edges in compressed rows: count, prefix-sum, fill.
+std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned) {
+  // Per local vertex, its position among the owned (or kNone).
+  constexpr std::uint32_t kNone = ~std::uint32_t(0);
+  std::vector<std::uint32_t> slot(mesh.vertex_count, kNone);
+  for (std::size_t i = 0; i < owned.size(); ++i) slot[owned[i]] = std::uint32_t(i);
+  // Neighbours in compressed rows: count (2 per corner), prefix-sum, fill.
   std::vector<std::uint32_t> start(owned.size() + 1, 0);
-  for (std::size_t t = 0; t < 3 * triangle_count; ++t)
-    if (corner_local[t] >= 0) start[std::size_t(corner_local[t]) + 1] += 2;
+  const std::uint32_t* corners = mesh.corners;
+  for (std::size_t c = 0; c < 3 * mesh.triangle_count; ++c)
+    if (slot[corners[c]] != kNone) start[slot[corners[c]] + 1] += 2;
   for (std::size_t i = 0; i < owned.size(); ++i) start[i + 1] += start[i];
-  // Each edge once: in a manifold fan every spoke comes from two triangles, and the
-  // copies (bit-identical differences of the same positions) change neither factor
-  // but double the directions and quadruple the pairs vertex_weight compares.
-  std::vector<Vec3d> edges(start.back());
-  std::vector<std::uint64_t> edge_to(start.back());
+  std::vector<std::uint32_t> neighbour(start.back());
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t t = 0; t < triangle_count; ++t) {
-    Vec3d p[3];
-    bool loaded = false;
+  for (std::size_t t = 0; t < mesh.triangle_count; ++t)
     for (int k = 0; k < 3; ++k) {
-      std::int64_t l = corner_local[3 * t + std::size_t(k)];
-      if (l < 0) continue;
-      if (!loaded) {
-        for (int m = 0; m < 3; ++m) p[m] = positions.get(triangles[3 * t + std::size_t(m)]);
-        loaded = true;
-      }
-      for (int m : {(k + 1) % 3, (k + 2) % 3}) {
-        const std::uint64_t to = triangles[3 * t + std::size_t(m)];
-        std::uint32_t& f = fill[std::size_t(l)];
-        if (std::find(edge_to.begin() + start[std::size_t(l)], edge_to.begin() + f, to) != edge_to.begin() + f)
-          continue;
-        edge_to[f] = to;
-        edges[f++] = {p[m].x - p[k].x, p[m].y - p[k].y, p[m].z - p[k].z};
-      }
+      std::uint32_t s = slot[corners[3 * t + std::size_t(k)]];
+      if (s == kNone) continue;
+      neighbour[fill[s]++] = corners[3 * t + std::size_t((k + 1) % 3)];
+      neighbour[fill[s]++] = corners[3 * t + std::size_t((k + 2) % 3)];
     }
-  }
+  // Each edge once: in a manifold fan every spoke comes from two triangles, and
+  // the copies (bit-identical differences of the same positions) change neither
+  // factor but double the directions and quadruple the pairs vertex_weight compares.
   std::vector<GradedVertex> out(owned.size());
+  std::vector<Vec3d> edges;
   for (std::size_t i = 0; i < owned.size(); ++i) {
-    out[i].index = owned[i];
-    out[i].p = positions.get(owned[i]);
-    out[i].weight = vertex_weight(edges.data() + start[i], fill[i] - start[i]);
+    std::uint32_t* first = neighbour.data() + start[i];
+    std::uint32_t* last = neighbour.data() + start[i + 1];
+    std::sort(first, last);
+    last = std::unique(first, last);
+    const Vec3d& p = mesh.positions[owned[i]];
+    edges.clear();
+    for (const std::uint32_t* n = first; n != last; ++n) {
+      const Vec3d& q = mesh.positions[*n];
+      edges.push_back({q.x - p.x, q.y - p.y, q.z - p.z});
+    }
+    out[i].index = mesh.index[owned[i]];
+    out[i].p = p;
+    out[i].weight = vertex_weight(edges.data(), edges.size());
   }
   return out;
 }

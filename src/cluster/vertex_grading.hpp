@@ -34,11 +34,22 @@ double vertex_weight(const Vec3d* edges, std::size_t count);
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions);
 
-/// grade_vertices when the caller already knows, for corner k of triangle t, the
-/// position of its vertex in `owned` (`corner_local[3 t + k]`, -1 when not owned).
-/// `owned` need not be sorted; the result follows its order.
-std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::int64_t* corner_local,
-                                         const std::uint64_t* triangles, std::size_t triangle_count,
-                                         const PositionArray& positions);
+/// A tile's triangles over tile-local vertex ids, for grade_local_vertices:
+/// `corners` holds 3 local ids per triangle; local vertex i has input index
+/// `index[i]` and position `positions[i]`.
+struct LocalMesh {
+  const std::uint32_t* corners = nullptr;
+  std::size_t triangle_count = 0;
+  const std::uint64_t* index = nullptr;
+  const Vec3d* positions = nullptr;
+  std::size_t vertex_count = 0;
+};
+
+/// grade_vertices over a LocalMesh: weights of the local vertices `owned` (local
+/// ids), whose incident triangles must all be in `mesh`. Returns one GradedVertex
+/// per owned vertex, in the order of `owned`. Positions are read once per local
+/// vertex, edges are kept as neighbour ids (each neighbour once), so a tile's
+/// working set stays in cache.
+std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned);
 
 }  // namespace oocsimp
