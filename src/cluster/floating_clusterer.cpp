@@ -82,7 +82,12 @@ struct Fixed {
   std::int64_t v = 0;
   static constexpr double kScale = 4294967296.0;  // 2^32
   static std::int64_t of(double x) {
-    double s = std::nearbyint(x * kScale);
+    double s = x * kScale;
+    // Round to nearest, ties to even: adding and taking away 1.5 * 2^52 does it in
+    // two additions where |s| < 2^51 (nearly always: it is a library call otherwise).
+    constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
+    if (std::fabs(s) < 2251799813685248.0) s = (s + kRound) - kRound;
+    else s = std::nearbyint(s);
     if (!(std::fabs(s) < 9.2e18)) throw std::overflow_error("floating cells: cluster sum out of fixed-point range");
     return std::int64_t(s);
   }
@@ -953,7 +958,9 @@ class FloatingRun {
   // orientation and its place in the output order): a minimum, so it does not
   // depend on the order in which tiles report. In place.
   static void dedupe(std::vector<KeptTriangle>& kept) {
-    std::sort(kept.begin(), kept.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
+    // A total order (one triangle is decided in one place), so an unstable
+    // parallel sort gives the same result.
+    tbb::parallel_sort(kept.begin(), kept.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
       if (!a.same_clusters(b)) return std::lexicographical_compare(a.c, a.c + 3, b.c, b.c + 3);
       return a.index() < b.index();
     });
@@ -987,8 +994,9 @@ class FloatingRun {
       std::vector<PartialCluster> shares(bytes.size() / sizeof(PartialCluster));
       if (!bytes.empty()) std::memcpy(shares.data(), bytes.data(), bytes.size());
       std::vector<unsigned char>().swap(bytes);
-      std::sort(shares.begin(), shares.end(),
-                [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });
+      // Shares of one centre in any order: they are summed in fixed point.
+      tbb::parallel_sort(shares.begin(), shares.end(),
+                         [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });
       std::vector<std::size_t> starts;  // first share of each centre
       for (std::size_t i = 0; i < shares.size(); ++i)
         if (i == 0 || shares[i].centre != shares[i - 1].centre) starts.push_back(i);
