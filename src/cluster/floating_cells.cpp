@@ -267,6 +267,13 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
   }
   std::vector<char> is_centre = decisions(sorted, centres);
   if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());
+  // Each cube's centres, ascending (a cube's vertices are filed ascending).
+  for (std::size_t c = 0; c < keys.size(); ++c) {
+    std::uint32_t k = 0;
+    for (std::uint32_t j = starts[c]; j < starts[c + 1]; ++j)
+      if (is_centre[b.by_cube_[j]]) b.centre_by_cube_[starts[c] + k++] = b.by_cube_[j];
+    b.centres_in_cube_[c] = k;
+  }
   return bytes;
 }
 
@@ -296,10 +303,31 @@ void TileVertexBlock::lay_out(unsigned char* base, const Header& h) {
   cube_keys_ = reinterpret_cast<std::uint64_t*>(take(cubes_ * sizeof(std::uint64_t)));
   cube_starts_ = reinterpret_cast<std::uint32_t*>(take((cubes_ + 1) * sizeof(std::uint32_t)));
   by_cube_ = reinterpret_cast<std::uint32_t*>(take(count_ * sizeof(std::uint32_t)));
+  centre_by_cube_ = reinterpret_cast<std::uint32_t*>(take(count_ * sizeof(std::uint32_t)));
+  centres_in_cube_ = reinterpret_cast<std::uint32_t*>(take(cubes_ * sizeof(std::uint32_t)));
   is_centre_ = reinterpret_cast<char*>(take(count_));
   std::size_t dense = std::size_t(dims_[0] * dims_[1] * dims_[2]);
   dense_cubes_ = dense ? reinterpret_cast<std::uint32_t*>(take(dense * sizeof(std::uint32_t))) : nullptr;
   bytes_ = at;
+}
+
+void TileVertexBlock::set_centre(std::size_t i, bool c) {
+  if (is_centre(i) == c) return;
+  is_centre_[i] = char(c);
+  GridCoord g = GridCoord::of(vertices_[i].p, cell_size_);
+  std::size_t cube = cube_at(g.x - origin_[0], g.y - origin_[1], g.z - origin_[2]);
+  if (cube == kNoCube) throw std::logic_error("floating cells: a vertex outside its block's cubes");
+  std::uint32_t* first = centre_by_cube_ + cube_starts_[cube];
+  std::uint32_t& n = centres_in_cube_[cube];
+  std::uint32_t* at = std::lower_bound(first, first + n, std::uint32_t(i));
+  if (c) {
+    std::copy_backward(at, first + n, first + n + 1);
+    *at = std::uint32_t(i);
+    ++n;
+  } else {
+    std::copy(at + 1, first + n, at);
+    --n;
+  }
 }
 
 std::vector<GradedVertex> TileVertexBlock::centres() const {
@@ -341,8 +369,8 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
     std::uint32_t i = queue.top();
     queue.pop();
     const GradedVertex& v = block.vertex(i);
-    bool covered = block.any_near(
-        v.p, [&](std::uint32_t k) { return block.is_centre(k) && cell.contains(block.vertex(k).p, v.p); }, i);
+    bool covered = block.any_centre_near(
+        v.p, [&](std::uint32_t k) { return cell.contains(block.vertex(k).p, v.p); }, i);
     if (!covered)
       externals.for_each_near(v.p, [&](std::uint32_t id) {
         const GradedVertex& e = new_external[id];

@@ -71,7 +71,8 @@ class TileVertexBlock {
   const GradedVertex& vertex(std::size_t i) const { return vertices_[i]; }
   const GradedVertex* vertices() const { return vertices_; }
   bool is_centre(std::size_t i) const { return is_centre_[i] != 0; }
-  void set_centre(std::size_t i, bool c) { is_centre_[i] = char(c); }
+  /// Marks vertex i a centre or not, and files or unfiles it in its cube's centres.
+  void set_centre(std::size_t i, bool c);
   /// The centres, in `precedes` order.
   std::vector<GradedVertex> centres() const;
   /// Calls f(i) for the vertices i whose cube the cell around p overlaps until f
@@ -80,6 +81,22 @@ class TileVertexBlock {
   /// priority order, so its scan stops at the first later one.
   template <class F>
   bool any_near(const Vec3d& p, F&& f, std::uint32_t before = ~std::uint32_t(0)) const {
+    return scan_near(p, cube_starts_, by_cube_, nullptr, f, before);
+  }
+  /// any_near over the centres only: each cube keeps its current centres (in
+  /// priority order), so a check for a covering centre does not walk the cube's
+  /// other vertices, of which a dense part of a mesh has thousands per cell.
+  template <class F>
+  bool any_centre_near(const Vec3d& p, F&& f, std::uint32_t before = ~std::uint32_t(0)) const {
+    return scan_near(p, cube_starts_, centre_by_cube_, centres_in_cube_, f, before);
+  }
+
+ private:
+  // Walks, for the cubes near p, lists[starts[c] ..] (of length counts[c], or up
+  // to starts[c + 1] without counts) while entries precede `before`.
+  template <class F>
+  bool scan_near(const Vec3d& p, const std::uint32_t* starts, const std::uint32_t* lists,
+                 const std::uint32_t* counts, F&& f, std::uint32_t before) const {
     GridCoord lo, hi;
     cubes_near(p, cell_size_, &lo, &hi);
     auto from = [](std::int64_t c, std::int64_t o) { return std::max(c - o, std::int64_t(0)); };
@@ -89,13 +106,13 @@ class TileVertexBlock {
         for (std::int64_t z = from(lo.z, origin_[2]); z <= to(hi.z, origin_[2]); ++z) {
           std::size_t c = cube_at(x, y, z);
           if (c == kNoCube) continue;
-          for (std::uint32_t j = cube_starts_[c]; j < cube_starts_[c + 1] && by_cube_[j] < before; ++j)
-            if (f(by_cube_[j])) return true;
+          const std::uint32_t end = counts ? starts[c] + counts[c] : starts[c + 1];
+          for (std::uint32_t j = starts[c]; j < end && lists[j] < before; ++j)
+            if (f(lists[j])) return true;
         }
     return false;
   }
 
- private:
   struct Header;
   explicit TileVertexBlock(const Header& h);  // sizes only, for build()
   void lay_out(unsigned char* base, const Header& h);
@@ -129,6 +146,8 @@ class TileVertexBlock {
   std::uint32_t* cube_starts_ = nullptr;  // per cube, its first entry in by_cube_
   std::uint32_t* dense_cubes_ = nullptr;  // per cube of the box, its position in cube_keys_ (or ~0)
   std::uint32_t* by_cube_ = nullptr;      // vertex positions grouped by cube
+  std::uint32_t* centre_by_cube_ = nullptr;   // per cube, from cube_starts_[c]: its centres, ascending
+  std::uint32_t* centres_in_cube_ = nullptr;  // per cube, how many
   char* is_centre_ = nullptr;
 };
 
