@@ -170,15 +170,16 @@ std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted
 
 namespace {
 
-// The externals added or removed: the symmetric difference of two precedes-sorted lists.
-std::vector<const GradedVertex*> changed_externals(const std::vector<GradedVertex>& old_external,
-                                                   const std::vector<GradedVertex>& new_external) {
-  std::vector<const GradedVertex*> changed;
+// The externals added (true) or removed (false): the symmetric difference of two
+// precedes-sorted lists.
+std::vector<std::pair<const GradedVertex*, bool>> changed_externals(const std::vector<GradedVertex>& old_external,
+                                                                    const std::vector<GradedVertex>& new_external) {
+  std::vector<std::pair<const GradedVertex*, bool>> changed;
   for (std::size_t i = 0, j = 0; i < old_external.size() || j < new_external.size();) {
     if (j == new_external.size() || (i < old_external.size() && precedes(old_external[i], new_external[j])))
-      changed.push_back(&old_external[i++]);
+      changed.push_back({&old_external[i++], false});
     else if (i == old_external.size() || precedes(new_external[j], old_external[i]))
-      changed.push_back(&new_external[j++]);
+      changed.push_back({&new_external[j++], true});
     else {  // same priority: the same vertex
       ++i;
       ++j;
@@ -339,7 +340,7 @@ std::vector<GradedVertex> TileVertexBlock::centres() const {
 
 bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& old_external,
                       const std::vector<GradedVertex>& new_external, const FloatingCellShape& cell) {
-  std::vector<const GradedVertex*> changed = changed_externals(old_external, new_external);
+  std::vector<std::pair<const GradedVertex*, bool>> changed = changed_externals(old_external, new_external);
   if (changed.empty()) return false;
   const std::size_t n = block.size();
   CubeBox box;
@@ -351,19 +352,25 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
   // external added or removed, or a vertex of the tile whose decision flipped.
   // Vertices are re-decided heaviest first and a flip queues only lighter ones, so
   // when a vertex is decided every heavier decision is final; the others keep theirs.
+  // A centre that appears only adds cover: of the vertices in its cell only the
+  // present centres can change (to covered). One that disappears only takes cover
+  // away: only the covered ones can change. (A vertex's own flag changes only when
+  // it is re-decided, after every heavier item, so the filter at queueing holds.)
   std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<std::uint32_t>> queue;
   std::vector<char> queued(n, 0);
-  auto queue_reached = [&](const Vec3d& p, auto&& preceded_by) {
-    block.any_near(p, [&](std::uint32_t j) {
+  auto queue_reached = [&](const Vec3d& p, bool appeared, auto&& preceded_by) {
+    auto visit = [&](std::uint32_t j) {
       if (!queued[j] && preceded_by(j) && cell.contains(p, block.vertex(j).p)) {
         queued[j] = 1;
         queue.push(j);
       }
       return false;
-    });
+    };
+    if (appeared) block.any_centre_near(p, visit);
+    else block.any_near(p, [&](std::uint32_t j) { return !block.is_centre(j) && visit(j); });
   };
-  for (const GradedVertex* c : changed)
-    queue_reached(c->p, [&](std::uint32_t j) { return precedes(*c, block.vertex(j)); });
+  for (const auto& c : changed)
+    queue_reached(c.first->p, c.second, [&](std::uint32_t j) { return precedes(*c.first, block.vertex(j)); });
   bool any = false;
   while (!queue.empty()) {
     std::uint32_t i = queue.top();
@@ -379,7 +386,7 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
     if (!covered == block.is_centre(i)) continue;
     block.set_centre(i, !covered);
     any = true;
-    queue_reached(v.p, [&](std::uint32_t j) { return j > i; });
+    queue_reached(v.p, !covered, [&](std::uint32_t j) { return j > i; });
   }
   return any;
 }

@@ -70,6 +70,9 @@ class TileVertexBlock {
   std::size_t size() const { return count_; }
   const GradedVertex& vertex(std::size_t i) const { return vertices_[i]; }
   const GradedVertex* vertices() const { return vertices_; }
+  /// The vertices grouped by lookup cube: the j-th is vertex(filed(j)). Visiting
+  /// them so keeps lookups around neighbouring points together.
+  std::uint32_t filed(std::size_t j) const { return by_cube_[j]; }
   bool is_centre(std::size_t i) const { return is_centre_[i] != 0; }
   /// Marks vertex i a centre or not, and files or unfiles it in its cube's centres.
   void set_centre(std::size_t i, bool c);

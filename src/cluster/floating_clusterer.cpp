@@ -794,12 +794,12 @@ class FloatingRun {
     std::mutex merge;
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
-      // Owned vertices by input index: assignment and the triangle loop below then
-      // visit them roughly in the input's order, which keeps lookups near each other.
+      // Owned vertices grouped by lookup cube: consecutive assignments then probe the
+      // same cubes (by input index, the cluster pass took 15% longer). Their order
+      // changes no sum: vertex quadrics follow the triangles, cluster sums are fixed point.
       TileVertexBlock block(blocks_->block(tile));
-      std::vector<GradedVertex> owned(block.vertices(), block.vertices() + block.size());
-      std::sort(owned.begin(), owned.end(),
-                [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
+      std::vector<GradedVertex> owned(block.size());
+      for (std::size_t j = 0; j < owned.size(); ++j) owned[j] = block.vertex(block.filed(j));
       // Local vertex id -> position in `owned` (a binary search per corner took 40%
       // of this pass).
       TileLocalMesh mesh(tris, input_.positions);
