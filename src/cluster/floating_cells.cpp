@@ -223,13 +223,40 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
   h.origin[2] = box.lo.z;
   if (box.hi.x - box.lo.x >= kKeyRange || box.hi.y - box.lo.y >= kKeyRange || box.hi.z - box.lo.z >= kKeyRange)
     throw std::logic_error("floating cells: a tile spans more than 2^21 cells");
+  // A dense table of the box's cubes turns the 8 binary searches of every lookup
+  // into arithmetic; it is kept when it is not much larger than the vertices (a
+  // surface occupies a small fraction of its box, so allow 4 entries per vertex).
+  const std::int64_t dims[3] = {box.hi.x - box.lo.x + 1, box.hi.y - box.lo.y + 1, box.hi.z - box.lo.z + 1};
+  const double box_cubes = double(dims[0]) * double(dims[1]) * double(dims[2]);
+  const bool dense = !sorted.empty() && box_cubes <= 4.0 * double(sorted.size()) + 4096;
+  if (dense)
+    for (int a = 0; a < 3; ++a) h.dims[a] = dims[a];
   // (cube key, position) sorted: positions grouped by cube, in precedes order within.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> filed(sorted.size());
+  std::vector<std::uint32_t> dense_index;
   for (std::size_t i = 0; i < sorted.size(); ++i) {
     GridCoord c = GridCoord::of(sorted[i].p, cell_size);
     filed[i] = {pack(c.x - h.origin[0], c.y - h.origin[1], c.z - h.origin[2]), std::uint32_t(i)};
   }
-  std::sort(filed.begin(), filed.end());
+  if (dense) {
+    // A counting sort over the box (stable, and the box's order is the keys'
+    // order): linear where a comparison sort of the pairs took 3% of a run.
+    std::vector<std::uint32_t> at(std::size_t(box_cubes) + 1, 0);
+    dense_index.resize(sorted.size());
+    const std::uint64_t mask = (std::uint64_t(1) << kKeyBits) - 1;
+    for (std::size_t i = 0; i < filed.size(); ++i) {
+      std::uint64_t k = filed[i].first;
+      dense_index[i] = std::uint32_t((std::int64_t(k >> (2 * kKeyBits)) * dims[1] + std::int64_t((k >> kKeyBits) & mask)) *
+                                         dims[2] + std::int64_t(k & mask));
+      ++at[dense_index[i] + 1];
+    }
+    for (std::size_t c = 1; c < at.size(); ++c) at[c] += at[c - 1];
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> grouped(filed.size());
+    for (std::size_t i = 0; i < filed.size(); ++i) grouped[at[dense_index[i]]++] = filed[i];
+    filed.swap(grouped);
+  } else {
+    std::sort(filed.begin(), filed.end());
+  }
   std::vector<std::uint64_t> keys;
   std::vector<std::uint32_t> starts;
   for (std::size_t i = 0; i < filed.size(); ++i)
@@ -239,15 +266,6 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
     }
   starts.push_back(std::uint32_t(filed.size()));
   h.cubes = keys.size();
-  // A dense table of the box's cubes turns the 8 binary searches of every lookup
-  // into arithmetic; it is kept when it is not much larger than the vertices (a
-  // surface occupies a small fraction of its box, so allow 4 entries per vertex).
-  double box_cubes = double(box.hi.x - box.lo.x + 1) * double(box.hi.y - box.lo.y + 1) * double(box.hi.z - box.lo.z + 1);
-  if (!sorted.empty() && box_cubes <= 4.0 * double(sorted.size()) + 4096) {
-    h.dims[0] = box.hi.x - box.lo.x + 1;
-    h.dims[1] = box.hi.y - box.lo.y + 1;
-    h.dims[2] = box.hi.z - box.lo.z + 1;
-  }
 
   TileVertexBlock layout(h);
   std::vector<unsigned char> bytes(layout.bytes_, 0);
