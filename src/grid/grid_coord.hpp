@@ -18,7 +18,15 @@ struct GridCoord {
   bool operator!=(const GridCoord& o) const { return !(*this == o); }
   bool operator<(const GridCoord& o) const { return x != o.x ? x < o.x : y != o.y ? y < o.y : z < o.z; }
 
-  static std::int64_t axis(double v, double size) { return std::int64_t(std::floor(v / size)); }
+  /// floor(v / size) as an integer. Without SSE4.1 std::floor is a library call, and
+  /// this runs several times per vertex and per lookup: truncate and step down for
+  /// negative non-integers instead (the same value wherever it fits an int64).
+  static std::int64_t axis(double v, double size) {
+    double q = v / size;
+    if (!(std::fabs(q) < 9.0e18)) return std::int64_t(std::floor(q));
+    std::int64_t i = std::int64_t(q);
+    return i - std::int64_t(double(i) > q);
+  }
   static GridCoord of(const Vec3d& p, double size) { return {axis(p.x, size), axis(p.y, size), axis(p.z, size)}; }
 };
 
