@@ -38,6 +38,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
 #include "cluster/ordered_pipeline.hpp"
 #include "grid/cell_map.hpp"
@@ -45,101 +46,16 @@
 #include "grid/occupancy.hpp"
 #include "grid/tile_block_file.hpp"
 #include "grid/tile_spill_file.hpp"
+#include "grid/tile_triangles.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
 #include "oocsimp/temp_file.hpp"
+#include "stitch/kept_triangles.hpp"
 
 namespace oocsimp {
 
 namespace {
-
-// --- records on disk ---
-
-struct TriangleRecord {
-  std::uint64_t tm;    // input triangle index (file order) | owned-corner mask << 61
-  std::uint64_t v[3];  // input vertex indices
-
-  static constexpr int kMaskShift = 61;
-  std::uint64_t index() const { return tm & ((std::uint64_t(1) << kMaskShift) - 1); }
-  /// Whether corner k lies in the tile holding this record (the binning knew).
-  bool owned(int k) const { return (tm >> (kMaskShift + k)) & 1; }
-};
-
-// One corner of a cross-tile triangle, with the cluster its owner tile gave it.
-struct CornerRecord {
-  std::uint64_t t_and_slot;  // t << 2 | corner slot
-  std::uint64_t cluster;     // input index of the cluster's centre
-};
-
-// --- partition-independent sums ---
-
-// A sum of doubles in 32.32 fixed point: integer addition is associative, so the
-// total does not depend on how the terms were grouped into tiles or threads. Terms
-// are in cell units (coordinates relative to the cluster's centre, divided by the
-// cell size), where cluster sums stay far below 2^31; overflow is checked anyway.
-struct Fixed {
-  std::int64_t v = 0;
-  static constexpr double kScale = 4294967296.0;  // 2^32
-  static std::int64_t of(double x) {
-    double s = x * kScale;
-    // Round to nearest, ties to even: adding and taking away 1.5 * 2^52 does it in
-    // two additions where |s| < 2^51 (nearly always: it is a library call otherwise).
-    constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
-    if (std::fabs(s) < 2251799813685248.0) s = (s + kRound) - kRound;
-    else s = std::nearbyint(s);
-    if (!(std::fabs(s) < 9.2e18)) throw std::overflow_error("floating cells: cluster sum out of fixed-point range");
-    return std::int64_t(s);
-  }
-  void add(std::int64_t x) {
-    if (__builtin_add_overflow(v, x, &v)) throw std::overflow_error("floating cells: cluster sum overflows");
-  }
-  double value() const { return double(v) / kScale; }
-};
-
-// What a cluster accumulates: the quadric (A and b; the constant is not needed to
-// solve), the sum of member positions and the member count, relative to its centre.
-struct ClusterRecord {
-  Vec3d centre;
-  Fixed sum[12];  // a00 a01 a02 a11 a12 a22 b0 b1 b2, mx my mz
-  std::uint64_t members = 0;
-  void add(const ClusterRecord& o) {
-    for (int i = 0; i < 12; ++i) sum[i].add(o.sum[i].v);
-    members += o.members;
-  }
-};
-
-// A triangle over three clusters: its clusters sorted (the key that finds the same
-// triangle from other tiles and faces), where each of its corners went in that
-// order, and its input index (the first occurrence wins: its corners' order and its
-// place set the output).
-struct KeptTriangle {
-  std::uint64_t t_and_order;  // t | (3 * rank of corner 0 + rank of corner 1) << 60
-  std::uint64_t c[3];         // cluster centres' input indices, ascending
-
-  static constexpr int kOrderShift = 60;
-  static KeptTriangle of(std::uint64_t t, std::uint64_t c0, std::uint64_t c1, std::uint64_t c2) {
-    // rank of each corner among the three (the clusters are distinct)
-    std::uint64_t r0 = std::uint64_t(c0 > c1) + std::uint64_t(c0 > c2);
-    std::uint64_t r1 = std::uint64_t(c1 > c0) + std::uint64_t(c1 > c2);
-    KeptTriangle k{t | (3 * r0 + r1) << kOrderShift, {c0, c1, c2}};
-    std::sort(k.c, k.c + 3);
-    return k;
-  }
-  std::uint64_t index() const { return t_and_order & ((std::uint64_t(1) << kOrderShift) - 1); }
-  /// The clusters in file order.
-  std::array<std::uint64_t, 3> corners() const {
-    std::uint64_t code = t_and_order >> kOrderShift, r0 = code / 3, r1 = code % 3;
-    return {c[r0], c[r1], c[3 - r0 - r1]};
-  }
-  bool same_clusters(const KeptTriangle& o) const { return c[0] == o.c[0] && c[1] == o.c[1] && c[2] == o.c[2]; }
-};
-
-// One tile's share of a cluster, spilled by centre index and merged in assemble().
-struct PartialCluster {
-  std::uint64_t centre;  // input index of the centre
-  ClusterRecord sums;
-};
 
 // --- tiles ---
 
@@ -172,80 +88,6 @@ bool same_centres(const std::vector<GradedVertex>& a, const std::vector<GradedVe
     if (a[i].index != b[i].index) return false;
   return true;
 }
-
-// A tile's triangles over local vertex ids (in order of first use), with each
-// vertex's input index and position (read once) and the owned ones.
-struct TileLocalMesh {
-  std::vector<std::uint32_t> corners;  // 3 per triangle
-  std::vector<std::uint64_t> index;
-  std::vector<Vec3d> positions;
-  std::vector<std::uint32_t> owned;  // local ids, in order of first use
-
-  CellMap<char> ids;  // input index -> local id
-
-  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
-      : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
-    for (std::size_t t = 0; t < tris.size(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        std::uint64_t v = tris[t].v[k];
-        std::size_t before = ids.size();
-        std::uint32_t id = ids.insert(v);
-        if (ids.size() != before) {
-          index.push_back(v);
-          positions.push_back(pos.get(v));
-          // A vertex is owned by one tile, so every corner of it here says the same.
-          if (tris[t].owned(k)) owned.push_back(id);
-        }
-        corners[3 * t + std::size_t(k)] = id;
-      }
-  }
-  LocalMesh mesh() const {
-    return {corners.data(), corners.size() / 3, index.data(), positions.data(), index.size()};
-  }
-};
-
-constexpr std::size_t kBinChunk = 1 << 15;
-
-struct BinChunk {
-  std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kBinChunk);
-  std::size_t count = 0;
-  std::uint64_t first = 0;  // input index of the first triangle
-  // The chunk's records grouped by tile, each group in input order, so each tile
-  // gets one append: group g is records[group_start[g], group_start[g + 1]) of
-  // tile group_tile[g].
-  std::vector<TriangleRecord> records;
-  std::vector<GridCoord> group_tile;
-  std::vector<std::uint32_t> group_start;
-  // Scratch: the chunk-local tile of each record in input order, and an open-
-  // addressing table from tile coordinate to chunk-local tile.
-  std::vector<std::pair<std::uint32_t, TriangleRecord>> filed;
-  std::vector<std::uint32_t> slots;
-
-  // Groups `filed` by chunk-local tile with a counting sort (stable: input order
-  // within a tile), instead of sorting 56-byte (coordinate, record) pairs.
-  void group() {
-    const std::size_t tiles = group_tile.size();
-    group_start.assign(tiles + 1, 0);
-    for (const auto& f : filed) ++group_start[f.first + 1];
-    for (std::size_t g = 0; g < tiles; ++g) group_start[g + 1] += group_start[g];
-    records.resize(filed.size());
-    std::vector<std::uint32_t>& at = slots;  // the table is done with: reuse it
-    at.assign(group_start.begin(), group_start.end() - 1);
-    for (const auto& f : filed) records[at[f.first]++] = f.second;
-  }
-  std::uint32_t local_tile(const GridCoord& c) {
-    std::size_t mask = slots.size() - 1;
-    for (std::size_t s = GridCoordHash()(c) & mask;; s = (s + 1) & mask) {
-      std::uint32_t e = slots[s];
-      if (e == 0) {
-        group_tile.push_back(c);
-        slots[s] = std::uint32_t(group_tile.size());
-        return std::uint32_t(group_tile.size() - 1);
-      }
-      if (group_tile[e - 1] == c) return e - 1;
-    }
-  }
-};
 
 class FloatingRun {
  public:
@@ -889,7 +731,7 @@ class FloatingRun {
         partials_->append(bucket, &partial[i], j - i);
         i = j;
       }
-      dedupe(kept);  // outside the lock
+      dedupe_kept_triangles(kept);  // outside the lock
       std::lock_guard<std::mutex> lock(merge);
       kept_.insert(kept_.end(), kept.begin(), kept.end());
       if (progress) progress->set(++done);
@@ -902,25 +744,7 @@ class FloatingRun {
   // Cross-tile triangles: their corners' clusters were written by the tiles owning
   // the corners into buckets by triangle index; a bucket fits in memory.
   void stitch_cross_tile_triangles() {
-    std::vector<KeptTriangle> bucket_kept;
-    for (std::uint32_t b = 0; b < corners_->tile_count(); ++b) {
-      std::vector<unsigned char> bytes;
-      corners_->read(b, &bytes);
-      std::vector<CornerRecord> rec(bytes.size() / sizeof(CornerRecord));
-      if (!bytes.empty()) std::memcpy(rec.data(), bytes.data(), bytes.size());
-      std::sort(rec.begin(), rec.end(), [](const CornerRecord& a, const CornerRecord& c) { return a.t_and_slot < c.t_and_slot; });
-      for (std::size_t i = 0; i < rec.size();) {
-        std::uint64_t t = rec[i].t_and_slot >> 2;
-        if (i + 2 >= rec.size() || (rec[i + 2].t_and_slot >> 2) != t)
-          throw std::logic_error("stitch: triangle " + std::to_string(t) + " lacks a corner");
-        std::uint64_t c0 = rec[i].cluster, c1 = rec[i + 1].cluster, c2 = rec[i + 2].cluster;
-        if (c0 != c1 && c1 != c2 && c0 != c2) bucket_kept.push_back(KeptTriangle::of(t, c0, c1, c2));
-        i += 3;
-      }
-      dedupe(bucket_kept);
-      kept_.insert(kept_.end(), bucket_kept.begin(), bucket_kept.end());
-      bucket_kept.clear();
-    }
+    stitch_cross_tile_corners(*corners_, &kept_);
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
                             partials_->bytes_on_disk() + blocks_->bytes_on_disk();
@@ -954,24 +778,9 @@ class FloatingRun {
     return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
   }
 
-  // Each cluster triple once, the occurrence with the smallest input index (its
-  // orientation and its place in the output order): a minimum, so it does not
-  // depend on the order in which tiles report. In place.
-  static void dedupe(std::vector<KeptTriangle>& kept) {
-    // A total order (one triangle is decided in one place), so an unstable
-    // parallel sort gives the same result.
-    tbb::parallel_sort(kept.begin(), kept.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
-      if (!a.same_clusters(b)) return std::lexicographical_compare(a.c, a.c + 3, b.c, b.c + 3);
-      return a.index() < b.index();
-    });
-    kept.erase(std::unique(kept.begin(), kept.end(),
-                           [](const KeptTriangle& a, const KeptTriangle& b) { return a.same_clusters(b); }),
-               kept.end());
-  }
-
   SimplifiedMesh assemble() {
     std::vector<KeptTriangle>& tris = kept_;
-    dedupe(tris);
+    dedupe_kept_triangles(tris);
     tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
       return a.index() < b.index();  // input order of first occurrence
     });
