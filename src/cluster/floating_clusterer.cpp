@@ -623,7 +623,11 @@ class FloatingRun {
     std::size_t buckets = std::max<std::size_t>(1, std::size_t(triangle_count_ / (1 << 22)) + 1);
     bucket_span_ = std::max<std::uint64_t>(1, (triangle_count_ + buckets - 1) / buckets);
     corners_ = std::make_unique<TileSpillFile>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_);
-    for (std::size_t b = 0; b < buckets; ++b) corners_->add_tile();
+    inside_ = std::make_unique<TileSpillFile>(temp_dir(), "kept", sizeof(KeptTriangle), 1024, compress_spill_);
+    for (std::size_t b = 0; b < buckets; ++b) {
+      corners_->add_tile();
+      inside_->add_tile();
+    }
     // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
     // the budget even if every vertex were a centre.
     cluster_span_ = std::max<std::uint64_t>(1, options_.memory_budget / 8 / sizeof(PartialCluster));
@@ -633,7 +637,6 @@ class FloatingRun {
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("cluster tiles", n, "tile");
     std::atomic<std::uint32_t> done{0};
-    std::mutex merge;
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       // Owned vertices grouped by lookup cube: consecutive assignments then probe the
@@ -705,16 +708,8 @@ class FloatingRun {
         for (int k = 0; k < 12; ++k) s.sum[k].add(Fixed::of(terms[k]));
         ++s.members;
       }
-      // Cross-tile corners go to the stitch buckets, a run per bucket.
-      std::sort(corners.begin(), corners.end(),
-                [](const CornerRecord& a, const CornerRecord& b) { return a.t_and_slot < b.t_and_slot; });
-      for (std::size_t i = 0; i < corners.size();) {
-        std::uint32_t bucket = std::uint32_t((corners[i].t_and_slot >> 2) / bucket_span_);
-        std::size_t j = i;
-        while (j < corners.size() && std::uint32_t((corners[j].t_and_slot >> 2) / bucket_span_) == bucket) ++j;
-        corners_->append(bucket, &corners[i], j - i);
-        i = j;
-      }
+      // Cross-tile corners go to the stitch buckets by triangle index.
+      append_by_bucket(*corners_, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span_; });
       // This tile's shares of clusters go to the cluster buckets, by centre index.
       std::vector<PartialCluster> partial;
       for (std::size_t i = 0; i < near.size(); ++i)
@@ -722,34 +717,56 @@ class FloatingRun {
           sums[i].centre = near[i].p;
           partial.push_back({near[i].index, sums[i]});
         }
-      std::sort(partial.begin(), partial.end(),
-                [](const PartialCluster& a, const PartialCluster& b) { return a.centre < b.centre; });
-      for (std::size_t i = 0; i < partial.size();) {
-        std::uint32_t bucket = std::uint32_t(partial[i].centre / cluster_span_);
-        std::size_t j = i;
-        while (j < partial.size() && std::uint32_t(partial[j].centre / cluster_span_) == bucket) ++j;
-        partials_->append(bucket, &partial[i], j - i);
-        i = j;
-      }
-      dedupe_kept_triangles(kept);  // outside the lock
-      std::lock_guard<std::mutex> lock(merge);
-      kept_.insert(kept_.end(), kept.begin(), kept.end());
+      append_by_bucket(*partials_, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span_; });
+      // The triangles decided here go to the same buckets as the stitch's, so that
+      // the output-sized list of kept triangles is built once, at its exact size,
+      // instead of growing (and being copied) in the heap tile by tile.
+      dedupe_kept_triangles(kept);
+      append_by_bucket(*inside_, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span_; });
       if (progress) progress->set(++done);
     });
     corners_->flush();
     partials_->flush();
+    inside_->flush();
     if (progress) progress->end();
   }
 
   // Cross-tile triangles: their corners' clusters were written by the tiles owning
   // the corners into buckets by triangle index; a bucket fits in memory.
   void stitch_cross_tile_triangles() {
+    // At most: every triangle decided in a tile, and one per three stitch corners.
+    kept_.reserve(inside_->bytes_appended() / sizeof(KeptTriangle) +
+                  corners_->bytes_appended() / sizeof(CornerRecord) / 3);
+    std::vector<unsigned char> bytes;
+    for (std::uint32_t b = 0; b < inside_->tile_count(); ++b) {
+      inside_->read(b, &bytes);
+      std::size_t at = kept_.size();
+      kept_.resize(at + bytes.size() / sizeof(KeptTriangle));
+      if (!bytes.empty()) std::memcpy(kept_.data() + at, bytes.data(), bytes.size());
+    }
+    std::vector<unsigned char>().swap(bytes);
     stitch_cross_tile_corners(*corners_, &kept_);
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
-                            partials_->bytes_on_disk() + blocks_->bytes_on_disk();
+                            partials_->bytes_on_disk() + inside_->bytes_on_disk() + blocks_->bytes_on_disk();
       stats_->spill_raw_bytes = triangles_->bytes_appended() + vertices_->bytes_appended() +
-                                corners_->bytes_appended() + partials_->bytes_appended() + blocks_->bytes_on_disk();
+                                corners_->bytes_appended() + partials_->bytes_appended() + inside_->bytes_appended() +
+                                blocks_->bytes_on_disk();
+    }
+  }
+
+  // Appends `records` to `spill`, a run per bucket(record), after sorting them by
+  // it (stably: within a bucket the records keep their order).
+  template <class Record, class Bucket>
+  static void append_by_bucket(TileSpillFile& spill, std::vector<Record>* records, Bucket bucket) {
+    std::vector<Record>& r = *records;
+    std::stable_sort(r.begin(), r.end(), [&](const Record& a, const Record& b) { return bucket(a) < bucket(b); });
+    for (std::size_t i = 0; i < r.size();) {
+      std::uint64_t k = bucket(r[i]);
+      std::size_t j = i;
+      while (j < r.size() && bucket(r[j]) == k) ++j;
+      spill.append(std::uint32_t(k), &r[i], j - i);
+      i = j;
     }
   }
 
@@ -840,6 +857,7 @@ class FloatingRun {
   SimplifyStats* stats_;
   TileGeometry tiles_;
   std::unique_ptr<TileSpillFile> triangles_, vertices_, corners_;
+  std::unique_ptr<TileSpillFile> inside_;  // triangles decided in their tile, by triangle-index bucket
   // Per tile its graded vertices for the rounds and the clustering (TileVertexBlock).
   // The vertices_ spill holds the same only for --keep-tmp, in the kept format.
   std::unique_ptr<TileBlockFile> blocks_;
