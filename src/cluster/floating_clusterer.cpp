@@ -350,10 +350,8 @@ class FloatingRun {
   // The tile's triangles, sorted by input index (the spill order depends on nothing
   // but the input, but sorting makes that obvious).
   std::vector<TriangleRecord> load_triangles(std::uint32_t tile) const {
-    std::vector<unsigned char> bytes;
-    triangles_->read(tile, &bytes);
-    std::vector<TriangleRecord> t(bytes.size() / sizeof(TriangleRecord));
-    if (!bytes.empty()) std::memcpy(t.data(), bytes.data(), bytes.size());
+    std::vector<TriangleRecord> t;
+    triangles_->read(tile, &t);
     // Input order matters: a vertex quadric sums its faces in this order. Binning
     // appends in input order, so this is normally sorted already.
     auto by_index = [](const TriangleRecord& a, const TriangleRecord& b) { return a.index() < b.index(); };
@@ -362,10 +360,8 @@ class FloatingRun {
   }
 
   std::vector<GradedVertex> load_vertices(std::uint32_t tile) const {
-    std::vector<unsigned char> bytes;
-    vertices_->read(tile, &bytes);
-    std::vector<GradedVertex> v(bytes.size() / sizeof(GradedVertex));
-    if (!bytes.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+    std::vector<GradedVertex> v;
+    vertices_->read(tile, &v);
     return v;
   }
 
@@ -737,14 +733,11 @@ class FloatingRun {
     // At most: every triangle decided in a tile, and one per three stitch corners.
     kept_.reserve(inside_->bytes_appended() / sizeof(KeptTriangle) +
                   corners_->bytes_appended() / sizeof(CornerRecord) / 3);
-    std::vector<unsigned char> bytes;
     for (std::uint32_t b = 0; b < inside_->tile_count(); ++b) {
-      inside_->read(b, &bytes);
       std::size_t at = kept_.size();
-      kept_.resize(at + bytes.size() / sizeof(KeptTriangle));
-      if (!bytes.empty()) std::memcpy(kept_.data() + at, bytes.data(), bytes.size());
+      kept_.resize(at + inside_->record_count(b));
+      inside_->read_into(b, kept_.data() + at, (kept_.size() - at) * sizeof(KeptTriangle));
     }
-    std::vector<unsigned char>().swap(bytes);
     stitch_cross_tile_corners(*corners_, &kept_);
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
@@ -815,11 +808,8 @@ class FloatingRun {
     mesh.positions.assign(3 * index.size(), 0.0f);
     std::uint64_t clusters = 0;
     for (std::uint32_t b = 0; b < partials_->tile_count(); ++b) {
-      std::vector<unsigned char> bytes;
-      partials_->read(b, &bytes);
-      std::vector<PartialCluster> shares(bytes.size() / sizeof(PartialCluster));
-      if (!bytes.empty()) std::memcpy(shares.data(), bytes.data(), bytes.size());
-      std::vector<unsigned char>().swap(bytes);
+      std::vector<PartialCluster> shares;
+      partials_->read(b, &shares);
       // Shares of one centre in any order: they are summed in fixed point.
       tbb::parallel_sort(shares.begin(), shares.end(),
                          [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <stdexcept>
 
 #include "oocsimp/error.hpp"
 
@@ -178,14 +179,15 @@ void TileSpillFile::flush() {
   }
 }
 
-void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) const {
+void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes) const {
   const Tile& t = *tiles_[tile];
   std::lock_guard<std::mutex> lock(const_cast<Tile&>(t).mutex);
-  out->resize(t.records * record_size_);
+  if (bytes != t.records * record_size_) throw std::logic_error(path_ + ": read into a buffer of the wrong size");
+  unsigned char* out = static_cast<unsigned char*>(dest);
   // Blocks are chained backwards: fill the output from its end.
   std::size_t tail = t.buffered * record_size_;
-  std::size_t pos = out->size() - tail;
-  if (tail) std::memcpy(out->data() + pos, t.buffer.data(), tail);
+  std::size_t pos = bytes - tail;
+  if (tail) std::memcpy(out + pos, t.buffer.data(), tail);
   ZstdContexts& zc = zstd_contexts();
   std::vector<unsigned char>& packed = zc.packed;
   for (std::uint64_t b = t.last_block; b != kNoBlock;) {
@@ -194,11 +196,11 @@ void TileSpillFile::read(std::uint32_t tile, std::vector<unsigned char>* out) co
     if (h.raw_bytes > pos) throw IoError(path_ + ": corrupt tile spill block");
     pos -= h.raw_bytes;
     if (h.stored_bytes == h.raw_bytes) {
-      pread_all(fd_, out->data() + pos, h.raw_bytes, b + sizeof h, path_);
+      pread_all(fd_, out + pos, h.raw_bytes, b + sizeof h, path_);
     } else {
       packed.resize(h.stored_bytes);
       pread_all(fd_, packed.data(), h.stored_bytes, b + sizeof h, path_);
-      std::size_t r = ZSTD_decompressDCtx(zc.d, out->data() + pos, h.raw_bytes, packed.data(), h.stored_bytes);
+      std::size_t r = ZSTD_decompressDCtx(zc.d, out + pos, h.raw_bytes, packed.data(), h.stored_bytes);
       if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(path_ + ": corrupt compressed tile spill block");
     }
     b = h.previous;

@@ -52,9 +52,16 @@ class TileSpillFile {
   /// Writes every partly filled buffer to disk and frees the buffers; append() may
   /// still be called afterwards (buffers are recreated on demand).
   void flush();
-  /// All records of `tile` in append order, into `out` (resized). Reads unflushed
-  /// buffers too. Thread-safe.
-  void read(std::uint32_t tile, std::vector<unsigned char>* out) const;
+  /// All records of `tile` in append order, into `out` (resized to the records;
+  /// Record must be the record type, or bytes). Reads unflushed buffers too.
+  /// Thread-safe.
+  template <class Record>
+  void read(std::uint32_t tile, std::vector<Record>* out) const {
+    out->resize(std::size_t(record_count(tile) * record_size_ / sizeof(Record)));
+    read_into(tile, out->data(), out->size() * sizeof(Record));
+  }
+  /// The same into `bytes` bytes at `out` (exactly the tile's records' size).
+  void read_into(std::uint32_t tile, void* out, std::size_t bytes) const;
   /// Number of records appended to `tile`.
   std::uint64_t record_count(std::uint32_t tile) const;
   /// Bytes written to the file so far.

@@ -22,11 +22,9 @@ void dedupe_kept_triangles(std::vector<KeptTriangle>& kept) {
 
 void stitch_cross_tile_corners(TileSpillFile& corners, std::vector<KeptTriangle>* kept) {
   std::vector<KeptTriangle> bucket_kept;
-  std::vector<unsigned char> bytes;
+  std::vector<CornerRecord> rec;
   for (std::uint32_t b = 0; b < corners.tile_count(); ++b) {
-    corners.read(b, &bytes);
-    std::vector<CornerRecord> rec(bytes.size() / sizeof(CornerRecord));
-    if (!bytes.empty()) std::memcpy(rec.data(), bytes.data(), bytes.size());
+    corners.read(b, &rec);
     std::sort(rec.begin(), rec.end(),
               [](const CornerRecord& a, const CornerRecord& c) { return a.t_and_slot < c.t_and_slot; });
     for (std::size_t i = 0; i < rec.size();) {

@@ -1,0 +1,74 @@
+// Tests of the per-tile record streams on disk (src/grid/tile_spill_file.hpp).
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "grid/tile_spill_file.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+struct Record {
+  std::uint64_t tile, serial, payload[2];
+};
+}  // namespace
+
+TEST_CASE("tile spills give back every tile's records in append order", "[spill]") {
+  for (bool compress : {false, true}) {
+    ScratchDir d;
+    TileSpillFile spill(d.path(), "t", sizeof(Record), 7, compress);  // small blocks: many per tile
+    const std::uint32_t tiles = 5;
+    for (std::uint32_t t = 0; t < tiles; ++t) spill.add_tile();
+    std::mt19937 rng(3);
+    std::vector<std::vector<Record>> expected(tiles);
+    for (int round = 0; round < 300; ++round) {
+      std::uint32_t t = rng() % tiles;
+      std::vector<Record> run(1 + rng() % 11);
+      for (Record& r : run) {
+        r = {t, expected[t].size(), {std::uint64_t(rng() % 4), std::uint64_t(rng())}};  // compressible and not
+        expected[t].push_back(r);
+      }
+      spill.append(t, run.data(), run.size());
+    }
+    // Before and after the flush: unflushed buffers are read too.
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::uint32_t t = 0; t < tiles; ++t) {
+        INFO("compress " << compress << " pass " << pass << " tile " << t);
+        std::vector<Record> got;
+        spill.read(t, &got);
+        REQUIRE(got.size() == expected[t].size());
+        CHECK(spill.record_count(t) == expected[t].size());
+        for (std::size_t i = 0; i < got.size(); ++i) {
+          CHECK(got[i].tile == t);
+          CHECK(got[i].serial == i);
+          CHECK(got[i].payload[1] == expected[t][i].payload[1]);
+        }
+        std::vector<unsigned char> bytes;
+        spill.read(t, &bytes);
+        CHECK(bytes.size() == got.size() * sizeof(Record));
+      }
+      spill.flush();
+    }
+    std::uint64_t raw = 0;
+    for (const auto& e : expected) raw += e.size() * sizeof(Record);
+    CHECK(spill.bytes_appended() == raw);
+    if (!compress) CHECK(spill.bytes_on_disk() >= raw);
+  }
+}
+
+TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill]") {
+  ScratchDir d;
+  TileSpillFile spill(d.path(), "t", sizeof(Record), 4, false);
+  spill.add_tile();
+  Record r{0, 0, {1, 2}};
+  spill.append(0, &r, 1);
+  Record out[2];
+  CHECK_THROWS_AS(spill.read_into(0, out, sizeof out), std::logic_error);
+  spill.read_into(0, out, sizeof(Record));
+  CHECK(out[0].payload[1] == 2);
+}
