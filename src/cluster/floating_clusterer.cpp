@@ -129,6 +129,7 @@ class FloatingRun {
       bin_triangles();
     }
     double t1 = now_seconds();
+    release_free_heap();  // the binning chunks
     note("binning");
     if (debug) {
       std::uint64_t most = 0;
@@ -141,6 +142,7 @@ class FloatingRun {
       grade_and_choose();
       if (options_.keep_temp) keep_tiles();
     }
+    release_free_heap();  // the tiles' grading buffers
     note("grading");
     {
       ProgressPhase phase(options_.progress, "rounds", 0, "round");
@@ -153,7 +155,6 @@ class FloatingRun {
     assign_and_accumulate();
     note("clustering");
     // Centres live on in the cluster records; the per-tile lists are done.
-    std::vector<std::vector<GradedVertex>>().swap(centres_);
     std::vector<std::vector<GradedVertex>>().swap(border_);
     release_free_heap();
     double t3 = now_seconds();
@@ -337,7 +338,6 @@ class FloatingRun {
     triangles_->flush();
     if (progress) progress->end();
     triangle_count_ = next;
-    centres_.resize(triangles_->tile_count());
     border_.resize(triangles_->tile_count());
     ext_.resize(triangles_->tile_count());
     vertices_ = std::make_unique<TileSpillFile>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
@@ -397,10 +397,11 @@ class FloatingRun {
     return ext;
   }
 
-  std::vector<GradedVertex> border_of(std::uint32_t tile) const {
+  // The centres of `tile` (its `centres`) whose cells reach outside it.
+  std::vector<GradedVertex> border_of(std::uint32_t tile, const std::vector<GradedVertex>& centres) const {
     Box3d box = tiles_.box(tile_coords_[tile]);
     std::vector<GradedVertex> b;
-    for (const GradedVertex& c : centres_[tile])
+    for (const GradedVertex& c : centres)
       if (near_border(c.p, box, half_)) b.push_back(c);
     return b;
   }
@@ -421,8 +422,7 @@ class FloatingRun {
       std::vector<GradedVertex> graded = grade_local_vertices(local.mesh(), local.owned);
       std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
       if (options_.keep_temp) vertices_->append(tile, graded.data(), graded.size());
-      choose_first(tile, graded);
-      std::vector<unsigned char> block = TileVertexBlock::build(graded, centres_[tile], cell_.size);
+      std::vector<unsigned char> block = TileVertexBlock::build(graded, choose_first(tile, graded), cell_.size);
       blocks_->put(tile, block.data(), block.size());
       if (progress) progress->set(++done);
     });
@@ -509,7 +509,6 @@ class FloatingRun {
     resumed_skipped_ = SkippedFaces{short_faces, non_finite, repeated_index};
     tile_coords_ = coords;
     for (std::uint32_t i = 0; i < coords.size(); ++i) tile_ids_.emplace(coords[i], i);
-    centres_.resize(n);
     border_.resize(n);
     ext_.resize(n);
     resumed_ = true;
@@ -522,8 +521,7 @@ class FloatingRun {
     blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", triangles_->tile_count());
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<GradedVertex> sorted = load_vertices(tile);
-      choose_first(tile, sorted);
-      std::vector<unsigned char> block = TileVertexBlock::build(sorted, centres_[tile], cell_.size);
+      std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose_first(tile, sorted), cell_.size);
       blocks_->put(tile, block.data(), block.size());
     });
     blocks_->map();
@@ -550,11 +548,13 @@ class FloatingRun {
   }
 
   // The first greedy over a tile's graded vertices (in precedes order), with the
-  // border centres its neighbours published so far; then its own border.
-  void choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
+  // border centres its neighbours published so far: its centres, and its border.
+  // (The centres live on in the tile's vertex block only.)
+  std::vector<GradedVertex> choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
     ext_[tile] = external_centres(tile, border_);
-    centres_[tile] = choose_centres(sorted, ext_[tile], cell_);
-    border_[tile] = border_of(tile);
+    std::vector<GradedVertex> centres = choose_centres(sorted, ext_[tile], cell_);
+    border_[tile] = border_of(tile, centres);
+    return centres;
   }
 
   void run_rounds() {
@@ -590,8 +590,7 @@ class FloatingRun {
           if (same_centres(next_ext, ext[tile])) return;
           TileVertexBlock block(blocks_->block(tile));
           if (rechoose_centres(block, ext[tile], next_ext, cell_)) {
-            centres_[tile] = block.centres();
-            next_border[i] = border_of(tile);
+            next_border[i] = border_of(tile, block.centres());
             border_changed[i] = !same_centres(next_border[i], border_[tile]);
           }
           ext[tile] = std::move(next_ext);  // only this tile's own slot
@@ -646,7 +645,7 @@ class FloatingRun {
       TileLocalMesh mesh(tris, input_.positions);
       std::vector<std::size_t> owned_at(mesh.index.size(), SIZE_MAX);
       for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
-      std::vector<GradedVertex> near = centres_[tile];
+      std::vector<GradedVertex> near = block.centres();
       std::vector<GradedVertex> ext = external_centres(tile, border_);
       near.insert(near.end(), ext.begin(), ext.end());
       // Per owned vertex: the position in `near` of its cluster's centre.
@@ -863,7 +862,7 @@ class FloatingRun {
   static constexpr bool compress_vertices_ = false;
   bool compress_spill_ = true;  // the triangle and stitch spills; see bin_triangles()
   std::uint64_t bucket_span_ = 1;
-  std::vector<std::vector<GradedVertex>> centres_, border_;
+  std::vector<std::vector<GradedVertex>> border_;  // per tile, its centres whose cells reach outside it
   std::vector<std::vector<GradedVertex>> ext_;  // per tile, the external centres it last ran with
   std::unique_ptr<TileSpillFile> partials_;  // PartialCluster shares, bucketed by centre index
   std::uint64_t cluster_span_ = 1;           // centre indices per bucket
