@@ -80,17 +80,18 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
   // Each edge once: in a manifold fan every spoke comes from two triangles, and
   // the copies (bit-identical differences of the same positions) change neither
   // factor but double the directions and quadruple the pairs vertex_weight compares.
+  // (A neighbour seen for vertex i carries the stamp i + 1.)
   std::vector<GradedVertex> out(owned.size());
   std::vector<Vec3d> edges;
+  std::vector<std::uint32_t> seen(mesh.vertex_count, 0);
   for (std::size_t i = 0; i < owned.size(); ++i) {
-    std::uint32_t* first = neighbour.data() + start[i];
-    std::uint32_t* last = neighbour.data() + start[i + 1];
-    std::sort(first, last);
-    last = std::unique(first, last);
     const Vec3d& p = mesh.positions[owned[i]];
     edges.clear();
-    for (const std::uint32_t* n = first; n != last; ++n) {
-      const Vec3d& q = mesh.positions[*n];
+    for (std::uint32_t e = start[i]; e < start[i + 1]; ++e) {
+      const std::uint32_t n = neighbour[e];
+      if (seen[n] == i + 1) continue;
+      seen[n] = std::uint32_t(i + 1);
+      const Vec3d& q = mesh.positions[n];
       edges.push_back({q.x - p.x, q.y - p.y, q.z - p.z});
     }
     out[i].index = mesh.index[owned[i]];
