@@ -99,7 +99,9 @@ void ProgressReporter::print(bool final_line) {
     else
       std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text, eta);
   } else {
-    if (final_line)
+    if (final_line && done == 0)  // a phase that counts nothing has no rate to tell
+      std::fprintf(stderr, "oocsimp: %s done in %.2fs\n", name_.c_str(), elapsed);
+    else if (final_line)
       std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, rate_text);
     else
       std::fprintf(stderr, "oocsimp: %s %d%% (%s, ETA %.0fs)\n", name_.c_str(), int(frac * 100), rate_text, eta);
