@@ -1,18 +1,20 @@
-// Floating-cell clustering out of core: tiles, rounds of border decisions,
+// Floating-cell clustering out of core: tiles, sweeps of border decisions,
 // partition-independent sums and a stitch of the cross-tile triangles.
 // floating_cells_design.md explains why the result equals the sequential algorithm.
 //
 //   pass 1  bin: every triangle goes to the tile of each of its corners
-//   pass 2  per tile: grade the owned vertices (Low & Tan §3.1), sort them (§3.2),
-//           spill them, run the greedy; then rounds with the neighbours' border
-//           centres until no border changes
+//   pass 2  per tile, colour class by colour class: grade the owned vertices
+//           (Low & Tan §3.1), sort them (§3.2), run the greedy with the borders
+//           published so far, keep them in a vertex block; then sweeps with the
+//           neighbours' border centres until no border changes
 //   pass 3  per tile: assign vertices to centres, add vertex quadrics to clusters
 //           in fixed point, keep the triangles that span three clusters; the
 //           triangles that cross tiles are grouped by index through a bucket spill
+//           (stitch/kept_triangles.*)
 //   solve   representatives; output triangles in input order of first occurrence
 //
-// OOCSIMP_DEBUG_ROUNDS=1 in the environment prints the dirty tiles of every round,
-// the seconds of every phase and the memory at the end, for tuning.
+// OOCSIMP_DEBUG_ROUNDS=1 in the environment prints the tiles looked at in every
+// sweep, the seconds of every phase and the memory of each phase, for tuning.
 #include "cluster/floating_clusterer.hpp"
 
 #include <tbb/parallel_for.h>
@@ -26,17 +28,16 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
-#include <array>
-#include <cmath>
-#include <map>
-#include <mutex>
-#include <chrono>
+#include <string>
 #include <thread>
 #include <unordered_map>
+#include <vector>
 
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
