@@ -581,6 +581,7 @@ class FloatingRun {
     const bool debug = std::getenv("OOCSIMP_DEBUG_ROUNDS") != nullptr;
     for (;;) {
       std::size_t runs = 0;
+      std::atomic<std::size_t> reran{0};  // of those, the tiles whose input had changed
       for (int k = 0; k < 8; ++k) {
         std::vector<std::uint32_t> dirty;
         for (std::uint32_t t = 0; t < n; ++t)
@@ -591,6 +592,7 @@ class FloatingRun {
           std::uint32_t tile = dirty[i];
           std::vector<GradedVertex> next_ext = external_centres(tile, border_);
           if (same_centres(next_ext, ext[tile])) return;
+          ++reran;
           TileVertexBlock block(blocks_->block(tile));
           if (rechoose_centres(block, ext[tile], next_ext, cell_)) {
             next_border[i] = border_of(tile, block.centres());
@@ -609,7 +611,9 @@ class FloatingRun {
       }
       if (runs == 0) break;
       ++sweeps;
-      if (debug) std::fprintf(stderr, "sweep %llu: %zu tiles looked at\n", (unsigned long long)sweeps, runs);
+      if (debug)
+        std::fprintf(stderr, "sweep %llu: %zu tiles looked at, %zu re-run\n", (unsigned long long)sweeps, runs,
+                     reran.load());
     }
     rounds_seconds_ = now_seconds() - rounds_start;
     if (stats_) stats_->rounds = sweeps;
