@@ -50,3 +50,49 @@ TEST_CASE("grading a cube with unshared face vertices: only corners carry weight
     else CHECK(v.weight == Approx(0).margin(1e-12));
   }
 }
+
+TEST_CASE("grading deduplicates edges without changing a weight, even in needle fans", "[grading]") {
+  // Fans of a vertex at the origin with two neighbours in nearly the same direction,
+  // each triangle listed in both orientations: every edge comes twice, and the dot
+  // of a direction with its copy (which the weight over all copies includes) is the
+  // minimum in these cases. The weight from grade_vertices (edges deduplicated)
+  // must be bit for bit vertex_weight over the edges with their copies.
+  const float needles[][6] = {{0.789106369f, 0.805135846f, 5.37664127f, 0.789106488f, 0.805135965f, 5.37664223f},
+                              {8.86960793f, 4.47936773f, 0.543005347f, 8.86960888f, 4.47936821f, 0.543005466f},
+                              {9.40750694f, 8.88822079f, 1.16860771f, 9.4075079f, 8.88822174f, 1.16860795f},
+                              {9.03109264f, 7.25404644f, 0.246628612f, 9.0310936f, 7.25404739f, 0.246628657f},
+                              {8.37982368f, 7.0258522f, 0.947106481f, 8.37982464f, 7.02585316f, 0.947106659f},
+                              {1.0f, 2.0f, 3.0f, 3.0f, -1.0f, 0.5f}};  // and an ordinary fan
+  const int fans = int(sizeof needles / sizeof needles[0]);
+  std::string v, f;
+  char line[128];
+  for (int k = 0; k < fans; ++k) {
+    v += "0 0 0\n";
+    for (int m = 0; m < 2; ++m) {
+      std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", double(needles[k][3 * m]), double(needles[k][3 * m + 1]),
+                    double(needles[k][3 * m + 2]));
+      v += line;
+    }
+    int c = 3 * k;
+    f += "3 " + std::to_string(c) + " " + std::to_string(c + 1) + " " + std::to_string(c + 2) + "\n";
+    f += "3 " + std::to_string(c) + " " + std::to_string(c + 2) + " " + std::to_string(c + 1) + "\n";
+  }
+  ScratchDir d;
+  write_file(d.file("needles.ply"), "ply\nformat ascii 1.0\nelement vertex " + std::to_string(3 * fans) +
+                                        "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                                        std::to_string(2 * fans) +
+                                        "\nproperty list uchar int vertex_indices\nend_header\n" + v + f);
+  MeshInput in = open_mesh_input(d.file("needles.ply"));
+  std::vector<std::uint64_t> tris(6 * fans);
+  REQUIRE(in.triangles->read(tris.data(), std::size_t(2 * fans)) == std::size_t(2 * fans));
+  std::vector<std::uint64_t> all;
+  for (std::uint64_t i = 0; i < in.positions.count; ++i) all.push_back(i);
+  std::vector<GradedVertex> g = grade_vertices(all, tris.data(), std::size_t(2 * fans), in.positions);
+  for (int k = 0; k < fans; ++k) {
+    Vec3d o = in.positions.get(3 * k), a = in.positions.get(3 * k + 1), b = in.positions.get(3 * k + 2);
+    Vec3d ea{a.x - o.x, a.y - o.y, a.z - o.z}, eb{b.x - o.x, b.y - o.y, b.z - o.z};
+    const Vec3d with_copies[4] = {ea, eb, eb, ea};
+    INFO("fan " << k);
+    CHECK(g[std::size_t(3 * k)].weight == vertex_weight(with_copies, 4));
+  }
+}

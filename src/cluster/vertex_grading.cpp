@@ -5,7 +5,14 @@
 
 namespace oocsimp {
 
-double vertex_weight(const Vec3d* edges, std::size_t count) {
+namespace {
+
+// vertex_weight over `edges`, where repeated[i] (when given) says that edge i stands
+// for several copies of itself: the pair of two copies compares a direction with
+// itself, whose dot product rounds to 1 - 2^-52 now and then, and that can be the
+// minimum where all directions nearly coincide (needle fans). Counting it keeps the
+// weight of deduplicated edges bit for bit that of the edges with their copies.
+double weight_of(const Vec3d* edges, std::size_t count, const unsigned char* repeated) {
   double longest = 0;
   double min_dot = 1;  // cos of the largest angle found so far
   // Unit directions first; k is small (about 6 on a regular mesh), so all pairs.
@@ -22,7 +29,10 @@ double vertex_weight(const Vec3d* edges, std::size_t count) {
     const Vec3d& e = edges[i];
     double len = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
     longest = std::max(longest, len);
-    if (len > 0) dirs[n++] = {e.x / len, e.y / len, e.z / len};
+    if (len <= 0) continue;
+    const Vec3d d{e.x / len, e.y / len, e.z / len};
+    if (repeated && repeated[i]) min_dot = std::min(min_dot, d.x * d.x + d.y * d.y + d.z * d.z);
+    dirs[n++] = d;
   }
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j)
@@ -31,6 +41,10 @@ double vertex_weight(const Vec3d* edges, std::size_t count) {
   double factor1 = std::sqrt(std::max(0.0, (1 + std::max(-1.0, min_dot)) / 2));
   return factor1 * longest;
 }
+
+}  // namespace
+
+double vertex_weight(const Vec3d* edges, std::size_t count) { return weight_of(edges, count, nullptr); }
 
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions) {
@@ -77,26 +91,35 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
       neighbour[fill[s]++] = corners[3 * t + std::size_t((k + 1) % 3)];
       neighbour[fill[s]++] = corners[3 * t + std::size_t((k + 2) % 3)];
     }
-  // Each edge once: in a manifold fan every spoke comes from two triangles, and
-  // the copies (bit-identical differences of the same positions) change neither
-  // factor but double the directions and quadruple the pairs vertex_weight compares.
-  // (A neighbour seen for vertex i carries the stamp i + 1.)
+  // Each edge once: in a manifold fan every spoke comes from two triangles; the
+  // copies (bit-identical differences of the same positions) double the directions
+  // and quadruple the pairs to compare, and all they add is the dot of a direction
+  // with itself, which weight_of counts for the edges marked repeated. The weight
+  // is bit for bit vertex_weight over every copy. (A neighbour seen for vertex i
+  // carries the stamp i + 1 and remembers its edge.)
   std::vector<GradedVertex> out(owned.size());
   std::vector<Vec3d> edges;
-  std::vector<std::uint32_t> seen(mesh.vertex_count, 0);
+  std::vector<unsigned char> repeated;
+  std::vector<std::uint32_t> seen(mesh.vertex_count, 0), edge_of(mesh.vertex_count, 0);
   for (std::size_t i = 0; i < owned.size(); ++i) {
     const Vec3d& p = mesh.positions[owned[i]];
     edges.clear();
+    repeated.clear();
     for (std::uint32_t e = start[i]; e < start[i + 1]; ++e) {
       const std::uint32_t n = neighbour[e];
-      if (seen[n] == i + 1) continue;
+      if (seen[n] == i + 1) {
+        repeated[edge_of[n]] = 1;
+        continue;
+      }
       seen[n] = std::uint32_t(i + 1);
+      edge_of[n] = std::uint32_t(edges.size());
       const Vec3d& q = mesh.positions[n];
       edges.push_back({q.x - p.x, q.y - p.y, q.z - p.z});
+      repeated.push_back(0);
     }
     out[i].index = mesh.index[owned[i]];
     out[i].p = p;
-    out[i].weight = vertex_weight(edges.data(), edges.size());
+    out[i].weight = weight_of(edges.data(), edges.size(), repeated.data());
   }
   return out;
 }
