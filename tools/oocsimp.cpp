@@ -172,8 +172,8 @@ int main(int argc, char** argv) {
   simplify->add_flag("--keep-tmp", so.keep_temp,
                      "Floating: keep the binned tiles in --tmp and reuse them on the next run of the same input");
   simplify->add_option("--spill-compress", so.spill_compression,
-                       "Floating: zstd on the triangle spill: auto (when it would not fit in half the available "
-                       "memory, or with --keep-tmp), zstd or none")
+                       "Floating: zstd on the triangle, stitch and kept-triangle spills: auto (when they would not "
+                       "fit in half the available memory, or with --keep-tmp), zstd or none")
       ->transform(CLI::CheckedTransformer(std::map<std::string, SpillCompression>{
           {"auto", SpillCompression::automatic}, {"zstd", SpillCompression::zstd}, {"none", SpillCompression::none}}));
   simplify->add_option("--threads", so.threads, "Worker threads (default: all cores)");

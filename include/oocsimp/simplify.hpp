@@ -37,7 +37,8 @@ enum class RepresentativeRule {
   mean,     ///< the mean of the cluster's vertices
 };
 
-/// Floating: whether the triangle spill under temp_dir is compressed with zstd.
+/// Floating: whether the triangle, stitch and kept-triangle spills under temp_dir are
+/// compressed with zstd.
 enum class SpillCompression {
   automatic,  ///< zstd when the raw spill would not fit in half the available memory
   zstd,       ///< always (slow disks: the spill shrinks to about half)
@@ -88,7 +89,7 @@ struct SimplifyStats {
   double seconds_write = 0;
   double seconds_total = 0;
   std::uint64_t tiles = 0;            ///< floating: occupied tiles
-  std::uint64_t rounds = 0;           ///< floating: rounds of border decisions
+  std::uint64_t rounds = 0;           ///< floating: the first greedy and the sweeps of border decisions that changed something
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
   bool resumed = false;               ///< floating: reused tiles kept by an earlier run

@@ -124,6 +124,7 @@ class FloatingRun {
                      double(phase_peak.exchange(0)) / 1048576.0);
     };
     double t0 = now_seconds();
+    compress_spill_ = spill_compression();
     bool resumed = options_.keep_temp && resume_kept_tiles();
     if (!resumed) {
       plan_tiles();
@@ -179,6 +180,20 @@ class FloatingRun {
   }
 
  private:
+  // Whether the triangle, stitch and kept-triangle spills are zstd-compressed. zstd
+  // halves the triangle spill (10M sphere: 620 -> 346 MB) but cost 1.4 s of a 10.6 s
+  // run on 2 threads; it pays only where the spill goes to the disk, not where the
+  // page cache holds it (and kept tiles outlive the run on disk).
+  bool spill_compression() const {
+    switch (options_.spill_compression) {
+      case SpillCompression::zstd: return true;
+      case SpillCompression::none: return false;
+      case SpillCompression::automatic: break;
+    }
+    const std::uint64_t raw_estimate = input_.info.face_count * sizeof(TriangleRecord) * 5 / 4;
+    return options_.keep_temp || raw_estimate > available_memory_bytes() / 2;
+  }
+
   // Tile side from the memory budget: a tile's working set is about kBytesPerTriangle
   // per triangle and `threads` tiles are in memory at once; use half the budget.
   void plan_tiles() {
@@ -280,19 +295,6 @@ class FloatingRun {
         input_.positions.count * sizeof(GradedVertex) +
         std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
     require_free_space(temp_dir(), spill_estimate, "the tile spill");
-    // zstd halves the triangle spill (10M sphere: 620 -> 346 MB) but costs 1.4 s of
-    // a 10.6 s run on 2 threads; it pays only where the spill goes to the disk, not
-    // where the page cache holds it (and kept tiles outlive the run on disk).
-    const std::uint64_t raw_estimate = input_.info.face_count * sizeof(TriangleRecord) * 5 / 4;
-    bool& compress = compress_spill_;
-    compress = true;
-    switch (options_.spill_compression) {
-      case SpillCompression::zstd: break;
-      case SpillCompression::none: compress = false; break;
-      case SpillCompression::automatic:
-        compress = options_.keep_temp || raw_estimate > available_memory_bytes() / 2;
-        break;
-    }
     triangles_ =
         std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_spill_);
     triangles_->set_expected_bytes(spill_estimate);
@@ -577,7 +579,9 @@ class FloatingRun {
     // Whether a neighbour's border may have changed since the tile's last run: in
     // the first round the later classes' borders came after it.
     std::vector<char> stale(n, 1);
-    std::uint64_t sweeps = 1;
+    // Rounds: the first greedy, then every sweep in which some tile re-ran (the last
+    // sweep, which only confirms, is not one).
+    std::uint64_t rounds = 1, sweep = 0;
     const bool debug = std::getenv("OOCSIMP_DEBUG_ROUNDS") != nullptr;
     for (;;) {
       std::size_t runs = 0;
@@ -610,13 +614,14 @@ class FloatingRun {
         }
       }
       if (runs == 0) break;
-      ++sweeps;
+      ++sweep;
+      if (reran > 0) ++rounds;
       if (debug)
-        std::fprintf(stderr, "sweep %llu: %zu tiles looked at, %zu re-run\n", (unsigned long long)sweeps, runs,
+        std::fprintf(stderr, "sweep %llu: %zu tiles looked at, %zu re-run\n", (unsigned long long)sweep, runs,
                      reran.load());
     }
     rounds_seconds_ = now_seconds() - rounds_start;
-    if (stats_) stats_->rounds = sweeps;
+    if (stats_) stats_->rounds = rounds;
   }
 
   // Per tile: assignment, vertex quadrics into cluster sums, surviving triangles.
@@ -867,7 +872,7 @@ class FloatingRun {
   // zstd: 422 vs 498 MiB for the whole spill of the 10M sphere, when every round
   // read it). The triangle spill: see bin_triangles().
   static constexpr bool compress_vertices_ = false;
-  bool compress_spill_ = true;  // the triangle and stitch spills; see bin_triangles()
+  bool compress_spill_ = true;  // the triangle, stitch and kept-triangle spills; see spill_compression()
   std::uint64_t bucket_span_ = 1;
   std::vector<std::vector<GradedVertex>> border_;  // per tile, its centres whose cells reach outside it
   std::vector<std::vector<GradedVertex>> ext_;  // per tile, the external centres it last ran with
