@@ -233,23 +233,18 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
     for (int a = 0; a < 3; ++a) h.dims[a] = dims[a];
   // (cube key, position) sorted: positions grouped by cube, in precedes order within.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> filed(sorted.size());
-  std::vector<std::uint32_t> dense_index;
+  std::vector<std::uint32_t> dense_index(dense ? sorted.size() : 0);  // per vertex, its cube in the box
   for (std::size_t i = 0; i < sorted.size(); ++i) {
     GridCoord c = GridCoord::of(sorted[i].p, cell_size);
-    filed[i] = {pack(c.x - h.origin[0], c.y - h.origin[1], c.z - h.origin[2]), std::uint32_t(i)};
+    const std::int64_t x = c.x - h.origin[0], y = c.y - h.origin[1], z = c.z - h.origin[2];
+    filed[i] = {pack(x, y, z), std::uint32_t(i)};
+    if (dense) dense_index[i] = std::uint32_t((x * dims[1] + y) * dims[2] + z);
   }
   if (dense) {
     // A counting sort over the box (stable, and the box's order is the keys'
     // order): linear where a comparison sort of the pairs took 3% of a run.
     std::vector<std::uint32_t> at(std::size_t(box_cubes) + 1, 0);
-    dense_index.resize(sorted.size());
-    const std::uint64_t mask = (std::uint64_t(1) << kKeyBits) - 1;
-    for (std::size_t i = 0; i < filed.size(); ++i) {
-      std::uint64_t k = filed[i].first;
-      dense_index[i] = std::uint32_t((std::int64_t(k >> (2 * kKeyBits)) * dims[1] + std::int64_t((k >> kKeyBits) & mask)) *
-                                         dims[2] + std::int64_t(k & mask));
-      ++at[dense_index[i] + 1];
-    }
+    for (std::uint32_t d : dense_index) ++at[d + 1];
     for (std::size_t c = 1; c < at.size(); ++c) at[c] += at[c - 1];
     std::vector<std::pair<std::uint64_t, std::uint32_t>> grouped(filed.size());
     for (std::size_t i = 0; i < filed.size(); ++i) grouped[at[dense_index[i]]++] = filed[i];
@@ -276,13 +271,8 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
   std::memcpy(b.cube_starts_, starts.data(), starts.size() * sizeof(std::uint32_t));
   for (std::size_t i = 0; i < filed.size(); ++i) b.by_cube_[i] = filed[i].second;
   if (b.dense_cubes_) {
-    std::fill(b.dense_cubes_, b.dense_cubes_ + h.dims[0] * h.dims[1] * h.dims[2], ~std::uint32_t(0));
-    const std::uint64_t mask = (std::uint64_t(1) << kKeyBits) - 1;
-    for (std::size_t c = 0; c < keys.size(); ++c) {
-      std::int64_t x = std::int64_t(keys[c] >> (2 * kKeyBits)), y = std::int64_t((keys[c] >> kKeyBits) & mask),
-                   z = std::int64_t(keys[c] & mask);
-      b.dense_cubes_[std::size_t((x * h.dims[1] + y) * h.dims[2] + z)] = std::uint32_t(c);
-    }
+    std::fill(b.dense_cubes_, b.dense_cubes_ + std::size_t(box_cubes), ~std::uint32_t(0));
+    for (std::size_t c = 0; c < keys.size(); ++c) b.dense_cubes_[dense_index[filed[starts[c]].second]] = std::uint32_t(c);
   }
   std::vector<char> is_centre = decisions(sorted, centres);
   if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());

@@ -540,14 +540,19 @@ class FloatingRun {
     return int(c.x & 1) | int(c.y & 1) << 1 | int(c.z & 1) << 2;
   }
 
+  // The tiles of colour class k, ascending; with `only`, those t with (*only)[t].
+  std::vector<std::uint32_t> tiles_of_colour(int k, const std::vector<char>* only = nullptr) const {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t)
+      if ((!only || (*only)[t]) && colour(t) == k) out.push_back(t);
+    return out;
+  }
+
   // f(tile) for every tile: the 8 colour classes one after the other, each in parallel.
   template <class F>
   void for_each_tile_by_colour(F&& f) {
-    std::uint32_t n = triangles_->tile_count();
     for (int k = 0; k < 8; ++k) {
-      std::vector<std::uint32_t> of_colour;
-      for (std::uint32_t t = 0; t < n; ++t)
-        if (colour(t) == k) of_colour.push_back(t);
+      std::vector<std::uint32_t> of_colour = tiles_of_colour(k);
       tbb::parallel_for(std::size_t(0), of_colour.size(), [&](std::size_t i) { f(of_colour[i]); });
     }
   }
@@ -587,9 +592,7 @@ class FloatingRun {
       std::size_t runs = 0;
       std::atomic<std::size_t> reran{0};  // of those, the tiles whose input had changed
       for (int k = 0; k < 8; ++k) {
-        std::vector<std::uint32_t> dirty;
-        for (std::uint32_t t = 0; t < n; ++t)
-          if (stale[t] && colour(t) == k) dirty.push_back(t);
+        std::vector<std::uint32_t> dirty = tiles_of_colour(k, &stale);
         std::vector<char> border_changed(dirty.size(), 0);
         std::vector<std::vector<GradedVertex>> next_border(dirty.size());
         tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
