@@ -17,8 +17,9 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The input file is malformed: truncated, wrong counts, bad indices, NaN coordinates
-/// (exit code 3). The message starts with "FILE: byte N:" or "FILE: line N:".
+/// The input file is malformed: truncated, wrong counts, bad indices, a malformed
+/// number (exit code 3). NaN or infinite coordinates are not errors: such vertices are
+/// counted and ignored (see MeshInfo::non_finite_vertices). The message starts with "FILE: byte N:" or "FILE: line N:".
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
