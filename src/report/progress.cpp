@@ -88,8 +88,8 @@ void ProgressReporter::print(bool final_line) {
   else if (r >= 1e3) { r /= 1e3; prefix = "k"; }
   std::snprintf(rate_text, sizeof rate_text, "%.1f %s%s/s", r, prefix, unit_);
   double eta = (rate > 0 && total > done) ? double(total - done) / rate : 0;
-  // A phase without a total has no percentage nor ETA, and one that counts nothing no
-  // rate either: only the elapsed time is true for it.
+  // A phase without a total has no percentage nor ETA, and until it has counted
+  // something no rate either: only the elapsed time is true for it.
   std::string counted;
   if (done > 0) counted = std::string(total > 0 ? "" : std::to_string(done) + " " + unit_ + ", ") + rate_text;
   if (tty_) {
@@ -103,6 +103,8 @@ void ProgressReporter::print(bool final_line) {
                    elapsed, final_line ? "\n" : "");
     else if (final_line)
       std::fprintf(stderr, "\r\033[K%-16s [%s] 100%%  %s  %.2fs\n", name_.c_str(), bar, rate_text, elapsed);
+    else if (done == 0)
+      std::fprintf(stderr, "\r\033[K%-16s [%s]   0%%  %.2fs", name_.c_str(), bar, elapsed);
     else
       std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text, eta);
   } else {
@@ -110,7 +112,7 @@ void ProgressReporter::print(bool final_line) {
       std::fprintf(stderr, "oocsimp: %s done in %.2fs\n", name_.c_str(), elapsed);
     else if (final_line)
       std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, counted.c_str());
-    else if (total == 0)
+    else if (total == 0 || done == 0)
       std::fprintf(stderr, "oocsimp: %s %s%s%.0fs so far\n", name_.c_str(), counted.c_str(), counted.empty() ? "" : ", ",
                    elapsed);
     else
