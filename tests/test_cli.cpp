@@ -2,8 +2,10 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -298,6 +301,51 @@ TEST_CASE("an output that is a FIFO streams the mesh to its reader", "[cli][outp
   CHECK(S_ISFIFO(st.st_mode));
 }
 
+TEST_CASE("an output that is a Unix socket is connected to and streamed into", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  int listener = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  REQUIRE(listener >= 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  const std::string path = d.file("sock");
+  REQUIRE(path.size() < sizeof addr.sun_path);
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  REQUIRE(::bind(listener, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+  REQUIRE(::listen(listener, 1) == 0);
+  REQUIRE(::fcntl(listener, F_SETFL, O_NONBLOCK) == 0);
+  std::atomic<bool> done{false};
+  CliResult r;
+  std::thread run([&] {
+    r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(path) + " --grid 16");
+    done = true;
+  });
+  // Accept without blocking until the run ends (it may fail before connecting), then
+  // read the connection to its end.
+  std::string got;
+  for (;;) {
+    bool finished = done.load();
+    int c = ::accept(listener, nullptr, nullptr);
+    if (c >= 0) {
+      char buf[65536];
+      ssize_t n;
+      while ((n = ::read(c, buf, sizeof buf)) > 0) got.append(buf, std::size_t(n));
+      ::close(c);
+      break;
+    }
+    if (finished) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  run.join();
+  ::close(listener);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(got == ref);
+  struct stat st;
+  REQUIRE(::lstat(path.c_str(), &st) == 0);
+  CHECK(S_ISSOCK(st.st_mode));
+}
+
 TEST_CASE("an output that is a symbolic link writes the link's target; the link stays", "[cli][outputs]") {
   ScratchDir d;
   std::string ref = reference_output(d);
@@ -375,6 +423,7 @@ TEST_CASE("an output or --stats that is the input, or each other, exits 2 naming
   std::filesystem::create_symlink("s.ply", d.file("s-link.ply"));
   std::filesystem::create_hard_link(d.file("s.ply"), d.file("s-hard.ply"));
   const std::string s = q(d.file("s.ply"));
+  const std::string folder = std::filesystem::path(d.path()).filename().string();
   struct Case {
     std::string args, named;
   } cases[] = {
@@ -385,7 +434,7 @@ TEST_CASE("an output or --stats that is the input, or each other, exits 2 naming
       {"-o " + q(d.file("o.ply")) + " --stats " + s, "s.ply"},
       {"-o " + q(d.file("o.ply")) + " --stats " + s + " --force", "s.ply"},  // --force is for the mesh only
       {"-o " + q(d.file("o.ply")) + " --stats " + q(d.file("o.ply")), "o.ply"},
-      {"-o " + q(d.file("o.ply")) + " --stats " + q(d.path() + "/../" + std::filesystem::path(d.path()).filename().string() + "/o.ply"), "o.ply"},
+      {"-o " + q(d.file("o.ply")) + " --stats " + q(d.path() + "/../" + folder + "/o.ply"), "o.ply"},
   };
   for (const Case& c : cases) {
     CliResult r = run_cli("simplify --quiet " + s + " " + c.args + " --grid 16");
@@ -624,7 +673,8 @@ TEST_CASE("progress lines of phases without counts show the elapsed time only", 
       WARN("script(1) not found: the terminal output is not checked");
       continue;
     }
-    std::string cmd = "script -qfec " + q(std::string(OOCSIMP_CLI) + " " + args) + " /dev/null >" + q(d.file("tty.txt"));
+    std::string cmd =
+        "script -qfec " + q(std::string(OOCSIMP_CLI) + " " + args) + " /dev/null >" + q(d.file("tty.txt"));
     REQUIRE(std::system(cmd.c_str()) == 0);
     std::string tty = read_file(d.file("tty.txt"));
     INFO(tty);

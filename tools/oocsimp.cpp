@@ -374,7 +374,8 @@ int main(int argc, char** argv) {
   std::string tris_text, seed_text = "1";
   CLI::App* generate = app.add_subcommand("generate", "Write a synthetic dense mesh, streamed in O(1) memory");
   generate->add_option("--tris", tris_text, "Number of triangles (approximately), at least 1")->required();
-  generate->add_option("--shape", shape, "Shape (default sphere)")->check(CLI::IsMember({"sphere", "terrain", "parts"}));
+  generate->add_option("--shape", shape, "Shape (default sphere)")
+      ->check(CLI::IsMember({"sphere", "terrain", "parts"}));
   generate->add_option("--seed", seed_text, "Random seed (default 1)");
   generate->add_option("-o,--output", out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
   generate->add_flag("--ascii", ascii, "Write ascii PLY");
@@ -412,8 +413,9 @@ int main(int argc, char** argv) {
     if (*info) return run_info(in, tmp);
     if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, quiet);
     if (*measure) {
-      if (samples->count() > 0) measure_options.samples = whole_number("--samples", samples_text, 1, ~std::uint64_t(0));
-      if (measure_seed->count() > 0) measure_options.seed = whole_number("--seed", measure_seed_text, 0, ~std::uint64_t(0));
+      constexpr std::uint64_t kMost = ~std::uint64_t(0);
+      if (samples->count() > 0) measure_options.samples = whole_number("--samples", samples_text, 1, kMost);
+      if (measure_seed->count() > 0) measure_options.seed = whole_number("--seed", measure_seed_text, 0, kMost);
       if (measure_threads->count() > 0)
         measure_options.threads = unsigned(whole_number("--threads", measure_threads_text, 1, kMaxThreads));
       return run_measure(in, second, measure_options, json, quiet);

@@ -106,15 +106,16 @@ void ProgressReporter::print(bool final_line) {
     else if (done == 0)
       std::fprintf(stderr, "\r\033[K%-16s [%s]   0%%  %.2fs", name_.c_str(), bar, elapsed);
     else
-      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text, eta);
+      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text,
+                   eta);
   } else {
     if (final_line && counted.empty())
       std::fprintf(stderr, "oocsimp: %s done in %.2fs\n", name_.c_str(), elapsed);
     else if (final_line)
       std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, counted.c_str());
     else if (total == 0 || done == 0)
-      std::fprintf(stderr, "oocsimp: %s %s%s%.0fs so far\n", name_.c_str(), counted.c_str(), counted.empty() ? "" : ", ",
-                   elapsed);
+      std::fprintf(stderr, "oocsimp: %s %s%s%.0fs so far\n", name_.c_str(), counted.c_str(),
+                   counted.empty() ? "" : ", ", elapsed);
     else
       std::fprintf(stderr, "oocsimp: %s %d%% (%s, ETA %.0fs)\n", name_.c_str(), int(frac * 100), rate_text, eta);
   }

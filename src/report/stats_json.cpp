@@ -108,8 +108,9 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   char buf[2048];
   std::snprintf(buf, sizeof buf,
                 "  \"input\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
-                "  \"skipped\": {\"faces\": %" PRIu64 ", \"short_faces\": %" PRIu64 ", \"non_finite_triangles\": %" PRIu64
-                ", \"repeated_index_triangles\": %" PRIu64 ", \"non_finite_vertices\": %" PRIu64 "},\n"
+                "  \"skipped\": {\"faces\": %" PRIu64 ", \"short_faces\": %" PRIu64
+                ", \"non_finite_triangles\": %" PRIu64 ", \"repeated_index_triangles\": %" PRIu64
+                ", \"non_finite_vertices\": %" PRIu64 "},\n"
                 "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
                 "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %" PRIu64 "},\n",
                 s.input_vertices, s.input_triangles, s.skipped.total(), s.skipped.short_faces, s.skipped.non_finite,
