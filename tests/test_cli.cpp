@@ -365,7 +365,7 @@ TEST_CASE("an output that is a symbolic link writes the link's target; the link 
   CHECK(d.entries() == std::vector<std::string>{"link.ply", "link2.ply", "ref.ply", "s.ply", "sub"});
 }
 
-TEST_CASE("-o - writes binary PLY to stdout and --stats - the JSON; the summary goes to stderr", "[cli][outputs]") {
+TEST_CASE("output - is binary PLY on stdout, stats - the JSON; the summary goes to stderr", "[cli][outputs]") {
   ScratchDir d;
   std::string ref = reference_output(d);
   CliResult r = run_cli("simplify " + q(d.file("s.ply")) + " -o - --grid 16");
@@ -529,7 +529,7 @@ TEST_CASE("every invalid size or count exits 2 naming the flag and the value", "
   CHECK(d.entries() == std::vector<std::string>{"s.ply"});
 }
 
-TEST_CASE("--grid accepts its documented maximum, 2097151", "[cli][options]") {
+TEST_CASE("the documented maximum grid, 2097151, is accepted", "[cli][options]") {
   ScratchDir d;
   // Two triangles 20 cells wide a unit apart: at the finest grid every corner is its own
   // cluster. (Triangles a million cells wide overflow the floating method's fixed-point
@@ -550,7 +550,7 @@ TEST_CASE("floating-only flags with --method uniform exit 2 naming the flag and 
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
   for (const char* flag : {"--cell-shape sphere", "--assign heaviest", "--rep mean", "--tile 0.5", "--keep-tmp",
-                           "--spill-compress none", "--cell-shape cube"}) {
+                           "--spill-compress none", "--cell-shape cube", "--mem 64M"}) {
     CliResult r = run_cli("simplify --quiet --method uniform --grid 8 " + q(d.file("s.ply")) + " -o " +
                           q(d.file("o.ply")) + " " + flag);
     INFO(flag << ": " << r.err);
@@ -623,7 +623,7 @@ TEST_CASE("the summary and --stats name each method's own phases", "[cli][report
   }
 }
 
-TEST_CASE("--stats records the version, the paths, the method and every option", "[cli][report]") {
+TEST_CASE("the stats JSON records the version, the paths, the method and every option", "[cli][report]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
   std::string version = run_cli("--version").out;

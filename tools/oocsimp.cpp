@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cinttypes>
 #include <cmath>
@@ -47,7 +46,6 @@ void progress_callback(std::uint64_t done, std::uint64_t total, void* user) {
 
 double positive_number(const std::string& flag, const std::string& text, double max = HUGE_VAL) {
   char* end = nullptr;
-  errno = 0;
   double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0) || v > max) {
     char range[64];
@@ -75,8 +73,7 @@ struct Given {
 
 constexpr std::uint64_t kMaxThreads = 65536;
 
-// The floating-only options, with the name to report; given with --method uniform they
-// would do nothing.
+// Given with --method uniform, the floating-only options would do nothing.
 void refuse_with_uniform(const std::vector<CLI::Option*>& floating_only) {
   for (const CLI::Option* o : floating_only)
     if (o->count() > 0)
@@ -333,9 +330,6 @@ int main(int argc, char** argv) {
   simplify->add_option("--method", sa.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
       ->check(CLI::IsMember({"floating", "uniform"}))
       ->group(common);
-  sa.mem.option = simplify->add_option("--mem", sa.mem.text,
-                                       "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)")
-                      ->group(common);
   sa.threads.option =
       simplify->add_option("--threads", sa.threads.text, "Worker threads (default: all cores)")->group(common);
   simplify->add_option("--tmp", sa.options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)")
@@ -355,6 +349,8 @@ int main(int argc, char** argv) {
           ->check(CLI::IsMember({"nearest", "heaviest"})),
       simplify->add_option("--rep", sa.rep, "Representative vertex (default quadric)")
           ->check(CLI::IsMember({"quadric", "centre", "mean"})),
+      sa.mem.option = simplify->add_option(
+          "--mem", sa.mem.text, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)"),
       sa.tile.option = simplify->add_option("--tile", sa.tile.text, "Tile side in model units (default: from --mem)"),
       simplify->add_flag("--keep-tmp", sa.options.keep_temp,
                          "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
