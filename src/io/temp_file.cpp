@@ -183,7 +183,7 @@ std::string resolve_links(const std::string& path) {
     ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size());
     if (n < 0 || std::size_t(n) >= buf.size()) throw IoError(system_error_text(path, "cannot read the link", errno));
     std::string target(buf.data(), std::size_t(n));
-    p = target[0] == '/' ? target : folder_of(p) + "/" + target;
+    p = !target.empty() && target[0] == '/' ? target : folder_of(p) + "/" + target;
   }
   throw IoError(system_error_text(path, "cannot follow the links", ELOOP));
 }
