@@ -20,12 +20,13 @@ threads=(${THREADS:-1 2})
 shape="${SHAPE:-sphere}"
 method="${METHOD:-floating}"
 mem_opt=()
-[ -n "${MEM:-}" ] && mem_opt=(--mem "$MEM")
+# --mem bounds the floating method's tiles; the uniform method refuses it (it has none).
+[ -n "${MEM:-}" ] && [ "$method" = floating ] && mem_opt=(--mem "$MEM")
 
 now() { date +%s.%N; }
 calc() { awk "BEGIN { print $1 }"; }
 
-echo "method $method${MEM:+, --mem $MEM}"
+echo "method $method${mem_opt[1]:+, --mem ${mem_opt[1]}}"
 printf '%-10s %-5s %-8s %8s %8s %9s %9s %10s %8s %9s %8s\n' \
   size grid run seconds Mtri/s anon_MiB rss_MiB out_tris ratio peer_s peer_MiB
 for n in "${sizes[@]}"; do

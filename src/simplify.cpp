@@ -16,6 +16,7 @@
 #include "oocsimp/error.hpp"
 #include "oocsimp/mesh_writer.hpp"
 #include "oocsimp/progress.hpp"
+#include "oocsimp/temp_file.hpp"
 
 namespace oocsimp {
 
@@ -89,9 +90,7 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
     case ClusterMethod::floating: {
       SimplifyOptions o = options;
       if (o.memory_budget == 0) o.memory_budget = default_memory_budget();
-      double t0 = now_seconds();
       m = cluster_floating(input, o, grid.cell, &st);
-      st.seconds_faces = now_seconds() - t0;
       break;
     }
     default:
@@ -101,10 +100,41 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   return m;
 }
 
-void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
-                   const SimplifyOptions& options, SimplifyStats* stats) {
+MeshFormat output_format(const OutputOptions& outputs) {
+  if (outputs.mesh == "-") return outputs.ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
+  return format_for_path(outputs.mesh, outputs.ascii);
+}
+
+namespace {
+
+// Writing over the input (or one output over the other) would lose it: refused before
+// any work, naming both.
+void check_distinct_destinations(const std::string& input_path, const OutputOptions& outputs) {
+  auto refuse = [](const std::string& a, const std::string& b, const std::string& hint) {
+    throw UsageError(a + " and " + b + " are the same file" + hint);
+  };
+  if (!outputs.replace_input && same_file(outputs.mesh, input_path))
+    refuse("output " + outputs.mesh, "input " + input_path, " (--force replaces the input after a successful run)");
+  if (outputs.stats.empty()) return;
+  if (same_file(outputs.stats, input_path)) refuse("--stats " + outputs.stats, "input " + input_path, "");
+  if (outputs.stats == "-" && outputs.mesh == "-") throw UsageError("-o - and --stats - cannot both write to stdout");
+  if (outputs.stats == outputs.mesh || same_file(outputs.stats, outputs.mesh))
+    refuse("--stats " + outputs.stats, "output " + outputs.mesh, "");
+}
+
+}  // namespace
+
+void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                   SimplifyStats* stats) {
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
+  const MeshFormat format = output_format(outputs);
+  check_distinct_destinations(input_path, outputs);
+  // Every destination is opened before the work: a missing folder fails in a moment,
+  // not after the run.
+  std::unique_ptr<OutputFile> stats_file;
+  if (!outputs.stats.empty()) stats_file = std::make_unique<OutputFile>(outputs.stats);
+  OutputFile mesh_file(outputs.mesh);
   auto threads = limit_threads(options.threads);
   double t0 = now_seconds();
   OpenOptions open;
@@ -121,18 +151,32 @@ void simplify_file(const std::string& input_path, const std::string& output_path
   MeshInput input = open_mesh_input(input_path, open);
   if (options.progress) options.progress->end();
   double t1 = now_seconds();
+  st.phases.push_back({"open", t1 - t0});
   SimplifiedMesh mesh = simplify(input, options, &st);
   double t2 = now_seconds();
   {
     ProgressPhase phase(options.progress, "write", 0, "B");
-    write_mesh(output_path, mesh.positions, mesh.triangles, format_for_path(output_path, ascii));
+    write_mesh(mesh_file, mesh.positions, mesh.triangles, format);
   }
   double t3 = now_seconds();
-  st.seconds_open = t1 - t0;
-  st.seconds_write = t3 - t2;
+  st.phases.push_back({"write", t3 - t2});
   st.seconds_total = t3 - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+  // The stats first: when they cannot be written, the mesh output stays as it was.
+  if (stats_file) {
+    stats_file->write_all(stats_to_json(st, input_path, outputs, options));
+    stats_file->commit();
+  }
+  mesh_file.commit();
+}
+
+void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                   const SimplifyOptions& options, SimplifyStats* stats) {
+  OutputOptions outputs;
+  outputs.mesh = output_path;
+  outputs.ascii = ascii;
+  simplify_file(input_path, outputs, options, stats);
 }
 
 }  // namespace oocsimp
@@ -175,7 +219,9 @@ std::uint64_t parse_byte_size(const std::string& text) {
   else if (suffix == "G" || suffix == "GiB") mult = 1024.0 * 1024 * 1024;
   else if (suffix == "T" || suffix == "TiB") mult = 1024.0 * 1024 * 1024 * 1024;
   else if (!suffix.empty()) throw UsageError("bad size suffix in \"" + text + "\" (k, M, G or T)");
-  if (!(v > 0)) throw UsageError("size \"" + text + "\" must be positive");
+  // 2^64: the first byte count that does not fit
+  if (!(v > 0) || !std::isfinite(v) || v * mult < 1 || v * mult >= 18446744073709551616.0)
+    throw UsageError("size \"" + text + "\" must be at least 1 byte and below 16 EiB");
   return std::uint64_t(v * mult);
 }
 

@@ -1,14 +1,23 @@
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <string>
-#include <algorithm>
+#include <thread>
 #include <vector>
-#include <cmath>
 
 #include "test_support.hpp"
 
@@ -210,4 +219,501 @@ TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
   CHECK_FALSE(file_exists(d.file("o.ply")));
   CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --method floating --mem 64M --quiet")
             .exit_code == 0);
+}
+
+// --- Outputs (issue 9 item 1): only regular files and new names go through a
+// temporary name and a rename; anything else is written where it is.
+
+namespace {
+
+// A 20k-triangle sphere at s.ply and its simplification at ref.ply, written as a plain
+// file: the bytes every other destination must receive.
+std::string reference_output(const ScratchDir& d) {
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("ref.ply")) + " --grid 16").exit_code == 0);
+  std::string ref = read_file(d.file("ref.ply"));
+  REQUIRE(ref.size() > 1000);
+  return ref;
+}
+
+bool is_char_device(const std::string& path) {
+  struct stat st;
+  return ::lstat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+}  // namespace
+
+TEST_CASE("an output that is a character device is written, not replaced", "[cli][outputs]") {
+  ScratchDir d;
+  reference_output(d);
+  // mknod needs CAP_MKNOD (root): elsewhere the check cannot be made here.
+  if (::mknod(d.file("null").c_str(), S_IFCHR | 0666, ::makedev(1, 3)) != 0) {
+    WARN("mknod failed (not root?): skipped");
+    return;
+  }
+  CliResult r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("null")) + " --grid 16 --stats " +
+                        q(d.file("null")));
+  CHECK(r.exit_code == 2);  // one device for both: refused
+  r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("null")) + " --grid 16");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(is_char_device(d.file("null")));
+  r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --grid 16 --stats " +
+              q(d.file("null")));
+  CHECK(r.exit_code == 0);
+  CHECK(is_char_device(d.file("null")));
+  CHECK(d.entries() == std::vector<std::string>{"null", "o.ply", "ref.ply", "s.ply"});
+}
+
+TEST_CASE("an output that is a FIFO streams the mesh to its reader", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  REQUIRE(::mkfifo(d.file("fifo").c_str(), 0600) == 0);
+  // Opened for reading first (non-blocking, so that nothing waits on the writer), and
+  // read until the run has ended and the pipe is drained: no hang whatever the run does.
+  int fd = ::open(d.file("fifo").c_str(), O_RDONLY | O_NONBLOCK);
+  REQUIRE(fd >= 0);
+  std::atomic<bool> done{false};
+  CliResult r;
+  std::thread run([&] {
+    r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("fifo")) + " --grid 16");
+    done = true;
+  });
+  std::string got;
+  char buf[65536];
+  for (;;) {
+    bool finished = done.load();
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n > 0) {
+      got.append(buf, std::size_t(n));
+      continue;
+    }
+    if (finished) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  run.join();
+  ::close(fd);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(got == ref);
+  struct stat st;
+  REQUIRE(::lstat(d.file("fifo").c_str(), &st) == 0);
+  CHECK(S_ISFIFO(st.st_mode));
+}
+
+TEST_CASE("an output that is a Unix socket is connected to and streamed into", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  int listener = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  REQUIRE(listener >= 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  const std::string path = d.file("sock");
+  REQUIRE(path.size() < sizeof addr.sun_path);
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  REQUIRE(::bind(listener, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+  REQUIRE(::listen(listener, 1) == 0);
+  REQUIRE(::fcntl(listener, F_SETFL, O_NONBLOCK) == 0);
+  std::atomic<bool> done{false};
+  CliResult r;
+  std::thread run([&] {
+    r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(path) + " --grid 16");
+    done = true;
+  });
+  // Accept without blocking until the run ends (it may fail before connecting), then
+  // read the connection to its end.
+  std::string got;
+  for (;;) {
+    bool finished = done.load();
+    int c = ::accept(listener, nullptr, nullptr);
+    if (c >= 0) {
+      char buf[65536];
+      ssize_t n;
+      while ((n = ::read(c, buf, sizeof buf)) > 0) got.append(buf, std::size_t(n));
+      ::close(c);
+      break;
+    }
+    if (finished) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  run.join();
+  ::close(listener);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(got == ref);
+  struct stat st;
+  REQUIRE(::lstat(path.c_str(), &st) == 0);
+  CHECK(S_ISSOCK(st.st_mode));
+}
+
+TEST_CASE("an output that is a symbolic link writes the link's target; the link stays", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  std::filesystem::create_directory(d.file("sub"));
+  // A relative link to a file that does not exist yet, in another folder, and a link to
+  // that link.
+  std::filesystem::create_symlink("sub/target.ply", d.file("link.ply"));
+  std::filesystem::create_symlink("link.ply", d.file("link2.ply"));
+  for (const char* name : {"link.ply", "link2.ply"}) {
+    CliResult r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file(name)) + " --grid 16");
+    INFO(name << ": " << r.err);
+    CHECK(r.exit_code == 0);
+    CHECK(std::filesystem::is_symlink(d.file(name)));
+    CHECK(read_file(d.file("sub/target.ply")) == ref);
+    std::filesystem::remove(d.file("sub/target.ply"));
+  }
+  CHECK(d.entries() == std::vector<std::string>{"link.ply", "link2.ply", "ref.ply", "s.ply", "sub"});
+}
+
+TEST_CASE("output - is binary PLY on stdout, stats - the JSON; the summary goes to stderr", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  CliResult r = run_cli("simplify " + q(d.file("s.ply")) + " -o - --grid 16");
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == ref);
+  CHECK(r.err.find("Mtri/s") != std::string::npos);
+  r = run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --grid 16 --stats -");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.rfind("{\n", 0) == 0);
+  CHECK(r.out.back() == '\n');
+  CHECK(r.out.find("Mtri/s") == std::string::npos);
+  CHECK(r.err.find("Mtri/s") != std::string::npos);
+  CHECK(read_file(d.file("o.ply")) == ref);
+  // Both on stdout would mix them.
+  CHECK(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o - --stats - --grid 16").exit_code == 2);
+  // No file named "-" anywhere.
+  CHECK(d.entries() == std::vector<std::string>{"o.ply", "ref.ply", "s.ply"});
+}
+
+TEST_CASE("an output name of 255 bytes (the longest a folder entry may have) is written", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  std::string name = std::string(251, 'n') + ".ply";
+  REQUIRE(name.size() == 255);
+  CliResult r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file(name)) + " --grid 16 --stats " +
+                        q(d.file(std::string(250, 's') + ".json")));
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(read_file(d.file(name)) == ref);
+}
+
+TEST_CASE("generate writes to stdout with -o - and refuses names that are not PLY", "[cli][outputs]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(d.file("g.ply"))).exit_code == 0);
+  CliResult r = run_cli("generate --tris 2000 --quiet -o -");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == read_file(d.file("g.ply")));
+  // generate writes PLY only (issue 9 item 13): another extension exits 2, saying what it can write.
+  for (const char* name : {"x.obj", "x.stl", "x.off", "x.glb", "x.obj.zst", "x"}) {
+    r = run_cli("generate --tris 2000 --quiet -o " + q(d.file(name)));
+    INFO(name << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(".ply or .ply.zst") != std::string::npos);
+  }
+  CHECK(d.entries() == std::vector<std::string>{"g.ply"});
+}
+
+// --- Same paths (issue 9 item 2).
+
+TEST_CASE("an output or --stats that is the input, or each other, exits 2 naming both", "[cli][outputs]") {
+  ScratchDir d;
+  std::string ref = reference_output(d);
+  const std::string input = read_file(d.file("s.ply"));
+  std::filesystem::create_symlink("s.ply", d.file("s-link.ply"));
+  std::filesystem::create_hard_link(d.file("s.ply"), d.file("s-hard.ply"));
+  const std::string s = q(d.file("s.ply"));
+  const std::string folder = std::filesystem::path(d.path()).filename().string();
+  struct Case {
+    std::string args, named;
+  } cases[] = {
+      {"-o " + s, "s.ply"},
+      {"-o " + q(d.file("s-link.ply")), "s-link.ply"},
+      {"-o " + q(d.file("s-hard.ply")), "s-hard.ply"},
+      {"-o " + q(d.path() + "/./s.ply"), "s.ply"},
+      {"-o " + q(d.file("o.ply")) + " --stats " + s, "s.ply"},
+      {"-o " + q(d.file("o.ply")) + " --stats " + s + " --force", "s.ply"},  // --force is for the mesh only
+      {"-o " + q(d.file("o.ply")) + " --stats " + q(d.file("o.ply")), "o.ply"},
+      {"-o " + q(d.file("o.ply")) + " --stats " + q(d.path() + "/../" + folder + "/o.ply"), "o.ply"},
+  };
+  for (const Case& c : cases) {
+    CliResult r = run_cli("simplify --quiet " + s + " " + c.args + " --grid 16");
+    INFO(c.args << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(c.named) != std::string::npos);
+    CHECK(r.err.find("same file") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(read_file(d.file("s.ply")) == input);
+    CHECK_FALSE(file_exists(d.file("o.ply")));
+  }
+  // --force: the input is replaced, after a successful run.
+  CliResult r = run_cli("simplify --quiet " + s + " -o " + q(d.file("s-link.ply")) + " --grid 16 --force");
+  CHECK(r.exit_code == 0);
+  CHECK(read_file(d.file("s.ply")) == ref);
+  CHECK(std::filesystem::is_symlink(d.file("s-link.ply")));
+  CHECK(read_file(d.file("s-hard.ply")) == input);  // the old inode, untouched
+}
+
+TEST_CASE("a --stats that cannot be written exits 4 and leaves the output as it was", "[cli][outputs]") {
+  ScratchDir d;
+  reference_output(d);
+  write_file(d.file("o.ply"), "the previous output");
+  CliResult r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --grid 16 --stats " +
+                        q(d.file("nodir/s.json")));
+  INFO(r.err);
+  CHECK(r.exit_code == 4);
+  CHECK(r.err.find("nodir") != std::string::npos);
+  CHECK(read_file(d.file("o.ply")) == "the previous output");
+  r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("new.ply")) + " --grid 16 --stats " +
+              q(d.file("nodir/s.json")));
+  CHECK(r.exit_code == 4);
+  CHECK(d.entries() == std::vector<std::string>{"o.ply", "ref.ply", "s.ply"});
+}
+
+// --- Options (issue 9 item 12): every size and count is checked; a bad one exits 2
+// naming the flag and the value, before any work and without any output.
+
+TEST_CASE("every invalid size or count exits 2 naming the flag and the value", "[cli][options]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  const std::string simplify = "simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " ";
+  const std::string measure = "measure --quiet " + q(d.file("s.ply")) + " " + q(d.file("s.ply")) + " ";
+  struct Case {
+    std::string args, flag, value;
+  } cases[] = {
+      {simplify + "--grid 0", "--grid", "0"},
+      {simplify + "--grid -3", "--grid", "-3"},
+      {simplify + "--grid 2097152", "--grid", "2097152"},
+      {simplify + "--grid 1.5", "--grid", "1.5"},
+      {simplify + "--cell 0", "--cell", "0"},
+      {simplify + "--cell -1", "--cell", "-1"},
+      {simplify + "--cell nan", "--cell", "nan"},
+      {simplify + "--cell inf", "--cell", "inf"},
+      {simplify + "--cell 1x", "--cell", "1x"},
+      {simplify + "--ratio 0", "--ratio", "0"},
+      {simplify + "--ratio -1", "--ratio", "-1"},
+      {simplify + "--ratio 1.5", "--ratio", "1.5"},
+      {simplify + "--ratio nan", "--ratio", "nan"},
+      {simplify + "--tile -1", "--tile", "-1"},
+      {simplify + "--tile nan", "--tile", "nan"},
+      {simplify + "--tile 0", "--tile", "0"},
+      {simplify + "--mem 0.5", "--mem", "0.5"},
+      {simplify + "--mem inf", "--mem", "inf"},
+      {simplify + "--mem 0", "--mem", "0"},
+      {simplify + "--mem -1G", "--mem", "-1G"},
+      {simplify + "--threads 0", "--threads", "0"},
+      {simplify + "--threads -2", "--threads", "-2"},
+      {simplify + "--threads 99999999999", "--threads", "99999999999"},
+      {"generate --quiet -o " + q(d.file("g.ply")) + " --tris -5", "--tris", "-5"},
+      {"generate --quiet -o " + q(d.file("g.ply")) + " --tris 0", "--tris", "0"},
+      {"generate --quiet -o " + q(d.file("g.ply")) + " --tris 10 --seed -1", "--seed", "-1"},
+      {measure + "--samples 0", "--samples", "0"},
+      {measure + "--samples -5", "--samples", "-5"},
+      {measure + "--threads 0", "--threads", "0"},
+  };
+  for (const Case& c : cases) {
+    CliResult r = run_cli(c.args);
+    INFO(c.args << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(c.flag) != std::string::npos);
+    CHECK(r.err.find(c.value) != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+  // --method takes its names only (not CLI11's integer fallback).
+  for (const char* m : {"0", "1", "Uniform"}) {
+    CliResult r = run_cli(simplify + "--grid 4 --method " + m);
+    INFO(m << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--method") != std::string::npos);
+  }
+  CHECK(d.entries() == std::vector<std::string>{"s.ply"});
+}
+
+TEST_CASE("the documented maximum grid, 2097151, is accepted", "[cli][options]") {
+  ScratchDir d;
+  // Two triangles 20 cells wide a unit apart: at the finest grid every corner is its own
+  // cluster. (Triangles a million cells wide overflow the floating method's fixed-point
+  // quadric sums, which are kept in cell units: exit 4.)
+  write_file(d.file("t.obj"), "v 0 0 0\nv 1e-5 0 0\nv 0 1e-5 0\nv 1 0 0\nv 1 1e-5 0\nv 1 0 1e-5\nf 1 2 3\nf 4 5 6\n");
+  for (const char* method : {"uniform", "floating"}) {
+    CliResult r = run_cli(std::string("simplify --quiet --grid 2097151 --method ") + method + " " + q(d.file("t.obj")) +
+                          " -o " + q(d.file("o.ply")));
+    INFO(method << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    LoadedMesh m = load_mesh(d.file("o.ply"));
+    CHECK(m.triangle_count() == 2);
+    CHECK(m.vertex_count() == 6);
+  }
+}
+
+TEST_CASE("floating-only flags with --method uniform exit 2 naming the flag and the method", "[cli][options]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  for (const char* flag : {"--cell-shape sphere", "--assign heaviest", "--rep mean", "--tile 0.5", "--keep-tmp",
+                           "--spill-compress none", "--cell-shape cube", "--mem 64M"}) {
+    CliResult r = run_cli("simplify --quiet --method uniform --grid 8 " + q(d.file("s.ply")) + " -o " +
+                          q(d.file("o.ply")) + " " + flag);
+    INFO(flag << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    std::string name = std::string(flag).substr(0, std::string(flag).find(' '));
+    CHECK(r.err.find(name) != std::string::npos);
+    CHECK(r.err.find("uniform") != std::string::npos);
+    // The same flag is taken with the floating method.
+    CHECK(run_cli("simplify --quiet --method floating --grid 8 " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) +
+                  " --tmp " + q(d.path()) + " " + flag)
+              .exit_code == 0);
+  }
+}
+
+TEST_CASE("without --cell, --grid or --ratio, simplify keeps about a tenth of the triangles", "[cli][options]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 200000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  for (const char* method : {"uniform", "floating"}) {
+    CliResult r = run_cli(std::string("simplify --method ") + method + " " + q(d.file("s.ply")) + " -o " +
+                          q(d.file("o.ply")) + " --stats " + q(d.file("st.json")));
+    INFO(method << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    LoadedMesh m = load_mesh(d.file("o.ply"));
+    // --ratio is an estimate (within a factor of two, see the uniform tests); the old
+    // default grid of 256 kept more than half of these triangles.
+    CHECK(double(m.triangle_count()) > 0.1 * 200000 / 2);
+    CHECK(double(m.triangle_count()) < 0.1 * 200000 * 2);
+    CHECK(read_file(d.file("st.json")).find("\"ratio\": 0.1") != std::string::npos);
+  }
+  CliResult help = run_cli("simplify --help");
+  CHECK(help.out.find("--ratio 0.1") != std::string::npos);
+}
+
+// --- Reporting (issue 9 item 15).
+
+TEST_CASE("the summary and --stats name each method's own phases", "[cli][report]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  struct Method {
+    const char* name;
+    std::vector<std::string> phases;
+  } methods[] = {{"uniform", {"open", "vertices", "faces", "solve", "write"}},
+                 {"floating", {"open", "bin", "grade", "rounds", "cluster", "stitch", "assemble", "write"}}};
+  for (const Method& m : methods) {
+    CliResult r = run_cli(std::string("simplify --grid 16 --method ") + m.name + " " + q(d.file("s.ply")) + " -o " +
+                          q(d.file("o.ply")) + " --stats " + q(d.file("st.json")) + " --tmp " + q(d.path()));
+    INFO(m.name << ": " << r.out << r.err);
+    REQUIRE(r.exit_code == 0);
+    std::string js = read_file(d.file("st.json"));
+    INFO(js);
+    std::size_t seconds = js.find("\"seconds\": {");
+    REQUIRE(seconds != std::string::npos);
+    std::string seconds_line = js.substr(seconds, js.find('\n', seconds) - seconds);
+    std::size_t time_at = r.out.find("time ");
+    REQUIRE(time_at != std::string::npos);
+    std::string time_line = r.out.substr(time_at, r.out.find('\n', time_at) - time_at);
+    std::size_t last_json = 0, last_summary = 0;
+    for (const std::string& p : m.phases) {
+      std::size_t at = seconds_line.find("\"" + p + "\": ");
+      CHECK(at != std::string::npos);
+      CHECK(at >= last_json);  // in order
+      last_json = at;
+      at = time_line.find(p + " ");
+      CHECK(at != std::string::npos);
+      CHECK(at >= last_summary);
+      last_summary = at;
+    }
+    CHECK(seconds_line.find("\"total\": ") != std::string::npos);
+    if (std::string(m.name) == "floating") CHECK(seconds_line.find("\"solve\"") == std::string::npos);
+  }
+}
+
+TEST_CASE("the stats JSON records the version, the paths, the method and every option", "[cli][report]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  std::string version = run_cli("--version").out;
+  REQUIRE(version.rfind("oocsimp ", 0) == 0);
+  version = version.substr(8, version.find('\n') - 8);
+  CHECK(std::count(version.begin(), version.end(), '.') == 2);  // the CMake project version, MAJOR.MINOR.PATCH
+  REQUIRE(run_cli("simplify --quiet --method floating --cell 0.25 --cell-shape sphere --assign heaviest --rep mean "
+                  "--tile 1.5 --mem 64M --threads 2 --spill-compress zstd --ascii --tmp " +
+                  q(d.path()) + " " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --stats " +
+                  q(d.file("st.json")))
+              .exit_code == 0);
+  std::string js = read_file(d.file("st.json"));
+  INFO(js);
+  for (const std::string& field :
+       {"\"version\": \"" + version + "\"", "\"input\": \"" + d.file("s.ply") + "\"",
+        "\"output\": \"" + d.file("o.ply") + "\"", "\"stats\": \"" + d.file("st.json") + "\"",
+        std::string("\"method\": \"floating\""), std::string("\"cell\": 0.25"),
+        std::string("\"cell_shape\": \"sphere\""), std::string("\"assign\": \"heaviest\""),
+        std::string("\"rep\": \"mean\""), std::string("\"tile\": 1.5"), std::string("\"mem_bytes\": 67108864"),
+        std::string("\"threads\": 2"), std::string("\"spill_compress\": \"zstd\""), std::string("\"keep_tmp\": false"),
+        std::string("\"ascii\": true"), std::string("\"force\": false"), "\"tmp\": \"" + d.path() + "\""})
+    CHECK(js.find(field) != std::string::npos);
+  REQUIRE(run_cli("simplify --quiet --method uniform --grid 8 " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) +
+                  " --stats " + q(d.file("st.json")))
+              .exit_code == 0);
+  js = read_file(d.file("st.json"));
+  CHECK(js.find("\"method\": \"uniform\"") != std::string::npos);
+  CHECK(js.find("\"grid\": 8") != std::string::npos);
+  CHECK(js.find("cell_shape") == std::string::npos);  // floating-only options are not reported for uniform
+}
+
+TEST_CASE("progress lines of phases without counts show the elapsed time only", "[cli][report]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  for (const char* method : {"uniform", "floating"}) {
+    const std::string args = std::string("simplify --grid 16 --method ") + method + " " + q(d.file("s.ply")) + " -o " +
+                             q(d.file("o.ply")) + " --tmp " + q(d.path());
+    CliResult r = run_cli(args);  // stderr a file: batch lines
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find("oocsimp: write done in ") != std::string::npos);
+    CHECK(r.err.find(" 0.0 ") == std::string::npos);  // no rate of nothing
+    CHECK(r.err.find("ETA 0s") == std::string::npos);
+    CHECK(r.err.find(" 0% ") == std::string::npos);
+    // On a terminal (script(1) gives the run one): bars only for phases with a total.
+    if (std::system("command -v script >/dev/null 2>&1") != 0) {
+      WARN("script(1) not found: the terminal output is not checked");
+      continue;
+    }
+    std::string cmd =
+        "script -qfec " + q(std::string(OOCSIMP_CLI) + " " + args) + " /dev/null >" + q(d.file("tty.txt"));
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    std::string tty = read_file(d.file("tty.txt"));
+    INFO(tty);
+    std::size_t write_at = tty.rfind("\033[Kwrite ");  // the progress line, not the summary's
+    REQUIRE(write_at != std::string::npos);
+    std::string write_line = tty.substr(write_at, tty.find('\n', write_at) - write_at);
+    CHECK(write_line.find('%') == std::string::npos);
+    CHECK(write_line.find("/s") == std::string::npos);
+    CHECK(tty.find(" 0.0 ") == std::string::npos);
+  }
+}
+
+TEST_CASE("help is grouped with plain value lists; mistyped flags get a suggestion on one line", "[cli][report]") {
+  CliResult r = run_cli("simplify --help");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("Floating method only") != std::string::npos);
+  CHECK(r.out.find("{floating,uniform}") != std::string::npos);
+  CHECK(r.out.find("->") == std::string::npos);  // no enum internals
+  CHECK(r.out.find(" OR ") == std::string::npos);
+  r = run_cli("--version");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.rfind("oocsimp ", 0) == 0);
+  ScratchDir d;
+  struct Case {
+    const char* args;
+    const char* hint;
+  } cases[] = {{"simplify in.ply -o out.ply --gird 4", "did you mean --grid?"},
+               {"simplify in.ply -o out.ply --ratoi 0.1", "did you mean --ratio?"},
+               {"simplfy in.ply -o out.ply", "did you mean simplify?"},
+               {"generate --tris 10 -o x.ply --shpe sphere", "did you mean --shape?"}};
+  for (const Case& c : cases) {
+    r = run_cli(c.args);
+    INFO(c.args << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(c.hint) != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+  r = run_cli("simplify in.ply");  // -o missing
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--output") != std::string::npos);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
 }

@@ -283,6 +283,6 @@ TEST_CASE("SIGINT and SIGTERM in every phase of a floating-cells run: prompt exi
   };
   interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
   interrupt_every_phase(args(d.file("binary.ply")),
-                        {"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "solve", "write"}, tmp,
+                        {"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "assemble", "write"}, tmp,
                         out_dir, output);
 }

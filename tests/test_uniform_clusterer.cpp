@@ -127,8 +127,19 @@ TEST_CASE("grid choice validates its options", "[uniform]") {
   ScratchDir d;
   write_plane_ply(d.file("plane.ply"), 4, 0, 0, 0);
   MeshInput in = open_mesh_input(d.file("plane.ply"));
-  CellSizing none;
-  CHECK_THROWS_AS(choose_grid(in, none, 0), UsageError);
+  // Nothing given: the documented default ratio, the same grid as asking for it.
+  CellSizing none, tenth;
+  tenth.ratio = 0.1;
+  GridSpec by_default = choose_grid(in, none, 0), asked = choose_grid(in, tenth, 0);
+  CHECK(by_default.cell == asked.cell);
+  // A value given is checked, never replaced by a default.
+  for (double bad : {-1.0, std::nan(""), HUGE_VAL}) {
+    CellSizing cell, ratio;
+    cell.cell = bad;
+    ratio.ratio = bad;
+    CHECK_THROWS_AS(choose_grid(in, cell, 0), UsageError);
+    CHECK_THROWS_AS(choose_grid(in, ratio, 0), UsageError);
+  }
   CellSizing two;
   two.grid = 4;
   two.cell = 0.1;

@@ -3,16 +3,21 @@
 // Exit codes: 0 ok, 2 usage, 3 bad input, 4 I/O or resource failure.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
-#include <iostream>
-#include <map>
+#include <cstdlib>
 #include <new>
-#include <thread>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
+#include "oocsimp/grid_spec.hpp"
 #include "oocsimp/measure.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
@@ -31,34 +36,124 @@ void progress_callback(std::uint64_t done, std::uint64_t total, void* user) {
   p->set(done);
 }
 
-int run_simplify(const std::string& in, const std::string& out, SimplifyOptions options, const std::string& mem,
-                 const std::string& stats_path, bool quiet, bool ascii) {
-  ProgressReporter progress(quiet);
-  if (options.sizing.cell <= 0 && options.sizing.grid == 0 && options.sizing.ratio <= 0) options.sizing.grid = 256;
-  if (!mem.empty()) options.memory_budget = parse_byte_size(mem);
-  options.progress = &progress;
+// --- Checked option values: every size and count is refused (exit 2, naming the flag
+// and the value) rather than replaced by a default. CLI11 reads "-5" into an unsigned
+// without complaint, so numbers are taken as text and parsed here.
+
+[[noreturn]] void bad_value(const std::string& flag, const std::string& text, const std::string& expected) {
+  throw UsageError(flag + " \"" + text + "\": expected " + expected);
+}
+
+double positive_number(const std::string& flag, const std::string& text, double max = HUGE_VAL) {
+  char* end = nullptr;
+  double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0) || v > max) {
+    char range[64];
+    std::snprintf(range, sizeof range, "a number above 0 and at most %g", max);
+    bad_value(flag, text, max == HUGE_VAL ? "a positive finite number" : range);
+  }
+  return v;
+}
+
+std::uint64_t whole_number(const std::string& flag, const std::string& text, std::uint64_t min, std::uint64_t max) {
+  std::uint64_t v = 0;
+  auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || text[0] == '-' || r.ec != std::errc() || r.ptr != text.data() + text.size() || v < min ||
+      v > max)
+    bad_value(flag, text, "a whole number from " + std::to_string(min) + " to " + std::to_string(max));
+  return v;
+}
+
+// An option the user gave, with its text.
+struct Given {
+  CLI::Option* option = nullptr;
+  std::string text;
+  bool given() const { return option && option->count() > 0; }
+};
+
+constexpr std::uint64_t kMaxThreads = 65536;
+
+// Given with --method uniform, the floating-only options would do nothing.
+void refuse_with_uniform(const std::vector<CLI::Option*>& floating_only) {
+  for (const CLI::Option* o : floating_only)
+    if (o->count() > 0)
+      throw UsageError(o->get_name() + " applies to --method floating only, not to --method uniform");
+}
+
+struct SimplifyArgs {
+  std::string in;
+  OutputOptions outputs;
+  SimplifyOptions options;
+  std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto";
+  Given cell, grid, ratio, tile, mem, threads;
+  std::vector<CLI::Option*> floating_only;
+  bool quiet = false;
+};
+
+template <class E>
+E enum_named(const std::string& text, std::initializer_list<E> values, const char* (*name)(E)) {
+  for (E e : values)
+    if (text == name(e)) return e;
+  throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
+}
+
+// Turns the texts of the simplify options into SimplifyOptions, checking each.
+void resolve_simplify_args(SimplifyArgs& a) {
+  SimplifyOptions& o = a.options;
+  o.method = enum_named(a.method, {ClusterMethod::floating, ClusterMethod::uniform}, method_name);
+  if (o.method == ClusterMethod::uniform) refuse_with_uniform(a.floating_only);
+  o.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
+  o.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
+  o.representative = enum_named(
+      a.rep, {RepresentativeRule::quadric, RepresentativeRule::centre, RepresentativeRule::mean}, representative_name);
+  o.spill_compression = enum_named(
+      a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
+  if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
+  if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
+  if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
+  if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
+  if (a.threads.given()) o.threads = unsigned(whole_number("--threads", a.threads.text, 1, kMaxThreads));
+  if (a.mem.given()) {
+    try {
+      o.memory_budget = parse_byte_size(a.mem.text);
+    } catch (const UsageError& e) {
+      throw UsageError(std::string("--mem: ") + e.what());
+    }
+  }
+}
+
+int run_simplify(SimplifyArgs& a) {
+  resolve_simplify_args(a);
+  ProgressReporter progress(a.quiet);
+  a.options.progress = &progress;
   SimplifyStats stats;
-  simplify_file(in, out, ascii, options, &stats);
-  if (!stats_path.empty()) write_file_atomically(stats_path, stats_to_json(stats));
-  if (!quiet) {
-    if (options.method == ClusterMethod::floating)
-      std::fprintf(stdout, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
+  simplify_file(a.in, a.outputs, a.options, &stats);
+  if (!a.quiet) {
+    // stdout may carry the mesh or the stats: then the summary goes to stderr.
+    std::FILE* to = a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout;
+    if (a.options.method == ClusterMethod::floating)
+      std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
                    stats.tiles, stats.resumed ? " (kept by an earlier run)" : "", stats.rounds,
                    double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
+    std::string phases;
+    for (const PhaseTime& p : stats.phases) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%s%s %.3f", phases.empty() ? "" : ", ", p.name.c_str(), p.seconds);
+      phases += buf;
+    }
     double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
-    std::fprintf(stdout,
+    std::fprintf(to,
                  "input   %" PRIu64 " vertices, %" PRIu64 " triangles\n"
-                 "output  %" PRIu64 " vertices, %" PRIu64 " triangles (grid %ux%ux%u, cell %.6g)\n"
-                 "time    %.3f s (open %.3f, vertices %.3f, faces %.3f, solve %.3f, write %.3f): %.2f Mtri/s\n"
+                 "output  %" PRIu64 " vertices, %" PRIu64 " triangles (%s, grid %ux%ux%u, cell %.6g)\n"
+                 "time    %.3f s (%s): %.2f Mtri/s\n"
                  "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                  stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-                 stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2], stats.cell_size, stats.seconds_total,
-                 stats.seconds_open, stats.seconds_vertices, stats.seconds_faces, stats.seconds_solve,
-                 stats.seconds_write, mtri, double(stats.peak_rss_bytes) / 1048576.0,
+                 method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
+                 stats.cell_size, stats.seconds_total, phases.c_str(), mtri, double(stats.peak_rss_bytes) / 1048576.0,
                  double(stats.peak_anon_bytes) / 1048576.0);
   }
   // Not silenced by --quiet: the output lacks part of the input.
-  std::string skipped = skipped_input_summary(in, stats);
+  std::string skipped = skipped_input_summary(a.in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
   return kOk;
 }
@@ -89,21 +184,35 @@ int run_info(const std::string& in, const std::string& tmp) {
   return kOk;
 }
 
-int run_generate(std::uint64_t tris, const std::string& shape, std::uint64_t seed, const std::string& out, bool ascii,
-                 bool quiet) {
+// generate writes PLY only: another extension would get PLY bytes under a misleading name.
+void check_generate_output(const std::string& out) {
+  std::string name = out;
+  for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+  auto ends_with = [&](const std::string& ext) {
+    return name.size() >= ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0;
+  };
+  if (out != "-" && !ends_with(".ply") && !ends_with(".ply.zst"))
+    throw UsageError(out + ": generate writes PLY only: give a name ending in .ply or .ply.zst (or - for stdout)");
+}
+
+int run_generate(const std::string& tris_text, const std::string& shape, const std::string& seed_text,
+                 const std::string& out, bool ascii, bool quiet) {
   GenerateOptions o;
-  o.triangles = tris;
-  o.seed = seed;
+  o.triangles = whole_number("--tris", tris_text, 1, ~std::uint64_t(0));
+  o.seed = whole_number("--seed", seed_text, 0, ~std::uint64_t(0));
   o.ascii = ascii;
   if (shape == "sphere") o.shape = SyntheticShape::sphere;
   else if (shape == "terrain") o.shape = SyntheticShape::terrain;
   else if (shape == "parts") o.shape = SyntheticShape::parts;
   else throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain or parts)");
+  check_generate_output(out);
   ProgressReporter progress(quiet);
-  progress.begin("generate", tris, "tri");
+  progress.begin("generate", o.triangles, "tri");
   GenerateResult r = generate_mesh(out, o, progress_callback, &progress);
   progress.end();
-  if (!quiet) std::printf("%s: %" PRIu64 " vertices, %" PRIu64 " triangles\n", out.c_str(), r.vertices, r.triangles);
+  if (!quiet)
+    std::fprintf(out == "-" ? stderr : stdout, "%s: %" PRIu64 " vertices, %" PRIu64 " triangles\n", out.c_str(),
+                 r.vertices, r.triangles);
   return kOk;
 }
 
@@ -133,92 +242,180 @@ int run_measure(const std::string& a, const std::string& b, MeasureOptions optio
   return kOk;
 }
 
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean --grid?)" for the first argument that names no flag of `command`
+// (or no subcommand of the app) but is within two edits of one; empty otherwise.
+std::string suggestion(const CLI::App& app, int argc, char** argv) {
+  std::vector<CLI::App*> parsed = app.get_subcommands();
+  const CLI::App* command = parsed.empty() ? nullptr : parsed.front();
+  std::vector<std::string> names;
+  if (command) {
+    for (const CLI::Option* o : command->get_options())
+      for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
+  } else {
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      names.push_back(sub->get_name());
+  }
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    arg = arg.substr(0, arg.find('='));
+    if (command ? arg.rfind("--", 0) != 0 : arg.rfind("-", 0) == 0) continue;
+    if (std::find(names.begin(), names.end(), arg) != names.end()) continue;
+    if (!command && i > 1) break;  // only the subcommand's own position
+    std::string best;
+    std::size_t best_distance = 3;
+    for (const std::string& n : names) {
+      std::size_t d = edit_distance(arg, n);
+      if (d < best_distance) best_distance = d, best = n;
+    }
+    if (!best.empty()) return " (did you mean " + best + "?)";
+  }
+  return "";
+}
+
+// CLI11's messages may span lines; a usage error is one line.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   install_signal_cleanup();
   CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("oocsimp ") + version());
 
-  std::string in, out, tmp, stats_path, shape = "sphere", mem;
-  SimplifyOptions so;
-  CellSizing& sizing = so.sizing;
-  bool quiet = false, ascii = false;
-  std::uint64_t tris = 1000000, seed = 1;
+  const char* const common = "Options";
+  const char* const floating_group = "Floating method only (--method floating, the default)";
 
+  SimplifyArgs sa;
   CLI::App* simplify = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, optionally .zst)");
-  simplify->add_option("input", in, "Input mesh")->required();
-  simplify->add_option("-o,--output", out, "Output mesh (.ply, .obj, optionally .zst)")->required();
-  auto* cell = simplify->add_option("--cell", sizing.cell, "Cell side in model units");
-  auto* grid = simplify->add_option("--grid", sizing.grid, "Cells along the longest bounding-box axis (default 256)");
-  auto* ratio = simplify->add_option("--ratio", sizing.ratio, "Approximate fraction of triangles to keep");
-  cell->excludes(grid)->excludes(ratio);
-  grid->excludes(ratio);
-  simplify->add_option("--method", so.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, ClusterMethod>{{"floating", ClusterMethod::floating}, {"uniform", ClusterMethod::uniform}}));
-  simplify->add_option("--cell-shape", so.cell_shape, "Floating cell shape: cube or sphere")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, CellShape>{{"cube", CellShape::cube}, {"sphere", CellShape::sphere}}));
-  simplify->add_option("--assign", so.assign, "Vertex in several cells: nearest (centre) or heaviest")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, AssignRule>{{"nearest", AssignRule::nearest}, {"heaviest", AssignRule::heaviest}}));
-  simplify->add_option("--rep", so.representative, "Representative vertex: quadric, centre or mean")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, RepresentativeRule>{
-          {"quadric", RepresentativeRule::quadric}, {"centre", RepresentativeRule::centre},
-          {"mean", RepresentativeRule::mean}}));
-  simplify->add_option("--mem", mem, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)");
-  simplify->add_option("--tile", so.tile_side, "Floating: tile side in model units (default: from --mem)");
-  simplify->add_flag("--keep-tmp", so.keep_temp,
-                     "Floating: keep the binned tiles in --tmp and reuse them on the next run of the same input");
-  simplify->add_option("--spill-compress", so.spill_compression,
-                       "Floating: zstd on the triangle, stitch and kept-triangle spills: auto (when they would not "
-                       "fit in half the available memory, or with --keep-tmp), zstd or none")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, SpillCompression>{
-          {"auto", SpillCompression::automatic}, {"zstd", SpillCompression::zstd}, {"none", SpillCompression::none}}));
-  simplify->add_option("--threads", so.threads, "Worker threads (default: all cores)");
-  simplify->add_option("--tmp", so.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
-  simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");
-  simplify->add_flag("--quiet", quiet, "No progress and no summary");
-  simplify->add_flag("--ascii", ascii, "Write ascii PLY instead of binary");
+  simplify->footer("Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of "
+                   "the triangles).\n");
+  simplify->add_option("input", sa.in, "Input mesh")->required();
+  simplify->add_option("-o,--output", sa.outputs.mesh,
+                       "Output mesh; the format from the name: .ply or .obj, + .zst compresses; - writes binary PLY to "
+                       "stdout")
+      ->required()
+      ->group(common);
+  sa.cell.option = simplify->add_option("--cell", sa.cell.text, "Cell side in model units")->group(common);
+  sa.grid.option = simplify->add_option("--grid", sa.grid.text,
+                                        "Cells along the longest bounding-box axis, 1 to " +
+                                            std::to_string(GridSpec::kMaxDim))
+                       ->group(common);
+  sa.ratio.option = simplify->add_option("--ratio", sa.ratio.text,
+                                         "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)")
+                        ->group(common);
+  sa.cell.option->excludes(sa.grid.option)->excludes(sa.ratio.option);
+  sa.grid.option->excludes(sa.ratio.option);
+  simplify->add_option("--method", sa.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
+      ->check(CLI::IsMember({"floating", "uniform"}))
+      ->group(common);
+  sa.threads.option =
+      simplify->add_option("--threads", sa.threads.text, "Worker threads (default: all cores)")->group(common);
+  simplify->add_option("--tmp", sa.options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)")
+      ->group(common);
+  simplify->add_option("--stats", sa.outputs.stats, "Write statistics as JSON to this file (- for stdout)")
+      ->group(common);
+  simplify->add_flag("--force", sa.outputs.replace_input,
+                     "Allow the output to be the input (replaced only after a successful run)")
+      ->group(common);
+  simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
+  simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY instead of binary")->group(common);
+  sa.floating_only = {
+      simplify->add_option("--cell-shape", sa.cell_shape, "Cell shape (default cube)")
+          ->check(CLI::IsMember({"cube", "sphere"})),
+      simplify->add_option("--assign", sa.assign,
+                           "Vertex in several cells: nearest (centre, the default) or heaviest")
+          ->check(CLI::IsMember({"nearest", "heaviest"})),
+      simplify->add_option("--rep", sa.rep, "Representative vertex (default quadric)")
+          ->check(CLI::IsMember({"quadric", "centre", "mean"})),
+      sa.mem.option = simplify->add_option(
+          "--mem", sa.mem.text, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)"),
+      sa.tile.option = simplify->add_option("--tile", sa.tile.text, "Tile side in model units (default: from --mem)"),
+      simplify->add_flag("--keep-tmp", sa.options.keep_temp,
+                         "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
+      simplify->add_option("--spill-compress", sa.spill,
+                           "zstd on the triangle, stitch and kept-triangle spills: auto (when they would not fit in "
+                           "half the available memory, or with --keep-tmp, the default), zstd or none")
+          ->check(CLI::IsMember({"auto", "zstd", "none"})),
+  };
+  for (CLI::Option* o : sa.floating_only) o->group(floating_group);
 
+  std::string in, out, tmp, shape = "sphere";
+  bool quiet = false, ascii = false;
   CLI::App* info = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
   info->add_option("input", in, "Input mesh")->required();
   info->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
 
+  std::string tris_text, seed_text = "1";
   CLI::App* generate = app.add_subcommand("generate", "Write a synthetic dense mesh, streamed in O(1) memory");
-  generate->add_option("--tris", tris, "Number of triangles (approximately)")->required();
-  generate->add_option("--shape", shape, "sphere, terrain or parts")->check(CLI::IsMember({"sphere", "terrain", "parts"}));
-  generate->add_option("--seed", seed, "Random seed");
-  generate->add_option("-o,--output", out, "Output PLY (.zst compresses)")->required();
+  generate->add_option("--tris", tris_text, "Number of triangles (approximately), at least 1")->required();
+  generate->add_option("--shape", shape, "Shape (default sphere)")
+      ->check(CLI::IsMember({"sphere", "terrain", "parts"}));
+  generate->add_option("--seed", seed_text, "Random seed (default 1)");
+  generate->add_option("-o,--output", out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
   generate->add_flag("--ascii", ascii, "Write ascii PLY");
   generate->add_flag("--quiet", quiet, "No progress");
 
-  std::string second;
+  std::string second, samples_text, measure_seed_text, measure_threads_text;
   MeasureOptions measure_options;
   bool json = false;
   CLI::App* measure = app.add_subcommand("measure", "Hausdorff, mean and RMS distance between two surfaces");
   measure->add_option("a", in, "Mesh A, streamed (the original; any size)")->required();
   measure->add_option("b", second, "Mesh B, loaded into memory (e.g. the simplification)")->required();
-  measure->add_option("--samples", measure_options.samples, "Points sampled on each surface (default 1000000)");
-  measure->add_option("--seed", measure_options.seed, "Random seed of the samples");
-  measure->add_option("--threads", measure_options.threads, "Worker threads (default: all cores)");
+  auto* samples = measure->add_option("--samples", samples_text, "Points sampled on each surface (default 1000000)");
+  auto* measure_seed = measure->add_option("--seed", measure_seed_text, "Random seed of the samples (default 1)");
+  auto* measure_threads = measure->add_option("--threads", measure_threads_text, "Worker threads (default: all cores)");
   measure->add_option("--tmp", measure_options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
   measure->add_flag("--json", json, "Print the report as JSON");
   measure->add_flag("--quiet", quiet, "No progress");
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? kOk : kUsage;
+    std::fprintf(stderr, "oocsimp: %s%s (see oocsimp --help)\n", one_line(e.what()).c_str(),
+                 suggestion(app, argc, argv).c_str());
+    return kUsage;
   }
 
   try {
-    if (*simplify) return run_simplify(in, out, so, mem, stats_path, quiet, ascii);
+    if (*simplify) return run_simplify(sa);
     if (*info) return run_info(in, tmp);
-    if (*generate) return run_generate(tris, shape, seed, out, ascii, quiet);
-    if (*measure) return run_measure(in, second, measure_options, json, quiet);
+    if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, quiet);
+    if (*measure) {
+      constexpr std::uint64_t kMost = ~std::uint64_t(0);
+      if (samples->count() > 0) measure_options.samples = whole_number("--samples", samples_text, 1, kMost);
+      if (measure_seed->count() > 0) measure_options.seed = whole_number("--seed", measure_seed_text, 0, kMost);
+      if (measure_threads->count() > 0)
+        measure_options.threads = unsigned(whole_number("--threads", measure_threads_text, 1, kMaxThreads));
+      return run_measure(in, second, measure_options, json, quiet);
+    }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "oocsimp: %s\n", e.what());
     return kUsage;

@@ -26,8 +26,8 @@ struct GenerateResult {
 ///    a sum of seeded sinusoids of several frequencies;
 ///  - terrain: an open height field over the unit square with a boundary;
 ///  - parts: intersecting boxes and cylinders with sharp edges and small features.
-/// Written to a temporary name and renamed when complete. `progress` (optional) is
-/// called with (triangles written, total).
+/// Written as an OutputFile (a regular file: to a temporary name, renamed when
+/// complete). `progress` (optional) is called with (triangles written, total).
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options,
                              void (*progress)(std::uint64_t, std::uint64_t, void*) = nullptr,
                              void* progress_user = nullptr);

@@ -11,6 +11,7 @@
 
 #include "oocsimp/grid_spec.hpp"
 #include "oocsimp/mesh_input.hpp"
+#include "oocsimp/mesh_writer.hpp"
 
 namespace oocsimp {
 
@@ -45,12 +46,16 @@ enum class SpillCompression {
   none,       ///< never (the spill stays in the page cache, or the disk is fast)
 };
 
-/// How the cell size is chosen; exactly one of the three is set (> 0).
+/// How the cell size is chosen: at most one of the three is set (non-zero); when none
+/// is, the ratio is kDefaultRatio.
 struct CellSizing {
   double cell = 0;            ///< absolute cell side in model units
   std::uint32_t grid = 0;     ///< cells along the bounding box's longest axis
-  double ratio = 0;           ///< approximate fraction of input triangles to keep
+  double ratio = 0;           ///< approximate fraction of input triangles to keep, in (0, 1]
 };
+
+/// The ratio when no size is given: "simplify this" keeps about a tenth of the triangles.
+constexpr double kDefaultRatio = 0.1;
 
 struct SimplifyOptions {
   CellSizing sizing;
@@ -70,6 +75,12 @@ struct SimplifyOptions {
   ProgressReporter* progress = nullptr;
 };
 
+/// One timed phase of a run.
+struct PhaseTime {
+  std::string name;
+  double seconds = 0;
+};
+
 struct SimplifyStats {
   std::uint64_t input_vertices = 0;
   std::uint64_t input_triangles = 0;
@@ -82,11 +93,10 @@ struct SimplifyStats {
   std::uint64_t output_triangles = 0;
   double cell_size = 0;
   std::uint32_t grid_dims[3] = {0, 0, 0};
-  double seconds_open = 0;      ///< header, positions conversion/mapping, bounding box
-  double seconds_vertices = 0;  ///< per-cell vertex means
-  double seconds_faces = 0;     ///< per-cell quadrics and surviving triangles
-  double seconds_solve = 0;     ///< representative vertices
-  double seconds_write = 0;
+  /// Wall seconds of each phase in order: "open" (header, positions, bounding box), the
+  /// method's own phases (uniform: vertices, faces, solve; floating: bin, grade, rounds,
+  /// cluster, stitch, assemble), then "write".
+  std::vector<PhaseTime> phases;
   double seconds_total = 0;
   std::uint64_t tiles = 0;            ///< floating: occupied tiles
   std::uint64_t rounds = 0;           ///< floating: the first greedy and the sweeps of border decisions that changed something
@@ -126,13 +136,44 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned 
 /// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
 
-/// Opens `input_path`, simplifies it and writes `output_path` (format and compression
-/// from its name, ascii PLY when `ascii`). Fills `stats` when given.
+/// Where simplify_file writes.
+struct OutputOptions {
+  std::string mesh;            ///< format and compression from the name; "-" is binary PLY on stdout
+  std::string stats;           ///< the stats JSON; empty = none, "-" = stdout
+  bool ascii = false;          ///< ascii PLY
+  bool replace_input = false;  ///< the mesh may be the input (--force): replaced only after success
+};
+
+/// Opens `input_path`, simplifies it and writes `outputs` (see OutputFile: regular files
+/// through a temporary name and a rename, devices, FIFOs and stdout streamed). Before any
+/// work it refuses (UsageError) an unwritable extension and destinations that are the
+/// input (unless replace_input) or each other, and opens every destination; the stats
+/// are committed before the mesh, so a failure leaves the mesh as it was. Fills `stats`
+/// when given.
+void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                   SimplifyStats* stats);
+/// The same with only a mesh output.
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats);
 
-/// `stats` as a JSON object (counts, seconds per phase, peak memory, input Mtri/s).
-std::string stats_to_json(const SimplifyStats& stats);
+/// The format `outputs.mesh` is written in: binary (or ascii) PLY for "-", else
+/// format_for_path. Throws UsageError for a name it cannot write.
+MeshFormat output_format(const OutputOptions& outputs);
+
+/// A run as a JSON object: the version, the paths, the method and every option, counts,
+/// seconds per phase, peak memory and input Mtri/s.
+std::string stats_to_json(const SimplifyStats& stats, const std::string& input_path, const OutputOptions& outputs,
+                          const SimplifyOptions& options);
+
+/// The oocsimp version (the CMake project version).
+const char* version();
+
+/// Option values as the command line spells them ("floating", "cube", "nearest", ...).
+const char* method_name(ClusterMethod m);
+const char* cell_shape_name(CellShape s);
+const char* assign_name(AssignRule a);
+const char* representative_name(RepresentativeRule r);
+const char* spill_compression_name(SpillCompression c);
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and
 /// ignored vertices in `stats`, with the first non-finite vertex; empty when the input

@@ -33,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -168,11 +169,17 @@ class FloatingRun {
     double t4 = now_seconds();
     SimplifiedMesh m;
     {
-      ProgressPhase phase(options_.progress, "solve", 0, "cell");
+      ProgressPhase phase(options_.progress, "assemble", 0, "cell");
       m = assemble();
     }
     double t5 = now_seconds();
     note("assembly");
+    if (stats_) {  // a resumed run reads kept tiles where the others bin
+      const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0}, {"grade", t2 - t1 - rounds_seconds_},
+                                  {"rounds", rounds_seconds_},           {"cluster", t3 - t2},
+                                  {"stitch", t4 - t3},                   {"assemble", t5 - t4}};
+      stats_->phases.insert(stats_->phases.end(), std::begin(phases), std::end(phases));
+    }
     if (debug)
       std::fprintf(stderr, "bin %.3f grade+rounds %.3f (rounds %.3f) cluster %.3f stitch %.3f assemble %.3f\n", t1 - t0,
                    t2 - t1, rounds_seconds_, t3 - t2, t4 - t3, t5 - t4);

@@ -242,9 +242,9 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
     stats->occupied_cells = cells.size();
     stats->output_vertices = order.size();
     stats->output_triangles = kept.size();
-    stats->seconds_vertices = t1 - t0;
-    stats->seconds_faces = t2 - t1;
-    stats->seconds_solve = t3 - t2;
+    stats->phases.push_back({"vertices", t1 - t0});
+    stats->phases.push_back({"faces", t2 - t1});
+    stats->phases.push_back({"solve", t3 - t2});
   }
   return mesh;
 }

@@ -50,12 +50,15 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
   return counts;
 }
 
-GridSpec choose_grid(const MeshInput& input, const CellSizing& s, unsigned) {
-  int given = (s.cell > 0) + (s.grid > 0) + (s.ratio > 0);
-  if (given != 1) throw UsageError("give exactly one of --cell, --grid and --ratio");
+GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned) {
+  // Zero means "not given"; anything else given is checked, never replaced.
+  int given = (sizing.cell != 0) + (sizing.grid != 0) + (sizing.ratio != 0);
+  if (given > 1) throw UsageError("give at most one of --cell, --grid and --ratio");
+  CellSizing s = sizing;
+  if (given == 0) s.ratio = kDefaultRatio;
   const Box3d& bounds = input.info.bounds;
-  if (s.cell > 0) return GridSpec::with_cell(bounds, s.cell);
-  if (s.grid > 0) return GridSpec::with_divisions(bounds, s.grid);
+  if (s.cell != 0) return GridSpec::with_cell(bounds, s.cell);
+  if (s.grid != 0) return GridSpec::with_divisions(bounds, s.grid);
   if (!(s.ratio > 0 && s.ratio <= 1)) throw UsageError("--ratio must be in (0, 1]");
   if (input.positions.count == 0 || input.info.face_count == 0) return GridSpec::with_divisions(bounds, 1);
   // A clustered surface keeps about two triangles per occupied cell (Euler: F ~ 2V),

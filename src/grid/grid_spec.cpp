@@ -35,10 +35,16 @@ GridSpec GridSpec::with_divisions(const Box3d& bounds, std::uint32_t n) {
     longest = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
   // A flat or point-like input still gets a valid (if trivial) grid.
   double cell = longest > 0 ? longest / n : 1.0;
-  GridSpec g = with_cell(bounds, cell);
+  if (!(cell > 0)) cell = longest;  // a subnormal extent over many cells: one cell holds it all
+  GridSpec g;
+  g.cell = cell;
+  if (bounds.empty()) return g;
+  g.origin = bounds.min;
   // Exactly n along the longest axis: its maximum falls on the far boundary, which
-  // key() clamps into the last cell.
-  for (auto& d : g.dims) d = std::min(d, n);
+  // key() clamps into the last cell. (with_cell would count that boundary as cell n + 1
+  // and refuse n = kMaxDim.)
+  double ext[3] = {bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z};
+  for (int a = 0; a < 3; ++a) g.dims[a] = std::uint32_t(std::min(std::floor(ext[a] / cell) + 1, double(n)));
   return g;
 }
 

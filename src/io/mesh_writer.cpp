@@ -114,13 +114,16 @@ MeshFormat format_for_path(const std::string& path, bool ascii) {
 
 void write_mesh(const std::string& path, const std::vector<float>& positions,
                 const std::vector<std::uint32_t>& triangles, MeshFormat format) {
-  auto tmp = temp_file_beside(path);
-  {
-    ByteSink sink(tmp->fd(), path, has_zst_suffix(path));
-    write_body(sink, positions, triangles, format);
-    sink.finish();
-  }
-  tmp->commit(path);
+  OutputFile out(path);
+  write_mesh(out, positions, triangles, format);
+  out.commit();
+}
+
+void write_mesh(OutputFile& out, const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles,
+                MeshFormat format) {
+  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  write_body(sink, positions, triangles, format);
+  sink.finish();
 }
 
 }  // namespace oocsimp

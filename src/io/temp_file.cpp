@@ -1,10 +1,12 @@
 #include "oocsimp/temp_file.hpp"
 
 #include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -118,19 +120,44 @@ void TempFile::commit(const std::string& dest) {
   path_.clear();
 }
 
-std::unique_ptr<TempFile> temp_file_beside(const std::string& dest) {
-  std::size_t slash = dest.find_last_of('/');
-  std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : dest.substr(0, slash);
-  std::string name = slash == std::string::npos ? dest : dest.substr(slash + 1);
-  return std::make_unique<TempFile>(dir, "." + name + ".tmp-");
+namespace {
+
+std::string folder_of(const std::string& path) {
+  std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
 }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  auto tmp = temp_file_beside(path);
+std::string name_of(const std::string& path) {
+  std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// A connected stream socket: open() cannot write to a Unix socket.
+int connect_unix_socket(const std::string& path) {
+  sockaddr_un addr;
+  std::memset(&addr, 0, sizeof addr);
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof addr.sun_path) {
+    errno = ENAMETOOLONG;
+    return -1;
+  }
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    int err = errno;
+    ::close(fd);
+    errno = err;
+    return -1;
+  }
+  return fd;
+}
+
+void write_fd_all(int fd, const std::string& path, const std::string& content) {
   const char* p = content.data();
   std::size_t n = content.size();
   while (n > 0) {
-    ssize_t w = ::write(tmp->fd(), p, n);
+    ssize_t w = ::write(fd, p, n);
     if (w < 0) {
       if (errno == EINTR) continue;
       throw IoError(system_error_text(path, "write failed", errno));
@@ -138,7 +165,84 @@ void write_file_atomically(const std::string& path, const std::string& content) 
     p += w;
     n -= std::size_t(w);
   }
-  tmp->commit(path);
+}
+
+}  // namespace
+
+std::unique_ptr<TempFile> temp_file_beside(const std::string& dest) {
+  constexpr std::size_t kNameBytes = 24;  // ".NAME.tmp-XXXXXX" stays far below NAME_MAX
+  return std::make_unique<TempFile>(folder_of(dest), "." + name_of(dest).substr(0, kNameBytes) + ".tmp-");
+}
+
+std::string resolve_links(const std::string& path) {
+  std::string p = path;
+  for (int hops = 0; hops < 40; ++hops) {  // 40: the kernel's own limit (MAXSYMLINKS)
+    struct stat st;
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    std::vector<char> buf(std::size_t(st.st_size > 0 ? st.st_size : 4096) + 1);
+    ssize_t n = ::readlink(p.c_str(), buf.data(), buf.size());
+    if (n < 0 || std::size_t(n) >= buf.size()) throw IoError(system_error_text(path, "cannot read the link", errno));
+    std::string target(buf.data(), std::size_t(n));
+    p = !target.empty() && target[0] == '/' ? target : folder_of(p) + "/" + target;
+  }
+  throw IoError(system_error_text(path, "cannot follow the links", ELOOP));
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  if (a == "-" || b == "-") return false;
+  struct stat sa, sb;
+  bool ea = ::stat(a.c_str(), &sa) == 0, eb = ::stat(b.c_str(), &sb) == 0;
+  if (ea || eb) return ea && eb && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  // Neither exists yet: the same folder (resolved) and the same name.
+  auto canonical = [](const std::string& p) {
+    std::string t = resolve_links(p);
+    char* dir = ::realpath(folder_of(t).c_str(), nullptr);
+    if (!dir) return t;
+    std::string r = std::string(dir) + "/" + name_of(t);
+    std::free(dir);
+    return r;
+  };
+  return canonical(a) == canonical(b);
+}
+
+OutputFile::OutputFile(const std::string& path) : path_(path) {
+  if (path == "-") {
+    fd_ = STDOUT_FILENO;
+    return;
+  }
+  target_ = resolve_links(path);
+  struct stat st;
+  if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    if (S_ISDIR(st.st_mode)) throw IoError(system_error_text(path, "cannot write the output", EISDIR));
+    fd_ = S_ISSOCK(st.st_mode) ? connect_unix_socket(target_)
+                               : ::open(target_.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+    if (fd_ < 0) throw IoError(system_error_text(path, "cannot open the output", errno));
+    owns_fd_ = true;
+    return;
+  }
+  temp_ = temp_file_beside(target_);
+}
+
+OutputFile::~OutputFile() {
+  if (owns_fd_) ::close(fd_);
+}
+
+int OutputFile::fd() const { return temp_ ? temp_->fd() : fd_; }
+
+void OutputFile::write_all(const std::string& bytes) { write_fd_all(fd(), path_, bytes); }
+
+void OutputFile::commit() {
+  if (temp_) {
+    temp_->commit(target_);
+    temp_.reset();
+    fd_ = -1;
+  }
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  OutputFile out(path);
+  out.write_all(content);
+  out.commit();
 }
 
 void TempFile::persist(const std::string& dest) {

@@ -88,21 +88,34 @@ void ProgressReporter::print(bool final_line) {
   else if (r >= 1e3) { r /= 1e3; prefix = "k"; }
   std::snprintf(rate_text, sizeof rate_text, "%.1f %s%s/s", r, prefix, unit_);
   double eta = (rate > 0 && total > done) ? double(total - done) / rate : 0;
+  // A phase without a total has no percentage nor ETA, and until it has counted
+  // something no rate either: only the elapsed time is true for it.
+  std::string counted;
+  if (done > 0) counted = std::string(total > 0 ? "" : std::to_string(done) + " " + unit_ + ", ") + rate_text;
   if (tty_) {
     constexpr int kWidth = 30;
     int filled = int(frac * kWidth);
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '-';
     bar[kWidth] = '\0';
-    if (final_line)
+    if (total == 0)
+      std::fprintf(stderr, "\r\033[K%-16s %s%s%.2fs%s", name_.c_str(), counted.c_str(), counted.empty() ? "" : "  ",
+                   elapsed, final_line ? "\n" : "");
+    else if (final_line)
       std::fprintf(stderr, "\r\033[K%-16s [%s] 100%%  %s  %.2fs\n", name_.c_str(), bar, rate_text, elapsed);
+    else if (done == 0)
+      std::fprintf(stderr, "\r\033[K%-16s [%s]   0%%  %.2fs", name_.c_str(), bar, elapsed);
     else
-      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text, eta);
+      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text,
+                   eta);
   } else {
-    if (final_line && done == 0)  // a phase that counts nothing has no rate to tell
+    if (final_line && counted.empty())
       std::fprintf(stderr, "oocsimp: %s done in %.2fs\n", name_.c_str(), elapsed);
     else if (final_line)
-      std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, rate_text);
+      std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, counted.c_str());
+    else if (total == 0 || done == 0)
+      std::fprintf(stderr, "oocsimp: %s %s%s%.0fs so far\n", name_.c_str(), counted.c_str(),
+                   counted.empty() ? "" : ", ", elapsed);
     else
       std::fprintf(stderr, "oocsimp: %s %d%% (%s, ETA %.0fs)\n", name_.c_str(), int(frac * 100), rate_text, eta);
   }

@@ -1,39 +1,140 @@
+// The --stats JSON of a simplify run, and the names the options are spelled with.
+#include <charconv>
+#include <cinttypes>
 #include <cstdio>
 #include <string>
 
 #include "oocsimp/simplify.hpp"
 
+#ifndef OOCSIMP_VERSION
+#error "OOCSIMP_VERSION comes from the CMake project version"
+#endif
+
 namespace oocsimp {
 
-std::string stats_to_json(const SimplifyStats& s) {
-  double clustering = s.seconds_vertices + s.seconds_faces + s.seconds_solve;
-  double total = s.seconds_total > 0 ? s.seconds_total : s.seconds_open + clustering + s.seconds_write;
+const char* version() { return OOCSIMP_VERSION; }
+
+const char* method_name(ClusterMethod m) { return m == ClusterMethod::uniform ? "uniform" : "floating"; }
+const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
+const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
+
+const char* representative_name(RepresentativeRule r) {
+  switch (r) {
+    case RepresentativeRule::centre: return "centre";
+    case RepresentativeRule::mean: return "mean";
+    case RepresentativeRule::quadric: break;
+  }
+  return "quadric";
+}
+
+const char* spill_compression_name(SpillCompression c) {
+  switch (c) {
+    case SpillCompression::zstd: return "zstd";
+    case SpillCompression::none: return "none";
+    case SpillCompression::automatic: break;
+  }
+  return "auto";
+}
+
+namespace {
+
+// A JSON string literal (RFC 8259 §7): quotes, backslashes and control characters
+// escaped; other bytes, UTF-8 or not, copied as they are.
+std::string quoted(const std::string& s) {
+  std::string r = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      r += '\\';
+      r += char(c);
+    } else if (c < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      r += buf;
+    } else {
+      r += char(c);
+    }
+  }
+  return r + "\"";
+}
+
+// The shortest text that reads back as `v`.
+std::string number(double v) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string number(std::uint64_t v) { return std::to_string(v); }
+
+std::string seconds(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6f", v);
+  return buf;
+}
+
+std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs) {
+  const bool floating = o.method == ClusterMethod::floating;
+  std::string s = "{\"method\": " + quoted(method_name(o.method));
+  if (o.sizing.cell != 0) s += ", \"cell\": " + number(o.sizing.cell);
+  if (o.sizing.grid != 0) s += ", \"grid\": " + number(std::uint64_t(o.sizing.grid));
+  if (o.sizing.ratio != 0) s += ", \"ratio\": " + number(o.sizing.ratio);
+  if (o.sizing.cell == 0 && o.sizing.grid == 0 && o.sizing.ratio == 0) s += ", \"ratio\": " + number(kDefaultRatio);
+  if (floating) {
+    s += ", \"cell_shape\": " + quoted(cell_shape_name(o.cell_shape));
+    s += ", \"assign\": " + quoted(assign_name(o.assign));
+    s += ", \"rep\": " + quoted(representative_name(o.representative));
+    s += ", \"tile\": " + number(o.tile_side);
+    s += ", \"keep_tmp\": " + std::string(o.keep_temp ? "true" : "false");
+    s += ", \"spill_compress\": " + quoted(spill_compression_name(o.spill_compression));
+  }
+  s += ", \"mem_bytes\": " + number(o.memory_budget ? o.memory_budget : default_memory_budget());
+  s += ", \"threads\": " + number(std::uint64_t(o.threads));
+  s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
+  s += ", \"ascii\": " + std::string(outputs.ascii ? "true" : "false");
+  s += ", \"force\": " + std::string(outputs.replace_input ? "true" : "false");
+  return s + "}";
+}
+
+}  // namespace
+
+std::string stats_to_json(const SimplifyStats& s, const std::string& input_path, const OutputOptions& outputs,
+                          const SimplifyOptions& options) {
+  double total = s.seconds_total;
+  if (total <= 0)
+    for (const PhaseTime& p : s.phases) total += p.seconds;
   double mtris = total > 0 ? double(s.input_triangles) / total / 1e6 : 0;
+  std::string phases;
+  for (const PhaseTime& p : s.phases) phases += quoted(p.name) + ": " + seconds(p.seconds) + ", ";
   char buf[2048];
   std::snprintf(buf, sizeof buf,
-                "{\n"
-                "  \"input\": {\"vertices\": %llu, \"triangles\": %llu},\n"
-                "  \"skipped\": {\"faces\": %llu, \"short_faces\": %llu, \"non_finite_triangles\": %llu, "
-                "\"repeated_index_triangles\": %llu, \"non_finite_vertices\": %llu},\n"
-                "  \"output\": {\"vertices\": %llu, \"triangles\": %llu},\n"
-                "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %llu},\n"
-                "  \"tiles\": {\"count\": %llu, \"rounds\": %llu, \"spill_bytes\": %llu, \"spill_raw_bytes\": %llu, "
-                "\"resumed\": %s},\n"
-                "  \"seconds\": {\"open\": %.6f, \"vertices\": %.6f, \"faces\": %.6f, \"solve\": %.6f, "
-                "\"write\": %.6f, \"total\": %.6f},\n"
-                "  \"memory\": {\"peak_rss_bytes\": %llu, \"peak_anon_bytes\": %llu},\n"
+                "  \"input\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
+                "  \"skipped\": {\"faces\": %" PRIu64 ", \"short_faces\": %" PRIu64
+                ", \"non_finite_triangles\": %" PRIu64 ", \"repeated_index_triangles\": %" PRIu64
+                ", \"non_finite_vertices\": %" PRIu64 "},\n"
+                "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
+                "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %" PRIu64 "},\n",
+                s.input_vertices, s.input_triangles, s.skipped.total(), s.skipped.short_faces, s.skipped.non_finite,
+                s.skipped.repeated_index, s.non_finite_vertices, s.output_vertices, s.output_triangles, s.cell_size,
+                s.grid_dims[0], s.grid_dims[1], s.grid_dims[2], s.occupied_cells);
+  std::string js = "{\n  \"version\": " + quoted(version()) + ",\n";
+  js += "  \"paths\": {\"input\": " + quoted(input_path) + ", \"output\": " + quoted(outputs.mesh) +
+        ", \"stats\": " + quoted(outputs.stats) + "},\n";
+  js += "  \"options\": " + options_json(options, outputs) + ",\n";
+  js += buf;
+  if (options.method == ClusterMethod::floating) {
+    std::snprintf(buf, sizeof buf,
+                  "  \"tiles\": {\"count\": %" PRIu64 ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64
+                  ", \"spill_raw_bytes\": %" PRIu64 ", \"resumed\": %s},\n",
+                  s.tiles, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.resumed ? "true" : "false");
+    js += buf;
+  }
+  js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";
+  std::snprintf(buf, sizeof buf,
+                "  \"memory\": {\"peak_rss_bytes\": %" PRIu64 ", \"peak_anon_bytes\": %" PRIu64 "},\n"
                 "  \"input_mtris_per_second\": %.3f\n"
                 "}\n",
-                (unsigned long long)s.input_vertices, (unsigned long long)s.input_triangles,
-                (unsigned long long)s.skipped.total(), (unsigned long long)s.skipped.short_faces,
-                (unsigned long long)s.skipped.non_finite, (unsigned long long)s.skipped.repeated_index,
-                (unsigned long long)s.non_finite_vertices, (unsigned long long)s.output_vertices,
-                (unsigned long long)s.output_triangles, s.cell_size, s.grid_dims[0], s.grid_dims[1], s.grid_dims[2],
-                (unsigned long long)s.occupied_cells, (unsigned long long)s.tiles, (unsigned long long)s.rounds,
-                (unsigned long long)s.spill_bytes, (unsigned long long)s.spill_raw_bytes, s.resumed ? "true" : "false", s.seconds_open, s.seconds_vertices, s.seconds_faces,
-                s.seconds_solve, s.seconds_write, total, (unsigned long long)s.peak_rss_bytes,
-                (unsigned long long)s.peak_anon_bytes, mtris);
-  return buf;
+                s.peak_rss_bytes, s.peak_anon_bytes, mtris);
+  return js + buf;
 }
 
 }  // namespace oocsimp

@@ -300,11 +300,11 @@ GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options,
                              void (*progress)(std::uint64_t, std::uint64_t, void*), void* progress_user) {
   if (options.triangles == 0) throw UsageError("--tris must be at least 1");
-  auto tmp = temp_file_beside(path);
+  OutputFile out(path);
   GenerateResult r;
   FaceCounter fc{0, 0, progress, progress_user};
   {
-    ByteSink sink(tmp->fd(), path, has_zst_suffix(path), 1);
+    ByteSink sink(out.fd(), path, has_zst_suffix(path), 1);
     switch (options.shape) {
       case SyntheticShape::sphere: r = sphere(sink, options, fc); break;
       case SyntheticShape::terrain: r = terrain(sink, options, fc); break;
@@ -312,7 +312,7 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
     }
     sink.finish();
   }
-  tmp->commit(path);
+  out.commit();
   return r;
 }
 
