@@ -193,7 +193,7 @@ PlyHeader read_header(ByteSource& src) {
       p.name = std::string(t.next());
       if (p.name.empty() || !t.at_end()) header_error(src, "malformed property line");
       PlyElement& e = h.elements.back();
-      if (e.find(p.name.c_str()) >= 0)
+      if (e.find(p.name) >= 0)
         header_error(src, "property " + quoted(p.name) + " declared twice in element " + quoted(e.name));
       e.props.push_back(std::move(p));
     } else if (kw == "end_header") {
