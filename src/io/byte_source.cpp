@@ -133,13 +133,17 @@ std::size_t InputFile::read_at(std::uint64_t offset, void* dst, std::size_t n) {
 // ByteSource
 
 ByteSource::ByteSource(std::shared_ptr<InputFile> file) : file_(std::move(file)) {
-  buf_.resize(kBufferSize);
   unsigned char head[4];
   if (file_->read_at(0, head, 4) == 4 && starts_zstd_frame(head)) {
     zstd_ = ZSTD_createDCtx();
     if (!zstd_) throw IoError(path() + ": cannot create a zstd decompression context");
     zin_.resize(ZSTD_DStreamInSize());
   }
+  // A small file gets a buffer of its size (peek and long lines grow it as needed):
+  // clearing 1 MiB per pass would dominate reading it, a few times per input.
+  std::size_t size = kBufferSize;
+  if (content_size_known() && file_->size() < kBufferSize) size = std::max<std::size_t>(file_->size() + 1, 4096);
+  buf_.resize(size);
 }
 
 ByteSource::~ByteSource() {
