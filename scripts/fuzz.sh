@@ -117,6 +117,9 @@ seed ply/badindex-ascii.ply "${hdr_a}${tet_v}3 0 2 1\n3 0 1 4\n3 0 -1 2\n3 1 2 3
 seed ply/nan-ascii.ply "${hdr_a}0 0 0\nnan 0 0\n0 inf 0\n0 0 1\n${tet_f}"
 seed ply/listcount-ascii.ply "${hdr_a}${tet_v}3 0 2 1\n255 0 1 3\n3 0 3 2\n3 1 2 3\n"
 seed ply/noend-ascii.ply "ply\nformat ascii 1.0\nelement vertex 4\n${xyz}"
+seed ply/bom-cr-ascii.ply "\xef\xbb\xbf${hdr_a//\\n/\\r}${tet_v//\\n/\\r}${tet_f//\\n/\\r}"
+seed ply/twoformats.ply "ply\nformat ascii 1.0\nformat binary_little_endian 1.0\nelement vertex 0\n${xyz}end_header\n"
+seed ply/noface-trailing-ascii.ply "ply\nformat ascii 1.0\nelement vertex 4\n${xyz}end_header\n${tet_v}\n\n1 2\n"
 seed ply/badformat.ply "ply\nformat binary_middle_endian 2.0\nelement vertex 0\n${xyz}end_header\n"
 # Binary tetrahedra (little and big endian, float and double) built with perl's pack.
 perl -e '
@@ -148,6 +151,9 @@ perl -e '
 seed obj/tet.obj "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 seed obj/forms.obj "mtllib a.mtl\no thing\nv 0 0 0\nv 1 0 0 1\nv 1 1 0 0.5 0.5 0.5\n  v 0 1 0\nvt 0 0\nvn 0 0 1\ng side\ns 1\nusemtl m\nf 1/1 2/1/1 3//1\nf -4 -2 -1\nf 1 2 3 4\nl 1 2\nf 1 2\n"
 seed obj/crlf.obj "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"
+seed obj/cr-only.obj "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r"
+seed obj/bom.obj "\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+seed obj/underflow.obj "v 1e-400 0 0\nv 1 -2e-324 0\nv 0 1 1e-310\nf 1 2 3\n"
 seed obj/index0.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"
 seed obj/badindex.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\nf -5 1 2\n"
 seed obj/forward.obj "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n"
@@ -223,6 +229,9 @@ write_dict() {  # write_dict FILE WORDS...
 "\x00\x00\x80\x7F"
 "\xFF\xFF\x7F\x7F"
 "\x28\xB5\x2F\xFD"
+"\x50\x2A\x4D\x18"
+"\x0D"
+"\xEF\xBB\xBF"
 EOF
     for w in "$@"; do printf '"%s"\n' "$w"; done
   } >"$file"

@@ -5,6 +5,10 @@
 // left out counted in --stats and in one warning line) or a one-line exit-3 error.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/error.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;
@@ -356,4 +361,156 @@ TEST_CASE("empty meshes give an empty output; a file too short to have a header 
       CHECK_FALSE(file_exists(d.file(std::string("out-") + method + ".ply")));
     }
   }
+}
+
+// ---------------------------------------------------------------------------------
+// Hostile text and streams (issue 9, items 5, 8, 10 and 11 e)
+
+// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
+// __has_feature.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OOCSIMP_TEST_CLANG_ASAN 1
+#endif
+#endif
+#ifndef OOCSIMP_TEST_CLANG_ASAN
+#define OOCSIMP_TEST_CLANG_ASAN 0
+#endif
+
+namespace {
+
+// Runs `before` + the CLI with `args` + `after` in the shell (for pipes and redirected
+// standard input, which run_cli does not offer).
+CliResult run_cli_in_shell(const std::string& before, const std::string& args, const std::string& after) {
+  ScratchDir d;
+  std::string cmd = before + std::string(OOCSIMP_CLI) + " " + args + " " + after + " >'" + d.file("out") + "' 2>'" +
+                    d.file("err") + "'";
+  int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = read_file(d.file("out"));
+  r.err = read_file(d.file("err"));
+  return r;
+}
+
+// A virtual-memory cap for runs whose memory must stay bounded: far below what the
+// unbounded line buffer reached, far above what a run needs. AddressSanitizer
+// reserves terabytes of address space, so there the cap is left out.
+std::string memory_cap() {
+#if defined(__SANITIZE_ADDRESS__) || OOCSIMP_TEST_CLANG_ASAN
+  return "true";
+#else
+  return "ulimit -v 400000";
+#endif
+}
+
+// 1 GiB of zero bytes as a zstd file of 1024 frames of 1 MiB each, a few tens of KB.
+void write_zero_bomb(const ScratchDir& d, const std::string& path) {
+  write_zstd_file(d.file("frame.zst"), std::string(1 << 20, '\0'));
+  std::string frame = read_file(d.file("frame.zst")), all;
+  for (int i = 0; i < 1024; ++i) all += frame;
+  write_file(path, all);
+}
+
+}  // namespace
+
+TEST_CASE("a zstd bomb without newlines, a huge header comment and /dev/zero exit 3 fast with bounded memory",
+          "[cli][damaged][text]") {
+  ScratchDir d;
+  std::string bomb = d.file("bomb.obj.zst");
+  write_zero_bomb(d, bomb);
+  CliResult r = run_cli("simplify --quiet " + q(bomb) + " -o " + q(d.file("out.ply")) + " --tmp " + q(d.path()), memory_cap());
+  CHECK(r.exit_code == 3);
+  CHECK(lines(r.err) == 1);
+  CHECK_THAT(r.err, Contains(bomb + ": line 1: line longer than 64 KiB"));
+
+  // A PLY header comment that decompresses to 1 GiB.
+  write_zstd_file(d.file("head.zst"), "ply\nformat ascii 1.0\ncomment ");
+  std::string header = read_file(d.file("head.zst"));
+  write_zero_bomb(d, d.file("rest.zst"));
+  write_file(d.file("comment.ply.zst"), header + read_file(d.file("rest.zst")));
+  r = run_cli("info " + q(d.file("comment.ply.zst")), memory_cap());
+  CHECK(r.exit_code == 3);
+  CHECK(lines(r.err) == 1);
+  CHECK_THAT(r.err, Contains(d.file("comment.ply.zst") + ": line 3: PLY header longer than 1 MiB"));
+
+  // /dev/zero under an OBJ name, and as it is.
+  REQUIRE(::symlink("/dev/zero", d.file("zero.obj").c_str()) == 0);
+  r = run_cli("simplify --quiet " + q(d.file("zero.obj")) + " -o " + q(d.file("out.ply")) + " --tmp " + q(d.path()),
+              memory_cap());
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Contains(d.file("zero.obj") + ": line 1: line longer than 64 KiB"));
+  r = run_cli("info /dev/zero", memory_cap());
+  CHECK(r.exit_code == 3);
+  CHECK(lines(r.err) == 1);
+  CHECK_FALSE(file_exists(d.file("out.ply")));
+  for (const std::string& e : d.entries()) CHECK(e.rfind("oocsimp-", 0) != 0);  // no temporary file left
+}
+
+TEST_CASE("a NUL byte in a token is shown as \\x00 in the one-line message, which goes on past it", "[cli][damaged]") {
+  ScratchDir d;
+  write_file(d.file("nul.obj"), std::string("v 0 0 0\nv 1 0\0junk 0\n", 22));
+  CliResult r = run_cli("info " + q(d.file("nul.obj")));
+  CHECK(r.exit_code == 3);
+  CHECK(lines(r.err) == 1);
+  CHECK_THAT(r.err, Contains(d.file("nul.obj") + ": line 2: malformed vertex coordinate \"0\\x00junk\""));
+}
+
+TEST_CASE("'-' reads standard input, redirected from a file or piped, like the file itself", "[cli][damaged][stdin]") {
+  ScratchDir d;
+  Grid g = grid_mesh(24);
+  write_polygon_ply(d.file("in.ply"), g.v, g.faces);
+  std::string obj;
+  for (std::size_t i = 0; i < g.v.size(); i += 3)
+    obj += "v " + std::to_string(g.v[i]) + " " + std::to_string(g.v[i + 1]) + " " + std::to_string(g.v[i + 2]) + "\n";
+  for (const auto& f : g.faces) obj += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
+  write_file(d.file("in.obj"), obj);
+  write_zstd_file(d.file("in.ply.zst"), read_file(d.file("in.ply")));
+  for (const char* name : {"in.ply", "in.obj", "in.ply.zst"})
+    for (const char* method : kMethods) {
+      CAPTURE(name, method);
+      std::string in = d.file(name), tail = std::string(" --method ") + method + " --grid 8 --quiet --tmp " + q(d.path());
+      REQUIRE(run_cli("simplify " + q(in) + " -o " + q(d.file("file.ply")) + tail).exit_code == 0);
+      std::string expected = read_file(d.file("file.ply"));
+      CliResult redirected = run_cli_in_shell("", "simplify - -o " + q(d.file("redirected.ply")) + tail, "<" + q(in));
+      INFO(redirected.err);
+      REQUIRE(redirected.exit_code == 0);
+      CHECK(read_file(d.file("redirected.ply")) == expected);
+      CliResult piped = run_cli_in_shell("cat " + q(in) + " | ", "simplify - -o " + q(d.file("piped.ply")) + tail, "");
+      INFO(piped.err);
+      REQUIRE(piped.exit_code == 0);
+      CHECK(read_file(d.file("piped.ply")) == expected);
+      for (const std::string& e : d.entries()) CHECK(e.rfind("oocsimp-input-", 0) != 0);
+    }
+  // A damaged stream names standard input.
+  CliResult r = run_cli_in_shell("printf 'ply\\nformat ascii 1.0\\nelement vertex 1\\nproperty float q\\n' | ", "info -", "");
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Contains("stdin"));
+}
+
+TEST_CASE("a FIFO input is read once through a copy in --tmp: the face pass does not hang", "[cli][damaged][fifo]") {
+  ScratchDir d;
+  Grid g = grid_mesh(24);
+  write_polygon_ply(d.file("in.ply"), g.v, g.faces);
+  std::string ascii = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(g.v.size() / 3) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(g.faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t i = 0; i < g.v.size(); i += 3)
+    ascii += std::to_string(g.v[i]) + " " + std::to_string(g.v[i + 1]) + " " + std::to_string(g.v[i + 2]) + "\n";
+  for (const auto& f : g.faces) ascii += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n";
+  write_file(d.file("ascii.ply"), ascii);
+  for (const char* name : {"in.ply", "ascii.ply"})
+    for (const char* method : kMethods) {
+      CAPTURE(name, method);
+      std::string tail = std::string(" --method ") + method + " --grid 8 --quiet --tmp " + q(d.path());
+      REQUIRE(run_cli("simplify " + q(d.file(name)) + " -o " + q(d.file("file.ply")) + tail).exit_code == 0);
+      std::string fifo = d.file(std::string("fifo-") + name);
+      std::remove(fifo.c_str());
+      REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+      CliResult r = run_cli_in_shell("cat " + q(d.file(name)) + " > " + q(fifo) + " & ",
+                                     "simplify " + q(fifo) + " -o " + q(d.file("fifo.ply")) + tail, "");
+      INFO(r.err);
+      REQUIRE(r.exit_code == 0);
+      CHECK(read_file(d.file("fifo.ply")) == read_file(d.file("file.ply")));
+    }
 }

@@ -130,7 +130,7 @@ class MeshInput {
 };
 
 struct OpenOptions {
-  std::string temp_dir;          ///< where temporary position arrays go; empty = $TMPDIR or /tmp
+  std::string temp_dir;          ///< where temporary position arrays (and stream copies) go; empty = $TMPDIR or /tmp
   /// Called with (bytes consumed, total bytes) while positions are converted.
   void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr;
   void* progress_user = nullptr;
@@ -141,7 +141,9 @@ struct OpenOptions {
 /// extension is only a tie-breaker), maps or converts the positions and computes the
 /// bounding box of the finite ones. NaN or infinite coordinates are counted in
 /// info.non_finite_vertices, not rejected; a finite coordinate beyond the float range
-/// in a file that is converted to float is an InputError.
+/// in a file that is converted to float is an InputError. The file is opened once and
+/// every pass reads that descriptor; "-" is standard input, and a FIFO, pipe or device
+/// is copied into temp_dir as far as it is read (the copy goes with the MeshInput).
 MeshInput open_mesh_input(const std::string& path, const OpenOptions& options = {});
 
 inline Vec3d PositionArray::get(std::uint64_t i) const {

@@ -5,93 +5,180 @@
 #include <unistd.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
 #include "oocsimp/error.hpp"
+#include "oocsimp/temp_file.hpp"
 
 namespace oocsimp {
 
 namespace {
-constexpr std::size_t kBufferSize = 1 << 20;
-constexpr unsigned char kZstdMagic[4] = {0x28, 0xB5, 0x2F, 0xFD};
-}  // namespace
 
-bool is_zstd_file(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  unsigned char m[4] = {0, 0, 0, 0};
-  ssize_t n = ::pread(fd, m, 4, 0);
-  ::close(fd);
-  return n == 4 && std::memcmp(m, kZstdMagic, 4) == 0;
+constexpr std::size_t kBufferSize = 1 << 20;
+constexpr std::size_t kCopyChunk = 1 << 18;
+
+// The first '\n' or '\r' in [p, end), or end. Searched in short windows, so that a file
+// whose lines end in a lone '\r' is not scanned ahead to the next '\n' for every line.
+const unsigned char* find_line_end(const unsigned char* p, const unsigned char* end) {
+  constexpr std::size_t kWindow = 256;
+  while (p < end) {
+    std::size_t n = std::min<std::size_t>(kWindow, std::size_t(end - p));
+    const void* lf = std::memchr(p, '\n', n);
+    std::size_t upto = lf ? std::size_t(static_cast<const unsigned char*>(lf) - p) : n;
+    if (const void* cr = std::memchr(p, '\r', upto)) return static_cast<const unsigned char*>(cr);
+    if (lf) return static_cast<const unsigned char*>(lf);
+    p += n;
+  }
+  return end;
 }
 
-ByteSource::ByteSource(const std::string& path) : path_(path) {
-  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) throw IoError(system_error_text(path, "cannot open", errno));
+std::string size_text(std::size_t bytes) {
+  return bytes % 1024 == 0 ? std::to_string(bytes / 1024) + " KiB" : std::to_string(bytes) + " bytes";
+}
+
+}  // namespace
+
+bool starts_zstd_frame(const unsigned char* head) {
+  // RFC 8878 §3.1.1 (frame magic 0xFD2FB528) and §3.1.2 (skippable frames, magic
+  // 0x184D2A5?), both little-endian.
+  static const unsigned char kFrame[4] = {0x28, 0xB5, 0x2F, 0xFD};
+  if (std::memcmp(head, kFrame, 4) == 0) return true;
+  return (head[0] & 0xF0) == 0x50 && head[1] == 0x2A && head[2] == 0x4D && head[3] == 0x18;
+}
+
+// ---------------------------------------------------------------------------------
+// InputFile
+
+std::shared_ptr<InputFile> InputFile::open(const std::string& path, const std::string& temp_dir) {
+  std::shared_ptr<InputFile> f(new InputFile());
+  const bool is_stdin = path == "-";
+  f->name_ = is_stdin ? "stdin" : path;
+  f->fd_ = is_stdin ? ::fcntl(STDIN_FILENO, F_DUPFD_CLOEXEC, 0) : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (f->fd_ < 0) throw IoError(system_error_text(f->name_, "cannot open", errno));
   struct stat st;
-  if (::fstat(fd_, &st) != 0) {
-    int e = errno;
-    ::close(fd_);
-    throw IoError(system_error_text(path, "cannot stat", e));
+  if (::fstat(f->fd_, &st) != 0) throw IoError(system_error_text(f->name_, "cannot stat", errno));
+  if (S_ISDIR(st.st_mode)) throw IoError(f->name_ + ": is a directory");
+  // A regular file is read where it is. Anything else (FIFO, pipe, device, socket) may
+  // not be readable twice, nor from an offset; standard input redirected from a file
+  // whose offset was moved is read from that offset on, so it is streamed as well.
+  const bool in_place = S_ISREG(st.st_mode) && (!is_stdin || ::lseek(f->fd_, 0, SEEK_CUR) == 0);
+  if (in_place) {
+    f->size_ = std::uint64_t(st.st_size);
+    ::posix_fadvise(f->fd_, 0, 0, POSIX_FADV_SEQUENTIAL);
+  } else {
+    f->copy_ = std::make_unique<TempFile>(temp_dir, "oocsimp-input-");
   }
-  if (S_ISDIR(st.st_mode)) {
-    ::close(fd_);
-    throw IoError(path + ": is a directory");
+  return f;
+}
+
+InputFile::~InputFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+int InputFile::fd() const { return copy_ ? copy_->fd() : fd_; }
+
+void InputFile::copy_up_to(std::uint64_t end) {
+  std::vector<unsigned char> chunk;
+  while (size_ < end && !stream_ended_) {
+    if (chunk.empty()) chunk.resize(kCopyChunk);
+    ssize_t n = ::read(fd_, chunk.data(), chunk.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(system_error_text(name_, "read failed", errno));
+    }
+    if (n == 0) {
+      stream_ended_ = true;
+      break;
+    }
+    for (std::size_t done = 0; done < std::size_t(n);) {
+      ssize_t w = ::pwrite(copy_->fd(), chunk.data() + done, std::size_t(n) - done, off_t(size_ + done));
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0)
+        throw IoError(system_error_text(copy_->path(), "cannot copy " + name_ + " into this temporary file",
+                                        w < 0 ? errno : ENOSPC));
+      done += std::size_t(w);
+    }
+    size_ += std::uint64_t(n);
   }
-  file_size_ = std::uint64_t(st.st_size);
-  ::posix_fadvise(fd_, 0, 0, POSIX_FADV_SEQUENTIAL);
-  buf_.resize(kBufferSize);
-  if (is_zstd_file(path)) {
+}
+
+void InputFile::read_to_end() {
+  if (copy_) copy_up_to(~std::uint64_t(0));
+}
+
+std::size_t InputFile::read_at(std::uint64_t offset, void* dst, std::size_t n) {
+  if (copy_) {
+    copy_up_to(offset + n);
+    if (offset >= size_) return 0;
+    n = std::min<std::uint64_t>(n, size_ - offset);
+  }
+  const int fd = this->fd();
+  auto* d = static_cast<unsigned char*>(dst);
+  std::size_t got = 0;
+  while (got < n) {
+    ssize_t r = ::pread(fd, d + got, n - got, off_t(offset + got));
+    if (r < 0) {
+      if (errno == EINTR) continue;
+      throw IoError(system_error_text(name_, "read failed", errno));
+    }
+    if (r == 0) break;
+    got += std::size_t(r);
+  }
+  return got;
+}
+
+// ---------------------------------------------------------------------------------
+// ByteSource
+
+ByteSource::ByteSource(std::shared_ptr<InputFile> file) : file_(std::move(file)) {
+  unsigned char head[4];
+  if (file_->read_at(0, head, 4) == 4 && starts_zstd_frame(head)) {
     zstd_ = ZSTD_createDCtx();
-    if (!zstd_) throw IoError(path + ": cannot create a zstd decompression context");
+    if (!zstd_) throw IoError(path() + ": cannot create a zstd decompression context");
     zin_.resize(ZSTD_DStreamInSize());
   }
+  // A small file gets a buffer of its size (peek and long lines grow it as needed):
+  // clearing 1 MiB per pass would dominate reading it, a few times per input.
+  std::size_t size = kBufferSize;
+  if (content_size_known() && file_->size() < kBufferSize) size = std::max<std::size_t>(file_->size() + 1, 4096);
+  buf_.resize(size);
 }
 
 ByteSource::~ByteSource() {
   if (zstd_) ZSTD_freeDCtx(zstd_);
-  if (fd_ >= 0) ::close(fd_);
+}
+
+std::size_t ByteSource::read_raw(void* dst, std::size_t cap) {
+  std::size_t got = file_->read_at(raw_consumed_, dst, cap);
+  raw_consumed_ += got;
+  return got;
 }
 
 std::size_t ByteSource::fill_raw(unsigned char* dst, std::size_t cap) {
-  if (!zstd_) {
-    std::size_t got = 0;
-    while (got < cap) {
-      ssize_t n = ::read(fd_, dst + got, cap - got);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        throw IoError(system_error_text(path_, "read failed", errno));
-      }
-      if (n == 0) break;
-      got += std::size_t(n);
-      raw_consumed_ += std::uint64_t(n);
-    }
-    return got;
-  }
+  if (!zstd_) return read_raw(dst, cap);
+  // ZSTD_decompressStream goes on from one frame to the next and passes over skippable
+  // frames, so concatenated files (`cat a.zst b.zst`, pzstd) read as `zstd -d` reads them.
   ZSTD_outBuffer out{dst, cap, 0};
   while (out.pos < out.size) {
     if (zin_pos_ == zin_end_) {
       if (raw_eof_) break;
-      ssize_t n;
-      do n = ::read(fd_, zin_.data(), zin_.size());
-      while (n < 0 && errno == EINTR);
-      if (n < 0) throw IoError(system_error_text(path_, "read failed", errno));
+      std::size_t n = read_raw(zin_.data(), zin_.size());
       if (n == 0) {
         raw_eof_ = true;
         if (!frame_done_)
-          throw InputError(at_byte(path_, raw_consumed_, "truncated zstd stream (compressed offset)"));
+          throw InputError(at_byte(path(), raw_consumed_, "truncated zstd stream (compressed offset)"));
         break;
       }
-      raw_consumed_ += std::uint64_t(n);
       zin_pos_ = 0;
-      zin_end_ = std::size_t(n);
+      zin_end_ = n;
     }
     ZSTD_inBuffer in{zin_.data(), zin_end_, zin_pos_};
     std::size_t r = ZSTD_decompressStream(zstd_, &out, &in);
     zin_pos_ = in.pos;
     if (ZSTD_isError(r))
-      throw InputError(at_byte(path_, raw_consumed_ - (zin_end_ - zin_pos_),
+      throw InputError(at_byte(path(), raw_consumed_ - (zin_end_ - zin_pos_),
                                std::string("corrupt zstd stream: ") + ZSTD_getErrorName(r)));
     frame_done_ = (r == 0);
   }
@@ -120,7 +207,7 @@ void ByteSource::read_exact(void* dst, std::size_t n, const char* what) {
   while (n > 0) {
     std::size_t chunk = n < kMaxPeek ? n : kMaxPeek;
     const unsigned char* p = peek(chunk);
-    if (!p) throw InputError(at_byte(path_, offset(), std::string("unexpected end of file reading ") + what));
+    if (!p) throw InputError(at_byte(path(), offset(), std::string("unexpected end of file reading ") + what));
     std::memcpy(d, p, chunk);
     consume(chunk);
     d += chunk;
@@ -134,13 +221,13 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
     pos_ += std::size_t(n);
     return;
   }
-  if (!zstd_) {
+  if (content_size_known()) {
     // Compared as a difference: offset() + n may wrap around 2^64 (n comes from
     // counts in the file) and would then seek backwards.
-    if (offset() > file_size_ || n > file_size_ - offset())
-      throw InputError(at_byte(path_, file_size_, std::string("unexpected end of file reading ") + what));
+    const std::uint64_t size = file_->size();
+    if (offset() > size || n > size - offset())
+      throw InputError(at_byte(path(), size, std::string("unexpected end of file reading ") + what));
     std::uint64_t target = offset() + n;
-    if (::lseek(fd_, off_t(target), SEEK_SET) < 0) throw IoError(system_error_text(path_, "seek failed", errno));
     raw_consumed_ = target;
     base_ = target;
     pos_ = end_ = 0;
@@ -149,7 +236,7 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
   }
   while (n > 0) {
     std::size_t chunk = n < kMaxPeek ? std::size_t(n) : kMaxPeek;
-    if (!peek(chunk)) throw InputError(at_byte(path_, offset(), std::string("unexpected end of file reading ") + what));
+    if (!peek(chunk)) throw InputError(at_byte(path(), offset(), std::string("unexpected end of file reading ") + what));
     consume(chunk);
     n -= chunk;
   }
@@ -157,34 +244,52 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
 
 bool ByteSource::at_end() { return peek(1) == nullptr; }
 
-bool ByteSource::next_line(std::string_view* line) {
-  std::size_t scanned = 0;  // bytes after pos_ known to hold no '\n'
+void ByteSource::line_too_long(std::size_t max_length, const char* too_long) const {
+  std::string what = too_long ? std::string(too_long)
+                              : "line longer than " + size_text(max_length) +
+                                    " (binary data, or a file without line ends?)";
+  throw InputError(at_line(path(), line_ + 1, what));
+}
+
+bool ByteSource::next_line(std::string_view* line, std::size_t max_length, const char* too_long) {
+  std::size_t scanned = 0;  // bytes after pos_ known to hold no line end
   for (;;) {
-    const unsigned char* start = buf_.data() + pos_ + scanned;
-    const void* nl = std::memchr(start, '\n', end_ - pos_ - scanned);
-    if (nl) {
-      std::size_t len = std::size_t(static_cast<const unsigned char*>(nl) - (buf_.data() + pos_));
-      const char* s = reinterpret_cast<const char*>(buf_.data() + pos_);
-      pos_ += len + 1;
-      if (len > 0 && s[len - 1] == '\r') --len;
-      *line = std::string_view(s, len);
+    const unsigned char* s = buf_.data() + pos_;
+    const std::size_t avail = end_ - pos_;
+    const unsigned char* e = find_line_end(s + scanned, s + avail);
+    const std::size_t len = std::size_t(e - s);
+    // Checked as the line grows, not once it is whole: the buffer stays bounded.
+    if (len > max_length) line_too_long(max_length, too_long);
+    if (len < avail) {
+      std::size_t ending = 1;
+      if (*e == '\r') {
+        if (len + 1 == avail && !eof_) {
+          // A '\r' at the end of the buffered data: "\r\n" or a lone '\r'? Read on.
+          scanned = len;
+          if (!refill_for(avail + 1)) eof_ = true;
+          continue;
+        }
+        if (len + 1 < avail && e[1] == '\n') ending = 2;
+      }
+      const bool first = offset() == 0;
+      pos_ += len + ending;
+      *line = std::string_view(reinterpret_cast<const char*>(s), len);
+      if (first && line->substr(0, 3) == "\xEF\xBB\xBF") line->remove_prefix(3);  // UTF-8 byte order mark
       ++line_;
       return true;
     }
-    scanned = end_ - pos_;
+    scanned = avail;
     if (eof_) break;
-    // Grow when the partial line fills the buffer, so lines of any length work.
+    // Grow when the partial line fills the buffer (only for limits above its size).
     if (pos_ == 0 && end_ == buf_.size()) buf_.resize(buf_.size() * 2);
-    std::size_t before = end_ - pos_;
-    refill_for(before + 1);
-    if (end_ - pos_ == before) eof_ = true;
+    if (!refill_for(avail + 1)) eof_ = true;
   }
   if (end_ == pos_) return false;
-  std::size_t len = end_ - pos_;
+  const bool first = offset() == 0;
   const char* s = reinterpret_cast<const char*>(buf_.data() + pos_);
+  *line = std::string_view(s, end_ - pos_);
   pos_ = end_;
-  if (len > 0 && s[len - 1] == '\r') --len;
-  *line = std::string_view(s, len);
+  if (first && line->substr(0, 3) == "\xEF\xBB\xBF") line->remove_prefix(3);
   ++line_;
   return true;
 }

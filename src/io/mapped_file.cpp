@@ -21,16 +21,22 @@ MappedFile::MappedFile(const std::string& path) {
     throw IoError(system_error_text(path, "cannot stat", e));
   }
   size_ = std::uint64_t(st.st_size);
-  if (size_ > 0) {
-    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
-    if (p == MAP_FAILED) {
-      int e = errno;
-      ::close(fd);
-      throw IoError(system_error_text(path, "cannot map", e));
-    }
-    data_ = static_cast<const unsigned char*>(p);
+  try {
+    map(fd, path);
+  } catch (...) {
+    ::close(fd);
+    throw;
   }
   ::close(fd);
+}
+
+MappedFile::MappedFile(int fd, std::uint64_t size, const std::string& name) : size_(size) { map(fd, name); }
+
+void MappedFile::map(int fd, const std::string& name) {
+  if (size_ == 0) return;
+  void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
+  if (p == MAP_FAILED) throw IoError(system_error_text(name, "cannot map", errno));
+  data_ = static_cast<const unsigned char*>(p);
 }
 
 MappedFile::~MappedFile() {

@@ -11,6 +11,10 @@ class MappedFile {
  public:
   /// Maps `path` read-only; throws IoError. An empty file maps to data() == nullptr.
   explicit MappedFile(const std::string& path);
+  /// Maps the first `size` bytes of the open descriptor `fd` (not closed, not reopened:
+  /// the mapping shows the file the caller opened, even if its path now names another);
+  /// `name` is for messages. Throws IoError.
+  MappedFile(int fd, std::uint64_t size, const std::string& name);
   ~MappedFile();
   MappedFile(const MappedFile&) = delete;
   MappedFile& operator=(const MappedFile&) = delete;
@@ -19,6 +23,8 @@ class MappedFile {
   std::uint64_t size() const { return size_; }
 
  private:
+  void map(int fd, const std::string& name);
+
   const unsigned char* data_ = nullptr;
   std::uint64_t size_ = 0;
 };

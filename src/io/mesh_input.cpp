@@ -3,6 +3,7 @@
 
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
+#include "io/text_scan.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -85,6 +86,40 @@ bool ends_with(const std::string& s, const char* suffix) {
   return true;
 }
 
+// The first n bytes of the content, past a UTF-8 byte order mark if there is one;
+// nullptr when the content is shorter.
+const unsigned char* text_start(ByteSource& src, std::size_t n) {
+  const unsigned char* p = src.peek(3);
+  if (p && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0) {
+    p = src.peek(n + 3);
+    return p ? p + 3 : nullptr;
+  }
+  return src.peek(n);
+}
+
+// For a name without a known extension (standard input): whether the first line that
+// is not blank or a comment starts with an OBJ keyword.
+bool looks_like_obj(ByteSource& src) {
+  static const char* const kKeywords[] = {"v", "vt", "vn", "vp", "f", "l", "o", "g", "s", "usemtl", "mtllib"};
+  std::size_t n = 4096;
+  const unsigned char* p = nullptr;
+  while (n > 0 && !(p = src.peek(n))) n /= 2;
+  if (!p) return false;
+  std::string_view text(reinterpret_cast<const char*>(p), n);
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  while (!text.empty()) {
+    std::size_t end = std::min(text.find_first_of("\r\n"), text.size());
+    TokenScanner t(text.substr(0, end));
+    text.remove_prefix(std::min(end + 1, text.size()));
+    std::string_view kw = t.next();
+    if (kw.empty() || kw[0] == '#') continue;
+    for (const char* k : kKeywords)
+      if (kw == k) return true;
+    return false;
+  }
+  return false;
+}
+
 }  // namespace
 
 MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in) {
@@ -92,15 +127,15 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   if (options.temp_dir.empty()) options.temp_dir = default_temp_dir();
   MeshInput out;
   out.info.path = path;
-  ByteSource src(path);
+  // Opened once: every later pass reads this descriptor (or the copy of a stream).
+  ByteSource src(InputFile::open(path, options.temp_dir));
   out.info.compressed = src.compressed();
-  out.file_size = src.file_size();
   std::string name = path;
   if (ends_with(name, ".zst")) name.resize(name.size() - 4);
 
   // The content decides; the extension only separates OBJ from STL when the first
   // bytes do not.
-  const unsigned char* head = src.peek(4);
+  const unsigned char* head = text_start(src, 4);
   if (head && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r')) {
     open_ply(src, options, out);
   } else if (ends_with(name, ".stl")) {
@@ -110,10 +145,15 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   } else if (ends_with(name, ".ply")) {
     throw InputError(at_byte(path, 0, "not a PLY file (it does not start with \"ply\")"));
   } else {
-    const unsigned char* p = src.peek(5);
+    const unsigned char* p = text_start(src, 5);
     if (p && std::memcmp(p, "solid", 5) == 0) open_stl(src, options, out);
-    else throw InputError(path + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
+    else if (looks_like_obj(src)) open_obj(src, options, out);
+    else throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
   }
+  // A stream is copied as far as it was read; the triangle passes need the rest, and
+  // progress needs its size.
+  src.input()->read_to_end();
+  out.file_size = src.file_size();
   out.restart_triangles();
   return out;
 }

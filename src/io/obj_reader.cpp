@@ -29,7 +29,8 @@ std::string_view trim_front(std::string_view line) {
 
 class ObjTriangleStream : public TriangleStream {
  public:
-  ObjTriangleStream(const std::string& path, std::uint64_t vertex_count) : src_(path), vertex_count_(vertex_count) {}
+  ObjTriangleStream(std::shared_ptr<InputFile> file, std::uint64_t vertex_count)
+      : src_(std::move(file)), vertex_count_(vertex_count) {}
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
     std::size_t n = 0;
@@ -66,7 +67,7 @@ class ObjTriangleStream : public TriangleStream {
       // v, v/vt, v//vn, v/vt/vn: the position index is the part before the first '/'.
       std::string_view vtok = tok.substr(0, tok.find('/'));
       std::int64_t idx;
-      if (!parse_int(vtok, &idx)) fail("malformed face index \"" + std::string(tok) + "\"");
+      if (!parse_int(vtok, &idx)) fail("malformed face index " + quoted(tok));
       std::int64_t abs;
       if (idx > 0) abs = idx - 1;
       else if (idx < 0) abs = std::int64_t(defined_) + idx;
@@ -109,7 +110,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
         if (!parse_double(tok, &c[k]))
           throw InputError(at_line(src.path(), src.line_number(),
                                    tok.empty() ? "vertex with fewer than 3 coordinates"
-                                               : "malformed vertex coordinate \"" + std::string(tok) + "\""));
+                                               : "malformed vertex coordinate " + quoted(tok)));
       }
       builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
     } else if (is_keyword(line, 'f')) {
@@ -122,10 +123,10 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   out.info.face_count = faces;
   out.info.elements = {"v " + std::to_string(builder.count()), "f " + std::to_string(faces)};
   builder.finish(out);
-  std::string path = src.path();
+  std::shared_ptr<InputFile> file = src.input();
   std::uint64_t vcount = out.info.vertex_count;
-  out.impl->make_triangles = [path, vcount]() -> std::unique_ptr<TriangleStream> {
-    return std::make_unique<ObjTriangleStream>(path, vcount);
+  out.impl->make_triangles = [file, vcount]() -> std::unique_ptr<TriangleStream> {
+    return std::make_unique<ObjTriangleStream>(file, vcount);
   };
 }
 

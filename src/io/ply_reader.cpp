@@ -77,7 +77,7 @@ struct PlyElement {
     for (const auto& p : props) s += type_size(p.type);
     return s;
   }
-  int find(const char* n) const {
+  int find(std::string_view n) const {
     for (std::size_t i = 0; i < props.size(); ++i)
       if (props[i].name == n) return int(i);
     return -1;
@@ -85,7 +85,6 @@ struct PlyElement {
 };
 
 struct PlyHeader {
-  std::string path;
   PlyFormat format = PlyFormat::ascii;
   std::vector<PlyElement> elements;
   std::vector<std::string> comments;
@@ -140,34 +139,43 @@ std::int64_t load_int(const unsigned char* p, PlyType t, bool swap) {
   throw InputError(at_line(src.path(), src.line_number(), what));
 }
 
+// Reads a header line; the header as a whole is bounded (PLY headers are a few hundred
+// bytes), and so checked while each line grows.
+bool next_header_line(ByteSource& src, std::string_view* line) {
+  constexpr std::uint64_t kMaxHeaderBytes = ByteSource::kMaxHeaderLine;
+  constexpr const char* kTooLong = "PLY header longer than 1 MiB (missing end_header?)";
+  if (src.offset() >= kMaxHeaderBytes) throw InputError(at_line(src.path(), src.line_number() + 1, kTooLong));
+  return src.next_line(line, std::size_t(kMaxHeaderBytes - src.offset()), kTooLong);
+}
+
 PlyHeader read_header(ByteSource& src) {
   PlyHeader h;
-  h.path = src.path();
   std::string_view line;
-  if (!src.next_line(&line) || line != "ply") header_error(src, "not a PLY file (first line must be \"ply\")");
+  if (!next_header_line(src, &line) || line != "ply") header_error(src, "not a PLY file (first line must be \"ply\")");
   bool have_format = false;
-  constexpr std::uint64_t kMaxHeaderBytes = 16u << 20;
   for (;;) {
-    if (src.offset() > kMaxHeaderBytes) header_error(src, "header longer than 16 MiB (missing end_header?)");
-    if (!src.next_line(&line)) header_error(src, "end of file inside the header (missing end_header)");
+    if (!next_header_line(src, &line)) header_error(src, "end of file inside the header (missing end_header)");
     TokenScanner t(line);
     std::string_view kw = t.next();
     if (kw.empty()) continue;
     if (kw == "comment" || kw == "obj_info") {
       h.comments.emplace_back(line);
     } else if (kw == "format") {
+      if (have_format) header_error(src, "second format line");
       std::string_view f = t.next(), v = t.next();
       if (f == "ascii") h.format = PlyFormat::ascii;
       else if (f == "binary_little_endian") h.format = PlyFormat::binary_le;
       else if (f == "binary_big_endian") h.format = PlyFormat::binary_be;
-      else header_error(src, "unknown PLY format \"" + std::string(f) + "\"");
-      if (v != "1.0" && v != "1") header_error(src, "unsupported PLY version \"" + std::string(v) + "\" (expected 1.0)");
+      else header_error(src, "unknown PLY format " + quoted(f));
+      if (v != "1.0" && v != "1") header_error(src, "unsupported PLY version " + quoted(v) + " (expected 1.0)");
       have_format = true;
     } else if (kw == "element") {
       PlyElement e;
       e.name = std::string(t.next());
       if (e.name.empty() || !parse_uint(t.next(), &e.count) || !t.at_end())
         header_error(src, "malformed element line (expected \"element NAME COUNT\")");
+      for (const PlyElement& before : h.elements)
+        if (before.name == e.name) header_error(src, "element " + quoted(e.name) + " declared twice");
       h.elements.push_back(std::move(e));
     } else if (kw == "property") {
       if (h.elements.empty()) header_error(src, "property before any element");
@@ -176,19 +184,22 @@ PlyHeader read_header(ByteSource& src) {
       if (ty == "list") {
         p.is_list = true;
         std::string_view ct = t.next(), it = t.next();
-        if (!parse_type(ct, &p.count_type)) header_error(src, "unknown list count type \"" + std::string(ct) + "\"");
+        if (!parse_type(ct, &p.count_type)) header_error(src, "unknown list count type " + quoted(ct));
         if (!is_integer(p.count_type)) header_error(src, "list count type must be an integer type");
-        if (!parse_type(it, &p.type)) header_error(src, "unknown list item type \"" + std::string(it) + "\"");
+        if (!parse_type(it, &p.type)) header_error(src, "unknown list item type " + quoted(it));
       } else if (!parse_type(ty, &p.type)) {
-        header_error(src, "unknown property type \"" + std::string(ty) + "\"");
+        header_error(src, "unknown property type " + quoted(ty));
       }
       p.name = std::string(t.next());
       if (p.name.empty() || !t.at_end()) header_error(src, "malformed property line");
-      h.elements.back().props.push_back(std::move(p));
+      PlyElement& e = h.elements.back();
+      if (e.find(p.name) >= 0)
+        header_error(src, "property " + quoted(p.name) + " declared twice in element " + quoted(e.name));
+      e.props.push_back(std::move(p));
     } else if (kw == "end_header") {
       break;
     } else {
-      header_error(src, "unknown header keyword \"" + std::string(kw) + "\"");
+      header_error(src, "unknown header keyword " + quoted(kw));
     }
   }
   if (!have_format) header_error(src, "header has no format line");
@@ -229,8 +240,8 @@ class ElementReader {
     if (h_.format != PlyFormat::ascii && e.fixed_size()) {
       std::uint64_t bytes = e.count * e.record_size();
       if (e.record_size() != 0 && bytes / e.record_size() != e.count)
-        throw InputError(at_byte(src_.path(), src_.offset(), "element \"" + e.name + "\" count overflows"));
-      src_.skip(bytes, ("element \"" + e.name + "\"").c_str());
+        throw InputError(at_byte(src_.path(), src_.offset(), "element " + quoted(e.name) + " count overflows"));
+      src_.skip(bytes, ("element " + quoted(e.name)).c_str());
       return;
     }
     for (std::uint64_t i = 0; i < e.count; ++i) read_record(e, -1, nullptr, nullptr);
@@ -258,7 +269,7 @@ class ElementReader {
  private:
   const unsigned char* need(std::size_t n, const PlyElement& e) {
     const unsigned char* p = src_.peek(n);
-    if (!p) fail("unexpected end of file in element \"" + e.name + "\" (truncated body?)");
+    if (!p) fail("unexpected end of file in element " + quoted(e.name) + " (truncated body?)");
     return p;
   }
 
@@ -303,7 +314,7 @@ class ElementReader {
                   const int* want, int nwant) {
     std::string_view line;
     do {
-      if (!src_.next_line(&line)) fail("unexpected end of file in element \"" + e.name + "\"");
+      if (!src_.next_line(&line)) fail("unexpected end of file in element " + quoted(e.name));
       record_start_ = src_.line_number();
     } while (TokenScanner(line).at_end());  // tolerate blank lines
     TokenScanner t(line);
@@ -311,22 +322,22 @@ class ElementReader {
       const PlyProperty& p = e.props[pi];
       if (!p.is_list) {
         std::string_view tok = t.next();
-        if (tok.empty()) fail("too few values in \"" + e.name + "\" record (missing \"" + p.name + "\")");
+        if (tok.empty()) fail("too few values in " + quoted(e.name) + " record (missing " + quoted(p.name) + ")");
         bool wanted = false;
         for (int w = 0; w < nwant; ++w)
           if (want[w] == pi) {
             wanted = true;
-            if (!parse_double(tok, &values[w])) fail("malformed number \"" + std::string(tok) + "\" for \"" + p.name + "\"");
+            if (!parse_double(tok, &values[w])) fail("malformed number " + quoted(tok) + " for " + quoted(p.name));
           }
         if (!wanted) {
           double dummy;
-          if (!parse_double(tok, &dummy)) fail("malformed number \"" + std::string(tok) + "\" for \"" + p.name + "\"");
+          if (!parse_double(tok, &dummy)) fail("malformed number " + quoted(tok) + " for " + quoted(p.name));
         }
         continue;
       }
       std::int64_t count;
       std::string_view tok = t.next();
-      if (!parse_int(tok, &count)) fail("malformed list count \"" + std::string(tok) + "\"");
+      if (!parse_int(tok, &count)) fail("malformed list count " + quoted(tok));
       if (count < 0) fail("negative list count " + std::to_string(count));
       if (std::uint64_t(count) > kMaxPolygonCorners) fail("list count " + std::to_string(count) + " is implausibly large");
       if (pi == list_prop) list->clear();
@@ -335,13 +346,13 @@ class ElementReader {
         if (tok.empty()) fail("list has fewer items than its count " + std::to_string(count));
         if (pi == list_prop) {
           std::int64_t v;
-          if (!parse_int(tok, &v)) fail("malformed vertex index \"" + std::string(tok) + "\"");
+          if (!parse_int(tok, &v)) fail("malformed vertex index " + quoted(tok));
           check_index(v, p.type);
           list->push_back(std::uint64_t(v));
         }
       }
     }
-    if (!t.at_end()) fail("extra values at the end of a \"" + e.name + "\" record");
+    if (!t.at_end()) fail("extra values at the end of a " + quoted(e.name) + " record");
   }
 
   ByteSource& src_;
@@ -350,15 +361,30 @@ class ElementReader {
   std::uint64_t record_start_ = 0;
 };
 
+// Once the elements before `next` have been read: the elements that follow must be
+// complete, and nothing may follow them. Lines of blanks after an ascii body are
+// tolerated (editors add a final newline); in binary, any byte is trailing data.
+void check_nothing_follows(ByteSource& src, ElementReader& reader, const PlyHeader& h, std::size_t next) {
+  for (std::size_t i = next; i < h.elements.size(); ++i) reader.skip(h.elements[i]);
+  if (h.format == PlyFormat::ascii) {
+    std::string_view line;
+    while (src.next_line(&line))
+      if (!TokenScanner(line).at_end())
+        throw InputError(at_line(src.path(), src.line_number(), "trailing data after the last element"));
+  } else if (!src.at_end()) {
+    throw InputError(at_byte(src.path(), src.offset(), "trailing data after the last element"));
+  }
+}
+
 // Streams the face element's polygons as fanned triangles.
 class PlyTriangleStream : public TriangleStream {
  public:
-  PlyTriangleStream(std::shared_ptr<const PlyHeader> h, std::uint64_t vertex_count)
-      : h_(std::move(h)), src_(h_->path), reader_(src_, *h_), vertex_count_(vertex_count) {
+  PlyTriangleStream(std::shared_ptr<const PlyHeader> h, std::shared_ptr<InputFile> file, std::uint64_t vertex_count)
+      : h_(std::move(h)), src_(std::move(file)), reader_(src_, *h_), vertex_count_(vertex_count) {
     if (h_->format == PlyFormat::ascii) {
       // Read the header as lines, so that error line numbers count from the file's start.
       std::string_view line;
-      while (src_.offset() < h_->header_bytes && src_.next_line(&line)) {
+      while (src_.offset() < h_->header_bytes && next_header_line(src_, &line)) {
       }
     } else {
       src_.skip(h_->header_bytes, "header");
@@ -423,19 +449,9 @@ class PlyTriangleStream : public TriangleStream {
   SkippedFaces skipped() const override { return {skipped_, 0, 0}; }
 
  private:
-  // After the last face: the elements that follow must be complete, and nothing
-  // may follow them (blank lines are tolerated in ascii).
   void finish() {
     finished_ = true;
-    for (std::size_t i = std::size_t(h_->face) + 1; i < h_->elements.size(); ++i) reader_.skip(h_->elements[i]);
-    if (h_->format == PlyFormat::ascii) {
-      std::string_view line;
-      while (src_.next_line(&line))
-        if (!TokenScanner(line).at_end())
-          throw InputError(at_line(src_.path(), src_.line_number(), "trailing data after the last element"));
-    } else if (!src_.at_end()) {
-      throw InputError(at_byte(src_.path(), src_.offset(), "trailing data after the last element"));
-    }
+    check_nothing_follows(src_, reader_, *h_, std::size_t(h_->face) + 1);
   }
 
   [[noreturn]] void fast_index_error(std::int64_t v) const {
@@ -534,14 +550,15 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     } else {
       std::uint64_t rs = e.record_size();
       if (rs != 0 && e.count > (~std::uint64_t(0) - vertex_offset) / rs)
-        throw InputError(at_byte(src.path(), vertex_offset, "element \"" + e.name + "\" count overflows"));
+        throw InputError(at_byte(src.path(), vertex_offset, "element " + quoted(e.name) + " count overflows"));
       vertex_offset += e.count * rs;
     }
   }
   PlyType xt = v.props[h->xyz[0]].type;
   bool same_float_type = (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt &&
                          v.props[h->xyz[2]].type == xt;
-  if (offset_known && !src.compressed() && v.fixed_size() && same_float_type) {
+  std::size_t next_element = 0;  // the first element that src has not read yet
+  if (offset_known && src.content_size_known() && v.fixed_size() && same_float_type) {
     std::size_t rs = v.record_size();
     // Compared by division: vertex_offset + count * rs may wrap around 2^64.
     if (vertex_offset > src.file_size() || v.count > (src.file_size() - vertex_offset) / rs)
@@ -549,7 +566,7 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
                                "file ends inside the vertex element (header declares " + std::to_string(v.count) +
                                    " vertices of " + std::to_string(rs) + " bytes from byte " +
                                    std::to_string(vertex_offset) + ")"));
-    out.impl->position_map = std::make_unique<MappedFile>(src.path());
+    out.impl->position_map = std::make_unique<MappedFile>(src.input()->fd(), src.file_size(), src.path());
     PositionArray& pa = out.positions;
     pa.base = out.impl->position_map->data() + vertex_offset;
     pa.count = v.count;
@@ -567,7 +584,7 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
-    if (!src.compressed()) {
+    if (src.content_size_known()) {
       // A record takes at least this many bytes, so the file's size bounds the vertex
       // count: a header claiming 10^12 vertices on a small file is a truncated file
       // (InputError below), not a request for terabytes of temporary space.
@@ -583,14 +600,19 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       if (options.progress && (i & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
     }
     builder.finish(out);
+    next_element = std::size_t(h->vertex) + 1;
   }
 
   std::uint64_t vcount = v.count;
   if (h->face >= 0) {
-    out.impl->make_triangles = [h, vcount]() -> std::unique_ptr<TriangleStream> {
-      return std::make_unique<PlyTriangleStream>(h, vcount);
+    std::shared_ptr<InputFile> file = src.input();
+    out.impl->make_triangles = [h, file, vcount]() -> std::unique_ptr<TriangleStream> {
+      return std::make_unique<PlyTriangleStream>(h, file, vcount);
     };
   } else {
+    // No triangle stream reads to the end, so the end is checked here.
+    ElementReader reader(src, *h);
+    check_nothing_follows(src, reader, *h, next_element);
     out.impl->make_triangles = []() -> std::unique_ptr<TriangleStream> { return std::make_unique<EmptyTriangleStream>(); };
   }
 }

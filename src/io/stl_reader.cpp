@@ -50,11 +50,16 @@ float load_f32le(const unsigned char* p) {
   return f;
 }
 
-// True when the first bytes look like the text of an ascii STL ("solid name\n facet").
+// True when the first bytes look like the text of an ascii STL ("solid name\n facet"),
+// after a UTF-8 byte order mark if there is one.
 bool looks_ascii(ByteSource& src) {
   std::size_t n = 512;
   const unsigned char* p = nullptr;
   while (n >= 6 && !(p = src.peek(n))) n /= 2;
+  if (p && n >= 8 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0) {
+    p += 3;
+    n -= 3;
+  }
   if (!p || std::memcmp(p, "solid", 5) != 0) return false;
   for (std::size_t i = 0; i < n; ++i)
     if (p[i] == 0 || (p[i] < 32 && p[i] != '\n' && p[i] != '\r' && p[i] != '\t')) return false;
@@ -65,11 +70,11 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
   unsigned char head[84];
   src.read_exact(head, 84, "the binary STL header");
   std::uint64_t n = load_u32le(head + 80);
-  if (!src.compressed() && src.file_size() != 84 + 50 * n)
+  if (src.content_size_known() && src.file_size() != 84 + 50 * n)
     throw InputError(at_byte(src.path(), 80,
                              "binary STL declares " + std::to_string(n) + " triangles (" + std::to_string(84 + 50 * n) +
                                  " bytes) but the file has " + std::to_string(src.file_size()) + " bytes"));
-  if (!src.compressed()) builder.expect(3 * n);  // the size formula vouched for n
+  if (src.content_size_known()) builder.expect(3 * n);  // the size formula vouched for n
   for (std::uint64_t t = 0; t < n; ++t) {
     const unsigned char* p = src.peek(50);
     if (!p)
@@ -112,7 +117,7 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
         break;
       case kFacet:
         if (kw == "endsolid") { ended = true; break; }
-        if (kw != "facet") fail("expected \"facet\" or \"endsolid\", found \"" + std::string(kw) + "\"");
+        if (kw != "facet") fail("expected \"facet\" or \"endsolid\", found " + quoted(kw));
         st = kLoop;
         break;
       case kLoop:
@@ -123,23 +128,23 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
       case kVertex: {
         if (kw != "vertex") {
           if (kw == "endloop") fail("loop with " + std::to_string(corners) + " vertices (expected 3)");
-          fail("expected \"vertex\", found \"" + std::string(kw) + "\"");
+          fail("expected \"vertex\", found " + quoted(kw));
         }
         double c[3];
         for (int k = 0; k < 3; ++k) {
           std::string_view tok = t.next();
-          if (!parse_double(tok, &c[k])) fail("malformed vertex coordinate \"" + std::string(tok) + "\"");
+          if (!parse_double(tok, &c[k])) fail("malformed vertex coordinate " + quoted(tok));
         }
         builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
         if (++corners == 3) st = kEndLoop;
         break;
       }
       case kEndLoop:
-        if (kw != "endloop") fail("expected \"endloop\", found \"" + std::string(kw) + "\"");
+        if (kw != "endloop") fail("expected \"endloop\", found " + quoted(kw));
         st = kEndFacet;
         break;
       case kEndFacet:
-        if (kw != "endfacet") fail("expected \"endfacet\", found \"" + std::string(kw) + "\"");
+        if (kw != "endfacet") fail("expected \"endfacet\", found " + quoted(kw));
         ++n;
         st = kFacet;
         break;
@@ -155,7 +160,7 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
 
 void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   bool binary;
-  if (!src.compressed()) {
+  if (src.content_size_known()) {
     // The size formula decides; a file that fits it is binary even if it says "solid".
     const unsigned char* p = src.peek(84);
     binary = p && src.file_size() == 84 + 50 * std::uint64_t(load_u32le(p + 80));

@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace oocsimp {
@@ -31,13 +32,54 @@ class TokenScanner {
   std::size_t i_ = 0;
 };
 
+/// Whether a decimal number (as std::from_chars accepts it, sign stripped or not) that
+/// from_chars found out of range is tiny rather than huge: its first nonzero digit
+/// times 10 to its exponent is below 1. Out of range happens only near 1e-324 and 1e308,
+/// so the digit's position decides.
+inline bool decimal_underflows(std::string_view t) {
+  std::size_t i = t.size() > 0 && t[0] == '-' ? 1 : 0;
+  bool point = false, nonzero = false;
+  std::int64_t lead = 0, frac_pos = 0;  // decimal exponent of the first nonzero digit
+  for (; i < t.size(); ++i) {
+    const char c = t[i];
+    if (c == '.') {
+      point = true;
+      continue;
+    }
+    if (c < '0' || c > '9') break;
+    if (point) ++frac_pos;
+    if (!nonzero && c != '0') {
+      nonzero = true;
+      lead = point ? -frac_pos : 0;
+    } else if (nonzero && !point) {
+      ++lead;
+    }
+  }
+  std::int64_t exp = 0;
+  if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+    ++i;
+    const bool negative = i < t.size() && t[i] == '-';
+    if (i < t.size() && (t[i] == '-' || t[i] == '+')) ++i;
+    for (; i < t.size() && t[i] >= '0' && t[i] <= '9'; ++i)
+      if (exp < 1000000000) exp = exp * 10 + (t[i] - '0');  // saturates: only the sign matters
+    if (negative) exp = -exp;
+  }
+  return !nonzero || lead + exp < 0;
+}
+
 /// Parses a whole token as a floating-point number (a leading '+' is accepted; "nan"
-/// and "inf" parse, so callers reject them with their own position).
+/// and "inf" parse, so callers reject them with their own position). A number too
+/// small for a double becomes zero of its sign, as strtod rounds it (values in the
+/// denormal range keep their denormal); one too large is rejected.
 inline bool parse_double(std::string_view t, double* v) {
   if (!t.empty() && t[0] == '+') t.remove_prefix(1);
   if (t.empty()) return false;
   auto r = std::from_chars(t.data(), t.data() + t.size(), *v);
-  return r.ec == std::errc() && r.ptr == t.data() + t.size();
+  if (r.ptr != t.data() + t.size()) return false;
+  if (r.ec == std::errc()) return true;
+  if (r.ec != std::errc::result_out_of_range || !decimal_underflows(t)) return false;
+  *v = t[0] == '-' ? -0.0 : 0.0;
+  return true;
 }
 
 /// Parses a whole token as a signed 64-bit integer (a leading '+' is accepted).
@@ -54,6 +96,27 @@ inline bool parse_uint(std::string_view t, std::uint64_t* v) {
   if (t.empty()) return false;
   auto r = std::from_chars(t.data(), t.data() + t.size(), *v);
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
+}
+
+/// `token` in double quotes for a message, at most 64 bytes of it (then "..."), with
+/// every byte outside printable ASCII written as \xNN: a NUL would cut the message short,
+/// and control bytes would garble the terminal.
+inline std::string quoted(std::string_view token) {
+  constexpr std::size_t kMaxShown = 64;
+  static const char kHex[] = "0123456789ABCDEF";
+  std::string s = "\"";
+  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const unsigned char c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7F && c != '\\' && c != '"') {
+      s += char(c);
+    } else {
+      s += "\\x";
+      s += kHex[c >> 4];
+      s += kHex[c & 15];
+    }
+  }
+  if (token.size() > kMaxShown) s += "...";
+  return s + "\"";
 }
 
 }  // namespace oocsimp
