@@ -60,6 +60,7 @@ int run_simplify(const std::string& in, const std::string& out, SimplifyOptions 
   // Not silenced by --quiet: the output lacks part of the input.
   std::string skipped = skipped_input_summary(in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
+  for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", w.c_str());
   return kOk;
 }
 
