@@ -1,12 +1,15 @@
 // Tests of the per-tile record streams on disk (src/grid/tile_spill_file.hpp).
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <cstdint>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "grid/tile_spill_file.hpp"
+#include "oocsimp/error.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -71,4 +74,42 @@ TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill
   CHECK_THROWS_AS(spill.read_into(0, out, sizeof out), std::logic_error);
   spill.read_into(0, out, sizeof(Record));
   CHECK(out[0].payload[1] == 2);
+}
+
+TEST_CASE("a kept spill whose block chain loops or leaves the file is an error, not a hang", "[spill]") {
+  ScratchDir d;
+  // Three tiles of 4 records in blocks of 2: tile 0's chain is two blocks long.
+  std::vector<TileSpillFile::Chain> chains;
+  std::uint64_t size = 0;
+  {
+    TileSpillFile spill(d.path(), "t", sizeof(Record), 2, false);
+    for (std::uint32_t t = 0; t < 3; ++t) spill.add_tile();
+    for (std::uint64_t i = 0; i < 12; ++i) {
+      Record r{i % 3, i, {i, i}};
+      spill.append(std::uint32_t(i % 3), &r, 1);
+    }
+    spill.keep_as(d.file("kept.tiles"));
+    for (std::uint32_t t = 0; t < 3; ++t) chains.push_back(spill.chain(t));
+    size = spill.bytes_on_disk();
+  }
+  std::vector<Record> out;
+  {
+    auto intact = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    intact->read(0, &out);
+    REQUIRE(out.size() == 4);
+    CHECK(out[3].serial == 9);
+  }
+  SECTION("zero-filled: the last block's header points to offset 0, the first block to itself") {
+    write_file(d.file("kept.tiles"), std::string(std::size_t(size), '\0'));
+    auto zeroed = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    CHECK_THROWS_AS(zeroed->read(0, &out), IoError);
+    // A chain that starts at 0 meets the zeroed header there (which points to itself).
+    auto at_zero = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), {{0, 4}});
+    CHECK_THROWS_AS(at_zero->read(0, &out), IoError);
+  }
+  SECTION("a chain that starts beyond the end of a truncated file") {
+    REQUIRE(truncate(d.file("kept.tiles").c_str(), off_t(chains[0].last_block)) == 0);
+    auto truncated = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    CHECK_THROWS_AS(truncated->read(0, &out), IoError);
+  }
 }
