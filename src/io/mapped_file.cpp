@@ -7,6 +7,7 @@
 
 #include <cerrno>
 
+#include "io/signal_cleanup.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -29,11 +30,13 @@ MappedFile::MappedFile(const std::string& path) {
       throw IoError(system_error_text(path, "cannot map", e));
     }
     data_ = static_cast<const unsigned char*>(p);
+    slot_ = register_mapping(data_, size_, path);
   }
   ::close(fd);
 }
 
 MappedFile::~MappedFile() {
+  unregister_mapping(slot_);
   if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
 }
 
