@@ -517,3 +517,54 @@ TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a
   CHECK(third.resumed);
   CHECK(third.warnings.empty());
 }
+
+// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
+// __has_feature.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OOCSIMP_TEST_CLANG_ASAN 1
+#endif
+#endif
+#ifndef OOCSIMP_TEST_CLANG_ASAN
+#define OOCSIMP_TEST_CLANG_ASAN 0
+#endif
+
+namespace {
+std::string q(const std::string& s) { return "'" + s + "'"; }
+// The number after "key": in a stats file (the first occurrence), or -1.
+double json_number(const std::string& js, const std::string& key) {
+  std::size_t at = js.find("\"" + key + "\":");
+  return at == std::string::npos ? -1 : std::stod(js.substr(at + key.size() + 3));
+}
+}  // namespace
+
+TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front; one that fits stays in the budget",
+          "[floating][clusterer][memory]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 200000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(system(("mkdir " + q(d.file("tmp"))).c_str()) == 0);
+  const std::string run = "simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --tmp " +
+                          q(d.file("tmp")) + " --grid 256 --threads 2 --stats " + q(d.file("st.json"));
+  // e481674: a tile per occupied cell, 8 KiB of buffers each (tens of thousands of
+  // tiles here, 256,037 and 2.19 GB on a 2M sphere).
+  for (const char* tile : {"1e-30", "0.05"}) {
+    CAPTURE(tile);
+    CliResult r = run_cli(run + " --mem 32M --tile " + tile);
+    INFO(r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Catch::Contains("--tile " + std::string(tile)));
+    CHECK_THAT(r.err, Catch::Contains("--mem 32 MiB"));
+    CHECK_FALSE(file_exists(d.file("o.ply")));
+    CHECK(KeptFolder::ScratchDirNames(d.file("tmp")).empty());
+  }
+  // A sphere of radius about 1 in tiles of 0.25: a few hundred tiles.
+  REQUIRE(run_cli(run + " --mem 32M --tile 0.25").exit_code == 0);
+  std::string js = read_file(d.file("st.json"));
+  INFO(js);
+  CHECK(json_number(js, "count") > 100);  // tiles
+#if !defined(__SANITIZE_ADDRESS__) && !OOCSIMP_TEST_CLANG_ASAN
+  // (AddressSanitizer's shadow memory is anonymous memory too.)
+  CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
+#endif
+}

@@ -37,6 +37,7 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "cluster/fixed_point_sums.hpp"
@@ -248,6 +249,43 @@ class FloatingRun {
     // A tile is at least one floating cell wide, so a cell reaches only into the
     // adjacent tiles.
     tiles_.side = std::max(side, cell_.size);
+    if (options_.tile_side > 0) check_tile_count_fits(budget);
+  }
+
+  // Every occupied tile costs a binning buffer of at least kMinBufferRecords records
+  // and its bookkeeping (spill chains, coordinates, borders, neighbour lists: under
+  // 1 KiB). Binning gives the buffers a quarter of the budget.
+  static constexpr std::size_t kMinBufferRecords = 256;
+  static constexpr std::uint64_t kTileFixedBytes = kMinBufferRecords * sizeof(TriangleRecord) + 1024;
+
+  // A --tile so small that its tiles' fixed costs exceed the budget is refused before
+  // binning (exit 2): the user chose the side, so it is not silently changed. The
+  // occupied tiles of the vertices are counted until there are too many.
+  void check_tile_count_fits(std::uint64_t budget) const {
+    const std::uint64_t most = std::max<std::uint64_t>(1, budget / 4 / kTileFixedBytes);
+    const Box3d& b = input_.info.bounds;
+    if (b.empty()) return;
+    double box_tiles = 1;
+    for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z}) box_tiles *= std::floor(e / tiles_.side) + 2;
+    if (box_tiles <= double(most)) return;  // even a full box fits
+    std::unordered_set<GridCoord, GridCoordHash> occupied;
+    GridCoord last{INT64_MIN, 0, 0};
+    const PositionArray& pos = input_.positions;
+    for (std::uint64_t i = 0; i < pos.count && occupied.size() <= most; ++i) {
+      Vec3d p = pos.get(i);
+      if (!is_finite(p)) continue;
+      GridCoord c = tiles_.of(p);
+      if (c == last) continue;  // neighbouring vertices mostly share a tile
+      last = c;
+      occupied.insert(c);
+    }
+    if (occupied.size() <= most) return;
+    char side[64];
+    std::snprintf(side, sizeof side, "%g", options_.tile_side);
+    throw UsageError("--tile " + std::string(side) + " makes more than " + std::to_string(most) +
+                     " tiles here, whose buffers (" + std::to_string(kTileFixedBytes >> 10) +
+                     " KiB each) need more than a quarter of --mem " + std::to_string(budget >> 20) +
+                     " MiB: give a larger --tile or --mem, or leave --tile out to size tiles from --mem");
   }
 
   // The vertex count of the fullest tile of side `side`, estimated from at most
@@ -289,7 +327,8 @@ class FloatingRun {
     // Blocks beyond 32 KiB buy nothing (10M sphere, 2 threads: 8192 records per
     // buffer ran as fast as 1024, with 175 instead of 97 MiB at the peak).
     std::size_t buffer_records =
-        std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), 256, 1024);
+        std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)),
+                                kMinBufferRecords, 1024);
     // Free space for the spill, checked before writing it. A lower estimate, so no
     // run that fits is refused: every used vertex is spilled once, raw; the triangle
     // records compress to an eighth or more, and (a header's face count being
