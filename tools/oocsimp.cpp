@@ -169,8 +169,9 @@ int main(int argc, char** argv) {
           {"quadric", RepresentativeRule::quadric}, {"centre", RepresentativeRule::centre},
           {"mean", RepresentativeRule::mean}}));
   simplify->add_option("--mem", mem, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)");
-  simplify->add_option("--tile", so.tile_side, "Floating: tile side in model units (default: from --mem); refused when the tiles' buffers "
-                     "(9 KiB each) exceed a quarter of --mem");
+  simplify->add_option("--tile", so.tile_side,
+                       "Floating: tile side in model units (default: from --mem); refused when the tiles' "
+                       "buffers (9 KiB each) exceed a quarter of --mem");
   simplify->add_flag("--keep-tmp", so.keep_temp,
                      "Floating: keep the binned tiles in --tmp and reuse them on the next run of the same input");
   simplify->add_option("--spill-compress", so.spill_compression,

@@ -266,7 +266,8 @@ class FloatingRun {
     const Box3d& b = input_.info.bounds;
     if (b.empty()) return;
     double box_tiles = 1;
-    for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z}) box_tiles *= std::floor(e / tiles_.side) + 2;
+    for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z})
+      box_tiles *= std::floor(e / tiles_.side) + 2;
     if (box_tiles <= double(most)) return;  // even a full box fits
     std::unordered_set<GridCoord, GridCoordHash> occupied;
     GridCoord last{INT64_MIN, 0, 0};
@@ -542,11 +543,9 @@ class FloatingRun {
   }
 
   // Why kept tiles cannot be used, as a warning; empty when they can. `m` is the
-  // parsed manifest.
-  std::string kept_tiles_fault(const KeptManifest& m) const {
+  // parsed manifest, `now` the input's identity.
+  std::string kept_tiles_fault(const KeptManifest& m, const FileIdentity& now) const {
     const std::string& in = input_.info.path;
-    FileIdentity now;
-    if (!regular_file_identity(in, &now)) return in + ": --keep-tmp needs a regular file as input; nothing is kept";
     if (now != m.input) return in + ": changed since its tiles were kept (inode, size or times differ); binning again";
     const std::pair<const char*, const FileDigest*> kept[2] = {{"tiles", &m.tiles_digest},
                                                                {"vertices", &m.vertices_digest}};
@@ -573,6 +572,8 @@ class FloatingRun {
   // Loads kept tiles when a manifest for this input exists, its tiles are at least a
   // cell wide and every check above passes; false (and nothing changed) otherwise.
   bool resume_kept_tiles() {
+    FileIdentity now;
+    if (!regular_file_identity(input_.info.path, &now)) return false;  // start_input_digest() says why
     std::string text;
     if (!read_kept_manifest(&text)) {
       struct stat st;
@@ -589,7 +590,7 @@ class FloatingRun {
       return false;
     }
     if (m.tile_side < cell_.size) return false;  // the options, not the files: no warning
-    std::string fault = kept_tiles_fault(m);
+    std::string fault = kept_tiles_fault(m, now);
     if (!fault.empty()) {
       warn(fault);
       return false;

@@ -200,7 +200,8 @@ void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes)
   const std::uint64_t file_end = bytes_on_disk();
   for (std::uint64_t b = t.last_block, next_limit = file_end; b != kNoBlock;) {
     BlockHeader h;
-    if (b >= next_limit || file_end - b < sizeof h) throw IoError(path_ + ": byte " + std::to_string(b) + ": corrupt tile spill chain");
+    if (b >= next_limit || file_end - b < sizeof h)
+      throw IoError(path_ + ": byte " + std::to_string(b) + ": corrupt tile spill chain");
     pread_all(fd_, &h, sizeof h, b, path_);
     if (h.raw_bytes == 0 || h.raw_bytes > pos || h.stored_bytes > h.raw_bytes ||
         h.stored_bytes > file_end - b - sizeof h)

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -33,7 +34,9 @@ std::uint32_t read32(const unsigned char* p) {
 
 std::uint64_t xxh_round(std::uint64_t acc, std::uint64_t input) { return rotl(acc + input * kPrime2, 31) * kPrime1; }
 
-std::uint64_t merge_round(std::uint64_t acc, std::uint64_t lane) { return (acc ^ xxh_round(0, lane)) * kPrime1 + kPrime4; }
+std::uint64_t merge_round(std::uint64_t acc, std::uint64_t lane) {
+  return (acc ^ xxh_round(0, lane)) * kPrime1 + kPrime4;
+}
 
 }  // namespace
 
