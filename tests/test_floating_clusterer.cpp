@@ -568,3 +568,28 @@ TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front; one t
   CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
 #endif
 }
+
+TEST_CASE("the CLI prints a recomputed kept file as one warning line, exit 0, the same output bytes",
+          "[floating][clusterer][kept]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(system(("mkdir " + q(d.file("kept")) + " " + q(d.file("fresh"))).c_str()) == 0);
+  auto simplify = [&](const std::string& out, const std::string& tmp, const std::string& keep) {
+    return run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file(out)) + " --grid 64 --tmp " +
+                   q(d.file(tmp)) + keep);
+  };
+  REQUIRE(simplify("fresh.ply", "fresh", "").exit_code == 0);
+  REQUIRE(simplify("first.ply", "kept", " --keep-tmp").exit_code == 0);
+  std::vector<std::string> kept = KeptFolder::ScratchDirNames(d.file("kept"));
+  auto vertices = std::find_if(kept.begin(), kept.end(), [](const std::string& n) {
+    return n.size() > 9 && n.compare(n.size() - 9, 9, ".vertices") == 0;
+  });
+  REQUIRE(vertices != kept.end());
+  const std::string path = d.file("kept/" + *vertices);
+  REQUIRE(unlink(path.c_str()) == 0);
+  CliResult r = simplify("again.ply", "kept", " --keep-tmp");
+  CHECK(r.exit_code == 0);
+  CHECK(r.err == "oocsimp: warning: " + path + ": kept file missing; binning again\n");
+  CHECK(read_file(d.file("again.ply")) == read_file(d.file("fresh.ply")));
+  CHECK(read_file(d.file("first.ply")) == read_file(d.file("fresh.ply")));
+}

@@ -8,8 +8,8 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <cstdint>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -54,9 +54,10 @@ void unregister_path(int slot) {
 // says it is dying, which stops new creations, then waits for those under way to be
 // registered, then removes everything registered.
 std::atomic<int> g_creating{0};
+std::atomic<bool> g_dying{false};
+
 // The signals that end a run from outside: interrupt, kill, closed terminal, quit.
 constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
-std::atomic<bool> g_dying{false};
 
 // Async-signal-safe: no allocation, no locks.
 void remove_registered_files() {
