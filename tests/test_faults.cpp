@@ -1,18 +1,23 @@
-// Faults from outside the input: a failing output write, a full temporary folder, and
-// SIGINT / SIGTERM in every phase of both methods. Each must end the run with its
+// Faults from outside the input: a failing output write, a full temporary folder,
+// SIGINT / SIGTERM in every phase of both methods (SIGHUP / SIGQUIT in some), and an
+// input truncated during the run. Each must end the run with its
 // exit status, the destination as it was and no temporary file left.
 #include <catch2/catch.hpp>
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "io/mapped_file.hpp"
+#include "oocsimp/temp_file.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;
@@ -159,8 +164,9 @@ struct Interruption {
 };
 
 // Runs the CLI with `args`, reads its stderr (batch progress lines) until `phase`
-// starts, sends `sig` and waits (10 s at most) for the run to end.
-Interruption interrupt_at(const std::vector<std::string>& args, const std::string& phase, int sig) {
+// starts, calls act(pid) and waits (10 s at most after that) for the run to end.
+Interruption act_at(const std::vector<std::string>& args, const std::string& phase,
+                    const std::function<void(pid_t)>& act) {
   Interruption r;
   int fds[2];
   REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
@@ -170,6 +176,8 @@ Interruption interrupt_at(const std::vector<std::string>& args, const std::strin
     dup2(null, 0);
     dup2(null, 1);
     dup2(fds[1], 2);
+    const rlimit no_core{0, 0};  // SIGQUIT dumps core by default
+    setrlimit(RLIMIT_CORE, &no_core);
     std::vector<char*> argv{const_cast<char*>(OOCSIMP_CLI)};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -187,7 +195,7 @@ Interruption interrupt_at(const std::vector<std::string>& args, const std::strin
     if (n <= 0) break;  // the run ended (or was killed): its stderr closed
     r.err.append(buf, std::size_t(n));
     if (marker == std::string::npos && (marker = r.err.find(started)) != std::string::npos) {
-      kill(pid, sig);
+      act(pid);
       sent = std::chrono::steady_clock::now();
       r.reached = true;
     }
@@ -212,13 +220,19 @@ Interruption interrupt_at(const std::vector<std::string>& args, const std::strin
   return r;
 }
 
+// Sends `sig` when `phase` starts.
+Interruption interrupt_at(const std::vector<std::string>& args, const std::string& phase, int sig) {
+  return act_at(args, phase, [sig](pid_t pid) { kill(pid, sig); });
+}
+
 // Interrupts a run of `args` (which writes `output` and uses `tmp`) with SIGINT and
 // with SIGTERM in each of `phases`. A phase that ended before the signal landed is
 // tried again, up to three times.
 void interrupt_every_phase(const std::vector<std::string>& args, const std::vector<std::string>& phases,
-                           const std::string& tmp, const std::string& out_dir, const std::string& output) {
+                           const std::string& tmp, const std::string& out_dir, const std::string& output,
+                           const std::vector<int>& signals = {SIGINT, SIGTERM}) {
   for (const std::string& phase : phases)
-    for (int sig : {SIGINT, SIGTERM}) {
+    for (int sig : signals) {
       CAPTURE(phase, sig);
       bool landed = false;
       for (int attempt = 0; attempt < 3 && !landed; ++attempt) {
@@ -285,4 +299,97 @@ TEST_CASE("SIGINT and SIGTERM in every phase of a floating-cells run: prompt exi
   interrupt_every_phase(args(d.file("binary.ply")),
                         {"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "assemble", "write"}, tmp,
                         out_dir, output);
+}
+
+TEST_CASE("SIGHUP and SIGQUIT clean up like SIGINT: no temporary files, destination untouched", "[faults][signals]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
+  std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  const std::vector<std::string> floating = {"simplify", d.file("binary.ply"), "-o", output, "--ascii", "--method",
+                                             "floating", "--grid", "512", "--tile", "0.2", "--threads", "2",
+                                             "--tmp", tmp};
+  interrupt_every_phase(floating, {"bin tiles", "cluster tiles", "write"}, tmp, out_dir, output, {SIGHUP, SIGQUIT});
+  const std::vector<std::string> uniform = {"simplify", d.file("binary.ply"), "-o", output, "--ascii", "--method",
+                                            "uniform", "--grid", "1024", "--threads", "2", "--tmp", tmp};
+  interrupt_every_phase(uniform, {"cell quadrics"}, tmp, out_dir, output, {SIGHUP, SIGQUIT});
+}
+
+TEST_CASE("an input truncated during the run exits 4, \"input changed during the run\", nothing left behind",
+          "[faults][signals]") {
+  // A binary PLY of float vertices is read in place through a memory map: once the
+  // file shrinks, the next read of a vertex raises SIGBUS. Grading, the rounds and
+  // the clustering of the tiles read vertices for seconds, and the triangles from
+  // the spill (the input's face stream, which would find the truncation itself, is
+  // done by then), so truncating as grading starts is always in time.
+  ScratchDir d;
+  const std::string input = d.file("in.ply"), tmp = d.file("tmp"), out_dir = d.file("out"),
+                    output = d.file("out/o.ply");
+  REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
+  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(input)).exit_code == 0);
+  write_file(output, kOldContent);
+  const std::vector<std::string> args = {"simplify", input,  "-o",        output, "--method", "floating",
+                                         "--grid",   "256",  "--threads", "1",    "--tmp",    tmp};
+  Interruption r = act_at(args, "grade tiles", [&](pid_t) { REQUIRE(truncate(input.c_str(), 0) == 0); });
+  INFO(r.err);
+  REQUIRE(r.reached);
+  CHECK(WIFEXITED(r.status));
+  CHECK(WEXITSTATUS(r.status) == 4);
+  CHECK_THAT(r.err, Contains("oocsimp: " + input + ": input changed during the run\n"));
+  CHECK(Setup::ScratchDirEntries(tmp).empty());
+  CHECK(Setup::ScratchDirEntries(out_dir) == std::vector<std::string>{"o.ply"});
+  CHECK(read_file(output) == kOldContent);
+}
+
+namespace {
+
+// Forks a child that installs the clean-up handlers, maps `mapped` (after `prepare`,
+// in the child) and reads its first byte after truncating `truncated` to 0 bytes;
+// returns the child's wait status. The child's stderr goes to `err`.
+int read_after_truncation(const std::function<std::string()>& prepare, const std::string& err) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    int fd = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    dup2(fd, 2);
+    const rlimit no_core{0, 0};
+    setrlimit(RLIMIT_CORE, &no_core);
+    oocsimp::install_signal_cleanup();
+    std::string path = prepare();
+    oocsimp::MappedFile map(path);
+    if (truncate(path.c_str(), 0) != 0) _exit(90);
+    volatile unsigned char c = map.data()[100];
+    (void)c;
+    _exit(91);  // no SIGBUS
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+}  // namespace
+
+TEST_CASE("a SIGBUS outside a mapped input is still a crash, after the clean-up", "[faults][signals]") {
+  ScratchDir d;
+  SECTION("a mapped input: exit 4 and the message") {
+    write_file(d.file("in.bin"), std::string(65536, 'x'));
+    int status = read_after_truncation([&] { return d.file("in.bin"); }, d.file("err"));
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 4);
+    CHECK(read_file(d.file("err")) == "oocsimp: " + d.file("in.bin") + ": input changed during the run\n");
+  }
+  SECTION("a mapped temporary file of the run: killed by SIGBUS, the temporary file removed") {
+    int status = read_after_truncation(
+        [&] {
+          // Leaked on purpose: the child dies holding it, and the handler must remove it.
+          auto* t = new oocsimp::TempFile(d.path(), "oocsimp-test-");
+          std::string bytes(65536, 'x');
+          if (write(t->fd(), bytes.data(), bytes.size()) != ssize_t(bytes.size())) _exit(92);
+          return t->path();
+        },
+        d.file("err"));
+    CHECK(WIFSIGNALED(status));
+    CHECK(WTERMSIG(status) == SIGBUS);
+    CHECK(read_file(d.file("err")).empty());
+    CHECK(d.entries() == std::vector<std::string>{"err"});
+  }
 }

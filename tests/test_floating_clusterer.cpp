@@ -1,5 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <map>
@@ -7,6 +12,7 @@
 #include <set>
 #include <tbb/global_control.h>
 
+#include "cluster/kept_tiles.hpp"
 #include "cluster/vertex_grading.hpp"
 #include "floating_cells_reference.hpp"
 #include "oocsimp/generate.hpp"
@@ -346,4 +352,244 @@ TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options re
   SimplifyStats wide;
   run(0.2, RepresentativeRule::quadric, kept, true, &wide);
   CHECK_FALSE(wide.resumed);
+}
+
+namespace {
+
+// --keep-tmp runs of one input into one kept folder, against fresh runs elsewhere.
+struct KeptFolder {
+  ScratchDir d;
+  std::string input = d.file("in.ply"), kept = d.file("kept"), fresh = d.file("fresh");
+  KeptFolder() { REQUIRE(system(("mkdir '" + kept + "' '" + fresh + "'").c_str()) == 0); }
+
+  SimplifiedMesh run(const std::string& path, const std::string& tmp, bool keep, SimplifyStats* st) const {
+    MeshInput in = open_mesh_input(path);
+    SimplifyOptions o;
+    o.method = ClusterMethod::floating;
+    o.sizing.cell = 0.05;
+    o.tile_side = 0.25;
+    o.temp_dir = tmp;
+    o.keep_temp = keep;
+    return simplify(in, o, st);
+  }
+  SimplifiedMesh kept_run(SimplifyStats* st) const { return run(input, kept, true, st); }
+  // What a run without kept tiles gives on `path` (in its own folder).
+  SimplifiedMesh fresh_run(const std::string& path) const {
+    SimplifyStats st;
+    SimplifiedMesh m = run(path, fresh, false, &st);
+    REQUIRE_FALSE(st.resumed);
+    return m;
+  }
+  // The kept file with this extension (there is one set: one input).
+  std::string kept_file(const std::string& ext) const {
+    for (const std::string& name : ScratchDirNames(kept))
+      if (name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0)
+        return kept + "/" + name;
+    FAIL("no kept ." << ext << " file");
+    return "";
+  }
+  static std::vector<std::string> ScratchDirNames(const std::string& dir) {
+    std::vector<std::string> names;
+    if (DIR* dp = opendir(dir.c_str())) {
+      while (dirent* e = readdir(dp))
+        if (e->d_name[0] != '.') names.push_back(e->d_name);
+      closedir(dp);
+    }
+    return names;
+  }
+};
+
+// A sphere of radius about 1; seeds give files of one size and different content.
+void generate_sphere(const std::string& path, std::uint64_t seed) {
+  GenerateOptions g;
+  g.triangles = 20000;
+  g.seed = seed;
+  generate_mesh(path, g);
+}
+
+bool same_mesh(const SimplifiedMesh& a, const SimplifiedMesh& b) {
+  return a.triangles == b.triangles && a.positions == b.positions;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const std::string& l : lines) s += l + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("keep-tmp does not resume from an input replaced by another of the same size and times",
+          "[floating][clusterer][kept]") {
+  KeptFolder k;
+  generate_sphere(k.input, 1);
+  generate_sphere(k.d.file("other.ply"), 2);
+  const std::string other = read_file(k.d.file("other.ply"));
+  REQUIRE(other.size() == read_file(k.input).size());
+  REQUIRE(other != read_file(k.input));
+  SimplifyStats first;
+  k.kept_run(&first);
+  REQUIRE_FALSE(first.resumed);
+  struct stat before;
+  REQUIRE(stat(k.input.c_str(), &before) == 0);
+
+  SECTION("overwritten in place, the modification time set back") {
+    write_file(k.input, other);
+    const timespec times[2] = {before.st_atim, before.st_mtim};
+    REQUIRE(utimensat(AT_FDCWD, k.input.c_str(), times, 0) == 0);
+    struct stat after;
+    REQUIRE(stat(k.input.c_str(), &after) == 0);
+    REQUIRE(after.st_size == before.st_size);
+    REQUIRE(after.st_mtim.tv_sec == before.st_mtim.tv_sec);
+    REQUIRE(after.st_mtim.tv_nsec == before.st_mtim.tv_nsec);
+    SimplifyStats second;
+    SimplifiedMesh m = k.kept_run(&second);
+    CHECK_FALSE(second.resumed);
+    CHECK(same_mesh(m, k.fresh_run(k.d.file("other.ply"))));
+    INFO(joined(second.warnings));
+    CHECK_THAT(joined(second.warnings), Catch::Contains(k.input + ": changed since its tiles were kept"));
+  }
+  SECTION("the same identity, other content: the content checksum tells") {
+    // stat cannot be fooled without privileges; the manifest can be made to name the
+    // replaced file's identity (with a valid checksum of its own), as a file system
+    // restored from a backup, or a clock set back, would.
+    write_file(k.input, other);
+    FileIdentity now;
+    REQUIRE(regular_file_identity(k.input, &now));
+    KeptManifest m;
+    REQUIRE(parse_kept_manifest(read_file(k.kept_file(".manifest")), &m));
+    m.input = now;
+    write_file(k.kept_file(".manifest"), format_kept_manifest(m));
+    SimplifyStats second;
+    SimplifiedMesh out = k.kept_run(&second);
+    CHECK_FALSE(second.resumed);
+    CHECK(same_mesh(out, k.fresh_run(k.d.file("other.ply"))));
+    INFO(joined(second.warnings));
+    CHECK_THAT(joined(second.warnings), Catch::Contains(k.input + ": content differs"));
+  }
+}
+
+TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a fresh run's output",
+          "[floating][clusterer][kept]") {
+  KeptFolder k;
+  generate_sphere(k.input, 1);
+  const SimplifiedMesh fresh = k.fresh_run(k.input);
+  SimplifyStats first;
+  CHECK(same_mesh(k.kept_run(&first), fresh));
+  REQUIRE_FALSE(first.resumed);
+  CHECK(first.warnings.empty());
+  const std::string tiles = k.kept_file(".tiles"), vertices = k.kept_file(".vertices"),
+                    manifest = k.kept_file(".manifest");
+  std::string damaged;  // the file the warning must name
+  SECTION("a zero-filled .tiles (a crash before the page cache was written)") {
+    write_file(tiles, std::string(read_file(tiles).size(), '\0'));
+    damaged = tiles;
+  }
+  SECTION("a truncated .tiles") {
+    REQUIRE(truncate(tiles.c_str(), off_t(read_file(tiles).size() / 2)) == 0);
+    damaged = tiles;
+  }
+  SECTION("a .vertices deleted") {
+    REQUIRE(unlink(vertices.c_str()) == 0);
+    damaged = vertices;
+  }
+  SECTION("a garbled manifest") {
+    std::string m = read_file(manifest);
+    REQUIRE(m.size() > 200);
+    for (std::size_t i = 100; i < 110; ++i) m[i] = '7';
+    write_file(manifest, m);
+    damaged = manifest;
+  }
+  SECTION("a manifest deleted, the kept files left") {
+    REQUIRE(unlink(manifest.c_str()) == 0);
+    damaged = manifest;
+  }
+  SimplifyStats second;
+  SimplifiedMesh again = k.kept_run(&second);
+  CHECK_FALSE(second.resumed);
+  CHECK(same_mesh(again, fresh));
+  REQUIRE(second.warnings.size() == 1);
+  CHECK_THAT(second.warnings[0], Catch::StartsWith(damaged + ": "));
+  CHECK_THAT(second.warnings[0], Catch::EndsWith("binning again"));
+  // The recomputed tiles were kept in their place: the next run resumes from them.
+  SimplifyStats third;
+  CHECK(same_mesh(k.kept_run(&third), fresh));
+  CHECK(third.resumed);
+  CHECK(third.warnings.empty());
+}
+
+// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
+// __has_feature.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OOCSIMP_TEST_CLANG_ASAN 1
+#endif
+#endif
+#ifndef OOCSIMP_TEST_CLANG_ASAN
+#define OOCSIMP_TEST_CLANG_ASAN 0
+#endif
+
+namespace {
+std::string q(const std::string& s) { return "'" + s + "'"; }
+// The number after "key": in a stats file (the first occurrence), or -1.
+double json_number(const std::string& js, const std::string& key) {
+  std::size_t at = js.find("\"" + key + "\":");
+  return at == std::string::npos ? -1 : std::stod(js.substr(at + key.size() + 3));
+}
+}  // namespace
+
+TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front; one that fits stays in the budget",
+          "[floating][clusterer][memory]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 200000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(system(("mkdir " + q(d.file("tmp"))).c_str()) == 0);
+  const std::string run = "simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --tmp " +
+                          q(d.file("tmp")) + " --grid 256 --threads 2 --stats " + q(d.file("st.json"));
+  // e481674: a tile per occupied cell, 8 KiB of buffers each (tens of thousands of
+  // tiles here, 256,037 and 2.19 GB on a 2M sphere).
+  for (const char* tile : {"1e-30", "0.05"}) {
+    CAPTURE(tile);
+    CliResult r = run_cli(run + " --mem 32M --tile " + tile);
+    INFO(r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Catch::Contains("--tile " + std::string(tile)));
+    CHECK_THAT(r.err, Catch::Contains("--mem 32 MiB"));
+    CHECK_FALSE(file_exists(d.file("o.ply")));
+    CHECK(KeptFolder::ScratchDirNames(d.file("tmp")).empty());
+  }
+  // A sphere of radius about 1 in tiles of 0.25: a few hundred tiles.
+  REQUIRE(run_cli(run + " --mem 32M --tile 0.25").exit_code == 0);
+  std::string js = read_file(d.file("st.json"));
+  INFO(js);
+  CHECK(json_number(js, "count") > 100);  // tiles
+#if !defined(__SANITIZE_ADDRESS__) && !OOCSIMP_TEST_CLANG_ASAN
+  // (AddressSanitizer's shadow memory is anonymous memory too.)
+  CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
+#endif
+}
+
+TEST_CASE("the CLI prints a recomputed kept file as one warning line, exit 0, the same output bytes",
+          "[floating][clusterer][kept]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(system(("mkdir " + q(d.file("kept")) + " " + q(d.file("fresh"))).c_str()) == 0);
+  auto simplify = [&](const std::string& out, const std::string& tmp, const std::string& keep) {
+    return run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file(out)) + " --grid 64 --tmp " +
+                   q(d.file(tmp)) + keep);
+  };
+  REQUIRE(simplify("fresh.ply", "fresh", "").exit_code == 0);
+  REQUIRE(simplify("first.ply", "kept", " --keep-tmp").exit_code == 0);
+  std::vector<std::string> kept = KeptFolder::ScratchDirNames(d.file("kept"));
+  auto vertices = std::find_if(kept.begin(), kept.end(), [](const std::string& n) {
+    return n.size() > 9 && n.compare(n.size() - 9, 9, ".vertices") == 0;
+  });
+  REQUIRE(vertices != kept.end());
+  const std::string path = d.file("kept/" + *vertices);
+  REQUIRE(unlink(path.c_str()) == 0);
+  CliResult r = simplify("again.ply", "kept", " --keep-tmp");
+  CHECK(r.exit_code == 0);
+  CHECK(r.err == "oocsimp: warning: " + path + ": kept file missing; binning again\n");
+  CHECK(read_file(d.file("again.ply")) == read_file(d.file("fresh.ply")));
+  CHECK(read_file(d.file("first.ply")) == read_file(d.file("fresh.ply")));
 }

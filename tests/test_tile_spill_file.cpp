@@ -1,12 +1,19 @@
-// Tests of the per-tile record streams on disk (src/grid/tile_spill_file.hpp).
+// Tests of the per-tile record streams on disk (src/grid/tile_spill_file.hpp) and of
+// the content checksum that guards kept ones (src/io/content_hash.hpp).
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "grid/tile_spill_file.hpp"
+#include "io/content_hash.hpp"
+#include "oocsimp/error.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -71,4 +78,78 @@ TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill
   CHECK_THROWS_AS(spill.read_into(0, out, sizeof out), std::logic_error);
   spill.read_into(0, out, sizeof(Record));
   CHECK(out[0].payload[1] == 2);
+}
+
+TEST_CASE("a kept spill whose block chain loops or leaves the file is an error, not a hang", "[spill]") {
+  ScratchDir d;
+  // Three tiles of 4 records in blocks of 2: tile 0's chain is two blocks long.
+  std::vector<TileSpillFile::Chain> chains;
+  std::uint64_t size = 0;
+  {
+    TileSpillFile spill(d.path(), "t", sizeof(Record), 2, false);
+    for (std::uint32_t t = 0; t < 3; ++t) spill.add_tile();
+    for (std::uint64_t i = 0; i < 12; ++i) {
+      Record r{i % 3, i, {i, i}};
+      spill.append(std::uint32_t(i % 3), &r, 1);
+    }
+    spill.keep_as(d.file("kept.tiles"));
+    for (std::uint32_t t = 0; t < 3; ++t) chains.push_back(spill.chain(t));
+    size = spill.bytes_on_disk();
+  }
+  std::vector<Record> out;
+  {
+    auto intact = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    intact->read(0, &out);
+    REQUIRE(out.size() == 4);
+    CHECK(out[3].serial == 9);
+  }
+  SECTION("zero-filled: the last block's header points to offset 0, the first block to itself") {
+    write_file(d.file("kept.tiles"), std::string(std::size_t(size), '\0'));
+    auto zeroed = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    CHECK_THROWS_AS(zeroed->read(0, &out), IoError);
+    // A chain that starts at 0 meets the zeroed header there (which points to itself).
+    auto at_zero = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), {{0, 4}});
+    CHECK_THROWS_AS(at_zero->read(0, &out), IoError);
+  }
+  SECTION("a chain that starts beyond the end of a truncated file") {
+    REQUIRE(truncate(d.file("kept.tiles").c_str(), off_t(chains[0].last_block)) == 0);
+    auto truncated = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    CHECK_THROWS_AS(truncated->read(0, &out), IoError);
+  }
+}
+
+namespace {
+// 256 bytes 0..255 four times, then "xyz": every code path (stripes, 8-, 4- and
+// 1-byte tails).
+std::string sample() {
+  std::string s;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 256; ++i) s.push_back(char(i));
+  return s + "xyz";
+}
+}  // namespace
+
+TEST_CASE("the content hash is XXH64", "[hash]") {
+  // Values from the reference implementation (libxxhash 0.8.1, XXH64 with seed 0).
+  CHECK(content_hash("", 0) == 0xEF46DB3751D8E999ull);
+  CHECK(content_hash("a", 1) == 0xD24EC4F1A98C6E5Bull);
+  CHECK(content_hash("abc", 3) == 0x44BC2CF5AD770999ull);
+  std::string s = sample();
+  CHECK(content_hash(s.data(), s.size()) == 0xE146CB31B65BC21Aull);
+}
+
+TEST_CASE("the content hash does not depend on how the bytes are split", "[hash]") {
+  const std::string s = sample();
+  const std::uint64_t whole = content_hash(s.data(), s.size());
+  for (std::size_t piece : {1u, 3u, 7u, 31u, 32u, 33u, 100u}) {
+    CAPTURE(piece);
+    ContentHash h;
+    for (std::size_t at = 0; at < s.size(); at += piece) h.add(s.data() + at, std::min(piece, s.size() - at));
+    CHECK(h.digest() == whole);
+  }
+  ScratchDir d;
+  write_file(d.file("f"), s);
+  FileDigest f = file_digest(d.file("f"));
+  CHECK(f.size == s.size());
+  CHECK(f.hash == whole);
 }

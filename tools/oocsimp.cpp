@@ -155,6 +155,7 @@ int run_simplify(SimplifyArgs& a) {
   // Not silenced by --quiet: the output lacks part of the input.
   std::string skipped = skipped_input_summary(a.in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
+  for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", w.c_str());
   return kOk;
 }
 
@@ -351,7 +352,9 @@ int main(int argc, char** argv) {
           ->check(CLI::IsMember({"quadric", "centre", "mean"})),
       sa.mem.option = simplify->add_option(
           "--mem", sa.mem.text, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)"),
-      sa.tile.option = simplify->add_option("--tile", sa.tile.text, "Tile side in model units (default: from --mem)"),
+      sa.tile.option = simplify->add_option("--tile", sa.tile.text,
+                                            "Tile side in model units (default: from --mem); refused when the "
+                                            "tiles' buffers (9 KiB each) exceed a quarter of --mem"),
       simplify->add_flag("--keep-tmp", sa.options.keep_temp,
                          "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
       simplify->add_option("--spill-compress", sa.spill,

@@ -66,8 +66,10 @@ struct SimplifyOptions {
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   double tile_side = 0;             ///< floating: tile side in model units; 0 = from the budget
   /// Floating: keep the binned and graded tiles in temp_dir after the run, and reuse
-  /// tiles kept by an earlier run on the same input (same path, size and time) when
-  /// the cell still fits in a tile, skipping binning and grading.
+  /// tiles kept by an earlier run on the same input (same path, inode, size and
+  /// times, and the same content checksum) when the cell still fits in a tile,
+  /// skipping binning and grading. Kept files that fail a check are recomputed, with
+  /// a line in SimplifyStats::warnings.
   bool keep_temp = false;
   SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
   unsigned threads = 0;             ///< 0 = all cores
@@ -103,6 +105,10 @@ struct SimplifyStats {
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
   bool resumed = false;               ///< floating: reused tiles kept by an earlier run
+  /// Things the run did differently from what was asked, one line each ("FILE: what
+  /// happened; what was done instead"), e.g. kept tiles that did not match the input
+  /// and were recomputed. The CLI prints them on stderr.
+  std::vector<std::string> warnings;
   std::uint64_t peak_rss_bytes = 0;
   std::uint64_t peak_anon_bytes = 0;
 };

@@ -1,8 +1,8 @@
 // oocsimp — temporary files that never outlive a run.
 //
 // Every temporary file is registered in a process-wide table; it is deleted when its
-// owner goes away, and by the SIGINT/SIGTERM handler that install_signal_cleanup()
-// sets up, which unlinks every registered path before the process dies.
+// owner goes away, and by the signal handlers that install_signal_cleanup() sets up,
+// which unlink every registered path before the process dies.
 #pragma once
 
 #include <cstdint>
@@ -102,10 +102,14 @@ void require_free_space(const std::string& dir, std::uint64_t bytes, const std::
 /// `bytes` as "N.N MiB", for messages.
 std::string mib_text(std::uint64_t bytes);
 
-/// Installs SIGINT and SIGTERM handlers that delete all registered temporary files
-/// and then terminate the process with the conventional status (128 + signal), and
-/// ignores SIGXFSZ, so that a write beyond a file-size limit (ulimit -f) fails with
-/// EFBIG and the run cleans up and exits 4 instead of being killed.
+/// Installs SIGINT, SIGTERM, SIGHUP and SIGQUIT handlers that delete all registered
+/// temporary files and then terminate the process with the conventional status
+/// (128 + signal), and ignores SIGXFSZ, so that a write beyond a file-size limit
+/// (ulimit -f) fails with EFBIG and the run cleans up and exits 4 instead of being
+/// killed. A SIGBUS from reading a memory-mapped input that shrank during the run
+/// (truncated by another process) deletes them too and exits 4 with
+/// "oocsimp: FILE: input changed during the run"; any other SIGBUS is a crash after
+/// the clean-up.
 void install_signal_cleanup();
 
 }  // namespace oocsimp

@@ -38,10 +38,12 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
+#include "cluster/kept_tiles.hpp"
 #include "cluster/ordered_pipeline.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
@@ -49,6 +51,7 @@
 #include "grid/tile_block_file.hpp"
 #include "grid/tile_spill_file.hpp"
 #include "grid/tile_triangles.hpp"
+#include "io/content_hash.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
@@ -127,6 +130,7 @@ class FloatingRun {
     double t0 = now_seconds();
     compress_spill_ = spill_compression();
     bool resumed = options_.keep_temp && resume_kept_tiles();
+    bool keeping = options_.keep_temp && !resumed && start_input_digest();
     if (!resumed) {
       plan_tiles();
       bin_triangles();
@@ -143,7 +147,7 @@ class FloatingRun {
       choose_from_kept();
     } else {
       grade_and_choose();
-      if (options_.keep_temp) keep_tiles();
+      if (keeping) keep_tiles();
     }
     release_free_heap();  // the tiles' grading buffers
     note("grading");
@@ -252,6 +256,44 @@ class FloatingRun {
     // A tile is at least one floating cell wide, so a cell reaches only into the
     // adjacent tiles.
     tiles_.side = std::max(side, cell_.size);
+    if (options_.tile_side > 0) check_tile_count_fits(budget);
+  }
+
+  // Every occupied tile costs a binning buffer of at least kMinBufferRecords records
+  // and its bookkeeping (spill chains, coordinates, borders, neighbour lists: under
+  // 1 KiB). Binning gives the buffers a quarter of the budget.
+  static constexpr std::size_t kMinBufferRecords = 256;
+  static constexpr std::uint64_t kTileFixedBytes = kMinBufferRecords * sizeof(TriangleRecord) + 1024;
+
+  // A --tile so small that its tiles' fixed costs exceed the budget is refused before
+  // binning (exit 2): the user chose the side, so it is not silently changed. The
+  // occupied tiles of the vertices are counted until there are too many.
+  void check_tile_count_fits(std::uint64_t budget) const {
+    const std::uint64_t most = std::max<std::uint64_t>(1, budget / 4 / kTileFixedBytes);
+    const Box3d& b = input_.info.bounds;
+    if (b.empty()) return;
+    double box_tiles = 1;
+    for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z})
+      box_tiles *= std::floor(e / tiles_.side) + 2;
+    if (box_tiles <= double(most)) return;  // even a full box fits
+    std::unordered_set<GridCoord, GridCoordHash> occupied;
+    GridCoord last{INT64_MIN, 0, 0};
+    const PositionArray& pos = input_.positions;
+    for (std::uint64_t i = 0; i < pos.count && occupied.size() <= most; ++i) {
+      Vec3d p = pos.get(i);
+      if (!is_finite(p)) continue;
+      GridCoord c = tiles_.of(p);
+      if (c == last) continue;  // neighbouring vertices mostly share a tile
+      last = c;
+      occupied.insert(c);
+    }
+    if (occupied.size() <= most) return;
+    char side[64];
+    std::snprintf(side, sizeof side, "%g", options_.tile_side);
+    throw UsageError("--tile " + std::string(side) + " makes more than " + std::to_string(most) +
+                     " tiles here, whose buffers (" + std::to_string(kTileFixedBytes >> 10) +
+                     " KiB each) need more than a quarter of --mem " + std::to_string(budget >> 20) +
+                     " MiB: give a larger --tile or --mem, or leave --tile out to size tiles from --mem");
   }
 
   // The vertex count of the fullest tile of side `side`, estimated from at most
@@ -293,7 +335,8 @@ class FloatingRun {
     // Blocks beyond 32 KiB buy nothing (10M sphere, 2 threads: 8192 records per
     // buffer ran as fast as 1024, with 175 instead of 97 MiB at the peak).
     std::size_t buffer_records =
-        std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), 256, 1024);
+        std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)),
+                                kMinBufferRecords, 1024);
     // Free space for the spill, checked before writing it. A lower estimate, so no
     // run that fits is refused: every used vertex is spilled once, raw; the triangle
     // records compress to an eighth or more, and (a header's face count being
@@ -449,82 +492,146 @@ class FloatingRun {
   // cell, its shape, the assignment rule or the representative, so a later run on
   // the same input with other options reuses them, provided its cell still fits in
   // a tile. The files are oocsimp-kept-KEY.{tiles,vertices,manifest} in the temp
-  // folder, KEY naming the input (path, size, modification time).
+  // folder, KEY naming the input's path. The manifest records the input's identity
+  // (device, inode, size, modification and status change times) and the XXH64 of
+  // its bytes, read while binning; a resume requires the same identity and reads the
+  // input again to compare the checksum (a sequential read: on the 2M sphere it
+  // costs a small fraction of the binning it saves), then checks the size and XXH64
+  // of both kept files. Anything that does not match, or a damaged manifest, means
+  // binning again, with a warning: kept tiles are a cache, never a reason to fail.
 
   std::string kept_path(const char* ext) const {
-    struct stat st;
-    std::string id = input_.info.path;
-    if (::stat(input_.info.path.c_str(), &st) == 0)
-      id += "|" + std::to_string(st.st_size) + "|" + std::to_string(st.st_mtim.tv_sec) + "." +
-            std::to_string(st.st_mtim.tv_nsec);
     char real[PATH_MAX];
-    if (::realpath(input_.info.path.c_str(), real)) id = real + id;
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-    for (unsigned char ch : id) h = (h ^ ch) * 1099511628211ull;
+    std::string id = ::realpath(input_.info.path.c_str(), real) ? std::string(real) : input_.info.path;
     char key[17];
-    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)h);
+    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)content_hash(id.data(), id.size()));
     return temp_dir() + "/oocsimp-kept-" + key + "." + ext;
   }
 
+  void warn(const std::string& text) {
+    if (stats_) stats_->warnings.push_back(text);
+  }
+
+  // Starts the input's checksum for keep_tiles(); false (with a warning) when the
+  // input is no regular file, which cannot be keyed.
+  bool start_input_digest() {
+    if (!regular_file_identity(input_.info.path, &kept_input_)) {
+      warn(input_.info.path + ": --keep-tmp needs a regular file as input; nothing is kept");
+      return false;
+    }
+    input_digest_ = std::make_unique<BackgroundDigest>(input_.info.path);
+    return true;
+  }
+
   void keep_tiles() {
+    FileDigest input_digest;
+    std::string error;
+    FileIdentity after;
+    if (!input_digest_->get(&input_digest, &error) || !regular_file_identity(input_.info.path, &after) ||
+        after != kept_input_ || input_digest.size != kept_input_.size) {
+      warn(error.empty() ? input_.info.path + ": changed during the run; its tiles are not kept" : error);
+      return;
+    }
     // The old manifest goes first: a crash below must not leave it describing new files.
     ::unlink(kept_path("manifest").c_str());
     triangles_->keep_as(kept_path("tiles"));
     vertices_->keep_as(kept_path("vertices"));
-    std::string m = "oocsimp-kept-tiles 2\n";
-    char line[256];
-    const SkippedFaces skipped = input_.triangles->skipped();  // a resumed run does not read the stream
-    std::snprintf(line, sizeof line, "%a %llu %llu %llu %llu %u\n", tiles_.side, (unsigned long long)triangle_count_,
-                  (unsigned long long)skipped.short_faces, (unsigned long long)skipped.non_finite,
-                  (unsigned long long)skipped.repeated_index, triangles_->tile_count());
-    m += line;
-    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t) {
-      const GridCoord& c = tile_coords_[t];
-      TileSpillFile::Chain a = triangles_->chain(t), b = vertices_->chain(t);
-      std::snprintf(line, sizeof line, "%lld %lld %lld %llu %llu %llu %llu\n", (long long)c.x, (long long)c.y,
-                    (long long)c.z, (unsigned long long)a.last_block, (unsigned long long)a.records,
-                    (unsigned long long)b.last_block, (unsigned long long)b.records);
-      m += line;
-    }
-    write_file_atomically(kept_path("manifest"), m);
+    KeptManifest m;
+    m.input = kept_input_;
+    m.input_digest = input_digest;
+    m.tiles_digest = file_digest(kept_path("tiles"));
+    m.vertices_digest = file_digest(kept_path("vertices"));
+    m.tile_side = tiles_.side;
+    m.triangles = triangle_count_;
+    m.skipped = input_.triangles->skipped();  // a resumed run does not read the stream
+    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t)
+      m.tiles.push_back({tile_coords_[t], triangles_->chain(t), vertices_->chain(t)});
+    write_file_atomically(kept_path("manifest"), format_kept_manifest(m));
   }
 
-  // Loads kept tiles when a manifest for this input exists and its tiles are at
-  // least a cell wide; false (and nothing changed) otherwise.
-  bool resume_kept_tiles() {
-    FILE* f = std::fopen(kept_path("manifest").c_str(), "r");
-    if (!f) return false;
-    char magic[64] = {0};
-    unsigned version = 0, n = 0;
-    double side = 0;
-    unsigned long long tris = 0, short_faces = 0, non_finite = 0, repeated_index = 0;
-    bool ok = std::fscanf(f, "%63s %u", magic, &version) == 2 && std::string(magic) == "oocsimp-kept-tiles" &&
-              version == 2 &&
-              std::fscanf(f, "%la %llu %llu %llu %llu %u", &side, &tris, &short_faces, &non_finite, &repeated_index, &n) == 6 &&
-              side >= cell_.size;
-    std::vector<GridCoord> coords;
-    std::vector<TileSpillFile::Chain> tri_chains, vtx_chains;
-    for (unsigned i = 0; ok && i < n; ++i) {
-      long long x, y, z;
-      unsigned long long a, b, c, d;
-      ok = std::fscanf(f, "%lld %lld %lld %llu %llu %llu %llu", &x, &y, &z, &a, &b, &c, &d) == 7;
-      coords.push_back({x, y, z});
-      tri_chains.push_back({a, b});
-      vtx_chains.push_back({c, d});
+  // Why kept tiles cannot be used, as a warning; empty when they can. `m` is the
+  // parsed manifest, `now` the input's identity.
+  std::string kept_tiles_fault(const KeptManifest& m, const FileIdentity& now) const {
+    const std::string& in = input_.info.path;
+    if (now != m.input) return in + ": changed since its tiles were kept (inode, size or times differ); binning again";
+    const std::pair<const char*, const FileDigest*> kept[2] = {{"tiles", &m.tiles_digest},
+                                                               {"vertices", &m.vertices_digest}};
+    for (const auto& [ext, digest] : kept) {
+      struct stat st;
+      std::string path = kept_path(ext);
+      if (::stat(path.c_str(), &st) != 0) return path + ": kept file missing; binning again";
+      if (std::uint64_t(st.st_size) != digest->size)
+        return path + ": kept file of " + std::to_string(st.st_size) + " bytes, " + std::to_string(digest->size) +
+               " expected (truncated?); binning again";
     }
-    std::fclose(f);
-    if (!ok) return false;
+    try {
+      if (file_digest(in) != m.input_digest)
+        return in + ": content differs from the input whose tiles were kept (checksum); binning again";
+      for (const auto& [ext, digest] : kept)
+        if (file_digest(kept_path(ext)) != *digest)
+          return kept_path(ext) + ": kept file damaged (checksum differs); binning again";
+    } catch (const IoError& e) {
+      return std::string(e.what()) + "; binning again";
+    }
+    return "";
+  }
+
+  // Loads kept tiles when a manifest for this input exists, its tiles are at least a
+  // cell wide and every check above passes; false (and nothing changed) otherwise.
+  bool resume_kept_tiles() {
+    FileIdentity now;
+    if (!regular_file_identity(input_.info.path, &now)) return false;  // start_input_digest() says why
+    std::string text;
+    if (!read_kept_manifest(&text)) {
+      struct stat st;
+      for (const char* ext : {"tiles", "vertices"})
+        if (::stat(kept_path(ext).c_str(), &st) == 0) {
+          warn(kept_path("manifest") + ": missing beside kept tiles; binning again");
+          break;
+        }
+      return false;
+    }
+    KeptManifest m;
+    if (!parse_kept_manifest(text, &m)) {
+      warn(kept_path("manifest") + ": damaged manifest of kept tiles; binning again");
+      return false;
+    }
+    if (m.tile_side < cell_.size) return false;  // the options, not the files: no warning
+    std::string fault = kept_tiles_fault(m, now);
+    if (!fault.empty()) {
+      warn(fault);
+      return false;
+    }
+    std::vector<TileSpillFile::Chain> tri_chains, vtx_chains;
+    for (const KeptTile& t : m.tiles) {
+      tri_chains.push_back(t.triangles);
+      vtx_chains.push_back(t.vertices);
+    }
     triangles_ = TileSpillFile::open_kept(kept_path("tiles"), sizeof(TriangleRecord), tri_chains);
     vertices_ = TileSpillFile::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
-    tiles_.side = side;
-    triangle_count_ = tris;
-    resumed_skipped_ = SkippedFaces{short_faces, non_finite, repeated_index};
-    tile_coords_ = coords;
-    for (std::uint32_t i = 0; i < coords.size(); ++i) tile_ids_.emplace(coords[i], i);
-    border_.resize(n);
-    ext_.resize(n);
+    tiles_.side = m.tile_side;
+    triangle_count_ = m.triangles;
+    resumed_skipped_ = m.skipped;
+    for (const KeptTile& t : m.tiles) {
+      tile_ids_.emplace(t.coord, std::uint32_t(tile_coords_.size()));
+      tile_coords_.push_back(t.coord);
+    }
+    border_.resize(m.tiles.size());
+    ext_.resize(m.tiles.size());
     resumed_ = true;
     if (stats_) stats_->resumed = true;
+    return true;
+  }
+
+  // The manifest's text; false when there is none. A file beyond any plausible
+  // manifest (a line per tile) is read as far as that and then fails its checksum.
+  bool read_kept_manifest(std::string* text) const {
+    FILE* f = std::fopen(kept_path("manifest").c_str(), "rb");
+    if (!f) return false;
+    char buf[65536];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0 && text->size() < (std::size_t(1) << 30);)
+      text->append(buf, n);
+    std::fclose(f);
     return true;
   }
 
@@ -878,6 +985,8 @@ class FloatingRun {
   double rounds_seconds_ = 0;
   bool resumed_ = false;
   SkippedFaces resumed_skipped_;
+  FileIdentity kept_input_;                          // --keep-tmp: the input when binning started
+  std::unique_ptr<BackgroundDigest> input_digest_;  // --keep-tmp: its checksum, read while binning
   // The kept vertex spill barely compresses (positions and weights are noise to
   // zstd: 422 vs 498 MiB for the whole spill of the 10M sphere, when every round
   // read it). The triangle spill: see bin_triangles().

@@ -1,6 +1,7 @@
 #include "grid/tile_spill_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -96,6 +97,9 @@ std::unique_ptr<TileSpillFile> TileSpillFile::open_kept(const std::string& path,
   f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (f->fd_ < 0) throw IoError(system_error_text(path, "cannot open kept tiles", errno));
   f->path_ = path;
+  struct stat st;
+  if (::fstat(f->fd_, &st) != 0) throw IoError(system_error_text(path, "cannot stat kept tiles", errno));
+  f->end_ = std::uint64_t(st.st_size);
   for (const Chain& c : chains) {
     auto t = std::make_unique<Tile>();
     t->last_block = c.last_block;
@@ -190,10 +194,19 @@ void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes)
   if (tail) std::memcpy(out + pos, t.buffer.data(), tail);
   ZstdContexts& zc = zstd_contexts();
   std::vector<unsigned char>& packed = zc.packed;
-  for (std::uint64_t b = t.last_block; b != kNoBlock;) {
+  // Blocks are appended at the end of the file, so a tile's previous block lies
+  // strictly before it: a chain that does not go backwards (a zeroed header points
+  // to itself) is damage, and the walk ends after at most one step per block.
+  const std::uint64_t file_end = bytes_on_disk();
+  for (std::uint64_t b = t.last_block, next_limit = file_end; b != kNoBlock;) {
     BlockHeader h;
+    if (b >= next_limit || file_end - b < sizeof h)
+      throw IoError(path_ + ": byte " + std::to_string(b) + ": corrupt tile spill chain");
     pread_all(fd_, &h, sizeof h, b, path_);
-    if (h.raw_bytes > pos) throw IoError(path_ + ": corrupt tile spill block");
+    if (h.raw_bytes == 0 || h.raw_bytes > pos || h.stored_bytes > h.raw_bytes ||
+        h.stored_bytes > file_end - b - sizeof h)
+      throw IoError(path_ + ": byte " + std::to_string(b) + ": corrupt tile spill block");
+    next_limit = b;
     pos -= h.raw_bytes;
     if (h.stored_bytes == h.raw_bytes) {
       pread_all(fd_, out + pos, h.raw_bytes, b + sizeof h, path_);
@@ -201,7 +214,8 @@ void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes)
       packed.resize(h.stored_bytes);
       pread_all(fd_, packed.data(), h.stored_bytes, b + sizeof h, path_);
       std::size_t r = ZSTD_decompressDCtx(zc.d, out + pos, h.raw_bytes, packed.data(), h.stored_bytes);
-      if (ZSTD_isError(r) || r != h.raw_bytes) throw IoError(path_ + ": corrupt compressed tile spill block");
+      if (ZSTD_isError(r) || r != h.raw_bytes)
+        throw IoError(path_ + ": byte " + std::to_string(b) + ": corrupt compressed tile spill block");
     }
     b = h.previous;
   }

@@ -7,6 +7,7 @@
 
 #include <cerrno>
 
+#include "io/signal_cleanup.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -37,9 +38,11 @@ void MappedFile::map(int fd, const std::string& name) {
   void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
   if (p == MAP_FAILED) throw IoError(system_error_text(name, "cannot map", errno));
   data_ = static_cast<const unsigned char*>(p);
+  slot_ = register_mapping(data_, size_, name);
 }
 
 MappedFile::~MappedFile() {
+  unregister_mapping(slot_);
   if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
 }
 

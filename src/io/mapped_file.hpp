@@ -10,6 +10,8 @@ namespace oocsimp {
 class MappedFile {
  public:
   /// Maps `path` read-only; throws IoError. An empty file maps to data() == nullptr.
+  /// A read beyond the end of a file that shrank meanwhile ends the run with exit 4,
+  /// naming `path` (see install_signal_cleanup).
   explicit MappedFile(const std::string& path);
   /// Maps the first `size` bytes of the open descriptor `fd` (not closed, not reopened:
   /// the mapping shows the file the caller opened, even if its path now names another);
@@ -27,6 +29,7 @@ class MappedFile {
 
   const unsigned char* data_ = nullptr;
   std::uint64_t size_ = 0;
+  int slot_ = -1;  // in the mapping table of the SIGBUS handler (signal_cleanup.hpp)
 };
 
 }  // namespace oocsimp

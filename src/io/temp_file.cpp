@@ -11,11 +11,13 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <vector>
 
+#include "io/signal_cleanup.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -56,7 +58,11 @@ void unregister_path(int slot) {
 std::atomic<int> g_creating{0};
 std::atomic<bool> g_dying{false};
 
-extern "C" void cleanup_and_die(int sig) {
+// The signals that end a run from outside: interrupt, kill, closed terminal, quit.
+constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+
+// Async-signal-safe: no allocation, no locks.
+void remove_registered_files() {
   g_dying.store(true);
   // A creation takes microseconds; the bound only guards against a thread that
   // stopped inside one (it cannot be this thread: it blocks the signals there).
@@ -64,6 +70,69 @@ extern "C" void cleanup_and_die(int sig) {
   }
   for (int i = 0; i < kSlots; ++i)
     if (g_used[i].load()) ::unlink(g_paths[i]);
+}
+
+extern "C" void cleanup_and_die(int sig) {
+  remove_registered_files();
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+// Memory-mapped files, for the SIGBUS handler: a read of a mapped page beyond the end
+// of a file that shrank after it was mapped raises SIGBUS. Same fixed table scheme as
+// the temporary files.
+constexpr int kMappedSlots = 64;
+struct MappedSlot {
+  std::atomic<bool> used{false};
+  const void* base = nullptr;
+  std::size_t size = 0;
+  char path[kPathMax];
+};
+MappedSlot g_mapped[kMappedSlots];
+
+bool same_text(const char* a, const char* b) {
+  for (; *a && *a == *b; ++a, ++b) {
+  }
+  return *a == *b;
+}
+
+// The path of the mapped file that holds `addr`, unless that file is one of the run's
+// own temporary files; nullptr when there is none.
+const char* mapped_input_at(const void* addr) {
+  auto at = reinterpret_cast<std::uintptr_t>(addr);
+  for (const MappedSlot& m : g_mapped) {
+    auto base = reinterpret_cast<std::uintptr_t>(m.base);
+    if (!m.used.load() || at < base || at - base >= m.size) continue;
+    for (int i = 0; i < kSlots; ++i)
+      if (g_used[i].load() && same_text(g_paths[i], m.path)) return nullptr;
+    return m.path;
+  }
+  return nullptr;
+}
+
+void write_text(const char* s) {
+  std::size_t n = 0;
+  while (s[n]) ++n;
+  while (n > 0) {
+    ssize_t w = ::write(2, s, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return;
+    s += w;
+    n -= std::size_t(w);
+  }
+}
+
+// A mapped input that shrank during the run is an I/O error like any other (exit 4,
+// one line); any other SIGBUS is a crash, after the clean-up.
+extern "C" void cleanup_after_bus_error(int sig, siginfo_t* info, void*) {
+  const char* input = info && info->si_code == BUS_ADRERR ? mapped_input_at(info->si_addr) : nullptr;
+  remove_registered_files();
+  if (input) {
+    write_text("oocsimp: ");
+    write_text(input);
+    write_text(": input changed during the run\n");
+    ::_exit(4);
+  }
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
@@ -78,8 +147,7 @@ TempFile::TempFile(const std::string& dir, const std::string& prefix) {
   // interrupt cannot leave it behind.
   sigset_t block, old;
   sigemptyset(&block);
-  sigaddset(&block, SIGINT);
-  sigaddset(&block, SIGTERM);
+  for (int sig : kCleanupSignals) sigaddset(&block, sig);
   pthread_sigmask(SIG_BLOCK, &block, &old);
   g_creating.fetch_add(1);
   int err = EINTR;  // when dying: the run is being interrupted
@@ -279,8 +347,34 @@ void install_signal_cleanup() {
   std::memset(&sa, 0, sizeof sa);
   sa.sa_handler = cleanup_and_die;
   sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  for (int sig : kCleanupSignals) sigaction(sig, &sa, nullptr);
+  struct sigaction bus;
+  std::memset(&bus, 0, sizeof bus);
+  bus.sa_sigaction = cleanup_after_bus_error;
+  bus.sa_flags = SA_SIGINFO;
+  sigemptyset(&bus.sa_mask);
+  sigaction(SIGBUS, &bus, nullptr);
+}
+
+int register_mapping(const void* base, std::size_t size, const std::string& path) {
+  if (path.size() >= kPathMax) return -1;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  for (int i = 0; i < kMappedSlots; ++i) {
+    MappedSlot& m = g_mapped[i];
+    if (m.used.load()) continue;
+    m.base = base;
+    m.size = size;
+    std::memcpy(m.path, path.c_str(), path.size() + 1);
+    m.used.store(true);
+    return i;
+  }
+  return -1;
+}
+
+void unregister_mapping(int slot) {
+  if (slot < 0) return;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_mapped[slot].used.store(false);
 }
 
 }  // namespace oocsimp
