@@ -70,7 +70,9 @@ int run_info(const std::string& in, const std::string& tmp) {
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
   std::printf("format    %s%s\n", i.format.c_str(), i.compressed ? " (zstd)" : "");
-  std::printf("vertices  %" PRIu64 "\n", i.vertex_count);
+  std::printf("vertices  %" PRIu64, i.vertex_count);
+  if (i.unwelded_vertex_count) std::printf(" (welded from %" PRIu64 " stored)", i.unwelded_vertex_count);
+  std::printf("\n");
   std::printf("faces     %" PRIu64 "\n", i.face_count);
   for (const auto& e : i.elements) std::printf("element   %s\n", e.c_str());
   for (const auto& c : i.comments) std::printf("header    %s\n", c.c_str());
@@ -176,6 +178,7 @@ int main(int argc, char** argv) {
                        "fit in half the available memory, or with --keep-tmp), zstd or none")
       ->transform(CLI::CheckedTransformer(std::map<std::string, SpillCompression>{
           {"auto", SpillCompression::automatic}, {"zstd", SpillCompression::zstd}, {"none", SpillCompression::none}}));
+  simplify->add_flag("--weld", so.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
   simplify->add_option("--threads", so.threads, "Worker threads (default: all cores)");
   simplify->add_option("--tmp", so.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
   simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");

@@ -442,7 +442,7 @@ class FloatingRun {
   // cell, its shape, the assignment rule or the representative, so a later run on
   // the same input with other options reuses them, provided its cell still fits in
   // a tile. The files are oocsimp-kept-KEY.{tiles,vertices,manifest} in the temp
-  // folder, KEY naming the input (path, size, modification time).
+  // folder, KEY naming the input (path, size, modification time, whether welded).
 
   std::string kept_path(const char* ext) const {
     struct stat st;
@@ -452,6 +452,7 @@ class FloatingRun {
             std::to_string(st.st_mtim.tv_nsec);
     char real[PATH_MAX];
     if (::realpath(input_.info.path.c_str(), real)) id = real + id;
+    if (input_.info.unwelded_vertex_count) id += "|welded";  // other vertex numbers than unwelded
     std::uint64_t h = 1469598103934665603ull;  // FNV-1a
     for (unsigned char ch : id) h = (h ^ ch) * 1099511628211ull;
     char key[17];

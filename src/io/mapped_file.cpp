@@ -11,8 +11,9 @@
 
 namespace oocsimp {
 
-MappedFile::MappedFile(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+MappedFile::MappedFile(const std::string& path, MapAccess access) {
+  const bool write = access == MapAccess::read_write;
+  int fd = ::open(path.c_str(), (write ? O_RDWR : O_RDONLY) | O_CLOEXEC);
   if (fd < 0) throw IoError(system_error_text(path, "cannot open", errno));
   struct stat st;
   if (::fstat(fd, &st) != 0) {
@@ -22,19 +23,19 @@ MappedFile::MappedFile(const std::string& path) {
   }
   size_ = std::uint64_t(st.st_size);
   if (size_ > 0) {
-    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
+    void* p = ::mmap(nullptr, size_, write ? PROT_READ | PROT_WRITE : PROT_READ, MAP_SHARED, fd, 0);
     if (p == MAP_FAILED) {
       int e = errno;
       ::close(fd);
       throw IoError(system_error_text(path, "cannot map", e));
     }
-    data_ = static_cast<const unsigned char*>(p);
+    data_ = static_cast<unsigned char*>(p);
   }
   ::close(fd);
 }
 
 MappedFile::~MappedFile() {
-  if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
+  if (data_) ::munmap(data_, size_);
 }
 
 }  // namespace oocsimp

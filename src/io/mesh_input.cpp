@@ -3,6 +3,7 @@
 
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
+#include "io/vertex_weld.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -101,10 +102,12 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   // The content decides; the extension only separates OBJ from STL when the first
   // bytes do not.
   const unsigned char* head = src.peek(4);
+  bool stl = false;
   if (head && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r')) {
     open_ply(src, options, out);
   } else if (ends_with(name, ".stl")) {
     open_stl(src, options, out);
+    stl = true;
   } else if (ends_with(name, ".obj")) {
     open_obj(src, options, out);
   } else if (ends_with(name, ".ply")) {
@@ -113,7 +116,11 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
     const unsigned char* p = src.peek(5);
     if (p && std::memcmp(p, "solid", 5) == 0) open_stl(src, options, out);
     else throw InputError(path + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
+    stl = true;
   }
+  // STL stores every triangle's corners apart: without welding no two triangles
+  // would share a vertex.
+  if (stl || options.weld) weld_vertices(out, options.temp_dir, options.memory_budget);
   out.restart_triangles();
   return out;
 }
