@@ -205,7 +205,7 @@ TEST_CASE("A triangle whose corners weld together is dropped and counted", "[wel
   CHECK_THAT(r.err, Contains("1 triangle with two corners at one position"));
 }
 
-TEST_CASE("--weld keeps double PLY positions at full precision, big-endian too", "[weld]") {
+TEST_CASE("Welding keeps double PLY positions at full precision, big-endian too", "[weld]") {
   ScratchDir d;
   const double v[] = {0.1, 0.2, 0.3, 1.0 / 3, 0, 0, 0, 2.0 / 3, 0, 0.1, 0.2, 0.3, 0, 0, 1e-300};
   std::string s =
@@ -255,7 +255,7 @@ TEST_CASE("One mesh as binary STL, ascii STL and PLY simplifies to byte-identica
         std::vector<std::string>{"a.out.ply", "a.stl", "b.out.ply", "b.stl", "g.ply", "m.out.ply", "m.ply"});
 }
 
-TEST_CASE("--ratio on STL keeps what it keeps on the same mesh as PLY", "[weld][cli]") {
+TEST_CASE("The same --ratio on STL keeps what it keeps on the same mesh as PLY", "[weld][cli]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 40000 --quiet -o " + q(d.file("g.ply"))).exit_code == 0);
   IndexedMesh mesh = load_indexed(d.file("g.ply"));
@@ -272,7 +272,7 @@ TEST_CASE("--ratio on STL keeps what it keeps on the same mesh as PLY", "[weld][
   }
 }
 
-TEST_CASE("--weld on PLY and OBJ with duplicated vertices equals the deduplicated PLY", "[weld][cli]") {
+TEST_CASE("PLY and OBJ with duplicated vertices simplified with --weld equal the deduplicated PLY", "[weld][cli]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 12);  // each face has its own vertices along the edges
   IndexedMesh cube = load_indexed(d.file("cube.ply"));
@@ -304,7 +304,7 @@ TEST_CASE("info reports the welded vertex count of an STL", "[weld][cli]") {
   CHECK_THAT(r.out, Contains("faces     32"));
 }
 
-TEST_CASE("--keep-tmp does not resume the unwelded input's tiles for a --weld run", "[weld][cli]") {
+TEST_CASE("A --keep-tmp run does not resume the unwelded input's tiles for a --weld run", "[weld][cli]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 12);
   std::string tmp = d.file("tmp");
