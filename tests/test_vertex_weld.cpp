@@ -1,6 +1,7 @@
 // Vertex welding (src/io/vertex_weld.*): STL corners, and PLY/OBJ with --weld, become
 // one vertex per distinct position. The expected meshes come from a reference weld
 // written here with a std::map over the float positions.
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -316,4 +317,30 @@ TEST_CASE("A --keep-tmp run does not resume the unwelded input's tiles for a --w
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(read_file(d.file("s.json")), Contains("\"resumed\": false"));
   CHECK(read_file(d.file("b.ply")) == read_file(d.file("fresh.ply")));
+}
+
+TEST_CASE("A --tmp that fills up while welding exits 4 naming the folder; nothing left behind", "[weld][cli]") {
+  // A triangle soup: no two corners weld, so the sorted runs (20 bytes a corner) outgrow
+  // the position array (12 bytes a corner), which the file-size limit still lets through.
+  ScratchDir d;
+  IndexedMesh soup;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(0, 1);
+  for (std::uint32_t i = 0; i < 60000; ++i) {
+    soup.positions.insert(soup.positions.end(), {coord(rng), coord(rng), coord(rng)});
+    soup.triangles.push_back(i);
+  }
+  write_binary_stl(d.file("soup.stl"), soup.positions, soup.triangles);
+  std::string tmp = d.file("tmp");
+  REQUIRE(std::system(("mkdir " + q(tmp)).c_str()) == 0);
+  CliResult r =
+      run_cli("simplify --quiet " + q(d.file("soup.stl")) + " -o " + q(d.file("o.ply")) + " --grid 16 --tmp " + q(tmp),
+              "ulimit -f 1800");  // 921 KB: the positions (720 KB) fit, the runs (1.2 MB) do not
+  INFO(r.err);
+  CHECK(r.exit_code == 4);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_THAT(r.err, Contains(tmp + ": cannot write the sorted runs for welding the vertices of " + d.file("soup.stl")));
+  CHECK_THAT(r.err, Contains("File too large"));
+  CHECK_FALSE(file_exists(d.file("o.ply")));
+  CHECK(std::system(("rmdir " + q(tmp)).c_str()) == 0);  // empty
 }

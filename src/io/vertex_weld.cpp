@@ -143,8 +143,9 @@ class Welder {
   }
 
   void run() {
-    require_free_space(temp_dir_, n_ * (sizeof(Record) + width_ + 3 * sizeof(Word)),
-                       "welding the vertices of " + input_.info.path);
+    // Only the map's size is certain: the runs and the new positions shrink with every
+    // duplicate, so they are not estimated (a failed write names the folder and file).
+    require_free_space(temp_dir_, n_ * width_, "the vertex map for welding the vertices of " + input_.info.path);
     auto weld = std::make_shared<WeldMap>();
     weld->width = width_;
     weld->file = write_runs();
