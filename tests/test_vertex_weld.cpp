@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "io/vertex_weld.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;
@@ -94,12 +95,7 @@ struct Opened {
   oocsimp::SkippedFaces skipped;
 };
 
-Opened open_welded(const std::string& path, const std::string& temp_dir, std::uint64_t budget, bool weld = true) {
-  oocsimp::OpenOptions o;
-  o.temp_dir = temp_dir;
-  o.weld = weld;
-  o.memory_budget = budget;
-  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+Opened read_all(oocsimp::MeshInput& in) {
   Opened r;
   r.info = in.info;
   r.array = in.positions;
@@ -112,6 +108,15 @@ Opened open_welded(const std::string& path, const std::string& temp_dir, std::ui
     r.triangles.insert(r.triangles.end(), buf.begin(), buf.begin() + 3 * n);
   r.skipped = in.triangles->skipped();
   return r;
+}
+
+Opened open_welded(const std::string& path, const std::string& temp_dir, std::uint64_t budget, bool weld = true) {
+  oocsimp::OpenOptions o;
+  o.temp_dir = temp_dir;
+  o.weld = weld;
+  o.memory_budget = budget;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  return read_all(in);
 }
 
 std::vector<double> as_doubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
@@ -163,6 +168,25 @@ TEST_CASE("Welding gives one vertex per distinct position, numbered by first occ
   }
   // The weld's files went with the input: the folder is empty.
   CHECK(std::system(("rmdir " + q(tmp)).c_str()) == 0);
+}
+
+TEST_CASE("Welding with 8-byte vertex numbers, as beyond 2^32 vertices, gives the same mesh", "[weld]") {
+  ScratchDir d;
+  IndexedMesh grid = shuffled_grid(30, 11);
+  IndexedMesh expected = reference_weld(corners_of(grid));
+  // Opened unwelded (as a PLY without --weld would be), then welded with the wide map.
+  std::uint64_t budget = GENERATE(std::uint64_t(512), std::uint64_t(1) << 30);
+  CAPTURE(budget);
+  oocsimp::OpenOptions o;
+  o.temp_dir = d.path();
+  IndexedMesh corners = corners_of(grid);
+  write_binary_ply(d.file("corners.ply"), corners.positions, corners.triangles);
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(d.file("corners.ply"), o);
+  oocsimp::weld_vertices(in, d.path(), budget, true);
+  in.restart_triangles();
+  Opened m = read_all(in);
+  CHECK(m.positions == as_doubles(expected.positions));
+  CHECK(m.triangles == as_u64(expected.triangles));
 }
 
 TEST_CASE("Welding treats -0 as +0 and never welds a NaN or infinite vertex", "[weld]") {

@@ -129,12 +129,12 @@ class Welder {
  public:
   using Record = WeldRecord<Word>;
 
-  Welder(MeshInput& input, const std::string& temp_dir, std::uint64_t budget)
+  Welder(MeshInput& input, const std::string& temp_dir, std::uint64_t budget, bool wide_map)
       : input_(input),
         positions_(input.positions),
         n_(input.positions.count),
         temp_dir_(temp_dir),
-        width_(n_ <= (std::uint64_t(1) << 32) ? 4 : 8) {
+        width_(wide_map || n_ > (std::uint64_t(1) << 32) ? 8 : 4) {
     // Half the budget for a run (its records and its slice of the remap), the rest
     // for the I/O buffers; a merge's heads take as much.
     const std::uint64_t half = std::max<std::uint64_t>(budget / 2, 1);
@@ -355,9 +355,9 @@ class Welder {
 
 }  // namespace
 
-void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget) {
-  if (input.positions.type == ScalarType::f32) Welder<std::uint32_t>(input, temp_dir, memory_budget).run();
-  else Welder<std::uint64_t>(input, temp_dir, memory_budget).run();
+void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget, bool wide_map) {
+  if (input.positions.type == ScalarType::f32) Welder<std::uint32_t>(input, temp_dir, memory_budget, wide_map).run();
+  else Welder<std::uint64_t>(input, temp_dir, memory_budget, wide_map).run();
 }
 
 }  // namespace oocsimp

@@ -20,6 +20,9 @@ namespace oocsimp {
 /// (-0 equals +0); a vertex with a NaN or infinite coordinate is never welded.
 /// Deterministic, whatever the budget and thread count. The heap holds at most about
 /// `memory_budget` bytes of sort runs; the rest lives in files under `temp_dir`.
-void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget);
+/// `wide_map`: 8-byte vertex numbers in the map even where 4 would do (inputs beyond
+/// 2^32 vertices need them; tests use this to cover that layout on small inputs).
+void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget,
+                   bool wide_map = false);
 
 }  // namespace oocsimp
