@@ -76,6 +76,7 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   st.input_vertices = input.positions.count;
+  st.unwelded_vertices = input.info.unwelded_vertex_count;
   st.non_finite_vertices = input.info.non_finite_vertices;
   st.first_non_finite_vertex = input.info.first_non_finite_vertex;
   st.first_non_finite_position = input.info.first_non_finite_position;
@@ -139,6 +140,8 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t0 = now_seconds();
   OpenOptions open;
   open.temp_dir = options.temp_dir;
+  open.weld = options.weld;
+  open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
   if (options.progress) {
     options.progress->begin("read positions", 0, "B");
     open.progress = [](std::uint64_t done, std::uint64_t total, void* user) {
@@ -194,7 +197,10 @@ std::string skipped_input_summary(const std::string& input_path, const SimplifyS
     if (n > 0) parts += (parts.empty() ? "" : ", ") + count(n, noun, what);
   };
   add(s.skipped.non_finite, "triangle", " with a NaN or infinite corner");
-  add(s.skipped.repeated_index, "triangle", " naming one vertex twice");
+  // Welded, a vertex is a position: the triangle had two corners there (it may not
+  // have named one vertex twice in the file).
+  add(s.skipped.repeated_index, "triangle",
+      s.unwelded_vertices ? " with two corners at one position" : " naming one vertex twice");
   add(s.skipped.short_faces, "face", " with fewer than 3 corners");
   std::string text = input_path + ": skipped " + count(s.skipped.total(), "face", "");
   if (!parts.empty()) text += " (" + parts + ")";

@@ -714,7 +714,7 @@ TEST_CASE("OBJ faces with fewer than three corners are skipped and counted", "[r
 // ---------------------------------------------------------------------------------
 // STL
 
-TEST_CASE("STL ascii gives three vertices per triangle", "[readers][stl]") {
+TEST_CASE("STL ascii gives one vertex per distinct corner", "[readers][stl]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.stl");
   write_file(path, ascii_stl());
@@ -727,7 +727,7 @@ TEST_CASE("STL ascii gives three vertices per triangle", "[readers][stl]") {
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
 }
 
-TEST_CASE("STL binary gives three vertices per triangle", "[readers][stl]") {
+TEST_CASE("STL binary gives one vertex per distinct corner", "[readers][stl]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.stl");
   write_file(path, binary_stl("binary STL written by a test", 2, 2));
@@ -749,12 +749,12 @@ TEST_CASE("STL binary whose header starts with solid is detected by its size", "
   write_file(path, binary_stl("solid exported-by-cad-tool", 4, 4));
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.format == "stl binary");
-  CHECK(m.info.vertex_count == 12);
   CHECK(m.info.face_count == 4);
-  std::vector<double> expected = as_doubles(kStlPos);
-  expected.insert(expected.end(), kStlPos.begin(), kStlPos.end());
-  CHECK(m.positions == expected);
-  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+  // Triangles 2 and 3 repeat the corners of 0 and 1: welded, they share their vertices.
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.unwelded_vertex_count == 12);
+  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 4, 5});
 }
 
 TEST_CASE("STL ascii with several solids", "[readers][stl]") {
@@ -1400,11 +1400,13 @@ TEST_CASE("Temporary position files live exactly as long as the MeshInput", "[re
     oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
     CHECK_FALSE(in.info.positions_in_place);
     std::vector<std::string> e = tmp.entries();
-    REQUIRE(e.size() == 1);
+    const std::size_t files = name == "mesh.stl" ? 2 : 1;  // STL: and the map of welded vertex numbers
+    REQUIRE(e.size() == files);
     CHECK_THAT(e[0], StartsWith("oocsimp-positions-"));
-    // Moving the input keeps the file alive.
+    if (files == 2) CHECK_THAT(e[1], StartsWith("oocsimp-weld-map-"));
+    // Moving the input keeps the files alive.
     oocsimp::MeshInput moved = std::move(in);
-    CHECK(tmp.entries().size() == 1);
+    CHECK(tmp.entries().size() == files);
     CHECK(moved.positions.get(1).y == -2.25);
   }
   CHECK(tmp.entries().empty());

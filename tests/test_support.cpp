@@ -112,6 +112,34 @@ void write_binary_ply(const std::string& path, const std::vector<float>& v, cons
   write_file(path, s);
 }
 
+void write_binary_stl(const std::string& path, const std::vector<float>& v, const std::vector<std::uint32_t>& t) {
+  std::string s = "binary STL written by a test";
+  s.resize(80, ' ');
+  put_le(s, std::uint32_t(t.size() / 3));
+  for (std::size_t i = 0; i < t.size(); i += 3) {
+    for (int k = 0; k < 3; ++k) put_le(s, 0.0f);  // normal
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) put_le(s, v[3 * std::size_t(t[i + std::size_t(c)]) + std::size_t(k)]);
+    put_le(s, std::uint16_t(0));  // attribute byte count
+  }
+  write_file(path, s);
+}
+
+void write_ascii_stl(const std::string& path, const std::vector<float>& v, const std::vector<std::uint32_t>& t) {
+  std::string s = "solid test\n";
+  char line[128];
+  for (std::size_t i = 0; i < t.size(); i += 3) {
+    s += "  facet normal 0 0 0\n    outer loop\n";
+    for (int c = 0; c < 3; ++c) {
+      const float* p = &v[3 * std::size_t(t[i + std::size_t(c)])];
+      std::snprintf(line, sizeof line, "      vertex %.9g %.9g %.9g\n", double(p[0]), double(p[1]), double(p[2]));
+      s += line;
+    }
+    s += "    endloop\n  endfacet\n";
+  }
+  write_file(path, s + "endsolid test\n");
+}
+
 void write_plane_ply(const std::string& path, int n, double a, double b, double c) {
   std::vector<float> v;
   std::vector<std::uint32_t> t;

@@ -72,6 +72,14 @@ CliResult run_cli(const std::string& args, const std::string& setup = "");
 void write_binary_ply(const std::string& path, const std::vector<float>& positions,
                       const std::vector<std::uint32_t>& triangles);
 
+/// Writes the triangles of an indexed mesh (3 floats per vertex, 3 indices per
+/// triangle) as STL, every corner spelled out and the normals zero; ascii prints 9
+/// significant digits, which read back as the same floats.
+void write_binary_stl(const std::string& path, const std::vector<float>& positions,
+                      const std::vector<std::uint32_t>& triangles);
+void write_ascii_stl(const std::string& path, const std::vector<float>& positions,
+                     const std::vector<std::uint32_t>& triangles);
+
 /// Writes a finely tessellated triangle mesh as binary PLY: an n x n grid on the
 /// unit square in the plane z = a*x + b*y + c (plane()), or the surface of the
 /// cube [0,1]^3 with n x n quads per side (cube()).

@@ -166,7 +166,9 @@ int run_info(const std::string& in, const std::string& tmp) {
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
   std::printf("format    %s%s\n", i.format.c_str(), i.compressed ? " (zstd)" : "");
-  std::printf("vertices  %" PRIu64 "\n", i.vertex_count);
+  std::printf("vertices  %" PRIu64, i.vertex_count);
+  if (i.unwelded_vertex_count) std::printf(" (welded from %" PRIu64 " stored)", i.unwelded_vertex_count);
+  std::printf("\n");
   std::printf("faces     %" PRIu64 "\n", i.face_count);
   for (const auto& e : i.elements) std::printf("element   %s\n", e.c_str());
   for (const auto& c : i.comments) std::printf("header    %s\n", c.c_str());
@@ -342,6 +344,13 @@ int main(int argc, char** argv) {
       ->group(common);
   simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
   simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY instead of binary")->group(common);
+  sa.mem.option = simplify
+                      ->add_option("--mem", sa.mem.text,
+                                   "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G "
+                                   "(default: a quarter of physical memory)")
+                      ->group(common);
+  simplify->add_flag("--weld", sa.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)")
+      ->group(common);
   sa.floating_only = {
       simplify->add_option("--cell-shape", sa.cell_shape, "Cell shape (default cube)")
           ->check(CLI::IsMember({"cube", "sphere"})),
@@ -350,8 +359,6 @@ int main(int argc, char** argv) {
           ->check(CLI::IsMember({"nearest", "heaviest"})),
       simplify->add_option("--rep", sa.rep, "Representative vertex (default quadric)")
           ->check(CLI::IsMember({"quadric", "centre", "mean"})),
-      sa.mem.option = simplify->add_option(
-          "--mem", sa.mem.text, "Working-set budget, e.g. 256M or 2G (default: a quarter of physical memory)"),
       sa.tile.option = simplify->add_option("--tile", sa.tile.text,
                                             "Tile side in model units (default: from --mem); refused when the "
                                             "tiles' buffers (9 KiB each) exceed a quarter of --mem"),

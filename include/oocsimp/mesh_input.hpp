@@ -59,8 +59,11 @@ struct MeshInfo {
   std::string path;
   std::string format;            ///< e.g. "ply binary_little_endian", "obj", "stl binary"
   bool compressed = false;       ///< read through zstd
-  std::uint64_t vertex_count = 0;
+  std::uint64_t vertex_count = 0;  ///< after welding, when welded
   std::uint64_t face_count = 0;  ///< faces as stored (polygons); STL: triangles
+  /// Vertices as stored (STL: 3 per triangle) when they were welded (STL always,
+  /// PLY and OBJ with OpenOptions::weld); 0 when not welded.
+  std::uint64_t unwelded_vertex_count = 0;
   std::vector<std::string> elements;    ///< "vertex 100 (x float, y float, ...)" per element
   std::vector<std::string> comments;    ///< PLY comment / obj_info lines
   bool positions_in_place = false;      ///< true when positions are read from the input through mmap
@@ -131,6 +134,11 @@ class MeshInput {
 
 struct OpenOptions {
   std::string temp_dir;          ///< where temporary position arrays (and stream copies) go; empty = $TMPDIR or /tmp
+  /// Weld vertices at exactly the same position into one (src/io/vertex_weld.hpp);
+  /// STL input is always welded, since it stores every triangle's corners apart.
+  bool weld = false;
+  /// Heap bytes the welding may use (it works out of core in temp_dir beyond that).
+  std::uint64_t memory_budget = std::uint64_t(256) << 20;
   /// Called with (bytes consumed, total bytes) while positions are converted.
   void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr;
   void* progress_user = nullptr;
@@ -139,7 +147,8 @@ struct OpenOptions {
 /// Opens a PLY (ascii / binary LE / binary BE), OBJ or STL (ascii / binary) file,
 /// optionally zstd-compressed (".zst"). Detects the format from the content (the
 /// extension is only a tie-breaker), maps or converts the positions and computes the
-/// bounding box of the finite ones. NaN or infinite coordinates are counted in
+/// bounding box of the finite ones, then welds the vertices (STL, or `options.weld`).
+/// NaN or infinite coordinates are counted in
 /// info.non_finite_vertices, not rejected; a finite coordinate beyond the float range
 /// in a file that is converted to float is an InputError. The file is opened once and
 /// every pass reads that descriptor; "-" is standard input, and a FIFO, pipe or device

@@ -64,6 +64,9 @@ struct SimplifyOptions {
   AssignRule assign = AssignRule::nearest;                    ///< floating only
   RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
+  /// PLY and OBJ: weld vertices at exactly the same position before clustering (STL
+  /// input always is; see OpenOptions::weld).
+  bool weld = false;
   double tile_side = 0;             ///< floating: tile side in model units; 0 = from the budget
   /// Floating: keep the binned and graded tiles in temp_dir after the run, and reuse
   /// tiles kept by an earlier run on the same input (same path, inode, size and
@@ -84,7 +87,8 @@ struct PhaseTime {
 };
 
 struct SimplifyStats {
-  std::uint64_t input_vertices = 0;
+  std::uint64_t input_vertices = 0;     ///< after welding, when welded
+  std::uint64_t unwelded_vertices = 0;  ///< vertices as stored, when welded (STL, --weld); 0: not welded
   std::uint64_t input_triangles = 0;
   SkippedFaces skipped;                  ///< faces the input lost, by reason (see TriangleStream)
   std::uint64_t non_finite_vertices = 0;  ///< vertices with a NaN or infinite coordinate, ignored

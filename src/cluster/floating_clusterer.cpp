@@ -492,9 +492,9 @@ class FloatingRun {
   // cell, its shape, the assignment rule or the representative, so a later run on
   // the same input with other options reuses them, provided its cell still fits in
   // a tile. The files are oocsimp-kept-KEY.{tiles,vertices,manifest} in the temp
-  // folder, KEY naming the input's path. The manifest records the input's identity
-  // (device, inode, size, modification and status change times) and the XXH64 of
-  // its bytes, read while binning; a resume requires the same identity and reads the
+  // folder, KEY naming the input's path and whether it was welded (which numbers
+  // the vertices otherwise). The manifest records the input's identity (device,
+  // inode, size, modification and status change times) and the XXH64 of its bytes, read while binning; a resume requires the same identity and reads the
   // input again to compare the checksum (a sequential read: on the 2M sphere it
   // costs a small fraction of the binning it saves), then checks the size and XXH64
   // of both kept files. Anything that does not match, or a damaged manifest, means
@@ -503,6 +503,7 @@ class FloatingRun {
   std::string kept_path(const char* ext) const {
     char real[PATH_MAX];
     std::string id = ::realpath(input_.info.path.c_str(), real) ? std::string(real) : input_.info.path;
+    if (input_.info.unwelded_vertex_count) id += "|welded";
     char key[17];
     std::snprintf(key, sizeof key, "%016llx", (unsigned long long)content_hash(id.data(), id.size()));
     return temp_dir() + "/oocsimp-kept-" + key + "." + ext;

@@ -12,8 +12,9 @@
 
 namespace oocsimp {
 
-MappedFile::MappedFile(const std::string& path) {
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+MappedFile::MappedFile(const std::string& path, MapAccess access) {
+  const bool write = access == MapAccess::read_write;
+  int fd = ::open(path.c_str(), (write ? O_RDWR : O_RDONLY) | O_CLOEXEC);
   if (fd < 0) throw IoError(system_error_text(path, "cannot open", errno));
   struct stat st;
   if (::fstat(fd, &st) != 0) {
@@ -23,7 +24,7 @@ MappedFile::MappedFile(const std::string& path) {
   }
   size_ = std::uint64_t(st.st_size);
   try {
-    map(fd, path);
+    map(fd, path, access);
   } catch (...) {
     ::close(fd);
     throw;
@@ -31,19 +32,22 @@ MappedFile::MappedFile(const std::string& path) {
   ::close(fd);
 }
 
-MappedFile::MappedFile(int fd, std::uint64_t size, const std::string& name) : size_(size) { map(fd, name); }
+MappedFile::MappedFile(int fd, std::uint64_t size, const std::string& name) : size_(size) {
+  map(fd, name, MapAccess::read);
+}
 
-void MappedFile::map(int fd, const std::string& name) {
+void MappedFile::map(int fd, const std::string& name, MapAccess access) {
   if (size_ == 0) return;
-  void* p = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
+  const int protection = access == MapAccess::read_write ? PROT_READ | PROT_WRITE : PROT_READ;
+  void* p = ::mmap(nullptr, size_, protection, MAP_SHARED, fd, 0);
   if (p == MAP_FAILED) throw IoError(system_error_text(name, "cannot map", errno));
-  data_ = static_cast<const unsigned char*>(p);
+  data_ = static_cast<unsigned char*>(p);
   slot_ = register_mapping(data_, size_, name);
 }
 
 MappedFile::~MappedFile() {
   unregister_mapping(slot_);
-  if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
+  if (data_) ::munmap(data_, size_);
 }
 
 }  // namespace oocsimp

@@ -4,6 +4,7 @@
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
+#include "io/vertex_weld.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -136,24 +137,34 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   // The content decides; the extension only separates OBJ from STL when the first
   // bytes do not.
   const unsigned char* head = text_start(src, 4);
+  bool stl = false;
   if (head && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r')) {
     open_ply(src, options, out);
   } else if (ends_with(name, ".stl")) {
     open_stl(src, options, out);
+    stl = true;
   } else if (ends_with(name, ".obj")) {
     open_obj(src, options, out);
   } else if (ends_with(name, ".ply")) {
     throw InputError(at_byte(path, 0, "not a PLY file (it does not start with \"ply\")"));
   } else {
     const unsigned char* p = text_start(src, 5);
-    if (p && std::memcmp(p, "solid", 5) == 0) open_stl(src, options, out);
-    else if (looks_like_obj(src)) open_obj(src, options, out);
-    else throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
+    if (p && std::memcmp(p, "solid", 5) == 0) {
+      open_stl(src, options, out);
+      stl = true;
+    } else if (looks_like_obj(src)) {
+      open_obj(src, options, out);
+    } else {
+      throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
+    }
   }
   // A stream is copied as far as it was read; the triangle passes need the rest, and
   // progress needs its size.
   src.input()->read_to_end();
   out.file_size = src.file_size();
+  // STL stores every triangle's corners apart: without welding no two triangles
+  // would share a vertex.
+  if (stl || options.weld) weld_vertices(out, options.temp_dir, options.memory_budget);
   out.restart_triangles();
   return out;
 }
