@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
 
   CLI::App* simplify = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, optionally .zst)");
   simplify->add_option("input", in, "Input mesh")->required();
-  simplify->add_option("-o,--output", out, "Output mesh (.ply, .obj, optionally .zst)")->required();
+  simplify->add_option("-o,--output", out, "Output mesh (.ply, .obj, .stl or .off, optionally .zst)")->required();
   auto* cell = simplify->add_option("--cell", sizing.cell, "Cell side in model units");
   auto* grid = simplify->add_option("--grid", sizing.grid, "Cells along the longest bounding-box axis (default 256)");
   auto* ratio = simplify->add_option("--ratio", sizing.ratio, "Approximate fraction of triangles to keep");
@@ -180,7 +180,10 @@ int main(int argc, char** argv) {
   simplify->add_option("--tmp", so.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
   simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");
   simplify->add_flag("--quiet", quiet, "No progress and no summary");
-  simplify->add_flag("--ascii", ascii, "Write ascii PLY instead of binary");
+  simplify->add_flag("--ascii", ascii, "Write ascii PLY or STL instead of binary");
+  simplify->add_option("--precision", so.precision, "Output coordinates: float, double, or auto (double for double input)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Precision>{
+          {"auto", Precision::automatic}, {"float", Precision::float32}, {"double", Precision::float64}}));
 
   CLI::App* info = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
   info->add_option("input", in, "Input mesh")->required();

@@ -45,6 +45,13 @@ enum class SpillCompression {
   none,       ///< never (the spill stays in the page cache, or the disk is fast)
 };
 
+/// The precision of the output positions.
+enum class Precision {
+  automatic,  ///< double when the input holds more than float precision (MeshInfo::double_precision), else float
+  float32,    ///< float, whatever the input
+  float64,    ///< double, whatever the input
+};
+
 /// How the cell size is chosen; exactly one of the three is set (> 0).
 struct CellSizing {
   double cell = 0;            ///< absolute cell side in model units
@@ -67,6 +74,7 @@ struct SimplifyOptions {
   SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
   unsigned threads = 0;             ///< 0 = all cores
   std::string temp_dir;             ///< empty = default_temp_dir()
+  Precision precision = Precision::automatic;  ///< of the output positions
   ProgressReporter* progress = nullptr;
 };
 
@@ -98,8 +106,11 @@ struct SimplifyStats {
 };
 
 struct SimplifiedMesh {
-  std::vector<float> positions;          ///< 3 per vertex
+  std::vector<double> positions;         ///< 3 per vertex
   std::vector<std::uint32_t> triangles;  ///< 3 per face
+  /// The precision chosen for the output: with f32 every position is a float value
+  /// (rounded from the double the clustering computed), and writers store it as float.
+  ScalarType precision = ScalarType::f32;
 };
 
 /// A quarter of physical memory: the default working-set budget.
@@ -126,8 +137,12 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned 
 /// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
 
+/// The precision `options` ask for on `input` (resolves Precision::automatic).
+ScalarType output_precision(const MeshInput& input, Precision precision);
+
 /// Opens `input_path`, simplifies it and writes `output_path` (format and compression
-/// from its name, ascii PLY when `ascii`). Fills `stats` when given.
+/// from its name, see format_for_path, which is checked before any work; ascii PLY or
+/// STL when `ascii`) at the precision of the result. Fills `stats` when given.
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats);
 

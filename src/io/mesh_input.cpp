@@ -114,6 +114,7 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
     if (p && std::memcmp(p, "solid", 5) == 0) open_stl(src, options, out);
     else throw InputError(path + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
   }
+  if (out.positions.type == ScalarType::f64) out.info.double_precision = true;  // a double PLY read in place
   out.restart_triangles();
   return out;
 }

@@ -567,6 +567,9 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
+    if (same_float_type) builder.declare(xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64);
+    else if (xt == PlyType::f64 || v.props[h->xyz[1]].type == PlyType::f64 || v.props[h->xyz[2]].type == PlyType::f64)
+      builder.declare(ScalarType::f64);
     if (!src.compressed()) {
       // A record takes at least this many bytes, so the file's size bounds the vertex
       // count: a header claiming 10^12 vertices on a small file is a truncated file
