@@ -232,6 +232,24 @@ TEST_CASE("converted positions keep what the file says: float while exact, doubl
     CHECK_FALSE(e.info.double_precision);
     CHECK(e.positions == std::vector<double>{0, 0.5, -2, 1, 16777216, 0.25, 3, 0.125, 7});
   }
+  SECTION("the switch to double after megabytes of floats keeps every earlier vertex") {
+    std::string text;
+    std::vector<double> want;
+    for (int i = 0; i < 120000; ++i) {  // 1.4 MB of floats, more than the write buffer
+      text += "v " + std::to_string(i) + ".25 -" + std::to_string(i) + ".5 " + std::to_string(1000000 + i) + "\n";
+      want.insert(want.end(), {i + 0.25, -(i + 0.5), 1e6 + i});  // exact floats
+    }
+    text += "v 450000.001 5400000.002 200.003\nf 1 2 120001\n";
+    want.insert(want.end(), {450000.001, 5400000.002, 200.003});
+    write_file(d.file("long.obj"), text);
+    LoadedMesh m = load_mesh(d.file("long.obj"), d.path());
+    CHECK(m.info.double_precision);
+    REQUIRE(m.positions.size() == want.size());
+    CHECK(m.positions == want);
+    CHECK(m.info.bounds.max.y == 5400000.002);
+    CHECK(m.info.bounds.min.y == -119999.5);
+    CHECK(m.info.bounds.max.x == 450000.001);
+  }
   SECTION("an integer PLY property beyond 2^24 is kept exactly") {
     write_file(d.file("i.ply"), "ply\nformat ascii 1.0\nelement vertex 2\nproperty int x\nproperty int y\nproperty int z\n"
                                 "end_header\n16777217 0 1\n2 3 4\n");

@@ -374,3 +374,40 @@ TEST_CASE("write_mesh OFF holds the vertices and triangles exactly", "[writers][
   write_mesh(dir.file("m.off.zst"), as_doubles(kPositions), kTriangles, MeshFormat::off);
   CHECK(dir.entries() == std::vector<std::string>{"m.off.zst"});
 }
+
+TEST_CASE("simplify writes the format its output's extension names, and refuses others before any work",
+          "[writers][cli]") {
+  ScratchDir d;
+  auto q = [](const std::string& s) { return "'" + s + "'"; };
+  REQUIRE(oocsimp_test::run_cli("generate --tris 5000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  const std::string base = "simplify --quiet " + q(d.file("s.ply")) + " --grid 12 --tmp " + q(d.path()) + " -o ";
+  REQUIRE(oocsimp_test::run_cli(base + q(d.file("ref.ply"))).exit_code == 0);
+  LoadedMesh ref = load_mesh(d.file("ref.ply"), d.path());
+  const auto want = corner_triples(ref.positions, ref.triangles);
+  struct Case {
+    const char* name;
+    const char* flags;
+    const char* format;
+  };
+  for (const Case& c : {Case{"o.stl", "", "stl binary"}, Case{"o.stl", " --ascii", "stl ascii"},
+                        Case{"o.STL.zst", "", "stl binary"}, Case{"o.obj", "", "obj"}}) {
+    CAPTURE(c.name, c.flags);
+    oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(c.name)) + c.flags);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    LoadedMesh m = load_mesh(d.file(c.name), d.path());
+    CHECK(m.info.format == c.format);
+    CHECK(corner_triples(m.positions, m.triangles) == want);
+  }
+  REQUIRE(oocsimp_test::run_cli(base + q(d.file("o.off"))).exit_code == 0);
+  CHECK(oocsimp_test::read_file(d.file("o.off")).compare(0, 4, "OFF\n") == 0);
+  for (const char* name : {"o.glb", "o.gltf", "o.off.gz", "noext"}) {
+    CAPTURE(name);
+    oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(name)));
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(".stl") != std::string::npos);
+    CHECK_FALSE(oocsimp_test::file_exists(d.file(name)));
+  }
+  // Refused before any work: no temporary position array, no spill was made.
+  for (const std::string& e : d.entries()) CHECK(e.find("oocsimp-") == std::string::npos);
+}
