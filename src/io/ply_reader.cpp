@@ -2,8 +2,8 @@
 //
 // Positions: a binary, uncompressed file whose vertex records have a fixed size and
 // hold x, y, z as float or double is read in place through mmap; anything else is
-// converted to a temporary float array. Faces are streamed record by record and
-// fanned; other elements are skipped.
+// converted to a temporary position array of the declared type. Faces are streamed
+// record by record and fanned; other elements are skipped.
 #include <tbb/parallel_reduce.h>
 #include <tbb/blocked_range.h>
 
