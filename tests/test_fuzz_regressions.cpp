@@ -131,7 +131,8 @@ TEST_CASE("fuzz: the CLI exits 3 on double coordinates beyond the float range", 
   CHECK_FALSE(file_exists(d.file("out.ply")));
 }
 
-TEST_CASE("fuzz: the same bytes zstd-compressed are kept as double when converted and rejected by simplify", "[fuzz][readers]") {
+TEST_CASE("fuzz: the same bytes zstd-compressed are kept as double when converted and rejected by simplify",
+          "[fuzz][readers]") {
   ScratchDir d;
   std::string path = d.file("big.ply.zst");
   write_zstd_file(path, bytes(kDoubleBeyondFloat, sizeof kDoubleBeyondFloat - 1));

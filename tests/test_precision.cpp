@@ -66,7 +66,8 @@ void write_obj(const std::string& path, const std::vector<double>& pos, const st
     s += line;
   }
   for (std::size_t i = 0; i < tri.size(); i += 3)
-    s += "f " + std::to_string(tri[i] + 1) + " " + std::to_string(tri[i + 1] + 1) + " " + std::to_string(tri[i + 2] + 1) + "\n";
+    s += "f " + std::to_string(tri[i] + 1) + " " + std::to_string(tri[i + 1] + 1) + " " +
+         std::to_string(tri[i + 2] + 1) + "\n";
   write_file(path, s);
 }
 
@@ -251,8 +252,9 @@ TEST_CASE("converted positions keep what the file says: float while exact, doubl
     CHECK(m.info.bounds.max.x == 450000.001);
   }
   SECTION("an integer PLY property beyond 2^24 is kept exactly") {
-    write_file(d.file("i.ply"), "ply\nformat ascii 1.0\nelement vertex 2\nproperty int x\nproperty int y\nproperty int z\n"
-                                "end_header\n16777217 0 1\n2 3 4\n");
+    write_file(d.file("i.ply"),
+               "ply\nformat ascii 1.0\nelement vertex 2\nproperty int x\nproperty int y\nproperty int z\n"
+               "end_header\n16777217 0 1\n2 3 4\n");
     LoadedMesh m = load_mesh(d.file("i.ply"), d.path());
     CHECK(m.info.double_precision);
     CHECK(m.positions == std::vector<double>{16777217, 0, 1, 2, 3, 4});

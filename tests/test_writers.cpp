@@ -263,7 +263,8 @@ namespace {
 
 // The corners of every triangle of a loaded mesh, as 9 doubles per triangle: meshes
 // compared by geometry, whatever their vertex numbering (STL repeats corners).
-std::vector<std::array<double, 9>> corner_triples(const std::vector<double>& pos, const std::vector<std::uint64_t>& tri) {
+std::vector<std::array<double, 9>> corner_triples(const std::vector<double>& pos,
+                                                  const std::vector<std::uint64_t>& tri) {
   std::vector<std::array<double, 9>> out;
   for (std::size_t t = 0; t < tri.size(); t += 3) {
     std::array<double, 9> c;
@@ -290,7 +291,8 @@ TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles wi
     MeshFormat format;
     const char* expected;
   };
-  for (const Case& c : {Case{"t.stl", MeshFormat::stl_binary, "stl binary"}, Case{"t.stl", MeshFormat::stl_ascii, "stl ascii"},
+  for (const Case& c : {Case{"t.stl", MeshFormat::stl_binary, "stl binary"},
+                        Case{"t.stl", MeshFormat::stl_ascii, "stl ascii"},
                         Case{"t.stl.zst", MeshFormat::stl_binary, "stl binary"},
                         Case{"t.stl.zst", MeshFormat::stl_ascii, "stl ascii"}}) {
     CAPTURE(c.name, c.expected);
@@ -307,7 +309,7 @@ TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles wi
       std::string bytes = oocsimp_test::read_file(path);
       REQUIRE(bytes.size() == 84 + 4 * 50);
       CHECK(bytes.compare(0, 5, "solid") != 0);
-      // Facet normals: unit, pointing away from the centroid (1/4, 1/4, 1/4) offset.
+      // Facet normals: unit, pointing away from the tetrahedron's centroid.
       const double centre[3] = {450000.25, 5400000.25, 200.25};
       for (std::size_t t = 0; t < 4; ++t) {
         float n[3];
@@ -315,7 +317,7 @@ TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles wi
         CHECK(std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]) == Approx(1.0).epsilon(1e-6));
         const std::array<double, 9>& c3 = want[t];
         double out = 0;
-        for (int a = 0; a < 3; ++a) out += n[a] * ((c3[std::size_t(a)] + c3[std::size_t(3 + a)] + c3[std::size_t(6 + a)]) / 3 - centre[a]);
+        for (std::size_t a = 0; a < 3; ++a) out += n[a] * ((c3[a] + c3[3 + a] + c3[6 + a]) / 3 - centre[a]);
         CHECK(out > 0);
       }
     }

@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
   simplify->add_option("--stats", stats_path, "Write statistics as JSON to this file");
   simplify->add_flag("--quiet", quiet, "No progress and no summary");
   simplify->add_flag("--ascii", ascii, "Write ascii PLY or STL instead of binary");
-  simplify->add_option("--precision", so.precision, "Output coordinates: float, double, or auto (double for double input)")
+  simplify->add_option("--precision", so.precision, "Output coordinates: float, double or auto (like the input)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Precision>{
           {"auto", Precision::automatic}, {"float", Precision::float32}, {"double", Precision::float64}}));
 

@@ -167,7 +167,8 @@ Vec3d facet_normal(const MeshArrays& m, std::size_t t) {
 // float32 and a zero attribute word. STL has no shared vertices: corners are repeated.
 void write_stl_binary(ByteSink& sink, const MeshArrays& m, const std::string& path) {
   if (m.triangles() > 0xFFFFFFFFu)
-    throw IoError(path + ": " + std::to_string(m.triangles()) + " triangles do not fit in a binary STL (at most 2^32 - 1)");
+    throw IoError(path + ": " + std::to_string(m.triangles()) +
+                  " triangles do not fit in a binary STL (at most 2^32 - 1)");
   unsigned char header[84] = {};
   const char kTitle[] = "binary STL written by oocsimp";
   std::memcpy(header, kTitle, sizeof kTitle - 1);

@@ -42,7 +42,8 @@ void PositionArrayBuilder::open_file() {
   file_ = std::make_unique<TempFile>(temp_dir_, "oocsimp-positions-");
   sink_ = std::make_unique<ByteSink>(file_->fd(), file_->path(), false);
   sink_->on_write_error([this](std::uint64_t on_disk, int err) {
-    std::string need = expected_vertices_ ? ", of about " + mib_text(expected_vertices_ * record_bytes()) + " needed" : "";
+    std::string need =
+        expected_vertices_ ? ", of about " + mib_text(expected_vertices_ * record_bytes()) + " needed" : "";
     return temp_dir_ + ": cannot write the temporary position array of " + source_path_ + " (" + mib_text(on_disk) +
            " written" + need + "): " + std::strerror(err);
   });

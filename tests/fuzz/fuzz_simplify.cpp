@@ -49,8 +49,8 @@ void simplify_write_reread(oocsimp::MeshInput& in, const oocsimp::SimplifyOption
   if (stats.output_triangles != m.triangles.size() / 3 || stats.output_vertices != m.positions.size() / 3)
     finding(std::string(method) + ": stats disagree with the result");
   const std::string out = oocsimp_fuzz::Scratch::path() + "/output.ply";
-  oocsimp::write_mesh(out, m.positions, m.triangles, ascii ? oocsimp::MeshFormat::ply_ascii : oocsimp::MeshFormat::ply_binary,
-                     m.precision);
+  oocsimp::write_mesh(out, m.positions, m.triangles,
+                      ascii ? oocsimp::MeshFormat::ply_ascii : oocsimp::MeshFormat::ply_binary, m.precision);
   // What we wrote must read back as the same mesh size.
   try {
     oocsimp::OpenOptions oo;
