@@ -413,3 +413,17 @@ TEST_CASE("simplify writes the format its output's extension names, and refuses 
   // Refused before any work: no temporary position array, no spill was made.
   for (const std::string& e : d.entries()) CHECK(e.find("oocsimp-") == std::string::npos);
 }
+
+TEST_CASE("float text: the shortest float where the format declares float, the float's exact double elsewhere",
+          "[writers][precision]") {
+  ScratchDir dir;
+  const std::vector<double> pos = {double(0.1f), 0.5, -2, 1, 0, 0, 0, 1, 0};
+  write_mesh(dir.file("f.ply"), pos, {0, 1, 2}, MeshFormat::ply_ascii, ScalarType::f32);
+  write_mesh(dir.file("f.obj"), pos, {0, 1, 2}, MeshFormat::obj, ScalarType::f32);
+  write_mesh(dir.file("d.obj"), {0.1, 0.5, -2, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, MeshFormat::obj, ScalarType::f64);
+  CHECK(oocsimp_test::read_file(dir.file("f.ply")).find("\n0.1 0.5 -2\n") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("f.obj")).find("\nv 0.10000000149011612 0.5 -2\n") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("d.obj")).find("\nv 0.1 0.5 -2\n") != std::string::npos);
+  CHECK_FALSE(load_mesh(dir.file("f.obj"), dir.path()).info.double_precision);
+  CHECK(load_mesh(dir.file("d.obj"), dir.path()).info.double_precision);
+}

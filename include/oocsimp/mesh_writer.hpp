@@ -20,9 +20,10 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// Writes a triangle mesh given as flat arrays: `positions` holds 3 coordinates per
 /// vertex, `triangles` 3 vertex indices per face. `precision` says how coordinates
 /// are stored: PLY writes "property float x" or "property double x", the text formats
-/// (OBJ, OFF, ascii PLY and STL) the shortest text that reads back as the same double
-/// (rounded to float first for f32, so that a float output reads back as float input);
-/// binary STL holds float32 whatever `precision` says. PLY faces are
+/// (OBJ, OFF, ascii STL) the shortest text that reads back as the same double (rounded
+/// to float first for f32, so that a float output reads back as float input; ascii
+/// PLY, which declares float, the shortest text of the float); binary STL holds
+/// float32 whatever `precision` says. PLY faces are
 /// "uchar uint vertex_indices" lists; STL facet normals are the unit normals of the
 /// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
 /// The file is written under a temporary name in the destination folder and renamed
