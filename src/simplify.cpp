@@ -27,9 +27,9 @@ std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 }
 
-// The output is written as float: an input coordinate beyond the float range (possible
-// in double PLY, which is read in place at full precision) would come out infinite.
-// Rejected up front, naming the first such vertex.
+// The clusterers work, and a float output is written, within the float range: an
+// input coordinate beyond it (possible in double input) is rejected up front, naming
+// the first such vertex, whatever the output precision.
 void check_float_range(const MeshInput& input) {
   const Box3d& b = input.info.bounds;
   constexpr double kMax = std::numeric_limits<float>::max();
@@ -40,19 +40,24 @@ void check_float_range(const MeshInput& input) {
       if (std::isfinite(c) && std::abs(c) > kMax) {  // non-finite vertices are skipped, not out of range
         std::ostringstream msg;
         msg << input.info.path << ": vertex " << i << " has the coordinate " << c
-            << ", beyond the float range of the output";
+            << ", beyond the float range oocsimp works in";
         throw InputError(msg.str());
       }
   }
 }
 
-// A cluster's output vertex may lie up to a cell beyond the bounding box: for inputs
+// Rounds the clusterers' double positions to float values for a float output. A
+// cluster's output vertex may lie up to a cell beyond the bounding box: for inputs
 // near the float limit it can overflow where the input did not.
-void check_output_finite(const MeshInput& input, const SimplifiedMesh& m) {
-  for (std::size_t i = 0; i < m.positions.size(); ++i)
-    if (std::isinf(m.positions[i]))
+void round_to_float(const MeshInput& input, SimplifiedMesh& m) {
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    float f = float(m.positions[i]);
+    if (std::isinf(f))
       throw InputError(input.info.path + ": output vertex " + std::to_string(i / 3) +
                        " overflows the float range (input coordinates too close to the float limit)");
+    m.positions[i] = f;
+  }
+  m.precision = ScalarType::f32;
 }
 
 }  // namespace
@@ -61,6 +66,14 @@ std::uint64_t default_memory_budget() {
   long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
   return std::uint64_t(pages) * std::uint64_t(page) / 4;
+}
+
+ScalarType output_precision(const MeshInput& input, Precision precision) {
+  switch (precision) {
+    case Precision::float32: return ScalarType::f32;
+    case Precision::float64: return ScalarType::f64;
+    default: return input.info.double_precision ? ScalarType::f64 : ScalarType::f32;
+  }
 }
 
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
@@ -97,7 +110,8 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
     default:
       throw UsageError("unknown clustering method");
   }
-  check_output_finite(input, m);
+  m.precision = ScalarType::f64;
+  if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   return m;
 }
 
@@ -159,7 +173,7 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t2 = now_seconds();
   {
     ProgressPhase phase(options.progress, "write", 0, "B");
-    write_mesh(mesh_file, mesh.positions, mesh.triangles, format);
+    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision);
   }
   double t3 = now_seconds();
   st.phases.push_back({"write", t3 - t2});

@@ -46,6 +46,9 @@ const std::vector<std::uint64_t> kTris = {0, 1, 2, 0, 2, 3, 1, 4, 2};
 std::vector<double> as_doubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
 
 const std::vector<double> kPosD = as_doubles(kPos);
+// kPosText as formats without a declared type (OBJ, ascii STL) read it: exactly, as
+// double (MeshInfo::double_precision).
+const std::vector<double> kTextD = {0, 0, 0, 1.5, -2.25, 0.1, -3.25e7, 1e-20, 42, 7.5, 8.125, -9.0625, 100, 0.2, -0.3};
 
 template <class T>
 void put(std::string& s, T v, bool big_endian) {
@@ -111,6 +114,9 @@ std::string obj_text() {
 // triangle is (1, 2, 3)).
 const std::vector<float> kStlPos = {0.0f,    0.0f,   0.0f,    1.5f, -2.25f, 0.1f, -3.25e7f, 1e-20f, 42.0f,
                                     7.5f,    8.125f, -9.0625f, 100.0f, 0.2f, -0.3f, 1.0f,     2.0f,   3.0f};
+// The same as ascii STL text reads it: exactly, as double.
+const std::vector<double> kStlTextD = {0, 0, 0, 1.5, -2.25, 0.1, -3.25e7, 1e-20, 42,
+                                       7.5, 8.125, -9.0625, 100, 0.2, -0.3, 1, 2, 3};
 
 std::string ascii_stl() {
   return "solid reference\n"
@@ -609,7 +615,7 @@ TEST_CASE("OBJ v and f lines", "[readers][obj]") {
   CHECK_FALSE(m.info.positions_in_place);
   CHECK(m.info.vertex_count == 5);
   CHECK(m.info.face_count == 2);
-  CHECK(m.positions == kPosD);
+  CHECK(m.positions == kTextD);
   CHECK(m.triangles == kTris);
 }
 
@@ -626,7 +632,7 @@ TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][ob
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.face_count == 4);
-  CHECK(m.positions == kPosD);
+  CHECK(m.positions == kTextD);
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 2, 3, 1, 4, 2, 4, 3, 2, 4, 2, 1});
 }
 
@@ -642,7 +648,7 @@ TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers]
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.vertex_count == 5);
-  CHECK(m.positions == kPosD);
+  CHECK(m.positions == kTextD);
   CHECK(m.triangles == kTris);
 }
 
@@ -657,7 +663,7 @@ TEST_CASE("OBJ negative indices count back from the latest vertex", "[readers][o
                   "f 1 -1 -3 -2\n";  // 0 4 2 3 -> (0 4 2) (0 2 3)
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
-  CHECK(m.positions == kPosD);
+  CHECK(m.positions == kTextD);
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 0, 2, 0, 4, 2, 0, 2, 3});
 }
 
@@ -698,7 +704,7 @@ TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[read
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.vertex_count == 5);
   CHECK(m.info.face_count == 2);
-  CHECK(m.positions == kPosD);
+  CHECK(m.positions == kTextD);
   CHECK(m.triangles == kTris);
 }
 
@@ -723,7 +729,7 @@ TEST_CASE("STL ascii gives one vertex per distinct corner", "[readers][stl]") {
   CHECK_FALSE(m.info.positions_in_place);
   CHECK(m.info.vertex_count == 6);
   CHECK(m.info.face_count == 2);
-  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.positions == kStlTextD);
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
 }
 
@@ -765,7 +771,7 @@ TEST_CASE("STL ascii with several solids", "[readers][stl]") {
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.face_count == 3);
-  std::vector<double> expected = as_doubles(kStlPos);
+  std::vector<double> expected = kStlTextD;
   expected.insert(expected.end(), {1, 1, 1, 2, 2, 2, 3, 3, 3});
   CHECK(m.positions == expected);
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8});
@@ -977,8 +983,8 @@ void check_vertex_3_ignored(const LoadedMesh& m, const std::string& position) {
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 1, 4, 2});
   CHECK(m.skipped.non_finite == 1);
   CHECK(m.skipped.total() == 1);
-  CHECK(m.info.bounds.max.y == 0.2f);  // vertex 3 (y = 8.125) is left out
-  CHECK(m.info.bounds.min.z == -0.3f);  // and so is its z = -9.0625
+  CHECK(m.info.bounds.max.y == m.positions[13]);  // vertex 4's y (0.2): vertex 3 (y = 8.125) is left out
+  CHECK(m.info.bounds.min.z == m.positions[14]);  // vertex 4's z (-0.3): and so is vertex 3's z = -9.0625
 }
 
 TEST_CASE("NaN and infinite coordinates: the vertex is ignored, its triangles dropped and counted",
@@ -1064,10 +1070,13 @@ TEST_CASE("NaN and infinite coordinates: the vertex is ignored, its triangles dr
 TEST_CASE("the box of a converted file holds the stored floats, not the parsed doubles", "[readers]") {
   // GCC 12 -O3 once folded the float-to-double widening in the converter away, so
   // 0.2 and 0.3 bounded the box where the positions held the larger 0.2f and 0.3f.
+  // (A PLY declaring float; OBJ, which declares nothing, keeps the doubles.)
   ScratchDir dir;
-  std::string path = dir.file("mesh.obj");
-  write_file(path, "v 0.3 0.2 0.1\nv 0 0 0\nf 1 2 2\n");
+  std::string path = dir.file("mesh.ply");
+  write_file(path, "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                   "end_header\n0.3 0.2 0.1\n0 0 0\n");
   LoadedMesh m = load_mesh(path, dir.path());
+  CHECK_FALSE(m.info.double_precision);
   CHECK(m.info.bounds.max.x == double(0.3f));
   CHECK(m.info.bounds.max.y == double(0.2f));
   CHECK(m.info.bounds.max.z == double(0.1f));
@@ -1076,6 +1085,13 @@ TEST_CASE("the box of a converted file holds the stored floats, not the parsed d
     CHECK(m.positions[i + 1] <= m.info.bounds.max.y);
     CHECK(m.positions[i + 2] <= m.info.bounds.max.z);
   }
+  write_file(dir.file("mesh.obj"), "v 0.3 0.2 0.1\nv 0 0 0\nf 1 2 2\n");
+  LoadedMesh o = load_mesh(dir.file("mesh.obj"), dir.path());
+  CHECK(o.info.double_precision);
+  CHECK(o.positions == std::vector<double>{0.3, 0.2, 0.1, 0, 0, 0});
+  CHECK(o.info.bounds.max.x == 0.3);
+  CHECK(o.info.bounds.max.y == 0.2);
+  CHECK(o.info.bounds.max.z == 0.1);
 }
 
 TEST_CASE("A finite coordinate beyond the float range of a converted file is rejected", "[readers][errors]") {

@@ -87,9 +87,9 @@ TEST_CASE("output keeps only triangles spanning three cells, each cell triple on
   CHECK(m.positions.size() / 3 <= 81);
   double area = 0;
   for (std::size_t i = 0; i < m.triangles.size(); i += 3) {
-    const float* a = &m.positions[3 * m.triangles[i]];
-    const float* b = &m.positions[3 * m.triangles[i + 1]];
-    const float* c = &m.positions[3 * m.triangles[i + 2]];
+    const double* a = &m.positions[3 * m.triangles[i]];
+    const double* b = &m.positions[3 * m.triangles[i + 1]];
+    const double* c = &m.positions[3 * m.triangles[i + 2]];
     double nz = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     CHECK(nz > 0);
     area += nz / 2;

@@ -4,10 +4,12 @@
 
 #include <sys/stat.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "test_support.hpp"
 
 using oocsimp::MeshFormat;
+using oocsimp::ScalarType;
 using oocsimp::format_for_path;
 using oocsimp::write_mesh;
 using oocsimp_test::LoadedMesh;
@@ -41,25 +44,42 @@ std::vector<std::uint64_t> as_u64(const std::vector<std::uint32_t>& v) {
   return std::vector<std::uint64_t>(v.begin(), v.end());
 }
 
-// Writes `positions`/`triangles` to dir/name in `format`, reads the file back and
-// checks exact equality and that nothing but the output is left in the folder.
+// Writes `positions`/`triangles` to dir/name in `format` at `precision`, reads the
+// file back and checks exact equality and that nothing but the output is left in the
+// folder.
 LoadedMesh round_trip(const std::string& name, MeshFormat format, const std::string& expected_format,
-                      const std::vector<float>& positions = kPositions,
-                      const std::vector<std::uint32_t>& triangles = kTriangles) {
+                      const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
+                      ScalarType precision) {
   ScratchDir dir, tmp;
   std::string path = dir.file(name);
-  write_mesh(path, positions, triangles, format);
+  write_mesh(path, positions, triangles, format, precision);
   CHECK(dir.entries() == std::vector<std::string>{name});
   LoadedMesh m = load_mesh(path, tmp.path());
   CHECK(m.info.format == expected_format);
   CHECK(m.info.compressed == (name.size() > 4 && name.compare(name.size() - 4, 4, ".zst") == 0));
   CHECK(m.info.vertex_count == positions.size() / 3);
   CHECK(m.info.face_count == triangles.size() / 3);
-  CHECK(m.positions == as_doubles(positions));
+  CHECK(m.info.double_precision == (precision == ScalarType::f64));
+  CHECK(m.positions == positions);
   CHECK(m.triangles == as_u64(triangles));
   CHECK(m.skipped_faces == 0);
   return m;
 }
+
+LoadedMesh round_trip(const std::string& name, MeshFormat format, const std::string& expected_format,
+                      const std::vector<float>& positions = kPositions,
+                      const std::vector<std::uint32_t>& triangles = kTriangles) {
+  return round_trip(name, format, expected_format, as_doubles(positions), triangles, ScalarType::f32);
+}
+
+// Doubles that no float holds: UTM-like coordinates with sub-millimetre digits,
+// 0.1, a third, and the extremes of the double range.
+const std::vector<double> kDoublePositions = {
+    451234.56789012345, 5412345.678901234, 201.33333333333334,  //
+    0.1,                -1.0 / 3.0,        1e-300,              //
+    4.5e5,              5.4e6 + 1e-7,      -2e300,              //
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::min(), 4.9e-324,  //
+    123.456,            -7.0e-8,           9.999999999999999e9};
 
 }  // namespace
 
@@ -135,7 +155,7 @@ TEST_CASE("write_mesh replaces an existing file and leaves no temporary file", "
   ScratchDir dir, tmp;
   std::string path = dir.file("out.obj");
   oocsimp_test::write_file(path, "old content\n");
-  write_mesh(path, kPositions, kTriangles, MeshFormat::obj);
+  write_mesh(path, as_doubles(kPositions), kTriangles, MeshFormat::obj);
   CHECK(dir.entries() == std::vector<std::string>{"out.obj"});
   write_mesh(path, {1, 2, 3, 4, 5, 6, 7, 8, 9}, {2, 1, 0}, MeshFormat::obj);
   CHECK(dir.entries() == std::vector<std::string>{"out.obj"});
@@ -148,11 +168,11 @@ TEST_CASE("write_mesh into a nonexistent directory throws IoError and leaves no 
   ScratchDir dir;
   std::string path = dir.file("missing/sub/out.ply");
   SECTION("binary PLY") {
-    CHECK_THROWS_AS(write_mesh(path, kPositions, kTriangles, MeshFormat::ply_binary), oocsimp::IoError);
+    CHECK_THROWS_AS(write_mesh(path, as_doubles(kPositions), kTriangles, MeshFormat::ply_binary), oocsimp::IoError);
   }
   SECTION("compressed OBJ") {
     path = dir.file("missing/out.obj.zst");
-    CHECK_THROWS_AS(write_mesh(path, kPositions, kTriangles, MeshFormat::obj), oocsimp::IoError);
+    CHECK_THROWS_AS(write_mesh(path, as_doubles(kPositions), kTriangles, MeshFormat::obj), oocsimp::IoError);
   }
   CHECK_FALSE(oocsimp_test::file_exists(path));
   CHECK(dir.entries().empty());
@@ -162,7 +182,7 @@ TEST_CASE("write_mesh into a path that is a directory throws IoError", "[writers
   ScratchDir dir;
   std::string path = dir.file("taken");
   REQUIRE(::mkdir(path.c_str(), 0755) == 0);
-  CHECK_THROWS_AS(write_mesh(path, kPositions, kTriangles, MeshFormat::ply_binary), oocsimp::IoError);
+  CHECK_THROWS_AS(write_mesh(path, as_doubles(kPositions), kTriangles, MeshFormat::ply_binary), oocsimp::IoError);
   CHECK(dir.entries() == std::vector<std::string>{"taken"});
 }
 
@@ -177,13 +197,233 @@ TEST_CASE("format_for_path picks the format from the name", "[writers]") {
   CHECK(format_for_path("a.ply", true) == MeshFormat::ply_ascii);
   CHECK(format_for_path("a.ply.zst", false) == MeshFormat::ply_binary);
   CHECK(format_for_path("a.ply.zst", true) == MeshFormat::ply_ascii);
-  CHECK(format_for_path("a.stl", false) == MeshFormat::ply_binary);
-  CHECK(format_for_path("noextension", true) == MeshFormat::ply_ascii);
-  CHECK(format_for_path("obj", false) == MeshFormat::ply_binary);
-  CHECK(format_for_path(".obj", false) == MeshFormat::obj);
-  CHECK(format_for_path("a.obj.gz", false) == MeshFormat::ply_binary);
-  CHECK(format_for_path("a.objx", false) == MeshFormat::ply_binary);
   CHECK(format_for_path("obj.ply", false) == MeshFormat::ply_binary);
-  CHECK(format_for_path("", false) == MeshFormat::ply_binary);
-  CHECK(format_for_path(".zst", true) == MeshFormat::ply_ascii);
+  CHECK(format_for_path(".obj", false) == MeshFormat::obj);
+  CHECK(format_for_path("a.stl", false) == MeshFormat::stl_binary);
+  CHECK(format_for_path("a.STL", true) == MeshFormat::stl_ascii);
+  CHECK(format_for_path("a.stl.zst", false) == MeshFormat::stl_binary);
+  CHECK(format_for_path("a.off", false) == MeshFormat::off);
+  CHECK(format_for_path("a.Off.zst", true) == MeshFormat::off);
+}
+
+TEST_CASE("format_for_path refuses a name it cannot write, listing what it can", "[writers]") {
+  for (const char* name : {"a.glb", "a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst",
+                           "a.ply.zst.zst", "a.3ds"}) {
+    CAPTURE(name);
+    try {
+      format_for_path(name, false);
+      FAIL("no UsageError");
+    } catch (const oocsimp::UsageError& e) {
+      std::string msg = e.what();
+      for (const char* ext : {".ply", ".obj", ".stl", ".off", ".zst"}) CHECK(msg.find(ext) != std::string::npos);
+      CHECK(msg.find('\n') == std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("write_mesh double PLY and text formats round trip doubles exactly", "[writers][precision]") {
+  struct Case {
+    const char* name;
+    MeshFormat format;
+    const char* expected;
+  };
+  const Case cases[] = {{"d.ply", MeshFormat::ply_binary, "ply binary_little_endian"},
+                        {"d.ply", MeshFormat::ply_ascii, "ply ascii"},
+                        {"d.obj", MeshFormat::obj, "obj"},
+                        {"d.ply.zst", MeshFormat::ply_binary, "ply binary_little_endian"},
+                        {"d.obj.zst", MeshFormat::obj, "obj"}};
+  for (const Case& c : cases) {
+    CAPTURE(c.name, c.expected);
+    round_trip(c.name, c.format, c.expected, kDoublePositions, kTriangles, ScalarType::f64);
+  }
+  ScratchDir dir;
+  write_mesh(dir.file("d.ply"), kDoublePositions, kTriangles, MeshFormat::ply_binary, ScalarType::f64);
+  LoadedMesh m = load_mesh(dir.file("d.ply"), dir.path());
+  CHECK(m.info.positions_in_place);
+  CHECK(m.info.elements == std::vector<std::string>{"vertex 5 (x double, y double, z double)",
+                                                    "face 4 (vertex_indices list uchar uint)"});
+}
+
+TEST_CASE("write_mesh at float precision writes the doubles rounded to float", "[writers][precision]") {
+  std::vector<double> rounded;
+  for (double v : kDoublePositions) rounded.push_back(std::isfinite(float(v)) ? double(float(v)) : 0.0);
+  std::vector<double> in;  // finite as float: the values, rounded where a float cannot hold them
+  for (double v : kDoublePositions) in.push_back(std::isfinite(float(v)) ? v : 0.0);
+  for (MeshFormat f : {MeshFormat::ply_binary, MeshFormat::ply_ascii, MeshFormat::obj}) {
+    ScratchDir dir;
+    std::string path = dir.file(f == MeshFormat::obj ? "f.obj" : "f.ply");
+    write_mesh(path, in, kTriangles, f, ScalarType::f32);
+    LoadedMesh m = load_mesh(path, dir.path());
+    CHECK_FALSE(m.info.double_precision);
+    CHECK(m.positions == rounded);
+  }
+}
+
+namespace {
+
+// The corners of every triangle of a loaded mesh, as 9 doubles per triangle: meshes
+// compared by geometry, whatever their vertex numbering (STL repeats corners).
+std::vector<std::array<double, 9>> corner_triples(const std::vector<double>& pos,
+                                                  const std::vector<std::uint64_t>& tri) {
+  std::vector<std::array<double, 9>> out;
+  for (std::size_t t = 0; t < tri.size(); t += 3) {
+    std::array<double, 9> c;
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) c[std::size_t(3 * k + a)] = pos[3 * tri[t + std::size_t(k)] + std::size_t(a)];
+    out.push_back(c);
+  }
+  return out;
+}
+
+// A closed tetrahedron with outward-facing triangles (counter-clockwise seen from
+// outside), at UTM-like coordinates: float values.
+const std::vector<float> kTetra = {450000.f, 5400000.f, 200.f, 450001.f, 5400000.f, 200.f,
+                                   450000.f, 5400001.f, 200.f, 450000.f, 5400000.f, 201.f};
+const std::vector<std::uint32_t> kTetraTriangles = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+
+}  // namespace
+
+TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles with outward normals", "[writers][stl]") {
+  const std::vector<double> pos = as_doubles(kTetra);
+  const auto want = corner_triples(pos, as_u64(kTetraTriangles));
+  struct Case {
+    const char* name;
+    MeshFormat format;
+    const char* expected;
+  };
+  for (const Case& c : {Case{"t.stl", MeshFormat::stl_binary, "stl binary"},
+                        Case{"t.stl", MeshFormat::stl_ascii, "stl ascii"},
+                        Case{"t.stl.zst", MeshFormat::stl_binary, "stl binary"},
+                        Case{"t.stl.zst", MeshFormat::stl_ascii, "stl ascii"}}) {
+    CAPTURE(c.name, c.expected);
+    ScratchDir dir, tmp;
+    std::string path = dir.file(c.name);
+    write_mesh(path, pos, kTetraTriangles, c.format);
+    CHECK(dir.entries() == std::vector<std::string>{c.name});
+    LoadedMesh m = load_mesh(path, tmp.path());
+    CHECK(m.info.format == c.expected);
+    CHECK(m.info.face_count == 4);
+    CHECK(corner_triples(m.positions, m.triangles) == want);
+    if (c.format == MeshFormat::stl_binary && std::string(c.name) == "t.stl") {
+      // 84 + 50 bytes per triangle; the header must not look like ascii STL.
+      std::string bytes = oocsimp_test::read_file(path);
+      REQUIRE(bytes.size() == 84 + 4 * 50);
+      CHECK(bytes.compare(0, 5, "solid") != 0);
+      // Facet normals: unit, pointing away from the tetrahedron's centroid.
+      const double centre[3] = {450000.25, 5400000.25, 200.25};
+      for (std::size_t t = 0; t < 4; ++t) {
+        float n[3];
+        std::memcpy(n, bytes.data() + 84 + 50 * t, 12);
+        CHECK(std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]) == Approx(1.0).epsilon(1e-6));
+        const std::array<double, 9>& c3 = want[t];
+        double out = 0;
+        for (std::size_t a = 0; a < 3; ++a) out += n[a] * ((c3[a] + c3[3 + a] + c3[6 + a]) / 3 - centre[a]);
+        CHECK(out > 0);
+      }
+    }
+  }
+}
+
+TEST_CASE("write_mesh ascii STL keeps doubles at double precision", "[writers][stl][precision]") {
+  ScratchDir dir;
+  std::vector<double> pos = {451234.56789012345, 5412345.678901234, 201.33333333333334, 451235.1, 5412345.2, 201.3,
+                             451234.3, 5412346.4, 201.7};
+  write_mesh(dir.file("d.stl"), pos, {0, 1, 2}, MeshFormat::stl_ascii, ScalarType::f64);
+  LoadedMesh m = load_mesh(dir.file("d.stl"), dir.path());
+  CHECK(corner_triples(m.positions, m.triangles) == corner_triples(pos, {0, 1, 2}));
+  // Binary STL is float32 by format.
+  write_mesh(dir.file("b.stl"), pos, {0, 1, 2}, MeshFormat::stl_binary, ScalarType::f64);
+  LoadedMesh b = load_mesh(dir.file("b.stl"), dir.path());
+  std::vector<double> rounded;
+  for (double v : pos) rounded.push_back(double(float(v)));
+  CHECK(corner_triples(b.positions, b.triangles) == corner_triples(rounded, {0, 1, 2}));
+}
+
+// OFF has no reader in the project: parsed here, by the format's definition.
+TEST_CASE("write_mesh OFF holds the vertices and triangles exactly", "[writers][off]") {
+  for (ScalarType precision : {ScalarType::f32, ScalarType::f64}) {
+    ScratchDir dir;
+    const std::vector<double> pos = precision == ScalarType::f32 ? as_doubles(kPositions) : kDoublePositions;
+    write_mesh(dir.file("m.off"), pos, kTriangles, MeshFormat::off, precision);
+    CHECK(dir.entries() == std::vector<std::string>{"m.off"});
+    std::istringstream in(oocsimp_test::read_file(dir.file("m.off")));
+    std::string magic;
+    std::size_t nv = 0, nf = 0, ne = 1;
+    in >> magic >> nv >> nf >> ne;
+    CHECK(magic == "OFF");
+    REQUIRE(nv == 5);
+    REQUIRE(nf == 4);
+    CHECK(ne == 0);
+    std::vector<double> got(3 * nv);
+    for (double& v : got) {
+      std::string word;
+      in >> word;
+      v = std::strtod(word.c_str(), nullptr);
+    }
+    CHECK(got == pos);
+    std::vector<std::uint32_t> tri;
+    for (std::size_t f = 0; f < nf; ++f) {
+      std::uint32_t n = 0, a = 0, b = 0, c = 0;
+      in >> n >> a >> b >> c;
+      CHECK(n == 3);
+      tri.insert(tri.end(), {a, b, c});
+    }
+    CHECK(tri == kTriangles);
+    std::string rest;
+    CHECK_FALSE(in >> rest);
+  }
+  ScratchDir dir;
+  write_mesh(dir.file("m.off.zst"), as_doubles(kPositions), kTriangles, MeshFormat::off);
+  CHECK(dir.entries() == std::vector<std::string>{"m.off.zst"});
+}
+
+TEST_CASE("simplify writes the format its output's extension names, and refuses others before any work",
+          "[writers][cli]") {
+  ScratchDir d;
+  auto q = [](const std::string& s) { return "'" + s + "'"; };
+  REQUIRE(oocsimp_test::run_cli("generate --tris 5000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  const std::string base = "simplify --quiet " + q(d.file("s.ply")) + " --grid 12 --tmp " + q(d.path()) + " -o ";
+  REQUIRE(oocsimp_test::run_cli(base + q(d.file("ref.ply"))).exit_code == 0);
+  LoadedMesh ref = load_mesh(d.file("ref.ply"), d.path());
+  const auto want = corner_triples(ref.positions, ref.triangles);
+  struct Case {
+    const char* name;
+    const char* flags;
+    const char* format;
+  };
+  for (const Case& c : {Case{"o.stl", "", "stl binary"}, Case{"o.stl", " --ascii", "stl ascii"},
+                        Case{"o.STL.zst", "", "stl binary"}, Case{"o.obj", "", "obj"}}) {
+    CAPTURE(c.name, c.flags);
+    oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(c.name)) + c.flags);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    LoadedMesh m = load_mesh(d.file(c.name), d.path());
+    CHECK(m.info.format == c.format);
+    CHECK(corner_triples(m.positions, m.triangles) == want);
+  }
+  REQUIRE(oocsimp_test::run_cli(base + q(d.file("o.off"))).exit_code == 0);
+  CHECK(oocsimp_test::read_file(d.file("o.off")).compare(0, 4, "OFF\n") == 0);
+  for (const char* name : {"o.glb", "o.gltf", "o.off.gz", "noext"}) {
+    CAPTURE(name);
+    oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(name)));
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(".stl") != std::string::npos);
+    CHECK_FALSE(oocsimp_test::file_exists(d.file(name)));
+  }
+  // Refused before any work: no temporary position array, no spill was made.
+  for (const std::string& e : d.entries()) CHECK(e.find("oocsimp-") == std::string::npos);
+}
+
+TEST_CASE("float text: the shortest float where the format declares float, the float's exact double elsewhere",
+          "[writers][precision]") {
+  ScratchDir dir;
+  const std::vector<double> pos = {double(0.1f), 0.5, -2, 1, 0, 0, 0, 1, 0};
+  write_mesh(dir.file("f.ply"), pos, {0, 1, 2}, MeshFormat::ply_ascii, ScalarType::f32);
+  write_mesh(dir.file("f.obj"), pos, {0, 1, 2}, MeshFormat::obj, ScalarType::f32);
+  write_mesh(dir.file("d.obj"), {0.1, 0.5, -2, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, MeshFormat::obj, ScalarType::f64);
+  CHECK(oocsimp_test::read_file(dir.file("f.ply")).find("\n0.1 0.5 -2\n") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("f.obj")).find("\nv 0.10000000149011612 0.5 -2\n") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("d.obj")).find("\nv 0.1 0.5 -2\n") != std::string::npos);
+  CHECK_FALSE(load_mesh(dir.file("f.obj"), dir.path()).info.double_precision);
+  CHECK(load_mesh(dir.file("d.obj"), dir.path()).info.double_precision);
 }

@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
     double t2 = now_seconds();
     std::vector<std::uint32_t> tri(dst.begin(), dst.end());
     out_pos.resize(3 * nv);
-    write_mesh(argv[2], out_pos, tri, MeshFormat::ply_binary);
+    write_mesh(argv[2], std::vector<double>(out_pos.begin(), out_pos.end()), tri, MeshFormat::ply_binary);
     double t3 = now_seconds();
     std::printf("seconds %.3f load %.3f simplify %.3f write %.3f triangles %zu peak_rss_mib %.1f\n", t3 - t0, t1 - t0,
                 t2 - t1, t3 - t2, tri.size() / 3, double(peak_rss_bytes()) / 1048576.0);

@@ -84,7 +84,8 @@ struct SimplifyArgs {
   std::string in;
   OutputOptions outputs;
   SimplifyOptions options;
-  std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto";
+  std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
+              precision = "auto";
   Given cell, grid, ratio, tile, mem, threads;
   std::vector<CLI::Option*> floating_only;
   bool quiet = false;
@@ -108,6 +109,8 @@ void resolve_simplify_args(SimplifyArgs& a) {
       a.rep, {RepresentativeRule::quadric, RepresentativeRule::centre, RepresentativeRule::mean}, representative_name);
   o.spill_compression = enum_named(
       a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
+  o.precision =
+      enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
@@ -316,8 +319,8 @@ int main(int argc, char** argv) {
                    "the triangles).\n");
   simplify->add_option("input", sa.in, "Input mesh")->required();
   simplify->add_option("-o,--output", sa.outputs.mesh,
-                       "Output mesh; the format from the name: .ply or .obj, + .zst compresses; - writes binary PLY to "
-                       "stdout")
+                       "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
+                       "binary PLY to stdout")
       ->required()
       ->group(common);
   sa.cell.option = simplify->add_option("--cell", sa.cell.text, "Cell side in model units")->group(common);
@@ -343,7 +346,12 @@ int main(int argc, char** argv) {
                      "Allow the output to be the input (replaced only after a successful run)")
       ->group(common);
   simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
-  simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY instead of binary")->group(common);
+  simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY or STL instead of binary")->group(common);
+  simplify->add_option("--precision", sa.precision,
+                       "Output coordinates: float, double or auto (double when the input holds more than float "
+                       "precision, the default)")
+      ->check(CLI::IsMember({"auto", "float", "double"}))
+      ->group(common);
   sa.mem.option = simplify
                       ->add_option("--mem", sa.mem.text,
                                    "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G "

@@ -2,8 +2,8 @@
 //
 // A mesh file is opened as two things: a random-access array of vertex positions
 // that lives in a memory-mapped file (the input itself for binary PLY with
-// fixed-size vertex records, otherwise a temporary float array under the temp
-// directory), and a sequential stream of triangles (polygons are fanned). Neither
+// fixed-size vertex records, otherwise a temporary array under the temp directory,
+// float or double as the input's precision needs), and a sequential stream of triangles (polygons are fanned). Neither
 // ever holds the whole input in heap memory.
 #pragma once
 
@@ -67,6 +67,10 @@ struct MeshInfo {
   std::vector<std::string> elements;    ///< "vertex 100 (x float, y float, ...)" per element
   std::vector<std::string> comments;    ///< PLY comment / obj_info lines
   bool positions_in_place = false;      ///< true when positions are read from the input through mmap
+  /// Positions carry more than float precision: the file stores them as double (PLY
+  /// double), or a text coordinate is not exactly a float. They are then read as
+  /// double (PositionArray type f64), and Precision::automatic writes double output.
+  bool double_precision = false;
   Box3d bounds;                         ///< of the finite vertices
   /// Vertices with a NaN or infinite coordinate (see is_finite), the first of them by
   /// index and where it is in the file ("byte N" or "line N"); only the first is
@@ -148,11 +152,11 @@ struct OpenOptions {
 /// optionally zstd-compressed (".zst"). Detects the format from the content (the
 /// extension is only a tie-breaker), maps or converts the positions and computes the
 /// bounding box of the finite ones, then welds the vertices (STL, or `options.weld`).
-/// NaN or infinite coordinates are counted in
-/// info.non_finite_vertices, not rejected; a finite coordinate beyond the float range
-/// in a file that is converted to float is an InputError. The file is opened once and
-/// every pass reads that descriptor; "-" is standard input, and a FIFO, pipe or device
-/// is copied into temp_dir as far as it is read (the copy goes with the MeshInput).
+/// NaN or infinite coordinates are counted in info.non_finite_vertices, not rejected.
+/// Converting keeps every coordinate exactly (see MeshInfo::double_precision). The file
+/// is opened once and every pass reads that descriptor; "-" is standard input, and a
+/// FIFO, pipe or device is copied into temp_dir as far as it is read (the copy goes
+/// with the MeshInput).
 MeshInput open_mesh_input(const std::string& path, const OpenOptions& options = {});
 
 inline Vec3d PositionArray::get(std::uint64_t i) const {

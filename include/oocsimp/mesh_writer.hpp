@@ -5,28 +5,39 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/mesh_input.hpp"
+
 namespace oocsimp {
 
 class OutputFile;
 
-enum class MeshFormat { ply_binary, ply_ascii, obj };
+enum class MeshFormat { ply_binary, ply_ascii, obj, stl_binary, stl_ascii, off };
 
-/// The format implied by a path: ".obj" (optionally ".obj.zst") gives OBJ, anything
-/// else PLY; `ascii` selects ascii PLY. Compression is implied by a ".zst" suffix.
+/// The format implied by a path's extension, ignoring case and an optional ".zst"
+/// (which compresses the stream): ".ply" (ascii PLY when `ascii`), ".obj", ".stl"
+/// (ascii STL when `ascii`) or ".off". Any other name throws UsageError listing what
+/// can be written.
 MeshFormat format_for_path(const std::string& path, bool ascii);
 
-/// Writes a triangle mesh given as flat arrays: `positions` holds 3 floats per vertex,
-/// `triangles` 3 vertex indices per face. PLY is written with float x,y,z and a
-/// "uchar uint vertex_indices" list; a ".zst" suffix compresses the stream.
+/// Writes a triangle mesh given as flat arrays: `positions` holds 3 coordinates per
+/// vertex, `triangles` 3 vertex indices per face. `precision` says how coordinates
+/// are stored: PLY writes "property float x" or "property double x", the text formats
+/// (OBJ, OFF, ascii STL) the shortest text that reads back as the same double (rounded
+/// to float first for f32, so that a float output reads back as float input; ascii
+/// PLY, which declares float, the shortest text of the float); binary STL holds
+/// float32 whatever `precision` says. PLY faces are
+/// "uchar uint vertex_indices" lists; STL facet normals are the unit normals of the
+/// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
 /// The destination is an OutputFile: a regular file is written under a temporary name
 /// in its folder and renamed into place only when complete (on any failure it is
 /// untouched and the temporary file removed); a device, FIFO or "-" is streamed into.
 /// Throws IoError.
-void write_mesh(const std::string& path, const std::vector<float>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format);
+void write_mesh(const std::string& path, const std::vector<double>& positions,
+                const std::vector<std::uint32_t>& triangles, MeshFormat format,
+                ScalarType precision = ScalarType::f32);
 
 /// The same into an OutputFile opened earlier; the caller commits it.
-void write_mesh(OutputFile& out, const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format);
+void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
+                MeshFormat format, ScalarType precision = ScalarType::f32);
 
 }  // namespace oocsimp

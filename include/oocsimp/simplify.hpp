@@ -46,6 +46,13 @@ enum class SpillCompression {
   none,       ///< never (the spill stays in the page cache, or the disk is fast)
 };
 
+/// The precision of the output positions.
+enum class Precision {
+  automatic,  ///< double when the input holds more than float precision (MeshInfo::double_precision), else float
+  float32,    ///< float, whatever the input
+  float64,    ///< double, whatever the input
+};
+
 /// How the cell size is chosen: at most one of the three is set (non-zero); when none
 /// is, the ratio is kDefaultRatio.
 struct CellSizing {
@@ -77,6 +84,7 @@ struct SimplifyOptions {
   SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
   unsigned threads = 0;             ///< 0 = all cores
   std::string temp_dir;             ///< empty = default_temp_dir()
+  Precision precision = Precision::automatic;  ///< of the output positions
   ProgressReporter* progress = nullptr;
 };
 
@@ -118,8 +126,11 @@ struct SimplifyStats {
 };
 
 struct SimplifiedMesh {
-  std::vector<float> positions;          ///< 3 per vertex
+  std::vector<double> positions;         ///< 3 per vertex
   std::vector<std::uint32_t> triangles;  ///< 3 per face
+  /// The precision chosen for the output: with f32 every position is a float value
+  /// (rounded from the double the clustering computed), and writers store it as float.
+  ScalarType precision = ScalarType::f32;
 };
 
 /// A quarter of physical memory: the default working-set budget.
@@ -145,6 +156,9 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned 
 /// orientation of its first occurrence in file order, and the result is
 /// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+
+/// The precision `options` ask for on `input` (resolves Precision::automatic).
+ScalarType output_precision(const MeshInput& input, Precision precision);
 
 /// Where simplify_file writes.
 struct OutputOptions {
@@ -184,6 +198,7 @@ const char* cell_shape_name(CellShape s);
 const char* assign_name(AssignRule a);
 const char* representative_name(RepresentativeRule r);
 const char* spill_compression_name(SpillCompression c);
+const char* precision_name(Precision p);
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and
 /// ignored vertices in `stats`, with the first non-finite vertex; empty when the input

@@ -934,7 +934,7 @@ class FloatingRun {
     std::vector<KeptTriangle>().swap(kept_);
     // Representatives, a cluster bucket at a time: merge each centre's shares (in
     // fixed point, so in any order) and solve for the clusters some triangle uses.
-    mesh.positions.assign(3 * index.size(), 0.0f);
+    mesh.positions.assign(3 * index.size(), 0.0);
     std::uint64_t clusters = 0;
     for (std::uint32_t b = 0; b < partials_->tile_count(); ++b) {
       std::vector<PartialCluster> shares;
@@ -953,9 +953,9 @@ class FloatingRun {
         ClusterRecord sum = shares[starts[k]].sums;
         for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
         Vec3d p = representative(sum);
-        mesh.positions[3 * std::size_t(id)] = float(p.x);
-        mesh.positions[3 * std::size_t(id) + 1] = float(p.y);
-        mesh.positions[3 * std::size_t(id) + 2] = float(p.z);
+        mesh.positions[3 * std::size_t(id)] = p.x;
+        mesh.positions[3 * std::size_t(id) + 1] = p.y;
+        mesh.positions[3 * std::size_t(id) + 2] = p.z;
       });
     }
     if (stats_) {

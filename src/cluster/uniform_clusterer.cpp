@@ -229,9 +229,9 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
       Vec3d mean = s.n ? Vec3d{s.x / double(s.n), s.y / double(s.n), s.z / double(s.n)}
                        : Vec3d{lo.x + 0.5 * grid.cell, lo.y + 0.5 * grid.cell, lo.z + 0.5 * grid.cell};
       Vec3d x = minimize_quadric(rec.q, mean, lo, hi);
-      mesh.positions[3 * i] = float(x.x + grid.origin.x);
-      mesh.positions[3 * i + 1] = float(x.y + grid.origin.y);
-      mesh.positions[3 * i + 2] = float(x.z + grid.origin.z);
+      mesh.positions[3 * i] = x.x + grid.origin.x;
+      mesh.positions[3 * i + 1] = x.y + grid.origin.y;
+      mesh.positions[3 * i + 2] = x.z + grid.origin.z;
     }
   });
   double t3 = now_seconds();

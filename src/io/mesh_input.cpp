@@ -162,6 +162,7 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   // progress needs its size.
   src.input()->read_to_end();
   out.file_size = src.file_size();
+  if (out.positions.type == ScalarType::f64) out.info.double_precision = true;  // a double PLY read in place
   // STL stores every triangle's corners apart: without welding no two triangles
   // would share a vertex.
   if (stl || options.weld) weld_vertices(out, options.temp_dir, options.memory_budget);

@@ -1,6 +1,7 @@
 #include "oocsimp/mesh_writer.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <cstring>
 
 #include "io/byte_sink.hpp"
@@ -11,10 +12,18 @@ namespace oocsimp {
 
 namespace {
 
-// Shortest text that reads back as the same float.
-void append_float(std::string& s, float v) {
+// The shortest text that reads back as the same double (at most %.17g), of the value
+// rounded to float first when `precision` is f32. Where the format declares float
+// (ascii PLY), the shortest text that reads back as the same float (at most %.9g) is
+// enough; elsewhere it is not, as it parses to a double which is not exactly the float
+// ("0.1" for 0.1f), so a reader that keeps what the text says, as ours does (see
+// MeshInfo::double_precision), would take a float output for double input.
+void append_coord(std::string& s, double v, ScalarType precision, bool declared_float = false) {
   char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  std::to_chars_result r;
+  if (precision == ScalarType::f64) r = std::to_chars(buf, buf + sizeof buf, v);
+  else if (declared_float) r = std::to_chars(buf, buf + sizeof buf, float(v));
+  else r = std::to_chars(buf, buf + sizeof buf, double(float(v)));
   s.append(buf, r.ptr);
 }
 
@@ -24,79 +33,202 @@ void append_uint(std::string& s, std::uint64_t v) {
   s.append(buf, r.ptr);
 }
 
-void write_body(ByteSink& sink, const std::vector<float>& pos, const std::vector<std::uint32_t>& tri, MeshFormat format) {
-  std::size_t nv = pos.size() / 3, nf = tri.size() / 3;
-  std::string text;
-  auto flush_text = [&](bool force) {
-    if (force || text.size() > (1 << 16)) {
-      sink.write(text);
-      text.clear();
-    }
-  };
-  if (format == MeshFormat::obj) {
-    text = "# oocsimp\n";
-    for (std::size_t i = 0; i < nv; ++i) {
-      text += "v ";
-      append_float(text, pos[3 * i]);
-      text += ' ';
-      append_float(text, pos[3 * i + 1]);
-      text += ' ';
-      append_float(text, pos[3 * i + 2]);
-      text += '\n';
-      flush_text(false);
-    }
-    for (std::size_t i = 0; i < nf; ++i) {
-      text += "f ";
-      append_uint(text, tri[3 * i] + std::uint64_t(1));
-      text += ' ';
-      append_uint(text, tri[3 * i + 1] + std::uint64_t(1));
-      text += ' ';
-      append_uint(text, tri[3 * i + 2] + std::uint64_t(1));
-      text += '\n';
-      flush_text(false);
-    }
-    flush_text(true);
-    return;
+// Text written through the sink in pieces of about 64 KiB.
+class TextOut {
+ public:
+  explicit TextOut(ByteSink& sink) : sink_(sink) {}
+  std::string& text() { return text_; }
+  void maybe_flush() {
+    if (text_.size() > (1 << 16)) flush();
   }
-  bool ascii = format == MeshFormat::ply_ascii;
-  text = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
-         " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(nv) +
-         "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(nf) +
-         "\nproperty list uchar uint vertex_indices\nend_header\n";
-  sink.write(text);
-  text.clear();
+  void flush() {
+    sink_.write(text_);
+    text_.clear();
+  }
+
+ private:
+  ByteSink& sink_;
+  std::string text_;
+};
+
+struct MeshArrays {
+  const std::vector<double>& pos;
+  const std::vector<std::uint32_t>& tri;
+  ScalarType precision;
+  bool declared_float = false;  // the format says the text is float (see append_coord)
+  std::size_t vertices() const { return pos.size() / 3; }
+  std::size_t triangles() const { return tri.size() / 3; }
+  // "x y z" of vertex i.
+  void append_vertex(std::string& s, std::size_t i) const {
+    append_coord(s, pos[3 * i], precision, declared_float);
+    s += ' ';
+    append_coord(s, pos[3 * i + 1], precision, declared_float);
+    s += ' ';
+    append_coord(s, pos[3 * i + 2], precision, declared_float);
+  }
+  // The indices of triangle t, each plus `base`, separated by blanks.
+  void append_triangle(std::string& s, std::size_t t, std::uint64_t base) const {
+    append_uint(s, tri[3 * t] + base);
+    s += ' ';
+    append_uint(s, tri[3 * t + 1] + base);
+    s += ' ';
+    append_uint(s, tri[3 * t + 2] + base);
+  }
+};
+
+void write_obj(ByteSink& sink, const MeshArrays& m) {
+  TextOut out(sink);
+  out.text() = "# oocsimp\n";
+  for (std::size_t i = 0; i < m.vertices(); ++i) {
+    out.text() += "v ";
+    m.append_vertex(out.text(), i);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    out.text() += "f ";
+    m.append_triangle(out.text(), t, 1);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
+  out.flush();
+}
+
+// OFF (Geomview): "OFF", the counts (vertices, faces, edges: 0, not needed), vertices,
+// faces as "3 a b c" with 0-based indices.
+void write_off(ByteSink& sink, const MeshArrays& m) {
+  TextOut out(sink);
+  out.text() = "OFF\n" + std::to_string(m.vertices()) + " " + std::to_string(m.triangles()) + " 0\n";
+  for (std::size_t i = 0; i < m.vertices(); ++i) {
+    m.append_vertex(out.text(), i);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    out.text() += "3 ";
+    m.append_triangle(out.text(), t, 0);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
+  out.flush();
+}
+
+void write_ply(ByteSink& sink, MeshArrays m, bool ascii) {
+  m.declared_float = true;
+  const char* type = m.precision == ScalarType::f32 ? "float" : "double";
+  std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
+                       " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(m.vertices()) + "\nproperty " + type +
+                       " x\nproperty " + type + " y\nproperty " + type + " z\nelement face " +
+                       std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  sink.write(header);
   if (!ascii) {
-    static_assert(sizeof(float) == 4, "float must be 32-bit");
-    // x86 and ARM are little-endian: the arrays are written as they are.
-    if (!pos.empty()) sink.write(pos.data(), pos.size() * sizeof(float));  // data() may be null when empty
-    for (std::size_t i = 0; i < nf; ++i) {
+    static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE float and double");
+    // x86 and ARM are little-endian: values are written as they are.
+    if (m.precision == ScalarType::f64) {
+      if (!m.pos.empty()) sink.write(m.pos.data(), m.pos.size() * sizeof(double));  // data() may be null when empty
+    } else {
+      for (double v : m.pos) {
+        float f = float(v);
+        sink.write(&f, sizeof f);
+      }
+    }
+    for (std::size_t t = 0; t < m.triangles(); ++t) {
       unsigned char rec[13];
       rec[0] = 3;
-      std::memcpy(rec + 1, &tri[3 * i], 12);
+      std::memcpy(rec + 1, &m.tri[3 * t], 12);
       sink.write(rec, 13);
     }
     return;
   }
-  for (std::size_t i = 0; i < nv; ++i) {
-    append_float(text, pos[3 * i]);
-    text += ' ';
-    append_float(text, pos[3 * i + 1]);
-    text += ' ';
-    append_float(text, pos[3 * i + 2]);
-    text += '\n';
-    flush_text(false);
+  TextOut out(sink);
+  for (std::size_t i = 0; i < m.vertices(); ++i) {
+    m.append_vertex(out.text(), i);
+    out.text() += '\n';
+    out.maybe_flush();
   }
-  for (std::size_t i = 0; i < nf; ++i) {
-    text += "3 ";
-    append_uint(text, tri[3 * i]);
-    text += ' ';
-    append_uint(text, tri[3 * i + 1]);
-    text += ' ';
-    append_uint(text, tri[3 * i + 2]);
-    text += '\n';
-    flush_text(false);
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    out.text() += "3 ";
+    m.append_triangle(out.text(), t, 0);
+    out.text() += '\n';
+    out.maybe_flush();
   }
-  flush_text(true);
+  out.flush();
+}
+
+// The unit normal of triangle t by the right-hand rule over its corner order; 0 when
+// it has no area.
+Vec3d facet_normal(const MeshArrays& m, std::size_t t) {
+  const double* a = &m.pos[3 * std::size_t(m.tri[3 * t])];
+  const double* b = &m.pos[3 * std::size_t(m.tri[3 * t + 1])];
+  const double* c = &m.pos[3 * std::size_t(m.tri[3 * t + 2])];
+  double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  Vec3d n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  if (!(len > 0) || !std::isfinite(len)) return {};
+  return {n.x / len, n.y / len, n.z / len};
+}
+
+// Binary STL: an 80-byte header (not starting with "solid", which readers take for
+// ascii), the triangle count, then per triangle the normal and the three corners as
+// float32 and a zero attribute word. STL has no shared vertices: corners are repeated.
+void write_stl_binary(ByteSink& sink, const MeshArrays& m, const std::string& path) {
+  if (m.triangles() > 0xFFFFFFFFu)
+    throw IoError(path + ": " + std::to_string(m.triangles()) +
+                  " triangles do not fit in a binary STL (at most 2^32 - 1)");
+  unsigned char header[84] = {};
+  const char kTitle[] = "binary STL written by oocsimp";
+  std::memcpy(header, kTitle, sizeof kTitle - 1);
+  std::uint32_t n = std::uint32_t(m.triangles());
+  std::memcpy(header + 80, &n, 4);  // little-endian, as the hosts are
+  sink.write(header, sizeof header);
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    float rec[12];
+    Vec3d nrm = facet_normal(m, t);
+    rec[0] = float(nrm.x);
+    rec[1] = float(nrm.y);
+    rec[2] = float(nrm.z);
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) rec[3 + 3 * k + a] = float(m.pos[3 * std::size_t(m.tri[3 * t + k]) + a]);
+    sink.write(rec, sizeof rec);
+    const unsigned char attribute[2] = {0, 0};
+    sink.write(attribute, 2);
+  }
+}
+
+void write_stl_ascii(ByteSink& sink, const MeshArrays& m) {
+  TextOut out(sink);
+  out.text() = "solid oocsimp\n";
+  for (std::size_t t = 0; t < m.triangles(); ++t) {
+    Vec3d nrm = facet_normal(m, t);
+    std::string& s = out.text();
+    s += "facet normal ";
+    append_coord(s, nrm.x, ScalarType::f32);
+    s += ' ';
+    append_coord(s, nrm.y, ScalarType::f32);
+    s += ' ';
+    append_coord(s, nrm.z, ScalarType::f32);
+    s += "\n outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      s += "  vertex ";
+      m.append_vertex(s, m.tri[3 * t + std::size_t(k)]);
+      s += '\n';
+    }
+    s += " endloop\nendfacet\n";
+    out.maybe_flush();
+  }
+  out.text() += "endsolid oocsimp\n";
+  out.flush();
+}
+
+void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const std::string& path) {
+  switch (format) {
+    case MeshFormat::obj: return write_obj(sink, m);
+    case MeshFormat::off: return write_off(sink, m);
+    case MeshFormat::stl_binary: return write_stl_binary(sink, m, path);
+    case MeshFormat::stl_ascii: return write_stl_ascii(sink, m);
+    case MeshFormat::ply_ascii: return write_ply(sink, m, true);
+    case MeshFormat::ply_binary: return write_ply(sink, m, false);
+  }
 }
 
 }  // namespace
@@ -104,25 +236,28 @@ void write_body(ByteSink& sink, const std::vector<float>& pos, const std::vector
 MeshFormat format_for_path(const std::string& path, bool ascii) {
   std::string p = path;
   if (has_zst_suffix(p)) p.resize(p.size() - 4);
-  if (p.size() >= 4) {
-    std::string ext = p.substr(p.size() - 4);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".obj") return MeshFormat::obj;
-  }
-  return ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
+  std::string ext = p.size() >= 4 ? p.substr(p.size() - 4) : "";
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") return ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
+  if (ext == ".obj") return MeshFormat::obj;
+  if (ext == ".stl") return ascii ? MeshFormat::stl_ascii : MeshFormat::stl_binary;
+  if (ext == ".off") return MeshFormat::off;
+  throw UsageError("cannot write \"" + path +
+                   "\": the output format comes from the extension, one of .ply, .obj, .stl or .off, optionally "
+                   "followed by .zst");
 }
 
-void write_mesh(const std::string& path, const std::vector<float>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format) {
+void write_mesh(const std::string& path, const std::vector<double>& positions,
+                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision) {
   OutputFile out(path);
-  write_mesh(out, positions, triangles, format);
+  write_mesh(out, positions, triangles, format, precision);
   out.commit();
 }
 
-void write_mesh(OutputFile& out, const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format) {
+void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
+                MeshFormat format, ScalarType precision) {
   ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
-  write_body(sink, positions, triangles, format);
+  write_body(sink, MeshArrays{positions, triangles, precision}, format, out.path());
   sink.finish();
 }
 

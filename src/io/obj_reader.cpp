@@ -1,6 +1,6 @@
 // Wavefront OBJ reader: `v` and `f` lines; everything else is ignored.
 //
-// Two streaming passes: the first converts `v` lines to a temporary float array
+// Two streaming passes: the first converts `v` lines to a temporary position array
 // (and counts `f` lines), the second streams the faces. An index refers to the
 // vertices defined so far (negative ones count back from the latest), as in the
 // format's definition, so forward references are rejected.

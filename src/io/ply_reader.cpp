@@ -2,8 +2,8 @@
 //
 // Positions: a binary, uncompressed file whose vertex records have a fixed size and
 // hold x, y, z as float or double is read in place through mmap; anything else is
-// converted to a temporary float array. Faces are streamed record by record and
-// fanned; other elements are skipped.
+// converted to a temporary position array of the declared type. Faces are streamed
+// record by record and fanned; other elements are skipped.
 #include <tbb/parallel_reduce.h>
 #include <tbb/blocked_range.h>
 
@@ -584,6 +584,9 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
+    if (same_float_type) builder.declare(xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64);
+    else if (xt == PlyType::f64 || v.props[h->xyz[1]].type == PlyType::f64 || v.props[h->xyz[2]].type == PlyType::f64)
+      builder.declare(ScalarType::f64);
     if (src.content_size_known()) {
       // A record takes at least this many bytes, so the file's size bounds the vertex
       // count: a header claiming 10^12 vertices on a small file is a truncated file

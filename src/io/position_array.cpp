@@ -32,38 +32,61 @@ void Box3d::add(const Box3d& b) {
 }
 
 PositionArrayBuilder::PositionArrayBuilder(const std::string& temp_dir, const std::string& source_path)
-    : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-positions-")),
-      sink_(std::make_unique<ByteSink>(file_->fd(), file_->path(), false)),
-      source_path_(source_path),
-      temp_dir_(temp_dir) {
+    : source_path_(source_path), temp_dir_(temp_dir) {
+  open_file();
+}
+
+PositionArrayBuilder::~PositionArrayBuilder() = default;
+
+void PositionArrayBuilder::open_file() {
+  file_ = std::make_unique<TempFile>(temp_dir_, "oocsimp-positions-");
+  sink_ = std::make_unique<ByteSink>(file_->fd(), file_->path(), false);
   sink_->on_write_error([this](std::uint64_t on_disk, int err) {
-    std::string need = expected_bytes_ ? ", of about " + mib_text(expected_bytes_) + " needed" : "";
+    std::string need =
+        expected_vertices_ ? ", of about " + mib_text(expected_vertices_ * record_bytes()) + " needed" : "";
     return temp_dir_ + ": cannot write the temporary position array of " + source_path_ + " (" + mib_text(on_disk) +
            " written" + need + "): " + std::strerror(err);
   });
 }
 
 void PositionArrayBuilder::expect(std::uint64_t vertices) {
-  expected_bytes_ = vertices * 3 * sizeof(float);
-  require_free_space(temp_dir_, expected_bytes_, "the temporary position array of " + source_path_);
+  expected_vertices_ = vertices;
+  require_free_space(temp_dir_, vertices * record_bytes(), "the temporary position array of " + source_path_);
 }
-
-PositionArrayBuilder::~PositionArrayBuilder() = default;
 
 Vec3d PositionArrayBuilder::widen(const float* f) { return {double(f[0]), double(f[1]), double(f[2])}; }
 
-void PositionArrayBuilder::not_finite_as_float(double x, double y, double z, const std::string& where) {
-  if (std::isfinite(x) && std::isfinite(y) && std::isfinite(z)) {
-    // The value is a number, just not one a float holds: converting would invent an
-    // infinity, so this is bad input rather than a vertex to skip.
-    std::ostringstream msg;
-    msg << source_path_ << ": " << where << ": vertex " << count_ << " (" << x << ", " << y << ", " << z
-        << ") is beyond the float range";
-    throw InputError(msg.str());
-  }
-  if (non_finite_++ == 0) {
-    first_non_finite_ = count_;
-    first_non_finite_position_ = where;
+void PositionArrayBuilder::beyond_float_range(double x, double y, double z, const std::string& where) const {
+  // The value is a number, just not one the declared float holds: converting would
+  // invent an infinity, so this is bad input rather than a vertex to skip.
+  std::ostringstream msg;
+  msg << source_path_ << ": " << where << ": vertex " << count_ << " (" << x << ", " << y << ", " << z
+      << ") is beyond the float range of its declared type";
+  throw InputError(msg.str());
+}
+
+void PositionArrayBuilder::declare(ScalarType type) {
+  if (type == ScalarType::f32) round_to_float_ = true;
+  else store_as_double();
+}
+
+void PositionArrayBuilder::store_as_double() {
+  if (is_double_) return;
+  is_double_ = true;
+  if (expected_vertices_) expect(expected_vertices_);
+  // The floats so far, widened (exactly) into a new file; the old one goes with its owner.
+  sink_->finish();
+  sink_.reset();
+  file_->close();
+  std::unique_ptr<TempFile> floats = std::move(file_);
+  open_file();
+  if (count_ == 0) return;
+  MappedFile map(floats->path());
+  for (std::uint64_t i = 0; i < count_; ++i) {
+    float f[3];
+    std::memcpy(f, map.data() + 12 * i, sizeof f);
+    double d[3] = {f[0], f[1], f[2]};
+    sink_->write(d, sizeof d);
   }
 }
 
@@ -75,6 +98,13 @@ void PositionArrayBuilder::finish(MeshInput& out) {
   out.positions = PositionArray{};
   out.positions.base = map->data();
   out.positions.count = count_;
+  if (is_double_) {
+    out.positions.type = ScalarType::f64;
+    out.positions.stride = 3 * sizeof(double);
+    out.positions.offset[1] = sizeof(double);
+    out.positions.offset[2] = 2 * sizeof(double);
+  }
+  out.info.double_precision = is_double_;
   out.info.bounds = bounds_;
   out.info.non_finite_vertices = non_finite_;
   out.info.first_non_finite_vertex = first_non_finite_;

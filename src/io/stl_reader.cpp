@@ -1,7 +1,7 @@
 // STL reader, binary and ascii.
 //
 // STL stores every triangle with its own three corners; they are converted to a
-// temporary float array (3 vertices per triangle) and the triangles are implicit.
+// temporary position array (3 vertices per triangle) and the triangles are implicit.
 // open_mesh_input then welds the corners into shared vertices (io/vertex_weld.hpp).
 // Binary versus ascii is decided by the binary size formula (84 + 50 n bytes), not by
 // the "solid" prefix, which many binary exporters also write.

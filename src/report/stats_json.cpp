@@ -36,6 +36,15 @@ const char* spill_compression_name(SpillCompression c) {
   return "auto";
 }
 
+const char* precision_name(Precision p) {
+  switch (p) {
+    case Precision::float32: return "float";
+    case Precision::float64: return "double";
+    case Precision::automatic: break;
+  }
+  return "auto";
+}
+
 namespace {
 
 // A JSON string literal (RFC 8259 §7): quotes, backslashes and control characters
@@ -90,6 +99,8 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   s += ", \"mem_bytes\": " + number(o.memory_budget ? o.memory_budget : default_memory_budget());
   s += ", \"threads\": " + number(std::uint64_t(o.threads));
   s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
+  s += ", \"weld\": " + std::string(o.weld ? "true" : "false");
+  s += ", \"precision\": " + quoted(precision_name(o.precision));
   s += ", \"ascii\": " + std::string(outputs.ascii ? "true" : "false");
   s += ", \"force\": " + std::string(outputs.replace_input ? "true" : "false");
   return s + "}";

@@ -269,10 +269,11 @@ inline Outcome read_outcome(const std::string& path) {
 }
 
 // The plain and the compressed reading of the same content must agree: both accept
-// the same mesh, or both reject it. Known and intended differences: a double PLY
-// read in place keeps coordinates beyond the float range that the conversion of the
-// compressed file rejects; an STL starting with "solid" may fit the binary size
-// formula, which only the uncompressed file can be checked against.
+// the same mesh, or both reject it. Known and intended difference: an STL starting
+// with "solid" may fit the binary size formula, which only the uncompressed file can
+// be checked against. (A double PLY's coordinates beyond the float range, once kept in
+// place only, are now kept by the conversion too: the beyond_float exception below is
+// a leftover that no longer fires.)
 inline void compare_outcomes(const Outcome& plain, const Outcome& packed, const std::uint8_t* data, std::size_t size) {
   if (plain.kind == Outcome::io_error || packed.kind == Outcome::io_error) return;
   if (size >= 4 && oocsimp::starts_zstd_frame(data)) return;  // the input itself is zstd

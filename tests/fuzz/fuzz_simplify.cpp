@@ -29,7 +29,7 @@ void check_result(const oocsimp::SimplifiedMesh& m, const char* method) {
   if (m.positions.size() % 3 != 0) finding(what + "positions not a multiple of 3");
   if (m.triangles.size() % 3 != 0) finding(what + "triangles not a multiple of 3");
   std::size_t nv = m.positions.size() / 3;
-  for (float f : m.positions)
+  for (double f : m.positions)
     if (!std::isfinite(f)) finding(what + "output position is not finite");
   std::set<std::array<std::uint32_t, 3>> seen;
   for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
@@ -49,7 +49,8 @@ void simplify_write_reread(oocsimp::MeshInput& in, const oocsimp::SimplifyOption
   if (stats.output_triangles != m.triangles.size() / 3 || stats.output_vertices != m.positions.size() / 3)
     finding(std::string(method) + ": stats disagree with the result");
   const std::string out = oocsimp_fuzz::Scratch::path() + "/output.ply";
-  oocsimp::write_mesh(out, m.positions, m.triangles, ascii ? oocsimp::MeshFormat::ply_ascii : oocsimp::MeshFormat::ply_binary);
+  oocsimp::write_mesh(out, m.positions, m.triangles,
+                      ascii ? oocsimp::MeshFormat::ply_ascii : oocsimp::MeshFormat::ply_binary, m.precision);
   // What we wrote must read back as the same mesh size.
   try {
     oocsimp::OpenOptions oo;
