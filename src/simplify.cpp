@@ -3,6 +3,7 @@
 
 #include <tbb/global_control.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -116,7 +117,18 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
 }
 
 MeshFormat output_format(const OutputOptions& outputs) {
-  if (outputs.mesh == "-") return outputs.ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
+  // stdout, a device, a FIFO or a socket has no extension to tell the format by (a name
+  // like /dev/stdout or x/null): PLY, unless the name has one we can write.
+  struct stat st;
+  const bool special = outputs.mesh == "-" || (::stat(outputs.mesh.c_str(), &st) == 0 && !S_ISREG(st.st_mode) &&
+                                                !S_ISDIR(st.st_mode));
+  if (special) {
+    try {
+      return format_for_path(outputs.mesh, outputs.ascii);
+    } catch (const UsageError&) {
+      return outputs.ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
+    }
+  }
   return format_for_path(outputs.mesh, outputs.ascii);
 }
 

@@ -550,7 +550,7 @@ TEST_CASE("floating-only flags with --method uniform exit 2 naming the flag and 
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
   for (const char* flag : {"--cell-shape sphere", "--assign heaviest", "--rep mean", "--tile 0.5", "--keep-tmp",
-                           "--spill-compress none", "--cell-shape cube", "--mem 64M"}) {
+                           "--spill-compress none", "--cell-shape cube"}) {
     CliResult r = run_cli("simplify --quiet --method uniform --grid 8 " + q(d.file("s.ply")) + " -o " +
                           q(d.file("o.ply")) + " " + flag);
     INFO(flag << ": " << r.err);

@@ -99,8 +99,6 @@ void check_same_after_shift_back(const SimplifiedMesh& got, const SimplifiedMesh
   CHECK(worst <= tolerance);
 }
 
-const char* method_name(ClusterMethod m) { return m == ClusterMethod::floating ? "floating" : "uniform"; }
-
 }  // namespace
 
 TEST_CASE("a scan shifted to UTM coordinates simplifies to the unshifted result, at double precision",
@@ -219,19 +217,29 @@ TEST_CASE("a float PLY input near the origin gives float output under auto, doub
   CHECK_FALSE(file_exists(d.file("x.ply")));
 }
 
-TEST_CASE("converted positions keep what the file says: float while exact, double from the first that is not",
+TEST_CASE("converted positions keep what the file says: float while it fits, double from the first that does not",
           "[precision][readers]") {
   ScratchDir d;
-  SECTION("OBJ of exact floats stays float") {
+  SECTION("OBJ text with no more than float precision stays float; more digits make it double") {
+    // "1e-3" is no float, but the float nearest it prints back as 1e-3: the text says no more.
     write_file(d.file("m.obj"), "v 0 0.5 -2\nv 1 16777216 0.25\nv 3 1e-3 7\nf 1 2 3\n");
-    // 1e-3 is no float: the whole array becomes double, the earlier vertices exactly kept.
     LoadedMesh m = load_mesh(d.file("m.obj"), d.path());
-    CHECK(m.info.double_precision);
-    CHECK(m.positions == std::vector<double>{0, 0.5, -2, 1, 16777216, 0.25, 3, 1e-3, 7});
-    write_file(d.file("e.obj"), "v 0 0.5 -2\nv 1 16777216 0.25\nv 3 0.125 7\nf 1 2 3\n");
-    LoadedMesh e = load_mesh(d.file("e.obj"), d.path());
-    CHECK_FALSE(e.info.double_precision);
-    CHECK(e.positions == std::vector<double>{0, 0.5, -2, 1, 16777216, 0.25, 3, 0.125, 7});
+    CHECK_FALSE(m.info.double_precision);
+    CHECK(m.positions == std::vector<double>{0, 0.5, -2, 1, 16777216, 0.25, 3, double(1e-3f), 7});
+    // A float written with %.9g reads back as that float.
+    write_file(d.file("g.obj"), "v 0.100000001 0.200000003 0.300000012\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    LoadedMesh g = load_mesh(d.file("g.obj"), d.path());
+    CHECK_FALSE(g.info.double_precision);
+    CHECK(g.positions[0] == double(0.1f));
+    // Ten significant digits, and an integer past 2^24: more than a float keeps.
+    for (const char* v : {"v 3 0.1234567891 7", "v 3 16777217 7", "v 451234.567 0 0"}) {
+      CAPTURE(v);
+      write_file(d.file("x.obj"), std::string("v 0 0.5 -2\nv 1 16777216 0.25\n") + v + "\nf 1 2 3\n");
+      LoadedMesh x = load_mesh(d.file("x.obj"), d.path());
+      CHECK(x.info.double_precision);
+      CHECK(x.positions[0] == 0);
+      CHECK(x.positions[4] == 16777216);  // the vertices before the switch kept exactly
+    }
   }
   SECTION("the switch to double after megabytes of floats keeps every earlier vertex") {
     std::string text;

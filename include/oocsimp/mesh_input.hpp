@@ -68,7 +68,8 @@ struct MeshInfo {
   std::vector<std::string> comments;    ///< PLY comment / obj_info lines
   bool positions_in_place = false;      ///< true when positions are read from the input through mmap
   /// Positions carry more than float precision: the file stores them as double (PLY
-  /// double), or a text coordinate is not exactly a float. They are then read as
+  /// double), or a text coordinate has more digits than a float keeps ("451234.567",
+  /// where "0.1" or a float written with %.9g does not count). They are then read as
   /// double (PositionArray type f64), and Precision::automatic writes double output.
   bool double_precision = false;
   Box3d bounds;                         ///< of the finite vertices
@@ -153,7 +154,7 @@ struct OpenOptions {
 /// extension is only a tie-breaker), maps or converts the positions and computes the
 /// bounding box of the finite ones, then welds the vertices (STL, or `options.weld`).
 /// NaN or infinite coordinates are counted in info.non_finite_vertices, not rejected.
-/// Converting keeps every coordinate exactly (see MeshInfo::double_precision). The file
+/// Converting keeps what every coordinate says (see MeshInfo::double_precision). The file
 /// is opened once and every pass reads that descriptor; "-" is standard input, and a
 /// FIFO, pipe or device is copied into temp_dir as far as it is read (the copy goes
 /// with the MeshInput).

@@ -180,8 +180,9 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats);
 
-/// The format `outputs.mesh` is written in: binary (or ascii) PLY for "-", else
-/// format_for_path. Throws UsageError for a name it cannot write.
+/// The format `outputs.mesh` is written in: format_for_path, except that stdout ("-"),
+/// a device, a FIFO or a socket whose name has no extension we write gets binary (or
+/// ascii) PLY. Throws UsageError for a regular or new file whose name we cannot write.
 MeshFormat output_format(const OutputOptions& outputs);
 
 /// A run as a JSON object: the version, the paths, the method and every option, counts,

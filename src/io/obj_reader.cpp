@@ -105,14 +105,16 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       // "v x y z [w]" or "v x y z r g b": the first three values are the position.
       TokenScanner t(line.substr(1));
       double c[3];
+      bool fits_float = true;
       for (int k = 0; k < 3; ++k) {
         std::string_view tok = t.next();
         if (!parse_double(tok, &c[k]))
           throw InputError(at_line(src.path(), src.line_number(),
                                    tok.empty() ? "vertex with fewer than 3 coordinates"
                                                : "malformed vertex coordinate " + quoted(tok)));
+        fits_float = fits_float && decimal_fits_float(tok, c[k]);
       }
-      builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
+      builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
     } else if (is_keyword(line, 'f')) {
       ++faces;
     }

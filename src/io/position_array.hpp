@@ -24,8 +24,9 @@ struct MeshInput::Impl {
 /// tracking the bounding box; finish() maps the file into a MeshInput. Positions are
 /// stored as the file means them: a PLY declares their type (declare()); for text
 /// without one (OBJ, ascii STL) and integer PLY properties the array holds float x,y,z
-/// while every coordinate so far is exactly a float, and double x,y,z from the first
-/// one that is not, so converting never loses what the file says.
+/// while every coordinate so far is exactly a float or is decimal text that a float
+/// keeps to its last digit, and double x,y,z from the first one that is not, so
+/// converting never loses what the file says.
 /// MeshInfo::double_precision tells which it became.
 class PositionArrayBuilder {
  public:
@@ -40,11 +41,14 @@ class PositionArrayBuilder {
   /// and counted (see MeshInfo::non_finite_vertices); `where()` says where the vertex is
   /// in the file ("line N", "byte N") and is called only for the first such vertex, or
   /// to report a finite coordinate beyond the range of a declared float (InputError).
+  /// `text_fits_float`: the coordinates were decimal text with no more than float
+  /// precision (decimal_fits_float in io/text_scan.hpp), so the floats keep what the
+  /// file says.
   template <class Where>
-  void add(double x, double y, double z, Where&& where) {
+  void add(double x, double y, double z, Where&& where, bool text_fits_float = false) {
     if (!is_double_) {
       float f[3] = {float(x), float(y), float(z)};
-      if (round_to_float_ || (exactly(f[0], x) && exactly(f[1], y) && exactly(f[2], z))) {
+      if (round_to_float_ || text_fits_float || (exactly(f[0], x) && exactly(f[1], y) && exactly(f[2], z))) {
         Vec3d p = widen(f);
         if (!is_finite(p) && is_finite(Vec3d{x, y, z})) beyond_float_range(x, y, z, where());
         add_to_bounds(p, where);

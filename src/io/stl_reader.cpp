@@ -132,11 +132,13 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
           fail("expected \"vertex\", found " + quoted(kw));
         }
         double c[3];
+        bool fits_float = true;
         for (int k = 0; k < 3; ++k) {
           std::string_view tok = t.next();
           if (!parse_double(tok, &c[k])) fail("malformed vertex coordinate " + quoted(tok));
+          fits_float = fits_float && decimal_fits_float(tok, c[k]);
         }
-        builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); });
+        builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
         if (++corners == 3) st = kEndLoop;
         break;
       }

@@ -1,7 +1,9 @@
 // Whitespace tokenising and number parsing shared by the text formats.
 #pragma once
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -80,6 +82,37 @@ inline bool parse_double(std::string_view t, double* v) {
   if (r.ec != std::errc::result_out_of_range || !decimal_underflows(t)) return false;
   *v = t[0] == '-' ? -0.0 : 0.0;
   return true;
+}
+
+/// True when `v`, parsed from the decimal `token`, is told apart from the float nearest to
+/// it only below the token's last written digit: that float, printed with as many digits,
+/// gives the token back, so the text carries no more than float precision ("0.1",
+/// "12.345678", a float written with %.9g), while "451234.567" (a UTM coordinate, which
+/// a float would round to 451234.5625) carries more. Rounding exactly half a digit is
+/// taken as not fitting.
+inline bool decimal_fits_float(std::string_view token, double v) {
+  const double gap = std::abs(double(float(v)) - v);
+  if (gap == 0) return true;
+  std::size_t i = 0;
+  if (i < token.size() && (token[i] == '+' || token[i] == '-')) ++i;
+  long digits_after_point = 0;
+  bool point = false;
+  for (; i < token.size(); ++i) {
+    const char c = token[i];
+    if (c == '.') point = true;
+    else if (c >= '0' && c <= '9') digits_after_point += point ? 1 : 0;
+    else break;
+  }
+  long exponent = 0;
+  if (i < token.size() && (token[i] == 'e' || token[i] == 'E')) {
+    const std::string_view e = token.substr(i + 1);
+    std::int64_t parsed = 0;
+    auto r = std::from_chars(e.data() + (!e.empty() && e[0] == '+'), e.data() + e.size(), parsed);
+    if (r.ec != std::errc()) return false;  // a huge exponent: the value is not near a float anyway
+    exponent = long(std::max<std::int64_t>(-400, std::min<std::int64_t>(400, parsed)));
+  }
+  const double half_last_digit = 0.5 * std::pow(10.0, double(exponent - digits_after_point));
+  return gap < half_last_digit;
 }
 
 /// Parses a whole token as a signed 64-bit integer (a leading '+' is accepted).
