@@ -301,6 +301,33 @@ TEST_CASE("an output that is a FIFO streams the mesh to its reader", "[cli][outp
   CHECK(S_ISFIFO(st.st_mode));
 }
 
+TEST_CASE("an output FIFO whose reader goes away exits 4 and leaves nothing in --tmp", "[cli][outputs]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 200000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  ScratchDir tmp;
+  REQUIRE(::mkfifo(d.file("fifo").c_str(), 0600) == 0);
+  // O_CLOEXEC: a reader inherited by the run would keep the pipe open.
+  int fd = ::open(d.file("fifo").c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  REQUIRE(fd >= 0);
+  std::atomic<bool> done{false};
+  CliResult r;
+  // About 180k output triangles: far more than a pipe holds, so the run is still writing
+  // when the reader closes after the first bytes.
+  std::thread run([&] {
+    r = run_cli("simplify --quiet --method uniform --grid 256 " + q(d.file("s.ply")) + " -o " + q(d.file("fifo")) +
+                " --tmp " + q(tmp.path()));
+    done = true;
+  });
+  char buf[16];
+  while (!done.load() && ::read(fd, buf, sizeof buf) <= 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::close(fd);
+  run.join();
+  INFO(r.err);
+  CHECK(r.exit_code == 4);
+  CHECK(r.err.find(d.file("fifo")) != std::string::npos);
+  CHECK(tmp.entries().empty());
+}
+
 TEST_CASE("an output that is a Unix socket is connected to and streamed into", "[cli][outputs]") {
   ScratchDir d;
   std::string ref = reference_output(d);
@@ -346,7 +373,7 @@ TEST_CASE("an output that is a Unix socket is connected to and streamed into", "
   CHECK(S_ISSOCK(st.st_mode));
 }
 
-TEST_CASE("an output that is a symbolic link writes the link's target; the link stays", "[cli][outputs]") {
+TEST_CASE("an output that is a symbolic link writes the link's target, the link stays", "[cli][outputs]") {
   ScratchDir d;
   std::string ref = reference_output(d);
   std::filesystem::create_directory(d.file("sub"));
@@ -365,7 +392,7 @@ TEST_CASE("an output that is a symbolic link writes the link's target; the link 
   CHECK(d.entries() == std::vector<std::string>{"link.ply", "link2.ply", "ref.ply", "s.ply", "sub"});
 }
 
-TEST_CASE("output - is binary PLY on stdout, stats - the JSON; the summary goes to stderr", "[cli][outputs]") {
+TEST_CASE("output - is binary PLY on stdout, stats - the JSON, the summary goes to stderr", "[cli][outputs]") {
   ScratchDir d;
   std::string ref = reference_output(d);
   CliResult r = run_cli("simplify " + q(d.file("s.ply")) + " -o - --grid 16");
@@ -687,7 +714,7 @@ TEST_CASE("progress lines of phases without counts show the elapsed time only", 
   }
 }
 
-TEST_CASE("help is grouped with plain value lists; mistyped flags get a suggestion on one line", "[cli][report]") {
+TEST_CASE("help is grouped with plain value lists, mistyped flags get a suggestion on one line", "[cli][report]") {
   CliResult r = run_cli("simplify --help");
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("Floating method only") != std::string::npos);

@@ -105,7 +105,7 @@ void check_valid_output(const LoadedMesh& m) {
 
 }  // namespace
 
-TEST_CASE("damaged faces are skipped, counted in --stats and in one warning line; the rest simplifies as if they were absent",
+TEST_CASE("damaged faces are skipped, counted in --stats and in one warning line, the rest simplifies as if they were absent",
           "[cli][damaged]") {
   ScratchDir d;
   Grid clean = grid_mesh(24);
@@ -329,7 +329,7 @@ TEST_CASE("a single triangle comes out as itself", "[cli][damaged]") {
   }
 }
 
-TEST_CASE("empty meshes give an empty output; a file too short to have a header exits 3", "[cli][damaged]") {
+TEST_CASE("empty meshes give an empty output, a file too short to have a header exits 3", "[cli][damaged]") {
   ScratchDir d;
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
   const std::string face = "element face 0\nproperty list uchar int vertex_indices\n";

@@ -86,7 +86,7 @@ TEST_CASE("a failed output write (file-size limit) exits 4, the destination unto
   }
 }
 
-TEST_CASE("a --tmp that fills up exits 4 naming the folder and the space needed; nothing left behind", "[faults]") {
+TEST_CASE("a --tmp that fills up exits 4 naming the folder and the space needed, nothing left behind", "[faults]") {
   SECTION("floating cells: the tile spill") {
     Setup s("--tris 400000", "in.ply", "o.ply");  // read in place: the spill is the first file written
     CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) +

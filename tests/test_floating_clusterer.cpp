@@ -538,7 +538,7 @@ double json_number(const std::string& js, const std::string& key) {
 }
 }  // namespace
 
-TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front; one that fits stays in the budget",
+TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front, one that fits stays in the budget",
           "[floating][clusterer][memory]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --tris 200000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);

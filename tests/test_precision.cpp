@@ -3,12 +3,16 @@
 // float input near the origin still gives float output.
 #include <catch2/catch.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "io/text_scan.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/mesh_writer.hpp"
 #include "oocsimp/simplify.hpp"
@@ -287,4 +291,33 @@ TEST_CASE("converted positions keep what the file says: float while it fits, dou
     CHECK(m.positions == std::vector<double>{double(450000.123456f), double(0.1f), 2});
   }
   for (const std::string& e : d.entries()) CHECK(e.find("oocsimp-positions-") == std::string::npos);
+}
+
+TEST_CASE("the shortest text of any float carries no more than float precision, more digits do",
+          "[precision][readers]") {
+  std::mt19937 random(7);
+  int checked = 0;
+  while (checked < 200000) {
+    const std::uint32_t bits = random();
+    float f;
+    std::memcpy(&f, &bits, sizeof f);
+    if (!std::isfinite(f)) continue;
+    ++checked;
+    char text[64];
+    const auto end = std::to_chars(text, text + sizeof text, f).ptr;
+    const std::string_view token(text, std::size_t(end - text));
+    double v = 0;
+    REQUIRE(oocsimp::parse_double(token, &v));
+    INFO(token);
+    REQUIRE(oocsimp::decimal_fits_float(token, v));
+    REQUIRE(float(v) == f);
+  }
+  // A double's shortest text, where it is no float, says more than a float keeps.
+  for (double d : {451234.567, 0.1234567891, 16777217.0, 5400000.002, 1e-3 + 1e-12}) {
+    char text[64];
+    const auto end = std::to_chars(text, text + sizeof text, d).ptr;
+    const std::string_view token(text, std::size_t(end - text));
+    INFO(token);
+    CHECK_FALSE(oocsimp::decimal_fits_float(token, d));
+  }
 }

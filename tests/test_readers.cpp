@@ -46,9 +46,9 @@ const std::vector<std::uint64_t> kTris = {0, 1, 2, 0, 2, 3, 1, 4, 2};
 std::vector<double> as_doubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
 
 const std::vector<double> kPosD = as_doubles(kPos);
-// kPosText as formats without a declared type (OBJ, ascii STL) read it: exactly, as
-// double (MeshInfo::double_precision).
-const std::vector<double> kTextD = {0, 0, 0, 1.5, -2.25, 0.1, -3.25e7, 1e-20, 42, 7.5, 8.125, -9.0625, 100, 0.2, -0.3};
+// kPosText as formats without a declared type (OBJ, ascii STL) read it: its numbers
+// have no more digits than a float keeps, so the floats nearest them (kPos).
+const std::vector<double> kTextD = kPosD;
 
 template <class T>
 void put(std::string& s, T v, bool big_endian) {
@@ -114,9 +114,8 @@ std::string obj_text() {
 // triangle is (1, 2, 3)).
 const std::vector<float> kStlPos = {0.0f,    0.0f,   0.0f,    1.5f, -2.25f, 0.1f, -3.25e7f, 1e-20f, 42.0f,
                                     7.5f,    8.125f, -9.0625f, 100.0f, 0.2f, -0.3f, 1.0f,     2.0f,   3.0f};
-// The same as ascii STL text reads it: exactly, as double.
-const std::vector<double> kStlTextD = {0, 0, 0, 1.5, -2.25, 0.1, -3.25e7, 1e-20, 42,
-                                       7.5, 8.125, -9.0625, 100, 0.2, -0.3, 1, 2, 3};
+// The same as ascii STL text reads it: floats, as for kTextD.
+const std::vector<double> kStlTextD = as_doubles(kStlPos);
 
 std::string ascii_stl() {
   return "solid reference\n"
@@ -1070,7 +1069,7 @@ TEST_CASE("NaN and infinite coordinates: the vertex is ignored, its triangles dr
 TEST_CASE("the box of a converted file holds the stored floats, not the parsed doubles", "[readers]") {
   // GCC 12 -O3 once folded the float-to-double widening in the converter away, so
   // 0.2 and 0.3 bounded the box where the positions held the larger 0.2f and 0.3f.
-  // (A PLY declaring float; OBJ, which declares nothing, keeps the doubles.)
+  // (A PLY declaring float, and an OBJ whose text has no more than float precision.)
   ScratchDir dir;
   std::string path = dir.file("mesh.ply");
   write_file(path, "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
@@ -1087,11 +1086,11 @@ TEST_CASE("the box of a converted file holds the stored floats, not the parsed d
   }
   write_file(dir.file("mesh.obj"), "v 0.3 0.2 0.1\nv 0 0 0\nf 1 2 2\n");
   LoadedMesh o = load_mesh(dir.file("mesh.obj"), dir.path());
-  CHECK(o.info.double_precision);
-  CHECK(o.positions == std::vector<double>{0.3, 0.2, 0.1, 0, 0, 0});
-  CHECK(o.info.bounds.max.x == 0.3);
-  CHECK(o.info.bounds.max.y == 0.2);
-  CHECK(o.info.bounds.max.z == 0.1);
+  CHECK_FALSE(o.info.double_precision);  // no more digits than a float keeps
+  CHECK(o.positions == std::vector<double>{double(0.3f), double(0.2f), double(0.1f), 0, 0, 0});
+  CHECK(o.info.bounds.max.x == double(0.3f));
+  CHECK(o.info.bounds.max.y == double(0.2f));
+  CHECK(o.info.bounds.max.z == double(0.1f));
 }
 
 TEST_CASE("A finite coordinate beyond the float range of a converted file is rejected", "[readers][errors]") {
@@ -1107,7 +1106,7 @@ TEST_CASE("A finite coordinate beyond the float range of a converted file is rej
   CHECK(dir.entries().size() == 1);
 }
 
-TEST_CASE("Triangles naming one vertex twice are dropped and counted; zero-area ones are kept", "[readers]") {
+TEST_CASE("Triangles naming one vertex twice are dropped and counted, zero-area ones are kept", "[readers]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.ply");
   // Faces: a proper triangle, one with a repeated index, a quad with a repeated corner
@@ -1631,7 +1630,7 @@ TEST_CASE("A PLY header is bounded at 1 MiB, in one line or in many", "[readers]
 // ---------------------------------------------------------------------------------
 // Numbers and messages (issue 9, item 11 d and e)
 
-TEST_CASE("A coordinate below the double range rounds to zero as strtod does; one above it is rejected",
+TEST_CASE("A coordinate below the double range rounds to zero as strtod does, one above it is rejected",
           "[readers][text]") {
   ScratchDir dir;
   const char* const tokens[] = {"1e-400", "-1e-400", "1e-310", "-4.9e-324", "2e-324", "100000e-329",
@@ -1652,10 +1651,12 @@ TEST_CASE("A coordinate below the double range rounds to zero as strtod does; on
   REQUIRE(mp.vertex_count() == n);
   for (std::size_t i = 0; i < n; ++i) {
     CAPTURE(tokens[i]);
-    // The reference: the C library's strtod, then the float the converted array holds.
-    const double expected = double(float(std::strtod(tokens[i], nullptr)));
-    CHECK(mo.positions[3 * i] == expected);
-    CHECK(std::signbit(mo.positions[3 * i]) == std::signbit(expected));
+    // The reference: the C library's strtod. The OBJ keeps it (denormal doubles are more
+    // than a float holds, so its array is double); the PLY declares float.
+    const double exact = std::strtod(tokens[i], nullptr);
+    const double expected = double(float(exact));
+    CHECK(mo.positions[3 * i] == exact);
+    CHECK(std::signbit(mo.positions[3 * i]) == std::signbit(exact));
     CHECK(mp.positions[3 * i + 2] == expected);
     CHECK(mp.positions[3 * i + 1] == 1.0);
   }

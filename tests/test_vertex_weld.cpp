@@ -343,7 +343,7 @@ TEST_CASE("A --keep-tmp run does not resume the unwelded input's tiles for a --w
   CHECK(read_file(d.file("b.ply")) == read_file(d.file("fresh.ply")));
 }
 
-TEST_CASE("A --tmp that fills up while welding exits 4 naming the folder; nothing left behind", "[weld][cli]") {
+TEST_CASE("A --tmp that fills up while welding exits 4 naming the folder, nothing left behind", "[weld][cli]") {
   // A triangle soup: no two corners weld, so the sorted runs (20 bytes a corner) outgrow
   // the position array (12 bytes a corner), which the file-size limit still lets through.
   ScratchDir d;

@@ -359,6 +359,7 @@ TEST_CASE("write_mesh OFF holds the vertices and triangles exactly", "[writers][
       std::string word;
       in >> word;
       v = std::strtod(word.c_str(), nullptr);
+      if (precision == ScalarType::f32) v = double(std::strtof(word.c_str(), nullptr));  // float text, as a float
     }
     CHECK(got == pos);
     std::vector<std::uint32_t> tri;
@@ -414,16 +415,22 @@ TEST_CASE("simplify writes the format its output's extension names, and refuses 
   for (const std::string& e : d.entries()) CHECK(e.find("oocsimp-") == std::string::npos);
 }
 
-TEST_CASE("float text: the shortest float where the format declares float, the float's exact double elsewhere",
+TEST_CASE("text coordinates: the shortest float for float output, the shortest double for double output",
           "[writers][precision]") {
   ScratchDir dir;
   const std::vector<double> pos = {double(0.1f), 0.5, -2, 1, 0, 0, 0, 1, 0};
   write_mesh(dir.file("f.ply"), pos, {0, 1, 2}, MeshFormat::ply_ascii, ScalarType::f32);
   write_mesh(dir.file("f.obj"), pos, {0, 1, 2}, MeshFormat::obj, ScalarType::f32);
-  write_mesh(dir.file("d.obj"), {0.1, 0.5, -2, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, MeshFormat::obj, ScalarType::f64);
+  write_mesh(dir.file("d.obj"), {451234.5673829, 0.5, -2, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, MeshFormat::obj,
+             ScalarType::f64);
   CHECK(oocsimp_test::read_file(dir.file("f.ply")).find("\n0.1 0.5 -2\n") != std::string::npos);
-  CHECK(oocsimp_test::read_file(dir.file("f.obj")).find("\nv 0.10000000149011612 0.5 -2\n") != std::string::npos);
-  CHECK(oocsimp_test::read_file(dir.file("d.obj")).find("\nv 0.1 0.5 -2\n") != std::string::npos);
-  CHECK_FALSE(load_mesh(dir.file("f.obj"), dir.path()).info.double_precision);
-  CHECK(load_mesh(dir.file("d.obj"), dir.path()).info.double_precision);
+  CHECK(oocsimp_test::read_file(dir.file("f.obj")).find("\nv 0.1 0.5 -2\n") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("d.obj")).find("\nv 451234.5673829 0.5 -2\n") != std::string::npos);
+  // Read back: the float text as the same floats, the double text as the same doubles.
+  LoadedMesh f = load_mesh(dir.file("f.obj"), dir.path());
+  CHECK_FALSE(f.info.double_precision);
+  CHECK(f.positions == pos);
+  LoadedMesh d = load_mesh(dir.file("d.obj"), dir.path());
+  CHECK(d.info.double_precision);
+  CHECK(d.positions[0] == 451234.5673829);
 }

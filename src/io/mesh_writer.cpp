@@ -12,18 +12,13 @@ namespace oocsimp {
 
 namespace {
 
-// The shortest text that reads back as the same double (at most %.17g), of the value
-// rounded to float first when `precision` is f32. Where the format declares float
-// (ascii PLY), the shortest text that reads back as the same float (at most %.9g) is
-// enough; elsewhere it is not, as it parses to a double which is not exactly the float
-// ("0.1" for 0.1f), so a reader that keeps what the text says, as ours does (see
-// MeshInfo::double_precision), would take a float output for double input.
-void append_coord(std::string& s, double v, ScalarType precision, bool declared_float = false) {
+// The shortest text that reads back as the same value: of the float for f32 (our
+// reader keeps such text as float, see decimal_fits_float in io/text_scan.hpp), of the
+// double for f64.
+void append_coord(std::string& s, double v, ScalarType precision) {
   char buf[32];
-  std::to_chars_result r;
-  if (precision == ScalarType::f64) r = std::to_chars(buf, buf + sizeof buf, v);
-  else if (declared_float) r = std::to_chars(buf, buf + sizeof buf, float(v));
-  else r = std::to_chars(buf, buf + sizeof buf, double(float(v)));
+  std::to_chars_result r = precision == ScalarType::f64 ? std::to_chars(buf, buf + sizeof buf, v)
+                                                        : std::to_chars(buf, buf + sizeof buf, float(v));
   s.append(buf, r.ptr);
 }
 
@@ -55,16 +50,15 @@ struct MeshArrays {
   const std::vector<double>& pos;
   const std::vector<std::uint32_t>& tri;
   ScalarType precision;
-  bool declared_float = false;  // the format says the text is float (see append_coord)
   std::size_t vertices() const { return pos.size() / 3; }
   std::size_t triangles() const { return tri.size() / 3; }
   // "x y z" of vertex i.
   void append_vertex(std::string& s, std::size_t i) const {
-    append_coord(s, pos[3 * i], precision, declared_float);
+    append_coord(s, pos[3 * i], precision);
     s += ' ';
-    append_coord(s, pos[3 * i + 1], precision, declared_float);
+    append_coord(s, pos[3 * i + 1], precision);
     s += ' ';
-    append_coord(s, pos[3 * i + 2], precision, declared_float);
+    append_coord(s, pos[3 * i + 2], precision);
   }
   // The indices of triangle t, each plus `base`, separated by blanks.
   void append_triangle(std::string& s, std::size_t t, std::uint64_t base) const {
@@ -113,8 +107,7 @@ void write_off(ByteSink& sink, const MeshArrays& m) {
   out.flush();
 }
 
-void write_ply(ByteSink& sink, MeshArrays m, bool ascii) {
-  m.declared_float = true;
+void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
   const char* type = m.precision == ScalarType::f32 ? "float" : "double";
   std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
                        " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(m.vertices()) + "\nproperty " + type +

@@ -343,6 +343,7 @@ void require_free_space(const std::string& dir, std::uint64_t bytes, const std::
 
 void install_signal_cleanup() {
   ::signal(SIGXFSZ, SIG_IGN);
+  ::signal(SIGPIPE, SIG_IGN);
   struct sigaction sa;
   std::memset(&sa, 0, sizeof sa);
   sa.sa_handler = cleanup_and_die;

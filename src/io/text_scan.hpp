@@ -88,8 +88,9 @@ inline bool parse_double(std::string_view t, double* v) {
 /// it only below the token's last written digit: that float, printed with as many digits,
 /// gives the token back, so the text carries no more than float precision ("0.1",
 /// "12.345678", a float written with %.9g), while "451234.567" (a UTM coordinate, which
-/// a float would round to 451234.5625) carries more. Rounding exactly half a digit is
-/// taken as not fitting.
+/// a float would round to 451234.5625) carries more. A gap of half a digit counts as
+/// fitting, with a little slack for the rounding of the gap itself: the shortest text of
+/// a float can lie there ("178616.12" for 178616.125f).
 inline bool decimal_fits_float(std::string_view token, double v) {
   const double gap = std::abs(double(float(v)) - v);
   if (gap == 0) return true;
@@ -112,7 +113,7 @@ inline bool decimal_fits_float(std::string_view token, double v) {
     exponent = long(std::max<std::int64_t>(-400, std::min<std::int64_t>(400, parsed)));
   }
   const double half_last_digit = 0.5 * std::pow(10.0, double(exponent - digits_after_point));
-  return gap < half_last_digit;
+  return gap <= half_last_digit * (1 + 1e-6);
 }
 
 /// Parses a whole token as a signed 64-bit integer (a leading '+' is accepted).
