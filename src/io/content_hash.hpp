@@ -1,5 +1,6 @@
-// A 64-bit content checksum (XXH64), fed in pieces of any size: what tells a file
-// apart from another of the same size and times (--keep-tmp resumes, kept files).
+// A 64-bit content checksum (XXH64, from Debian's libxxhash-dev, used header-only),
+// fed in pieces of any size: what tells a file apart from another of the same size and
+// times (--keep-tmp resumes, kept files).
 #pragma once
 
 #include <atomic>
@@ -7,21 +8,21 @@
 #include <cstdint>
 #include <string>
 
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace oocsimp {
 
-/// XXH64 (Collet, xxHash specification, seed 0) over everything passed to add(): the
-/// digest depends only on the bytes, not on how they were split into calls.
+/// XXH64 (seed 0) over everything passed to add(): the digest depends only on the
+/// bytes, not on how they were split into calls.
 class ContentHash {
  public:
-  void add(const void* data, std::size_t bytes);
-  std::uint64_t digest() const;
+  ContentHash() { XXH64_reset(&state_, 0); }
+  void add(const void* data, std::size_t bytes) { XXH64_update(&state_, data, bytes); }
+  std::uint64_t digest() const { return XXH64_digest(&state_); }
 
  private:
-  std::uint64_t lane_[4] = {0x9E3779B185EBCA87ull + 0xC2B2AE3D27D4EB4Full, 0xC2B2AE3D27D4EB4Full, 0,
-                            0 - 0x9E3779B185EBCA87ull};
-  unsigned char pending_[32] = {};  // a partial stripe
-  std::size_t pending_bytes_ = 0;
-  std::uint64_t total_ = 0;
+  XXH64_state_t state_;
 };
 
 /// XXH64 of `bytes` bytes at `data`.
