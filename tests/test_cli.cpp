@@ -164,17 +164,6 @@ TEST_CASE("info prints format, counts, properties and bounds", "[cli]") {
                    std::to_string(vertex1) + ")") != std::string::npos);
 }
 
-// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
-// __has_feature.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOCSIMP_TEST_CLANG_ASAN 1
-#endif
-#endif
-#ifndef OOCSIMP_TEST_CLANG_ASAN
-#define OOCSIMP_TEST_CLANG_ASAN 0
-#endif
-
 namespace {
 // The number after "key": in a stats file (the first occurrence), or -1.
 double json_number(const std::string& js, const std::string& key) {
@@ -188,7 +177,7 @@ TEST_CASE("floating cells stay inside --mem on an input larger than the budget",
   // memory (heap and stacks: what the budget bounds; the mapped input and spill
   // files are page cache the kernel reclaims) must stay below 32 MiB, with any
   // thread count.
-#if defined(__SANITIZE_ADDRESS__) || OOCSIMP_TEST_CLANG_ASAN
+#if OOCSIMP_TEST_UNDER_ASAN
   // AddressSanitizer's shadow memory and quarantine are anonymous memory too: the
   // bound is the normal build's to check.
   WARN("skipped under AddressSanitizer");

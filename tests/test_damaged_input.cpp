@@ -366,17 +366,6 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
 // ---------------------------------------------------------------------------------
 // Hostile text and streams (issue 9, items 5, 8, 10 and 11 e)
 
-// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
-// __has_feature.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOCSIMP_TEST_CLANG_ASAN 1
-#endif
-#endif
-#ifndef OOCSIMP_TEST_CLANG_ASAN
-#define OOCSIMP_TEST_CLANG_ASAN 0
-#endif
-
 namespace {
 
 // Runs `before` + the CLI with `args` + `after` in the shell (for pipes and redirected
@@ -397,7 +386,7 @@ CliResult run_cli_in_shell(const std::string& before, const std::string& args, c
 // unbounded line buffer reached, far above what a run needs. AddressSanitizer
 // reserves terabytes of address space, so there the cap is left out.
 std::string memory_cap() {
-#if defined(__SANITIZE_ADDRESS__) || OOCSIMP_TEST_CLANG_ASAN
+#if OOCSIMP_TEST_UNDER_ASAN
   return "true";
 #else
   return "ulimit -v 400000";

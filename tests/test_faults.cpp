@@ -255,7 +255,7 @@ void interrupt_every_phase(const std::vector<std::string>& args, const std::vect
 
 // Sanitizer builds run the phases several times slower, so a third of the input
 // keeps them about as long to hit (and the suite within the CI time).
-#if defined(__SANITIZE_ADDRESS__)
+#if OOCSIMP_TEST_UNDER_ASAN
 constexpr int kSignalInputScale = 3;
 #else
 constexpr int kSignalInputScale = 1;

@@ -518,17 +518,6 @@ TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a
   CHECK(third.warnings.empty());
 }
 
-// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang says it through
-// __has_feature.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OOCSIMP_TEST_CLANG_ASAN 1
-#endif
-#endif
-#ifndef OOCSIMP_TEST_CLANG_ASAN
-#define OOCSIMP_TEST_CLANG_ASAN 0
-#endif
-
 namespace {
 std::string q(const std::string& s) { return "'" + s + "'"; }
 // The number after "key": in a stats file (the first occurrence), or -1.
@@ -563,7 +552,7 @@ TEST_CASE("a --tile whose tiles' buffers exceed --mem is refused up front, one t
   std::string js = read_file(d.file("st.json"));
   INFO(js);
   CHECK(json_number(js, "count") > 100);  // tiles
-#if !defined(__SANITIZE_ADDRESS__) && !OOCSIMP_TEST_CLANG_ASAN
+#if !OOCSIMP_TEST_UNDER_ASAN
   // (AddressSanitizer's shadow memory is anonymous memory too.)
   CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
 #endif

@@ -8,6 +8,19 @@
 
 #include "oocsimp/mesh_input.hpp"
 
+// Whether this is an AddressSanitizer build (tests whose memory figures ASan distorts
+// skip there): GCC defines __SANITIZE_ADDRESS__, clang says it through __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define OOCSIMP_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OOCSIMP_TEST_UNDER_ASAN 1
+#endif
+#endif
+#ifndef OOCSIMP_TEST_UNDER_ASAN
+#define OOCSIMP_TEST_UNDER_ASAN 0
+#endif
+
 namespace oocsimp_test {
 
 /// A fresh folder under $TMPDIR (or /tmp), removed with its content on destruction.

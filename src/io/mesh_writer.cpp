@@ -90,9 +90,9 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
 
 // OFF (Geomview): "OFF", the counts (vertices, faces, edges: 0, not needed), vertices,
 // faces as "3 a b c" with 0-based indices.
-void write_off(ByteSink& sink, const MeshArrays& m) {
-  TextOut out(sink);
-  out.text() = "OFF\n" + std::to_string(m.vertices()) + " " + std::to_string(m.triangles()) + " 0\n";
+// The body shared by OFF and ascii PLY: a line "x y z" per vertex, then "3 a b c" per
+// triangle with 0-based indices.
+void write_vertex_and_face_lines(TextOut& out, const MeshArrays& m) {
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     m.append_vertex(out.text(), i);
     out.text() += '\n';
@@ -105,6 +105,12 @@ void write_off(ByteSink& sink, const MeshArrays& m) {
     out.maybe_flush();
   }
   out.flush();
+}
+
+void write_off(ByteSink& sink, const MeshArrays& m) {
+  TextOut out(sink);
+  out.text() = "OFF\n" + std::to_string(m.vertices()) + " " + std::to_string(m.triangles()) + " 0\n";
+  write_vertex_and_face_lines(out, m);
 }
 
 void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
@@ -134,18 +140,7 @@ void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
     return;
   }
   TextOut out(sink);
-  for (std::size_t i = 0; i < m.vertices(); ++i) {
-    m.append_vertex(out.text(), i);
-    out.text() += '\n';
-    out.maybe_flush();
-  }
-  for (std::size_t t = 0; t < m.triangles(); ++t) {
-    out.text() += "3 ";
-    m.append_triangle(out.text(), t, 0);
-    out.text() += '\n';
-    out.maybe_flush();
-  }
-  out.flush();
+  write_vertex_and_face_lines(out, m);
 }
 
 // The unit normal of triangle t by the right-hand rule over its corner order; 0 when
