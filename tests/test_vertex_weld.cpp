@@ -204,6 +204,7 @@ TEST_CASE("Welding treats -0 as +0 and never welds a NaN or infinite vertex", "[
   CHECK(m.info.vertex_count == 7);
   CHECK(m.info.unwelded_vertex_count == 12);
   CHECK(m.info.non_finite_vertices == 3);
+  CHECK(m.info.first_non_finite_vertex == 3);  // the welded number: corner 6 of the file is vertex 3 now
   REQUIRE(m.positions.size() == 21);
   CHECK(std::signbit(m.positions[0]) == false);  // the first occurrence's coordinate
   CHECK(std::isnan(m.positions[9]));

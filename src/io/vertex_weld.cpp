@@ -327,6 +327,10 @@ class Welder {
     }
     sink->finish();
     file->close();
+    // Non-finite vertices are never welded, so the first of them stays the first, now
+    // under its new number (where it is in the file stays as the reader said).
+    if (input_.info.non_finite_vertices > 0)
+      input_.info.first_non_finite_vertex = remap.get(input_.info.first_non_finite_vertex);
     auto map = std::make_unique<MappedFile>(file->path());
     PositionArray welded = input_.positions;  // same scalar type, native byte order, packed
     welded.base = map->data();
