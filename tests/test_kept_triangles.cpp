@@ -37,9 +37,9 @@ TEST_CASE("deduplication keeps each cluster triple once, at its lowest input ind
 
 TEST_CASE("the stitch joins corners reported by different tiles into triangles", "[stitch]") {
   ScratchDir d;
-  TileSpillFile corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
-  corners.add_tile();
-  corners.add_tile();
+  StreamSpill corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
+  corners.add_stream();
+  corners.add_stream();
   // Triangle 10 over clusters 7, 8, 9 (corner 1 reported first, from another tile);
   // triangle 11 collapses (two corners in cluster 7); triangle 20 in bucket 1.
   std::vector<CornerRecord> a = {{10 << 2 | 1, 8}, {11 << 2 | 0, 7}}, b = {{10 << 2 | 0, 7}, {10 << 2 | 2, 9}},
@@ -62,8 +62,8 @@ TEST_CASE("the stitch joins corners reported by different tiles into triangles",
 
 TEST_CASE("the stitch refuses a triangle that lacks a corner", "[stitch]") {
   ScratchDir d;
-  TileSpillFile corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
-  corners.add_tile();
+  StreamSpill corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
+  corners.add_stream();
   std::vector<CornerRecord> a = {{5 << 2 | 0, 1}, {5 << 2 | 1, 2}, {6 << 2 | 0, 1}, {6 << 2 | 1, 2}, {6 << 2 | 2, 3}};
   corners.append(0, a.data(), a.size());
   corners.flush();

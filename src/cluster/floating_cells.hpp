@@ -53,7 +53,7 @@ std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted
                                          const std::vector<GradedVertex>& external, const FloatingCellShape& cell);
 
 /// A tile's graded vertices laid out for the rounds in one block of bytes (in the
-/// clusterer, a TileBlockFile block): in `precedes` order, filed by lookup cube
+/// clusterer, a BlockStore block): in `precedes` order, filed by lookup cube
 /// (§4's grid: cubes of the cell size, anchored at the origin), with their current
 /// decisions. Built once per tile; re-runs read it and update the decisions in place,
 /// so a round costs what its changes reach, not the whole tile.

@@ -48,8 +48,8 @@
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
-#include "grid/tile_block_file.hpp"
-#include "grid/tile_spill_file.hpp"
+#include "spill/block_store.hpp"
+#include "spill/stream_spill.hpp"
 #include "grid/tile_triangles.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/error.hpp"
@@ -140,8 +140,8 @@ class FloatingRun {
     note("binning");
     if (debug) {
       std::uint64_t most = 0;
-      for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t) most = std::max(most, triangles_->record_count(t));
-      std::fprintf(stderr, "tiles %u, largest %llu triangle records\n", triangles_->tile_count(), (unsigned long long)most);
+      for (std::uint32_t t = 0; t < triangles_->stream_count(); ++t) most = std::max(most, triangles_->record_count(t));
+      std::fprintf(stderr, "tiles %u, largest %llu triangle records\n", triangles_->stream_count(), (unsigned long long)most);
     }
     if (resumed) {
       choose_from_kept();
@@ -314,7 +314,7 @@ class FloatingRun {
   std::uint32_t tile_id(const GridCoord& c) {
     auto it = tile_ids_.find(c);
     if (it != tile_ids_.end()) return it->second;
-    std::uint32_t id = triangles_->add_tile();
+    std::uint32_t id = triangles_->add_stream();
     tile_ids_.emplace(c, id);
     tile_coords_.push_back(c);
     return id;
@@ -346,7 +346,7 @@ class FloatingRun {
         std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
     require_free_space(temp_dir(), spill_estimate, "the tile spill");
     triangles_ =
-        std::make_unique<TileSpillFile>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_spill_);
+        std::make_unique<StreamSpill>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_spill_);
     triangles_->set_expected_bytes(spill_estimate);
 
     const PositionArray& pos = input_.positions;
@@ -393,11 +393,11 @@ class FloatingRun {
     triangles_->flush();
     if (progress) progress->end();
     triangle_count_ = next;
-    border_.resize(triangles_->tile_count());
-    ext_.resize(triangles_->tile_count());
-    vertices_ = std::make_unique<TileSpillFile>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
+    border_.resize(triangles_->stream_count());
+    ext_.resize(triangles_->stream_count());
+    vertices_ = std::make_unique<StreamSpill>(temp_dir(), "vertices", sizeof(GradedVertex), 4096, compress_vertices_);
     vertices_->set_expected_bytes(spill_estimate);
-    for (std::uint32_t i = 0; i < triangles_->tile_count(); ++i) vertices_->add_tile();
+    for (std::uint32_t i = 0; i < triangles_->stream_count(); ++i) vertices_->add_stream();
   }
 
   std::string temp_dir() const { return options_.temp_dir.empty() ? default_temp_dir() : options_.temp_dir; }
@@ -462,13 +462,13 @@ class FloatingRun {
   }
 
   void grade_and_choose() {
-    std::uint32_t n = triangles_->tile_count();
+    std::uint32_t n = triangles_->stream_count();
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("grade tiles", n, "tile");
     std::atomic<std::uint32_t> done{0};
     // Round 1: grade, sort and spill every tile's vertices; the greedy with the
     // borders of the neighbours graded before.
-    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", n);
+    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", n);
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       // The tile's vertices as local ids in order of first use, each position read
@@ -545,7 +545,7 @@ class FloatingRun {
     m.tile_side = tiles_.side;
     m.triangles = triangle_count_;
     m.skipped = input_.triangles->skipped();  // a resumed run does not read the stream
-    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t)
+    for (std::uint32_t t = 0; t < triangles_->stream_count(); ++t)
       m.tiles.push_back({tile_coords_[t], triangles_->chain(t), vertices_->chain(t)});
     write_file_atomically(kept_path("manifest"), format_kept_manifest(m));
   }
@@ -603,13 +603,13 @@ class FloatingRun {
       warn(fault);
       return false;
     }
-    std::vector<TileSpillFile::Chain> tri_chains, vtx_chains;
+    std::vector<StreamSpill::Chain> tri_chains, vtx_chains;
     for (const KeptTile& t : m.tiles) {
       tri_chains.push_back(t.triangles);
       vtx_chains.push_back(t.vertices);
     }
-    triangles_ = TileSpillFile::open_kept(kept_path("tiles"), sizeof(TriangleRecord), tri_chains);
-    vertices_ = TileSpillFile::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
+    triangles_ = StreamSpill::open_kept(kept_path("tiles"), sizeof(TriangleRecord), tri_chains);
+    vertices_ = StreamSpill::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
     tiles_.side = m.tile_side;
     triangle_count_ = m.triangles;
     resumed_skipped_ = m.skipped;
@@ -638,7 +638,7 @@ class FloatingRun {
 
   // Round 1 on kept tiles: the graded vertices are on disk already.
   void choose_from_kept() {
-    blocks_ = std::make_unique<TileBlockFile>(temp_dir(), "vertex-blocks", triangles_->tile_count());
+    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", triangles_->stream_count());
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<GradedVertex> sorted = load_vertices(tile);
       std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose_first(tile, sorted), cell_.size);
@@ -658,7 +658,7 @@ class FloatingRun {
   // The tiles of colour class k, ascending; with `only`, those t with (*only)[t].
   std::vector<std::uint32_t> tiles_of_colour(int k, const std::vector<char>* only = nullptr) const {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t t = 0; t < triangles_->tile_count(); ++t)
+    for (std::uint32_t t = 0; t < triangles_->stream_count(); ++t)
       if ((!only || (*only)[t]) && colour(t) == k) out.push_back(t);
     return out;
   }
@@ -683,7 +683,7 @@ class FloatingRun {
   }
 
   void run_rounds() {
-    std::uint32_t n = triangles_->tile_count();
+    std::uint32_t n = triangles_->stream_count();
     // A tile runs again when the external centres it sees (its neighbours' border
     // centres near it) changed since its last run; rechoose_centres re-decides only
     // the vertices near a change. Tiles are visited by colour class, one class after
@@ -744,21 +744,21 @@ class FloatingRun {
 
   // Per tile: assignment, vertex quadrics into cluster sums, surviving triangles.
   void assign_and_accumulate() {
-    std::uint32_t n = triangles_->tile_count();
+    std::uint32_t n = triangles_->stream_count();
     std::size_t buckets = std::max<std::size_t>(1, std::size_t(triangle_count_ / (1 << 22)) + 1);
     bucket_span_ = std::max<std::uint64_t>(1, (triangle_count_ + buckets - 1) / buckets);
-    corners_ = std::make_unique<TileSpillFile>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_);
-    inside_ = std::make_unique<TileSpillFile>(temp_dir(), "kept", sizeof(KeptTriangle), 1024, compress_spill_);
+    corners_ = std::make_unique<StreamSpill>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_);
+    inside_ = std::make_unique<StreamSpill>(temp_dir(), "kept", sizeof(KeptTriangle), 1024, compress_spill_);
     for (std::size_t b = 0; b < buckets; ++b) {
-      corners_->add_tile();
-      inside_->add_tile();
+      corners_->add_stream();
+      inside_->add_stream();
     }
     // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
     // the budget even if every vertex were a centre.
     cluster_span_ = std::max<std::uint64_t>(1, options_.memory_budget / 8 / sizeof(PartialCluster));
     std::uint64_t cluster_buckets = input_.positions.count / cluster_span_ + 1;
-    partials_ = std::make_unique<TileSpillFile>(temp_dir(), "clusters", sizeof(PartialCluster), 64, false);
-    for (std::uint64_t b = 0; b < cluster_buckets; ++b) partials_->add_tile();
+    partials_ = std::make_unique<StreamSpill>(temp_dir(), "clusters", sizeof(PartialCluster), 64, false);
+    for (std::uint64_t b = 0; b < cluster_buckets; ++b) partials_->add_stream();
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("cluster tiles", n, "tile");
     std::atomic<std::uint32_t> done{0};
@@ -862,7 +862,7 @@ class FloatingRun {
     // At most: every triangle decided in a tile, and one per three stitch corners.
     kept_.reserve(inside_->bytes_appended() / sizeof(KeptTriangle) +
                   corners_->bytes_appended() / sizeof(CornerRecord) / 3);
-    for (std::uint32_t b = 0; b < inside_->tile_count(); ++b) {
+    for (std::uint32_t b = 0; b < inside_->stream_count(); ++b) {
       std::size_t at = kept_.size();
       kept_.resize(at + inside_->record_count(b));
       inside_->read_into(b, kept_.data() + at, (kept_.size() - at) * sizeof(KeptTriangle));
@@ -880,7 +880,7 @@ class FloatingRun {
   // Appends `records` to `spill`, a run per bucket(record), after sorting them by
   // it (stably: within a bucket the records keep their order).
   template <class Record, class Bucket>
-  static void append_by_bucket(TileSpillFile& spill, std::vector<Record>* records, Bucket bucket) {
+  static void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket bucket) {
     std::vector<Record>& r = *records;
     std::stable_sort(r.begin(), r.end(), [&](const Record& a, const Record& b) { return bucket(a) < bucket(b); });
     for (std::size_t i = 0; i < r.size();) {
@@ -936,7 +936,7 @@ class FloatingRun {
     // fixed point, so in any order) and solve for the clusters some triangle uses.
     mesh.positions.assign(3 * index.size(), 0.0);
     std::uint64_t clusters = 0;
-    for (std::uint32_t b = 0; b < partials_->tile_count(); ++b) {
+    for (std::uint32_t b = 0; b < partials_->stream_count(); ++b) {
       std::vector<PartialCluster> shares;
       partials_->read(b, &shares);
       // Shares of one centre in any order: they are summed in fixed point.
@@ -964,7 +964,7 @@ class FloatingRun {
       stats_->occupied_cells = clusters;
       stats_->output_vertices = index.size();
       stats_->output_triangles = output_triangles;
-      stats_->tiles = triangles_->tile_count();
+      stats_->tiles = triangles_->stream_count();
     }
     return mesh;
   }
@@ -975,11 +975,11 @@ class FloatingRun {
   double half_;
   SimplifyStats* stats_;
   TileGeometry tiles_;
-  std::unique_ptr<TileSpillFile> triangles_, vertices_, corners_;
-  std::unique_ptr<TileSpillFile> inside_;  // triangles decided in their tile, by triangle-index bucket
+  std::unique_ptr<StreamSpill> triangles_, vertices_, corners_;
+  std::unique_ptr<StreamSpill> inside_;  // triangles decided in their tile, by triangle-index bucket
   // Per tile its graded vertices for the rounds and the clustering (TileVertexBlock).
   // The vertices_ spill holds the same only for --keep-tmp, in the kept format.
-  std::unique_ptr<TileBlockFile> blocks_;
+  std::unique_ptr<BlockStore> blocks_;
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_ids_;
   std::vector<GridCoord> tile_coords_;
   std::uint64_t triangle_count_ = 0;
@@ -996,7 +996,7 @@ class FloatingRun {
   std::uint64_t bucket_span_ = 1;
   std::vector<std::vector<GradedVertex>> border_;  // per tile, its centres whose cells reach outside it
   std::vector<std::vector<GradedVertex>> ext_;  // per tile, the external centres it last ran with
-  std::unique_ptr<TileSpillFile> partials_;  // PartialCluster shares, bucketed by centre index
+  std::unique_ptr<StreamSpill> partials_;  // PartialCluster shares, bucketed by centre index
   std::uint64_t cluster_span_ = 1;           // centre indices per bucket
   std::vector<KeptTriangle> kept_;           // candidates, deduplicated per tile and bucket
 };

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "grid/grid_coord.hpp"
-#include "grid/tile_spill_file.hpp"
+#include "spill/stream_spill.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/mesh_input.hpp"
 
@@ -35,7 +35,7 @@ bool regular_file_identity(const std::string& path, FileIdentity* id);
 /// One kept tile: its coordinates and where its triangles and graded vertices are.
 struct KeptTile {
   GridCoord coord;
-  TileSpillFile::Chain triangles, vertices;
+  StreamSpill::Chain triangles, vertices;
 };
 
 /// The manifest of kept tiles: the input they were binned from (identity and XXH64

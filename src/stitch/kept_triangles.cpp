@@ -20,10 +20,10 @@ void dedupe_kept_triangles(std::vector<KeptTriangle>& kept) {
              kept.end());
 }
 
-void stitch_cross_tile_corners(TileSpillFile& corners, std::vector<KeptTriangle>* kept) {
+void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept) {
   std::vector<KeptTriangle> bucket_kept;
   std::vector<CornerRecord> rec;
-  for (std::uint32_t b = 0; b < corners.tile_count(); ++b) {
+  for (std::uint32_t b = 0; b < corners.stream_count(); ++b) {
     corners.read(b, &rec);
     std::sort(rec.begin(), rec.end(),
               [](const CornerRecord& a, const CornerRecord& c) { return a.t_and_slot < c.t_and_slot; });

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "grid/tile_spill_file.hpp"
+#include "spill/stream_spill.hpp"
 
 namespace oocsimp {
 
@@ -55,6 +55,6 @@ void dedupe_kept_triangles(std::vector<KeptTriangle>& kept);
 /// bucket small enough to sort in memory): appends to `kept` the triangles whose
 /// three clusters differ, deduplicated per bucket. Throws std::logic_error when a
 /// triangle lacks a corner (the tiles did not report every owned corner).
-void stitch_cross_tile_corners(TileSpillFile& corners, std::vector<KeptTriangle>* kept);
+void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept);
 
 }  // namespace oocsimp

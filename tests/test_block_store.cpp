@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "grid/tile_block_file.hpp"
+#include "spill/block_store.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -33,7 +33,7 @@ TEST_CASE("tile blocks written from many threads read back in place, aligned and
   const std::string& dir = scratch.path();
   constexpr std::uint32_t kTiles = 200;
   {
-    TileBlockFile f(dir, "blocks-test", kTiles);
+    BlockStore f(dir, "blocks-test", kTiles);
     tbb::parallel_for(std::uint32_t(0), kTiles, [&](std::uint32_t t) {
       std::vector<unsigned char> b = pattern(t);
       f.put(t, b.data(), b.size());

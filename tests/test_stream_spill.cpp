@@ -1,4 +1,4 @@
-// Tests of the per-tile record streams on disk (src/grid/tile_spill_file.hpp) and of
+// Tests of the per-tile record streams on disk (src/spill/stream_spill.hpp) and of
 // the content checksum that guards kept ones (src/io/content_hash.hpp).
 #include <catch2/catch.hpp>
 
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "grid/tile_spill_file.hpp"
+#include "spill/stream_spill.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/error.hpp"
 #include "test_support.hpp"
@@ -28,9 +28,9 @@ struct Record {
 TEST_CASE("tile spills give back every tile's records in append order", "[spill]") {
   for (bool compress : {false, true}) {
     ScratchDir d;
-    TileSpillFile spill(d.path(), "t", sizeof(Record), 7, compress);  // small blocks: many per tile
+    StreamSpill spill(d.path(), "t", sizeof(Record), 7, compress);  // small blocks: many per tile
     const std::uint32_t tiles = 5;
-    for (std::uint32_t t = 0; t < tiles; ++t) spill.add_tile();
+    for (std::uint32_t t = 0; t < tiles; ++t) spill.add_stream();
     std::mt19937 rng(3);
     std::vector<std::vector<Record>> expected(tiles);
     for (int round = 0; round < 300; ++round) {
@@ -70,8 +70,8 @@ TEST_CASE("tile spills give back every tile's records in append order", "[spill]
 
 TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill]") {
   ScratchDir d;
-  TileSpillFile spill(d.path(), "t", sizeof(Record), 4, false);
-  spill.add_tile();
+  StreamSpill spill(d.path(), "t", sizeof(Record), 4, false);
+  spill.add_stream();
   Record r{0, 0, {1, 2}};
   spill.append(0, &r, 1);
   Record out[2];
@@ -83,11 +83,11 @@ TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill
 TEST_CASE("a kept spill whose block chain loops or leaves the file is an error, not a hang", "[spill]") {
   ScratchDir d;
   // Three tiles of 4 records in blocks of 2: tile 0's chain is two blocks long.
-  std::vector<TileSpillFile::Chain> chains;
+  std::vector<StreamSpill::Chain> chains;
   std::uint64_t size = 0;
   {
-    TileSpillFile spill(d.path(), "t", sizeof(Record), 2, false);
-    for (std::uint32_t t = 0; t < 3; ++t) spill.add_tile();
+    StreamSpill spill(d.path(), "t", sizeof(Record), 2, false);
+    for (std::uint32_t t = 0; t < 3; ++t) spill.add_stream();
     for (std::uint64_t i = 0; i < 12; ++i) {
       Record r{i % 3, i, {i, i}};
       spill.append(std::uint32_t(i % 3), &r, 1);
@@ -98,22 +98,22 @@ TEST_CASE("a kept spill whose block chain loops or leaves the file is an error, 
   }
   std::vector<Record> out;
   {
-    auto intact = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    auto intact = StreamSpill::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
     intact->read(0, &out);
     REQUIRE(out.size() == 4);
     CHECK(out[3].serial == 9);
   }
   SECTION("zero-filled: the last block's header points to offset 0, the first block to itself") {
     write_file(d.file("kept.tiles"), std::string(std::size_t(size), '\0'));
-    auto zeroed = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    auto zeroed = StreamSpill::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
     CHECK_THROWS_AS(zeroed->read(0, &out), IoError);
     // A chain that starts at 0 meets the zeroed header there (which points to itself).
-    auto at_zero = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), {{0, 4}});
+    auto at_zero = StreamSpill::open_kept(d.file("kept.tiles"), sizeof(Record), {{0, 4}});
     CHECK_THROWS_AS(at_zero->read(0, &out), IoError);
   }
   SECTION("a chain that starts beyond the end of a truncated file") {
     REQUIRE(truncate(d.file("kept.tiles").c_str(), off_t(chains[0].last_block)) == 0);
-    auto truncated = TileSpillFile::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+    auto truncated = StreamSpill::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
     CHECK_THROWS_AS(truncated->read(0, &out), IoError);
   }
 }

@@ -18,12 +18,12 @@ namespace oocsimp {
 /// shared and read-write, so a block is used in place and changes to it go to the
 /// file: the kernel pages blocks in and out as they are used, and none of it counts
 /// as heap. Blocks start at 8-byte boundaries.
-class TileBlockFile {
+class BlockStore {
  public:
-  TileBlockFile(const std::string& temp_dir, const std::string& name, std::uint32_t tiles);
-  ~TileBlockFile();
-  TileBlockFile(const TileBlockFile&) = delete;
-  TileBlockFile& operator=(const TileBlockFile&) = delete;
+  BlockStore(const std::string& temp_dir, const std::string& name, std::uint32_t tiles);
+  ~BlockStore();
+  BlockStore(const BlockStore&) = delete;
+  BlockStore& operator=(const BlockStore&) = delete;
 
   /// Writes `bytes` bytes at `data` as the block of `tile` (once per tile, before
   /// map()). Thread-safe. Throws IoError naming the folder and the space needed when

@@ -1,4 +1,4 @@
-#include "grid/tile_spill_file.hpp"
+#include "spill/stream_spill.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -35,7 +35,7 @@ ZstdContexts& zstd_contexts() {
 
 // On disk, each block is this header followed by its payload.
 struct BlockHeader {
-  std::uint64_t previous;     // offset of the tile's previous block, or kNoBlock
+  std::uint64_t previous;     // offset of the stream's previous block, or kNoBlock
   std::uint32_t raw_bytes;    // payload size before compression
   std::uint32_t stored_bytes; // payload size on disk (== raw_bytes: stored raw)
 };
@@ -54,15 +54,15 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 
 }  // namespace
 
-struct TileSpillFile::Tile {
+struct StreamSpill::Stream {
   std::vector<unsigned char> buffer;
   std::size_t buffered = 0;  // records in buffer
   std::uint64_t last_block = kNoBlock;
   std::uint64_t records = 0;
-  std::mutex mutex;  // guards buffer, buffered and records for this tile
+  std::mutex mutex;  // guards buffer, buffered and records for this stream
 };
 
-TileSpillFile::TileSpillFile(const std::string& temp_dir, const std::string& name, std::size_t record_size,
+StreamSpill::StreamSpill(const std::string& temp_dir, const std::string& name, std::size_t record_size,
                              std::size_t buffer_records, bool compress)
     : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-" + name + "-")),
       fd_(file_->fd()),
@@ -72,28 +72,28 @@ TileSpillFile::TileSpillFile(const std::string& temp_dir, const std::string& nam
       buffer_records_(buffer_records < 1 ? 1 : buffer_records),
       compress_(compress) {}
 
-TileSpillFile::TileSpillFile(std::size_t record_size)
+StreamSpill::StreamSpill(std::size_t record_size)
     : record_size_(record_size), buffer_records_(1), compress_(false) {}
 
-TileSpillFile::~TileSpillFile() {
+StreamSpill::~StreamSpill() {
   if (!file_ && fd_ >= 0) ::close(fd_);
 }
 
-const std::string& TileSpillFile::path() const { return path_; }
+const std::string& StreamSpill::path() const { return path_; }
 
-TileSpillFile::Chain TileSpillFile::chain(std::uint32_t tile) const {
-  return {tiles_[tile]->last_block, tiles_[tile]->records};
+StreamSpill::Chain StreamSpill::chain(std::uint32_t stream) const {
+  return {streams_[stream]->last_block, streams_[stream]->records};
 }
 
-void TileSpillFile::keep_as(const std::string& path) {
+void StreamSpill::keep_as(const std::string& path) {
   flush();
   file_->persist(path);
   path_ = path;
 }
 
-std::unique_ptr<TileSpillFile> TileSpillFile::open_kept(const std::string& path, std::size_t record_size,
+std::unique_ptr<StreamSpill> StreamSpill::open_kept(const std::string& path, std::size_t record_size,
                                                         const std::vector<Chain>& chains) {
-  std::unique_ptr<TileSpillFile> f(new TileSpillFile(record_size));
+  std::unique_ptr<StreamSpill> f(new StreamSpill(record_size));
   f->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (f->fd_ < 0) throw IoError(system_error_text(path, "cannot open kept tiles", errno));
   f->path_ = path;
@@ -101,20 +101,20 @@ std::unique_ptr<TileSpillFile> TileSpillFile::open_kept(const std::string& path,
   if (::fstat(f->fd_, &st) != 0) throw IoError(system_error_text(path, "cannot stat kept tiles", errno));
   f->end_ = std::uint64_t(st.st_size);
   for (const Chain& c : chains) {
-    auto t = std::make_unique<Tile>();
+    auto t = std::make_unique<Stream>();
     t->last_block = c.last_block;
     t->records = c.records;
-    f->tiles_.push_back(std::move(t));
+    f->streams_.push_back(std::move(t));
   }
   return f;
 }
 
-std::uint32_t TileSpillFile::add_tile() {
-  tiles_.push_back(std::make_unique<Tile>());
-  return std::uint32_t(tiles_.size() - 1);
+std::uint32_t StreamSpill::add_stream() {
+  streams_.push_back(std::make_unique<Stream>());
+  return std::uint32_t(streams_.size() - 1);
 }
 
-void TileSpillFile::write_block(Tile& t) {
+void StreamSpill::write_block(Stream& t) {
   std::size_t raw = t.buffered * record_size_;
   const unsigned char* payload = t.buffer.data();
   std::size_t stored = raw;
@@ -154,8 +154,8 @@ void TileSpillFile::write_block(Tile& t) {
   t.buffered = 0;
 }
 
-void TileSpillFile::append(std::uint32_t tile, const void* records, std::size_t count) {
-  Tile& t = *tiles_[tile];
+void StreamSpill::append(std::uint32_t stream, const void* records, std::size_t count) {
+  Stream& t = *streams_[stream];
   std::lock_guard<std::mutex> lock(t.mutex);
   auto* p = static_cast<const unsigned char*>(records);
   t.records += count;
@@ -174,18 +174,18 @@ void TileSpillFile::append(std::uint32_t tile, const void* records, std::size_t 
   }
 }
 
-void TileSpillFile::flush() {
-  for (auto& tp : tiles_) {
-    Tile& t = *tp;
+void StreamSpill::flush() {
+  for (auto& tp : streams_) {
+    Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     if (t.buffered > 0) write_block(t);
     std::vector<unsigned char>().swap(t.buffer);
   }
 }
 
-void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes) const {
-  const Tile& t = *tiles_[tile];
-  std::lock_guard<std::mutex> lock(const_cast<Tile&>(t).mutex);
+void StreamSpill::read_into(std::uint32_t stream, void* dest, std::size_t bytes) const {
+  const Stream& t = *streams_[stream];
+  std::lock_guard<std::mutex> lock(const_cast<Stream&>(t).mutex);
   if (bytes != t.records * record_size_) throw std::logic_error(path_ + ": read into a buffer of the wrong size");
   unsigned char* out = static_cast<unsigned char*>(dest);
   // Blocks are chained backwards: fill the output from its end.
@@ -194,7 +194,7 @@ void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes)
   if (tail) std::memcpy(out + pos, t.buffer.data(), tail);
   ZstdContexts& zc = zstd_contexts();
   std::vector<unsigned char>& packed = zc.packed;
-  // Blocks are appended at the end of the file, so a tile's previous block lies
+  // Blocks are appended at the end of the file, so a stream's previous block lies
   // strictly before it: a chain that does not go backwards (a zeroed header points
   // to itself) is damage, and the walk ends after at most one step per block.
   const std::uint64_t file_end = bytes_on_disk();
@@ -222,14 +222,14 @@ void TileSpillFile::read_into(std::uint32_t tile, void* dest, std::size_t bytes)
   if (pos != 0) throw IoError(path_ + ": tile spill chain shorter than its record count");
 }
 
-std::uint64_t TileSpillFile::record_count(std::uint32_t tile) const { return tiles_[tile]->records; }
+std::uint64_t StreamSpill::record_count(std::uint32_t stream) const { return streams_[stream]->records; }
 
-std::uint64_t TileSpillFile::bytes_on_disk() const {
+std::uint64_t StreamSpill::bytes_on_disk() const {
   std::lock_guard<std::mutex> lock(write_mutex_);
   return end_;
 }
 
-std::uint64_t TileSpillFile::bytes_appended() const {
+std::uint64_t StreamSpill::bytes_appended() const {
   std::lock_guard<std::mutex> lock(write_mutex_);
   return appended_;
 }

@@ -1,4 +1,4 @@
-#include "grid/tile_block_file.hpp"
+#include "spill/block_store.hpp"
 
 #include <sys/mman.h>
 #include <unistd.h>
@@ -10,17 +10,17 @@
 
 namespace oocsimp {
 
-TileBlockFile::TileBlockFile(const std::string& temp_dir, const std::string& name, std::uint32_t tiles)
+BlockStore::BlockStore(const std::string& temp_dir, const std::string& name, std::uint32_t tiles)
     : file_(std::make_unique<TempFile>(temp_dir, "oocsimp-" + name + "-")),
       dir_(temp_dir),
       offsets_(tiles, 0),
       sizes_(tiles, 0) {}
 
-TileBlockFile::~TileBlockFile() {
+BlockStore::~BlockStore() {
   if (base_) ::munmap(base_, std::size_t(end_));
 }
 
-void TileBlockFile::put(std::uint32_t tile, const void* data, std::size_t bytes) {
+void BlockStore::put(std::uint32_t tile, const void* data, std::size_t bytes) {
   std::uint64_t at;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -45,7 +45,7 @@ void TileBlockFile::put(std::uint32_t tile, const void* data, std::size_t bytes)
   }
 }
 
-void TileBlockFile::map() {
+void BlockStore::map() {
   if (end_ == 0) return;
   // The padding of the last block is not written: extend the file over it, so every
   // mapped page is backed by the file.
@@ -56,7 +56,7 @@ void TileBlockFile::map() {
   base_ = static_cast<unsigned char*>(p);
 }
 
-unsigned char* TileBlockFile::block(std::uint32_t tile) const {
+unsigned char* BlockStore::block(std::uint32_t tile) const {
   return base_ && sizes_[tile] ? base_ + offsets_[tile] : nullptr;
 }
 
