@@ -45,6 +45,7 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/ordered_pipeline.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
@@ -825,13 +826,7 @@ class FloatingRun {
       }
       std::vector<ClusterRecord> sums(near.size());
       for (std::size_t i = 0; i < owned.size(); ++i) {
-        ClusterRecord& s = sums[cluster_of[i]];
-        const Quadric& q = vertex_q[i];
-        const Vec3d& c = near[cluster_of[i]].p;
-        double terms[12] = {q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2,
-                            (owned[i].p.x - c.x) * inv, (owned[i].p.y - c.y) * inv, (owned[i].p.z - c.z) * inv};
-        for (int k = 0; k < 12; ++k) s.sum[k].add(Fixed::of(terms[k]));
-        ++s.members;
+        sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
       }
       // Cross-tile corners go to the stitch buckets by triangle index.
       append_by_bucket(*corners_, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span_; });
@@ -894,27 +889,23 @@ class FloatingRun {
 
   Vec3d representative(const ClusterRecord& s) const {
     const Vec3d& c = s.centre;
-    double m = double(std::max<std::uint64_t>(s.members, 1));
-    Vec3d mean{s.sum[9].value() / m, s.sum[10].value() / m, s.sum[11].value() / m};  // relative, in cells
+    const Vec3d mean = s.mean();  // relative, in cells
     Vec3d x;
     switch (options_.representative) {
       case RepresentativeRule::centre: return c;
       case RepresentativeRule::mean: x = mean; break;
       case RepresentativeRule::quadric: {
-        Quadric q;
-        double* coeff = &q.a00;  // a00 a01 a02 a11 a12 a22 b0 b1 b2, as in sum[]
-        for (int i = 0; i < 9; ++i) coeff[i] = s.sum[i].value();
         // Kept inside the floating cell: the cube around the centre, then (for a
         // spherical cell) pulled back onto the sphere.
-        x = minimize_quadric(q, mean, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+        x = minimize_quadric(s.quadric(), mean, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
         if (cell_.shape == CellShape::sphere) {
-          double r = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
-          if (r > 0.5) x = {x.x * 0.5 / r, x.y * 0.5 / r, x.z * 0.5 / r};
+          double r = length(x);
+          if (r > 0.5) x = x * 0.5 / r;
         }
         break;
       }
     }
-    return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
+    return c + x * cell_.size;
   }
 
   SimplifiedMesh assemble() {
