@@ -45,6 +45,7 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/ordered_pipeline.hpp"
+#include "cluster/plane_quadric.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
@@ -803,16 +804,14 @@ class FloatingRun {
         const Vec3d p[3] = {mesh.positions[id[0]], mesh.positions[id[1]], mesh.positions[id[2]]};
         // The face's plane once, in cell units relative to its first corner; each
         // owned corner adds it relative to its own cluster's centre.
-        Vec3d e1{(p[1].x - p[0].x) * inv, (p[1].y - p[0].y) * inv, (p[1].z - p[0].z) * inv};
-        Vec3d e2{(p[2].x - p[0].x) * inv, (p[2].y - p[0].y) * inv, (p[2].z - p[0].z) * inv};
-        Vec3d m{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-        double len = std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z);  // twice the area, in cells^2
-        if (len > 0)
+        const TrianglePlane plane = triangle_plane((p[1] - p[0]) * inv, (p[2] - p[0]) * inv);
+        if (!plane.degenerate())
           for (int k = 0; k < 3; ++k) {
             if (local[k] == SIZE_MAX) continue;
-            const Vec3d& c = near[cluster_of[local[k]]].p;
-            double d = m.x * (p[0].x - c.x) * inv + m.y * (p[0].y - c.y) * inv + m.z * (p[0].z - c.z) * inv;
-            vertex_q[local[k]].add_plane(m, 0.5 / len, d);
+            const Vec3d& m = plane.m;
+            const Vec3d r = p[0] - near[cluster_of[local[k]]].p;
+            double d = m.x * r.x * inv + m.y * r.y * inv + m.z * r.z * inv;  // m.(first corner), in cells
+            add_plane_quadric(&vertex_q[local[k]], plane, d);
           }
         if (owned_count == 3) {
           std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
