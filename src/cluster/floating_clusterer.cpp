@@ -367,11 +367,7 @@ class FloatingRun {
         },
         [&](BinChunk& c) {
           c.filed.clear();
-          c.group_tile.clear();
-          // At most 3 tiles per triangle: a table of twice that never fills.
-          std::size_t slots = 16;
-          while (slots < 6 * c.count) slots *= 2;
-          c.slots.assign(slots, 0);
+          c.tiles.clear();
           for (std::size_t i = 0; i < c.count; ++i) {
             std::uint64_t t = c.first + i;
             TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
@@ -389,7 +385,7 @@ class FloatingRun {
         },
         [&](BinChunk& c) {
           for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g)
-            triangles_->append(tile_id(c.group_tile[g]), &c.records[c.group_start[g]],
+            triangles_->append(tile_id(c.tiles.key(g)), &c.records[c.group_start[g]],
                                c.group_start[g + 1] - c.group_start[g]);
         });
     triangles_->flush();

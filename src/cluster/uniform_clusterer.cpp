@@ -104,7 +104,7 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           Vec3d q = positions.get(i);
           if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
           Vec3d p = grid.relative(q);
-          VertexSum& s = c.cells.record(index(grid.key_relative(p)));
+          VertexSum& s = c.cells.value(index(grid.key_relative(p)));
           s.x += p.x;
           s.y += p.y;
           s.z += p.z;
@@ -113,8 +113,8 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
       },
       [&](VertexChunk& c) {
         for (std::size_t i = 0; i < c.cells.size(); ++i) {
-          VertexSum& dst = cells.record(cells.insert(c.cells.key(i))).vertices;
-          const VertexSum& src = c.cells.record(i);
+          VertexSum& dst = cells.value(cells.insert(c.cells.key(i))).vertices;
+          const VertexSum& src = c.cells.value(i);
           dst.x += src.x;
           dst.y += src.y;
           dst.z += src.z;
@@ -153,14 +153,14 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           q.add_triangle(p0, p1, p2);
           // The quadric goes once to each distinct cell the triangle touches.
           std::uint32_t i0 = index(k0), i1 = i0, i2 = i0;
-          c.cells.record(i0).add(q);
+          c.cells.value(i0).add(q);
           if (k1 != k0) {
             i1 = index(k1);
-            c.cells.record(i1).add(q);
+            c.cells.value(i1).add(q);
           }
           if (k2 != k0 && k2 != k1) {
             i2 = index(k2);
-            c.cells.record(i2).add(q);
+            c.cells.value(i2).add(q);
           }
           // Only a triangle spanning three cells survives the collapse.
           if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
@@ -171,7 +171,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         to_global.resize(c.cells.size());
         for (std::size_t i = 0; i < c.cells.size(); ++i) {
           std::uint32_t g = cells.insert(c.cells.key(i));
-          cells.record(g).q.add(c.cells.record(i));
+          cells.value(g).q.add(c.cells.value(i));
           to_global[i] = g;
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
@@ -222,7 +222,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
   mesh.positions.resize(3 * order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const CellRecord& rec = cells.record(order[i]);
+      const CellRecord& rec = cells.value(order[i]);
       Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
       Vec3d hi{lo.x + grid.cell, lo.y + grid.cell, lo.z + grid.cell};
       const VertexSum& s = rec.vertices;
