@@ -1,6 +1,7 @@
 #include "cluster/floating_cells.hpp"
 
 #include "common/flat_hash_map.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
 
 #include <algorithm>
@@ -393,8 +394,7 @@ std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& ve
       const GradedVertex& c = centres[id];
       if (c.index == v.index) self = &c;
       if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
-      double dx = v.p.x - c.p.x, dy = v.p.y - c.p.y, dz = v.p.z - c.p.z;
-      double d2 = dx * dx + dy * dy + dz * dz;
+      double d2 = squared_distance(v.p, c.p);
       bool better;
       if (!best) better = true;
       else if (rule == AssignRule::heaviest) better = precedes(c, *best);

@@ -20,6 +20,7 @@
 
 #include "cluster/ordered_pipeline.hpp"
 #include "cluster/triangle_set.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
@@ -30,7 +31,7 @@ namespace oocsimp {
 namespace {
 
 struct VertexSum {
-  double x = 0, y = 0, z = 0;
+  Vec3d sum;
   std::uint64_t n = 0;
 };
 
@@ -105,9 +106,7 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
           Vec3d p = grid.relative(q);
           VertexSum& s = c.cells.value(index(grid.key_relative(p)));
-          s.x += p.x;
-          s.y += p.y;
-          s.z += p.z;
+          s.sum += p;
           ++s.n;
         }
       },
@@ -115,9 +114,7 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
         for (std::size_t i = 0; i < c.cells.size(); ++i) {
           VertexSum& dst = cells.value(cells.insert(c.cells.key(i))).vertices;
           const VertexSum& src = c.cells.value(i);
-          dst.x += src.x;
-          dst.y += src.y;
-          dst.z += src.z;
+          dst.sum += src.sum;
           dst.n += src.n;
         }
         if (progress) progress->set(c.end);
@@ -224,14 +221,14 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const CellRecord& rec = cells.value(order[i]);
       Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
-      Vec3d hi{lo.x + grid.cell, lo.y + grid.cell, lo.z + grid.cell};
+      Vec3d hi = lo + Vec3d{grid.cell, grid.cell, grid.cell};
       const VertexSum& s = rec.vertices;
-      Vec3d mean = s.n ? Vec3d{s.x / double(s.n), s.y / double(s.n), s.z / double(s.n)}
-                       : Vec3d{lo.x + 0.5 * grid.cell, lo.y + 0.5 * grid.cell, lo.z + 0.5 * grid.cell};
-      Vec3d x = minimize_quadric(rec.q, mean, lo, hi);
-      mesh.positions[3 * i] = x.x + grid.origin.x;
-      mesh.positions[3 * i + 1] = x.y + grid.origin.y;
-      mesh.positions[3 * i + 2] = x.z + grid.origin.z;
+      const double half = 0.5 * grid.cell;
+      Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
+      Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
+      mesh.positions[3 * i] = x.x;
+      mesh.positions[3 * i + 1] = x.y;
+      mesh.positions[3 * i + 2] = x.z;
     }
   });
   double t3 = now_seconds();
