@@ -89,6 +89,34 @@ TEST_CASE("floating cells equal the sequential reference on random inputs", "[fl
   }
 }
 
+TEST_CASE("floating cells equal the sequential reference when the lookup grid is sparse", "[floating]") {
+  // Groups of points far apart: the lookup box has far more cubes than points, so
+  // the cube heads are a hash map rather than a dense array.
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> spot(0, 1000), near(-1.5, 1.5);
+  std::vector<GradedVertex> v;
+  for (int g = 0; g < 40; ++g) {
+    Vec3d s{spot(rng), spot(rng), spot(rng)};
+    for (int i = 0; i < 15; ++i) {
+      GradedVertex x;
+      x.index = v.size();
+      x.p = {s.x + near(rng), s.y + near(rng), s.z + near(rng)};
+      x.weight = double(rng() % 3);
+      v.push_back(x);
+    }
+  }
+  for (CellShape shape : {CellShape::cube, CellShape::sphere})
+    for (AssignRule rule : {AssignRule::nearest, AssignRule::heaviest}) {
+      FloatingCellShape cell{1.0, shape};
+      ReferenceClustering ref = reference_floating_cells(v, cell.size, shape, rule);
+      auto centres = choose_centres(sorted_copy(v), {}, cell);
+      REQUIRE(indices(centres) == ref.centres);
+      std::vector<std::uint64_t> cluster;
+      for (std::uint32_t c : assign_to_centres(v, centres, cell, rule)) cluster.push_back(centres[c].index);
+      CHECK(cluster == ref.cluster);
+    }
+}
+
 TEST_CASE("every vertex is within half a cell of its centre", "[floating]") {
   auto v = random_vertices(99, 2000, 20.0, 3);
   FloatingCellShape cell{1.5, CellShape::cube};

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cluster/plane_quadric.hpp"
+#include "common/vec3_math.hpp"
 #include "oocsimp/quadric.hpp"
 
 using namespace oocsimp;
@@ -79,4 +81,37 @@ TEST_CASE("an empty quadric returns the anchor", "[quadric]") {
   Quadric q;
   Vec3d x = minimize_quadric(q, {0.1, 0.2, 0.3}, kLo, kHi);
   CHECK(dist(x, {0.1, 0.2, 0.3}) == 0);
+}
+
+TEST_CASE("triangle_plane gives the normal and twice the area; degenerate triangles have no plane", "[quadric]") {
+  TrianglePlane t = triangle_plane({3, 0, 0}, {0, 4, 0});  // legs 3 and 4: area 6
+  CHECK(t.m.x == 0);
+  CHECK(t.m.y == 0);
+  CHECK(t.m.z == 12);
+  CHECK(t.len == 12);
+  CHECK_FALSE(t.degenerate());
+  CHECK(triangle_plane({1, 2, 3}, {2, 4, 6}).degenerate());  // collinear
+  CHECK(triangle_plane({0, 0, 0}, {0, 0, 0}).degenerate());
+}
+
+TEST_CASE("a plane quadric added in a shifted, scaled frame measures the same area-weighted distances", "[quadric]") {
+  // The floating method adds each face in cell units relative to a cluster centre:
+  // lengths scale by s, so area * distance^2 scales by s^4.
+  const Vec3d p{1.5, -2, 0.25}, q{3, 1, -1}, r{-0.5, 2.5, 2};
+  Quadric world;
+  world.add_triangle(p, q, r);
+  const Vec3d c{0.75, 0.5, -0.25};
+  const double s = 1.0 / 0.3;  // 1 / cell size
+  TrianglePlane plane = triangle_plane((q - p) * s, (r - p) * s);
+  Quadric local;
+  add_plane_quadric(&local, plane, dot(plane.m, (p - c) * s));
+  for (const Vec3d& x : {Vec3d{0, 0, 0}, Vec3d{1, 2, 3}, Vec3d{-4, 0.5, 2}, p, q}) {
+    double e = world.error(x) * s * s * s * s;
+    CHECK(local.error((x - c) * s) == Approx(e).margin(1e-9 * (1 + e)));
+  }
+  // And a point of the plane has no error; one at distance h, area * h^2.
+  double area = 0.5 * length(cross(q - p, r - p));
+  Vec3d n = cross(q - p, r - p) / length(cross(q - p, r - p));
+  CHECK(world.error((p + q + r) / 3) == Approx(0).margin(1e-12));
+  CHECK(world.error(p + n * 0.7) == Approx(area * 0.49));
 }

@@ -2,11 +2,14 @@
 // (cluster/floating_cells_design.md, "Sums that do not depend on the partition").
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
+#include "common/vec3_math.hpp"
 #include "oocsimp/mesh_input.hpp"
+#include "oocsimp/quadric.hpp"
 
 namespace oocsimp {
 
@@ -33,15 +36,92 @@ struct Fixed {
   double value() const { return double(v) / kScale; }
 };
 
-// What a cluster accumulates: the quadric (A and b; the constant is not needed to
-// solve), the sum of member positions and the member count, relative to its centre.
+// A quadric's A and b (Quadric's a00 ... b2) summed in fixed point; the constant is
+// not needed to solve for the minimiser, so it is not kept.
+struct FixedQuadric {
+  Fixed a00, a01, a02, a11, a12, a22;
+  Fixed b0, b1, b2;
+
+  void add(const Quadric& q) {
+    a00.add(Fixed::of(q.a00));
+    a01.add(Fixed::of(q.a01));
+    a02.add(Fixed::of(q.a02));
+    a11.add(Fixed::of(q.a11));
+    a12.add(Fixed::of(q.a12));
+    a22.add(Fixed::of(q.a22));
+    b0.add(Fixed::of(q.b0));
+    b1.add(Fixed::of(q.b1));
+    b2.add(Fixed::of(q.b2));
+  }
+  void add(const FixedQuadric& o) {
+    a00.add(o.a00.v);
+    a01.add(o.a01.v);
+    a02.add(o.a02.v);
+    a11.add(o.a11.v);
+    a12.add(o.a12.v);
+    a22.add(o.a22.v);
+    b0.add(o.b0.v);
+    b1.add(o.b1.v);
+    b2.add(o.b2.v);
+  }
+  /// The sums as a Quadric (c = 0).
+  Quadric value() const {
+    Quadric q;
+    q.a00 = a00.value();
+    q.a01 = a01.value();
+    q.a02 = a02.value();
+    q.a11 = a11.value();
+    q.a12 = a12.value();
+    q.a22 = a22.value();
+    q.b0 = b0.value();
+    q.b1 = b1.value();
+    q.b2 = b2.value();
+    return q;
+  }
+};
+
+/// A sum of positions in fixed point.
+struct FixedVec3 {
+  Fixed x, y, z;
+
+  void add(const Vec3d& p) {
+    x.add(Fixed::of(p.x));
+    y.add(Fixed::of(p.y));
+    z.add(Fixed::of(p.z));
+  }
+  void add(const FixedVec3& o) {
+    x.add(o.x.v);
+    y.add(o.y.v);
+    z.add(o.z.v);
+  }
+  Vec3d value() const { return {x.value(), y.value(), z.value()}; }
+};
+
+// What a cluster accumulates, relative to its centre and in cell units: the sum of
+// its members' vertex quadrics, the sum of their positions and their count.
 struct ClusterRecord {
   Vec3d centre;
-  Fixed sum[12];  // a00 a01 a02 a11 a12 a22 b0 b1 b2, mx my mz
+  FixedQuadric quadric_sum;
+  FixedVec3 offset_sum;
   std::uint64_t members = 0;
+
+  /// Adds a member vertex: its quadric and its offset from the centre, both in cell units.
+  void add_vertex(const Quadric& q, const Vec3d& offset_in_cells) {
+    quadric_sum.add(q);
+    offset_sum.add(offset_in_cells);
+    ++members;
+  }
+  /// Merges another share of the same cluster.
   void add(const ClusterRecord& o) {
-    for (int i = 0; i < 12; ++i) sum[i].add(o.sum[i].v);
+    quadric_sum.add(o.quadric_sum);
+    offset_sum.add(o.offset_sum);
     members += o.members;
+  }
+  /// The summed quadric (relative to the centre, in cell units; c = 0).
+  Quadric quadric() const { return quadric_sum.value(); }
+  /// The members' mean offset from the centre, in cell units (0 for no members).
+  Vec3d mean() const {
+    return offset_sum.value() / double(std::max<std::uint64_t>(members, 1));
   }
 };
 

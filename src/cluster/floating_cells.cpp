@@ -1,5 +1,7 @@
 #include "cluster/floating_cells.hpp"
 
+#include "common/flat_hash_map.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <queue>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace oocsimp {
 
@@ -51,7 +54,7 @@ class CubeLists {
     // cost more than the lookups save) and fit kDenseCubes.
     dense_ = cubes <= double(kDenseCubes) && cubes <= 64.0 * double(expected_items) + 4096;
     if (dense_) dense_heads_.assign(std::size_t(cubes), kNone);
-    else rehash(4 * expected_items + 16);
+    else sparse_heads_ = FlatHashMap<GridCoord, std::uint32_t, GridCoordHash>(4 * expected_items + 16);
     next_.reserve(expected_items);
   }
 
@@ -81,21 +84,13 @@ class CubeLists {
  private:
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   static constexpr std::size_t kDenseCubes = std::size_t(1) << 20;  // 4 MiB of heads
-  struct Slot {
-    GridCoord cell;
-    std::uint32_t head = kNone;  // kNone: empty slot
-  };
-
   std::size_t dense_index(const GridCoord& c) const {
     return std::size_t(((c.x - box_.lo.x) * dims_[1] + (c.y - box_.lo.y)) * dims_[2] + (c.z - box_.lo.z));
   }
   std::uint32_t find(const GridCoord& c) const {
     if (dense_) return dense_heads_[dense_index(c)];
-    for (std::size_t s = GridCoordHash()(c) & mask_;; s = (s + 1) & mask_) {
-      const Slot& slot = slots_[s];
-      if (slot.head == kNone) return kNone;
-      if (slot.cell == c) return slot.head;
-    }
+    std::int64_t cube = sparse_heads_.find(c);
+    return cube < 0 ? kNone : sparse_heads_.value(std::size_t(cube));
   }
   std::uint32_t& head_of(const GridCoord& c) {
     if (dense_) {
@@ -104,27 +99,10 @@ class CubeLists {
         throw std::logic_error("floating cells: a point outside the lookup box");
       return dense_heads_[dense_index(c)];
     }
-    if (2 * (used_ + 1) > slots_.size()) rehash(2 * slots_.size());
-    std::size_t s = GridCoordHash()(c) & mask_;
-    while (slots_[s].head != kNone && !(slots_[s].cell == c)) s = (s + 1) & mask_;
-    if (slots_[s].head == kNone) {
-      slots_[s].cell = c;
-      ++used_;
-    }
-    return slots_[s].head;  // kNone for a new cube: the caller links the item in
-  }
-  void rehash(std::size_t n) {
-    std::size_t cap = 16;
-    while (cap < n) cap *= 2;
-    std::vector<Slot> old = std::move(slots_);
-    slots_.assign(cap, Slot{});
-    mask_ = cap - 1;
-    for (const Slot& o : old) {
-      if (o.head == kNone) continue;
-      std::size_t s = GridCoordHash()(o.cell) & mask_;
-      while (slots_[s].head != kNone) s = (s + 1) & mask_;
-      slots_[s] = o;
-    }
+    std::pair<std::uint32_t, bool> cube = sparse_heads_.try_insert(c);
+    std::uint32_t& head = sparse_heads_.value(cube.first);
+    if (cube.second) head = kNone;  // a new cube: the caller links the item in
+    return head;
   }
 
   double size_;
@@ -133,8 +111,7 @@ class CubeLists {
   bool dense_ = true;
   std::vector<std::uint32_t> dense_heads_;
   std::vector<std::uint32_t> next_;
-  std::vector<Slot> slots_;
-  std::size_t mask_ = 0, used_ = 0;
+  FlatHashMap<GridCoord, std::uint32_t, GridCoordHash> sparse_heads_;
 };
 
 }  // namespace
@@ -417,8 +394,7 @@ std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& ve
       const GradedVertex& c = centres[id];
       if (c.index == v.index) self = &c;
       if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
-      double dx = v.p.x - c.p.x, dy = v.p.y - c.p.y, dz = v.p.z - c.p.z;
-      double d2 = dx * dx + dy * dy + dz * dz;
+      double d2 = squared_distance(v.p, c.p);
       bool better;
       if (!best) better = true;
       else if (rule == AssignRule::heaviest) better = precedes(c, *best);

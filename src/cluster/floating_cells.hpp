@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
 #include "oocsimp/simplify.hpp"
 
@@ -27,9 +28,9 @@ struct FloatingCellShape {
   /// Whether p lies in the cell centred at c (boundary included).
   bool contains(const Vec3d& c, const Vec3d& p) const {
     double h = 0.5 * size;
-    double dx = p.x - c.x, dy = p.y - c.y, dz = p.z - c.z;
-    if (shape == CellShape::cube) return std::abs(dx) <= h && std::abs(dy) <= h && std::abs(dz) <= h;
-    return dx * dx + dy * dy + dz * dz <= h * h;
+    const Vec3d d = p - c;
+    if (shape == CellShape::cube) return std::abs(d.x) <= h && std::abs(d.y) <= h && std::abs(d.z) <= h;
+    return squared_length(d) <= h * h;
   }
 };
 
@@ -39,8 +40,8 @@ struct FloatingCellShape {
 /// drops a candidate; FloatingCellShape::contains decides exactly.
 inline void cubes_near(const Vec3d& p, double size, GridCoord* lo, GridCoord* hi) {
   double h = 0.5 * size * (1 + 1e-12);
-  *lo = GridCoord::of({p.x - h, p.y - h, p.z - h}, size);
-  *hi = GridCoord::of({p.x + h, p.y + h, p.z + h}, size);
+  *lo = GridCoord::of(p - Vec3d{h, h, h}, size);
+  *hi = GridCoord::of(p + Vec3d{h, h, h}, size);
 }
 
 /// The centres among `sorted` (vertices in `precedes` order) chosen by the §3.2

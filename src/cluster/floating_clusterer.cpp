@@ -45,6 +45,8 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/ordered_pipeline.hpp"
+#include "cluster/plane_quadric.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
@@ -365,11 +367,7 @@ class FloatingRun {
         },
         [&](BinChunk& c) {
           c.filed.clear();
-          c.group_tile.clear();
-          // At most 3 tiles per triangle: a table of twice that never fills.
-          std::size_t slots = 16;
-          while (slots < 6 * c.count) slots *= 2;
-          c.slots.assign(slots, 0);
+          c.tiles.clear();
           for (std::size_t i = 0; i < c.count; ++i) {
             std::uint64_t t = c.first + i;
             TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
@@ -387,7 +385,7 @@ class FloatingRun {
         },
         [&](BinChunk& c) {
           for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g)
-            triangles_->append(tile_id(c.group_tile[g]), &c.records[c.group_start[g]],
+            triangles_->append(tile_id(c.tiles.key(g)), &c.records[c.group_start[g]],
                                c.group_start[g + 1] - c.group_start[g]);
         });
     triangles_->flush();
@@ -802,16 +800,14 @@ class FloatingRun {
         const Vec3d p[3] = {mesh.positions[id[0]], mesh.positions[id[1]], mesh.positions[id[2]]};
         // The face's plane once, in cell units relative to its first corner; each
         // owned corner adds it relative to its own cluster's centre.
-        Vec3d e1{(p[1].x - p[0].x) * inv, (p[1].y - p[0].y) * inv, (p[1].z - p[0].z) * inv};
-        Vec3d e2{(p[2].x - p[0].x) * inv, (p[2].y - p[0].y) * inv, (p[2].z - p[0].z) * inv};
-        Vec3d m{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
-        double len = std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z);  // twice the area, in cells^2
-        if (len > 0)
+        const TrianglePlane plane = triangle_plane((p[1] - p[0]) * inv, (p[2] - p[0]) * inv);
+        if (!plane.degenerate())
           for (int k = 0; k < 3; ++k) {
             if (local[k] == SIZE_MAX) continue;
-            const Vec3d& c = near[cluster_of[local[k]]].p;
-            double d = m.x * (p[0].x - c.x) * inv + m.y * (p[0].y - c.y) * inv + m.z * (p[0].z - c.z) * inv;
-            vertex_q[local[k]].add_plane(m, 0.5 / len, d);
+            const Vec3d& m = plane.m;
+            const Vec3d r = p[0] - near[cluster_of[local[k]]].p;
+            double d = m.x * r.x * inv + m.y * r.y * inv + m.z * r.z * inv;  // m.(first corner), in cells
+            add_plane_quadric(&vertex_q[local[k]], plane, d);
           }
         if (owned_count == 3) {
           std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
@@ -825,13 +821,7 @@ class FloatingRun {
       }
       std::vector<ClusterRecord> sums(near.size());
       for (std::size_t i = 0; i < owned.size(); ++i) {
-        ClusterRecord& s = sums[cluster_of[i]];
-        const Quadric& q = vertex_q[i];
-        const Vec3d& c = near[cluster_of[i]].p;
-        double terms[12] = {q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2,
-                            (owned[i].p.x - c.x) * inv, (owned[i].p.y - c.y) * inv, (owned[i].p.z - c.z) * inv};
-        for (int k = 0; k < 12; ++k) s.sum[k].add(Fixed::of(terms[k]));
-        ++s.members;
+        sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
       }
       // Cross-tile corners go to the stitch buckets by triangle index.
       append_by_bucket(*corners_, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span_; });
@@ -894,27 +884,23 @@ class FloatingRun {
 
   Vec3d representative(const ClusterRecord& s) const {
     const Vec3d& c = s.centre;
-    double m = double(std::max<std::uint64_t>(s.members, 1));
-    Vec3d mean{s.sum[9].value() / m, s.sum[10].value() / m, s.sum[11].value() / m};  // relative, in cells
+    const Vec3d mean = s.mean();  // relative, in cells
     Vec3d x;
     switch (options_.representative) {
       case RepresentativeRule::centre: return c;
       case RepresentativeRule::mean: x = mean; break;
       case RepresentativeRule::quadric: {
-        Quadric q;
-        double* coeff = &q.a00;  // a00 a01 a02 a11 a12 a22 b0 b1 b2, as in sum[]
-        for (int i = 0; i < 9; ++i) coeff[i] = s.sum[i].value();
         // Kept inside the floating cell: the cube around the centre, then (for a
         // spherical cell) pulled back onto the sphere.
-        x = minimize_quadric(q, mean, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+        x = minimize_quadric(s.quadric(), mean, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
         if (cell_.shape == CellShape::sphere) {
-          double r = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
-          if (r > 0.5) x = {x.x * 0.5 / r, x.y * 0.5 / r, x.z * 0.5 / r};
+          double r = length(x);
+          if (r > 0.5) x = x * 0.5 / r;
         }
         break;
       }
     }
-    return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
+    return c + x * cell_.size;
   }
 
   SimplifiedMesh assemble() {

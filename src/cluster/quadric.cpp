@@ -3,18 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cluster/plane_quadric.hpp"
+
 namespace oocsimp {
 
 void Quadric::add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
-  double ux = q.x - p.x, uy = q.y - p.y, uz = q.z - p.z;
-  double vx = r.x - p.x, vy = r.y - p.y, vz = r.z - p.z;
-  double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-  double len = std::sqrt(nx * nx + ny * ny + nz * nz);  // twice the area
-  if (!(len > 0)) return;
-  // Area-weighted plane quadric: area * (n n^T, -d n, d^2) with unit n and d = -n.p.
-  // With the unnormalised normal m (|m| = 2 area): area * n n^T = m m^T / (2 |m|).
-  double d = nx * p.x + ny * p.y + nz * p.z;  // |m| * (n.p)
-  add_plane({nx, ny, nz}, 0.5 / len, d);
+  TrianglePlane plane = triangle_plane(q - p, r - p);
+  if (plane.degenerate()) return;
+  add_plane_quadric(this, plane, dot(plane.m, p));
 }
 
 void Quadric::add(const Quadric& o) {

@@ -20,6 +20,7 @@
 
 #include "cluster/ordered_pipeline.hpp"
 #include "cluster/triangle_set.hpp"
+#include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
@@ -30,7 +31,7 @@ namespace oocsimp {
 namespace {
 
 struct VertexSum {
-  double x = 0, y = 0, z = 0;
+  Vec3d sum;
   std::uint64_t n = 0;
 };
 
@@ -104,20 +105,16 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           Vec3d q = positions.get(i);
           if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
           Vec3d p = grid.relative(q);
-          VertexSum& s = c.cells.record(index(grid.key_relative(p)));
-          s.x += p.x;
-          s.y += p.y;
-          s.z += p.z;
+          VertexSum& s = c.cells.value(index(grid.key_relative(p)));
+          s.sum += p;
           ++s.n;
         }
       },
       [&](VertexChunk& c) {
         for (std::size_t i = 0; i < c.cells.size(); ++i) {
-          VertexSum& dst = cells.record(cells.insert(c.cells.key(i))).vertices;
-          const VertexSum& src = c.cells.record(i);
-          dst.x += src.x;
-          dst.y += src.y;
-          dst.z += src.z;
+          VertexSum& dst = cells.value(cells.insert(c.cells.key(i))).vertices;
+          const VertexSum& src = c.cells.value(i);
+          dst.sum += src.sum;
           dst.n += src.n;
         }
         if (progress) progress->set(c.end);
@@ -153,14 +150,14 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           q.add_triangle(p0, p1, p2);
           // The quadric goes once to each distinct cell the triangle touches.
           std::uint32_t i0 = index(k0), i1 = i0, i2 = i0;
-          c.cells.record(i0).add(q);
+          c.cells.value(i0).add(q);
           if (k1 != k0) {
             i1 = index(k1);
-            c.cells.record(i1).add(q);
+            c.cells.value(i1).add(q);
           }
           if (k2 != k0 && k2 != k1) {
             i2 = index(k2);
-            c.cells.record(i2).add(q);
+            c.cells.value(i2).add(q);
           }
           // Only a triangle spanning three cells survives the collapse.
           if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
@@ -171,7 +168,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         to_global.resize(c.cells.size());
         for (std::size_t i = 0; i < c.cells.size(); ++i) {
           std::uint32_t g = cells.insert(c.cells.key(i));
-          cells.record(g).q.add(c.cells.record(i));
+          cells.value(g).q.add(c.cells.value(i));
           to_global[i] = g;
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
@@ -222,16 +219,16 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressR
   mesh.positions.resize(3 * order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const CellRecord& rec = cells.record(order[i]);
+      const CellRecord& rec = cells.value(order[i]);
       Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
-      Vec3d hi{lo.x + grid.cell, lo.y + grid.cell, lo.z + grid.cell};
+      Vec3d hi = lo + Vec3d{grid.cell, grid.cell, grid.cell};
       const VertexSum& s = rec.vertices;
-      Vec3d mean = s.n ? Vec3d{s.x / double(s.n), s.y / double(s.n), s.z / double(s.n)}
-                       : Vec3d{lo.x + 0.5 * grid.cell, lo.y + 0.5 * grid.cell, lo.z + 0.5 * grid.cell};
-      Vec3d x = minimize_quadric(rec.q, mean, lo, hi);
-      mesh.positions[3 * i] = x.x + grid.origin.x;
-      mesh.positions[3 * i + 1] = x.y + grid.origin.y;
-      mesh.positions[3 * i + 2] = x.z + grid.origin.z;
+      const double half = 0.5 * grid.cell;
+      Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
+      Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
+      mesh.positions[3 * i] = x.x;
+      mesh.positions[3 * i + 1] = x.y;
+      mesh.positions[3 * i + 2] = x.z;
     }
   });
   double t3 = now_seconds();

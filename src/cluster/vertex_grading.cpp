@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/vec3_math.hpp"
+
 namespace oocsimp {
 
 namespace {
@@ -27,16 +29,16 @@ double weight_of(const Vec3d* edges, std::size_t count, const unsigned char* rep
   std::size_t n = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3d& e = edges[i];
-    double len = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
+    double len = length(e);
     longest = std::max(longest, len);
     if (len <= 0) continue;
-    const Vec3d d{e.x / len, e.y / len, e.z / len};
-    if (repeated && repeated[i]) min_dot = std::min(min_dot, d.x * d.x + d.y * d.y + d.z * d.z);
+    const Vec3d d = e / len;
+    if (repeated && repeated[i]) min_dot = std::min(min_dot, dot(d, d));
     dirs[n++] = d;
   }
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j)
-      min_dot = std::min(min_dot, dirs[i].x * dirs[j].x + dirs[i].y * dirs[j].y + dirs[i].z * dirs[j].z);
+      min_dot = std::min(min_dot, dot(dirs[i], dirs[j]));
   // cos(theta / 2) = sqrt((1 + cos theta) / 2)
   double factor1 = std::sqrt(std::max(0.0, (1 + std::max(-1.0, min_dot)) / 2));
   return factor1 * longest;
@@ -114,7 +116,7 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
       seen[n] = std::uint32_t(i + 1);
       edge_of[n] = std::uint32_t(edges.size());
       const Vec3d& q = mesh.positions[n];
-      edges.push_back({q.x - p.x, q.y - p.y, q.z - p.z});
+      edges.push_back(q - p);
       repeated.push_back(0);
     }
     out[i].index = mesh.index[owned[i]];

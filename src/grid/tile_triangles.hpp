@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
+#include "common/flat_hash_map.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "oocsimp/mesh_input.hpp"
@@ -65,39 +66,28 @@ struct BinChunk {
   std::uint64_t first = 0;  // input index of the first triangle
   // The chunk's records grouped by tile, each group in input order, so each tile
   // gets one append: group g is records[group_start[g], group_start[g + 1]) of
-  // tile group_tile[g].
+  // tile tiles.key(g).
   std::vector<TriangleRecord> records;
-  std::vector<GridCoord> group_tile;
+  FlatHashSet<GridCoord, GridCoordHash> tiles;  // the chunk's tiles, numbered in order of first use
   std::vector<std::uint32_t> group_start;
-  // Scratch: the chunk-local tile of each record in input order, and an open-
-  // addressing table from tile coordinate to chunk-local tile.
+  // Scratch: the chunk-local tile of each record in input order, and the next
+  // free place of each group while grouping.
   std::vector<std::pair<std::uint32_t, TriangleRecord>> filed;
-  std::vector<std::uint32_t> slots;
+  std::vector<std::uint32_t> at;
 
   // Groups `filed` by chunk-local tile with a counting sort (stable: input order
   // within a tile), instead of sorting 56-byte (coordinate, record) pairs.
   void group() {
-    const std::size_t tiles = group_tile.size();
-    group_start.assign(tiles + 1, 0);
+    const std::size_t count = tiles.size();
+    group_start.assign(count + 1, 0);
     for (const auto& f : filed) ++group_start[f.first + 1];
-    for (std::size_t g = 0; g < tiles; ++g) group_start[g + 1] += group_start[g];
+    for (std::size_t g = 0; g < count; ++g) group_start[g + 1] += group_start[g];
     records.resize(filed.size());
-    std::vector<std::uint32_t>& at = slots;  // the table is done with: reuse it
     at.assign(group_start.begin(), group_start.end() - 1);
     for (const auto& f : filed) records[at[f.first]++] = f.second;
   }
-  std::uint32_t local_tile(const GridCoord& c) {
-    std::size_t mask = slots.size() - 1;
-    for (std::size_t s = GridCoordHash()(c) & mask;; s = (s + 1) & mask) {
-      std::uint32_t e = slots[s];
-      if (e == 0) {
-        group_tile.push_back(c);
-        slots[s] = std::uint32_t(group_tile.size());
-        return std::uint32_t(group_tile.size() - 1);
-      }
-      if (group_tile[e - 1] == c) return e - 1;
-    }
-  }
+  /// The chunk-local number of tile c.
+  std::uint32_t local_tile(const GridCoord& c) { return tiles.insert(c); }
 };
 
 }  // namespace oocsimp

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/vec3_math.hpp"
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/temp_file.hpp"
@@ -146,14 +147,15 @@ void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
 // The unit normal of triangle t by the right-hand rule over its corner order; 0 when
 // it has no area.
 Vec3d facet_normal(const MeshArrays& m, std::size_t t) {
-  const double* a = &m.pos[3 * std::size_t(m.tri[3 * t])];
-  const double* b = &m.pos[3 * std::size_t(m.tri[3 * t + 1])];
-  const double* c = &m.pos[3 * std::size_t(m.tri[3 * t + 2])];
-  double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  Vec3d n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-  double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  auto corner = [&](std::size_t k) {
+    const double* p = &m.pos[3 * std::size_t(m.tri[3 * t + k])];
+    return Vec3d{p[0], p[1], p[2]};
+  };
+  const Vec3d a = corner(0);
+  Vec3d n = cross(corner(1) - a, corner(2) - a);
+  double len = length(n);
   if (!(len > 0) || !std::isfinite(len)) return {};
-  return {n.x / len, n.y / len, n.z / len};
+  return n / len;
 }
 
 // Binary STL: an 80-byte header (not starting with "solid", which readers take for

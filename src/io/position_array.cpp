@@ -6,23 +6,19 @@
 #include <cstring>
 #include <sstream>
 
+#include "common/vec3_math.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
 
 double Box3d::diagonal() const {
   if (empty()) return 0;
-  double dx = max.x - min.x, dy = max.y - min.y, dz = max.z - min.z;
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
+  return distance(max, min);
 }
 
 void Box3d::add(const Vec3d& p) {
-  min.x = std::min(min.x, p.x);
-  min.y = std::min(min.y, p.y);
-  min.z = std::min(min.z, p.z);
-  max.x = std::max(max.x, p.x);
-  max.y = std::max(max.y, p.y);
-  max.z = std::max(max.z, p.z);
+  min = oocsimp::min(min, p);
+  max = oocsimp::max(max, p);
 }
 
 void Box3d::add(const Box3d& b) {

@@ -64,11 +64,11 @@ class SystematicAreaSampler {
   void place(std::uint64_t triangle, const Vec3d& a, const Vec3d& b, const Vec3d& c, std::uint64_t n,
              std::vector<Vec3d>& out) const {
     SampleRng rng(seed_ + mix64(triangle + 1));
-    Vec3d ab = sub(b, a), ac = sub(c, a);
+    Vec3d ab = b - a, ac = c - a;
     for (std::uint64_t i = 0; i < n; ++i) {
       // Square-root warp (Osada et al. 2002): uniform by area over the triangle.
       double r = std::sqrt(rng.unit()), s = rng.unit();
-      out.push_back(add_scaled(add_scaled(a, r * (1 - s), ab), r * s, ac));
+      out.push_back(a + r * (1 - s) * ab + r * s * ac);
     }
   }
 

@@ -310,7 +310,7 @@ std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std:
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i) {
                         const Vec3d& q = queries[i];
-                        result[i] = tree.nearest(q, kInfinity, [&](std::uint32_t k) { return distance2(q, sites[k]); });
+                        result[i] = tree.nearest(q, kInfinity, [&](std::uint32_t k) { return squared_distance(q, sites[k]); });
                       }
                       phase.advance(r.size());
                     });

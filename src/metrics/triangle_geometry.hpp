@@ -7,40 +7,28 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/vec3_math.hpp"
 #include "oocsimp/mesh_input.hpp"
 
 namespace oocsimp {
 namespace metrics {
 
-inline Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline double dot(const Vec3d& a, const Vec3d& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-/// a + s * d
-inline Vec3d add_scaled(const Vec3d& a, double s, const Vec3d& d) { return {a.x + s * d.x, a.y + s * d.y, a.z + s * d.z}; }
-inline double distance2(const Vec3d& a, const Vec3d& b) {
-  Vec3d d = sub(a, b);
-  return dot(d, d);
-}
-
 /// Area of triangle (a, b, c); exactly 0 for a degenerate one, which is then not part
 /// of the measured surface (it gets no samples and is never a closest triangle).
 inline double triangle_area(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-  Vec3d n = cross(sub(b, a), sub(c, a));
-  return 0.5 * std::sqrt(dot(n, n));
+  return 0.5 * length(cross(b - a, c - a));
 }
 
 /// Box3d::add for hot loops, where the out-of-line call shows.
 inline void expand(Box3d& box, const Vec3d& p) {
-  box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
-  box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+  box.min = min(box.min, p);
+  box.max = max(box.max, p);
 }
 
 inline Box3d triangle_box(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   Box3d box;
-  box.min = {std::min(a.x, std::min(b.x, c.x)), std::min(a.y, std::min(b.y, c.y)), std::min(a.z, std::min(b.z, c.z))};
-  box.max = {std::max(a.x, std::max(b.x, c.x)), std::max(a.y, std::max(b.y, c.y)), std::max(a.z, std::max(b.z, c.z))};
+  box.min = min(a, min(b, c));
+  box.max = max(a, max(b, c));
   return box;
 }
 
@@ -66,27 +54,27 @@ inline double box_box_distance2(const Box3d& a, const Box3d& b) {
 /// Detection (2005), section 5.1.5 — find the Voronoi region of p (vertex, edge or
 /// face) from the signs of barycentric sub-determinants and project onto it.
 inline Vec3d closest_point_on_triangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-  Vec3d ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  Vec3d ab = b - a, ac = c - a, ap = p - a;
   double d1 = dot(ab, ap), d2 = dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return a;
-  Vec3d bp = sub(p, b);
+  Vec3d bp = p - b;
   double d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return b;
   double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return add_scaled(a, d1 / (d1 - d3), ab);
-  Vec3d cp = sub(p, c);
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  Vec3d cp = p - c;
   double d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return c;
   double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return add_scaled(a, d2 / (d2 - d6), ac);
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
   double va = d3 * d6 - d5 * d4;
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return add_scaled(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), sub(c, b));
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
   double sum = va + vb + vc;
   // Only a sliver whose sub-determinants all round to 0 gets here with sum == 0;
   // its closest point is then (to rounding) its first corner.
   if (!(sum > 0)) return a;
-  return add_scaled(add_scaled(a, vb / sum, ab), vc / sum, ac);
+  return a + vb / sum * ab + vc / sum * ac;
 }
 
 /// Squared distance from p to triangle (a, b, c) whose box is `box`. It is clamped
@@ -95,7 +83,7 @@ inline Vec3d closest_point_on_triangle(const Vec3d& p, const Vec3d& a, const Vec
 /// rounding too, which keeps minima independent of the order pairs are visited in.
 inline double point_triangle_distance2(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c,
                                        const Box3d& box) {
-  return std::max(distance2(p, closest_point_on_triangle(p, a, b, c)), point_box_distance2(p, box));
+  return std::max(squared_distance(p, closest_point_on_triangle(p, a, b, c)), point_box_distance2(p, box));
 }
 
 }  // namespace metrics

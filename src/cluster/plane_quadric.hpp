@@ -1,0 +1,32 @@
+// A triangle's plane quadric, computed the same way by both clustering methods
+// (Garland & Heckbert; shared/papers/004, "Quadratic error-metric").
+#pragma once
+
+#include "common/vec3_math.hpp"
+#include "oocsimp/quadric.hpp"
+
+namespace oocsimp {
+
+/// A triangle's plane: the unnormalised normal m = e1 x e2 of its edges from one
+/// corner, and |m|, twice the area (in the units of the edges squared).
+struct TrianglePlane {
+  Vec3d m;
+  double len = 0;
+  /// Zero area (or a non-finite edge): the triangle has no plane and adds nothing.
+  bool degenerate() const { return !(len > 0); }
+};
+
+/// The plane of a triangle with edges e1 = q - p and e2 = r - p.
+inline TrianglePlane triangle_plane(const Vec3d& e1, const Vec3d& e2) {
+  Vec3d m = cross(e1, e2);
+  return {m, length(m)};
+}
+
+/// Adds the area-weighted plane quadric area * (n n^T, (n.P) n, (n.P)^2), with unit
+/// normal n, to `q`, given d = m.P for a point P of the plane in q's frame: with
+/// |m| = 2 area, area * n n^T = m m^T / (2 |m|). The plane must not be degenerate.
+inline void add_plane_quadric(Quadric* q, const TrianglePlane& plane, double d) {
+  q->add_plane(plane.m, 0.5 / plane.len, d);
+}
+
+}  // namespace oocsimp
