@@ -184,8 +184,9 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 
 }  // namespace
 
-SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressReporter* progress,
+SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats) {
+  ProgressReporter* progress = options.progress;
   CellMap<CellRecord> cells(1 << 16);
   TriangleSet kept;
 

@@ -14,7 +14,7 @@ namespace oocsimp {
 
 const char* version() { return OOCSIMP_VERSION; }
 
-const char* method_name(ClusterMethod m) { return m == ClusterMethod::uniform ? "uniform" : "floating"; }
+const char* method_name(ClusterMethod m) { return cluster_method(m).name; }
 const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
 const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
 
