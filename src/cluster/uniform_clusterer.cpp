@@ -18,9 +18,9 @@
 #include <algorithm>
 #include <limits>
 
-#include "cluster/ordered_pipeline.hpp"
 #include "cluster/triangle_set.hpp"
 #include "grid/cell_map.hpp"
+#include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"

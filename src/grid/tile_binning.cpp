@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-#include "cluster/ordered_pipeline.hpp"
+#include "io/ordered_pipeline.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/temp_file.hpp"
 

@@ -49,7 +49,7 @@
 #include <memory>
 #include <vector>
 
-#include "cluster/ordered_pipeline.hpp"
+#include "io/ordered_pipeline.hpp"
 #include "metrics/area_sampler.hpp"
 #include "metrics/box_tree.hpp"
 #include "metrics/triangle_geometry.hpp"
