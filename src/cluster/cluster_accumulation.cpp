@@ -37,14 +37,14 @@ void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket b
 ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray& positions, const BlockStore& blocks,
                                   const TileBorders& borders, std::uint64_t vertex_count,
                                   const AccumulationSettings& settings) {
-  const FloatingCellShape& cell_ = settings.cell;
-  const double half_ = 0.5 * cell_.size;
+  const FloatingCellShape& cell = settings.cell;
+  const double half = 0.5 * cell.size;
   const SpillSettings& spill = settings.spill;
   ClusterShares out;
   std::uint32_t n = tiles.count();
   std::size_t buckets = std::max<std::size_t>(1, std::size_t(tiles.triangle_count / (1 << 22)) + 1);
   out.bucket_span = std::max<std::uint64_t>(1, (tiles.triangle_count + buckets - 1) / buckets);
-  const std::uint64_t bucket_span_ = out.bucket_span;
+  const std::uint64_t bucket_span = out.bucket_span;
   out.corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), 4096, spill.compress);
   out.inside = std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), 1024, spill.compress);
   for (std::size_t b = 0; b < buckets; ++b) {
@@ -54,8 +54,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
   // the budget even if every vertex were a centre.
   out.cluster_span = std::max<std::uint64_t>(1, settings.memory_budget / 8 / sizeof(PartialCluster));
-  const std::uint64_t cluster_span_ = out.cluster_span;
-  std::uint64_t cluster_buckets = vertex_count / cluster_span_ + 1;
+  const std::uint64_t cluster_span = out.cluster_span;
+  std::uint64_t cluster_buckets = vertex_count / cluster_span + 1;
   out.partials = std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false);
   for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.partials->add_stream();
   ProgressReporter* progress = settings.progress;
@@ -75,10 +75,10 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     std::vector<std::size_t> owned_at(mesh.index.size(), SIZE_MAX);
     for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
     std::vector<GradedVertex> near = block.centres();
-    std::vector<GradedVertex> ext = external_centres(tiles.grid, tile, borders, half_);
+    std::vector<GradedVertex> ext = external_centres(tiles.grid, tile, borders, half);
     near.insert(near.end(), ext.begin(), ext.end());
     // Per owned vertex: the position in `near` of its cluster's centre.
-    std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell_, settings.assign);
+    std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell, settings.assign);
 
     // Vertex quadrics (Garland & Heckbert: the sum of the incident faces' plane
     // quadrics), in double, relative to the vertex's cluster centre in cell
@@ -88,7 +88,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     std::vector<Quadric> vertex_q(owned.size());
     std::vector<KeptTriangle> kept;
     std::vector<CornerRecord> corners;
-    const double inv = 1.0 / cell_.size;
+    const double inv = 1.0 / cell.size;
     for (std::size_t t = 0; t < tris.size(); ++t) {
       const TriangleRecord& r = tris[t];
       const std::uint32_t* id = &mesh.corners[3 * t];
@@ -133,7 +133,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
       ++s.members;
     }
     // Cross-tile corners go to the stitch buckets by triangle index.
-    append_by_bucket(*out.corners, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span_; });
+    append_by_bucket(*out.corners, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span; });
     // This tile's shares of clusters go to the cluster buckets, by centre index.
     std::vector<PartialCluster> partial;
     for (std::size_t i = 0; i < near.size(); ++i)
@@ -141,12 +141,12 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
         sums[i].centre = near[i].p;
         partial.push_back({near[i].index, sums[i]});
       }
-    append_by_bucket(*out.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span_; });
+    append_by_bucket(*out.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span; });
     // The triangles decided here go to the same buckets as the stitch's, so that
     // the output-sized list of kept triangles is built once, at its exact size,
     // instead of growing (and being copied) in the heap tile by tile.
     dedupe_kept_triangles(kept);
-    append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span_; });
+    append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span; });
     if (progress) progress->set(++done);
   });
   out.corners->flush();

@@ -15,19 +15,19 @@ namespace oocsimp {
 // Cross-tile triangles: their corners' clusters were written by the tiles owning
 // the corners into buckets by triangle index; a bucket fits in memory.
 std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners) {
-  std::vector<KeptTriangle> kept_;
+  std::vector<KeptTriangle> kept;
   // At most: every triangle decided in a tile, and one per three stitch corners.
-  kept_.reserve(inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3);
+  kept.reserve(inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3);
   for (std::uint32_t b = 0; b < inside.stream_count(); ++b) {
-    std::size_t at = kept_.size();
-    kept_.resize(at + inside.record_count(b));
-    inside.read_into(b, kept_.data() + at, (kept_.size() - at) * sizeof(KeptTriangle));
+    std::size_t at = kept.size();
+    kept.resize(at + inside.record_count(b));
+    inside.read_into(b, kept.data() + at, (kept.size() - at) * sizeof(KeptTriangle));
   }
-  stitch_cross_tile_corners(corners, &kept_);
-  return kept_;
+  stitch_cross_tile_corners(corners, &kept);
+  return kept;
 }
 
-Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell_, RepresentativeRule rule) {
+Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, RepresentativeRule rule) {
   const Vec3d& c = s.centre;
   double m = double(std::max<std::uint64_t>(s.members, 1));
   Vec3d mean{s.sum[9].value() / m, s.sum[10].value() / m, s.sum[11].value() / m};  // relative, in cells
@@ -42,14 +42,14 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell_, Rep
       // Kept inside the floating cell: the cube around the centre, then (for a
       // spherical cell) pulled back onto the sphere.
       x = minimize_quadric(q, mean, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
-      if (cell_.shape == CellShape::sphere) {
+      if (cell.shape == CellShape::sphere) {
         double r = std::sqrt(x.x * x.x + x.y * x.y + x.z * x.z);
         if (r > 0.5) x = {x.x * 0.5 / r, x.y * 0.5 / r, x.z * 0.5 / r};
       }
       break;
     }
   }
-  return {c.x + x.x * cell_.size, c.y + x.y * cell_.size, c.z + x.z * cell_.size};
+  return {c.x + x.x * cell.size, c.y + x.y * cell.size, c.z + x.z * cell.size};
 }
 
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
