@@ -12,6 +12,7 @@
 #include "cluster/centre_sweeps.hpp"
 #include "cluster/cluster_accumulation.hpp"
 #include "cluster/fixed_point_sums.hpp"
+#include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
 #include "cluster/vertex_grading.hpp"
 #include "floating_cells_reference.hpp"
@@ -390,6 +391,59 @@ TEST_CASE("stitch and assembly on a hand-made case: first occurrences in input o
     for (int v = 0; v < 4; ++v) {
       CHECK(m.positions[3 * std::size_t(v)] == Approx(x[std::size_t(v)]).margin(1e-9));
       CHECK(m.positions[3 * std::size_t(v) + 1] == 0);
+    }
+  }
+}
+
+TEST_CASE("kept tiles: what one run keeps, the next reloads as the same binned and graded tiles",
+          "[floating][stages][keep]") {
+  Fixture f;
+  SpillSettings spill = f.spill();
+  spill.compress = true;  // as --keep-tmp has it
+  MeshInput in = open_mesh_input(f.path);
+  std::vector<std::string> warnings;
+  const double side = 3 * f.cell;
+  std::vector<std::vector<TriangleRecord>> records;
+  std::vector<std::vector<GradedVertex>> graded_before;
+  std::vector<GridCoord> coords;
+  {
+    KeptTileStore store(in, f.dir.path(), &warnings);
+    BinnedTiles none;
+    std::unique_ptr<StreamSpill> no_graded;
+    CHECK_FALSE(store.resume(f.cell, &none, &no_graded));  // nothing kept yet
+    REQUIRE(store.start());
+    BinnedTiles tiles = bin_triangles(in, side, 64u << 20, spill, nullptr);
+    StreamSpill graded(f.dir.path(), "vertices", sizeof(GradedVertex), 4096, false);
+    for (std::uint32_t t = 0; t < tiles.count(); ++t) {
+      graded.add_stream();
+      records.push_back(tiles.load(t));
+      graded_before.push_back(grade_tile(records.back(), in.positions));
+      graded.append(t, graded_before.back().data(), graded_before.back().size());
+      coords.push_back(tiles.grid.coord(t));
+    }
+    store.keep(tiles, graded);
+  }
+  CHECK(warnings.empty());
+  KeptTileStore store(in, f.dir.path(), &warnings);
+  BinnedTiles tiles;
+  std::unique_ptr<StreamSpill> graded;
+  CHECK_FALSE(store.resume(side * 1.01, &tiles, &graded));  // a cell wider than the kept tiles: bin again
+  CHECK(warnings.empty());                                  // (the options, not the files: no warning)
+  REQUIRE(store.resume(f.cell, &tiles, &graded));
+  CHECK(tiles.grid.side == side);
+  CHECK(tiles.triangle_count == f.mesh.triangle_count());
+  REQUIRE(tiles.count() == coords.size());
+  for (std::uint32_t t = 0; t < tiles.count(); ++t) {
+    CHECK(tiles.grid.coord(t) == coords[t]);
+    std::vector<TriangleRecord> r = tiles.load(t);
+    REQUIRE(r.size() == records[t].size());
+    for (std::size_t i = 0; i < r.size(); ++i) CHECK(r[i].tm == records[t][i].tm);
+    std::vector<GradedVertex> g;
+    graded->read(t, &g);
+    REQUIRE(g.size() == graded_before[t].size());
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      CHECK(g[i].index == graded_before[t][i].index);
+      CHECK(g[i].weight == graded_before[t][i].weight);
     }
   }
 }
