@@ -63,6 +63,20 @@ void round_to_float(const MeshInput& input, SimplifiedMesh& m) {
 
 }  // namespace
 
+const std::vector<ClusterMethodEntry>& cluster_methods() {
+  static const std::vector<ClusterMethodEntry> methods = {
+      {ClusterMethod::floating, "floating", cluster_floating},
+      {ClusterMethod::uniform, "uniform", cluster_uniform},
+  };
+  return methods;
+}
+
+const ClusterMethodEntry& cluster_method(ClusterMethod m) {
+  for (const ClusterMethodEntry& e : cluster_methods())
+    if (e.method == m) return e;
+  throw UsageError("unknown clustering method");
+}
+
 std::uint64_t default_memory_budget() {
   long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
@@ -97,20 +111,7 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   st.cell_size = grid.cell;
   for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
   input.restart_triangles();
-  SimplifiedMesh m;
-  switch (options.method) {
-    case ClusterMethod::uniform:
-      m = cluster_uniform(input, grid, options.progress, &st);
-      break;
-    case ClusterMethod::floating: {
-      SimplifyOptions o = options;
-      if (o.memory_budget == 0) o.memory_budget = default_memory_budget();
-      m = cluster_floating(input, o, grid.cell, &st);
-      break;
-    }
-    default:
-      throw UsageError("unknown clustering method");
-  }
+  SimplifiedMesh m = cluster_method(options.method).run(input, options, grid, &st);
   m.precision = ScalarType::f64;
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   return m;

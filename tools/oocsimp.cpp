@@ -18,6 +18,7 @@
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/grid_spec.hpp"
+#include "oocsimp/memory_tuning.hpp"
 #include "oocsimp/measure.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
@@ -98,10 +99,22 @@ E enum_named(const std::string& text, std::initializer_list<E> values, const cha
   throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
 }
 
+ClusterMethod method_named(const std::string& text) {
+  for (const ClusterMethodEntry& m : cluster_methods())
+    if (text == m.name) return m.method;
+  throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
+}
+
+std::vector<std::string> method_names() {
+  std::vector<std::string> names;
+  for (const ClusterMethodEntry& m : cluster_methods()) names.push_back(m.name);
+  return names;
+}
+
 // Turns the texts of the simplify options into SimplifyOptions, checking each.
 void resolve_simplify_args(SimplifyArgs& a) {
   SimplifyOptions& o = a.options;
-  o.method = enum_named(a.method, {ClusterMethod::floating, ClusterMethod::uniform}, method_name);
+  o.method = method_named(a.method);
   if (o.method == ClusterMethod::uniform) refuse_with_uniform(a.floating_only);
   o.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
   o.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
@@ -129,6 +142,7 @@ int run_simplify(SimplifyArgs& a) {
   resolve_simplify_args(a);
   ProgressReporter progress(a.quiet);
   a.options.progress = &progress;
+  a.options.release_memory = release_free_heap;
   SimplifyStats stats;
   simplify_file(a.in, a.outputs, a.options, &stats);
   if (!a.quiet) {
@@ -306,6 +320,7 @@ std::string one_line(std::string text) {
 
 int main(int argc, char** argv) {
   install_signal_cleanup();
+  tune_allocator_for_tiles();
   CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("oocsimp ") + version());
@@ -334,7 +349,7 @@ int main(int argc, char** argv) {
   sa.cell.option->excludes(sa.grid.option)->excludes(sa.ratio.option);
   sa.grid.option->excludes(sa.ratio.option);
   simplify->add_option("--method", sa.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
-      ->check(CLI::IsMember({"floating", "uniform"}))
+      ->check(CLI::IsMember(method_names()))
       ->group(common);
   sa.threads.option =
       simplify->add_option("--threads", sa.threads.text, "Worker threads (default: all cores)")->group(common);

@@ -86,6 +86,11 @@ struct SimplifyOptions {
   std::string temp_dir;             ///< empty = default_temp_dir()
   Precision precision = Precision::automatic;  ///< of the output positions
   ProgressReporter* progress = nullptr;
+  /// Floating: called between the phases of a run, whose tiles' buffers were just
+  /// freed on several threads, so the process's allocator can give them back to the
+  /// system (the CLI passes release_free_heap(), see oocsimp/memory_tuning.hpp).
+  /// Process-wide allocator settings are the program's business, not the library's.
+  void (*release_memory)() = nullptr;
 };
 
 /// One timed phase of a run.
@@ -117,6 +122,14 @@ struct SimplifyStats {
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
   bool resumed = false;               ///< floating: reused tiles kept by an earlier run
+  std::uint64_t largest_tile_records = 0;  ///< floating: triangle records of the fullest tile (its working set)
+  /// Floating, per sweep of border decisions after the first greedy (the last one
+  /// only confirms): the tiles looked at (a neighbour's border changed since they
+  /// last ran) and, of those, the tiles re-run (their external centres had changed).
+  struct SweepCount {
+    std::uint64_t looked_at = 0, rerun = 0;
+  };
+  std::vector<SweepCount> sweeps;
   /// Things the run did differently from what was asked, one line each ("FILE: what
   /// happened; what was done instead"), e.g. kept tiles that did not match the input
   /// and were recomputed. The CLI prints them on stderr.
@@ -192,6 +205,21 @@ std::string stats_to_json(const SimplifyStats& stats, const std::string& input_p
 
 /// The oocsimp version (the CMake project version).
 const char* version();
+
+/// A clustering method: simplify() opens the input, chooses the grid and calls its
+/// run function with the triangle stream at its start; run fills the clustering
+/// fields of `stats` (counts, the method's phases).
+using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                      SimplifyStats* stats);
+struct ClusterMethodEntry {
+  ClusterMethod method;
+  const char* name;  ///< as --method and the stats spell it
+  ClusterRun run;
+};
+/// Every method, the default first: a new method is an enum value, its file and a row here.
+const std::vector<ClusterMethodEntry>& cluster_methods();
+/// The entry of `m`; throws UsageError for a value without one.
+const ClusterMethodEntry& cluster_method(ClusterMethod m);
 
 /// Option values as the command line spells them ("floating", "cube", "nearest", ...).
 const char* method_name(ClusterMethod m);

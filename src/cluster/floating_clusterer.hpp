@@ -7,10 +7,11 @@
 namespace oocsimp {
 
 /// Clusters `input` (triangle stream at its start) with floating cells of side
-/// `cell` as `options` say (shape, assignment, representative, memory budget, tile
-/// side, temp folder); fills the clustering fields of `stats`. The result equals the
-/// sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
+/// `grid.cell` as `options` say (shape, assignment, representative, memory budget,
+/// tile side, temp folder); fills the clustering fields of `stats`. The result equals
+/// the sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
 /// count. Only vertices used by a triangle take part.
-SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, double cell, SimplifyStats* stats);
+SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                SimplifyStats* stats);
 
 }  // namespace oocsimp

@@ -1,13 +1,18 @@
 #include "cluster/kept_tiles.hpp"
 
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
+#include "cluster/vertex_grading.hpp"
 #include "oocsimp/error.hpp"
+#include "oocsimp/temp_file.hpp"
 
 namespace oocsimp {
 
@@ -115,6 +120,138 @@ bool BackgroundDigest::get(FileDigest* digest, std::string* error) {
   *digest = digest_;
   *error = error_;
   return error_.empty();
+}
+
+KeptTileStore::KeptTileStore(const MeshInput& input, std::string temp_dir, std::vector<std::string>* warnings)
+    : input_(input), temp_dir_(std::move(temp_dir)), warnings_(warnings) {}
+
+KeptTileStore::~KeptTileStore() = default;
+
+std::string KeptTileStore::kept_path(const char* ext) const {
+  char real[PATH_MAX];
+  std::string id = ::realpath(input_.info.path.c_str(), real) ? std::string(real) : input_.info.path;
+  if (input_.info.unwelded_vertex_count) id += "|welded";
+  char key[17];
+  std::snprintf(key, sizeof key, "%016llx", (unsigned long long)content_hash(id.data(), id.size()));
+  return temp_dir_ + "/oocsimp-kept-" + key + "." + ext;
+}
+
+void KeptTileStore::warn(const std::string& text) {
+  if (warnings_) warnings_->push_back(text);
+}
+
+bool KeptTileStore::start() {
+  if (!regular_file_identity(input_.info.path, &kept_input_)) {
+    warn(input_.info.path + ": --keep-tmp needs a regular file as input; nothing is kept");
+    return false;
+  }
+  input_digest_ = std::make_unique<BackgroundDigest>(input_.info.path);
+  return true;
+}
+
+void KeptTileStore::keep(BinnedTiles& tiles, StreamSpill& graded) {
+  FileDigest input_digest;
+  std::string error;
+  FileIdentity after;
+  if (!input_digest_->get(&input_digest, &error) || !regular_file_identity(input_.info.path, &after) ||
+      after != kept_input_ || input_digest.size != kept_input_.size) {
+    warn(error.empty() ? input_.info.path + ": changed during the run; its tiles are not kept" : error);
+    return;
+  }
+  // The old manifest goes first: a crash below must not leave it describing new files.
+  ::unlink(kept_path("manifest").c_str());
+  tiles.triangles->keep_as(kept_path("tiles"));
+  graded.keep_as(kept_path("vertices"));
+  KeptManifest m;
+  m.input = kept_input_;
+  m.input_digest = input_digest;
+  m.tiles_digest = file_digest(kept_path("tiles"));
+  m.vertices_digest = file_digest(kept_path("vertices"));
+  m.tile_side = tiles.grid.side;
+  m.triangles = tiles.triangle_count;
+  m.skipped = tiles.skipped;  // a resumed run does not read the stream
+  for (std::uint32_t t = 0; t < tiles.count(); ++t)
+    m.tiles.push_back({tiles.grid.coord(t), tiles.triangles->chain(t), graded.chain(t)});
+  write_file_atomically(kept_path("manifest"), format_kept_manifest(m));
+}
+
+// Why kept tiles cannot be used, as a warning; empty when they can. `m` is the
+// parsed manifest, `now` the input's identity.
+std::string KeptTileStore::fault(const KeptManifest& m, const FileIdentity& now) const {
+  const std::string& in = input_.info.path;
+  if (now != m.input) return in + ": changed since its tiles were kept (inode, size or times differ); binning again";
+  const std::pair<const char*, const FileDigest*> kept[2] = {{"tiles", &m.tiles_digest},
+                                                             {"vertices", &m.vertices_digest}};
+  for (const auto& [ext, digest] : kept) {
+    struct stat st;
+    std::string path = kept_path(ext);
+    if (::stat(path.c_str(), &st) != 0) return path + ": kept file missing; binning again";
+    if (std::uint64_t(st.st_size) != digest->size)
+      return path + ": kept file of " + std::to_string(st.st_size) + " bytes, " + std::to_string(digest->size) +
+             " expected (truncated?); binning again";
+  }
+  try {
+    if (file_digest(in) != m.input_digest)
+      return in + ": content differs from the input whose tiles were kept (checksum); binning again";
+    for (const auto& [ext, digest] : kept)
+      if (file_digest(kept_path(ext)) != *digest)
+        return kept_path(ext) + ": kept file damaged (checksum differs); binning again";
+  } catch (const IoError& e) {
+    return std::string(e.what()) + "; binning again";
+  }
+  return "";
+}
+
+bool KeptTileStore::resume(double min_side, BinnedTiles* tiles, std::unique_ptr<StreamSpill>* graded) {
+  FileIdentity now;
+  if (!regular_file_identity(input_.info.path, &now)) return false;  // start() says why
+  std::string text;
+  if (!read_manifest(&text)) {
+    struct stat st;
+    for (const char* ext : {"tiles", "vertices"})
+      if (::stat(kept_path(ext).c_str(), &st) == 0) {
+        warn(kept_path("manifest") + ": missing beside kept tiles; binning again");
+        break;
+      }
+    return false;
+  }
+  KeptManifest m;
+  if (!parse_kept_manifest(text, &m)) {
+    warn(kept_path("manifest") + ": damaged manifest of kept tiles; binning again");
+    return false;
+  }
+  if (m.tile_side < min_side) return false;  // the options, not the files: no warning
+  std::string why = fault(m, now);
+  if (!why.empty()) {
+    warn(why);
+    return false;
+  }
+  std::vector<StreamSpill::Chain> tri_chains, vtx_chains;
+  for (const KeptTile& t : m.tiles) {
+    tri_chains.push_back(t.triangles);
+    vtx_chains.push_back(t.vertices);
+  }
+  BinnedTiles r;
+  r.triangles = StreamSpill::open_kept(kept_path("tiles"), sizeof(TriangleRecord), tri_chains);
+  *graded = StreamSpill::open_kept(kept_path("vertices"), sizeof(GradedVertex), vtx_chains);
+  r.grid.side = m.tile_side;
+  r.triangle_count = m.triangles;
+  r.skipped = m.skipped;
+  for (const KeptTile& t : m.tiles) r.grid.add(t.coord);
+  *tiles = std::move(r);
+  return true;
+}
+
+// The manifest's text; false when there is none. A file beyond any plausible
+// manifest (a line per tile) is read as far as that and then fails its checksum.
+bool KeptTileStore::read_manifest(std::string* text) const {
+  FILE* f = std::fopen(kept_path("manifest").c_str(), "rb");
+  if (!f) return false;
+  char buf[65536];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0 && text->size() < (std::size_t(1) << 30);)
+    text->append(buf, n);
+  std::fclose(f);
+  return true;
 }
 
 }  // namespace oocsimp

@@ -1,14 +1,17 @@
-// --keep-tmp: what says whether tiles kept by an earlier run still belong to the
-// input, and the manifest that records it (see floating_clusterer.cpp).
+// --keep-tmp: the binned and graded tiles kept on disk after a run and reused by the
+// next run on the same input; what says whether they still belong to the input, and
+// the manifest that records it.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "grid/grid_coord.hpp"
+#include "grid/tile_binning.hpp"
 #include "spill/stream_spill.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/mesh_input.hpp"
@@ -71,6 +74,52 @@ class BackgroundDigest {
   FileDigest digest_;
   std::string error_;
   std::thread thread_;
+};
+
+/// The result of binning and grading kept on disk: the stage results a later run with
+/// other options reuses.
+///
+/// Binning and grading depend only on the input and the tile side, not on the cell,
+/// its shape, the assignment rule or the representative, so a later run on the same
+/// input with other options reuses them, provided its cell still fits in a tile. The
+/// files are oocsimp-kept-KEY.{tiles,vertices,manifest} in the temp folder, KEY
+/// naming the input's path and whether it was welded (which numbers the vertices
+/// otherwise). The manifest records the input's identity (device, inode, size,
+/// modification and status change times) and the XXH64 of its bytes, read while
+/// binning; a resume requires the same identity and reads the input again to compare
+/// the checksum (a sequential read: on the 2M sphere it costs a small fraction of
+/// the binning it saves), then checks the size and XXH64 of both kept files. Anything
+/// that does not match, or a damaged manifest, means binning again, with a warning:
+/// kept tiles are a cache, never a reason to fail.
+class KeptTileStore {
+ public:
+  /// Kept tiles of `input` under `temp_dir`; warnings go to `warnings` (may be null).
+  KeptTileStore(const MeshInput& input, std::string temp_dir, std::vector<std::string>* warnings);
+  ~KeptTileStore();
+
+  /// Loads kept tiles when a manifest for this input exists, its tiles are at least
+  /// `min_side` wide and every check passes: the binned tiles (the skipped faces as
+  /// the binning counted them) and each tile's graded vertices in `precedes` order
+  /// (GradedVertex, stream `tile`). False (and nothing changed) otherwise.
+  bool resume(double min_side, BinnedTiles* tiles, std::unique_ptr<StreamSpill>* graded);
+  /// Starts the input's checksum, read while binning; false (with a warning) when
+  /// the input is no regular file, which cannot be keyed.
+  bool start();
+  /// Keeps `tiles` and `graded` (after start()), unless the input changed during the
+  /// run (a warning then).
+  void keep(BinnedTiles& tiles, StreamSpill& graded);
+
+ private:
+  std::string kept_path(const char* ext) const;
+  void warn(const std::string& text);
+  std::string fault(const KeptManifest& m, const FileIdentity& now) const;
+  bool read_manifest(std::string* text) const;
+
+  const MeshInput& input_;
+  std::string temp_dir_;
+  std::vector<std::string>* warnings_;
+  FileIdentity kept_input_;                         // the input when binning started
+  std::unique_ptr<BackgroundDigest> input_digest_;  // its checksum, read while binning
 };
 
 }  // namespace oocsimp

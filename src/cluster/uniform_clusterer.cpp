@@ -18,10 +18,10 @@
 #include <algorithm>
 #include <limits>
 
-#include "cluster/ordered_pipeline.hpp"
 #include "cluster/triangle_set.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
+#include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
@@ -181,8 +181,9 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 
 }  // namespace
 
-SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressReporter* progress,
+SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats) {
+  ProgressReporter* progress = options.progress;
   CellMap<CellRecord> cells(1 << 16);
   TriangleSet kept;
 

@@ -5,9 +5,10 @@
 
 namespace oocsimp {
 
-/// Clusters `input` (triangle stream at its start) on `grid`; fills the clustering
-/// fields of `stats` (counts and the vertices / faces / solve seconds).
-SimplifiedMesh cluster_uniform(MeshInput& input, const GridSpec& grid, ProgressReporter* progress,
+/// Clusters `input` (triangle stream at its start) on `grid`, reporting to
+/// options.progress (no other option applies); fills the clustering fields of `stats`
+/// (counts and the vertices / faces / solve seconds).
+SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats);
 
 }  // namespace oocsimp

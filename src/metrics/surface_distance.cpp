@@ -5,7 +5,7 @@
 //
 // A is the big mesh: its positions stay in the mapping open_mesh_input made, its
 // triangles are only ever streamed, in fixed-size chunks through the ordered pipeline
-// (cluster/ordered_pipeline.hpp). B is small and loaded into memory.
+// (io/ordered_pipeline.hpp). B is small and loaded into memory.
 //
 //  1. Samples. Points are spread uniformly by area with systematic sampling over the
 //     cumulative area in file order (metrics/area_sampler.hpp): a first pass over A
@@ -49,7 +49,7 @@
 #include <memory>
 #include <vector>
 
-#include "cluster/ordered_pipeline.hpp"
+#include "io/ordered_pipeline.hpp"
 #include "metrics/area_sampler.hpp"
 #include "metrics/box_tree.hpp"
 #include "metrics/triangle_geometry.hpp"

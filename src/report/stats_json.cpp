@@ -14,7 +14,7 @@ namespace oocsimp {
 
 const char* version() { return OOCSIMP_VERSION; }
 
-const char* method_name(ClusterMethod m) { return m == ClusterMethod::uniform ? "uniform" : "floating"; }
+const char* method_name(ClusterMethod m) { return cluster_method(m).name; }
 const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
 const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
 
@@ -133,11 +133,19 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   js += "  \"options\": " + options_json(options, outputs) + ",\n";
   js += buf;
   if (options.method == ClusterMethod::floating) {
+    std::string sweeps;
+    for (const SimplifyStats::SweepCount& c : s.sweeps) {
+      std::snprintf(buf, sizeof buf, "%s{\"looked_at\": %" PRIu64 ", \"rerun\": %" PRIu64 "}",
+                    sweeps.empty() ? "" : ", ", c.looked_at, c.rerun);
+      sweeps += buf;
+    }
     std::snprintf(buf, sizeof buf,
-                  "  \"tiles\": {\"count\": %" PRIu64 ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64
-                  ", \"spill_raw_bytes\": %" PRIu64 ", \"resumed\": %s},\n",
-                  s.tiles, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.resumed ? "true" : "false");
-    js += buf;
+                  "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64
+                  ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
+                  ", \"resumed\": %s, \"sweeps\": [",
+                  s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes,
+                  s.resumed ? "true" : "false");
+    js += buf + sweeps + "]},\n";
   }
   js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";
   std::snprintf(buf, sizeof buf,

@@ -1,0 +1,59 @@
+// Pass 2 of floating cells, second half: the border decisions between tiles, first
+// greedy and colour sweeps until no border changes. See floating_cells_design.md,
+// "Tiles and rounds".
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cluster/floating_cells.hpp"
+#include "cluster/vertex_grading.hpp"
+#include "grid/tile_grid.hpp"
+#include "oocsimp/simplify.hpp"
+#include "spill/block_store.hpp"
+
+namespace oocsimp {
+
+/// Per tile, the centres of a tile's cells that reach outside its box (the only ones
+/// that can cover a neighbour's vertex).
+using TileBorders = std::vector<std::vector<GradedVertex>>;
+
+/// The external centres of `tile`: its neighbours' border centres whose cells can
+/// reach into its box (within `half` a cell of it, widened by a rounding margin;
+/// contains() decides exactly), in precedes order.
+std::vector<GradedVertex> external_centres(const TileGrid& grid, std::uint32_t tile, const TileBorders& borders,
+                                           double half);
+
+/// The centres of `tile` (its `centres`) whose cells, of half side `half`, reach outside it.
+std::vector<GradedVertex> border_of(const TileGrid& grid, std::uint32_t tile, const std::vector<GradedVertex>& centres,
+                                    double half);
+
+/// The border state of the rounds: every tile's published border and the external
+/// centres it last ran with.
+class BorderDecisions {
+ public:
+  BorderDecisions(const TileGrid& grid, const FloatingCellShape& cell);
+
+  /// The first greedy over a tile's graded vertices (in precedes order), with the
+  /// border centres its neighbours published so far: its centres (which live on in
+  /// the tile's vertex block only); publishes its border. Tiles of one colour class
+  /// may call it at once.
+  std::vector<GradedVertex> choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted);
+
+  /// Sweeps by colour class until no tile's external input changes; updates the
+  /// decisions in the vertex blocks of `blocks` in place. `stats` gets `rounds` and
+  /// the per-sweep counts.
+  void sweep(BlockStore& blocks, SimplifyStats* stats);
+
+  /// The settled borders (after sweep()), for the assignment; the state is spent.
+  TileBorders take_borders() { return std::move(border_); }
+
+ private:
+  const TileGrid& grid_;
+  FloatingCellShape cell_;
+  double half_;
+  TileBorders border_;  // per tile, its centres whose cells reach outside it
+  TileBorders ext_;     // per tile, the external centres it last ran with
+};
+
+}  // namespace oocsimp

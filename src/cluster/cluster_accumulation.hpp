@@ -1,0 +1,51 @@
+// Pass 3 of floating cells: per tile, vertices assigned to the decided centres,
+// vertex quadrics summed into partition-independent cluster shares, and the
+// triangles over three clusters kept. See floating_cells_design.md, "Sums that do not
+// depend on the partition".
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "cluster/centre_sweeps.hpp"
+#include "cluster/floating_cells.hpp"
+#include "grid/tile_binning.hpp"
+#include "oocsimp/simplify.hpp"
+#include "spill/block_store.hpp"
+#include "spill/stream_spill.hpp"
+
+namespace oocsimp {
+
+/// What the tiles hand to the stitch and the assembly, all in spills.
+struct ClusterShares {
+  /// PartialCluster: every tile's share of each cluster it touched, in stream
+  /// `centre / cluster_span` (the centre's input index).
+  std::unique_ptr<StreamSpill> partials;
+  std::uint64_t cluster_span = 1;
+  /// KeptTriangle: the triangles decided inside their tile (deduplicated per tile),
+  /// and CornerRecord: the corners of triangles that cross tiles, both in stream
+  /// `triangle index / bucket_span`.
+  std::unique_ptr<StreamSpill> inside, corners;
+  std::uint64_t bucket_span = 1;
+};
+
+/// Settings of the accumulation: the options it follows and where its spills go.
+struct AccumulationSettings {
+  FloatingCellShape cell;
+  AssignRule assign = AssignRule::nearest;
+  std::uint64_t memory_budget = 0;  ///< a cluster bucket's shares fit in an eighth of it
+  SpillSettings spill;
+  ProgressReporter* progress = nullptr;
+};
+
+/// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the
+/// tile's centres and the neighbours' `borders`, sums vertex quadrics (Garland &
+/// Heckbert) relative to the cluster centres into fixed-point cluster shares, and
+/// keeps the triangles spanning three clusters. `vertex_count`: the input's vertices
+/// (the largest centre index + 1).
+ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray& positions, const BlockStore& blocks,
+                                  const TileBorders& borders, std::uint64_t vertex_count,
+                                  const AccumulationSettings& settings);
+
+}  // namespace oocsimp

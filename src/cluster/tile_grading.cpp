@@ -1,0 +1,55 @@
+#include "cluster/tile_grading.hpp"
+
+#include <algorithm>
+#include <atomic>
+
+#include "cluster/floating_cells.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions) {
+  // The tile's vertices as local ids in order of first use, each position read
+  // once; the owned ones (whose fans are complete here) are graded.
+  TileLocalMesh local(tris, positions);
+  std::vector<GradedVertex> graded = grade_local_vertices(local.mesh(), local.owned);
+  std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
+  return graded;
+}
+
+std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
+                                        const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
+                                        ProgressReporter* progress) {
+  std::uint32_t n = tiles.count();
+  if (progress) progress->begin("grade tiles", n, "tile");
+  std::atomic<std::uint32_t> done{0};
+  // Round 1: grade, sort and spill every tile's vertices; the greedy with the
+  // borders of the neighbours graded before.
+  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n);
+  tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
+    std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
+    if (keep) keep->append(tile, graded.data(), graded.size());
+    std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
+    blocks->put(tile, block.data(), block.size());
+    if (progress) progress->set(++done);
+  });
+  if (keep) keep->flush();
+  blocks->map();
+  if (progress) progress->end();
+  return blocks;
+}
+
+std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
+                                             const FirstChoice& choose, const std::string& temp_dir) {
+  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count());
+  grid.for_each_by_colour([&](std::uint32_t tile) {
+    std::vector<GradedVertex> sorted;
+    kept.read(tile, &sorted);
+    std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose(tile, sorted), cell_size);
+    blocks->put(tile, block.data(), block.size());
+  });
+  blocks->map();
+  return blocks;
+}
+
+}  // namespace oocsimp

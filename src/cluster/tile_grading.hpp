@@ -1,0 +1,75 @@
+// Pass 2 of floating cells, first half: each tile's owned vertices graded (Low & Tan
+// §3.1), sorted in visiting order (§3.2) and laid out in the tile's vertex block with
+// the decisions of the first greedy. See floating_cells_design.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cluster/vertex_grading.hpp"
+#include "grid/cell_map.hpp"
+#include "grid/tile_binning.hpp"
+#include "oocsimp/mesh_input.hpp"
+#include "spill/block_store.hpp"
+#include "spill/stream_spill.hpp"
+
+namespace oocsimp {
+
+/// A tile's triangles over local vertex ids (in order of first use), with each
+/// vertex's input index and position (read once) and the owned ones.
+struct TileLocalMesh {
+  std::vector<std::uint32_t> corners;  // 3 per triangle
+  std::vector<std::uint64_t> index;
+  std::vector<Vec3d> positions;
+  std::vector<std::uint32_t> owned;  // local ids, in order of first use
+
+  CellMap<char> ids;  // input index -> local id
+
+  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
+      : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
+    for (std::size_t t = 0; t < tris.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        std::uint64_t v = tris[t].v[k];
+        std::size_t before = ids.size();
+        std::uint32_t id = ids.insert(v);
+        if (ids.size() != before) {
+          index.push_back(v);
+          positions.push_back(pos.get(v));
+          // A vertex is owned by one tile, so every corner of it here says the same.
+          if (tris[t].owned(k)) owned.push_back(id);
+        }
+        corners[3 * t + std::size_t(k)] = id;
+      }
+  }
+  LocalMesh mesh() const {
+    return {corners.data(), corners.size() / 3, index.data(), positions.data(), index.size()};
+  }
+};
+
+/// The tile's owned vertices (those whose records say so) graded from the tile's
+/// triangles `tris` (input order), in `precedes` order.
+std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions);
+
+/// The first greedy of a tile over its graded vertices (in `precedes` order): the
+/// centres, given what the tiles run before it published.
+using FirstChoice =
+    std::function<std::vector<GradedVertex>(std::uint32_t tile, const std::vector<GradedVertex>& sorted)>;
+
+/// Every tile's vertex block (TileVertexBlock, cells of side `cell_size`) in one
+/// mapped BlockStore under `temp_dir`: graded with grade_tile, the tiles by colour
+/// class (TileGrid::for_each_by_colour) so that `choose` sees the borders of the
+/// classes before. With `keep`, each tile's sorted vertices are also appended to its
+/// stream there (--keep-tmp).
+std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
+                                        const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
+                                        ProgressReporter* progress);
+
+/// The same from vertices graded by an earlier run (stream `tile` of `kept`).
+std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
+                                             const FirstChoice& choose, const std::string& temp_dir);
+
+}  // namespace oocsimp

@@ -1,0 +1,70 @@
+// Pass 1 of floating cells: every triangle goes to the tile of each of its corners,
+// so a tile sees the complete fan of every vertex it owns. See
+// cluster/floating_cells_design.md, "Tiles and rounds".
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "grid/tile_grid.hpp"
+#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/simplify.hpp"
+#include "spill/stream_spill.hpp"
+
+namespace oocsimp {
+
+/// A triangle as the tile spill holds it: one record per tile holding a corner.
+struct TriangleRecord {
+  std::uint64_t tm;    // input triangle index (file order) | owned-corner mask << 61
+  std::uint64_t v[3];  // input vertex indices
+
+  static constexpr int kMaskShift = 61;
+  std::uint64_t index() const { return tm & ((std::uint64_t(1) << kMaskShift) - 1); }
+  /// Whether corner k lies in the tile holding this record (the binning knew).
+  bool owned(int k) const { return (tm >> (kMaskShift + k)) & 1; }
+};
+
+/// Every occupied tile costs a binning buffer of at least kMinBufferRecords records
+/// and its bookkeeping (spill chains, coordinates, borders, neighbour lists: under
+/// 1 KiB). Binning gives the buffers a quarter of the budget.
+constexpr std::size_t kMinBufferRecords = 256;
+constexpr std::uint64_t kTileFixedBytes = kMinBufferRecords * sizeof(TriangleRecord) + 1024;
+
+/// The binned mesh: the tiling, each tile's triangle records (stream `tile` of the
+/// spill, in input order) and what the triangle stream reported.
+struct BinnedTiles {
+  TileGrid grid;
+  std::unique_ptr<StreamSpill> triangles;
+  std::uint64_t triangle_count = 0;
+  SkippedFaces skipped;
+
+  std::uint32_t count() const { return grid.count(); }
+  /// The tile's triangles, sorted by input index (a vertex quadric sums its faces in
+  /// this order; binning appends in input order, so this is normally sorted already).
+  std::vector<TriangleRecord> load(std::uint32_t tile) const;
+  /// The most triangle records any tile holds.
+  std::uint64_t largest_tile_records() const;
+};
+
+/// Where the spills of a floating run go and whether they are compressed.
+struct SpillSettings {
+  std::string dir;
+  bool compress = true;  ///< the triangle, stitch and kept-triangle spills
+  /// A lower estimate of the tile spill's bytes, for the free-space check and the
+  /// message of a write that fails.
+  std::uint64_t expected_bytes = 0;
+};
+/// From the options: the temp folder, zstd where the spill would go to the disk,
+/// and the estimate from the input's counts, `vertex_record_bytes` per vertex.
+SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes);
+
+/// Bins the triangle stream of `input` (at its start) into tiles of side
+/// `tile_side`, with buffers from a quarter of `memory_budget`. Throws IoError when
+/// the temp folder cannot hold the spill.
+BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
+                          ProgressReporter* progress);
+
+}  // namespace oocsimp

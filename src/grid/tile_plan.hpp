@@ -1,0 +1,22 @@
+// The side of the floating-cell tiles: from the memory budget, or as the user gave it.
+// See cluster/floating_cells_design.md, "Tiles and rounds" (tile size).
+#pragma once
+
+#include <cstdint>
+
+#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/simplify.hpp"
+
+namespace oocsimp {
+
+/// The tile side for cells of side `cell`: options.tile_side when given (refused with
+/// UsageError when its tiles' buffers would not fit options.memory_budget, see
+/// check_tile_count_fits), else from the budget, the face count and the occupancy of
+/// a sample of the vertices. Never below `cell`, so a cell reaches only adjacent tiles.
+double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell);
+
+/// A --tile so small that its tiles' fixed costs exceed the budget is refused before
+/// binning (UsageError, exit 2): the user chose the side, so it is not silently changed.
+void check_tile_count_fits(const MeshInput& input, double tile_side, double user_side, std::uint64_t budget);
+
+}  // namespace oocsimp

@@ -1,0 +1,37 @@
+// The end of floating cells: the cross-tile triangles stitched to the ones decided
+// in tiles, the output vertices numbered by first use and the cluster
+// representatives solved from their merged shares. See
+// cluster/floating_cells_design.md, "Sums that do not depend on the partition".
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cluster/fixed_point_sums.hpp"
+#include "cluster/floating_cells.hpp"
+#include "spill/stream_spill.hpp"
+#include "oocsimp/simplify.hpp"
+#include "stitch/kept_triangles.hpp"
+
+namespace oocsimp {
+
+/// The candidate output triangles: those decided inside tiles (read from `inside`)
+/// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners).
+std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners);
+
+/// The output position of a cluster from its merged sums: its centre, the mean of
+/// its vertices or the quadric minimiser kept in the cell (`rule`), for cells `cell`.
+Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, RepresentativeRule rule);
+
+/// What assembly counted.
+struct AssemblyCounts {
+  std::uint64_t clusters = 0;  ///< clusters with a share, used by a triangle or not
+};
+
+/// The output mesh: `kept` deduplicated and in input order of first occurrence
+/// (consumed), vertices numbered by first use, each placed at representative() of
+/// its cluster's shares merged from `partials` a bucket at a time.
+SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
+                             RepresentativeRule rule, AssemblyCounts* counts);
+
+}  // namespace oocsimp
