@@ -12,7 +12,7 @@
 #include <memory>
 #include <sstream>
 
-#include "cluster/floating_clusterer.hpp"
+#include "methods/floating_clusterer.hpp"
 #include "cluster/uniform_clusterer.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/mesh_writer.hpp"

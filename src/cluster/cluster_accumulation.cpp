@@ -13,7 +13,7 @@
 #include "common/vec3_math.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
-#include "stitch/kept_triangles.hpp"
+#include "cluster/triangle_records.hpp"
 
 namespace oocsimp {
 

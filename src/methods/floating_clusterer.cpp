@@ -17,7 +17,7 @@
 //   stitch       stitch/mesh_assembly: the triangles that cross tiles joined by index
 //   assemble     stitch/mesh_assembly: representatives; output triangles in input
 //                order of first occurrence
-#include "cluster/floating_clusterer.hpp"
+#include "methods/floating_clusterer.hpp"
 
 #include <iterator>
 #include <memory>
