@@ -135,9 +135,12 @@ int run_simplify(SimplifyArgs& a) {
     // stdout may carry the mesh or the stats: then the summary goes to stderr.
     std::FILE* to = a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout;
     if (a.options.method == ClusterMethod::floating)
-      std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
+      std::fprintf(to,
+                   "tiles   %" PRIu64 " tiles%s, %" PRIu64
+                   " rounds, spill %.1f MiB on disk (%.1f MiB raw), %.1f MiB held in memory\n",
                    stats.tiles, stats.resumed ? " (kept by an earlier run)" : "", stats.rounds,
-                   double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
+                   double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0,
+                   double(stats.spill_bytes_in_memory) / 1048576.0);
     std::string phases;
     for (const PhaseTime& p : stats.phases) {
       char buf[64];

@@ -116,6 +116,7 @@ struct SimplifyStats {
   std::uint64_t rounds = 0;           ///< floating: the first greedy and the sweeps of border decisions that changed something
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
+  std::uint64_t spill_bytes_in_memory = 0;  ///< floating: spill records held in memory instead (within the budget)
   bool resumed = false;               ///< floating: reused tiles kept by an earlier run
   /// Things the run did differently from what was asked, one line each ("FILE: what
   /// happened; what was done instead"), e.g. kept tiles that did not match the input

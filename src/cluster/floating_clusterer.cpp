@@ -49,6 +49,7 @@
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
 #include "spill/block_store.hpp"
+#include "spill/spill_allowances.hpp"
 #include "spill/stream_spill.hpp"
 #include "grid/tile_triangles.hpp"
 #include "io/content_hash.hpp"
@@ -128,6 +129,7 @@ class FloatingRun {
                      double(phase_peak.exchange(0)) / 1048576.0);
     };
     double t0 = now_seconds();
+    allow_ = memory_for_spills();
     compress_spill_ = spill_compression();
     bool resumed = options_.keep_temp && resume_kept_tiles();
     bool keeping = options_.keep_temp && !resumed && start_input_digest();
@@ -160,6 +162,8 @@ class FloatingRun {
     double t2 = now_seconds();
     release_free_heap();
     assign_and_accumulate();
+    triangles_->discard();  // their memory goes to the output tables
+    blocks_->discard();
     note("clustering");
     // Centres live on in the cluster records; the per-tile lists are done.
     std::vector<std::vector<GradedVertex>>().swap(border_);
@@ -169,6 +173,8 @@ class FloatingRun {
       ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
       stitch_cross_tile_triangles();
     }
+    corners_->discard();  // read into kept_
+    inside_->discard();
     note("stitch");
     double t4 = now_seconds();
     SimplifiedMesh m;
@@ -201,22 +207,38 @@ class FloatingRun {
       case SpillCompression::none: return false;
       case SpillCompression::automatic: break;
     }
-    const std::uint64_t raw_estimate = input_.info.face_count * sizeof(TriangleRecord) * 5 / 4;
-    return options_.keep_temp || raw_estimate > available_memory_bytes() / 2;
+    // What goes to the disk: the part that does not stay in memory.
+    const std::uint64_t to_disk = triangle_spill_bytes() - std::min(triangle_spill_bytes(), allow_.triangles);
+    return options_.keep_temp || to_disk > available_memory_bytes() / 2;
+  }
+
+  // The raw triangle spill, estimated: most triangles are binned into one tile.
+  std::uint64_t triangle_spill_bytes() const { return input_.info.face_count * sizeof(TriangleRecord) * 5 / 4; }
+
+  // The spills' memory allowances: what the budget leaves after the threads' tiles
+  // (half the budget, or what kMaxTileTriangles tiles can take: the fullest tile is
+  // up to twice the planned one, 1.7x measured on the 4M sphere), the binning buffers
+  // (a quarter) and the output tables (an eighth). Kept tiles go to their file anyway.
+  SpillAllowances memory_for_spills() const {
+    const std::uint64_t budget = options_.memory_budget;
+    const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::uint64_t tiles = std::min<std::uint64_t>(budget / 2, 2 * threads * kMaxTileTriangles * kBytesPerTriangle);
+    return spill_allowances(budget, tiles + budget / 4 + budget / 8, options_.keep_temp ? 0 : triangle_spill_bytes(),
+                            input_.positions.count * sizeof(GradedVertex) * 3 / 2);
   }
 
   // Tile side from the memory budget: a tile's working set is about kBytesPerTriangle
   // per triangle and `threads` tiles are in memory at once; use half the budget.
+  // Tiles beyond kMaxTileTriangles outgrow the processor caches: measured on the
+  // 10M sphere (--grid 256, 1 thread), 8 tiles of 1.25M triangles took 23.7 s,
+  // 128 tiles of 78k 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
+  static constexpr double kBytesPerTriangle = 400;
+  static constexpr double kMaxTileTriangles = 1 << 16;
   void plan_tiles() {
-    constexpr double kBytesPerTriangle = 400;
     std::uint64_t budget = options_.memory_budget;
     unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
     double side = options_.tile_side;
     if (side <= 0) {
-      // Tiles beyond kMaxTileTriangles outgrow the processor caches: measured on the
-      // 10M sphere (--grid 256, 1 thread), 8 tiles of 1.25M triangles took 23.7 s,
-      // 128 tiles of 78k 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
-      constexpr double kMaxTileTriangles = 1 << 16;
       double per_tile =
           std::clamp(double(budget) / 2 / threads / kBytesPerTriangle, 1.0, kMaxTileTriangles);
       double tiles_needed = std::max(1.0, double(input_.info.face_count) / per_tile);
@@ -344,9 +366,10 @@ class FloatingRun {
     const std::uint64_t spill_estimate =
         input_.positions.count * sizeof(GradedVertex) +
         std::min<std::uint64_t>(input_.info.face_count * (sizeof(TriangleRecord) / 8), input_.file_size);
-    require_free_space(temp_dir(), spill_estimate, "the tile spill");
-    triangles_ =
-        std::make_unique<StreamSpill>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records, compress_spill_);
+    if (spill_estimate > allow_.triangles + allow_.vertex_blocks)  // some of it goes to the disk
+      require_free_space(temp_dir(), spill_estimate, "the tile spill");
+    triangles_ = std::make_unique<StreamSpill>(temp_dir(), "tiles", sizeof(TriangleRecord), buffer_records,
+                                               compress_spill_, allow_.triangles);
     triangles_->set_expected_bytes(spill_estimate);
 
     const PositionArray& pos = input_.positions;
@@ -468,7 +491,7 @@ class FloatingRun {
     std::atomic<std::uint32_t> done{0};
     // Round 1: grade, sort and spill every tile's vertices; the greedy with the
     // borders of the neighbours graded before.
-    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", n);
+    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", n, allow_.vertex_blocks);
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<TriangleRecord> tris = load_triangles(tile);
       // The tile's vertices as local ids in order of first use, each position read
@@ -638,7 +661,8 @@ class FloatingRun {
 
   // Round 1 on kept tiles: the graded vertices are on disk already.
   void choose_from_kept() {
-    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", triangles_->stream_count());
+    blocks_ = std::make_unique<BlockStore>(temp_dir(), "vertex-blocks", triangles_->stream_count(),
+                                           allow_.vertex_blocks);
     for_each_tile_by_colour([&](std::uint32_t tile) {
       std::vector<GradedVertex> sorted = load_vertices(tile);
       std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose_first(tile, sorted), cell_.size);
@@ -747,8 +771,10 @@ class FloatingRun {
     std::uint32_t n = triangles_->stream_count();
     std::size_t buckets = std::max<std::size_t>(1, std::size_t(triangle_count_ / (1 << 22)) + 1);
     bucket_span_ = std::max<std::uint64_t>(1, (triangle_count_ + buckets - 1) / buckets);
-    corners_ = std::make_unique<StreamSpill>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_);
-    inside_ = std::make_unique<StreamSpill>(temp_dir(), "kept", sizeof(KeptTriangle), 1024, compress_spill_);
+    corners_ = std::make_unique<StreamSpill>(temp_dir(), "stitch", sizeof(CornerRecord), 4096, compress_spill_,
+                                             allow_.buckets);
+    inside_ =
+        std::make_unique<StreamSpill>(temp_dir(), "kept", sizeof(KeptTriangle), 1024, compress_spill_, allow_.buckets);
     for (std::size_t b = 0; b < buckets; ++b) {
       corners_->add_stream();
       inside_->add_stream();
@@ -757,7 +783,7 @@ class FloatingRun {
     // the budget even if every vertex were a centre.
     cluster_span_ = std::max<std::uint64_t>(1, options_.memory_budget / 8 / sizeof(PartialCluster));
     std::uint64_t cluster_buckets = input_.positions.count / cluster_span_ + 1;
-    partials_ = std::make_unique<StreamSpill>(temp_dir(), "clusters", sizeof(PartialCluster), 64, false);
+    partials_ = std::make_unique<StreamSpill>(temp_dir(), "clusters", sizeof(PartialCluster), 64, false, allow_.buckets);
     for (std::uint64_t b = 0; b < cluster_buckets; ++b) partials_->add_stream();
     ProgressReporter* progress = options_.progress;
     if (progress) progress->begin("cluster tiles", n, "tile");
@@ -871,9 +897,11 @@ class FloatingRun {
     if (stats_) {
       stats_->spill_bytes = triangles_->bytes_on_disk() + vertices_->bytes_on_disk() + corners_->bytes_on_disk() +
                             partials_->bytes_on_disk() + inside_->bytes_on_disk() + blocks_->bytes_on_disk();
-      stats_->spill_raw_bytes = triangles_->bytes_appended() + vertices_->bytes_appended() +
-                                corners_->bytes_appended() + partials_->bytes_appended() + inside_->bytes_appended() +
-                                blocks_->bytes_on_disk();
+      stats_->spill_raw_bytes = triangles_->bytes_spilled() + vertices_->bytes_spilled() + corners_->bytes_spilled() +
+                                partials_->bytes_spilled() + inside_->bytes_spilled() + blocks_->bytes_on_disk();
+      stats_->spill_bytes_in_memory = triangles_->bytes_kept_in_memory() + corners_->bytes_kept_in_memory() +
+                                      partials_->bytes_kept_in_memory() + inside_->bytes_kept_in_memory() +
+                                      blocks_->bytes_in_memory();
     }
   }
 
@@ -980,6 +1008,7 @@ class FloatingRun {
   // Per tile its graded vertices for the rounds and the clustering (TileVertexBlock).
   // The vertices_ spill holds the same only for --keep-tmp, in the kept format.
   std::unique_ptr<BlockStore> blocks_;
+  SpillAllowances allow_;  // what the spills may hold in memory
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_ids_;
   std::vector<GridCoord> tile_coords_;
   std::uint64_t triangle_count_ = 0;

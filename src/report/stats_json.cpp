@@ -135,8 +135,9 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   if (options.method == ClusterMethod::floating) {
     std::snprintf(buf, sizeof buf,
                   "  \"tiles\": {\"count\": %" PRIu64 ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64
-                  ", \"spill_raw_bytes\": %" PRIu64 ", \"resumed\": %s},\n",
-                  s.tiles, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.resumed ? "true" : "false");
+                  ", \"spill_raw_bytes\": %" PRIu64 ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s},\n",
+                  s.tiles, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.spill_bytes_in_memory,
+                  s.resumed ? "true" : "false");
     js += buf;
   }
   js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";
