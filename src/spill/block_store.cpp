@@ -3,6 +3,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -20,7 +21,7 @@ BlockStore::BlockStore(const std::string& temp_dir, const std::string& name, std
       name_(name),
       offsets_(tiles, 0),
       sizes_(tiles, 0),
-      memory_(tiles),
+      memory_(tiles, nullptr),
       memory_allowance_(memory_allowance) {
   // Without an allowance every block goes to the file: create it now, so that a
   // folder that cannot hold it is reported before any work.
@@ -32,7 +33,8 @@ BlockStore::~BlockStore() { discard(); }
 void BlockStore::discard() {
   if (base_) ::munmap(base_, std::size_t(end_));
   base_ = nullptr;
-  for (auto& m : memory_) m.reset();
+  std::fill(memory_.begin(), memory_.end(), nullptr);
+  slabs_.release();
 }
 
 void BlockStore::put(std::uint32_t tile, const void* data, std::size_t bytes) {
@@ -44,8 +46,9 @@ void BlockStore::put(std::uint32_t tile, const void* data, std::size_t bytes) {
     if (in_memory) memory_bytes_ += padded(bytes);
   }
   if (!in_memory) return write_to_file(tile, data, bytes);
-  memory_[tile].reset(new std::uint64_t[padded(bytes) / 8]);  // 8-byte aligned
-  if (bytes) std::memcpy(memory_[tile].get(), data, bytes);
+  if (bytes == 0) return;
+  memory_[tile] = slabs_.allocate(bytes);  // 8-byte aligned
+  std::memcpy(memory_[tile], data, bytes);
 }
 
 void BlockStore::write_to_file(std::uint32_t tile, const void* data, std::size_t bytes) {
@@ -88,7 +91,7 @@ void BlockStore::map() {
 
 unsigned char* BlockStore::block(std::uint32_t tile) const {
   if (!sizes_[tile]) return nullptr;
-  if (memory_[tile]) return reinterpret_cast<unsigned char*>(memory_[tile].get());
+  if (memory_[tile]) return memory_[tile];
   return base_ ? base_ + offsets_[tile] : nullptr;
 }
 

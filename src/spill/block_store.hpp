@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "oocsimp/temp_file.hpp"
+#include "spill/memory_slabs.hpp"
 
 namespace oocsimp {
 
@@ -52,7 +53,8 @@ class BlockStore {
   std::unique_ptr<TempFile> file_;  // created with the first block that goes to it
   std::string dir_, name_;
   std::vector<std::uint64_t> offsets_, sizes_;
-  std::vector<std::unique_ptr<std::uint64_t[]>> memory_;  // per tile, its block when held in memory
+  std::vector<unsigned char*> memory_;  // per tile, its block when held in memory (in slabs_)
+  MemorySlabs slabs_;
   std::uint64_t memory_allowance_;
   std::mutex mutex_;  // guards file_, end_ and memory_bytes_
   std::uint64_t end_ = 0;

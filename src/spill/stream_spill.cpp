@@ -57,8 +57,9 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 struct StreamSpill::Stream {
   std::vector<unsigned char> buffer;
   std::size_t buffered = 0;  // records in buffer
-  // Full blocks kept in memory, in append order: the first records of the stream.
-  std::vector<std::vector<unsigned char>> memory;
+  // Blocks kept in memory (in memory_), in append order: the first records of the
+  // stream. Their bytes and record bytes.
+  std::vector<std::pair<const unsigned char*, std::size_t>> memory;
   std::uint64_t memory_bytes = 0;  // record bytes in `memory`
   bool to_disk = false;            // a block went to the file: every later one does too
   std::uint64_t last_block = kNoBlock;
@@ -123,8 +124,8 @@ void StreamSpill::rewrite_with_memory_blocks() {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     std::uint64_t previous = kNoBlock;
-    for (const std::vector<unsigned char>& b : t.memory)
-      previous = write_disk_block(fresh->fd(), &end, previous, pack(b.data(), b.size()), b.size());
+    for (const auto& [data, size] : t.memory)
+      previous = write_disk_block(fresh->fd(), &end, previous, pack(data, size), size);
     // The disk blocks, found backwards from the last one, then copied in order.
     std::vector<std::uint64_t> chain;
     for (std::uint64_t b = t.last_block; b != kNoBlock;) {
@@ -149,7 +150,7 @@ void StreamSpill::rewrite_with_memory_blocks() {
       end += sizeof h + stored.size();
     }
     t.last_block = previous;
-    std::vector<std::vector<unsigned char>>().swap(t.memory);
+    std::vector<std::pair<const unsigned char*, std::size_t>>().swap(t.memory);
     t.memory_bytes = 0;
     t.to_disk = true;
   }
@@ -159,6 +160,7 @@ void StreamSpill::rewrite_with_memory_blocks() {
   path_ = file_->path();
   end_ = end;
   memory_held_ = 0;
+  memory_.release();
 }
 
 std::unique_ptr<StreamSpill> StreamSpill::open_kept(const std::string& path, std::size_t record_size,
@@ -236,16 +238,10 @@ std::uint64_t StreamSpill::write_disk_block(int fd, std::uint64_t* end, std::uin
 
 void StreamSpill::write_block(Stream& t) {
   const std::size_t raw = t.buffered * record_size_;
-  const bool full = t.buffered == buffer_records_;
-  // A full buffer becomes the block as it is; a partial one (a flush) is copied to
-  // its size, so that memory holds no unused tail.
-  if (!t.to_disk && reserve_memory(full ? t.buffer.capacity() : raw)) {
-    std::vector<unsigned char> block;
-    if (full)
-      block.swap(t.buffer);  // append() makes a new buffer when it needs one
-    else
-      block.assign(t.buffer.begin(), t.buffer.begin() + std::ptrdiff_t(raw));
-    t.memory.push_back(std::move(block));
+  if (!t.to_disk && reserve_memory(raw)) {
+    unsigned char* block = memory_.allocate(raw);
+    std::memcpy(block, t.buffer.data(), raw);
+    t.memory.emplace_back(block, raw);
     t.memory_bytes += raw;
     t.buffered = 0;
     std::lock_guard<std::mutex> lock(write_mutex_);
@@ -294,11 +290,12 @@ void StreamSpill::discard() {
   for (auto& tp : streams_) {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
-    std::vector<std::vector<unsigned char>>().swap(t.memory);
+    std::vector<std::pair<const unsigned char*, std::size_t>>().swap(t.memory);
     std::vector<unsigned char>().swap(t.buffer);
     t.buffered = 0;
   }
   std::lock_guard<std::mutex> lock(write_mutex_);
+  memory_.release();
   memory_held_ = 0;
   discarded_ = true;
 }
@@ -345,9 +342,9 @@ void StreamSpill::read_into(std::uint32_t stream, void* dest, std::size_t bytes)
   if (bytes != t.records * record_size_) throw std::logic_error(path_ + ": read into a buffer of the wrong size");
   unsigned char* out = static_cast<unsigned char*>(dest);
   std::size_t pos = 0;
-  for (const std::vector<unsigned char>& b : t.memory) {
-    std::memcpy(out + pos, b.data(), b.size());
-    pos += b.size();
+  for (const auto& [data, size] : t.memory) {
+    std::memcpy(out + pos, data, size);
+    pos += size;
   }
   const std::size_t tail = t.buffered * record_size_;
   read_disk_part(t, out, pos, bytes - tail);
@@ -358,7 +355,7 @@ void StreamSpill::for_each_block(std::uint32_t stream, const std::function<void(
   const Stream& t = *streams_[stream];
   std::lock_guard<std::mutex> lock(const_cast<Stream&>(t).mutex);
   if (discarded_) throw std::logic_error(path_ + ": read after discard");
-  for (const std::vector<unsigned char>& b : t.memory) f(b.data(), b.size() / record_size_);
+  for (const auto& [data, size] : t.memory) f(data, size / record_size_);
   const std::size_t tail = t.buffered * record_size_;
   const std::size_t on_disk = std::size_t(t.records * record_size_ - t.memory_bytes - tail);
   if (on_disk) {

@@ -14,13 +14,14 @@
 #include <vector>
 
 #include "oocsimp/temp_file.hpp"
+#include "spill/memory_slabs.hpp"
 
 namespace oocsimp {
 
 /// Many append-only streams of fixed-size records. Each stream buffers its records;
 /// a full buffer becomes a block. While the blocks held in memory stay within
-/// `memory_allowance` bytes, a block stays there (the buffer itself, no copy);
-/// beyond it, blocks go to the end of one temporary file, each pointing back to the
+/// `memory_allowance` bytes, a block is copied into memory (MemorySlabs); beyond
+/// it, blocks go to the end of one temporary file, each pointing back to the
 /// stream's previous block, so the file is written strictly sequentially. A stream
 /// that once went to the file keeps going there, so its memory blocks are a prefix
 /// of its records. The file is created only when a first block goes to it (at once
@@ -121,7 +122,8 @@ class StreamSpill {
   mutable std::mutex write_mutex_;  // guards the file, its end, the memory held and the counters
   std::uint64_t end_ = 0;
   std::uint64_t appended_ = 0;
-  std::uint64_t memory_held_ = 0;      // bytes of memory blocks now (their capacity)
+  MemorySlabs memory_;                 // the memory blocks' bytes
+  std::uint64_t memory_held_ = 0;      // bytes of memory blocks now
   std::uint64_t memory_appended_ = 0;  // record bytes that went to memory blocks
   std::uint64_t disk_appended_ = 0;    // record bytes that went to disk blocks
   std::uint64_t expected_bytes_ = 0;

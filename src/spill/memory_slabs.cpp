@@ -1,0 +1,38 @@
+#include "spill/memory_slabs.hpp"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <new>
+
+namespace oocsimp {
+
+unsigned char* MemorySlabs::allocate(std::size_t bytes) {
+  bytes = (bytes + 7) & ~std::size_t(7);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (bytes > left_) {
+    // A new slab; the rest of the last one is never touched, so never resident.
+    const std::size_t page = std::size_t(::sysconf(_SC_PAGESIZE));
+    const std::size_t size = std::max(kSlabBytes, (bytes + page - 1) / page * page);
+    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    maps_.emplace_back(p, size);
+    next_ = static_cast<unsigned char*>(p);
+    left_ = size;
+  }
+  unsigned char* at = next_;
+  next_ += bytes;
+  left_ -= bytes;
+  return at;
+}
+
+void MemorySlabs::release() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [p, size] : maps_) ::munmap(p, size);
+  maps_.clear();
+  next_ = nullptr;
+  left_ = 0;
+}
+
+}  // namespace oocsimp
