@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "spill/block_store.hpp"
+#include "spill/memory_slabs.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -95,4 +96,22 @@ TEST_CASE("tile blocks stay in memory within the allowance and go to the file be
     f.discard();
     CHECK(f.block(1) == nullptr);
   }
+}
+
+TEST_CASE("memory slabs give aligned, disjoint, writable blocks, also larger than a slab", "[tiles][memory]") {
+  MemorySlabs slabs;
+  std::vector<std::pair<unsigned char*, std::size_t>> got;
+  for (std::size_t bytes : {std::size_t(1), std::size_t(13), MemorySlabs::kSlabBytes - 5, std::size_t(4096),
+                            MemorySlabs::kSlabBytes * 2 + 3, std::size_t(0), std::size_t(40)}) {
+    unsigned char* p = slabs.allocate(bytes);
+    CHECK(reinterpret_cast<std::uintptr_t>(p) % 8 == 0);
+    std::memset(p, int(got.size() + 1), bytes);
+    got.emplace_back(p, bytes);
+  }
+  bool intact = true;
+  for (std::size_t k = 0; k < got.size(); ++k)
+    for (std::size_t i = 0; i < got[k].second; ++i) intact = intact && got[k].first[i] == static_cast<unsigned char>(k + 1);
+  CHECK(intact);  // no block overwrote another
+  slabs.release();
+  CHECK(slabs.allocate(8) != nullptr);  // usable again after a release
 }
