@@ -16,6 +16,9 @@ namespace oocsimp {
 class MemorySlabs {
  public:
   static constexpr std::size_t kSlabBytes = std::size_t(8) << 20;
+  /// Pages are faulted in this much at a time, ahead of the blocks written: the
+  /// most that is resident and unused.
+  static constexpr std::size_t kPopulateBytes = std::size_t(1) << 20;
 
   MemorySlabs() = default;
   MemorySlabs(const MemorySlabs&) = delete;
@@ -32,6 +35,7 @@ class MemorySlabs {
   std::mutex mutex_;
   std::vector<std::pair<void*, std::size_t>> maps_;
   unsigned char* next_ = nullptr;
+  unsigned char* populated_ = nullptr;  // pages before it are faulted in
   std::size_t left_ = 0;
 };
 

@@ -57,8 +57,8 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 struct StreamSpill::Stream {
   std::vector<unsigned char> buffer;
   std::size_t buffered = 0;  // records in buffer
-  // Blocks kept in memory (in memory_), in append order: the first records of the
-  // stream. Their bytes and record bytes.
+  // Blocks kept in memory (in memory_), in append order, as (where, bytes): the
+  // first records of the stream.
   std::vector<std::pair<const unsigned char*, std::size_t>> memory;
   std::uint64_t memory_bytes = 0;  // record bytes in `memory`
   bool to_disk = false;            // a block went to the file: every later one does too
@@ -103,7 +103,12 @@ StreamSpill::Chain StreamSpill::chain(std::uint32_t stream) const {
 
 void StreamSpill::keep_as(const std::string& path) {
   flush();
-  if (bytes_kept_in_memory() > 0) rewrite_with_memory_blocks();
+  bool in_memory;
+  {
+    std::lock_guard<std::mutex> lock(write_mutex_);
+    in_memory = memory_held_ > 0;
+  }
+  if (in_memory) rewrite_with_memory_blocks();
   {
     std::lock_guard<std::mutex> lock(write_mutex_);
     create_file();  // an empty spill is kept as an empty file
