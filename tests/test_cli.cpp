@@ -195,7 +195,32 @@ TEST_CASE("floating cells stay inside --mem on an input larger than the budget",
     CHECK(json_number(js, "count") > 8);  // tiles
     CHECK(json_number(js, "peak_anon_bytes") > 0);
     CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
+    CHECK(json_number(js, "spill_bytes") > double(16u << 20));  // most of the spill went to the disk
   }
+}
+
+TEST_CASE("a run whose spill fits in --mem writes no spill file, with the output of a run that spills",
+          "[cli][memory]") {
+  ScratchDir d, tmp;
+  REQUIRE(run_cli("generate --tris 400000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  auto run = [&](const std::string& mem, const std::string& out) {
+    REQUIRE(run_cli("simplify --quiet --grid 128 --threads 2" + mem + " " + q(d.file("s.ply")) + " -o " +
+                    q(d.file(out)) + " --tmp " + q(tmp.path()) + " --stats " + q(d.file("st.json")))
+                .exit_code == 0);
+    return read_file(d.file("st.json"));
+  };
+  // The default budget (a quarter of the memory) holds a 400k-triangle run's spill.
+  std::string js = run("", "fits.ply");
+  INFO(js);
+  CHECK(json_number(js, "spill_bytes") == 0);
+  CHECK(json_number(js, "spill_raw_bytes") == 0);
+  CHECK(json_number(js, "spill_bytes_in_memory") > 400000.0 * 32);  // every triangle record at least
+  // At the smallest budget most of it goes to the disk, inside the budget.
+  js = run(" --mem 32M", "spills.ply");
+  CHECK(json_number(js, "spill_bytes") > 0);
+  CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
+  CHECK(read_file(d.file("fits.ply")) == read_file(d.file("spills.ply")));
+  CHECK(tmp.entries().empty());
 }
 
 TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {

@@ -88,9 +88,11 @@ TEST_CASE("a failed output write (file-size limit) exits 4, the destination unto
 
 TEST_CASE("a --tmp that fills up exits 4 naming the folder and the space needed, nothing left behind", "[faults]") {
   SECTION("floating cells: the tile spill") {
-    Setup s("--tris 400000", "in.ply", "o.ply");  // read in place: the spill is the first file written
+    // Read in place: the spill is the first file written. At --mem 32M the spill
+    // does not fit in memory (by default it would, and no file would be written).
+    Setup s("--tris 400000", "in.ply", "o.ply");
     CliResult r = run_cli("simplify --quiet " + q(s.input) + " -o " + q(s.output) +
-                              " --method floating --grid 256 --tmp " + q(s.tmp),
+                              " --method floating --grid 256 --mem 32M --tmp " + q(s.tmp),
                           "ulimit -f 2000");
     INFO(r.err);
     CHECK(r.exit_code == 4);
@@ -119,7 +121,8 @@ TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, wh
   for (const char* method : {"uniform", "floating"}) {
     CAPTURE(method);
     // The uniform run converts an ascii input (2.3 MiB of positions); the floating
-    // run spills a binary one read in place (9.2 MiB).
+    // run spills a binary one read in place (9.2 MiB), at --mem 32M, where the spill
+    // does not fit in memory.
     bool ascii = std::string(method) == "uniform";
     Setup s(std::string("--tris 400000") + (ascii ? " --ascii" : ""), "in.ply", "o.ply");
     // Where unprivileged user namespaces or tmpfs mounts are not allowed, skip.
@@ -131,7 +134,7 @@ TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, wh
     std::string listing = s.d.file("tmp-listing");
     std::string cmd = "unshare -rm sh -c " +
                       q("mount -t tmpfs -o size=1m tmpfs " + s.tmp + " 2>/dev/null || exit 99; " + OOCSIMP_CLI +
-                        " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --method " + method +
+                        " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --mem 32M --method " + method +
                         " --tmp " + s.tmp + " 2>" + s.d.file("err") + "; rc=$?; ls -A " + s.tmp + " >" + listing +
                         "; exit $rc");
     int status = system(cmd.c_str());

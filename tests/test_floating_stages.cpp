@@ -210,7 +210,8 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
       FirstChoice first = [&](std::uint32_t t, const std::vector<GradedVertex>& s) {
         return decisions.choose_first(t, s);
       };
-      std::unique_ptr<BlockStore> blocks = grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), nullptr);
+      std::unique_ptr<BlockStore> blocks =
+          grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), 0, nullptr);
       SimplifyStats st;
       decisions.sweep(*blocks, &st);
       TileBorders borders = decisions.take_borders();
@@ -296,7 +297,9 @@ TEST_CASE("cluster shares summed over tiles equal the whole mesh's vertex quadri
     FirstChoice first = [&](std::uint32_t t, const std::vector<GradedVertex>& v) {
       return decisions.choose_first(t, v);
     };
-    std::unique_ptr<BlockStore> blocks = grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), nullptr);
+    // Blocks in memory here, in a file in the test above.
+    std::unique_ptr<BlockStore> blocks =
+        grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), std::uint64_t(1) << 30, nullptr);
     decisions.sweep(*blocks, nullptr);
     TileBorders borders = decisions.take_borders();
     AccumulationSettings settings{cell, AssignRule::nearest, 64u << 20, f.spill(), nullptr};

@@ -2,10 +2,12 @@
 // the content checksum that guards kept ones (src/io/content_hash.hpp).
 #include <catch2/catch.hpp>
 
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -66,6 +68,136 @@ TEST_CASE("tile spills give back every tile's records in append order", "[spill]
     CHECK(spill.bytes_appended() == raw);
     if (!compress) CHECK(spill.bytes_on_disk() >= raw);
   }
+}
+
+namespace {
+// 300 runs of 1-11 records appended to 5 streams at random, in blocks of 7 records:
+// the streams' blocks interleave, and the last block of each is partial.
+std::vector<std::vector<Record>> append_random_runs(StreamSpill& spill, std::uint32_t streams) {
+  for (std::uint32_t t = 0; t < streams; ++t) spill.add_stream();
+  std::mt19937 rng(3);
+  std::vector<std::vector<Record>> expected(streams);
+  for (int round = 0; round < 300; ++round) {
+    std::uint32_t t = rng() % streams;
+    std::vector<Record> run(1 + rng() % 11);
+    for (Record& r : run) {
+      r = {t, expected[t].size(), {std::uint64_t(rng() % 4), std::uint64_t(rng())}};
+      expected[t].push_back(r);
+    }
+    spill.append(t, run.data(), run.size());
+  }
+  return expected;
+}
+
+bool same_records(const std::vector<Record>& a, const std::vector<Record>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Record)) == 0);
+}
+}  // namespace
+
+TEST_CASE("spill streams come back in append order from memory, disk or both, whatever the allowance",
+          "[spill][memory]") {
+  // The records of all streams: 300 runs of 6 records on average, 32 bytes each.
+  const std::uint64_t all = 300 * 6 * sizeof(Record);
+  for (bool compress : {false, true})
+    for (std::uint64_t allowance : {std::uint64_t(0), all / 3, ~std::uint64_t(0)}) {
+      INFO("compress " << compress << " allowance " << allowance);
+      ScratchDir d;
+      StreamSpill spill(d.path(), "t", sizeof(Record), 7, compress, allowance);
+      std::vector<std::vector<Record>> expected = append_random_runs(spill, 5);
+      for (int pass = 0; pass < 2; ++pass) {  // before and after the flush
+        for (std::uint32_t t = 0; t < 5; ++t) {
+          std::vector<Record> got;
+          spill.read(t, &got);
+          CHECK(same_records(got, expected[t]));
+          // The same records a block at a time, memory blocks without a copy.
+          std::vector<Record> blocks;
+          spill.for_each_block(t, [&](const void* p, std::size_t n) {
+            const Record* r = static_cast<const Record*>(p);
+            blocks.insert(blocks.end(), r, r + n);
+          });
+          CHECK(same_records(blocks, expected[t]));
+        }
+        spill.flush();
+      }
+      const std::uint64_t appended = spill.bytes_appended();
+      CHECK(spill.bytes_kept_in_memory() + spill.bytes_spilled() == appended);
+      if (allowance == 0) {
+        CHECK(spill.bytes_kept_in_memory() == 0);
+      } else if (allowance == all / 3) {
+        CHECK(spill.bytes_kept_in_memory() > 0);
+        CHECK(spill.bytes_kept_in_memory() <= allowance);
+        CHECK(spill.bytes_spilled() > 0);
+      } else {
+        // Everything fits: no file was ever created, nothing written.
+        CHECK(spill.bytes_kept_in_memory() == appended);
+        CHECK(spill.bytes_on_disk() == 0);
+        CHECK(d.entries().empty());
+      }
+      spill.discard();
+      std::vector<Record> after;
+      CHECK_THROWS_AS(spill.read(0, &after), std::logic_error);
+    }
+}
+
+TEST_CASE("spill streams appended from many threads at once keep every thread's order", "[spill][memory]") {
+  constexpr std::uint32_t kStreams = 3, kProducers = 8, kPerProducer = 2000;
+  for (std::uint64_t allowance : {std::uint64_t(0), std::uint64_t(64) << 10, ~std::uint64_t(0)}) {
+    INFO("allowance " << allowance);
+    ScratchDir d;
+    StreamSpill spill(d.path(), "t", sizeof(Record), 16, true, allowance);
+    for (std::uint32_t t = 0; t < kStreams; ++t) spill.add_stream();
+    tbb::parallel_for(std::uint32_t(0), kProducers, [&](std::uint32_t p) {
+      for (std::uint64_t i = 0; i < kPerProducer; ++i) {
+        Record r{p, i, {i % 5, p * 1000003 + i}};
+        spill.append(std::uint32_t((p + i) % kStreams), &r, 1);
+      }
+    });
+    spill.flush();
+    std::uint64_t total = 0;
+    for (std::uint32_t t = 0; t < kStreams; ++t) {
+      std::vector<Record> got;
+      spill.read(t, &got);
+      total += got.size();
+      std::vector<std::int64_t> last(kProducers, -1);
+      bool ordered = true;
+      for (const Record& r : got) {
+        ordered = ordered && r.tile < kProducers && std::int64_t(r.serial) > last[r.tile] &&
+                  (r.tile + r.serial) % kStreams == t && r.payload[1] == r.tile * 1000003 + r.serial;
+        if (r.tile < kProducers) last[r.tile] = std::int64_t(r.serial);
+      }
+      CHECK(ordered);
+    }
+    CHECK(total == std::uint64_t(kProducers) * kPerProducer);
+  }
+}
+
+TEST_CASE("a spill with blocks in memory is kept whole: keep_as writes them out, open_kept reads them back",
+          "[spill][memory]") {
+  const std::uint64_t all = 300 * 6 * sizeof(Record);
+  for (bool compress : {false, true})
+    for (std::uint64_t allowance : {all / 3, ~std::uint64_t(0)}) {
+      INFO("compress " << compress << " allowance " << allowance);
+      ScratchDir d;
+      std::vector<StreamSpill::Chain> chains;
+      std::vector<std::vector<Record>> expected;
+      {
+        StreamSpill spill(d.path(), "t", sizeof(Record), 7, compress, allowance);
+        expected = append_random_runs(spill, 5);
+        spill.keep_as(d.file("kept.tiles"));
+        for (std::uint32_t t = 0; t < 5; ++t) chains.push_back(spill.chain(t));
+        // Still readable, now from the kept file.
+        std::vector<Record> got;
+        spill.read(4, &got);
+        CHECK(same_records(got, expected[4]));
+      }
+      CHECK(d.entries() == std::vector<std::string>{"kept.tiles"});  // the first file, if any, is gone
+      auto kept = StreamSpill::open_kept(d.file("kept.tiles"), sizeof(Record), chains);
+      for (std::uint32_t t = 0; t < 5; ++t) {
+        std::vector<Record> got;
+        kept->read(t, &got);
+        CHECK(same_records(got, expected[t]));
+      }
+    }
 }
 
 TEST_CASE("a tile spill refuses a read into a buffer of the wrong size", "[spill]") {

@@ -148,10 +148,18 @@ int run_simplify(SimplifyArgs& a) {
   if (!a.quiet) {
     // stdout may carry the mesh or the stats: then the summary goes to stderr.
     std::FILE* to = a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout;
-    if (a.options.method == ClusterMethod::floating)
-      std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds, spill %.1f MiB on disk (%.1f MiB raw)\n",
-                   stats.tiles, stats.resumed ? " (kept by an earlier run)" : "", stats.rounds,
-                   double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
+    if (a.options.method == ClusterMethod::floating) {
+      // The spill's parts that exist: on disk, in memory or both.
+      char disk[96] = "", memory[64] = "";
+      if (stats.spill_bytes)
+        std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)", double(stats.spill_bytes) / 1048576.0,
+                      double(stats.spill_raw_bytes) / 1048576.0);
+      if (stats.spill_bytes_in_memory)
+        std::snprintf(memory, sizeof memory, ", %.1f MiB of spill held in memory",
+                      double(stats.spill_bytes_in_memory) / 1048576.0);
+      std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.tiles,
+                   stats.resumed ? " (kept by an earlier run)" : "", stats.rounds, disk, memory);
+    }
     std::string phases;
     for (const PhaseTime& p : stats.phases) {
       char buf[64];

@@ -121,6 +121,7 @@ struct SimplifyStats {
   std::uint64_t rounds = 0;           ///< floating: the first greedy and the sweeps of border decisions that changed something
   std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
   std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
+  std::uint64_t spill_bytes_in_memory = 0;  ///< floating: spill records held in memory instead (within the budget)
   bool resumed = false;               ///< floating: reused tiles kept by an earlier run
   std::uint64_t largest_tile_records = 0;  ///< floating: triangle records of the fullest tile (its working set)
   /// Floating, per sweep of border decisions after the first greedy (the last one

@@ -47,8 +47,10 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   std::size_t buckets = std::max<std::size_t>(1, std::size_t(tiles.triangle_count / (1 << 22)) + 1);
   out.bucket_span = std::max<std::uint64_t>(1, (tiles.triangle_count + buckets - 1) / buckets);
   const std::uint64_t bucket_span = out.bucket_span;
-  out.corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), 4096, spill.compress);
-  out.inside = std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), 1024, spill.compress);
+  out.corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), 4096, spill.compress,
+                                             spill.allow.buckets);
+  out.inside =
+      std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), 1024, spill.compress, spill.allow.buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
     out.corners->add_stream();
     out.inside->add_stream();
@@ -58,7 +60,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   out.cluster_span = std::max<std::uint64_t>(1, settings.memory_budget / 8 / sizeof(PartialCluster));
   const std::uint64_t cluster_span = out.cluster_span;
   std::uint64_t cluster_buckets = vertex_count / cluster_span + 1;
-  out.partials = std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false);
+  out.partials =
+      std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false, spill.allow.buckets);
   for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.partials->add_stream();
   ProgressReporter* progress = settings.progress;
   if (progress) progress->begin("cluster tiles", n, "tile");

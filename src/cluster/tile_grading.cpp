@@ -19,13 +19,13 @@ std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, co
 
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
                                         const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        ProgressReporter* progress) {
+                                        std::uint64_t memory_allowance, ProgressReporter* progress) {
   std::uint32_t n = tiles.count();
   if (progress) progress->begin("grade tiles", n, "tile");
   std::atomic<std::uint32_t> done{0};
   // Round 1: grade, sort and spill every tile's vertices; the greedy with the
   // borders of the neighbours graded before.
-  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n);
+  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n, memory_allowance);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
     std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
     if (keep) keep->append(tile, graded.data(), graded.size());
@@ -40,8 +40,9 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
 }
 
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
-                                             const FirstChoice& choose, const std::string& temp_dir) {
-  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count());
+                                             const FirstChoice& choose, const std::string& temp_dir,
+                                             std::uint64_t memory_allowance) {
+  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count(), memory_allowance);
   grid.for_each_by_colour([&](std::uint32_t tile) {
     std::vector<GradedVertex> sorted;
     kept.read(tile, &sorted);

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "common/flat_hash_map.hpp"
+#include "grid/tile_plan.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/temp_file.hpp"
@@ -64,24 +65,45 @@ std::uint64_t BinnedTiles::largest_tile_records() const {
   return most;
 }
 
+// The raw triangle spill, estimated: most triangles are binned into one tile.
+static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
+  return input.info.face_count * sizeof(TriangleRecord) * 5 / 4;
+}
+
+// The spills' memory allowances: what the budget leaves after the threads' tiles
+// (half the budget, or what kMaxTileTriangles tiles can take: the fullest tile is
+// up to twice the planned one, 1.7x measured on the 4M sphere), the binning buffers
+// (a quarter) and the output tables (an eighth). Kept tiles go to their file anyway.
+static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyOptions& options,
+                                         std::size_t vertex_record_bytes) {
+  const std::uint64_t budget = options.memory_budget;
+  const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::uint64_t tiles =
+      std::min<std::uint64_t>(budget / 2, std::uint64_t(2 * threads * kMaxTileTriangles * kTileBytesPerTriangle));
+  return spill_allowances(budget, tiles + budget / 4 + budget / 8, options.keep_temp ? 0 : triangle_spill_bytes(input),
+                          input.positions.count * vertex_record_bytes * 3 / 2);
+}
+
 // Whether the triangle, stitch and kept-triangle spills are zstd-compressed. zstd
 // halves the triangle spill (10M sphere: 620 -> 346 MB) but cost 1.4 s of a 10.6 s
-// run on 2 threads; it pays only where the spill goes to the disk, not where the
-// page cache holds it (and kept tiles outlive the run on disk).
-static bool spill_compression(const MeshInput& input, const SimplifyOptions& options) {
+// run on 2 threads; it pays only where the spill goes to the disk, not where memory
+// or the page cache holds it (and kept tiles outlive the run on disk).
+static bool spill_compression(const MeshInput& input, const SimplifyOptions& options, const SpillAllowances& allow) {
   switch (options.spill_compression) {
     case SpillCompression::zstd: return true;
     case SpillCompression::none: return false;
     case SpillCompression::automatic: break;
   }
-  const std::uint64_t raw_estimate = input.info.face_count * sizeof(TriangleRecord) * 5 / 4;
-  return options.keep_temp || raw_estimate > available_memory_bytes() / 2;
+  // What goes to the disk: the part that does not stay in memory.
+  const std::uint64_t to_disk = triangle_spill_bytes(input) - std::min(triangle_spill_bytes(input), allow.triangles);
+  return options.keep_temp || to_disk > available_memory_bytes() / 2;
 }
 
 SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes) {
   SpillSettings s;
   s.dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
-  s.compress = spill_compression(input, options);
+  s.allow = memory_for_spills(input, options, vertex_record_bytes);
+  s.compress = spill_compression(input, options, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
   // once, raw; the triangle records compress to an eighth or more, and (a header's
   // face count being unchecked so far) to no less than the input file holds.
@@ -111,10 +133,11 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
   std::size_t buffer_records =
       std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)),
                               kMinBufferRecords, 1024);
-  // Free space for the spill, checked before writing it.
-  require_free_space(spill.dir, spill.expected_bytes, "the tile spill");
-  out.triangles =
-      std::make_unique<StreamSpill>(spill.dir, "tiles", sizeof(TriangleRecord), buffer_records, spill.compress);
+  // Free space for the spill, checked before writing it, when some of it goes to the disk.
+  if (spill.expected_bytes > spill.allow.triangles + spill.allow.vertex_blocks)
+    require_free_space(spill.dir, spill.expected_bytes, "the tile spill");
+  out.triangles = std::make_unique<StreamSpill>(spill.dir, "tiles", sizeof(TriangleRecord), buffer_records,
+                                                spill.compress, spill.allow.triangles);
   StreamSpill& triangles = *out.triangles;
   triangles.set_expected_bytes(spill.expected_bytes);
   auto tile_id = [&](const GridCoord& c) {

@@ -12,6 +12,7 @@
 #include "grid/tile_grid.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/simplify.hpp"
+#include "spill/spill_allowances.hpp"
 #include "spill/stream_spill.hpp"
 
 namespace oocsimp {
@@ -56,6 +57,8 @@ struct SpillSettings {
   /// A lower estimate of the tile spill's bytes, for the free-space check and the
   /// message of a write that fails.
   std::uint64_t expected_bytes = 0;
+  /// What each spill store may hold in memory instead of its file.
+  SpillAllowances allow;
 };
 /// From the options: the temp folder, zstd where the spill would go to the disk,
 /// and the estimate from the input's counts, `vertex_record_bytes` per vertex.

@@ -35,19 +35,15 @@ double fullest_tile_vertices(const PositionArray& pos, double side) {
 
 }  // namespace
 
-// Tile side from the memory budget: a tile's working set is about kBytesPerTriangle
-// per triangle and `threads` tiles are in memory at once; use half the budget.
+// Tile side from the memory budget: a tile's working set is about
+// kTileBytesPerTriangle per triangle and `threads` tiles are in memory at once; use
+// half the budget.
 double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell) {
-  constexpr double kBytesPerTriangle = 400;
   std::uint64_t budget = options.memory_budget;
   unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
   double side = options.tile_side;
   if (side <= 0) {
-    // Tiles beyond kMaxTileTriangles outgrow the processor caches: measured on the
-    // 10M sphere (--grid 256, 1 thread), 8 tiles of 1.25M triangles took 23.7 s,
-    // 128 tiles of 78k 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
-    constexpr double kMaxTileTriangles = 1 << 16;
-    double per_tile = std::clamp(double(budget) / 2 / threads / kBytesPerTriangle, 1.0, kMaxTileTriangles);
+    double per_tile = std::clamp(double(budget) / 2 / threads / kTileBytesPerTriangle, 1.0, kMaxTileTriangles);
     double tiles_needed = std::max(1.0, double(input.info.face_count) / per_tile);
     // Enough tiles to keep every thread busy, once tiles are worth their overhead.
     constexpr double kMinTileTriangles = 1 << 15;

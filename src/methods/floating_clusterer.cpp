@@ -84,10 +84,11 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   };
   std::unique_ptr<BlockStore> blocks;
   if (resumed) {
-    blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir);
+    blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir, spill.allow.vertex_blocks);
   } else {
     if (options.keep_temp) graded = graded_vertex_spill(tiles, spill);
-    blocks = grade_tiles(tiles, input.positions, cell.size, first, graded.get(), spill.dir, options.progress);
+    blocks = grade_tiles(tiles, input.positions, cell.size, first, graded.get(), spill.dir, spill.allow.vertex_blocks,
+                         options.progress);
     if (keeping) kept.keep(tiles, *graded);
   }
   release_memory(options);  // the tiles' grading buffers
@@ -105,8 +106,11 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   // Cluster shares and kept triangles.
   AccumulationSettings acc{cell, options.assign, options.memory_budget, spill, options.progress};
   ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
-  // Centres live on in the cluster records; the per-tile lists are done.
+  // Centres live on in the cluster records; the per-tile lists are done, and the
+  // memory of the triangles and vertex blocks goes to the output tables.
   TileBorders().swap(borders);
+  tiles.triangles->discard();
+  blocks->discard();
   release_memory(options);
   double t3 = now_seconds();
 
@@ -115,6 +119,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
     ProgressPhase phase(options.progress, "stitch", 0, "bucket");
     kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners);
   }
+  shares.corners->discard();  // read into kept_triangles
+  shares.inside->discard();
   double t4 = now_seconds();
   SimplifiedMesh m;
   AssemblyCounts counts;
@@ -128,10 +134,12 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
     const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(), shares.corners.get(), shares.partials.get(),
                                    shares.inside.get()};
     stats->spill_bytes = stats->spill_raw_bytes = blocks->bytes_on_disk();
+    stats->spill_bytes_in_memory = blocks->bytes_in_memory();
     for (const StreamSpill* s : spills)
       if (s) {
         stats->spill_bytes += s->bytes_on_disk();
-        stats->spill_raw_bytes += s->bytes_appended();
+        stats->spill_raw_bytes += s->bytes_spilled();
+        stats->spill_bytes_in_memory += s->bytes_kept_in_memory();
       }
     stats->input_triangles = tiles.triangle_count;
     stats->skipped = tiles.skipped;

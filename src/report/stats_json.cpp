@@ -142,9 +142,9 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
     std::snprintf(buf, sizeof buf,
                   "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64
                   ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
-                  ", \"resumed\": %s, \"sweeps\": [",
+                  ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s, \"sweeps\": [",
                   s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes,
-                  s.resumed ? "true" : "false");
+                  s.spill_bytes_in_memory, s.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
   }
   js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";

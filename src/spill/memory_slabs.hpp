@@ -1,0 +1,42 @@
+// Anonymous memory for the spill blocks held in memory, in large mappings of its own.
+#pragma once
+
+#include <cstddef>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+namespace oocsimp {
+
+/// A bump allocator over anonymous mappings of at least kSlabBytes, freed all at
+/// once. Blocks held for a whole phase and then dropped together do not belong in
+/// malloc's arenas: there they lie between the run's other allocations, and
+/// malloc_trim gave back only part of them once freed (10M sphere, --mem 64M: 4-9
+/// MiB of 8 stayed resident into the assembly). A mapping goes back whole.
+class MemorySlabs {
+ public:
+  static constexpr std::size_t kSlabBytes = std::size_t(8) << 20;
+  /// Pages are faulted in this much at a time, ahead of the blocks written: the
+  /// most that is resident and unused.
+  static constexpr std::size_t kPopulateBytes = std::size_t(1) << 20;
+
+  MemorySlabs() = default;
+  MemorySlabs(const MemorySlabs&) = delete;
+  MemorySlabs& operator=(const MemorySlabs&) = delete;
+  ~MemorySlabs() { release(); }
+
+  /// `bytes` bytes, 8-byte aligned, valid until release(). Thread-safe. Throws
+  /// std::bad_alloc. Pages are only resident once written.
+  unsigned char* allocate(std::size_t bytes);
+  /// Unmaps everything allocate() gave (not while another thread allocates).
+  void release();
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::pair<void*, std::size_t>> maps_;
+  unsigned char* next_ = nullptr;
+  unsigned char* populated_ = nullptr;  // pages before it are faulted in
+  std::size_t left_ = 0;
+};
+
+}  // namespace oocsimp
