@@ -50,6 +50,23 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
   return counts;
 }
 
+OccupancyGrowth occupancy_growth(const std::vector<std::uint64_t>& occ, std::uint64_t samples) {
+  int l = 0;
+  while (l + 2 < kLevelCount && occ[l + 2] * 8 <= samples) ++l;
+  double k = occ[l + 1] > occ[l] && occ[l] > 0 ? std::log2(double(occ[l + 1]) / double(occ[l])) : 2.0;
+  return {double(kLevels[l + 1]), double(std::max<std::uint64_t>(occ[l + 1], 1)), std::clamp(k, 1.0, 3.0)};
+}
+
+double OccupancyGrowth::cells_at(double r) const { return cells * std::pow(r / resolution, k); }
+
+double OccupancyGrowth::resolution_for(double target) const { return resolution * std::pow(target / cells, 1.0 / k); }
+
+OccupancyGrowth sampled_occupancy_growth(const PositionArray& positions, const Box3d& bounds) {
+  const std::uint64_t stride = std::max<std::uint64_t>(1, positions.count >> 20);
+  const std::uint64_t samples = (positions.count + stride - 1) / stride;
+  return occupancy_growth(count_occupancy(positions, bounds, stride), samples);
+}
+
 GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned) {
   // Zero means "not given"; anything else given is checked, never replaced.
   int given = (sizing.cell != 0) + (sizing.grid != 0) + (sizing.ratio != 0);
@@ -66,13 +83,9 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned)
   // surfaces). k is measured between two coarse grids fine enough to resolve the
   // shape yet coarse enough that the vertices sample every occupied cell (at most
   // one cell per 8 vertices), and the target resolution extrapolated from there.
-  std::vector<std::uint64_t> occ = count_occupancy(input.positions, bounds);
-  int l = 0;
-  while (l + 2 < kLevelCount && occ[l + 2] * 8 <= input.positions.count) ++l;
+  const OccupancyGrowth g = occupancy_growth(count_occupancy(input.positions, bounds), input.positions.count);
   double target = std::max(1.0, s.ratio * double(input.info.face_count) / 2);
-  double k = occ[l + 1] > occ[l] && occ[l] > 0 ? std::log2(double(occ[l + 1]) / double(occ[l])) : 2.0;
-  k = std::clamp(k, 1.0, 3.0);
-  double res = double(kLevels[l + 1]) * std::pow(target / double(std::max<std::uint64_t>(occ[l + 1], 1)), 1.0 / k);
+  double res = g.resolution_for(target);
   res = std::clamp(res, 1.0, double(GridSpec::kMaxDim));
   return GridSpec::with_divisions(bounds, std::uint32_t(std::lround(res)));
 }
