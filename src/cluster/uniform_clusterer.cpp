@@ -100,10 +100,10 @@ constexpr std::uint64_t kCellEntryBytes = sizeof(std::uint64_t) + sizeof(CellRec
 // UsageError (exit 2) naming --mem and what would fit, rather than exceed it.
 class TableBudget {
  public:
-  TableBudget(std::uint64_t budget, const GridSpec& grid, const OccupancyGrowth& occupancy,
+  TableBudget(const MemoryBudget& budget, const GridSpec& grid, const OccupancyGrowth& occupancy,
               std::uint64_t vertices)
       : budget_(budget),
-        held_(current_anon_bytes()),
+        held_(budget.held()),
         resolution_(grid_resolution(grid)),
         occupancy_(occupancy),
         vertices_(vertices) {}
@@ -111,20 +111,21 @@ class TableBudget {
   /// Throws UsageError unless tables of `bytes` fit next to what was held at the
   /// start; `what` names what they hold ("about 3000000 occupied cells").
   void check(std::uint64_t bytes, const std::string& what) const {
-    if (held_ + bytes <= budget_) return;
+    if (held_ + bytes <= budget_.bytes()) return;
     // The tables grow with the occupied cells: a grid with a tenth fewer cells than fit.
-    const double fit = budget_ > held_ ? double(budget_ - held_) / double(bytes) : 0.0;
+    const double fit = budget_.bytes() > held_ ? double(budget_.bytes() - held_) / double(bytes) : 0.0;
     const double cells = std::min(occupancy_.cells_at(resolution_), double(vertices_));
     const std::uint32_t coarser = std::uint32_t(std::clamp(std::floor(occupancy_.resolution_for(0.9 * fit * cells)), 1.0,
                                                            double(resolution_)));
-    check_memory_budget(budget_, held_, bytes,
+    budget_.check(held_, bytes,
                         "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
                         "give --mem " + mib_text(held_ + bytes) + "M or more, or a coarser grid (--grid " +
                             std::to_string(coarser) + " or less, or a smaller --ratio)");
   }
 
  private:
-  std::uint64_t budget_, held_;
+  MemoryBudget budget_;
+  std::uint64_t held_;  // when the run began: the tables come on top
   std::uint32_t resolution_;
   OccupancyGrowth occupancy_;
   std::uint64_t vertices_;
@@ -261,8 +262,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   // Up front, before any table grows: the occupied cells alone (at most one per
   // vertex), estimated from a sample of the vertices; kept triangles and output come on top.
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
-  const TableBudget budget(options.memory_budget ? options.memory_budget : default_memory_budget(), grid, occupancy,
-                           input.positions.count);
+  const TableBudget budget(MemoryBudget(options), grid, occupancy, input.positions.count);
   const auto estimate = std::uint64_t(std::min(occupancy.cells_at(grid_resolution(grid)), double(input.positions.count)));
   budget.check(estimate * kCellEntryBytes, "about " + std::to_string(estimate) + " occupied cells, estimated");
   CellMap<CellRecord> cells(1 << 16);
