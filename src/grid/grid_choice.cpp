@@ -22,10 +22,11 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
     return (std::size_t((k >> 42) & GridSpec::kMaxDim) * g.dims[1] + ((k >> 21) & GridSpec::kMaxDim)) * g.dims[0] +
            (k & GridSpec::kMaxDim);
   };
-  using Bits = std::vector<std::vector<bool>>;
+  // Bitmaps in 64-bit words: merged and counted a word at a time.
+  using Bits = std::vector<std::vector<std::uint64_t>>;
   auto empty_bits = [&] {
     Bits b;
-    for (const GridSpec& g : grids) b.emplace_back(cells(g));
+    for (const GridSpec& g : grids) b.emplace_back((cells(g) + 63) / 64, 0);
     return b;
   };
   tbb::combinable<Bits> local(empty_bits);
@@ -36,17 +37,23 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
                       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
                         Vec3d p = positions.get(i * stride);
                         if (!is_finite(p)) continue;  // outside every grid (see is_finite)
-                        for (int l = 0; l < kLevelCount; ++l) b[l][index(grids[l], grids[l].key(p))] = true;
+                        for (int l = 0; l < kLevelCount; ++l) {
+                          const std::size_t i = index(grids[l], grids[l].key(p));
+                          b[l][i >> 6] |= std::uint64_t(1) << (i & 63);
+                        }
                       }
                     });
   Bits all = empty_bits();
   local.combine_each([&](const Bits& b) {
     for (int l = 0; l < kLevelCount; ++l)
-      for (std::size_t i = 0; i < all[l].size(); ++i)
-        if (b[l][i]) all[l][i] = true;
+      for (std::size_t w = 0; w < all[l].size(); ++w) all[l][w] |= b[l][w];
   });
   std::vector<std::uint64_t> counts;
-  for (const auto& b : all) counts.push_back(std::uint64_t(std::count(b.begin(), b.end(), true)));
+  for (const auto& b : all) {
+    std::uint64_t n = 0;
+    for (std::uint64_t w : b) n += std::uint64_t(__builtin_popcountll(w));
+    counts.push_back(n);
+  }
   return counts;
 }
 
