@@ -92,6 +92,11 @@ std::uint32_t grid_resolution(const GridSpec& g) { return std::max({g.dims[0], g
 // Bytes an occupied cell takes at least in its table (key, record and the two slots
 // of a half-full index).
 constexpr std::uint64_t kCellEntryBytes = sizeof(std::uint64_t) + sizeof(CellRecord) + 2 * sizeof(std::uint32_t);
+// And what a whole run needs per occupied cell, for the advice: a closed surface keeps
+// about two triangles per cell (Euler, as choose_grid assumes), each in the kept list
+// and the output (3 indices each), and the cell's output number, order and position.
+constexpr std::uint64_t kRunBytesPerCell =
+    kCellEntryBytes + 2 * 2 * 3 * sizeof(std::uint32_t) + 2 * sizeof(std::uint32_t) + 3 * sizeof(double);
 
 // The uniform method's tables within --mem (issue 10, "the budget is the process's"):
 // the occupied cells and kept triangles in their hash tables, the pipeline's per-chunk
@@ -112,18 +117,30 @@ class TableBudget {
   /// start; `what` names what they hold ("about 3000000 occupied cells").
   void check(std::uint64_t bytes, const std::string& what) const {
     if (held_ + bytes <= budget_.bytes()) return;
-    // The tables grow with the occupied cells: a grid with a tenth fewer cells than fit.
-    const double fit = budget_.bytes() > held_ ? double(budget_.bytes() - held_) / double(bytes) : 0.0;
-    const double cells = std::min(occupancy_.cells_at(resolution_), double(vertices_));
-    const std::uint32_t coarser = std::uint32_t(std::clamp(std::floor(occupancy_.resolution_for(0.9 * fit * cells)), 1.0,
-                                                           double(resolution_)));
+    // The advice: the whole run at about kRunBytesPerCell per occupied cell, and a
+    // grid with a tenth fewer cells than that fit in the budget.
+    const double room = budget_.bytes() > held_ ? double(budget_.bytes() - held_) : 0.0;
+    const std::uint32_t coarser = coarser_resolution(0.9 * room / double(kRunBytesPerCell));
+    const double run = occupancy_.occupied_by(resolution_, vertices_) * double(kRunBytesPerCell);
     budget_.check(held_, bytes,
-                        "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
-                        "give --mem " + mib_text(held_ + bytes) + "M or more, or a coarser grid (--grid " +
-                            std::to_string(coarser) + " or less, or a smaller --ratio)");
+                  "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
+                  "give --mem " + mib_text(held_ + std::max(bytes, std::uint64_t(run))) +
+                      "M or more, or a coarser grid (--grid " + std::to_string(coarser) +
+                      " or less, or a smaller --ratio)");
   }
 
  private:
+  // The finest resolution at which about `cells` are occupied (bisection: occupancy
+  // grows with the resolution).
+  std::uint32_t coarser_resolution(double cells) const {
+    double lo = 1, hi = resolution_;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (occupancy_.occupied_by(mid, vertices_) <= cells ? lo : hi) = mid;
+    }
+    return std::uint32_t(lo);
+  }
+
   MemoryBudget budget_;
   std::uint64_t held_;  // when the run began: the tables come on top
   std::uint32_t resolution_;
@@ -259,11 +276,11 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats) {
   ProgressReporter* progress = options.progress;
-  // Up front, before any table grows: the occupied cells alone (at most one per
-  // vertex), estimated from a sample of the vertices; kept triangles and output come on top.
+  // Up front, before any table grows: the occupied cells alone, estimated from a
+  // sample of the vertices (a lower estimate); kept triangles and output come on top.
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
   const TableBudget budget(MemoryBudget(options), grid, occupancy, input.positions.count);
-  const auto estimate = std::uint64_t(std::min(occupancy.cells_at(grid_resolution(grid)), double(input.positions.count)));
+  const auto estimate = std::uint64_t(occupancy.occupied_by(grid_resolution(grid), input.positions.count));
   budget.check(estimate * kCellEntryBytes, "about " + std::to_string(estimate) + " occupied cells, estimated");
   CellMap<CellRecord> cells(1 << 16);
   TriangleSet kept;

@@ -68,6 +68,11 @@ double OccupancyGrowth::cells_at(double r) const { return cells * std::pow(r / r
 
 double OccupancyGrowth::resolution_for(double target) const { return resolution * std::pow(target / cells, 1.0 / k); }
 
+double OccupancyGrowth::occupied_by(double r, std::uint64_t vertices) const {
+  const double c = cells_at(r);
+  return c > 0 ? -c * std::expm1(-double(vertices) / c) : 0.0;
+}
+
 OccupancyGrowth sampled_occupancy_growth(const PositionArray& positions, const Box3d& bounds) {
   const std::uint64_t stride = std::max<std::uint64_t>(1, positions.count >> 20);
   const std::uint64_t samples = (positions.count + stride - 1) / stride;

@@ -31,6 +31,10 @@ struct OccupancyGrowth {
   double cells_at(double r) const;
   /// The resolution with about `target` occupied cells.
   double resolution_for(double target) const;
+  /// Cells that `vertices` occupy at resolution r: cells_at(r) C, less those no vertex
+  /// falls in once cells outnumber vertices, C (1 - e^(-vertices / C)) as if the
+  /// vertices fell at random (a mesh's vertices are spread more evenly and occupy more).
+  double occupied_by(double r, std::uint64_t vertices) const;
 };
 OccupancyGrowth occupancy_growth(const std::vector<std::uint64_t>& occ, std::uint64_t samples);
 
