@@ -143,6 +143,7 @@ int run_simplify(SimplifyArgs& a) {
   ProgressReporter progress(a.quiet);
   a.options.progress = &progress;
   a.options.release_memory = release_free_heap;
+  a.options.budget_counts_process = true;
   SimplifyStats stats;
   simplify_file(a.in, a.outputs, a.options, &stats);
   if (!a.quiet) {

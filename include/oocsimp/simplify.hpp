@@ -71,6 +71,10 @@ struct SimplifyOptions {
   AssignRule assign = AssignRule::nearest;                    ///< floating only
   RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
+  /// Whether memory_budget bounds the whole process's anonymous memory, what it held
+  /// before the run included (the CLI: the process is the run), or only what the run
+  /// adds to it (a program that holds memory of its own).
+  bool budget_counts_process = false;
   /// PLY and OBJ: weld vertices at exactly the same position before clustering (STL
   /// input always is; see OpenOptions::weld).
   bool weld = false;

@@ -34,6 +34,9 @@ class TriangleSet {
     if (k[0] & kOddBit) return {k[0] & ~kOddBit, k[2], k[1]};
     return k;
   }
+  /// Heap bytes held, and at most while `more` triangles are added (FlatHashMap).
+  std::size_t bytes() const { return set_.bytes(); }
+  std::size_t bytes_with(std::size_t more) const { return set_.bytes_with(more); }
   /// Frees the hash index; insert() must not be called afterwards.
   void release_index() { set_.release_index(); }
 

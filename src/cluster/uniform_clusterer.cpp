@@ -10,17 +10,21 @@
 //      cells survive, each unordered cell triple once.
 // Then every surviving cell gets the point that minimises its quadric (see
 // minimize_quadric). Memory holds the occupied cells and the surviving triangles,
-// never the input.
+// never the input, and stays within --mem (TableBudget) or the run stops.
 #include "cluster/uniform_clusterer.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <string>
 
 #include "cluster/triangle_set.hpp"
+#include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
+#include "grid/occupancy.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
@@ -83,11 +87,90 @@ class CellIndexCache {
   std::uint32_t idx_[2] = {0, 0};
 };
 
+std::uint32_t grid_resolution(const GridSpec& g) { return std::max({g.dims[0], g.dims[1], g.dims[2]}); }
+
+// Bytes an occupied cell takes at least in its table (key, record and the two slots
+// of a half-full index).
+constexpr std::uint64_t kCellEntryBytes = sizeof(std::uint64_t) + sizeof(CellRecord) + 2 * sizeof(std::uint32_t);
+// And what a whole run needs per occupied cell, for the advice: a closed surface keeps
+// about two triangles per cell (Euler, as choose_grid assumes), each in the kept list
+// and the output (3 indices each), and the cell's output number, order and position.
+constexpr std::uint64_t kRunBytesPerCell =
+    kCellEntryBytes + 2 * 2 * 3 * sizeof(std::uint32_t) + 2 * sizeof(std::uint32_t) + 3 * sizeof(double);
+
+// The uniform method's tables within --mem (issue 10, "the budget is the process's"):
+// the occupied cells and kept triangles in their hash tables, the pipeline's per-chunk
+// tables and, at the end, the output arrays, on top of what the process held when the
+// run began (its buffers, the libraries). A run that would need more stops with a
+// UsageError (exit 2) naming --mem and what would fit, rather than exceed it.
+class TableBudget {
+ public:
+  TableBudget(const MemoryBudget& budget, const GridSpec& grid, const OccupancyGrowth& occupancy,
+              std::uint64_t vertices)
+      : budget_(budget),
+        held_(budget.held()),
+        resolution_(grid_resolution(grid)),
+        occupancy_(occupancy),
+        vertices_(vertices) {}
+
+  /// Throws UsageError unless tables of `bytes` fit next to what was held at the
+  /// start; `what` names what they hold ("about 3000000 occupied cells").
+  void check(std::uint64_t bytes, const std::string& what) const {
+    if (held_ + bytes <= budget_.bytes()) return;
+    // The advice: the whole run at about kRunBytesPerCell per occupied cell, and a
+    // grid with a tenth fewer cells than that fit in the budget.
+    const double room = budget_.bytes() > held_ ? double(budget_.bytes() - held_) : 0.0;
+    const std::uint32_t coarser = coarser_resolution(0.9 * room / double(kRunBytesPerCell));
+    const double run = occupancy_.occupied_by(resolution_, vertices_) * double(kRunBytesPerCell);
+    budget_.check(held_, bytes,
+                  "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
+                  "give --mem " + mib_text(held_ + std::max(bytes, std::uint64_t(run))) +
+                      "M or more, or a coarser grid (--grid " + std::to_string(coarser) +
+                      " or less, or a smaller --ratio)");
+  }
+
+ private:
+  // The finest resolution at which about `cells` are occupied (bisection: occupancy
+  // grows with the resolution).
+  std::uint32_t coarser_resolution(double cells) const {
+    double lo = 1, hi = resolution_;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (occupancy_.occupied_by(mid, vertices_) <= cells ? lo : hi) = mid;
+    }
+    return std::uint32_t(lo);
+  }
+
+  MemoryBudget budget_;
+  std::uint64_t held_;  // when the run began: the tables come on top
+  std::uint32_t resolution_;
+  OccupancyGrowth occupancy_;
+  std::uint64_t vertices_;
+};
+
+// The largest per-chunk table seen so far, times the chunks in flight: the
+// pipeline's share of the budget.
+class ChunkTables {
+ public:
+  explicit ChunkTables(std::size_t tokens) : tokens_(tokens) {}
+  void saw(std::uint64_t bytes, std::uint64_t entries) {
+    largest_bytes_ = std::max(largest_bytes_, bytes);
+    largest_entries_ = std::max(largest_entries_, entries);
+  }
+  std::uint64_t bytes() const { return tokens_ * largest_bytes_; }
+  /// Entries the next merge may add to the global table.
+  std::uint64_t next_entries() const { return largest_entries_; }
+
+ private:
+  std::uint64_t tokens_, largest_bytes_ = 0, largest_entries_ = 0;
+};
+
 std::size_t pipeline_tokens() { return 2 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
 
 void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, CellMap<CellRecord>& cells,
-                         ProgressReporter* progress) {
+                         const TableBudget& budget, ProgressReporter* progress) {
   std::uint64_t next = 0;
+  ChunkTables chunks(pipeline_tokens());
   if (progress) progress->begin("cell means", positions.count, "vtx");
   run_ordered_pipeline<VertexChunk>(
       pipeline_tokens(),
@@ -117,17 +200,21 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           dst.sum += src.sum;
           dst.n += src.n;
         }
+        chunks.saw(c.cells.bytes(), c.cells.size());
+        budget.check(cells.bytes_with(chunks.next_entries()) + chunks.bytes(),
+                     std::to_string(cells.size()) + " occupied cells after " + std::to_string(c.end) + " vertices");
         if (progress) progress->set(c.end);
       });
   if (progress) progress->end();
 }
 
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
-                          std::uint64_t* triangle_count, ProgressReporter* progress) {
+                          const TableBudget& budget, std::uint64_t* triangle_count, ProgressReporter* progress) {
   const PositionArray& positions = input.positions;
   TriangleStream& stream = *input.triangles;
   std::vector<std::uint32_t> to_global;
   std::uint64_t total = 0;
+  ChunkTables chunks(pipeline_tokens());
   if (progress) progress->begin("cell quadrics", input.file_size, "B");
   run_ordered_pipeline<FaceChunk>(
       pipeline_tokens(),
@@ -173,6 +260,11 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
           kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
+        chunks.saw(c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) + c.kept.capacity() * sizeof(std::uint32_t),
+                   c.kept.size() / 3);
+        budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes(),
+                     std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept.size()) +
+                         " kept triangles after " + std::to_string(total) + " triangles");
         if (progress) progress->set(stream.bytes_consumed());
       });
   if (progress) progress->end();
@@ -184,14 +276,24 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats) {
   ProgressReporter* progress = options.progress;
+  // Up front, before any table grows: the occupied cells alone, estimated from a
+  // sample of the vertices (a lower estimate); kept triangles and output come on top.
+  const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
+  const TableBudget budget(MemoryBudget(options), grid, occupancy, input.positions.count);
+  const auto estimate = std::uint64_t(occupancy.occupied_by(grid_resolution(grid), input.positions.count));
+  budget.check(estimate * kCellEntryBytes, "about " + std::to_string(estimate) + " occupied cells, estimated");
   CellMap<CellRecord> cells(1 << 16);
   TriangleSet kept;
 
   double t0 = now_seconds();
-  accumulate_vertices(input.positions, grid, cells, progress);
+  accumulate_vertices(input.positions, grid, cells, budget, progress);
+  // The cells are known now, before the faces are read: with the fewest kept
+  // triangles (none) and their output indices, do they fit?
+  budget.check(cells.bytes() + 2 * sizeof(std::uint32_t) * cells.size(),
+               std::to_string(cells.size()) + " occupied cells");
   double t1 = now_seconds();
   std::uint64_t triangles = 0;
-  accumulate_triangles(input, grid, cells, kept, &triangles, progress);
+  accumulate_triangles(input, grid, cells, kept, budget, &triangles, progress);
   double t2 = now_seconds();
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
@@ -199,13 +301,21 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   // are allocated, which keeps the peak down.
   cells.release_index();
   kept.release_index();
+  const std::size_t kept_count = kept.size();
+  // The output tables next to the cells: numbering and triangles, then (numbering
+  // freed) the positions of at most every cell.
+  const std::string output = std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept_count) +
+                             " output triangles";
+  const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * kept_count;
+  budget.check(cells.bytes() + kept.bytes() + 2 * sizeof(std::uint32_t) * cells.size() + triangle_bytes, output);
 
   // Output vertices are the cells the kept triangles use, numbered by first use.
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> out_index(cells.size(), kUnused);
   std::vector<std::uint32_t> order;
+  order.reserve(cells.size());  // no doubling past the budget
   SimplifiedMesh mesh;
-  mesh.triangles.resize(3 * kept.size());
+  mesh.triangles.resize(3 * kept_count);
   for (std::size_t t = 0; t < kept.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       std::uint32_t c = kept[t][std::size_t(k)];
@@ -216,6 +326,10 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
       mesh.triangles[3 * t + k] = out_index[c];
     }
   std::vector<std::uint32_t>().swap(out_index);
+  kept = TriangleSet();
+  budget.check(cells.bytes() + sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
+                   3 * sizeof(double) * order.size(),
+               output);
 
   mesh.positions.resize(3 * order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -239,7 +353,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     stats->skipped = input.triangles->skipped();
     stats->occupied_cells = cells.size();
     stats->output_vertices = order.size();
-    stats->output_triangles = kept.size();
+    stats->output_triangles = kept_count;
     stats->phases.push_back({"vertices", t1 - t0});
     stats->phases.push_back({"faces", t2 - t1});
     stats->phases.push_back({"solve", t3 - t2});

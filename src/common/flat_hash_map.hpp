@@ -107,6 +107,21 @@ class FlatHashMap {
            slots_.capacity() * sizeof(std::uint32_t);
   }
 
+  /// Heap bytes held at most while `more` new keys are inserted: their pages, and
+  /// the old and the new slot table side by side during the last rehash.
+  std::size_t bytes_with(std::size_t more) const {
+    const std::size_t n = keys_.size() + more;
+    const std::size_t pages = (n + decltype(keys_)::kPage - 1) / decltype(keys_)::kPage * decltype(keys_)::kPage;
+    std::size_t slots = slots_.size(), peak = slots;
+    while (n * 2 > slots) {
+      peak = 3 * slots;  // rehash(): the old table is freed after the new one is filled
+      slots *= 2;
+    }
+    return std::max(keys_.capacity(), pages) * sizeof(Key) +
+           (kStoresValues ? std::max(values_.capacity(), pages) * sizeof(Value) : 0) +
+           std::max(peak, slots) * sizeof(std::uint32_t);
+  }
+
  private:
   static constexpr std::size_t kMaxEntries = 0xFFFFFFFEu;  // slot 0xFFFFFFFF would be number + 1 overflowing
 

@@ -22,10 +22,11 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
     return (std::size_t((k >> 42) & GridSpec::kMaxDim) * g.dims[1] + ((k >> 21) & GridSpec::kMaxDim)) * g.dims[0] +
            (k & GridSpec::kMaxDim);
   };
-  using Bits = std::vector<std::vector<bool>>;
+  // Bitmaps in 64-bit words: merged and counted a word at a time.
+  using Bits = std::vector<std::vector<std::uint64_t>>;
   auto empty_bits = [&] {
     Bits b;
-    for (const GridSpec& g : grids) b.emplace_back(cells(g));
+    for (const GridSpec& g : grids) b.emplace_back((cells(g) + 63) / 64, 0);
     return b;
   };
   tbb::combinable<Bits> local(empty_bits);
@@ -36,18 +37,46 @@ std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const
                       for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
                         Vec3d p = positions.get(i * stride);
                         if (!is_finite(p)) continue;  // outside every grid (see is_finite)
-                        for (int l = 0; l < kLevelCount; ++l) b[l][index(grids[l], grids[l].key(p))] = true;
+                        for (int l = 0; l < kLevelCount; ++l) {
+                          const std::size_t i = index(grids[l], grids[l].key(p));
+                          b[l][i >> 6] |= std::uint64_t(1) << (i & 63);
+                        }
                       }
                     });
   Bits all = empty_bits();
   local.combine_each([&](const Bits& b) {
     for (int l = 0; l < kLevelCount; ++l)
-      for (std::size_t i = 0; i < all[l].size(); ++i)
-        if (b[l][i]) all[l][i] = true;
+      for (std::size_t w = 0; w < all[l].size(); ++w) all[l][w] |= b[l][w];
   });
   std::vector<std::uint64_t> counts;
-  for (const auto& b : all) counts.push_back(std::uint64_t(std::count(b.begin(), b.end(), true)));
+  for (const auto& b : all) {
+    std::uint64_t n = 0;
+    for (std::uint64_t w : b) n += std::uint64_t(__builtin_popcountll(w));
+    counts.push_back(n);
+  }
   return counts;
+}
+
+OccupancyGrowth occupancy_growth(const std::vector<std::uint64_t>& occ, std::uint64_t samples) {
+  int l = 0;
+  while (l + 2 < kLevelCount && occ[l + 2] * 8 <= samples) ++l;
+  double k = occ[l + 1] > occ[l] && occ[l] > 0 ? std::log2(double(occ[l + 1]) / double(occ[l])) : 2.0;
+  return {double(kLevels[l + 1]), double(std::max<std::uint64_t>(occ[l + 1], 1)), std::clamp(k, 1.0, 3.0)};
+}
+
+double OccupancyGrowth::cells_at(double r) const { return cells * std::pow(r / resolution, k); }
+
+double OccupancyGrowth::resolution_for(double target) const { return resolution * std::pow(target / cells, 1.0 / k); }
+
+double OccupancyGrowth::occupied_by(double r, std::uint64_t vertices) const {
+  const double c = cells_at(r);
+  return c > 0 ? -c * std::expm1(-double(vertices) / c) : 0.0;
+}
+
+OccupancyGrowth sampled_occupancy_growth(const PositionArray& positions, const Box3d& bounds) {
+  const std::uint64_t stride = std::max<std::uint64_t>(1, positions.count >> 20);
+  const std::uint64_t samples = (positions.count + stride - 1) / stride;
+  return occupancy_growth(count_occupancy(positions, bounds, stride), samples);
 }
 
 GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned) {
@@ -66,13 +95,9 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned)
   // surfaces). k is measured between two coarse grids fine enough to resolve the
   // shape yet coarse enough that the vertices sample every occupied cell (at most
   // one cell per 8 vertices), and the target resolution extrapolated from there.
-  std::vector<std::uint64_t> occ = count_occupancy(input.positions, bounds);
-  int l = 0;
-  while (l + 2 < kLevelCount && occ[l + 2] * 8 <= input.positions.count) ++l;
+  const OccupancyGrowth g = occupancy_growth(count_occupancy(input.positions, bounds), input.positions.count);
   double target = std::max(1.0, s.ratio * double(input.info.face_count) / 2);
-  double k = occ[l + 1] > occ[l] && occ[l] > 0 ? std::log2(double(occ[l + 1]) / double(occ[l])) : 2.0;
-  k = std::clamp(k, 1.0, 3.0);
-  double res = double(kLevels[l + 1]) * std::pow(target / double(std::max<std::uint64_t>(occ[l + 1], 1)), 1.0 / k);
+  double res = g.resolution_for(target);
   res = std::clamp(res, 1.0, double(GridSpec::kMaxDim));
   return GridSpec::with_divisions(bounds, std::uint32_t(std::lround(res)));
 }

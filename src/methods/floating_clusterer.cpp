@@ -60,6 +60,7 @@ std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, const GridSpec& grid,
                                 SimplifyStats* stats) {
   SimplifyOptions options = given;
+  const MemoryBudget budget(options);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
   const FloatingCellShape cell{grid.cell, options.cell_shape};
   const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex));
@@ -117,7 +118,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   std::vector<KeptTriangle> kept_triangles;
   {
     ProgressPhase phase(options.progress, "stitch", 0, "bucket");
-    kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners);
+    kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget);
   }
   shares.corners->discard();  // read into kept_triangles
   shares.inside->discard();
@@ -126,7 +127,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   AssemblyCounts counts;
   {
     ProgressPhase phase(options.progress, "assemble", 0, "cell");
-    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.representative, &counts);
+    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.representative, &counts, budget);
   }
   double t5 = now_seconds();
 

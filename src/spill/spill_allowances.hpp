@@ -21,6 +21,7 @@ struct SpillAllowances {
 /// bucket spills, a third each, at most an eighth of the budget in all. The buckets
 /// are read while the output tables are built, which the reserve counts only once.
 /// Expected sizes only steer the split: a store that needs more spills the rest.
+/// The output tables' share is a guess; assembly checks their real need (mesh_assembly.cpp).
 inline SpillAllowances spill_allowances(std::uint64_t budget, std::uint64_t reserved, std::uint64_t triangle_bytes,
                                         std::uint64_t vertex_block_bytes) {
   std::uint64_t left = budget > reserved ? budget - reserved : 0;

@@ -7,17 +7,46 @@
 #include <cmath>
 
 #include "cluster/fixed_point_sums.hpp"
+#include "common/memory_budget.hpp"
 #include "grid/cell_map.hpp"
+#include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
 
 namespace oocsimp {
 
+namespace {
+
+// The output alone must fit in --mem (issue 10): the spills are done or hold their
+// allowance, so what is left of the budget is the output's; when `bytes` more do not
+// fit next to what the process holds, the run stops (exit 2) before allocating them.
+void check_output_fits(const MemoryBudget& budget, std::uint64_t bytes, const std::string& what) {
+  budget.check(budget.held(), bytes, "the output (" + what + ")",
+               "the output alone cannot fit: give a larger --mem or a coarser grid (--grid, --ratio)");
+}
+
+// The most records one stream of `spill` holds: a bucket read whole.
+std::uint64_t largest_bucket(const StreamSpill& spill) {
+  std::uint64_t most = 0;
+  for (std::uint32_t b = 0; b < spill.stream_count(); ++b) most = std::max(most, spill.record_count(b));
+  return most;
+}
+
+}  // namespace
+
 // Cross-tile triangles: their corners' clusters were written by the tiles owning
 // the corners into buckets by triangle index; a bucket fits in memory.
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners) {
+std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
+                                                const MemoryBudget& budget) {
   std::vector<KeptTriangle> kept;
   // At most: every triangle decided in a tile, and one per three stitch corners.
-  kept.reserve(inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3);
+  const std::uint64_t most =
+      inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3;
+  // The list, and a stitch bucket's corners with the triangles they join.
+  const std::uint64_t bucket = largest_bucket(corners);
+  check_output_fits(budget,
+                    most * sizeof(KeptTriangle) + bucket * sizeof(CornerRecord) + bucket / 3 * sizeof(KeptTriangle),
+                    "up to " + std::to_string(most) + " kept triangles");
+  kept.reserve(most);
   for (std::uint32_t b = 0; b < inside.stream_count(); ++b) {
     std::size_t at = kept.size();
     kept.resize(at + inside.record_count(b));
@@ -49,12 +78,20 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
 }
 
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
-                             RepresentativeRule rule, AssemblyCounts* counts) {
+                             RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget) {
   std::vector<KeptTriangle>& tris = kept;
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
     return a.index() < b.index();  // input order of first occurrence
   });
+  // The index of output vertices and the triangle array, next to the kept list; a
+  // closed surface has about half as many vertices as triangles (Euler).
+  const std::string output = std::to_string(tris.size()) + " output triangles";
+  const std::uint64_t slots = 2 * tris.size() + 16;
+  check_output_fits(budget,
+                    slots * 2 * sizeof(std::uint32_t) + tris.size() / 2 * (sizeof(std::uint64_t) + 1) +
+                        3 * sizeof(std::uint32_t) * tris.size(),
+                    output);
   // Output vertices are the clusters in order of first use; CellMap numbers its
   // keys in insertion order, which is exactly that.
   CellMap<char> index(2 * tris.size() + 16);
@@ -63,6 +100,11 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   for (const KeptTriangle& t : tris)
     for (std::uint64_t c : t.corners()) mesh.triangles.push_back(index.insert(c));
   std::vector<KeptTriangle>().swap(kept);
+  // The positions and the largest cluster bucket with its centre starts.
+  const std::uint64_t bucket = largest_bucket(partials);
+  check_output_fits(budget,
+                    3 * sizeof(double) * index.size() + bucket * (sizeof(PartialCluster) + sizeof(std::size_t)),
+                    output + " and " + std::to_string(index.size()) + " vertices");
   // Representatives, a cluster bucket at a time: merge each centre's shares (in
   // fixed point, so in any order) and solve for the clusters some triangle uses.
   mesh.positions.assign(3 * index.size(), 0.0);

@@ -9,6 +9,7 @@
 
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
+#include "common/memory_budget.hpp"
 #include "spill/stream_spill.hpp"
 #include "oocsimp/simplify.hpp"
 #include "stitch/kept_triangles.hpp"
@@ -16,8 +17,11 @@
 namespace oocsimp {
 
 /// The candidate output triangles: those decided inside tiles (read from `inside`)
-/// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners).
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners);
+/// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners). With
+/// a `budget`, throws UsageError when the list and the largest
+/// stitch bucket would not fit next to what the process holds.
+std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
+                                                const MemoryBudget& budget = MemoryBudget());
 
 /// The output position of a cluster from its merged sums: its centre, the mean of
 /// its vertices or the quadric minimiser kept in the cell (`rule`), for cells `cell`.
@@ -30,8 +34,11 @@ struct AssemblyCounts {
 
 /// The output mesh: `kept` deduplicated and in input order of first occurrence
 /// (consumed), vertices numbered by first use, each placed at representative() of
-/// its cluster's shares merged from `partials` a bucket at a time.
+/// its cluster's shares merged from `partials` a bucket at a time. With a
+/// `budget`, throws UsageError before allocating the output tables
+/// when they (and the largest cluster bucket) would not fit next to what the process holds.
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
-                             RepresentativeRule rule, AssemblyCounts* counts);
+                             RepresentativeRule rule, AssemblyCounts* counts,
+                             const MemoryBudget& budget = MemoryBudget());
 
 }  // namespace oocsimp

@@ -1,0 +1,48 @@
+// The run against --mem (issue 10, "the budget is the process's"): the tables a method
+// is about to build must fit next to the anonymous memory the run holds, or the run
+// stops with a UsageError (exit 2) rather than exceed the budget.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+
+#include "oocsimp/error.hpp"
+#include "oocsimp/progress.hpp"
+#include "oocsimp/simplify.hpp"
+
+namespace oocsimp {
+
+/// `bytes` in whole MiB, rounded up, as text.
+inline std::string mib_text(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
+
+/// The budget of a run and the process's anonymous memory it does not cover.
+class MemoryBudget {
+ public:
+  MemoryBudget() = default;  // unbounded
+  /// From the options, when the run begins (SimplifyOptions::budget_counts_process).
+  explicit MemoryBudget(const SimplifyOptions& options)
+      : bytes_(options.memory_budget ? options.memory_budget : default_memory_budget()),
+        host_(options.budget_counts_process ? 0 : current_anon_bytes()) {}
+
+  std::uint64_t bytes() const { return bytes_; }
+  /// Anonymous bytes the run holds now (all the process's, less what it held before
+  /// the run if that is not the run's).
+  std::uint64_t held() const {
+    const std::uint64_t now = current_anon_bytes();
+    return now - std::min(now, host_);
+  }
+  /// Throws UsageError unless `more` bytes fit next to `held`: "--mem B MiB cannot
+  /// hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
+  void check(std::uint64_t held, std::uint64_t more, const std::string& what, const std::string& advice) const {
+    if (bytes_ == 0 || held + more <= bytes_) return;
+    throw UsageError("--mem " + mib_text(bytes_) + " MiB cannot hold " + what + ": " + mib_text(more) +
+                     " MiB or more next to the " + mib_text(held) + " MiB the run holds; " + advice);
+  }
+
+ private:
+  std::uint64_t bytes_ = 0;  // 0: unbounded
+  std::uint64_t host_ = 0;
+};
+
+}  // namespace oocsimp
