@@ -81,6 +81,10 @@ class FlatHashMap {
     return values_[i];
   }
 
+  /// Makes room for at least `slots` slots (about half as many keys) without growing.
+  void reserve(std::size_t slots) {
+    if (slots_.size() < slots) rehash(slots);
+  }
   /// Empties the map but keeps its capacity.
   void clear() {
     if (keys_.size() * 8 < slots_.size()) {
