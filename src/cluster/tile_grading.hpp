@@ -40,8 +40,7 @@ struct TileLocalMesh {
     index.clear();
     positions.clear();
     owned.clear();
-    ids.clear();
-    ids.reserve(2 * tris.size() + 16);
+    ids.reset(2 * tris.size() + 16);  // sized for this tile: a larger table probes sparser, colder slots
     for (std::size_t t = 0; t < tris.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         std::uint64_t v = tris[t].v[k];

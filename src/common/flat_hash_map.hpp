@@ -81,9 +81,12 @@ class FlatHashMap {
     return values_[i];
   }
 
-  /// Makes room for at least `slots` slots (about half as many keys) without growing.
-  void reserve(std::size_t slots) {
-    if (slots_.size() < slots) rehash(slots);
+  /// Empties the map and starts again as if constructed with `initial_slots`, keeping
+  /// the memory of its entries and table (no fresh pages for a map refilled often).
+  void reset(std::size_t initial_slots) {
+    keys_.clear();
+    values_.clear();
+    rehash(initial_slots);
   }
   /// Empties the map but keeps its capacity.
   void clear() {
