@@ -218,7 +218,7 @@ TEST_CASE("a run whose spill fits in --mem writes no spill file, with the output
   // At the smallest budget most of it goes to the disk, inside the budget.
   js = run(" --mem 32M", "spills.ply");
   CHECK(json_number(js, "spill_bytes") > 0);
-  CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));
+  if (!OOCSIMP_TEST_UNDER_ASAN) CHECK(json_number(js, "peak_anon_bytes") < double(32u << 20));  // ASan's shadow counts
   CHECK(read_file(d.file("fits.ply")) == read_file(d.file("spills.ply")));
   CHECK(tmp.entries().empty());
 }
