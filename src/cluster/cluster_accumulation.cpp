@@ -1,8 +1,6 @@
 #include "cluster/cluster_accumulation.hpp"
 
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -36,20 +34,6 @@ void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket b
   }
 }
 
-// What a thread clusters its tiles with, kept from tile to tile: a tile allocates
-// (and faults in) no fresh pages for them.
-struct TileBuffers {
-  std::vector<TriangleRecord> tris;
-  TileLocalMesh mesh;
-  std::vector<GradedVertex> owned;
-  std::vector<std::size_t> owned_at;
-  std::vector<Quadric> vertex_q;
-  std::vector<KeptTriangle> kept;
-  std::vector<CornerRecord> corners;
-  std::vector<ClusterRecord> sums;
-  std::vector<PartialCluster> partial;
-};
-
 }  // namespace
 
 ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray& positions, const BlockStore& blocks,
@@ -82,100 +66,84 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   ProgressReporter* progress = settings.progress;
   if (progress) progress->begin("cluster tiles", n, "tile");
   std::atomic<std::uint32_t> done{0};
-  tbb::enumerable_thread_specific<TileBuffers> buffers;
   tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
-    // Isolated: a thread waiting inside the body (the parallel sort of the kept
-    // triangles) must not take up another tile with the same buffers.
-    tbb::this_task_arena::isolate([&] {
-      TileBuffers& buf = buffers.local();
-      std::vector<TriangleRecord>& tris = buf.tris;
-      tiles.load(tile, &tris);
-      // Owned vertices grouped by lookup cube: consecutive assignments then probe the
-      // same cubes (by input index, the cluster pass took 15% longer). Their order
-      // changes no sum: vertex quadrics follow the triangles, cluster sums are fixed point.
-      TileVertexBlock block(blocks.block(tile));
-      std::vector<GradedVertex>& owned = buf.owned;
-      owned.resize(block.size());
-      for (std::size_t j = 0; j < owned.size(); ++j) owned[j] = block.vertex(block.filed(j));
-      // Local vertex id -> position in `owned` (a binary search per corner took 40%
-      // of this pass).
-      TileLocalMesh& mesh = buf.mesh;
-      mesh.build(tris, positions);
-      std::vector<std::size_t>& owned_at = buf.owned_at;
-      owned_at.assign(mesh.index.size(), SIZE_MAX);
-      for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
-      std::vector<GradedVertex> near = block.centres();
-      std::vector<GradedVertex> ext = external_centres(tiles.grid, tile, borders, half);
-      near.insert(near.end(), ext.begin(), ext.end());
-      // Per owned vertex: the position in `near` of its cluster's centre.
-      std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell, settings.assign);
+    std::vector<TriangleRecord> tris = tiles.load(tile);
+    // Owned vertices grouped by lookup cube: consecutive assignments then probe the
+    // same cubes (by input index, the cluster pass took 15% longer). Their order
+    // changes no sum: vertex quadrics follow the triangles, cluster sums are fixed point.
+    TileVertexBlock block(blocks.block(tile));
+    std::vector<GradedVertex> owned(block.size());
+    for (std::size_t j = 0; j < owned.size(); ++j) owned[j] = block.vertex(block.filed(j));
+    // Local vertex id -> position in `owned` (a binary search per corner took 40%
+    // of this pass).
+    TileLocalMesh mesh(tris, positions);
+    std::vector<std::size_t> owned_at(mesh.index.size(), SIZE_MAX);
+    for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
+    std::vector<GradedVertex> near = block.centres();
+    std::vector<GradedVertex> ext = external_centres(tiles.grid, tile, borders, half);
+    near.insert(near.end(), ext.begin(), ext.end());
+    // Per owned vertex: the position in `near` of its cluster's centre.
+    std::vector<std::uint32_t> cluster_of = assign_to_centres(owned, near, cell, settings.assign);
 
-      // Vertex quadrics (Garland & Heckbert: the sum of the incident faces' plane
-      // quadrics), in double, relative to the vertex's cluster centre in cell
-      // units. A vertex's faces all lie in its tile and are summed in input order,
-      // so Q_v is the same for any tiling; Q_v then goes into the cluster's
-      // fixed-point sum.
-      std::vector<Quadric>& vertex_q = buf.vertex_q;
-      vertex_q.assign(owned.size(), Quadric());
-      std::vector<KeptTriangle>& kept = buf.kept;
-      kept.clear();
-      std::vector<CornerRecord>& corners = buf.corners;
-      corners.clear();
-      const double inv = 1.0 / cell.size;
-      for (std::size_t t = 0; t < tris.size(); ++t) {
-        const TriangleRecord& r = tris[t];
-        const std::uint32_t* id = &mesh.corners[3 * t];
-        std::size_t local[3];
-        int owned_count = 0;
+    // Vertex quadrics (Garland & Heckbert: the sum of the incident faces' plane
+    // quadrics), in double, relative to the vertex's cluster centre in cell
+    // units. A vertex's faces all lie in its tile and are summed in input order,
+    // so Q_v is the same for any tiling; Q_v then goes into the cluster's
+    // fixed-point sum.
+    std::vector<Quadric> vertex_q(owned.size());
+    std::vector<KeptTriangle> kept;
+    std::vector<CornerRecord> corners;
+    const double inv = 1.0 / cell.size;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const TriangleRecord& r = tris[t];
+      const std::uint32_t* id = &mesh.corners[3 * t];
+      std::size_t local[3];
+      int owned_count = 0;
+      for (int k = 0; k < 3; ++k) {
+        local[k] = r.owned(k) ? owned_at[id[k]] : SIZE_MAX;
+        owned_count += local[k] != SIZE_MAX;
+      }
+      const Vec3d p[3] = {mesh.positions[id[0]], mesh.positions[id[1]], mesh.positions[id[2]]};
+      // The face's plane once, in cell units relative to its first corner; each
+      // owned corner adds it relative to its own cluster's centre.
+      const TrianglePlane plane = triangle_plane((p[1] - p[0]) * inv, (p[2] - p[0]) * inv);
+      if (!plane.degenerate())
         for (int k = 0; k < 3; ++k) {
-          local[k] = r.owned(k) ? owned_at[id[k]] : SIZE_MAX;
-          owned_count += local[k] != SIZE_MAX;
+          if (local[k] == SIZE_MAX) continue;
+          const Vec3d& m = plane.m;
+          const Vec3d r = p[0] - near[cluster_of[local[k]]].p;
+          double d = m.x * r.x * inv + m.y * r.y * inv + m.z * r.z * inv;  // m.(first corner), in cells
+          add_plane_quadric(&vertex_q[local[k]], plane, d);
         }
-        const Vec3d p[3] = {mesh.positions[id[0]], mesh.positions[id[1]], mesh.positions[id[2]]};
-        // The face's plane once, in cell units relative to its first corner; each
-        // owned corner adds it relative to its own cluster's centre.
-        const TrianglePlane plane = triangle_plane((p[1] - p[0]) * inv, (p[2] - p[0]) * inv);
-        if (!plane.degenerate())
-          for (int k = 0; k < 3; ++k) {
-            if (local[k] == SIZE_MAX) continue;
-            const Vec3d& m = plane.m;
-            const Vec3d r = p[0] - near[cluster_of[local[k]]].p;
-            double d = m.x * r.x * inv + m.y * r.y * inv + m.z * r.z * inv;  // m.(first corner), in cells
-            add_plane_quadric(&vertex_q[local[k]], plane, d);
-          }
-        if (owned_count == 3) {
-          std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
-                        c2 = near[cluster_of[local[2]]].index;
-          if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back(KeptTriangle::of(r.index(), c0, c1, c2));
-        } else {
-          for (int k = 0; k < 3; ++k)
-            if (local[k] != SIZE_MAX)
-              corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index});
-        }
+      if (owned_count == 3) {
+        std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
+                      c2 = near[cluster_of[local[2]]].index;
+        if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back(KeptTriangle::of(r.index(), c0, c1, c2));
+      } else {
+        for (int k = 0; k < 3; ++k)
+          if (local[k] != SIZE_MAX)
+            corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index});
       }
-      std::vector<ClusterRecord>& sums = buf.sums;
-      sums.assign(near.size(), ClusterRecord());
-      for (std::size_t i = 0; i < owned.size(); ++i) {
-        sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
+    }
+    std::vector<ClusterRecord> sums(near.size());
+    for (std::size_t i = 0; i < owned.size(); ++i) {
+      sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
+    }
+    // Cross-tile corners go to the stitch buckets by triangle index.
+    append_by_bucket(*out.corners, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span; });
+    // This tile's shares of clusters go to the cluster buckets, by centre index.
+    std::vector<PartialCluster> partial;
+    for (std::size_t i = 0; i < near.size(); ++i)
+      if (sums[i].members) {
+        sums[i].centre = near[i].p;
+        partial.push_back({near[i].index, sums[i]});
       }
-      // Cross-tile corners go to the stitch buckets by triangle index.
-      append_by_bucket(*out.corners, &corners,
-                       [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span; });
-      // This tile's shares of clusters go to the cluster buckets, by centre index.
-      std::vector<PartialCluster>& partial = buf.partial;
-      partial.clear();
-      for (std::size_t i = 0; i < near.size(); ++i)
-        if (sums[i].members) {
-          sums[i].centre = near[i].p;
-          partial.push_back({near[i].index, sums[i]});
-        }
-      append_by_bucket(*out.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span; });
-      // The triangles decided here go to the same buckets as the stitch's, so that
-      // the output-sized list of kept triangles is built once, at its exact size,
-      // instead of growing (and being copied) in the heap tile by tile.
-      dedupe_kept_triangles(kept);
-      append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span; });
-    });
+    append_by_bucket(*out.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span; });
+    // The triangles decided here go to the same buckets as the stitch's, so that
+    // the output-sized list of kept triangles is built once, at its exact size,
+    // instead of growing (and being copied) in the heap tile by tile.
+    dedupe_kept_triangles(kept);
+    append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span; });
     if (progress) progress->set(++done);
   });
   out.corners->flush();

@@ -20,9 +20,7 @@
 namespace oocsimp {
 
 /// A tile's triangles over local vertex ids (in order of first use), with each
-/// vertex's input index and position (read once) and the owned ones. Rebuilt for
-/// tile after tile by one thread (build), it keeps its capacity: no pages are
-/// allocated and faulted in anew per tile.
+/// vertex's input index and position (read once) and the owned ones.
 struct TileLocalMesh {
   std::vector<std::uint32_t> corners;  // 3 per triangle
   std::vector<std::uint64_t> index;
@@ -31,16 +29,8 @@ struct TileLocalMesh {
 
   CellMap<char> ids;  // input index -> local id
 
-  TileLocalMesh() = default;
-  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos) { build(tris, pos); }
-
-  /// Replaces the mesh by that of `tris`.
-  void build(const std::vector<TriangleRecord>& tris, const PositionArray& pos) {
-    corners.resize(3 * tris.size());
-    index.clear();
-    positions.clear();
-    owned.clear();
-    ids.reset(2 * tris.size() + 16);  // sized for this tile: a larger table probes sparser, colder slots
+  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
+      : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
     for (std::size_t t = 0; t < tris.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         std::uint64_t v = tris[t].v[k];

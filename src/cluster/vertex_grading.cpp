@@ -74,30 +74,18 @@ std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned
 }
 
 std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned) {
-  GradingWorkspace work;
-  std::vector<GradedVertex> out;
-  grade_local_vertices(mesh, owned, &work, &out);
-  return out;
-}
-
-void grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned, GradingWorkspace* work,
-                          std::vector<GradedVertex>* graded) {
   // Per local vertex, its position among the owned (or kNone).
   constexpr std::uint32_t kNone = ~std::uint32_t(0);
-  std::vector<std::uint32_t>& slot = work->slot;
-  slot.assign(mesh.vertex_count, kNone);
+  std::vector<std::uint32_t> slot(mesh.vertex_count, kNone);
   for (std::size_t i = 0; i < owned.size(); ++i) slot[owned[i]] = std::uint32_t(i);
   // Neighbours in compressed rows: count (2 per corner), prefix-sum, fill.
-  std::vector<std::uint32_t>& start = work->start;
-  start.assign(owned.size() + 1, 0);
+  std::vector<std::uint32_t> start(owned.size() + 1, 0);
   const std::uint32_t* corners = mesh.corners;
   for (std::size_t c = 0; c < 3 * mesh.triangle_count; ++c)
     if (slot[corners[c]] != kNone) start[slot[corners[c]] + 1] += 2;
   for (std::size_t i = 0; i < owned.size(); ++i) start[i + 1] += start[i];
-  std::vector<std::uint32_t>& neighbour = work->neighbour;
-  neighbour.resize(start.back());
-  std::vector<std::uint32_t>& fill = work->fill;
-  fill.assign(start.begin(), start.end() - 1);
+  std::vector<std::uint32_t> neighbour(start.back());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
   for (std::size_t t = 0; t < mesh.triangle_count; ++t)
     for (int k = 0; k < 3; ++k) {
       std::uint32_t s = slot[corners[3 * t + std::size_t(k)]];
@@ -111,14 +99,10 @@ void grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t
   // with itself, which weight_of counts for the edges marked repeated. The weight
   // is bit for bit vertex_weight over every copy. (A neighbour seen for vertex i
   // carries the stamp i + 1 and remembers its edge.)
-  std::vector<GradedVertex>& out = *graded;
-  out.resize(owned.size());
-  std::vector<Vec3d>& edges = work->edges;
-  std::vector<unsigned char>& repeated = work->repeated;
-  std::vector<std::uint32_t>& seen = work->seen;
-  std::vector<std::uint32_t>& edge_of = work->edge_of;
-  seen.assign(mesh.vertex_count, 0);
-  edge_of.assign(mesh.vertex_count, 0);
+  std::vector<GradedVertex> out(owned.size());
+  std::vector<Vec3d> edges;
+  std::vector<unsigned char> repeated;
+  std::vector<std::uint32_t> seen(mesh.vertex_count, 0), edge_of(mesh.vertex_count, 0);
   for (std::size_t i = 0; i < owned.size(); ++i) {
     const Vec3d& p = mesh.positions[owned[i]];
     edges.clear();
@@ -139,6 +123,7 @@ void grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t
     out[i].p = p;
     out[i].weight = weight_of(edges.data(), edges.size(), repeated.data());
   }
+  return out;
 }
 
 }  // namespace oocsimp

@@ -52,16 +52,4 @@ struct LocalMesh {
 /// working set stays in cache.
 std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned);
 
-/// The working arrays of grade_local_vertices, kept by a thread from tile to tile so
-/// that grading a tile allocates (and faults in) no fresh pages.
-struct GradingWorkspace {
-  std::vector<std::uint32_t> slot, start, neighbour, fill, seen, edge_of;
-  std::vector<Vec3d> edges;
-  std::vector<unsigned char> repeated;
-};
-
-/// grade_local_vertices into `out` (replaced), with the arrays of `work`.
-void grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned, GradingWorkspace* work,
-                          std::vector<GradedVertex>* out);
-
 }  // namespace oocsimp

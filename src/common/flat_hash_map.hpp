@@ -81,13 +81,6 @@ class FlatHashMap {
     return values_[i];
   }
 
-  /// Empties the map and starts again as if constructed with `initial_slots`, keeping
-  /// the memory of its entries and table (no fresh pages for a map refilled often).
-  void reset(std::size_t initial_slots) {
-    keys_.clear();
-    values_.clear();
-    rehash(initial_slots);
-  }
   /// Empties the map but keeps its capacity.
   void clear() {
     if (keys_.size() * 8 < slots_.size()) {

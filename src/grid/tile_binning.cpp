@@ -51,17 +51,12 @@ struct BinChunk {
 
 std::vector<TriangleRecord> BinnedTiles::load(std::uint32_t tile) const {
   std::vector<TriangleRecord> t;
-  load(tile, &t);
-  return t;
-}
-
-void BinnedTiles::load(std::uint32_t tile, std::vector<TriangleRecord>* out) const {
-  std::vector<TriangleRecord>& t = *out;
   triangles->read(tile, &t);
   // Input order matters: a vertex quadric sums its faces in this order. Binning
   // appends in input order, so this is normally sorted already.
   auto by_index = [](const TriangleRecord& a, const TriangleRecord& b) { return a.index() < b.index(); };
   if (!std::is_sorted(t.begin(), t.end(), by_index)) std::sort(t.begin(), t.end(), by_index);
+  return t;
 }
 
 std::uint64_t BinnedTiles::largest_tile_records() const {

@@ -46,8 +46,6 @@ struct BinnedTiles {
   /// The tile's triangles, sorted by input index (a vertex quadric sums its faces in
   /// this order; binning appends in input order, so this is normally sorted already).
   std::vector<TriangleRecord> load(std::uint32_t tile) const;
-  /// The same into `out`, whose capacity is reused.
-  void load(std::uint32_t tile, std::vector<TriangleRecord>* out) const;
   /// The most triangle records any tile holds.
   std::uint64_t largest_tile_records() const;
 };
