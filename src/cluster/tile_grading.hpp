@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "cluster/vertex_grading.hpp"
-#include "grid/cell_map.hpp"
+#include "common/flat_hash_map.hpp"
 #include "grid/tile_binning.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "spill/block_store.hpp"
@@ -27,16 +27,15 @@ struct TileLocalMesh {
   std::vector<Vec3d> positions;
   std::vector<std::uint32_t> owned;  // local ids, in order of first use
 
-  CellMap<char> ids;  // input index -> local id
+  FlatHashSet<std::uint64_t> ids;  // input indices, numbered by local id
 
   TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
       : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
     for (std::size_t t = 0; t < tris.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         std::uint64_t v = tris[t].v[k];
-        std::size_t before = ids.size();
-        std::uint32_t id = ids.insert(v);
-        if (ids.size() != before) {
+        const auto [id, first_use] = ids.try_insert(v);
+        if (first_use) {
           index.push_back(v);
           positions.push_back(pos.get(v));
           // A vertex is owned by one tile, so every corner of it here says the same.

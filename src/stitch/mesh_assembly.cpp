@@ -8,7 +8,7 @@
 
 #include "cluster/fixed_point_sums.hpp"
 #include "common/memory_budget.hpp"
-#include "grid/cell_map.hpp"
+#include "common/flat_hash_map.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
 
@@ -92,9 +92,9 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
                     slots * 2 * sizeof(std::uint32_t) + tris.size() / 2 * (sizeof(std::uint64_t) + 1) +
                         3 * sizeof(std::uint32_t) * tris.size(),
                     output);
-  // Output vertices are the clusters in order of first use; CellMap numbers its
+  // Output vertices are the clusters in order of first use; the set numbers its
   // keys in insertion order, which is exactly that.
-  CellMap<char> index(2 * tris.size() + 16);
+  FlatHashSet<std::uint64_t> index(2 * tris.size() + 16);
   SimplifiedMesh mesh;
   mesh.triangles.reserve(3 * tris.size());
   for (const KeptTriangle& t : tris)
