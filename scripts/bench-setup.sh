@@ -5,7 +5,7 @@ if [ -z "${BENCH_NO_BUILD:-}" ]; then
   "$root/scripts/setup-deps.sh"
   "$root/scripts/build.sh"
 fi
-bin="$root/build/oocsimp"
+bin="${OOCSIMP_BIN:-$root/build/oocsimp}"
 dir="$root/build/bench"  # generated meshes are cached here
 mkdir -p "$dir"
 

@@ -19,7 +19,7 @@
 # And per floating run, the seconds of each phase from its --stats JSON.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
-peer="$root/build/meshopt_sloppy_bench"
+peer="${MESHOPT_BENCH_BIN:-$root/build/meshopt_sloppy_bench}"
 sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(1000000 10000000 50000000)
 grids=(${GRIDS:-256 1024})

@@ -85,9 +85,12 @@ std::uint64_t default_memory_budget() {
 
 ScalarType output_precision(const MeshInput& input, Precision precision) {
   switch (precision) {
-    case Precision::float32: return ScalarType::f32;
-    case Precision::float64: return ScalarType::f64;
-    default: return input.info.double_precision ? ScalarType::f64 : ScalarType::f32;
+    case Precision::float32:
+      return ScalarType::f32;
+    case Precision::float64:
+      return ScalarType::f64;
+    default:
+      return input.info.double_precision ? ScalarType::f64 : ScalarType::f32;
   }
 }
 
@@ -121,8 +124,8 @@ MeshFormat output_format(const OutputOptions& outputs) {
   // stdout, a device, a FIFO or a socket has no extension to tell the format by (a name
   // like /dev/stdout or x/null): PLY, unless the name has one we can write.
   struct stat st;
-  const bool special = outputs.mesh == "-" || (::stat(outputs.mesh.c_str(), &st) == 0 && !S_ISREG(st.st_mode) &&
-                                                !S_ISDIR(st.st_mode));
+  const bool special =
+      outputs.mesh == "-" || (::stat(outputs.mesh.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
   if (special) {
     try {
       return format_for_path(outputs.mesh, outputs.ascii);
@@ -232,8 +235,9 @@ std::string skipped_input_summary(const std::string& input_path, const SimplifyS
   std::string text = input_path + ": skipped " + count(s.skipped.total(), "face", "");
   if (!parts.empty()) text += " (" + parts + ")";
   if (s.non_finite_vertices > 0)
-    text += "; ignored " + count(s.non_finite_vertices, "vertex", "") + " with a NaN or infinite coordinate, the first vertex " +
-            std::to_string(s.first_non_finite_vertex) + " at " + s.first_non_finite_position;
+    text += "; ignored " + count(s.non_finite_vertices, "vertex", "") +
+            " with a NaN or infinite coordinate, the first vertex " + std::to_string(s.first_non_finite_vertex) +
+            " at " + s.first_non_finite_position;
   return text;
 }
 
@@ -247,11 +251,16 @@ std::uint64_t parse_byte_size(const std::string& text) {
   }
   std::string suffix = text.substr(used);
   double mult = 1;
-  if (suffix == "k" || suffix == "K" || suffix == "KiB") mult = 1024.0;
-  else if (suffix == "M" || suffix == "MiB") mult = 1024.0 * 1024;
-  else if (suffix == "G" || suffix == "GiB") mult = 1024.0 * 1024 * 1024;
-  else if (suffix == "T" || suffix == "TiB") mult = 1024.0 * 1024 * 1024 * 1024;
-  else if (!suffix.empty()) throw UsageError("bad size suffix in \"" + text + "\" (k, M, G or T)");
+  if (suffix == "k" || suffix == "K" || suffix == "KiB")
+    mult = 1024.0;
+  else if (suffix == "M" || suffix == "MiB")
+    mult = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "GiB")
+    mult = 1024.0 * 1024 * 1024;
+  else if (suffix == "T" || suffix == "TiB")
+    mult = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty())
+    throw UsageError("bad size suffix in \"" + text + "\" (k, M, G or T)");
   // 2^64: the first byte count that does not fit
   if (!(v > 0) || !std::isfinite(v) || v * mult < 1 || v * mult >= 18446744073709551616.0)
     throw UsageError("size \"" + text + "\" must be at least 1 byte and below 16 EiB");

@@ -13,8 +13,8 @@
 namespace oocsimp_test {
 
 struct ReferenceClustering {
-  std::vector<std::uint64_t> centres;   ///< input indices of the centres, in visiting order
-  std::vector<std::uint64_t> cluster;   ///< per vertex (in input order of `vertices`): its centre's index
+  std::vector<std::uint64_t> centres;  ///< input indices of the centres, in visiting order
+  std::vector<std::uint64_t> cluster;  ///< per vertex (in input order of `vertices`): its centre's index
 };
 
 inline ReferenceClustering reference_floating_cells(const std::vector<oocsimp::GradedVertex>& vertices, double size,

@@ -110,7 +110,8 @@ TEST_CASE("memory slabs give aligned, disjoint, writable blocks, also larger tha
   }
   bool intact = true;
   for (std::size_t k = 0; k < got.size(); ++k)
-    for (std::size_t i = 0; i < got[k].second; ++i) intact = intact && got[k].first[i] == static_cast<unsigned char>(k + 1);
+    for (std::size_t i = 0; i < got[k].second; ++i)
+      intact = intact && got[k].first[i] == static_cast<unsigned char>(k + 1);
   CHECK(intact);  // no block overwrote another
   slabs.release();
   CHECK(slabs.allocate(8) != nullptr);  // usable again after a release

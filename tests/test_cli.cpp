@@ -48,7 +48,8 @@ std::string small_ply(int bad_index, float x1) {
 }
 
 void expect_bad_input(const ScratchDir& d, const std::string& file, const char* what) {
-  CliResult r = run_cli("simplify --quiet " + q(file) + " -o " + q(d.file("out.ply")) + " --grid 4 --tmp " + q(d.path()));
+  CliResult r =
+      run_cli("simplify --quiet " + q(file) + " -o " + q(d.file("out.ply")) + " --grid 4 --tmp " + q(d.path()));
   INFO(what << ": " << r.err);
   CHECK(r.exit_code == 3);
   CHECK(r.err.find(file) != std::string::npos);
@@ -93,8 +94,9 @@ TEST_CASE("simplify output is byte-identical for --threads 1 and 2", "[cli]") {
                 .exit_code == 0);
     CHECK(read_file(d.file(std::string("o") + c + ".ply")) == a);
   }
-  CHECK(run_cli("simplify --quiet --spill-compress lz4 " + q(d.file("t.ply")) + " -o " + q(d.file("x.ply")))
-            .exit_code == 2);
+  CHECK(
+      run_cli("simplify --quiet --spill-compress lz4 " + q(d.file("t.ply")) + " -o " + q(d.file("x.ply"))).exit_code ==
+      2);
 }
 
 TEST_CASE("every output format is chosen by extension", "[cli]") {
@@ -108,7 +110,8 @@ TEST_CASE("every output format is chosen by extension", "[cli]") {
     CHECK(m.triangles == ref.triangles);
     CHECK(m.positions == ref.positions);
   }
-  REQUIRE(run_cli("simplify --quiet --ascii " + q(d.file("s.ply")) + " -o " + q(d.file("a.ply")) + " --grid 16").exit_code == 0);
+  REQUIRE(run_cli("simplify --quiet --ascii " + q(d.file("s.ply")) + " -o " + q(d.file("a.ply")) + " --grid 16")
+              .exit_code == 0);
   CHECK(read_file(d.file("a.ply")).find("format ascii 1.0") != std::string::npos);
   CHECK(load_mesh(d.file("a.ply")).positions == ref.positions);
 }
@@ -134,12 +137,14 @@ TEST_CASE("usage errors exit 2, missing files exit 4", "[cli]") {
   CHECK(run_cli("frobnicate").exit_code == 2);
   CHECK(run_cli("generate --tris 10 --shape cone -o " + q(d.file("x.ply"))).exit_code == 2);
   write_file(d.file("s.ply"), small_ply(3, 1.0f));
-  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --grid 4 --cell 0.1").exit_code == 2);
+  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --grid 4 --cell 0.1").exit_code ==
+        2);
   CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --ratio 7").exit_code == 2);
   CliResult r = run_cli("simplify " + q(d.file("missing.ply")) + " -o " + q(d.file("o.ply")));
   CHECK(r.exit_code == 4);
   CHECK(r.err.find("missing.ply") != std::string::npos);
-  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("no/such/dir/o.ply")) + " --grid 4").exit_code == 4);
+  CHECK(run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("no/such/dir/o.ply")) + " --grid 4").exit_code ==
+        4);
   CHECK(d.entries() == std::vector<std::string>{"s.ply"});
 }
 
@@ -187,8 +192,9 @@ TEST_CASE("floating cells stay inside --mem on an input larger than the budget",
   REQUIRE(run_cli("generate --tris 2000000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
   REQUIRE(std::filesystem::file_size(d.file("s.ply")) > (32u << 20));
   for (const char* threads : {"1", "2"}) {
-    REQUIRE(run_cli(std::string("simplify --quiet --mem 32M --grid 128 --threads ") + threads + " " + q(d.file("s.ply")) +
-                    " -o " + q(d.file("o.ply")) + " --tmp " + q(d.path()) + " --stats " + q(d.file("st.json")))
+    REQUIRE(run_cli(std::string("simplify --quiet --mem 32M --grid 128 --threads ") + threads + " " +
+                    q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --tmp " + q(d.path()) + " --stats " +
+                    q(d.file("st.json")))
                 .exit_code == 0);
     std::string js = read_file(d.file("st.json"));
     INFO("threads " << threads << ": " << js);
@@ -273,9 +279,9 @@ TEST_CASE("a fine grid whose tables or output cannot fit in --mem exits 2 naming
   // kept triangles of 32 bytes, and the output's 12 bytes per triangle and 24 per
   // vertex, are 53 MiB. Neither fits in 32 MiB.
   for (const char* method : {"uniform", "floating"}) {
-    CliResult r = run_cli(std::string("simplify --quiet --grid 2048 --mem 32M --method ") + method + " " +
-                          q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --tmp " + q(tmp.path()) +
-                          " --stats " + q(d.file("st.json")));
+    CliResult r =
+        run_cli(std::string("simplify --quiet --grid 2048 --mem 32M --method ") + method + " " + q(d.file("s.ply")) +
+                " -o " + q(d.file("o.ply")) + " --tmp " + q(tmp.path()) + " --stats " + q(d.file("st.json")));
     INFO(method << ": " << r.err);
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("--mem 32 MiB") != std::string::npos);
@@ -295,7 +301,8 @@ namespace {
 // file: the bytes every other destination must receive.
 std::string reference_output(const ScratchDir& d) {
   REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
-  REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("ref.ply")) + " --grid 16").exit_code == 0);
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("ref.ply")) + " --grid 16").exit_code ==
+          0);
   std::string ref = read_file(d.file("ref.ply"));
   REQUIRE(ref.size() > 1000);
   return ref;

@@ -30,7 +30,8 @@ std::string q(const std::string& s) { return "'" + s + "'"; }
 const char* const kMethods[] = {"uniform", "floating"};
 
 // Binary little-endian PLY with polygons of any size (0, 1, 2 corners included).
-void write_polygon_ply(const std::string& path, const std::vector<float>& v, const std::vector<std::vector<int>>& faces) {
+void write_polygon_ply(const std::string& path, const std::vector<float>& v,
+                       const std::vector<std::vector<int>>& faces) {
   std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(v.size() / 3) +
                   "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
                   std::to_string(faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
@@ -85,7 +86,9 @@ Run simplify(const ScratchDir& d, const std::string& input, const std::string& m
 
 std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
-std::string field(const char* name, std::uint64_t value) { return std::string("\"") + name + "\": " + std::to_string(value); }
+std::string field(const char* name, std::uint64_t value) {
+  return std::string("\"") + name + "\": " + std::to_string(value);
+}
 
 // What every output must be: indices in range, three distinct vertices per triangle,
 // each unordered triple once, finite positions.
@@ -105,8 +108,9 @@ void check_valid_output(const LoadedMesh& m) {
 
 }  // namespace
 
-TEST_CASE("damaged faces are skipped, counted in --stats and in one warning line, the rest simplifies as if they were absent",
-          "[cli][damaged]") {
+TEST_CASE(
+    "damaged faces are skipped, counted in --stats and in one warning line, the rest simplifies as if they were absent",
+    "[cli][damaged]") {
   ScratchDir d;
   Grid clean = grid_mesh(24);
   write_polygon_ply(d.file("clean.ply"), clean.v, clean.faces);
@@ -196,8 +200,9 @@ TEST_CASE("floating --keep-tmp: a run on kept tiles reports the same skipped cou
   g.faces.push_back({3, 3, 4});
   g.faces.push_back({5, 6});
   write_polygon_ply(d.file("damaged.ply"), g.v, g.faces);
-  std::string skipped = "\"skipped\": {\"faces\": 3, \"short_faces\": 1, \"non_finite_triangles\": 1, "
-                        "\"repeated_index_triangles\": 1, \"non_finite_vertices\": 1}";
+  std::string skipped =
+      "\"skipped\": {\"faces\": 3, \"short_faces\": 1, \"non_finite_triangles\": 1, "
+      "\"repeated_index_triangles\": 1, \"non_finite_vertices\": 1}";
   for (const char* cell : {"0.1", "0.2"}) {  // the second run reuses the first one's tiles
     CAPTURE(cell);
     Run r = simplify(d, d.file("damaged.ply"), "floating", std::string("--keep-tmp --cell ") + cell);
@@ -334,13 +339,14 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
   const std::string face = "element face 0\nproperty list uchar int vertex_indices\n";
   write_file(d.file("nothing.ply"), "ply\nformat ascii 1.0\nelement vertex 0\n" + xyz + face + "end_header\n");
-  write_file(d.file("no-faces.ply"), "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + face +
-                                         "end_header\n0 0 0\n1 0 0\n0 1 0\n");
+  write_file(d.file("no-faces.ply"),
+             "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + face + "end_header\n0 0 0\n1 0 0\n0 1 0\n");
   write_file(d.file("no-face-element.ply"), "ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + "end_header\n0 0 0\n");
   write_file(d.file("no-faces.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   write_file(d.file("zero-bytes.obj"), "");
   write_file(d.file("empty.stl"), "solid empty\nendsolid empty\n");
-  for (const char* name : {"nothing.ply", "no-faces.ply", "no-face-element.ply", "no-faces.obj", "zero-bytes.obj", "empty.stl"})
+  for (const char* name :
+       {"nothing.ply", "no-faces.ply", "no-face-element.ply", "no-faces.obj", "zero-bytes.obj", "empty.stl"})
     for (const char* method : kMethods) {
       CAPTURE(name, method);
       Run r = simplify(d, d.file(name), method, "--grid 8");
@@ -408,7 +414,8 @@ TEST_CASE("a zstd bomb without newlines, a huge header comment and /dev/zero exi
   ScratchDir d;
   std::string bomb = d.file("bomb.obj.zst");
   write_zero_bomb(d, bomb);
-  CliResult r = run_cli("simplify --quiet " + q(bomb) + " -o " + q(d.file("out.ply")) + " --tmp " + q(d.path()), memory_cap());
+  CliResult r =
+      run_cli("simplify --quiet " + q(bomb) + " -o " + q(d.file("out.ply")) + " --tmp " + q(d.path()), memory_cap());
   CHECK(r.exit_code == 3);
   CHECK(lines(r.err) == 1);
   CHECK_THAT(r.err, Contains(bomb + ": line 1: line longer than 64 KiB"));
@@ -452,13 +459,15 @@ TEST_CASE("'-' reads standard input, redirected from a file or piped, like the f
   std::string obj;
   for (std::size_t i = 0; i < g.v.size(); i += 3)
     obj += "v " + std::to_string(g.v[i]) + " " + std::to_string(g.v[i + 1]) + " " + std::to_string(g.v[i + 2]) + "\n";
-  for (const auto& f : g.faces) obj += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
+  for (const auto& f : g.faces)
+    obj += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " + std::to_string(f[2] + 1) + "\n";
   write_file(d.file("in.obj"), obj);
   write_zstd_file(d.file("in.ply.zst"), read_file(d.file("in.ply")));
   for (const char* name : {"in.ply", "in.obj", "in.ply.zst"})
     for (const char* method : kMethods) {
       CAPTURE(name, method);
-      std::string in = d.file(name), tail = std::string(" --method ") + method + " --grid 8 --quiet --tmp " + q(d.path());
+      std::string in = d.file(name),
+                  tail = std::string(" --method ") + method + " --grid 8 --quiet --tmp " + q(d.path());
       REQUIRE(run_cli("simplify " + q(in) + " -o " + q(d.file("file.ply")) + tail).exit_code == 0);
       std::string expected = read_file(d.file("file.ply"));
       CliResult redirected = run_cli_in_shell("", "simplify - -o " + q(d.file("redirected.ply")) + tail, "<" + q(in));
@@ -472,7 +481,8 @@ TEST_CASE("'-' reads standard input, redirected from a file or piped, like the f
       for (const std::string& e : d.entries()) CHECK(e.rfind("oocsimp-input-", 0) != 0);
     }
   // A damaged stream names standard input.
-  CliResult r = run_cli_in_shell("printf 'ply\\nformat ascii 1.0\\nelement vertex 1\\nproperty float q\\n' | ", "info -", "");
+  CliResult r =
+      run_cli_in_shell("printf 'ply\\nformat ascii 1.0\\nelement vertex 1\\nproperty float q\\n' | ", "info -", "");
   CHECK(r.exit_code == 3);
   CHECK_THAT(r.err, Contains("stdin"));
 }
@@ -486,7 +496,8 @@ TEST_CASE("a FIFO input is read once through a copy in --tmp: the face pass does
                       std::to_string(g.faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   for (std::size_t i = 0; i < g.v.size(); i += 3)
     ascii += std::to_string(g.v[i]) + " " + std::to_string(g.v[i + 1]) + " " + std::to_string(g.v[i + 2]) + "\n";
-  for (const auto& f : g.faces) ascii += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n";
+  for (const auto& f : g.faces)
+    ascii += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + "\n";
   write_file(d.file("ascii.ply"), ascii);
   for (const char* name : {"in.ply", "ascii.ply"})
     for (const char* method : kMethods) {

@@ -66,17 +66,16 @@ struct Setup {
 
 }  // namespace
 
-TEST_CASE("a failed output write (file-size limit) exits 4, the destination untouched, no temporary file",
-          "[faults]") {
+TEST_CASE("a failed output write (file-size limit) exits 4, the destination untouched, no temporary file", "[faults]") {
   // A binary PLY is read in place: the output is the only file the run writes. The
   // limit lets nothing past a few hundred KiB; the program itself must ignore
   // SIGXFSZ (nothing here does) so that the write fails with EFBIG.
   for (const char* name : {"o.ply", "o.ply.zst", "o.obj"}) {
     CAPTURE(name);
     Setup s("--tris 400000", "in.ply", name);
-    CliResult r = run_cli("simplify --quiet --method uniform " + q(s.input) + " -o " + q(s.output) +
-                              " --grid 256 --tmp " + q(s.tmp),
-                          "ulimit -f 400");
+    CliResult r = run_cli(
+        "simplify --quiet --method uniform " + q(s.input) + " -o " + q(s.output) + " --grid 256 --tmp " + q(s.tmp),
+        "ulimit -f 400");
     INFO(r.err);
     CHECK(r.exit_code == 4);
     CHECK(lines(r.err) == 1);
@@ -132,11 +131,11 @@ TEST_CASE("a --tmp without the room is refused before writing (a 1 MiB tmpfs, wh
       return;
     }
     std::string listing = s.d.file("tmp-listing");
-    std::string cmd = "unshare -rm sh -c " +
-                      q("mount -t tmpfs -o size=1m tmpfs " + s.tmp + " 2>/dev/null || exit 99; " + OOCSIMP_CLI +
-                        " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --mem 32M --method " + method +
-                        " --tmp " + s.tmp + " 2>" + s.d.file("err") + "; rc=$?; ls -A " + s.tmp + " >" + listing +
-                        "; exit $rc");
+    std::string cmd =
+        "unshare -rm sh -c " +
+        q("mount -t tmpfs -o size=1m tmpfs " + s.tmp + " 2>/dev/null || exit 99; " + OOCSIMP_CLI +
+          " simplify --quiet " + s.input + " -o " + s.output + " --grid 256 --mem 32M --method " + method + " --tmp " +
+          s.tmp + " 2>" + s.d.file("err") + "; rc=$?; ls -A " + s.tmp + " >" + listing + "; exit $rc");
     int status = system(cmd.c_str());
     int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     REQUIRE(rc != 99);  // the probe could mount
@@ -271,13 +270,15 @@ std::string triangles(int n) { return std::to_string(n / kSignalInputScale); }
 TEST_CASE("SIGINT and SIGTERM in every phase of a uniform run: prompt exit, no temporary files, destination untouched",
           "[faults][signals]") {
   ScratchDir d;
-  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(
+      run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code ==
+      0);
   REQUIRE(run_cli("generate --quiet --tris " + triangles(2000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
   std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
   REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
   auto args = [&](const std::string& input) {
-    return std::vector<std::string>{"simplify", input,     "-o",        output, "--ascii", "--method", "uniform",
-                                    "--grid",   "1024",    "--threads", "2",    "--tmp",   tmp};
+    return std::vector<std::string>{"simplify", input,  "-o",        output, "--ascii", "--method", "uniform",
+                                    "--grid",   "1024", "--threads", "2",    "--tmp",   tmp};
   };
   // An ascii input is converted to a temporary position array first.
   interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
@@ -285,18 +286,22 @@ TEST_CASE("SIGINT and SIGTERM in every phase of a uniform run: prompt exit, no t
                         output);
 }
 
-TEST_CASE("SIGINT and SIGTERM in every phase of a floating-cells run: prompt exit, no tile spill, destination untouched",
-          "[faults][signals]") {
+TEST_CASE(
+    "SIGINT and SIGTERM in every phase of a floating-cells run: prompt exit, no tile spill, destination untouched",
+    "[faults][signals]") {
   ScratchDir d;
-  REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code == 0);
+  REQUIRE(
+      run_cli("generate --quiet --tris " + triangles(1000000) + " --ascii -o " + q(d.file("ascii.ply"))).exit_code ==
+      0);
   REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
   std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
   REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
   auto args = [&](const std::string& input) {
     // Small tiles: hundreds of them and many cross-tile triangles, so that the
     // rounds and the stitch take long enough to be interrupted.
-    return std::vector<std::string>{"simplify", input, "-o", output, "--ascii", "--method", "floating", "--grid",
-                                    "512", "--tile", "0.2", "--threads", "2", "--tmp", tmp};
+    return std::vector<std::string>{"simplify", input,       "-o",     output,  "--ascii",
+                                    "--method", "floating",  "--grid", "512",   "--tile",
+                                    "0.2",      "--threads", "2",      "--tmp", tmp};
   };
   interrupt_every_phase(args(d.file("ascii.ply")), {"read positions"}, tmp, out_dir, output);
   interrupt_every_phase(args(d.file("binary.ply")),
@@ -309,12 +314,13 @@ TEST_CASE("SIGHUP and SIGQUIT clean up like SIGINT: no temporary files, destinat
   REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(d.file("binary.ply"))).exit_code == 0);
   std::string tmp = d.file("tmp"), out_dir = d.file("out"), output = d.file("out/o.ply");
   REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
-  const std::vector<std::string> floating = {"simplify", d.file("binary.ply"), "-o", output, "--ascii", "--method",
-                                             "floating", "--grid", "512", "--tile", "0.2", "--threads", "2",
-                                             "--tmp", tmp};
+  const std::vector<std::string> floating = {"simplify", d.file("binary.ply"), "-o",     output,  "--ascii",
+                                             "--method", "floating",           "--grid", "512",   "--tile",
+                                             "0.2",      "--threads",          "2",      "--tmp", tmp};
   interrupt_every_phase(floating, {"bin tiles", "cluster tiles", "write"}, tmp, out_dir, output, {SIGHUP, SIGQUIT});
-  const std::vector<std::string> uniform = {"simplify", d.file("binary.ply"), "-o", output, "--ascii", "--method",
-                                            "uniform", "--grid", "1024", "--threads", "2", "--tmp", tmp};
+  const std::vector<std::string> uniform = {
+      "simplify", d.file("binary.ply"), "-o", output,  "--ascii", "--method", "uniform", "--grid",
+      "1024",     "--threads",          "2",  "--tmp", tmp};
   interrupt_every_phase(uniform, {"cell quadrics"}, tmp, out_dir, output, {SIGHUP, SIGQUIT});
 }
 
@@ -331,8 +337,8 @@ TEST_CASE("an input truncated during the run exits 4, \"input changed during the
   REQUIRE(system(("mkdir " + q(tmp) + " " + q(out_dir)).c_str()) == 0);
   REQUIRE(run_cli("generate --quiet --tris " + triangles(1000000) + " -o " + q(input)).exit_code == 0);
   write_file(output, kOldContent);
-  const std::vector<std::string> args = {"simplify", input,  "-o",        output, "--method", "floating",
-                                         "--grid",   "256",  "--threads", "1",    "--tmp",    tmp};
+  const std::vector<std::string> args = {"simplify", input, "-o",        output, "--method", "floating",
+                                         "--grid",   "256", "--threads", "1",    "--tmp",    tmp};
   Interruption r = act_at(args, "grade tiles", [&](pid_t) { REQUIRE(truncate(input.c_str(), 0) == 0); });
   INFO(r.err);
   REQUIRE(r.reached);

@@ -113,8 +113,19 @@ TEST_CASE("cluster records give the same fixed-point totals for any grouping of 
   auto fields = [](const ClusterRecord& r) {
     const FixedQuadric& q = r.quadric_sum;
     const FixedVec3& o = r.offset_sum;
-    return std::vector<std::int64_t>{q.a00.v, q.a01.v, q.a02.v, q.a11.v, q.a12.v, q.a22.v, q.b0.v,
-                                     q.b1.v,  q.b2.v,  o.x.v,   o.y.v,   o.z.v,   std::int64_t(r.members)};
+    return std::vector<std::int64_t>{q.a00.v,
+                                     q.a01.v,
+                                     q.a02.v,
+                                     q.a11.v,
+                                     q.a12.v,
+                                     q.a22.v,
+                                     q.b0.v,
+                                     q.b1.v,
+                                     q.b2.v,
+                                     o.x.v,
+                                     o.y.v,
+                                     o.z.v,
+                                     std::int64_t(r.members)};
   };
   ClusterRecord one;
   for (const auto& v : vertices) one.add_vertex(v.first, v.second);
@@ -122,8 +133,8 @@ TEST_CASE("cluster records give the same fixed-point totals for any grouping of 
   std::vector<std::int64_t> expected(13, 0);
   for (const auto& v : vertices) {
     const Quadric& q = v.first;
-    const double terms[12] = {q.a00, q.a01, q.a02, q.a11, q.a12, q.a22, q.b0, q.b1, q.b2,
-                              v.second.x, v.second.y, v.second.z};
+    const double terms[12] = {q.a00, q.a01, q.a02, q.a11,      q.a12,      q.a22,
+                              q.b0,  q.b1,  q.b2,  v.second.x, v.second.y, v.second.z};
     for (int k = 0; k < 12; ++k) expected[k] += Fixed::of(terms[k]);
   }
   expected[12] = std::int64_t(vertices.size());
@@ -131,7 +142,8 @@ TEST_CASE("cluster records give the same fixed-point totals for any grouping of 
   // Shuffled into 13 shares (as tiles would hold them), merged in another order.
   std::shuffle(vertices.begin(), vertices.end(), rng);
   ClusterRecord shares[13];
-  for (std::size_t i = 0; i < vertices.size(); ++i) shares[(i * 7) % 13].add_vertex(vertices[i].first, vertices[i].second);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    shares[(i * 7) % 13].add_vertex(vertices[i].first, vertices[i].second);
   ClusterRecord merged = shares[12];
   for (int i = 11; i >= 0; --i) merged.add(shares[i]);
   CHECK(fields(merged) == expected);

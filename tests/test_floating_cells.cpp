@@ -21,8 +21,10 @@ std::vector<GradedVertex> random_vertices(std::uint32_t seed, std::size_t n, dou
   std::vector<GradedVertex> v(n);
   for (std::size_t i = 0; i < n; ++i) {
     v[i].index = i * 3 + 7;  // indices need not be dense
-    if (i > 0 && i % 17 == 0) v[i].p = v[i - 1].p;  // duplicate point
-    else v[i].p = {u(rng), u(rng), u(rng) * 0.3};
+    if (i > 0 && i % 17 == 0)
+      v[i].p = v[i - 1].p;  // duplicate point
+    else
+      v[i].p = {u(rng), u(rng), u(rng) * 0.3};
     v[i].weight = weight_levels > 0 ? double(w(rng)) : u(rng);
   }
   return v;

@@ -97,7 +97,8 @@ void write_grid_with_duplicates(const std::string& path, int n) {
   for (int i = 0; i <= n; ++i) v += std::to_string(i * 0.1) + " 0 0\n";
   for (int i = 0; i < n; ++i) tris.push_back({nv + i, nv + i + 1, (n + 1) + i});
   nv += n + 1;
-  for (auto& t : tris) f += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  for (auto& t : tris)
+    f += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
   write_file(path, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(nv) +
                        "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
                        std::to_string(tris.size()) + "\nproperty list uchar int vertex_indices\nend_header\n" + v + f);
@@ -108,12 +109,16 @@ void write_random_soup(const std::string& path, int n, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::string v, f;
-  for (int i = 0; i < 3 * n; ++i) v += std::to_string(u(rng)) + " " + std::to_string(u(rng)) + " " + std::to_string(0.2 * u(rng)) + "\n";
+  for (int i = 0; i < 3 * n; ++i)
+    v += std::to_string(u(rng)) + " " + std::to_string(u(rng)) + " " + std::to_string(0.2 * u(rng)) + "\n";
   std::uniform_int_distribution<int> pick(0, 3 * n - 1);
   for (int i = 0; i < n; ++i) {
     int a = pick(rng), b = pick(rng), c = pick(rng);
     // Mostly local triangles: pick neighbours by index.
-    if (i % 4) { b = (a + 1) % (3 * n); c = (a + 2) % (3 * n); }
+    if (i % 4) {
+      b = (a + 1) % (3 * n);
+      c = (a + 2) % (3 * n);
+    }
     f += "3 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
   }
   write_file(path, "ply\nformat ascii 1.0\nelement vertex " + std::to_string(3 * n) +
@@ -157,8 +162,8 @@ TEST_CASE("floating cells out of core equal the sequential algorithm in memory",
         for (double tile : {0.0, c.cell * 1.0, c.cell * 2.7}) {
           for (unsigned threads : {1u, 2u}) {
             SimplifyStats st;
-            SimplifiedMesh got = run_floating(d.file(c.name), c.cell, shape, rule, RepresentativeRule::centre, tile,
-                                              threads, &st);
+            SimplifiedMesh got =
+                run_floating(d.file(c.name), c.cell, shape, rule, RepresentativeRule::centre, tile, threads, &st);
             INFO(c.name << " shape " << int(shape) << " rule " << int(rule) << " tile " << tile << " threads "
                         << threads << " tiles " << st.tiles << " rounds " << st.rounds);
             CHECK(got.triangles == want.triangles);
@@ -182,22 +187,22 @@ TEST_CASE("floating output is byte-identical for any tile size and thread count"
   g.triangles = 20000;
   generate_mesh(d.file("sphere.ply"), g);
   for (const char* name : {"parts.ply", "sphere.ply"})
-  for (RepresentativeRule rep : {RepresentativeRule::quadric, RepresentativeRule::mean}) {
-    double cell = std::string(name) == "parts.ply" ? 0.02 : 0.06;
-    SimplifiedMesh ref = run_floating(d.file(name), cell, CellShape::cube, AssignRule::nearest, rep, 0, 1);
-    REQUIRE(ref.triangles.size() > 1000);
-    for (double tile : {cell, 2.5 * cell, 6.5 * cell}) {
-      for (unsigned threads : {1u, 2u, 4u}) {
-        SimplifyStats st;
-        SimplifiedMesh got = run_floating(d.file(name), cell, CellShape::cube, AssignRule::nearest, rep, tile,
-                                          threads, &st);
-        INFO(name << " rep " << int(rep) << " tile " << tile << " threads " << threads << " tiles " << st.tiles);
-        CHECK(st.tiles > 1);
-        CHECK(got.positions == ref.positions);
-        CHECK(got.triangles == ref.triangles);
+    for (RepresentativeRule rep : {RepresentativeRule::quadric, RepresentativeRule::mean}) {
+      double cell = std::string(name) == "parts.ply" ? 0.02 : 0.06;
+      SimplifiedMesh ref = run_floating(d.file(name), cell, CellShape::cube, AssignRule::nearest, rep, 0, 1);
+      REQUIRE(ref.triangles.size() > 1000);
+      for (double tile : {cell, 2.5 * cell, 6.5 * cell}) {
+        for (unsigned threads : {1u, 2u, 4u}) {
+          SimplifyStats st;
+          SimplifiedMesh got =
+              run_floating(d.file(name), cell, CellShape::cube, AssignRule::nearest, rep, tile, threads, &st);
+          INFO(name << " rep " << int(rep) << " tile " << tile << " threads " << threads << " tiles " << st.tiles);
+          CHECK(st.tiles > 1);
+          CHECK(got.positions == ref.positions);
+          CHECK(got.triangles == ref.triangles);
+        }
       }
     }
-  }
 }
 
 TEST_CASE("the triangle spill is zstd-compressed or not as asked, with the same output", "[floating][clusterer]") {
@@ -243,19 +248,20 @@ TEST_CASE("quadric representatives stay in their floating cell and sharpen corne
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 40);
   double cell = 0.15;
-  SimplifiedMesh q = run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest,
-                                  RepresentativeRule::quadric, 0, 0);
-  SimplifiedMesh c = run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest,
-                                  RepresentativeRule::centre, 0, 0);
+  SimplifiedMesh q =
+      run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest, RepresentativeRule::quadric, 0, 0);
+  SimplifiedMesh c =
+      run_floating(d.file("cube.ply"), cell, CellShape::cube, AssignRule::nearest, RepresentativeRule::centre, 0, 0);
   // Same clusters, same connectivity: only positions differ.
   REQUIRE(q.triangles == c.triangles);
-  for (std::size_t i = 0; i < q.positions.size(); ++i) CHECK(std::abs(q.positions[i] - c.positions[i]) <= 0.5 * cell + 1e-6);
+  for (std::size_t i = 0; i < q.positions.size(); ++i)
+    CHECK(std::abs(q.positions[i] - c.positions[i]) <= 0.5 * cell + 1e-6);
   // Every cube corner is reproduced exactly by some quadric representative.
   for (int k = 0; k < 8; ++k) {
     double best = 1e9;
     for (std::size_t i = 0; i < q.positions.size(); i += 3)
       best = std::min<double>(best, std::abs(q.positions[i] - (k & 1)) + std::abs(q.positions[i + 1] - ((k >> 1) & 1)) +
-                                std::abs(q.positions[i + 2] - ((k >> 2) & 1)));
+                                        std::abs(q.positions[i + 2] - ((k >> 2) & 1)));
     CHECK(best < 1e-5);
   }
 }
@@ -320,8 +326,7 @@ TEST_CASE("consistency (Low & Tan 3.2.2, Plate 5): a distant object leaves A's f
   CHECK_FALSE(same_prefix);
 }
 
-TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options reuses them",
-          "[floating][clusterer]") {
+TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options reuses them", "[floating][clusterer]") {
   ScratchDir d;
   GenerateOptions g;
   g.triangles = 20000;

@@ -128,7 +128,8 @@ TEST_CASE("binning files every triangle in exactly the tiles of its corners, wit
   }
 }
 
-TEST_CASE("the tiling's neighbours are the occupied tiles around, and colour classes never touch", "[floating][stages]") {
+TEST_CASE("the tiling's neighbours are the occupied tiles around, and colour classes never touch",
+          "[floating][stages]") {
   Fixture f;
   MeshInput in = open_mesh_input(f.path);
   BinnedTiles tiles = bin(f, in, 2 * f.cell);
@@ -181,7 +182,7 @@ TEST_CASE("grading a tile's owned vertices equals grading the whole mesh", "[flo
       for (std::size_t i = 0; i < g.size(); ++i) {
         if (i > 0) CHECK(precedes(g[i - 1], g[i]));
         CHECK(coord_array(tiles.grid.coord(tile)) == tile_of(g[i].p, side));  // owned: in the tile's box
-        CHECK(seen.insert(g[i].index).second);                                 // owned by one tile
+        CHECK(seen.insert(g[i].index).second);                                // owned by one tile
         REQUIRE(by_index.count(g[i].index));
         const GradedVertex& w = *by_index[g[i].index];
         CHECK(g[i].weight == w.weight);  // exactly: the same fan, in the same order
@@ -228,8 +229,8 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
         for (const GradedVertex& b : borders[tile]) {
           CHECK(own.count(b.index) == 1);
           double h = 0.5 * f.cell;
-          CHECK((b.p.x - h < box.min.x || b.p.x + h >= box.max.x || b.p.y - h < box.min.y ||
-                 b.p.y + h >= box.max.y || b.p.z - h < box.min.z || b.p.z + h >= box.max.z));
+          CHECK((b.p.x - h < box.min.x || b.p.x + h >= box.max.x || b.p.y - h < box.min.y || b.p.y + h >= box.max.y ||
+                 b.p.z - h < box.min.z || b.p.z + h >= box.max.z));
         }
       }
       CHECK(got == expected);
@@ -247,8 +248,7 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
   }
 }
 
-TEST_CASE("cluster shares summed over tiles equal the whole mesh's vertex quadrics per cluster",
-          "[floating][stages]") {
+TEST_CASE("cluster shares summed over tiles equal the whole mesh's vertex quadrics per cluster", "[floating][stages]") {
   Fixture f(8000, 12);
   MeshInput in = open_mesh_input(f.path);
   std::vector<GradedVertex> whole = f.graded_whole_mesh(in);
@@ -311,8 +311,10 @@ TEST_CASE("cluster shares summed over tiles equal the whole mesh's vertex quadri
       for (const PartialCluster& p : v) {
         CHECK(p.centre / shares.cluster_span == b);
         auto it = got.find(p.centre);
-        if (it == got.end()) got[p.centre] = p.sums;
-        else it->second.add(p.sums);
+        if (it == got.end())
+          got[p.centre] = p.sums;
+        else
+          it->second.add(p.sums);
       }
     }
     REQUIRE(got.size() == expected.size());
@@ -467,7 +469,7 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
   simplify(in, o, &st);
   CHECK(st.tiles > 8);
   CHECK(st.largest_tile_records >= st.input_triangles / st.tiles);  // at least the average
-  CHECK(st.largest_tile_records <= st.input_triangles);            // a triangle is once per tile
+  CHECK(st.largest_tile_records <= st.input_triangles);             // a triangle is once per tile
   REQUIRE(st.sweeps.size() >= 2);  // tiles this small share borders: something to re-decide
   CHECK(st.sweeps[0].looked_at > 0);
   for (const SimplifyStats::SweepCount& s : st.sweeps) {

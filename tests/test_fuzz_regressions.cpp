@@ -31,10 +31,19 @@ const char kDoubleBeyondFloat[] =
     "element face 1\n"
     "property list uchar int vertex_indices\n"
     "end_header\n"
-    "\x00\x00\x00\x00\x00\x00\x00\x00" "\x00\x00\x00\x00\x00\x00\x00\x00" "\x00\x00\x00\x00\x00\x00\x00\x00"
-    "\x9c\x75\x00\x88\x3c\xe4\x37\x7e" "\x00\x00\x00\x00\x00\x00\x00\x00" "\x00\x00\x00\x00\x00\x00\x00\x00"
-    "\x00\x00\x00\x00\x00\x00\x00\x00" "\x9c\x75\x00\x88\x3c\xe4\x37\x7e" "\x00\x00\x00\x00\x00\x00\x00\x00"
-    "\x03" "\x00\x00\x00\x00" "\x01\x00\x00\x00" "\x02\x00\x00\x00";
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x9c\x75\x00\x88\x3c\xe4\x37\x7e"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x9c\x75\x00\x88\x3c\xe4\x37\x7e"
+    "\x00\x00\x00\x00\x00\x00\x00\x00"
+    "\x03"
+    "\x00\x00\x00\x00"
+    "\x01\x00\x00\x00"
+    "\x02\x00\x00\x00";
 
 // A binary PLY whose element "junk" (after the vertices, before the faces) declares
 // 2^64 - 13 one-byte records, none of them present, and whose face data is missing
@@ -122,8 +131,8 @@ TEST_CASE("fuzz: the CLI exits 3 on double coordinates beyond the float range", 
   ScratchDir d;
   std::string path = d.file("big.ply");
   write_file(path, bytes(kDoubleBeyondFloat, sizeof kDoubleBeyondFloat - 1));
-  CliResult r = run_cli("simplify --quiet '" + path + "' -o '" + d.file("out.ply") + "' --grid 4 --tmp '" +
-                        d.path() + "'");
+  CliResult r =
+      run_cli("simplify --quiet '" + path + "' -o '" + d.file("out.ply") + "' --grid 4 --tmp '" + d.path() + "'");
   INFO(r.err);
   CHECK(r.exit_code == 3);
   CHECK_THAT(r.err, Contains("float range"));

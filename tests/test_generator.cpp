@@ -12,7 +12,8 @@ using namespace oocsimp_test;
 
 namespace {
 
-LoadedMesh generate(const ScratchDir& d, const char* name, SyntheticShape shape, std::uint64_t tris, std::uint64_t seed = 1) {
+LoadedMesh generate(const ScratchDir& d, const char* name, SyntheticShape shape, std::uint64_t tris,
+                    std::uint64_t seed = 1) {
   GenerateOptions o;
   o.shape = shape;
   o.triangles = tris;
@@ -31,7 +32,9 @@ double signed_volume(const LoadedMesh& m) {
     const double* a = &m.positions[3 * m.triangles[i]];
     const double* b = &m.positions[3 * m.triangles[i + 1]];
     const double* c = &m.positions[3 * m.triangles[i + 2]];
-    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    v +=
+        (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) /
+        6;
   }
   return v;
 }
@@ -65,8 +68,8 @@ TEST_CASE("the sphere is closed, manifold, genus 0 and outward", "[generator]") 
   LoadedMesh m = generate(d, "s.ply", SyntheticShape::sphere, 5000);
   auto e = directed_edges(m);
   for (const auto& kv : e) {
-    CHECK(kv.second == 1);                                         // consistently oriented
-    CHECK(e.count({kv.first.second, kv.first.first}) == 1);       // closed: every edge has a twin
+    CHECK(kv.second == 1);                                   // consistently oriented
+    CHECK(e.count({kv.first.second, kv.first.first}) == 1);  // closed: every edge has a twin
   }
   // Euler characteristic V - E + F = 2.
   long long V = (long long)m.vertex_count(), E = (long long)e.size() / 2, F = (long long)m.triangle_count();

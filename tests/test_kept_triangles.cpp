@@ -28,7 +28,8 @@ TEST_CASE("deduplication keeps each cluster triple once, at its lowest input ind
                                     KeptTriangle::of(90, 6, 5, 4), KeptTriangle::of(1, 1, 2, 4)};
   dedupe_kept_triangles(kept);
   REQUIRE(kept.size() == 3);
-  std::sort(kept.begin(), kept.end(), [](const KeptTriangle& a, const KeptTriangle& b) { return a.index() < b.index(); });
+  std::sort(kept.begin(), kept.end(),
+            [](const KeptTriangle& a, const KeptTriangle& b) { return a.index() < b.index(); });
   CHECK(kept[0].index() == 1);
   CHECK(kept[1].index() == 3);
   CHECK(kept[2].index() == 7);
@@ -53,7 +54,8 @@ TEST_CASE("the stitch joins corners reported by different tiles into triangles",
   std::vector<KeptTriangle> kept;
   stitch_cross_tile_corners(corners, &kept);
   REQUIRE(kept.size() == 2);
-  std::sort(kept.begin(), kept.end(), [](const KeptTriangle& x, const KeptTriangle& y) { return x.index() < y.index(); });
+  std::sort(kept.begin(), kept.end(),
+            [](const KeptTriangle& x, const KeptTriangle& y) { return x.index() < y.index(); });
   CHECK(kept[0].index() == 10);
   CHECK(kept[0].corners() == std::array<std::uint64_t, 3>{7, 8, 9});
   CHECK(kept[1].index() == 20);

@@ -156,7 +156,9 @@ struct SpherePair {
   std::string original = dir.file("sphere.ply"), simplified = dir.file("sphere-32.ply");
   SpherePair() {
     REQUIRE(run_cli("generate --tris 100000 --quiet -o " + q(original)).exit_code == 0);
-    REQUIRE(run_cli("simplify --quiet --method uniform " + q(original) + " -o " + q(simplified) + " --grid 32").exit_code == 0);
+    REQUIRE(
+        run_cli("simplify --quiet --method uniform " + q(original) + " -o " + q(simplified) + " --grid 32").exit_code ==
+        0);
   }
 };
 

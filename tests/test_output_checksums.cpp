@@ -38,17 +38,17 @@ struct Case {
   CellShape shape;
   AssignRule assign;
   RepresentativeRule representative;
-  double tile;  // in model units; 0 = from the budget
+  double tile;                           // in model units; 0 = from the budget
   std::uint64_t sphere, parts, terrain;  // expected digests per generated shape
 };
 
 // Tiles of 0.07 units cut the unit-sized shapes into dozens of tiles, so the border
 // sweeps and the stitch carry real work.
 const Case kCases[] = {
-    {"uniform grid 24", ClusterMethod::uniform, 24, CellShape::cube, AssignRule::nearest,
-     RepresentativeRule::quadric, 0, 0x53a1e9b4bff1debb, 0x9f4a4073ad87737a, 0x68467162d46c8425},
-    {"uniform grid 60", ClusterMethod::uniform, 60, CellShape::cube, AssignRule::nearest,
-     RepresentativeRule::quadric, 0, 0x1f81c41854df052b, 0x04b0c8e75dcf4d30, 0xf07fbc69f7ea9cb4},
+    {"uniform grid 24", ClusterMethod::uniform, 24, CellShape::cube, AssignRule::nearest, RepresentativeRule::quadric,
+     0, 0x53a1e9b4bff1debb, 0x9f4a4073ad87737a, 0x68467162d46c8425},
+    {"uniform grid 60", ClusterMethod::uniform, 60, CellShape::cube, AssignRule::nearest, RepresentativeRule::quadric,
+     0, 0x1f81c41854df052b, 0x04b0c8e75dcf4d30, 0xf07fbc69f7ea9cb4},
     {"floating cube grid 20", ClusterMethod::floating, 20, CellShape::cube, AssignRule::nearest,
      RepresentativeRule::quadric, 0, 0xdbd86d5a21256902, 0x9ba28a10f8314f97, 0xa38835b3feaee3aa},
     {"floating cube grid 48 tiled", ClusterMethod::floating, 48, CellShape::cube, AssignRule::nearest,
@@ -90,12 +90,12 @@ TEST_CASE("the output of both methods is bit for bit what the pre-stage code gav
         o.temp_dir = dir.path();
         SimplifiedMesh out = simplify(in, o, nullptr);
         std::uint64_t got = geometry_digest(out);
-        std::uint64_t want = shape == SyntheticShape::sphere ? c.sphere
+        std::uint64_t want = shape == SyntheticShape::sphere  ? c.sphere
                              : shape == SyntheticShape::parts ? c.parts
                                                               : c.terrain;
         char line[160];
-        std::snprintf(line, sizeof line, "%-8s %-34s threads %u: 0x%016" PRIx64 " (%zu triangles)\n", shape_name, c.name,
-                      threads, got, out.triangles.size() / 3);
+        std::snprintf(line, sizeof line, "%-8s %-34s threads %u: 0x%016" PRIx64 " (%zu triangles)\n", shape_name,
+                      c.name, threads, got, out.triangles.size() / 3);
         record += line;
         INFO(line);
         CHECK(out.triangles.size() / 3 < 3 * g.triangles / 4);  // real simplification, not a copy

@@ -105,8 +105,7 @@ void check_same_after_shift_back(const SimplifiedMesh& got, const SimplifiedMesh
 
 }  // namespace
 
-TEST_CASE("a scan shifted to UTM coordinates simplifies to the unshifted result, at double precision",
-          "[precision]") {
+TEST_CASE("a scan shifted to UTM coordinates simplifies to the unshifted result, at double precision", "[precision]") {
   ScratchDir d;
   LoadedMesh scan = small_scan(d);
   write_double_ply(d.file("scan.ply"), scan.positions, scan.triangles);
@@ -201,8 +200,8 @@ TEST_CASE("a float PLY input near the origin gives float output under auto, doub
   REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
   for (const char* method : {"floating", "uniform"}) {
     CAPTURE(method);
-    const std::string base = "simplify --quiet " + q(d.file("s.ply")) + " --grid 24 --method " + method + " --tmp " +
-                             q(d.path()) + " -o ";
+    const std::string base =
+        "simplify --quiet " + q(d.file("s.ply")) + " --grid 24 --method " + method + " --tmp " + q(d.path()) + " -o ";
     REQUIRE(run_cli(base + q(d.file("auto.ply"))).exit_code == 0);
     REQUIRE(run_cli(base + q(d.file("float.ply")) + " --precision float").exit_code == 0);
     REQUIRE(run_cli(base + q(d.file("double.ply")) + " --precision double").exit_code == 0);
@@ -284,8 +283,9 @@ TEST_CASE("converted positions keep what the file says: float while it fits, dou
     CHECK(z.positions == pos);
   }
   SECTION("a PLY declaring float is float, also in ascii with more digits") {
-    write_file(d.file("f.ply"), "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                                "property float z\nend_header\n450000.123456 0.1 2\n");
+    write_file(d.file("f.ply"),
+               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+               "property float z\nend_header\n450000.123456 0.1 2\n");
     LoadedMesh m = load_mesh(d.file("f.ply"), d.path());
     CHECK_FALSE(m.info.double_precision);
     CHECK(m.positions == std::vector<double>{double(450000.123456f), double(0.1f), 2});

@@ -22,21 +22,21 @@
 #include "oocsimp/mesh_input.hpp"
 #include "test_support.hpp"
 
-using oocsimp_test::LoadedMesh;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 using oocsimp_test::load_mesh;
+using oocsimp_test::LoadedMesh;
 using oocsimp_test::put_be;
 using oocsimp_test::put_le;
 using oocsimp_test::ScratchDir;
 using oocsimp_test::write_file;
 using oocsimp_test::write_zstd_file;
-using Catch::Matchers::Contains;
-using Catch::Matchers::StartsWith;
 
 namespace {
 
 // The reference mesh used by most tests: five vertices, one quad and one triangle.
-const std::vector<float> kPos = {0.0f,    0.0f,   0.0f,   1.5f,   -2.25f, 0.1f,    -3.25e7f, 1e-20f,
-                                 42.0f,   7.5f,   8.125f, -9.0625f, 100.0f, 0.2f,    -0.3f};
+const std::vector<float> kPos = {0.0f,  0.0f, 0.0f,   1.5f,     -2.25f, 0.1f, -3.25e7f, 1e-20f,
+                                 42.0f, 7.5f, 8.125f, -9.0625f, 100.0f, 0.2f, -0.3f};
 // The same coordinates as text, one vertex per entry.
 const char* const kPosText[5] = {"0 0 0", "1.5 -2.25 0.1", "-3.25e7 1e-20 42", "7.5 8.125 -9.0625", "100 0.2 -0.3"};
 const std::vector<std::vector<int>> kFaces = {{0, 1, 2, 3}, {1, 4, 2}};
@@ -52,19 +52,28 @@ const std::vector<double> kTextD = kPosD;
 
 template <class T>
 void put(std::string& s, T v, bool big_endian) {
-  if (big_endian) put_be(s, v);
-  else put_le(s, v);
+  if (big_endian)
+    put_be(s, v);
+  else
+    put_le(s, v);
 }
 
 // Appends integer `v` stored as the PLY scalar type `type`.
 void put_typed(std::string& s, const std::string& type, long long v, bool be) {
-  if (type == "char") put(s, std::int8_t(v), be);
-  else if (type == "uchar") put(s, std::uint8_t(v), be);
-  else if (type == "short") put(s, std::int16_t(v), be);
-  else if (type == "ushort") put(s, std::uint16_t(v), be);
-  else if (type == "int") put(s, std::int32_t(v), be);
-  else if (type == "uint") put(s, std::uint32_t(v), be);
-  else FAIL("bad type " << type);
+  if (type == "char")
+    put(s, std::int8_t(v), be);
+  else if (type == "uchar")
+    put(s, std::uint8_t(v), be);
+  else if (type == "short")
+    put(s, std::int16_t(v), be);
+  else if (type == "ushort")
+    put(s, std::uint16_t(v), be);
+  else if (type == "int")
+    put(s, std::int32_t(v), be);
+  else if (type == "uint")
+    put(s, std::uint32_t(v), be);
+  else
+    FAIL("bad type " << type);
 }
 
 const char* format_line(bool big_endian) {
@@ -112,8 +121,8 @@ std::string obj_text() {
 
 // Two triangles with corners kPos[0..2] and kPos[3..5] (vertex 5 of the second
 // triangle is (1, 2, 3)).
-const std::vector<float> kStlPos = {0.0f,    0.0f,   0.0f,    1.5f, -2.25f, 0.1f, -3.25e7f, 1e-20f, 42.0f,
-                                    7.5f,    8.125f, -9.0625f, 100.0f, 0.2f, -0.3f, 1.0f,     2.0f,   3.0f};
+const std::vector<float> kStlPos = {0.0f, 0.0f,   0.0f,     1.5f,   -2.25f, 0.1f,  -3.25e7f, 1e-20f, 42.0f,
+                                    7.5f, 8.125f, -9.0625f, 100.0f, 0.2f,   -0.3f, 1.0f,     2.0f,   3.0f};
 // The same as ascii STL text reads it: floats, as for kTextD.
 const std::vector<double> kStlTextD = as_doubles(kStlPos);
 
@@ -424,7 +433,8 @@ TEST_CASE("PLY extra elements before and between and after vertex and face are s
     CAPTURE(be);
     std::string s = std::string("ply\n") + format_line(be) +
                     "element camera 1\nproperty double fx\nproperty uchar id\n"
-                    "element vertex 5\n" + kXyzFloat +
+                    "element vertex 5\n" +
+                    kXyzFloat +
                     "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
                     "element face 2\nproperty list uchar int vertex_indices\n"
                     "element material 2\nproperty uchar ambient_red\nproperty list uchar float coefficients\n"
@@ -454,10 +464,16 @@ TEST_CASE("PLY extra elements before and between and after vertex and face are s
   SECTION("binary, variable-size element before the vertices (converted)") {
     std::string s = std::string("ply\n") + format_line(false) +
                     "element header_info 2\nproperty list uchar uchar text\n"
-                    "element vertex 5\n" + kXyzFloat +
+                    "element vertex 5\n" +
+                    kXyzFloat +
                     "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
                     "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
-    s += std::string("\x03" "abc" "\x01" "z", 6);
+    s += std::string(
+        "\x03"
+        "abc"
+        "\x01"
+        "z",
+        6);
     for (float f : kPos) put_le(s, f);
     for (int e = 0; e < 4; ++e) put_le(s, std::int32_t(e));
     put_faces(s, kFaces, false);
@@ -535,8 +551,10 @@ TEST_CASE("PLY ascii with CRLF line endings", "[readers][ply]") {
   std::string path = dir.file("mesh.ply");
   std::string lf = ascii_ply(), crlf;
   for (char c : lf) {
-    if (c == '\n') crlf += "\r\n";
-    else crlf += c;
+    if (c == '\n')
+      crlf += "\r\n";
+    else
+      crlf += c;
   }
   write_file(path, crlf);
   LoadedMesh m = load_mesh(path, dir.path());
@@ -595,7 +613,8 @@ TEST_CASE("PLY triangle stream can be restarted", "[readers][ply]") {
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<std::uint64_t> got, buf(6);
     // Two triangles at a time, so the quad's fan is split across calls.
-    while (std::size_t n = in.triangles->read(buf.data(), 2)) got.insert(got.end(), buf.begin(), buf.begin() + 3 * std::ptrdiff_t(n));
+    while (std::size_t n = in.triangles->read(buf.data(), 2))
+      got.insert(got.end(), buf.begin(), buf.begin() + 3 * std::ptrdiff_t(n));
     CHECK(got == kTris);
     in.restart_triangles();
   }
@@ -638,12 +657,13 @@ TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][ob
 TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");
-  std::string s = "v 0 0 0 1 0 0\n"
-                  "v 1.5 -2.25 0.1 0.5 0.5 0.5\n"
-                  "v -3.25e7 1e-20 42 1\n"  // with w
-                  "v 7.5 8.125 -9.0625 0 1 0\n"
-                  "v 100 0.2 -0.3 0.1 0.2 0.3\n"
-                  "f 1 2 3 4\nf 2 5 3\n";
+  std::string s =
+      "v 0 0 0 1 0 0\n"
+      "v 1.5 -2.25 0.1 0.5 0.5 0.5\n"
+      "v -3.25e7 1e-20 42 1\n"  // with w
+      "v 7.5 8.125 -9.0625 0 1 0\n"
+      "v 100 0.2 -0.3 0.1 0.2 0.3\n"
+      "f 1 2 3 4\nf 2 5 3\n";
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.vertex_count == 5);
@@ -654,12 +674,13 @@ TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers]
 TEST_CASE("OBJ negative indices count back from the latest vertex", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");
-  std::string s = "v 0 0 0\nv 1.5 -2.25 0.1\nv -3.25e7 1e-20 42\n"
-                  "f -3 -2 -1\n"  // 0 1 2
-                  "v 7.5 8.125 -9.0625\n"
-                  "f -1/1/1 -4//2 -2\n"  // 3 0 2
-                  "v 100 0.2 -0.3\n"
-                  "f 1 -1 -3 -2\n";  // 0 4 2 3 -> (0 4 2) (0 2 3)
+  std::string s =
+      "v 0 0 0\nv 1.5 -2.25 0.1\nv -3.25e7 1e-20 42\n"
+      "f -3 -2 -1\n"  // 0 1 2
+      "v 7.5 8.125 -9.0625\n"
+      "f -1/1/1 -4//2 -2\n"  // 3 0 2
+      "v 100 0.2 -0.3\n"
+      "f 1 -1 -3 -2\n";  // 0 4 2 3 -> (0 4 2) (0 2 3)
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.positions == kTextD);
@@ -680,25 +701,26 @@ TEST_CASE("OBJ polygons are fanned", "[readers][obj]") {
 TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");
-  std::string s = "# exported by a test\n"
-                  "mtllib scene.mtl\n"
-                  "o object\n"
-                  "\n"
-                  "v 0 0 0\n"
-                  "vn 0 0 1\n"
-                  "vt 0.5 0.5\n"
-                  "vp 0.1 0.2\n"
-                  "  v 1.5 -2.25 0.1\n"
-                  "\tv -3.25e7 1e-20 42\n"
-                  "g group1\n"
-                  "usemtl red\n"
-                  "s off\n"
-                  "v 7.5 8.125 -9.0625\r\n"
-                  "v 100 0.2 -0.3\n"
-                  "# f 9 9 9\n"
-                  "l 1 2\n"
-                  "f 1 2 3 4\r\n"
-                  "  f 2 5 3\n";
+  std::string s =
+      "# exported by a test\n"
+      "mtllib scene.mtl\n"
+      "o object\n"
+      "\n"
+      "v 0 0 0\n"
+      "vn 0 0 1\n"
+      "vt 0.5 0.5\n"
+      "vp 0.1 0.2\n"
+      "  v 1.5 -2.25 0.1\n"
+      "\tv -3.25e7 1e-20 42\n"
+      "g group1\n"
+      "usemtl red\n"
+      "s off\n"
+      "v 7.5 8.125 -9.0625\r\n"
+      "v 100 0.2 -0.3\n"
+      "# f 9 9 9\n"
+      "l 1 2\n"
+      "f 1 2 3 4\r\n"
+      "  f 2 5 3\n";
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.vertex_count == 5);
@@ -765,8 +787,9 @@ TEST_CASE("STL binary whose header starts with solid is detected by its size", "
 TEST_CASE("STL ascii with several solids", "[readers][stl]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.stl");
-  std::string s = ascii_stl() + "solid second\nfacet normal 0 0 1\nouter loop\nvertex 1 1 1\nvertex 2 2 2\n"
-                                "vertex 3 3 3\nendloop\nendfacet\nendsolid second\n";
+  std::string s = ascii_stl() +
+                  "solid second\nfacet normal 0 0 1\nouter loop\nvertex 1 1 1\nvertex 2 2 2\n"
+                  "vertex 3 3 3\nendloop\nendfacet\nendsolid second\n";
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.info.face_count == 3);
@@ -784,11 +807,13 @@ TEST_CASE("zstd-compressed PLY OBJ and STL give the same mesh as uncompressed", 
     const char* name;
     std::string content;
   };
-  const Case cases[] = {
-      {"mesh.ply", binary_ply(false)}, {"mesh_be.ply", binary_ply(true)}, {"mesh_ascii.ply", ascii_ply()},
-      {"mesh.obj", obj_text()},        {"mesh.stl", ascii_stl()},
-      {"mesh_binary.stl", binary_stl("binary STL", 2, 2)},
-      {"mesh_solid.stl", binary_stl("solid but binary", 2, 2)}};
+  const Case cases[] = {{"mesh.ply", binary_ply(false)},
+                        {"mesh_be.ply", binary_ply(true)},
+                        {"mesh_ascii.ply", ascii_ply()},
+                        {"mesh.obj", obj_text()},
+                        {"mesh.stl", ascii_stl()},
+                        {"mesh_binary.stl", binary_stl("binary STL", 2, 2)},
+                        {"mesh_solid.stl", binary_stl("solid but binary", 2, 2)}};
   ScratchDir dir;
   for (const Case& c : cases) {
     CAPTURE(c.name);
@@ -1002,8 +1027,10 @@ TEST_CASE("NaN and infinite coordinates: the vertex is ignored, its triangles dr
     std::string path = dir.file(GENERATE(as<std::string>{}, "mesh.obj", "mesh.obj.zst"));
     std::string s = obj_text();
     s.replace(s.find("-9.0625"), 7, "nan");
-    if (path.size() > 4 && path.substr(path.size() - 4) == ".zst") write_zstd_file(path, s);
-    else write_file(path, s);
+    if (path.size() > 4 && path.substr(path.size() - 4) == ".zst")
+      write_zstd_file(path, s);
+    else
+      write_file(path, s);
     check_vertex_3_ignored(load_mesh(path, dir.path()), "line 5");
     std::remove(path.c_str());
   }
@@ -1072,8 +1099,9 @@ TEST_CASE("the box of a converted file holds the stored floats, not the parsed d
   // (A PLY declaring float, and an OBJ whose text has no more than float precision.)
   ScratchDir dir;
   std::string path = dir.file("mesh.ply");
-  write_file(path, "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
-                   "end_header\n0.3 0.2 0.1\n0 0 0\n");
+  write_file(path,
+             "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+             "end_header\n0.3 0.2 0.1\n0 0 0\n");
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK_FALSE(m.info.double_precision);
   CHECK(m.info.bounds.max.x == double(0.3f));
@@ -1112,10 +1140,11 @@ TEST_CASE("Triangles naming one vertex twice are dropped and counted, zero-area 
   // Faces: a proper triangle, one with a repeated index, a quad with a repeated corner
   // (fanned: (0,1,1) dropped, (0,1,2) kept), and a zero-area triangle of three
   // distinct collinear vertices (kept: it still connects them).
-  std::string s = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-                  "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
-                  "0 0 0\n1 0 0\n0 1 0\n2 0 0\n"
-                  "3 0 1 2\n3 0 0 2\n4 0 1 1 2\n3 0 1 3\n";
+  std::string s =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n2 0 0\n"
+      "3 0 1 2\n3 0 0 2\n4 0 1 1 2\n3 0 1 3\n";
   write_file(path, s);
   LoadedMesh m = load_mesh(path, dir.path());
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 1, 2, 0, 1, 3});
@@ -1405,10 +1434,14 @@ TEST_CASE("Temporary position files live exactly as long as the MeshInput", "[re
   std::string name = GENERATE(as<std::string>{}, "mesh.obj", "mesh.ply", "mesh.stl", "mesh_binary.ply.zst");
   CAPTURE(name);
   std::string path = inputs.file(name);
-  if (name == "mesh.obj") write_file(path, obj_text());
-  else if (name == "mesh.ply") write_file(path, ascii_ply());
-  else if (name == "mesh.stl") write_file(path, ascii_stl());
-  else write_zstd_file(path, binary_ply(false));
+  if (name == "mesh.obj")
+    write_file(path, obj_text());
+  else if (name == "mesh.ply")
+    write_file(path, ascii_ply());
+  else if (name == "mesh.stl")
+    write_file(path, ascii_stl());
+  else
+    write_zstd_file(path, binary_ply(false));
   {
     oocsimp::OpenOptions o;
     o.temp_dir = tmp.path();
@@ -1447,8 +1480,10 @@ namespace {
 std::string with_line_ends(const std::string& lf, const std::string& ending) {
   std::string s;
   for (char c : lf) {
-    if (c == '\n') s += ending;
-    else s += c;
+    if (c == '\n')
+      s += ending;
+    else
+      s += c;
   }
   return s;
 }
@@ -1457,7 +1492,8 @@ const std::string kBom = "\xEF\xBB\xBF";
 
 }  // namespace
 
-TEST_CASE("A UTF-8 byte order mark before the first line is skipped in OBJ, ascii PLY and ascii STL", "[readers][text]") {
+TEST_CASE("A UTF-8 byte order mark before the first line is skipped in OBJ, ascii PLY and ascii STL",
+          "[readers][text]") {
   struct Case {
     const char* name;
     std::string content;
@@ -1500,18 +1536,22 @@ TEST_CASE("CR LF and CRLF line ends read the same mesh in every text format", "[
   const Case cases[] = {{"mesh.obj", obj}, {"mesh.ply", ascii_ply()}, {"mesh.stl", ascii_stl()}};
   ScratchDir dir;
   for (const Case& c : cases) {
-    LoadedMesh lf = load_mesh([&] {
-      std::string p = dir.file(std::string("lf_") + c.name);
-      write_file(p, c.content);
-      return p;
-    }(), dir.path());
+    LoadedMesh lf = load_mesh(
+        [&] {
+          std::string p = dir.file(std::string("lf_") + c.name);
+          write_file(p, c.content);
+          return p;
+        }(),
+        dir.path());
     for (const char* ending : {"\r", "\r\n"}) {
       for (bool packed : {false, true}) {
         CAPTURE(c.name, std::strlen(ending), packed);
         std::string p = dir.file(std::string("other_") + c.name) + (packed ? ".zst" : "");
         std::string content = with_line_ends(c.content, ending);
-        if (packed) write_zstd_file(p, content);
-        else write_file(p, content);
+        if (packed)
+          write_zstd_file(p, content);
+        else
+          write_file(p, content);
         check_same_mesh(lf, load_mesh(p, dir.path()));
       }
     }
@@ -1519,8 +1559,10 @@ TEST_CASE("CR LF and CRLF line ends read the same mesh in every text format", "[
     std::string mixed;
     int k = 0;
     for (char ch : c.content) {
-      if (ch == '\n') mixed += (k++ % 3 == 0) ? "\r" : (k % 3 == 1) ? "\n" : "\r\n";
-      else mixed += ch;
+      if (ch == '\n')
+        mixed += (k++ % 3 == 0) ? "\r" : (k % 3 == 1) ? "\n" : "\r\n";
+      else
+        mixed += ch;
     }
     write_file(dir.file(std::string("mixed_") + c.name), mixed);
     check_same_mesh(lf, load_mesh(dir.file(std::string("mixed_") + c.name), dir.path()));
@@ -1620,8 +1662,10 @@ TEST_CASE("A PLY header is bounded at 1 MiB, in one line or in many", "[readers]
     path += ".zst";
     expected = ": line 3:";
   }
-  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".zst") == 0) write_zstd_file(path, s);
-  else write_file(path, s);
+  if (path.size() > 4 && path.compare(path.size() - 4, 4, ".zst") == 0)
+    write_zstd_file(path, s);
+  else
+    write_file(path, s);
   std::string msg = open_error(path, dir);
   CHECK_THAT(msg, StartsWith(path + expected));
   CHECK_THAT(msg, Contains("PLY header longer than 1 MiB"));
@@ -1633,8 +1677,8 @@ TEST_CASE("A PLY header is bounded at 1 MiB, in one line or in many", "[readers]
 TEST_CASE("A coordinate below the double range rounds to zero as strtod does, one above it is rejected",
           "[readers][text]") {
   ScratchDir dir;
-  const char* const tokens[] = {"1e-400", "-1e-400", "1e-310", "-4.9e-324", "2e-324", "100000e-329",
-                                "0.0000001e-320", "123456789e-330"};
+  const char* const tokens[] = {"1e-400", "-1e-400",     "1e-310",         "-4.9e-324",
+                                "2e-324", "100000e-329", "0.0000001e-320", "123456789e-330"};
   std::string obj, ply_body;
   for (const char* t : tokens) {
     obj += std::string("v ") + t + " " + t + " 1\n";
@@ -1642,7 +1686,8 @@ TEST_CASE("A coordinate below the double range rounds to zero as strtod does, on
   }
   obj += "f 1 2 3\n";
   const std::size_t n = sizeof tokens / sizeof tokens[0];
-  std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(n) + "\n" + kXyzFloat + "end_header\n" + ply_body;
+  std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex " + std::to_string(n) + "\n" + kXyzFloat + "end_header\n" + ply_body;
   write_file(dir.file("tiny.obj"), obj);
   write_file(dir.file("tiny.ply"), ply);
   LoadedMesh mo = load_mesh(dir.file("tiny.obj"), dir.path());
@@ -1685,7 +1730,10 @@ TEST_CASE("A NUL or control byte in a token is escaped in the message, which goe
   SECTION("ascii PLY number") {
     path = dir.file("mesh.ply");
     std::string s = ascii_ply();
-    s.replace(s.find("8.125"), 5, std::string("8.1\0" "25", 6));
+    s.replace(s.find("8.125"), 5,
+              std::string("8.1\0"
+                          "25",
+                          6));
     write_file(path, s);
     escaped = "\"8.1\\x0025\" for \"y\"";
   }
@@ -1766,7 +1814,8 @@ TEST_CASE("PLY without a face element: garbage after the last element is rejecte
   }
   SECTION("binary, with an element after the vertices") {
     std::string s = binary_ply_header(false);
-    s.replace(s.find("element face"), s.find("end_header") - s.find("element face"), "element note 2\nproperty int n\n");
+    s.replace(s.find("element face"), s.find("end_header") - s.find("element face"),
+              "element note 2\nproperty int n\n");
     for (float f : kPos) put_le(s, f);
     put_le(s, std::int32_t(1));
     put_le(s, std::int32_t(2));
@@ -1817,8 +1866,11 @@ TEST_CASE("zstd files of several frames, with skippable frames before or between
     const char* name;
     std::string content;
   };
-  const Case cases[] = {{"mesh.ply", binary_ply(false)}, {"mesh_ascii.ply", ascii_ply()}, {"mesh.obj", obj_text()},
-                        {"mesh.stl", ascii_stl()}, {"mesh_binary.stl", binary_stl("binary", 2, 2)}};
+  const Case cases[] = {{"mesh.ply", binary_ply(false)},
+                        {"mesh_ascii.ply", ascii_ply()},
+                        {"mesh.obj", obj_text()},
+                        {"mesh.stl", ascii_stl()},
+                        {"mesh_binary.stl", binary_stl("binary", 2, 2)}};
   ScratchDir dir;
   for (const Case& c : cases) {
     std::string plain = dir.file(c.name);
@@ -1839,8 +1891,8 @@ TEST_CASE("zstd files of several frames, with skippable frames before or between
         {"concatenated frames", f1 + f2 + f3},
         {"pzstd layout", pz(f1) + pz(f2) + pz(f3)},
         {"leading skippable frame", skippable_frame(7, "not a mesh") + zstd_frame(dir, t)},
-        {"inner and trailing skippable frames", f1 + skippable_frame(15, "") + f2 + skippable_frame(3, "x\ny") + f3 +
-                                                    skippable_frame(1, "end")},
+        {"inner and trailing skippable frames",
+         f1 + skippable_frame(15, "") + f2 + skippable_frame(3, "x\ny") + f3 + skippable_frame(1, "end")},
         {"an empty frame first", zstd_frame(dir, "") + f1 + f2 + f3}};
     for (const auto& layout : layouts) {
       CAPTURE(c.name, layout.first);
@@ -1898,18 +1950,26 @@ TEST_CASE("A FIFO reads like the regular file, and its copy in --tmp goes with t
   // copy that the vertex pass made as it went.
   std::string big_obj;
   for (int i = 0; i < 60000; ++i) big_obj += "v " + std::to_string(i) + " " + std::to_string(i % 7) + " 0.5\n";
-  for (int i = 1; i + 2 <= 60000; ++i) big_obj += "f " + std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
-  const Case cases[] = {{"mesh_ascii.ply", ascii_ply(), false}, {"mesh.obj", obj_text(), false},
-                        {"mesh_binary.ply", binary_ply(false), false}, {"mesh_be.ply", binary_ply(true), false},
-                        {"mesh.stl", ascii_stl(), false}, {"mesh_binary.stl", binary_stl("binary", 2, 2), false},
-                        {"mesh.ply.zst", binary_ply(false), true}, {"mesh.obj.zst", obj_text(), true},
-                        {"big.obj", big_obj, false}, {"big.obj.zst", big_obj, true}};
+  for (int i = 1; i + 2 <= 60000; ++i)
+    big_obj += "f " + std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
+  const Case cases[] = {{"mesh_ascii.ply", ascii_ply(), false},
+                        {"mesh.obj", obj_text(), false},
+                        {"mesh_binary.ply", binary_ply(false), false},
+                        {"mesh_be.ply", binary_ply(true), false},
+                        {"mesh.stl", ascii_stl(), false},
+                        {"mesh_binary.stl", binary_stl("binary", 2, 2), false},
+                        {"mesh.ply.zst", binary_ply(false), true},
+                        {"mesh.obj.zst", obj_text(), true},
+                        {"big.obj", big_obj, false},
+                        {"big.obj.zst", big_obj, true}};
   for (const Case& c : cases) {
     CAPTURE(c.name);
     ScratchDir inputs, tmp;
     std::string file = inputs.file(std::string("file_") + c.name), fifo = inputs.file(std::string("fifo_") + c.name);
-    if (c.packed) write_zstd_file(file, c.content);
-    else write_file(file, c.content);
+    if (c.packed)
+      write_zstd_file(file, c.content);
+    else
+      write_file(file, c.content);
     std::string bytes = oocsimp_test::read_file(file);
     LoadedMesh expected = load_mesh(file, tmp.path());
     LoadedMesh m = read_through_fifo(fifo, bytes, [&](const std::string& p) { return load_mesh(p, tmp.path()); });
@@ -1932,7 +1992,8 @@ TEST_CASE("A FIFO reads like the regular file, and its copy in --tmp goes with t
       std::vector<std::uint64_t> buf(3 * 64), all;
       for (int pass = 0; pass < 2; ++pass) {
         all.clear();
-        while (std::size_t n = in.triangles->read(buf.data(), 64)) all.insert(all.end(), buf.begin(), buf.begin() + 3 * n);
+        while (std::size_t n = in.triangles->read(buf.data(), 64))
+          all.insert(all.end(), buf.begin(), buf.begin() + 3 * n);
         CHECK(all == expected.triangles);
         in.restart_triangles();
       }
@@ -1947,7 +2008,8 @@ TEST_CASE("A damaged FIFO input fails like the file and leaves nothing in --tmp"
   ScratchDir inputs, tmp;
   std::string s = ascii_ply();
   s.replace(s.find("3 1 4 2"), 7, "3 1 9 2");  // index out of range, line 17
-  std::string msg = read_through_fifo(inputs.file("mesh.ply"), s, [&](const std::string& p) { return load_error(p, tmp); });
+  std::string msg =
+      read_through_fifo(inputs.file("mesh.ply"), s, [&](const std::string& p) { return load_error(p, tmp); });
   CHECK_THAT(msg, StartsWith(inputs.file("mesh.ply") + ": line 17:"));
   CHECK(tmp.entries().empty());
   // /dev/zero never ends: it is rejected after the first 64 KiB, not copied without end.
@@ -1989,7 +2051,8 @@ TEST_CASE("An input replaced after opening is not read: every pass reads the fil
       }
       in.restart_triangles();
       std::vector<std::uint64_t> buf(300), all;
-      while (std::size_t n = in.triangles->read(buf.data(), 100)) all.insert(all.end(), buf.begin(), buf.begin() + 3 * n);
+      while (std::size_t n = in.triangles->read(buf.data(), 100))
+        all.insert(all.end(), buf.begin(), buf.begin() + 3 * n);
       CHECK(all == kTris);
       CHECK(in.positions.get(1).y == -2.25);
     }

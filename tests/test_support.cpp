@@ -82,7 +82,8 @@ LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir) {
     m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
   }
   std::vector<std::uint64_t> buf(3 * 1000);
-  while (std::size_t n = in.triangles->read(buf.data(), 1000)) m.triangles.insert(m.triangles.end(), buf.begin(), buf.begin() + 3 * n);
+  while (std::size_t n = in.triangles->read(buf.data(), 1000))
+    m.triangles.insert(m.triangles.end(), buf.begin(), buf.begin() + 3 * n);
   m.skipped = in.triangles->skipped();
   m.skipped_faces = m.skipped.short_faces;
   return m;
@@ -90,7 +91,8 @@ LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir) {
 
 CliResult run_cli(const std::string& args, const std::string& setup) {
   ScratchDir d;
-  std::string cmd = std::string(OOCSIMP_CLI) + " " + args + " >'" + d.file("out") + "' 2>'" + d.file("err") + "' </dev/null";
+  std::string cmd =
+      std::string(OOCSIMP_CLI) + " " + args + " >'" + d.file("out") + "' 2>'" + d.file("err") + "' </dev/null";
   if (!setup.empty()) cmd = setup + " && exec " + cmd;
   int status = std::system(cmd.c_str());
   CliResult r;
@@ -150,7 +152,8 @@ void write_plane_ply(const std::string& path, int n, double a, double b, double 
     }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      std::uint32_t v00 = std::uint32_t(j * (n + 1) + i), v10 = v00 + 1, v01 = v00 + std::uint32_t(n + 1), v11 = v01 + 1;
+      std::uint32_t v00 = std::uint32_t(j * (n + 1) + i), v10 = v00 + 1, v01 = v00 + std::uint32_t(n + 1),
+                    v11 = v01 + 1;
       t.insert(t.end(), {v00, v10, v11, v00, v11, v01});
     }
   write_binary_ply(path, v, t);
@@ -159,7 +162,8 @@ void write_plane_ply(const std::string& path, int n, double a, double b, double 
 void write_cube_ply(const std::string& path, int n) {
   // Six faces, each an (n+1)^2 grid of its own vertices (duplicated along the edges,
   // as in many scanned and exported files); normals point outwards.
-  static const int faces[6][4] = {{0, 1, 1, 2}, {0, -1, 2, 1}, {1, 1, 2, 0}, {1, -1, 0, 2}, {2, 1, 0, 1}, {2, -1, 1, 0}};
+  static const int faces[6][4] = {{0, 1, 1, 2},  {0, -1, 2, 1}, {1, 1, 2, 0},
+                                  {1, -1, 0, 2}, {2, 1, 0, 1},  {2, -1, 1, 0}};
   std::vector<float> v;
   std::vector<std::uint32_t> t;
   for (const auto& f : faces) {

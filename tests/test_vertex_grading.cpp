@@ -46,8 +46,10 @@ TEST_CASE("grading a cube with unshared face vertices: only corners carry weight
     INFO("vertex " << v.index << " at " << v.p.x << " " << v.p.y << " " << v.p.z);
     bool corner = on_edge == 3;
     double side = std::cos(M_PI / 4) * 0.25, diagonal = side * std::sqrt(2.0);
-    if (corner) CHECK((v.weight == Approx(side) || v.weight == Approx(diagonal)));
-    else CHECK(v.weight == Approx(0).margin(1e-12));
+    if (corner)
+      CHECK((v.weight == Approx(side) || v.weight == Approx(diagonal)));
+    else
+      CHECK(v.weight == Approx(0).margin(1e-12));
   }
 }
 

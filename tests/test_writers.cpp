@@ -18,25 +18,34 @@
 #include "oocsimp/mesh_writer.hpp"
 #include "test_support.hpp"
 
+using Catch::Matchers::StartsWith;
+using oocsimp::format_for_path;
 using oocsimp::MeshFormat;
 using oocsimp::ScalarType;
-using oocsimp::format_for_path;
 using oocsimp::write_mesh;
-using oocsimp_test::LoadedMesh;
 using oocsimp_test::load_mesh;
+using oocsimp_test::LoadedMesh;
 using oocsimp_test::ScratchDir;
-using Catch::Matchers::StartsWith;
 
 namespace {
 
 // Values that need every digit of the shortest representation, tiny, huge and
 // negative ones, and one subnormal.
-const std::vector<float> kPositions = {
-    0.1f,     -3.25e7f, 1e-20f,                                 //
-    1.0f,     2.0f,     3.0f,                                   //
-    -0.3f,    1.0f / 3.0f, 16777217.0f,                         //
-    std::numeric_limits<float>::max(), -std::numeric_limits<float>::min(), 1e-40f,  //
-    123.456f, -7.0e-8f, 9.999999e9f};
+const std::vector<float> kPositions = {0.1f,
+                                       -3.25e7f,
+                                       1e-20f,  //
+                                       1.0f,
+                                       2.0f,
+                                       3.0f,  //
+                                       -0.3f,
+                                       1.0f / 3.0f,
+                                       16777217.0f,  //
+                                       std::numeric_limits<float>::max(),
+                                       -std::numeric_limits<float>::min(),
+                                       1e-40f,  //
+                                       123.456f,
+                                       -7.0e-8f,
+                                       9.999999e9f};
 const std::vector<std::uint32_t> kTriangles = {0, 1, 2, 2, 1, 3, 4, 0, 3, 1, 4, 2};
 
 std::vector<double> as_doubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
@@ -74,29 +83,36 @@ LoadedMesh round_trip(const std::string& name, MeshFormat format, const std::str
 
 // Doubles that no float holds: UTM-like coordinates with sub-millimetre digits,
 // 0.1, a third, and the extremes of the double range.
-const std::vector<double> kDoublePositions = {
-    451234.56789012345, 5412345.678901234, 201.33333333333334,  //
-    0.1,                -1.0 / 3.0,        1e-300,              //
-    4.5e5,              5.4e6 + 1e-7,      -2e300,              //
-    std::numeric_limits<double>::max(), -std::numeric_limits<double>::min(), 4.9e-324,  //
-    123.456,            -7.0e-8,           9.999999999999999e9};
+const std::vector<double> kDoublePositions = {451234.56789012345,
+                                              5412345.678901234,
+                                              201.33333333333334,  //
+                                              0.1,
+                                              -1.0 / 3.0,
+                                              1e-300,  //
+                                              4.5e5,
+                                              5.4e6 + 1e-7,
+                                              -2e300,  //
+                                              std::numeric_limits<double>::max(),
+                                              -std::numeric_limits<double>::min(),
+                                              4.9e-324,  //
+                                              123.456,
+                                              -7.0e-8,
+                                              9.999999999999999e9};
 
 }  // namespace
 
 TEST_CASE("write_mesh binary PLY round trip is exact", "[writers]") {
   LoadedMesh m = round_trip("out.ply", MeshFormat::ply_binary, "ply binary_little_endian");
   CHECK(m.info.positions_in_place);
-  CHECK(m.info.elements == std::vector<std::string>{"vertex 5 (x float, y float, z float)",
-                                                    "face 4 (vertex_indices list uchar uint)"});
+  CHECK(m.info.elements ==
+        std::vector<std::string>{"vertex 5 (x float, y float, z float)", "face 4 (vertex_indices list uchar uint)"});
 }
 
 TEST_CASE("write_mesh ascii PLY round trip is exact", "[writers]") {
   round_trip("out.ply", MeshFormat::ply_ascii, "ply ascii");
 }
 
-TEST_CASE("write_mesh OBJ round trip is exact", "[writers]") {
-  round_trip("out.obj", MeshFormat::obj, "obj");
-}
+TEST_CASE("write_mesh OBJ round trip is exact", "[writers]") { round_trip("out.obj", MeshFormat::obj, "obj"); }
 
 TEST_CASE("write_mesh zstd-compressed binary PLY round trip is exact", "[writers]") {
   round_trip("out.ply.zst", MeshFormat::ply_binary, "ply binary_little_endian");
@@ -207,8 +223,8 @@ TEST_CASE("format_for_path picks the format from the name", "[writers]") {
 }
 
 TEST_CASE("format_for_path refuses a name it cannot write, listing what it can", "[writers]") {
-  for (const char* name : {"a.glb", "a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst",
-                           "a.ply.zst.zst", "a.3ds"}) {
+  for (const char* name :
+       {"a.glb", "a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst", "a.ply.zst.zst", "a.3ds"}) {
     CAPTURE(name);
     try {
       format_for_path(name, false);
@@ -240,8 +256,8 @@ TEST_CASE("write_mesh double PLY and text formats round trip doubles exactly", "
   write_mesh(dir.file("d.ply"), kDoublePositions, kTriangles, MeshFormat::ply_binary, ScalarType::f64);
   LoadedMesh m = load_mesh(dir.file("d.ply"), dir.path());
   CHECK(m.info.positions_in_place);
-  CHECK(m.info.elements == std::vector<std::string>{"vertex 5 (x double, y double, z double)",
-                                                    "face 4 (vertex_indices list uchar uint)"});
+  CHECK(m.info.elements ==
+        std::vector<std::string>{"vertex 5 (x double, y double, z double)", "face 4 (vertex_indices list uchar uint)"});
 }
 
 TEST_CASE("write_mesh at float precision writes the doubles rounded to float", "[writers][precision]") {
@@ -291,10 +307,10 @@ TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles wi
     MeshFormat format;
     const char* expected;
   };
-  for (const Case& c : {Case{"t.stl", MeshFormat::stl_binary, "stl binary"},
-                        Case{"t.stl", MeshFormat::stl_ascii, "stl ascii"},
-                        Case{"t.stl.zst", MeshFormat::stl_binary, "stl binary"},
-                        Case{"t.stl.zst", MeshFormat::stl_ascii, "stl ascii"}}) {
+  for (const Case& c :
+       {Case{"t.stl", MeshFormat::stl_binary, "stl binary"}, Case{"t.stl", MeshFormat::stl_ascii, "stl ascii"},
+        Case{"t.stl.zst", MeshFormat::stl_binary, "stl binary"},
+        Case{"t.stl.zst", MeshFormat::stl_ascii, "stl ascii"}}) {
     CAPTURE(c.name, c.expected);
     ScratchDir dir, tmp;
     std::string path = dir.file(c.name);
@@ -326,8 +342,9 @@ TEST_CASE("write_mesh STL, binary and ascii, reads back as the same triangles wi
 
 TEST_CASE("write_mesh ascii STL keeps doubles at double precision", "[writers][stl][precision]") {
   ScratchDir dir;
-  std::vector<double> pos = {451234.56789012345, 5412345.678901234, 201.33333333333334, 451235.1, 5412345.2, 201.3,
-                             451234.3, 5412346.4, 201.7};
+  std::vector<double> pos = {451234.56789012345, 5412345.678901234, 201.33333333333334,
+                             451235.1,           5412345.2,         201.3,
+                             451234.3,           5412346.4,         201.7};
   write_mesh(dir.file("d.stl"), pos, {0, 1, 2}, MeshFormat::stl_ascii, ScalarType::f64);
   LoadedMesh m = load_mesh(dir.file("d.stl"), dir.path());
   CHECK(corner_triples(m.positions, m.triangles) == corner_triples(pos, {0, 1, 2}));

@@ -59,8 +59,7 @@ double positive_number(const std::string& flag, const std::string& text, double 
 std::uint64_t whole_number(const std::string& flag, const std::string& text, std::uint64_t min, std::uint64_t max) {
   std::uint64_t v = 0;
   auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || text[0] == '-' || r.ec != std::errc() || r.ptr != text.data() + text.size() || v < min ||
-      v > max)
+  if (text.empty() || text[0] == '-' || r.ec != std::errc() || r.ptr != text.data() + text.size() || v < min || v > max)
     bad_value(flag, text, "a whole number from " + std::to_string(min) + " to " + std::to_string(max));
   return v;
 }
@@ -77,8 +76,7 @@ constexpr std::uint64_t kMaxThreads = 65536;
 // Given with --method uniform, the floating-only options would do nothing.
 void refuse_with_uniform(const std::vector<CLI::Option*>& floating_only) {
   for (const CLI::Option* o : floating_only)
-    if (o->count() > 0)
-      throw UsageError(o->get_name() + " applies to --method floating only, not to --method uniform");
+    if (o->count() > 0) throw UsageError(o->get_name() + " applies to --method floating only, not to --method uniform");
 }
 
 struct SimplifyArgs {
@@ -122,8 +120,7 @@ void resolve_simplify_args(SimplifyArgs& a) {
       a.rep, {RepresentativeRule::quadric, RepresentativeRule::centre, RepresentativeRule::mean}, representative_name);
   o.spill_compression = enum_named(
       a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
-  o.precision =
-      enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
+  o.precision = enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
@@ -153,8 +150,8 @@ int run_simplify(SimplifyArgs& a) {
       // The spill's parts that exist: on disk, in memory or both.
       char disk[96] = "", memory[64] = "";
       if (stats.spill_bytes)
-        std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)", double(stats.spill_bytes) / 1048576.0,
-                      double(stats.spill_raw_bytes) / 1048576.0);
+        std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)",
+                      double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
       if (stats.spill_bytes_in_memory)
         std::snprintf(memory, sizeof memory, ", %.1f MiB of spill held in memory",
                       double(stats.spill_bytes_in_memory) / 1048576.0);
@@ -169,8 +166,10 @@ int run_simplify(SimplifyArgs& a) {
     }
     double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
     std::fprintf(to,
-                 "input   %" PRIu64 " vertices, %" PRIu64 " triangles\n"
-                 "output  %" PRIu64 " vertices, %" PRIu64 " triangles (%s, grid %ux%ux%u, cell %.6g)\n"
+                 "input   %" PRIu64 " vertices, %" PRIu64
+                 " triangles\n"
+                 "output  %" PRIu64 " vertices, %" PRIu64
+                 " triangles (%s, grid %ux%ux%u, cell %.6g)\n"
                  "time    %.3f s (%s): %.2f Mtri/s\n"
                  "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                  stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
@@ -207,8 +206,8 @@ int run_info(const std::string& in, const std::string& tmp) {
     std::printf("diagonal  %.9g\n", i.bounds.diagonal());
   }
   if (i.non_finite_vertices > 0)
-    std::printf("non-finite %" PRIu64 " (vertices with a NaN or infinite coordinate, ignored; the first: vertex %" PRIu64
-                " at %s)\n",
+    std::printf("non-finite %" PRIu64
+                " (vertices with a NaN or infinite coordinate, ignored; the first: vertex %" PRIu64 " at %s)\n",
                 i.non_finite_vertices, i.first_non_finite_vertex, i.first_non_finite_position.c_str());
   return kOk;
 }
@@ -230,10 +229,14 @@ int run_generate(const std::string& tris_text, const std::string& shape, const s
   o.triangles = whole_number("--tris", tris_text, 1, ~std::uint64_t(0));
   o.seed = whole_number("--seed", seed_text, 0, ~std::uint64_t(0));
   o.ascii = ascii;
-  if (shape == "sphere") o.shape = SyntheticShape::sphere;
-  else if (shape == "terrain") o.shape = SyntheticShape::terrain;
-  else if (shape == "parts") o.shape = SyntheticShape::parts;
-  else throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain or parts)");
+  if (shape == "sphere")
+    o.shape = SyntheticShape::sphere;
+  else if (shape == "terrain")
+    o.shape = SyntheticShape::terrain;
+  else if (shape == "parts")
+    o.shape = SyntheticShape::parts;
+  else
+    throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain or parts)");
   check_generate_output(out);
   ProgressReporter progress(quiet);
   progress.begin("generate", o.triangles, "tri");
@@ -339,21 +342,25 @@ int main(int argc, char** argv) {
 
   SimplifyArgs sa;
   CLI::App* simplify = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, optionally .zst)");
-  simplify->footer("Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of "
-                   "the triangles).\n");
+  simplify->footer(
+      "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of "
+      "the triangles).\n");
   simplify->add_option("input", sa.in, "Input mesh")->required();
-  simplify->add_option("-o,--output", sa.outputs.mesh,
-                       "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
-                       "binary PLY to stdout")
+  simplify
+      ->add_option("-o,--output", sa.outputs.mesh,
+                   "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
+                   "binary PLY to stdout")
       ->required()
       ->group(common);
   sa.cell.option = simplify->add_option("--cell", sa.cell.text, "Cell side in model units")->group(common);
-  sa.grid.option = simplify->add_option("--grid", sa.grid.text,
-                                        "Cells along the longest bounding-box axis, 1 to " +
-                                            std::to_string(GridSpec::kMaxDim))
-                       ->group(common);
-  sa.ratio.option = simplify->add_option("--ratio", sa.ratio.text,
-                                         "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)")
+  sa.grid.option =
+      simplify
+          ->add_option("--grid", sa.grid.text,
+                       "Cells along the longest bounding-box axis, 1 to " + std::to_string(GridSpec::kMaxDim))
+          ->group(common);
+  sa.ratio.option = simplify
+                        ->add_option("--ratio", sa.ratio.text,
+                                     "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)")
                         ->group(common);
   sa.cell.option->excludes(sa.grid.option)->excludes(sa.ratio.option);
   sa.grid.option->excludes(sa.ratio.option);
@@ -366,14 +373,16 @@ int main(int argc, char** argv) {
       ->group(common);
   simplify->add_option("--stats", sa.outputs.stats, "Write statistics as JSON to this file (- for stdout)")
       ->group(common);
-  simplify->add_flag("--force", sa.outputs.replace_input,
-                     "Allow the output to be the input (replaced only after a successful run)")
+  simplify
+      ->add_flag("--force", sa.outputs.replace_input,
+                 "Allow the output to be the input (replaced only after a successful run)")
       ->group(common);
   simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
   simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY or STL instead of binary")->group(common);
-  simplify->add_option("--precision", sa.precision,
-                       "Output coordinates: float, double or auto (double when the input holds more than float "
-                       "precision, the default)")
+  simplify
+      ->add_option("--precision", sa.precision,
+                   "Output coordinates: float, double or auto (double when the input holds more than float "
+                   "precision, the default)")
       ->check(CLI::IsMember({"auto", "float", "double"}))
       ->group(common);
   sa.mem.option = simplify
@@ -386,8 +395,7 @@ int main(int argc, char** argv) {
   sa.floating_only = {
       simplify->add_option("--cell-shape", sa.cell_shape, "Cell shape (default cube)")
           ->check(CLI::IsMember({"cube", "sphere"})),
-      simplify->add_option("--assign", sa.assign,
-                           "Vertex in several cells: nearest (centre, the default) or heaviest")
+      simplify->add_option("--assign", sa.assign, "Vertex in several cells: nearest (centre, the default) or heaviest")
           ->check(CLI::IsMember({"nearest", "heaviest"})),
       simplify->add_option("--rep", sa.rep, "Representative vertex (default quadric)")
           ->check(CLI::IsMember({"quadric", "centre", "mean"})),
@@ -396,9 +404,10 @@ int main(int argc, char** argv) {
                                             "tiles' buffers (9 KiB each) exceed a quarter of --mem"),
       simplify->add_flag("--keep-tmp", sa.options.keep_temp,
                          "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
-      simplify->add_option("--spill-compress", sa.spill,
-                           "zstd on the triangle, stitch and kept-triangle spills: auto (when they would not fit in "
-                           "half the available memory, or with --keep-tmp, the default), zstd or none")
+      simplify
+          ->add_option("--spill-compress", sa.spill,
+                       "zstd on the triangle, stitch and kept-triangle spills: auto (when they would not fit in "
+                       "half the available memory, or with --keep-tmp, the default), zstd or none")
           ->check(CLI::IsMember({"auto", "zstd", "none"})),
   };
   for (CLI::Option* o : sa.floating_only) o->group(floating_group);

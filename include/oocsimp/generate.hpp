@@ -12,7 +12,7 @@ struct GenerateOptions {
   std::uint64_t triangles = 1000000;  ///< target; the result is within 2% for 10^4 and more
   SyntheticShape shape = SyntheticShape::sphere;
   std::uint64_t seed = 1;
-  bool ascii = false;                 ///< ascii PLY instead of binary little-endian
+  bool ascii = false;  ///< ascii PLY instead of binary little-endian
 };
 
 struct GenerateResult {

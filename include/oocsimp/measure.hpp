@@ -32,14 +32,14 @@ struct DistanceStats {
 };
 
 struct DistanceReport {
-  DistanceStats a_to_b;     ///< samples on A, distances to surface B
-  DistanceStats b_to_a;     ///< samples on B, distances to surface A
+  DistanceStats a_to_b;  ///< samples on A, distances to surface B
+  DistanceStats b_to_a;  ///< samples on B, distances to surface A
   /// The larger max of the two (the paper's Hausdorff distance d_inf); mean and rms over
   /// both sample sets. The paper's "mean square distance" d_2 integrates the distance
   /// (not its square) over each surface divided by its area, i.e. a_to_b.mean +
   /// b_to_a.mean; with equal sample counts symmetric.mean is half of it.
   DistanceStats symmetric;
-  double a_diagonal = 0;    ///< length of A's bounding-box diagonal, the scale of the fractions
+  double a_diagonal = 0;                           ///< length of A's bounding-box diagonal, the scale of the fractions
   double a_area = 0, b_area = 0;                   ///< surface areas, model units squared
   std::uint64_t a_triangles = 0, b_triangles = 0;  ///< triangles read (polygons fanned), degenerate ones included
   double seconds = 0;                              ///< wall time of measure_surface_distance

@@ -57,22 +57,22 @@ struct PositionArray {
 /// What `oocsimp info` prints: the format and the header-level facts of a mesh.
 struct MeshInfo {
   std::string path;
-  std::string format;            ///< e.g. "ply binary_little_endian", "obj", "stl binary"
-  bool compressed = false;       ///< read through zstd
+  std::string format;              ///< e.g. "ply binary_little_endian", "obj", "stl binary"
+  bool compressed = false;         ///< read through zstd
   std::uint64_t vertex_count = 0;  ///< after welding, when welded
-  std::uint64_t face_count = 0;  ///< faces as stored (polygons); STL: triangles
+  std::uint64_t face_count = 0;    ///< faces as stored (polygons); STL: triangles
   /// Vertices as stored (STL: 3 per triangle) when they were welded (STL always,
   /// PLY and OBJ with OpenOptions::weld); 0 when not welded.
   std::uint64_t unwelded_vertex_count = 0;
-  std::vector<std::string> elements;    ///< "vertex 100 (x float, y float, ...)" per element
-  std::vector<std::string> comments;    ///< PLY comment / obj_info lines
-  bool positions_in_place = false;      ///< true when positions are read from the input through mmap
+  std::vector<std::string> elements;  ///< "vertex 100 (x float, y float, ...)" per element
+  std::vector<std::string> comments;  ///< PLY comment / obj_info lines
+  bool positions_in_place = false;    ///< true when positions are read from the input through mmap
   /// Positions carry more than float precision: the file stores them as double (PLY
   /// double), or a text coordinate has more digits than a float keeps ("451234.567",
   /// where "0.1" or a float written with %.9g does not count). They are then read as
   /// double (PositionArray type f64), and Precision::automatic writes double output.
   bool double_precision = false;
-  Box3d bounds;                         ///< of the finite vertices
+  Box3d bounds;  ///< of the finite vertices
   /// Vertices with a NaN or infinite coordinate (see is_finite), the first of them by
   /// index and where it is in the file ("byte N" or "line N"); only the first is
   /// described, so a file full of them costs no memory.
@@ -138,7 +138,7 @@ class MeshInput {
 };
 
 struct OpenOptions {
-  std::string temp_dir;          ///< where temporary position arrays (and stream copies) go; empty = $TMPDIR or /tmp
+  std::string temp_dir;  ///< where temporary position arrays (and stream copies) go; empty = $TMPDIR or /tmp
   /// Weld vertices at exactly the same position into one (src/io/vertex_weld.hpp);
   /// STL input is always welded, since it stores every triangle's corners apart.
   bool weld = false;

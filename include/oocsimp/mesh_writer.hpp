@@ -33,8 +33,7 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// untouched and the temporary file removed); a device, FIFO or "-" is streamed into.
 /// Throws IoError.
 void write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format,
-                ScalarType precision = ScalarType::f32);
+                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32);
 
 /// The same into an OutputFile opened earlier; the caller commits it.
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,

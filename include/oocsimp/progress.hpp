@@ -11,8 +11,8 @@ namespace oocsimp {
 
 /// Reports one phase at a time on stderr: a bar with percent, rate and ETA when
 /// stderr is a terminal; otherwise (batch logs) "oocsimp: NAME started", a plain line
-/// every few seconds and "oocsimp: NAME done in ..."; nothing when quiet. A background thread also samples the process's anonymous
-/// resident memory so the peak can be reported (see peak_anon_bytes()).
+/// every few seconds and "oocsimp: NAME done in ..."; nothing when quiet. A background thread also samples the
+/// process's anonymous resident memory so the peak can be reported (see peak_anon_bytes()).
 class ProgressReporter {
  public:
   explicit ProgressReporter(bool quiet);

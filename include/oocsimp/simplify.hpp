@@ -56,9 +56,9 @@ enum class Precision {
 /// How the cell size is chosen: at most one of the three is set (non-zero); when none
 /// is, the ratio is kDefaultRatio.
 struct CellSizing {
-  double cell = 0;            ///< absolute cell side in model units
-  std::uint32_t grid = 0;     ///< cells along the bounding box's longest axis
-  double ratio = 0;           ///< approximate fraction of input triangles to keep, in (0, 1]
+  double cell = 0;         ///< absolute cell side in model units
+  std::uint32_t grid = 0;  ///< cells along the bounding box's longest axis
+  double ratio = 0;        ///< approximate fraction of input triangles to keep, in (0, 1]
 };
 
 /// The ratio when no size is given: "simplify this" keeps about a tenth of the triangles.
@@ -67,8 +67,8 @@ constexpr double kDefaultRatio = 0.1;
 struct SimplifyOptions {
   CellSizing sizing;
   ClusterMethod method = ClusterMethod::floating;
-  CellShape cell_shape = CellShape::cube;                     ///< floating only
-  AssignRule assign = AssignRule::nearest;                    ///< floating only
+  CellShape cell_shape = CellShape::cube;                           ///< floating only
+  AssignRule assign = AssignRule::nearest;                          ///< floating only
   RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   /// Whether memory_budget bounds the whole process's anonymous memory, what it held
@@ -78,7 +78,7 @@ struct SimplifyOptions {
   /// PLY and OBJ: weld vertices at exactly the same position before clustering (STL
   /// input always is; see OpenOptions::weld).
   bool weld = false;
-  double tile_side = 0;             ///< floating: tile side in model units; 0 = from the budget
+  double tile_side = 0;  ///< floating: tile side in model units; 0 = from the budget
   /// Floating: keep the binned and graded tiles in temp_dir after the run, and reuse
   /// tiles kept by an earlier run on the same input (same path, inode, size and
   /// times, and the same content checksum) when the cell still fits in a tile,
@@ -86,9 +86,9 @@ struct SimplifyOptions {
   /// a line in SimplifyStats::warnings.
   bool keep_temp = false;
   SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
-  unsigned threads = 0;             ///< 0 = all cores
-  std::string temp_dir;             ///< empty = default_temp_dir()
-  Precision precision = Precision::automatic;  ///< of the output positions
+  unsigned threads = 0;                                              ///< 0 = all cores
+  std::string temp_dir;                                              ///< empty = default_temp_dir()
+  Precision precision = Precision::automatic;                        ///< of the output positions
   ProgressReporter* progress = nullptr;
   /// Floating: called between the phases of a run, whose tiles' buffers were just
   /// freed on several threads, so the process's allocator can give them back to the
@@ -107,10 +107,10 @@ struct SimplifyStats {
   std::uint64_t input_vertices = 0;     ///< after welding, when welded
   std::uint64_t unwelded_vertices = 0;  ///< vertices as stored, when welded (STL, --weld); 0: not welded
   std::uint64_t input_triangles = 0;
-  SkippedFaces skipped;                  ///< faces the input lost, by reason (see TriangleStream)
-  std::uint64_t non_finite_vertices = 0;  ///< vertices with a NaN or infinite coordinate, ignored
-  std::uint64_t first_non_finite_vertex = 0;     ///< the first of them by index
-  std::string first_non_finite_position;         ///< where it is in the file ("byte N", "line N")
+  SkippedFaces skipped;                       ///< faces the input lost, by reason (see TriangleStream)
+  std::uint64_t non_finite_vertices = 0;      ///< vertices with a NaN or infinite coordinate, ignored
+  std::uint64_t first_non_finite_vertex = 0;  ///< the first of them by index
+  std::string first_non_finite_position;      ///< where it is in the file ("byte N", "line N")
   std::uint64_t occupied_cells = 0;
   std::uint64_t output_vertices = 0;
   std::uint64_t output_triangles = 0;
@@ -121,13 +121,13 @@ struct SimplifyStats {
   /// cluster, stitch, assemble), then "write".
   std::vector<PhaseTime> phases;
   double seconds_total = 0;
-  std::uint64_t tiles = 0;            ///< floating: occupied tiles
-  std::uint64_t rounds = 0;           ///< floating: the first greedy and the sweeps of border decisions that changed something
-  std::uint64_t spill_bytes = 0;      ///< floating: tile spill written to disk
-  std::uint64_t spill_raw_bytes = 0;  ///< floating: the same before compression
+  std::uint64_t tiles = 0;   ///< floating: occupied tiles
+  std::uint64_t rounds = 0;  ///< floating: the first greedy and the sweeps of border decisions that changed something
+  std::uint64_t spill_bytes = 0;            ///< floating: tile spill written to disk
+  std::uint64_t spill_raw_bytes = 0;        ///< floating: the same before compression
   std::uint64_t spill_bytes_in_memory = 0;  ///< floating: spill records held in memory instead (within the budget)
-  bool resumed = false;               ///< floating: reused tiles kept by an earlier run
-  std::uint64_t largest_tile_records = 0;  ///< floating: triangle records of the fullest tile (its working set)
+  bool resumed = false;                     ///< floating: reused tiles kept by an earlier run
+  std::uint64_t largest_tile_records = 0;   ///< floating: triangle records of the fullest tile (its working set)
   /// Floating, per sweep of border decisions after the first greedy (the last one
   /// only confirms): the tiles looked at (a neighbour's border changed since they
   /// last ran) and, of those, the tiles re-run (their external centres had changed).

@@ -48,7 +48,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   out.bucket_span = std::max<std::uint64_t>(1, (tiles.triangle_count + buckets - 1) / buckets);
   const std::uint64_t bucket_span = out.bucket_span;
   out.corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), 4096, spill.compress,
-                                             spill.allow.buckets);
+                                              spill.allow.buckets);
   out.inside =
       std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), 1024, spill.compress, spill.allow.buckets);
   for (std::size_t b = 0; b < buckets; ++b) {

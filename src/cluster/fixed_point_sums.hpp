@@ -25,8 +25,10 @@ struct Fixed {
     // Round to nearest, ties to even: adding and taking away 1.5 * 2^52 does it in
     // two additions where |s| < 2^51 (nearly always: it is a library call otherwise).
     constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
-    if (std::fabs(s) < 2251799813685248.0) s = (s + kRound) - kRound;
-    else s = std::nearbyint(s);
+    if (std::fabs(s) < 2251799813685248.0)
+      s = (s + kRound) - kRound;
+    else
+      s = std::nearbyint(s);
     if (!(std::fabs(s) < 9.2e18)) throw std::overflow_error("floating cells: cluster sum out of fixed-point range");
     return std::int64_t(s);
   }
@@ -120,9 +122,7 @@ struct ClusterRecord {
   /// The summed quadric (relative to the centre, in cell units; c = 0).
   Quadric quadric() const { return quadric_sum.value(); }
   /// The members' mean offset from the centre, in cell units (0 for no members).
-  Vec3d mean() const {
-    return offset_sum.value() / double(std::max<std::uint64_t>(members, 1));
-  }
+  Vec3d mean() const { return offset_sum.value() / double(std::max<std::uint64_t>(members, 1)); }
 };
 
 // One tile's share of a cluster, spilled by centre index and merged in assemble().

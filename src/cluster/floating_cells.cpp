@@ -53,8 +53,10 @@ class CubeLists {
     // Dense when the heads are not much more than the items (clearing them must not
     // cost more than the lookups save) and fit kDenseCubes.
     dense_ = cubes <= double(kDenseCubes) && cubes <= 64.0 * double(expected_items) + 4096;
-    if (dense_) dense_heads_.assign(std::size_t(cubes), kNone);
-    else sparse_heads_ = FlatHashMap<GridCoord, std::uint32_t, GridCoordHash>(4 * expected_items + 16);
+    if (dense_)
+      dense_heads_.assign(std::size_t(cubes), kNone);
+    else
+      sparse_heads_ = FlatHashMap<GridCoord, std::uint32_t, GridCoordHash>(4 * expected_items + 16);
     next_.reserve(expected_items);
   }
 
@@ -249,7 +251,8 @@ std::vector<unsigned char> TileVertexBlock::build(const std::vector<GradedVertex
   for (std::size_t i = 0; i < filed.size(); ++i) b.by_cube_[i] = filed[i].second;
   if (b.dense_cubes_) {
     std::fill(b.dense_cubes_, b.dense_cubes_ + std::size_t(box_cubes), ~std::uint32_t(0));
-    for (std::size_t c = 0; c < keys.size(); ++c) b.dense_cubes_[dense_index[filed[starts[c]].second]] = std::uint32_t(c);
+    for (std::size_t c = 0; c < keys.size(); ++c)
+      b.dense_cubes_[dense_index[filed[starts[c]].second]] = std::uint32_t(c);
   }
   std::vector<char> is_centre = decisions(sorted, centres);
   if (!is_centre.empty()) std::memcpy(b.is_centre_, is_centre.data(), is_centre.size());
@@ -351,8 +354,10 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
       }
       return false;
     };
-    if (appeared) block.any_centre_near(p, visit);
-    else block.any_near(p, [&](std::uint32_t j) { return !block.is_centre(j) && visit(j); });
+    if (appeared)
+      block.any_centre_near(p, visit);
+    else
+      block.any_near(p, [&](std::uint32_t j) { return !block.is_centre(j) && visit(j); });
   };
   for (const auto& c : changed)
     queue_reached(c.first->p, c.second, [&](std::uint32_t j) { return precedes(*c.first, block.vertex(j)); });
@@ -396,17 +401,23 @@ std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& ve
       if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
       double d2 = squared_distance(v.p, c.p);
       bool better;
-      if (!best) better = true;
-      else if (rule == AssignRule::heaviest) better = precedes(c, *best);
-      else better = d2 < best_d2 || (d2 == best_d2 && precedes(c, *best));
+      if (!best)
+        better = true;
+      else if (rule == AssignRule::heaviest)
+        better = precedes(c, *best);
+      else
+        better = d2 < best_d2 || (d2 == best_d2 && precedes(c, *best));
       if (better) {
         best = &c;
         best_d2 = d2;
       }
     });
-    if (self) out[i] = std::uint32_t(self - centres.data());
-    else if (best) out[i] = std::uint32_t(best - centres.data());
-    else throw std::logic_error("floating cells: vertex " + std::to_string(v.index) + " is covered by no centre");
+    if (self)
+      out[i] = std::uint32_t(self - centres.data());
+    else if (best)
+      out[i] = std::uint32_t(best - centres.data());
+    else
+      throw std::logic_error("floating cells: vertex " + std::to_string(v.index) + " is covered by no centre");
   }
   return out;
 }

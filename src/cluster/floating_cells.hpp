@@ -99,8 +99,8 @@ class TileVertexBlock {
   // Walks, for the cubes near p, lists[starts[c] ..] (of length counts[c], or up
   // to starts[c + 1] without counts) while entries precede `before`.
   template <class F>
-  bool scan_near(const Vec3d& p, const std::uint32_t* starts, const std::uint32_t* lists,
-                 const std::uint32_t* counts, F&& f, std::uint32_t before) const {
+  bool scan_near(const Vec3d& p, const std::uint32_t* starts, const std::uint32_t* lists, const std::uint32_t* counts,
+                 F&& f, std::uint32_t before) const {
     GridCoord lo, hi;
     cubes_near(p, cell_size_, &lo, &hi);
     auto from = [](std::int64_t c, std::int64_t o) { return std::max(c - o, std::int64_t(0)); };
@@ -146,10 +146,10 @@ class TileVertexBlock {
   std::int64_t dims_[3] = {0, 0, 0};  // the box of cubes, when dense_cubes_ is laid out
   double cell_size_ = 1;
   GradedVertex* vertices_ = nullptr;
-  std::uint64_t* cube_keys_ = nullptr;    // occupied cubes, sorted
-  std::uint32_t* cube_starts_ = nullptr;  // per cube, its first entry in by_cube_
-  std::uint32_t* dense_cubes_ = nullptr;  // per cube of the box, its position in cube_keys_ (or ~0)
-  std::uint32_t* by_cube_ = nullptr;      // vertex positions grouped by cube
+  std::uint64_t* cube_keys_ = nullptr;        // occupied cubes, sorted
+  std::uint32_t* cube_starts_ = nullptr;      // per cube, its first entry in by_cube_
+  std::uint32_t* dense_cubes_ = nullptr;      // per cube of the box, its position in cube_keys_ (or ~0)
+  std::uint32_t* by_cube_ = nullptr;          // vertex positions grouped by cube
   std::uint32_t* centre_by_cube_ = nullptr;   // per cube, from cube_starts_[c]: its centres, ascending
   std::uint32_t* centres_in_cube_ = nullptr;  // per cube, how many
   char* is_centre_ = nullptr;

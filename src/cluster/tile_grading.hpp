@@ -44,9 +44,7 @@ struct TileLocalMesh {
         corners[3 * t + std::size_t(k)] = id;
       }
   }
-  LocalMesh mesh() const {
-    return {corners.data(), corners.size() / 3, index.data(), positions.data(), index.size()};
-  }
+  LocalMesh mesh() const { return {corners.data(), corners.size() / 3, index.data(), positions.data(), index.size()}; }
 };
 
 /// The tile's owned vertices (those whose records say so) graded from the tile's

@@ -122,11 +122,10 @@ class TableBudget {
     const double room = budget_.bytes() > held_ ? double(budget_.bytes() - held_) : 0.0;
     const std::uint32_t coarser = coarser_resolution(0.9 * room / double(kRunBytesPerCell));
     const double run = occupancy_.occupied_by(resolution_, vertices_) * double(kRunBytesPerCell);
-    budget_.check(held_, bytes,
-                  "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
-                  "give --mem " + mib_text(held_ + std::max(bytes, std::uint64_t(run))) +
-                      "M or more, or a coarser grid (--grid " + std::to_string(coarser) +
-                      " or less, or a smaller --ratio)");
+    budget_.check(
+        held_, bytes, "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
+        "give --mem " + mib_text(held_ + std::max(bytes, std::uint64_t(run))) +
+            "M or more, or a coarser grid (--grid " + std::to_string(coarser) + " or less, or a smaller --ratio)");
   }
 
  private:
@@ -260,8 +259,9 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
           kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
-        chunks.saw(c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) + c.kept.capacity() * sizeof(std::uint32_t),
-                   c.kept.size() / 3);
+        chunks.saw(
+            c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) + c.kept.capacity() * sizeof(std::uint32_t),
+            c.kept.size() / 3);
         budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes(),
                      std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept.size()) +
                          " kept triangles after " + std::to_string(total) + " triangles");
@@ -304,8 +304,8 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   const std::size_t kept_count = kept.size();
   // The output tables next to the cells: numbering and triangles, then (numbering
   // freed) the positions of at most every cell.
-  const std::string output = std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept_count) +
-                             " output triangles";
+  const std::string output =
+      std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept_count) + " output triangles";
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * kept_count;
   budget.check(cells.bytes() + kept.bytes() + 2 * sizeof(std::uint32_t) * cells.size() + triangle_bytes, output);
 
@@ -327,25 +327,26 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     }
   std::vector<std::uint32_t>().swap(out_index);
   kept = TriangleSet();
-  budget.check(cells.bytes() + sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
-                   3 * sizeof(double) * order.size(),
-               output);
+  budget.check(
+      cells.bytes() + sizeof(std::uint32_t) * order.capacity() + triangle_bytes + 3 * sizeof(double) * order.size(),
+      output);
 
   mesh.positions.resize(3 * order.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const CellRecord& rec = cells.value(order[i]);
-      Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
-      Vec3d hi = lo + Vec3d{grid.cell, grid.cell, grid.cell};
-      const VertexSum& s = rec.vertices;
-      const double half = 0.5 * grid.cell;
-      Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
-      Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
-      mesh.positions[3 * i] = x.x;
-      mesh.positions[3 * i + 1] = x.y;
-      mesh.positions[3 * i + 2] = x.z;
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const CellRecord& rec = cells.value(order[i]);
+                        Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
+                        Vec3d hi = lo + Vec3d{grid.cell, grid.cell, grid.cell};
+                        const VertexSum& s = rec.vertices;
+                        const double half = 0.5 * grid.cell;
+                        Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
+                        Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
+                        mesh.positions[3 * i] = x.x;
+                        mesh.positions[3 * i + 1] = x.y;
+                        mesh.positions[3 * i + 2] = x.z;
+                      }
+                    });
   double t3 = now_seconds();
 
   if (stats) {

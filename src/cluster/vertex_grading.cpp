@@ -37,8 +37,7 @@ double weight_of(const Vec3d* edges, std::size_t count, const unsigned char* rep
     dirs[n++] = d;
   }
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = i + 1; j < n; ++j)
-      min_dot = std::min(min_dot, dot(dirs[i], dirs[j]));
+    for (std::size_t j = i + 1; j < n; ++j) min_dot = std::min(min_dot, dot(dirs[i], dirs[j]));
   // cos(theta / 2) = sqrt((1 + cos theta) / 2)
   double factor1 = std::sqrt(std::max(0.0, (1 + std::max(-1.0, min_dot)) / 2));
   return factor1 * longest;

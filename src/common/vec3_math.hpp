@@ -44,7 +44,11 @@ inline double squared_distance(const Vec3d& a, const Vec3d& b) { return squared_
 inline double distance(const Vec3d& a, const Vec3d& b) { return length(a - b); }
 
 /// Per coordinate std::min(a, b) / std::max(a, b) (so a NaN in b is ignored, one in a kept).
-inline Vec3d min(const Vec3d& a, const Vec3d& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
-inline Vec3d max(const Vec3d& a, const Vec3d& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+inline Vec3d min(const Vec3d& a, const Vec3d& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+}
+inline Vec3d max(const Vec3d& a, const Vec3d& b) {
+  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+}
 
 }  // namespace oocsimp

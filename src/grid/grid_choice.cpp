@@ -12,8 +12,7 @@
 
 namespace oocsimp {
 
-std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds,
-                                           std::uint64_t stride) {
+std::vector<std::uint64_t> count_occupancy(const PositionArray& positions, const Box3d& bounds, std::uint64_t stride) {
   stride = std::max<std::uint64_t>(stride, 1);
   std::vector<GridSpec> grids;
   for (std::uint32_t n : kLevels) grids.push_back(GridSpec::with_divisions(bounds, n));

@@ -90,9 +90,12 @@ static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyO
 // or the page cache holds it (and kept tiles outlive the run on disk).
 static bool spill_compression(const MeshInput& input, const SimplifyOptions& options, const SpillAllowances& allow) {
   switch (options.spill_compression) {
-    case SpillCompression::zstd: return true;
-    case SpillCompression::none: return false;
-    case SpillCompression::automatic: break;
+    case SpillCompression::zstd:
+      return true;
+    case SpillCompression::none:
+      return false;
+    case SpillCompression::automatic:
+      break;
   }
   // What goes to the disk: the part that does not stay in memory.
   const std::uint64_t to_disk = triangle_spill_bytes(input) - std::min(triangle_spill_bytes(input), allow.triangles);
@@ -130,9 +133,8 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
   }
   // Blocks beyond 32 KiB buy nothing (10M sphere, 2 threads: 8192 records per
   // buffer ran as fast as 1024, with 175 instead of 97 MiB at the peak).
-  std::size_t buffer_records =
-      std::clamp<std::size_t>(std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)),
-                              kMinBufferRecords, 1024);
+  std::size_t buffer_records = std::clamp<std::size_t>(
+      std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), kMinBufferRecords, 1024);
   // Free space for the spill, checked before writing it, when some of it goes to the disk.
   if (spill.expected_bytes > spill.allow.triangles + spill.allow.vertex_blocks)
     require_free_space(spill.dir, spill.expected_bytes, "the tile spill");

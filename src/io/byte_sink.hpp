@@ -37,7 +37,9 @@ class ByteSink {
   /// Replaces the message of a failed write: `describe(bytes already on disk, errno)`
   /// becomes the IoError's text, so the owner can say what the file was for and how
   /// much room it needs.
-  void on_write_error(std::function<std::string(std::uint64_t, int)> describe) { describe_error_ = std::move(describe); }
+  void on_write_error(std::function<std::string(std::uint64_t, int)> describe) {
+    describe_error_ = std::move(describe);
+  }
 
  private:
   void write_slow(const void* data, std::size_t n);

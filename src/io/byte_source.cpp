@@ -167,8 +167,7 @@ std::size_t ByteSource::fill_raw(unsigned char* dst, std::size_t cap) {
       std::size_t n = read_raw(zin_.data(), zin_.size());
       if (n == 0) {
         raw_eof_ = true;
-        if (!frame_done_)
-          throw InputError(at_byte(path(), raw_consumed_, "truncated zstd stream (compressed offset)"));
+        if (!frame_done_) throw InputError(at_byte(path(), raw_consumed_, "truncated zstd stream (compressed offset)"));
         break;
       }
       zin_pos_ = 0;
@@ -236,7 +235,8 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
   }
   while (n > 0) {
     std::size_t chunk = n < kMaxPeek ? std::size_t(n) : kMaxPeek;
-    if (!peek(chunk)) throw InputError(at_byte(path(), offset(), std::string("unexpected end of file reading ") + what));
+    if (!peek(chunk))
+      throw InputError(at_byte(path(), offset(), std::string("unexpected end of file reading ") + what));
     consume(chunk);
     n -= chunk;
   }
@@ -245,9 +245,9 @@ void ByteSource::skip(std::uint64_t n, const char* what) {
 bool ByteSource::at_end() { return peek(1) == nullptr; }
 
 void ByteSource::line_too_long(std::size_t max_length, const char* too_long) const {
-  std::string what = too_long ? std::string(too_long)
-                              : "line longer than " + size_text(max_length) +
-                                    " (binary data, or a file without line ends?)";
+  std::string what = too_long
+                         ? std::string(too_long)
+                         : "line longer than " + size_text(max_length) + " (binary data, or a file without line ends?)";
   throw InputError(at_line(path(), line_ + 1, what));
 }
 

@@ -38,7 +38,8 @@ class CheckedTriangleStream : public TriangleStream {
           ++repeated_index_;
           continue;
         }
-        if (check_finite_ && !(is_finite(positions_.get(a)) && is_finite(positions_.get(b)) && is_finite(positions_.get(c)))) {
+        if (check_finite_ &&
+            !(is_finite(positions_.get(a)) && is_finite(positions_.get(b)) && is_finite(positions_.get(c)))) {
           ++non_finite_;
           continue;
         }

@@ -212,12 +212,18 @@ void write_stl_ascii(ByteSink& sink, const MeshArrays& m) {
 
 void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const std::string& path) {
   switch (format) {
-    case MeshFormat::obj: return write_obj(sink, m);
-    case MeshFormat::off: return write_off(sink, m);
-    case MeshFormat::stl_binary: return write_stl_binary(sink, m, path);
-    case MeshFormat::stl_ascii: return write_stl_ascii(sink, m);
-    case MeshFormat::ply_ascii: return write_ply(sink, m, true);
-    case MeshFormat::ply_binary: return write_ply(sink, m, false);
+    case MeshFormat::obj:
+      return write_obj(sink, m);
+    case MeshFormat::off:
+      return write_off(sink, m);
+    case MeshFormat::stl_binary:
+      return write_stl_binary(sink, m, path);
+    case MeshFormat::stl_ascii:
+      return write_stl_ascii(sink, m);
+    case MeshFormat::ply_ascii:
+      return write_ply(sink, m, true);
+    case MeshFormat::ply_binary:
+      return write_ply(sink, m, false);
   }
 }
 

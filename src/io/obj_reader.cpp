@@ -69,9 +69,12 @@ class ObjTriangleStream : public TriangleStream {
       std::int64_t idx;
       if (!parse_int(vtok, &idx)) fail("malformed face index " + quoted(tok));
       std::int64_t abs;
-      if (idx > 0) abs = idx - 1;
-      else if (idx < 0) abs = std::int64_t(defined_) + idx;
-      else fail("face index 0 (OBJ indices start at 1)");
+      if (idx > 0)
+        abs = idx - 1;
+      else if (idx < 0)
+        abs = std::int64_t(defined_) + idx;
+      else
+        fail("face index 0 (OBJ indices start at 1)");
       if (abs < 0 || std::uint64_t(abs) >= defined_)
         fail("face index " + std::to_string(idx) + " refers to a vertex not defined yet (" + std::to_string(defined_) +
              " so far)");
@@ -109,12 +112,13 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       for (int k = 0; k < 3; ++k) {
         std::string_view tok = t.next();
         if (!parse_double(tok, &c[k]))
-          throw InputError(at_line(src.path(), src.line_number(),
-                                   tok.empty() ? "vertex with fewer than 3 coordinates"
-                                               : "malformed vertex coordinate " + quoted(tok)));
+          throw InputError(at_line(
+              src.path(), src.line_number(),
+              tok.empty() ? "vertex with fewer than 3 coordinates" : "malformed vertex coordinate " + quoted(tok)));
         fits_float = fits_float && decimal_fits_float(tok, c[k]);
       }
-      builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
+      builder.add(
+          c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
     } else if (is_keyword(line, 'f')) {
       ++faces;
     }

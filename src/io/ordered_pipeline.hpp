@@ -24,27 +24,22 @@ void run_ordered_pipeline(std::size_t tokens, Produce produce, Work work, Merge 
     free_chunks.push(pool.back().get());
   }
   tbb::parallel_pipeline(
-      tokens,
-      tbb::make_filter<void, Chunk*>(tbb::filter_mode::serial_in_order,
-                                     [&](tbb::flow_control& fc) -> Chunk* {
-                                       Chunk* c = nullptr;
-                                       free_chunks.try_pop(c);  // never empty: tokens bound the chunks in flight
-                                       if (!produce(*c)) {
-                                         free_chunks.push(c);
-                                         fc.stop();
-                                         return nullptr;
-                                       }
-                                       return c;
-                                     }) &
-          tbb::make_filter<Chunk*, Chunk*>(tbb::filter_mode::parallel,
-                                           [&](Chunk* c) {
-                                             work(*c);
-                                             return c;
-                                           }) &
-          tbb::make_filter<Chunk*, void>(tbb::filter_mode::serial_in_order, [&](Chunk* c) {
-            merge(*c);
-            free_chunks.push(c);
-          }));
+      tokens, tbb::make_filter<void, Chunk*>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> Chunk* {
+                Chunk* c = nullptr;
+                free_chunks.try_pop(c);  // never empty: tokens bound the chunks in flight
+                if (!produce(*c)) {
+                  free_chunks.push(c);
+                  fc.stop();
+                  return nullptr;
+                }
+                return c;
+              }) & tbb::make_filter<Chunk*, Chunk*>(tbb::filter_mode::parallel, [&](Chunk* c) {
+                work(*c);
+                return c;
+              }) & tbb::make_filter<Chunk*, void>(tbb::filter_mode::serial_in_order, [&](Chunk* c) {
+                merge(*c);
+                free_chunks.push(c);
+              }));
 }
 
 }  // namespace oocsimp

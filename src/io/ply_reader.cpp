@@ -27,20 +27,30 @@ enum class PlyFormat { ascii, binary_le, binary_be };
 
 std::size_t type_size(PlyType t) {
   switch (t) {
-    case PlyType::i8: case PlyType::u8: return 1;
-    case PlyType::i16: case PlyType::u16: return 2;
-    case PlyType::i32: case PlyType::u32: case PlyType::f32: return 4;
-    case PlyType::f64: return 8;
+    case PlyType::i8:
+    case PlyType::u8:
+      return 1;
+    case PlyType::i16:
+    case PlyType::u16:
+      return 2;
+    case PlyType::i32:
+    case PlyType::u32:
+    case PlyType::f32:
+      return 4;
+    case PlyType::f64:
+      return 8;
   }
   return 0;
 }
 
 bool parse_type(std::string_view s, PlyType* t) {
-  static const struct { const char* name; PlyType type; } names[] = {
-      {"char", PlyType::i8},     {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
-      {"short", PlyType::i16},   {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
-      {"int", PlyType::i32},     {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
-      {"float", PlyType::f32},   {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
+  static const struct {
+    const char* name;
+    PlyType type;
+  } names[] = {{"char", PlyType::i8},   {"int8", PlyType::i8},     {"uchar", PlyType::u8},   {"uint8", PlyType::u8},
+               {"short", PlyType::i16}, {"int16", PlyType::i16},   {"ushort", PlyType::u16}, {"uint16", PlyType::u16},
+               {"int", PlyType::i32},   {"int32", PlyType::i32},   {"uint", PlyType::u32},   {"uint32", PlyType::u32},
+               {"float", PlyType::f32}, {"float32", PlyType::f32}, {"double", PlyType::f64}, {"float64", PlyType::f64}};
   for (const auto& n : names)
     if (s == n.name) {
       *t = n.type;
@@ -110,14 +120,22 @@ T load(const unsigned char* p, bool swap) {
 
 double load_double(const unsigned char* p, PlyType t, bool swap) {
   switch (t) {
-    case PlyType::i8: return load<std::int8_t>(p, swap);
-    case PlyType::u8: return load<std::uint8_t>(p, swap);
-    case PlyType::i16: return load<std::int16_t>(p, swap);
-    case PlyType::u16: return load<std::uint16_t>(p, swap);
-    case PlyType::i32: return load<std::int32_t>(p, swap);
-    case PlyType::u32: return load<std::uint32_t>(p, swap);
-    case PlyType::f32: return load<float>(p, swap);
-    case PlyType::f64: return load<double>(p, swap);
+    case PlyType::i8:
+      return load<std::int8_t>(p, swap);
+    case PlyType::u8:
+      return load<std::uint8_t>(p, swap);
+    case PlyType::i16:
+      return load<std::int16_t>(p, swap);
+    case PlyType::u16:
+      return load<std::uint16_t>(p, swap);
+    case PlyType::i32:
+      return load<std::int32_t>(p, swap);
+    case PlyType::u32:
+      return load<std::uint32_t>(p, swap);
+    case PlyType::f32:
+      return load<float>(p, swap);
+    case PlyType::f64:
+      return load<double>(p, swap);
   }
   return 0;
 }
@@ -125,13 +143,20 @@ double load_double(const unsigned char* p, PlyType t, bool swap) {
 // Integer types only (checked when the header is read).
 std::int64_t load_int(const unsigned char* p, PlyType t, bool swap) {
   switch (t) {
-    case PlyType::i8: return load<std::int8_t>(p, swap);
-    case PlyType::u8: return load<std::uint8_t>(p, swap);
-    case PlyType::i16: return load<std::int16_t>(p, swap);
-    case PlyType::u16: return load<std::uint16_t>(p, swap);
-    case PlyType::i32: return load<std::int32_t>(p, swap);
-    case PlyType::u32: return load<std::uint32_t>(p, swap);
-    default: return 0;
+    case PlyType::i8:
+      return load<std::int8_t>(p, swap);
+    case PlyType::u8:
+      return load<std::uint8_t>(p, swap);
+    case PlyType::i16:
+      return load<std::int16_t>(p, swap);
+    case PlyType::u16:
+      return load<std::uint16_t>(p, swap);
+    case PlyType::i32:
+      return load<std::int32_t>(p, swap);
+    case PlyType::u32:
+      return load<std::uint32_t>(p, swap);
+    default:
+      return 0;
   }
 }
 
@@ -163,10 +188,14 @@ PlyHeader read_header(ByteSource& src) {
     } else if (kw == "format") {
       if (have_format) header_error(src, "second format line");
       std::string_view f = t.next(), v = t.next();
-      if (f == "ascii") h.format = PlyFormat::ascii;
-      else if (f == "binary_little_endian") h.format = PlyFormat::binary_le;
-      else if (f == "binary_big_endian") h.format = PlyFormat::binary_be;
-      else header_error(src, "unknown PLY format " + quoted(f));
+      if (f == "ascii")
+        h.format = PlyFormat::ascii;
+      else if (f == "binary_little_endian")
+        h.format = PlyFormat::binary_le;
+      else if (f == "binary_big_endian")
+        h.format = PlyFormat::binary_be;
+      else
+        header_error(src, "unknown PLY format " + quoted(f));
       if (v != "1.0" && v != "1") header_error(src, "unsupported PLY version " + quoted(v) + " (expected 1.0)");
       have_format = true;
     } else if (kw == "element") {
@@ -253,8 +282,10 @@ class ElementReader {
   void read_record(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values,
                    const int* want = nullptr, int nwant = 0) {
     record_start_ = h_.format == PlyFormat::ascii ? src_.line_number() + 1 : src_.offset();
-    if (h_.format == PlyFormat::ascii) read_ascii(e, list_prop, list, values, want, nwant);
-    else read_binary(e, list_prop, list, values, want, nwant);
+    if (h_.format == PlyFormat::ascii)
+      read_ascii(e, list_prop, list, values, want, nwant);
+    else
+      read_binary(e, list_prop, list, values, want, nwant);
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -294,7 +325,8 @@ class ElementReader {
       std::int64_t count = load_int(need(csz, e), p.count_type, swap_);
       src_.consume(csz);
       if (count < 0) fail("negative list count " + std::to_string(count));
-      if (std::uint64_t(count) > kMaxPolygonCorners) fail("list count " + std::to_string(count) + " is implausibly large");
+      if (std::uint64_t(count) > kMaxPolygonCorners)
+        fail("list count " + std::to_string(count) + " is implausibly large");
       std::size_t isz = type_size(p.type);
       if (pi == list_prop) {
         list->clear();
@@ -310,8 +342,8 @@ class ElementReader {
     }
   }
 
-  void read_ascii(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values,
-                  const int* want, int nwant) {
+  void read_ascii(const PlyElement& e, int list_prop, std::vector<std::uint64_t>* list, double* values, const int* want,
+                  int nwant) {
     std::string_view line;
     do {
       if (!src_.next_line(&line)) fail("unexpected end of file in element " + quoted(e.name));
@@ -339,7 +371,8 @@ class ElementReader {
       std::string_view tok = t.next();
       if (!parse_int(tok, &count)) fail("malformed list count " + quoted(tok));
       if (count < 0) fail("negative list count " + std::to_string(count));
-      if (std::uint64_t(count) > kMaxPolygonCorners) fail("list count " + std::to_string(count) + " is implausibly large");
+      if (std::uint64_t(count) > kMaxPolygonCorners)
+        fail("list count " + std::to_string(count) + " is implausibly large");
       if (pi == list_prop) list->clear();
       for (std::int64_t k = 0; k < count; ++k) {
         tok = t.next();
@@ -417,7 +450,8 @@ class PlyTriangleStream : public TriangleStream {
           for (int k = 0; k < 3; ++k) {
             if (swap) v[k] = __builtin_bswap32(v[k]);
             // A negative int index reads as a huge unsigned one: both fail this test.
-            if (v[k] >= vertex_count_) fast_index_error(fast_signed_ ? std::int64_t(std::int32_t(v[k])) : std::int64_t(v[k]));
+            if (v[k] >= vertex_count_)
+              fast_index_error(fast_signed_ ? std::int64_t(std::int32_t(v[k])) : std::int64_t(v[k]));
             out[3 * n + k] = v[k];
           }
           src_.consume(13);
@@ -455,9 +489,9 @@ class PlyTriangleStream : public TriangleStream {
   }
 
   [[noreturn]] void fast_index_error(std::int64_t v) const {
-    std::string what = v < 0 ? "negative vertex index " + std::to_string(v)
-                             : "vertex index " + std::to_string(v) + " out of range (" +
-                                   std::to_string(vertex_count_) + " vertices)";
+    std::string what =
+        v < 0 ? "negative vertex index " + std::to_string(v)
+              : "vertex index " + std::to_string(v) + " out of range (" + std::to_string(vertex_count_) + " vertices)";
     throw InputError(at_byte(src_.path(), src_.offset(), what));
   }
 
@@ -555,8 +589,8 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     }
   }
   PlyType xt = v.props[h->xyz[0]].type;
-  bool same_float_type = (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt &&
-                         v.props[h->xyz[2]].type == xt;
+  bool same_float_type =
+      (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt && v.props[h->xyz[2]].type == xt;
   std::size_t next_element = 0;  // the first element that src has not read yet
   if (offset_known && src.content_size_known() && v.fixed_size() && same_float_type) {
     std::size_t rs = v.record_size();
@@ -584,7 +618,8 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
-    if (same_float_type) builder.declare(xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64);
+    if (same_float_type)
+      builder.declare(xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64);
     else if (xt == PlyType::f64 || v.props[h->xyz[1]].type == PlyType::f64 || v.props[h->xyz[2]].type == PlyType::f64)
       builder.declare(ScalarType::f64);
     if (src.content_size_known()) {
@@ -600,7 +635,8 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     for (std::uint64_t i = 0; i < v.count; ++i) {
       reader.read_record(v, -1, nullptr, xyz, h->xyz, 3);
       builder.add(xyz[0], xyz[1], xyz[2], [&] { return reader.record_position(); });
-      if (options.progress && (i & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+      if (options.progress && (i & 0xFFFF) == 0)
+        options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
     }
     builder.finish(out);
     next_element = std::size_t(h->vertex) + 1;
@@ -616,7 +652,9 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     // No triangle stream reads to the end, so the end is checked here.
     ElementReader reader(src, *h);
     check_nothing_follows(src, reader, *h, next_element);
-    out.impl->make_triangles = []() -> std::unique_ptr<TriangleStream> { return std::make_unique<EmptyTriangleStream>(); };
+    out.impl->make_triangles = []() -> std::unique_ptr<TriangleStream> {
+      return std::make_unique<EmptyTriangleStream>();
+    };
   }
 }
 

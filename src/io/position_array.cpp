@@ -62,8 +62,10 @@ void PositionArrayBuilder::beyond_float_range(double x, double y, double z, cons
 }
 
 void PositionArrayBuilder::declare(ScalarType type) {
-  if (type == ScalarType::f32) round_to_float_ = true;
-  else store_as_double();
+  if (type == ScalarType::f32)
+    round_to_float_ = true;
+  else
+    store_as_double();
 }
 
 void PositionArrayBuilder::store_as_double() {

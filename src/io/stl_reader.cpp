@@ -87,7 +87,8 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
                   [&] { return "byte " + std::to_string(src.offset() + 12 + 12 * c); });
     }
     src.consume(50);
-    if (options.progress && (t & 0xFFFF) == 0) options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+    if (options.progress && (t & 0xFFFF) == 0)
+      options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
   }
   if (!src.at_end())
     throw InputError(at_byte(src.path(), src.offset(), "trailing data after " + std::to_string(n) + " triangles"));
@@ -108,7 +109,11 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
     std::string_view kw = t.next();
     if (kw.empty()) continue;
     if (ended) {
-      if (kw == "solid") { st = kFacet; ended = false; continue; }  // several solids in one file
+      if (kw == "solid") {
+        st = kFacet;
+        ended = false;
+        continue;
+      }  // several solids in one file
       fail("data after endsolid");
     }
     switch (st) {
@@ -117,7 +122,10 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
         st = kFacet;
         break;
       case kFacet:
-        if (kw == "endsolid") { ended = true; break; }
+        if (kw == "endsolid") {
+          ended = true;
+          break;
+        }
         if (kw != "facet") fail("expected \"facet\" or \"endsolid\", found " + quoted(kw));
         st = kLoop;
         break;
@@ -138,7 +146,8 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
           if (!parse_double(tok, &c[k])) fail("malformed vertex coordinate " + quoted(tok));
           fits_float = fits_float && decimal_fits_float(tok, c[k]);
         }
-        builder.add(c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
+        builder.add(
+            c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
         if (++corners == 3) st = kEndLoop;
         break;
       }
@@ -174,8 +183,10 @@ void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   out.info.format = binary ? "stl binary" : "stl ascii";
   PositionArrayBuilder builder(options.temp_dir, src.path());
   std::uint64_t n = 0;
-  if (binary) read_binary(src, options, builder, &n);
-  else read_ascii(src, options, builder, &n);
+  if (binary)
+    read_binary(src, options, builder, &n);
+  else
+    read_ascii(src, options, builder, &n);
   out.info.vertex_count = builder.count();
   out.info.face_count = n;
   out.info.elements = {"facet " + std::to_string(n)};

@@ -282,8 +282,8 @@ OutputFile::OutputFile(const std::string& path) : path_(path) {
   struct stat st;
   if (::stat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     if (S_ISDIR(st.st_mode)) throw IoError(system_error_text(path, "cannot write the output", EISDIR));
-    fd_ = S_ISSOCK(st.st_mode) ? connect_unix_socket(target_)
-                               : ::open(target_.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+    fd_ =
+        S_ISSOCK(st.st_mode) ? connect_unix_socket(target_) : ::open(target_.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
     if (fd_ < 0) throw IoError(system_error_text(path, "cannot open the output", errno));
     owns_fd_ = true;
     return;

@@ -100,9 +100,12 @@ inline bool decimal_fits_float(std::string_view token, double v) {
   bool point = false;
   for (; i < token.size(); ++i) {
     const char c = token[i];
-    if (c == '.') point = true;
-    else if (c >= '0' && c <= '9') digits_after_point += point ? 1 : 0;
-    else break;
+    if (c == '.')
+      point = true;
+    else if (c >= '0' && c <= '9')
+      digits_after_point += point ? 1 : 0;
+    else
+      break;
   }
   long exponent = 0;
   if (i < token.size() && (token[i] == 'e' || token[i] == 'E')) {

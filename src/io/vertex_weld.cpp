@@ -360,8 +360,10 @@ class Welder {
 }  // namespace
 
 void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget, bool wide_map) {
-  if (input.positions.type == ScalarType::f32) Welder<std::uint32_t>(input, temp_dir, memory_budget, wide_map).run();
-  else Welder<std::uint64_t>(input, temp_dir, memory_budget, wide_map).run();
+  if (input.positions.type == ScalarType::f32)
+    Welder<std::uint32_t>(input, temp_dir, memory_budget, wide_map).run();
+  else
+    Welder<std::uint64_t>(input, temp_dir, memory_budget, wide_map).run();
 }
 
 }  // namespace oocsimp

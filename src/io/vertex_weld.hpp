@@ -22,7 +22,6 @@ namespace oocsimp {
 /// `memory_budget` bytes of sort runs; the rest lives in files under `temp_dir`.
 /// `wide_map`: 8-byte vertex numbers in the map even where 4 would do (inputs beyond
 /// 2^32 vertices need them; tests use this to cover that layout on small inputs).
-void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget,
-                   bool wide_map = false);
+void weld_vertices(MeshInput& input, const std::string& temp_dir, std::uint64_t memory_budget, bool wide_map = false);
 
 }  // namespace oocsimp

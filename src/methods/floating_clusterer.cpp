@@ -73,8 +73,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   const bool resumed = options.keep_temp && kept.resume(cell.size, &tiles, &graded);
   const bool keeping = options.keep_temp && !resumed && kept.start();
   if (!resumed)
-    tiles = bin_triangles(input, plan_tile_side(input, options, cell.size), options.memory_budget, spill,
-                          options.progress);
+    tiles =
+        bin_triangles(input, plan_tile_side(input, options, cell.size), options.memory_budget, spill, options.progress);
   double t1 = now_seconds();
   release_memory(options);  // the binning chunks
 
@@ -152,9 +152,12 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
     stats->resumed = resumed;
     // A resumed run reads kept tiles where the others bin.
     const double rounds = t2 - rounds_start;
-    const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0}, {"grade", t2 - t1 - rounds},
-                                {"rounds", rounds},                    {"cluster", t3 - t2},
-                                {"stitch", t4 - t3},                   {"assemble", t5 - t4}};
+    const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0},
+                                {"grade", t2 - t1 - rounds},
+                                {"rounds", rounds},
+                                {"cluster", t3 - t2},
+                                {"stitch", t4 - t3},
+                                {"assemble", t5 - t4}};
     stats->phases.insert(stats->phases.end(), std::begin(phases), std::end(phases));
   }
   return m;

@@ -68,7 +68,7 @@ namespace {
 constexpr std::size_t kChunkTriangles = 1 << 14;
 constexpr std::uint32_t kTriangleLeaf = 4;  // exact triangle tests cost several box tests
 constexpr std::uint32_t kPointLeaf = 8;
-constexpr std::uint32_t kSampleLeaf = 4;  // B samples: their leaves are tested once per triangle
+constexpr std::uint32_t kSampleLeaf = 4;               // B samples: their leaves are tested once per triangle
 constexpr std::uint64_t kSurfaceA = 1, kSurfaceB = 2;  // separate random sequences per surface
 constexpr std::size_t kQueryGrain = 1 << 12;
 
@@ -147,8 +147,8 @@ InMemoryMesh load_in_memory(MeshInput& input) {
   std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
   while (std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles))
     for (std::size_t t = 0; t < n; ++t)
-      mesh.triangles.push_back({{std::uint32_t(buffer[3 * t]), std::uint32_t(buffer[3 * t + 1]),
-                                 std::uint32_t(buffer[3 * t + 2])}});
+      mesh.triangles.push_back(
+          {{std::uint32_t(buffer[3 * t]), std::uint32_t(buffer[3 * t + 1]), std::uint32_t(buffer[3 * t + 2])}});
   return mesh;
 }
 
@@ -209,7 +209,7 @@ struct StreamChunk {
   std::vector<std::uint64_t> corners = std::vector<std::uint64_t>(3 * kChunkTriangles);
   std::vector<double> areas = std::vector<double>(kChunkTriangles);
   std::size_t count = 0;
-  std::uint64_t first = 0;  // index in the stream of the chunk's first triangle
+  std::uint64_t first = 0;                    // index in the stream of the chunk's first triangle
   std::vector<std::uint32_t> reached_leaves;  // scratch of the distance pass
 
   void corner_positions(const PositionArray& positions, std::size_t t, Vec3d* a, Vec3d* b, Vec3d* c) const {
@@ -306,14 +306,14 @@ std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std:
   tree.release_order();
   std::vector<double> result(queries.size());
   Phase phase(progress, "bound B->A", queries.size(), "pt");
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), kQueryGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        const Vec3d& q = queries[i];
-                        result[i] = tree.nearest(q, kInfinity, [&](std::uint32_t k) { return squared_distance(q, sites[k]); });
-                      }
-                      phase.advance(r.size());
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, queries.size(), kQueryGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const Vec3d& q = queries[i];
+          result[i] = tree.nearest(q, kInfinity, [&](std::uint32_t k) { return squared_distance(q, sites[k]); });
+        }
+        phase.advance(r.size());
+      });
   return result;
 }
 
@@ -329,11 +329,12 @@ class StreamedDistanceSearch {
 
   /// Takes the samples and their squared upper bounds.
   StreamedDistanceSearch(const std::vector<Vec3d>& points, std::vector<double> bounds2)
-      : tree_(points.size(), kSampleLeaf, [&](std::uint32_t i) {
-          Box3d b;
-          b.min = b.max = points[i];
-          return b;
-        }),
+      : tree_(points.size(), kSampleLeaf,
+              [&](std::uint32_t i) {
+                Box3d b;
+                b.min = b.max = points[i];
+                return b;
+              }),
         points_(permuted(points, tree_.order())),
         reach2_(tree_.node_count()),
         best2_(points.size()) {

@@ -68,8 +68,7 @@ inline Vec3d closest_point_on_triangle(const Vec3d& p, const Vec3d& a, const Vec
   double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
   double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
   double sum = va + vb + vc;
   // Only a sliver whose sub-determinants all round to 0 gets here with sum == 0;
   // its closest point is then (to rounding) its first corner.

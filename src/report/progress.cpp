@@ -10,7 +10,7 @@ namespace oocsimp {
 namespace {
 constexpr double kSampleSeconds = 0.02;  // memory sampling period
 constexpr double kTtyRefresh = 0.2;
-constexpr double kLogInterval = 5.0;     // plain lines for batch logs
+constexpr double kLogInterval = 5.0;  // plain lines for batch logs
 }  // namespace
 
 ProgressReporter::ProgressReporter(bool quiet) : quiet_(quiet), tty_(::isatty(2) == 1) {
@@ -83,9 +83,16 @@ void ProgressReporter::print(bool final_line) {
   char rate_text[32];
   double r = rate;
   const char* prefix = "";
-  if (r >= 1e9) { r /= 1e9; prefix = "G"; }
-  else if (r >= 1e6) { r /= 1e6; prefix = "M"; }
-  else if (r >= 1e3) { r /= 1e3; prefix = "k"; }
+  if (r >= 1e9) {
+    r /= 1e9;
+    prefix = "G";
+  } else if (r >= 1e6) {
+    r /= 1e6;
+    prefix = "M";
+  } else if (r >= 1e3) {
+    r /= 1e3;
+    prefix = "k";
+  }
   std::snprintf(rate_text, sizeof rate_text, "%.1f %s%s/s", r, prefix, unit_);
   double eta = (rate > 0 && total > done) ? double(total - done) / rate : 0;
   // A phase without a total has no percentage nor ETA, and until it has counted

@@ -20,27 +20,36 @@ const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heav
 
 const char* representative_name(RepresentativeRule r) {
   switch (r) {
-    case RepresentativeRule::centre: return "centre";
-    case RepresentativeRule::mean: return "mean";
-    case RepresentativeRule::quadric: break;
+    case RepresentativeRule::centre:
+      return "centre";
+    case RepresentativeRule::mean:
+      return "mean";
+    case RepresentativeRule::quadric:
+      break;
   }
   return "quadric";
 }
 
 const char* spill_compression_name(SpillCompression c) {
   switch (c) {
-    case SpillCompression::zstd: return "zstd";
-    case SpillCompression::none: return "none";
-    case SpillCompression::automatic: break;
+    case SpillCompression::zstd:
+      return "zstd";
+    case SpillCompression::none:
+      return "none";
+    case SpillCompression::automatic:
+      break;
   }
   return "auto";
 }
 
 const char* precision_name(Precision p) {
   switch (p) {
-    case Precision::float32: return "float";
-    case Precision::float64: return "double";
-    case Precision::automatic: break;
+    case Precision::float32:
+      return "float";
+    case Precision::float64:
+      return "double";
+    case Precision::automatic:
+      break;
   }
   return "auto";
 }
@@ -118,11 +127,14 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   for (const PhaseTime& p : s.phases) phases += quoted(p.name) + ": " + seconds(p.seconds) + ", ";
   char buf[2048];
   std::snprintf(buf, sizeof buf,
-                "  \"input\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
+                "  \"input\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64
+                "},\n"
                 "  \"skipped\": {\"faces\": %" PRIu64 ", \"short_faces\": %" PRIu64
                 ", \"non_finite_triangles\": %" PRIu64 ", \"repeated_index_triangles\": %" PRIu64
-                ", \"non_finite_vertices\": %" PRIu64 "},\n"
-                "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 "},\n"
+                ", \"non_finite_vertices\": %" PRIu64
+                "},\n"
+                "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64
+                "},\n"
                 "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %" PRIu64 "},\n",
                 s.input_vertices, s.input_triangles, s.skipped.total(), s.skipped.short_faces, s.skipped.non_finite,
                 s.skipped.repeated_index, s.non_finite_vertices, s.output_vertices, s.output_triangles, s.cell_size,
@@ -140,16 +152,17 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
       sweeps += buf;
     }
     std::snprintf(buf, sizeof buf,
-                  "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64
-                  ", \"rounds\": %" PRIu64 ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
+                  "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64 ", \"rounds\": %" PRIu64
+                  ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
                   ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s, \"sweeps\": [",
-                  s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes,
-                  s.spill_bytes_in_memory, s.resumed ? "true" : "false");
+                  s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.spill_bytes_in_memory,
+                  s.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
   }
   js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";
   std::snprintf(buf, sizeof buf,
-                "  \"memory\": {\"peak_rss_bytes\": %" PRIu64 ", \"peak_anon_bytes\": %" PRIu64 "},\n"
+                "  \"memory\": {\"peak_rss_bytes\": %" PRIu64 ", \"peak_anon_bytes\": %" PRIu64
+                "},\n"
                 "  \"input_mtris_per_second\": %.3f\n"
                 "}\n",
                 s.peak_rss_bytes, s.peak_anon_bytes, mtris);

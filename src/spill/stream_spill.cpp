@@ -35,9 +35,9 @@ ZstdContexts& zstd_contexts() {
 
 // On disk, each block is this header followed by its payload.
 struct BlockHeader {
-  std::uint64_t previous;     // offset of the stream's previous block, or kNoBlock
-  std::uint32_t raw_bytes;    // payload size before compression
-  std::uint32_t stored_bytes; // payload size on disk (== raw_bytes: stored raw)
+  std::uint64_t previous;      // offset of the stream's previous block, or kNoBlock
+  std::uint32_t raw_bytes;     // payload size before compression
+  std::uint32_t stored_bytes;  // payload size on disk (== raw_bytes: stored raw)
 };
 
 void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std::string& path) {
@@ -81,8 +81,7 @@ StreamSpill::StreamSpill(const std::string& temp_dir, const std::string& name, s
   if (memory_allowance_ == 0) create_file();
 }
 
-StreamSpill::StreamSpill(std::size_t record_size)
-    : record_size_(record_size), buffer_records_(1), compress_(false) {}
+StreamSpill::StreamSpill(std::size_t record_size) : record_size_(record_size), buffer_records_(1), compress_(false) {}
 
 StreamSpill::~StreamSpill() {
   if (!file_ && fd_ >= 0) ::close(fd_);

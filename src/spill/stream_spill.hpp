@@ -32,8 +32,8 @@ class StreamSpill {
  public:
   /// `buffer_records`: records per buffer (and per block). `memory_allowance`: bytes
   /// of blocks held in memory at most (the buffers being filled not counted).
-  StreamSpill(const std::string& temp_dir, const std::string& name, std::size_t record_size,
-              std::size_t buffer_records, bool compress, std::uint64_t memory_allowance = 0);
+  StreamSpill(const std::string& temp_dir, const std::string& name, std::size_t record_size, std::size_t buffer_records,
+              bool compress, std::uint64_t memory_allowance = 0);
   ~StreamSpill();
 
   /// Where a flushed stream's records are: its last block and its record count. With
@@ -51,7 +51,7 @@ class StreamSpill {
   /// Opens a file written by keep_as, read-only, with the chains of its streams.
   /// Throws IoError.
   static std::unique_ptr<StreamSpill> open_kept(const std::string& path, std::size_t record_size,
-                                                  const std::vector<Chain>& chains);
+                                                const std::vector<Chain>& chains);
 
   /// What the whole spill of the run is estimated to need, for the message of a write
   /// that fails (0: unknown).

@@ -35,8 +35,7 @@ std::uint64_t largest_bucket(const StreamSpill& spill) {
 
 // Cross-tile triangles: their corners' clusters were written by the tiles owning
 // the corners into buckets by triangle index; a bucket fits in memory.
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
-                                                const MemoryBudget& budget) {
+std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners, const MemoryBudget& budget) {
   std::vector<KeptTriangle> kept;
   // At most: every triangle decided in a tile, and one per three stitch corners.
   const std::uint64_t most =
@@ -61,8 +60,11 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
   const Vec3d mean = s.mean();  // relative, in cells
   Vec3d x;
   switch (rule) {
-    case RepresentativeRule::centre: return c;
-    case RepresentativeRule::mean: x = mean; break;
+    case RepresentativeRule::centre:
+      return c;
+    case RepresentativeRule::mean:
+      x = mean;
+      break;
     case RepresentativeRule::quadric: {
       // Kept inside the floating cell: the cube around the centre, then (for a
       // spherical cell) pulled back onto the sphere.
@@ -102,8 +104,7 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   std::vector<KeptTriangle>().swap(kept);
   // The positions and the largest cluster bucket with its centre starts.
   const std::uint64_t bucket = largest_bucket(partials);
-  check_output_fits(budget,
-                    3 * sizeof(double) * index.size() + bucket * (sizeof(PartialCluster) + sizeof(std::size_t)),
+  check_output_fits(budget, 3 * sizeof(double) * index.size() + bucket * (sizeof(PartialCluster) + sizeof(std::size_t)),
                     output + " and " + std::to_string(index.size()) + " vertices");
   // Representatives, a cluster bucket at a time: merge each centre's shares (in
   // fixed point, so in any order) and solve for the clusters some triangle uses.

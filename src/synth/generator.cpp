@@ -176,9 +176,9 @@ GenerateResult terrain(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc
 // --- parts: intersecting boxes and cylinders (CAD-like, sharp edges) ---
 struct Part {
   bool box;
-  double c[3];    // centre
-  double h[3];    // box half extents; cylinder: radius, radius, half height
-  double angle;   // rotation about z
+  double c[3];      // centre
+  double h[3];      // box half extents; cylinder: radius, radius, half height
+  double angle;     // rotation about z
   std::uint64_t k;  // box: grid per face side; cylinder: n (S = 4n, L = n, M = n)
   std::uint64_t first_vertex;
   std::uint64_t vertices() const { return box ? 6 * (k + 1) * (k + 1) : 4 * k * (k + 1) + 2 * (1 + k * 4 * k); }
@@ -279,8 +279,10 @@ GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
         auto ring = [&](std::uint64_t m, std::uint64_t j) { return centre + 1 + (m - 1) * S + (j % S); };
         // The top cap faces +z (counter-clockwise seen from above), the bottom -z.
         auto tri = [&](std::uint64_t a, std::uint64_t bb, std::uint64_t c) {
-          if (cap) out.face(a, bb, c);
-          else out.face(a, c, bb);
+          if (cap)
+            out.face(a, bb, c);
+          else
+            out.face(a, c, bb);
           fc.tick();
         };
         for (std::uint64_t j = 0; j < S; ++j) tri(centre, ring(1, j), ring(1, j + 1));
@@ -306,9 +308,15 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
   {
     ByteSink sink(out.fd(), path, has_zst_suffix(path), 1);
     switch (options.shape) {
-      case SyntheticShape::sphere: r = sphere(sink, options, fc); break;
-      case SyntheticShape::terrain: r = terrain(sink, options, fc); break;
-      case SyntheticShape::parts: r = parts(sink, options, fc); break;
+      case SyntheticShape::sphere:
+        r = sphere(sink, options, fc);
+        break;
+      case SyntheticShape::terrain:
+        r = terrain(sink, options, fc);
+        break;
+      case SyntheticShape::parts:
+        r = parts(sink, options, fc);
+        break;
     }
     sink.finish();
   }

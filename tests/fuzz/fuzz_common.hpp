@@ -158,8 +158,10 @@ inline void check_positions(const oocsimp::MeshInput& in) {
       finding("vertex " + std::to_string(i) + " lies outside info.bounds");
   }
   if (non_finite != in.info.non_finite_vertices)
-    finding(std::to_string(non_finite) + " non-finite vertices, info says " + std::to_string(in.info.non_finite_vertices));
-  if (non_finite > 0 && in.info.first_non_finite_position.empty()) finding("the first non-finite vertex has no position");
+    finding(std::to_string(non_finite) + " non-finite vertices, info says " +
+            std::to_string(in.info.non_finite_vertices));
+  if (non_finite > 0 && in.info.first_non_finite_position.empty())
+    finding("the first non-finite vertex has no position");
 }
 
 // Reads all triangles, checking every index (in range, three distinct vertices, all
@@ -175,7 +177,8 @@ inline std::pair<std::uint64_t, std::uint64_t> drain_triangles(oocsimp::MeshInpu
     for (std::size_t i = 0; i < 3 * n; ++i) {
       if (buf[i] >= in.positions.count)
         finding("triangle index " + std::to_string(buf[i]) + " >= vertex count " + std::to_string(in.positions.count));
-      if (!oocsimp::is_finite(in.positions.get(buf[i]))) finding("a triangle uses the non-finite vertex " + std::to_string(buf[i]));
+      if (!oocsimp::is_finite(in.positions.get(buf[i])))
+        finding("a triangle uses the non-finite vertex " + std::to_string(buf[i]));
       hash = (hash ^ buf[i]) * 1099511628211ull;
     }
     for (std::size_t t = 0; t < n; ++t)
@@ -193,7 +196,7 @@ struct Outcome {
   std::string format;
   std::uint64_t vertices = 0, faces = 0, triangles = 0, non_finite = 0, skipped = 0;
   std::uint64_t position_hash = 0, triangle_hash = 0;  // positions hashed as floats
-  bool beyond_float = false;  // a coordinate (double PLY) that no float holds
+  bool beyond_float = false;                           // a coordinate (double PLY) that no float holds
   bool in_place = false;
 };
 

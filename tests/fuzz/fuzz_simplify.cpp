@@ -95,9 +95,15 @@ void run(std::uint8_t sel, const std::string& path) {
   floating.cell_shape = sel & 0x08 ? oocsimp::CellShape::sphere : oocsimp::CellShape::cube;
   floating.assign = sel & 0x10 ? oocsimp::AssignRule::heaviest : oocsimp::AssignRule::nearest;
   switch ((sel >> 5) & 3) {
-    case 1: floating.representative = oocsimp::RepresentativeRule::centre; break;
-    case 2: floating.representative = oocsimp::RepresentativeRule::mean; break;
-    default: floating.representative = oocsimp::RepresentativeRule::quadric; break;
+    case 1:
+      floating.representative = oocsimp::RepresentativeRule::centre;
+      break;
+    case 2:
+      floating.representative = oocsimp::RepresentativeRule::mean;
+      break;
+    default:
+      floating.representative = oocsimp::RepresentativeRule::quadric;
+      break;
   }
   floating.memory_budget = 64u << 20;
   floating.threads = 1;

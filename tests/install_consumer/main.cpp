@@ -16,6 +16,10 @@ int main(int argc, char** argv) {
   o.sizing.grid = 16;
   oocsimp::SimplifyStats st;
   oocsimp::SimplifiedMesh m = oocsimp::simplify(in, o, &st);
-  std::printf("%llu -> %llu triangles\n", (unsigned long long)st.input_triangles, (unsigned long long)st.output_triangles);
-  return (st.output_triangles > 0 && st.output_triangles < st.input_triangles && m.triangles.size() == 3 * st.output_triangles) ? 0 : 1;
+  std::printf("%llu -> %llu triangles\n", (unsigned long long)st.input_triangles,
+              (unsigned long long)st.output_triangles);
+  return (st.output_triangles > 0 && st.output_triangles < st.input_triangles &&
+          m.triangles.size() == 3 * st.output_triangles)
+             ? 0
+             : 1;
 }
