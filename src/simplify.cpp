@@ -111,6 +111,8 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   st.non_finite_vertices = input.info.non_finite_vertices;
   st.first_non_finite_vertex = input.info.first_non_finite_vertex;
   st.first_non_finite_position = input.info.first_non_finite_position;
+  for (const std::string& note : input.info.not_carried) st.warnings.push_back(note);
+  st.attributes = input.attributes.attributes;
   st.cell_size = grid.cell;
   for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
   input.restart_triangles();
@@ -153,6 +155,18 @@ void check_distinct_destinations(const std::string& input_path, const OutputOpti
     refuse("--stats " + outputs.stats, "output " + outputs.mesh, "");
 }
 
+// The warning for an output format that cannot hold the carried attributes.
+std::string attributes_not_written(const std::string& path, MeshFormat format, const AttributeValues& attributes) {
+  std::string names;
+  for (const VertexAttribute& a : attributes.attributes) {
+    if (format == MeshFormat::obj && (a.name == "red" || a.name == "green" || a.name == "blue")) continue;
+    names += (names.empty() ? "" : ", ") + a.name;
+  }
+  const char* what = format == MeshFormat::obj ? "OBJ keeps only the colours red, green and blue"
+                                               : "STL and OFF keep no vertex attributes";
+  return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
+}
+
 }  // namespace
 
 void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
@@ -171,6 +185,7 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   OpenOptions open;
   open.temp_dir = options.temp_dir;
   open.weld = options.weld;
+  open.attributes = options.attributes;
   open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
   if (options.progress) {
     options.progress->begin("read positions", 0, "B");
@@ -189,7 +204,9 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t2 = now_seconds();
   {
     ProgressPhase phase(options.progress, "write", 0, "B");
-    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision);
+    if (!format_keeps_attributes(format, mesh.attributes))
+      st.warnings.push_back(attributes_not_written(outputs.mesh, format, mesh.attributes));
+    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes);
   }
   double t3 = now_seconds();
   st.phases.push_back({"write", t3 - t2});

@@ -84,7 +84,7 @@ struct SimplifyArgs {
   OutputOptions outputs;
   SimplifyOptions options;
   std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
-              precision = "auto";
+              precision = "auto", attributes = "all";
   Given cell, grid, ratio, tile, mem, threads;
   std::vector<CLI::Option*> floating_only;
   bool quiet = false;
@@ -121,6 +121,7 @@ void resolve_simplify_args(SimplifyArgs& a) {
   o.spill_compression = enum_named(
       a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
   o.precision = enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
+  o.attributes = parse_attribute_selection(a.attributes);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
@@ -198,6 +199,12 @@ int run_info(const std::string& in, const std::string& tmp) {
   for (const auto& e : i.elements) std::printf("element   %s\n", e.c_str());
   for (const auto& c : i.comments) std::printf("header    %s\n", c.c_str());
   std::printf("positions %s\n", i.positions_in_place ? "read in place (mmap)" : "converted to a temporary array");
+  // What simplify carries by default (--attributes all), with the range of each.
+  if (m.attributes.empty()) std::printf("attributes none carried\n");
+  for (const VertexAttribute& a : m.attributes.attributes)
+    std::printf("attribute %s %s, carried (values %.9g to %.9g)\n", a.name.c_str(), attribute_type_name(a.type), a.min,
+                a.max);
+  for (const std::string& n : i.not_carried) std::printf("not carried %s\n", n.c_str());
   if (i.bounds.empty()) {
     std::printf("bounds    empty\n");
   } else {
@@ -390,6 +397,10 @@ int main(int argc, char** argv) {
                                    "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G "
                                    "(default: a quarter of physical memory)")
                       ->group(common);
+  simplify
+      ->add_option("--attributes", sa.attributes,
+                   "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)")
+      ->group(common);
   simplify->add_flag("--weld", sa.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)")
       ->group(common);
   sa.floating_only = {

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/attributes.hpp"
+
 namespace oocsimp {
 
 struct Vec3d {
@@ -79,6 +81,10 @@ struct MeshInfo {
   std::uint64_t non_finite_vertices = 0;
   std::uint64_t first_non_finite_vertex = 0;
   std::string first_non_finite_position;
+  /// What the input has that the output will not carry, one line each naming the file:
+  /// texture coordinates, per-face properties, vertex list properties, attributes left
+  /// out by the selection (OpenOptions::attributes).
+  std::vector<std::string> not_carried;
 };
 
 /// Faces that the triangle stream left out instead of failing, by reason. Polygons are
@@ -124,6 +130,8 @@ class MeshInput {
 
   MeshInfo info;
   PositionArray positions;
+  /// The vertex attributes carried (OpenOptions::attributes), with their ranges.
+  AttributeArray attributes;
   /// Triangles in file order. Call `restart_triangles()` to read them again.
   std::unique_ptr<TriangleStream> triangles;
   /// Total input size in bytes (compressed size for .zst), the denominator of progress.
@@ -147,6 +155,9 @@ struct OpenOptions {
   /// Called with (bytes consumed, total bytes) while positions are converted.
   void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr;
   void* progress_user = nullptr;
+  /// Which vertex attributes are read for carrying (all by default; see
+  /// carried_attributes in src/io/attribute_array.hpp).
+  AttributeSelection attributes;
 };
 
 /// Opens a PLY (ascii / binary LE / binary BE), OBJ or STL (ascii / binary) file,

@@ -28,15 +28,23 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// float32 whatever `precision` says. PLY faces are
 /// "uchar uint vertex_indices" lists; STL facet normals are the unit normals of the
 /// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
+/// `attributes` (values per vertex, see AttributeValues) go where the format has room
+/// for them (format_keeps_attributes).
 /// The destination is an OutputFile: a regular file is written under a temporary name
 /// in its folder and renamed into place only when complete (on any failure it is
 /// untouched and the temporary file removed); a device, FIFO or "-" is streamed into.
 /// Throws IoError.
 void write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32);
+                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32,
+                const AttributeValues* attributes = nullptr);
 
 /// The same into an OutputFile opened earlier; the caller commits it.
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format, ScalarType precision = ScalarType::f32);
+                MeshFormat format, ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr);
+
+/// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
+/// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in
+/// [0, 1]); STL and OFF none.
+bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
 
 }  // namespace oocsimp

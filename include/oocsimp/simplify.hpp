@@ -89,6 +89,8 @@ struct SimplifyOptions {
   unsigned threads = 0;                                              ///< 0 = all cores
   std::string temp_dir;                                              ///< empty = default_temp_dir()
   Precision precision = Precision::automatic;                        ///< of the output positions
+  /// Which vertex attributes are carried to the output (all by default).
+  AttributeSelection attributes;
   ProgressReporter* progress = nullptr;
   /// Floating: called between the phases of a run, whose tiles' buffers were just
   /// freed on several threads, so the process's allocator can give them back to the
@@ -139,6 +141,8 @@ struct SimplifyStats {
   /// happened; what was done instead"), e.g. kept tiles that did not match the input
   /// and were recomputed. The CLI prints them on stderr.
   std::vector<std::string> warnings;
+  /// The vertex attributes carried to the output, in its order.
+  std::vector<VertexAttribute> attributes;
   std::uint64_t peak_rss_bytes = 0;
   std::uint64_t peak_anon_bytes = 0;
 };
@@ -146,6 +150,9 @@ struct SimplifyStats {
 struct SimplifiedMesh {
   std::vector<double> positions;         ///< 3 per vertex
   std::vector<std::uint32_t> triangles;  ///< 3 per face
+  /// The carried vertex attributes (MeshInput::attributes): per output vertex the
+  /// area-weighted mean of its cluster's values (src/cluster/attribute_sums.hpp).
+  AttributeValues attributes;
   /// The precision chosen for the output: with f32 every position is a float value
   /// (rounded from the double the clustering computed), and writers store it as float.
   ScalarType precision = ScalarType::f32;

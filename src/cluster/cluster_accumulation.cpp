@@ -34,6 +34,36 @@ void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket b
   }
 }
 
+// A tile's shares of its clusters' attribute sums (AttributeLayout), in fixed point
+// like the quadric sums, so that merging shares in any order gives the same sums;
+// appended to `spill` by centre index, a run per cluster bucket.
+void append_attribute_shares(StreamSpill& spill, const AttributeLayout& layout, const AttributeArray& attributes,
+                             const std::vector<GradedVertex>& owned, const std::vector<std::uint32_t>& cluster_of,
+                             const std::vector<double>& vertex_weight, const std::vector<GradedVertex>& near,
+                             std::uint64_t cluster_span) {
+  const std::size_t width = layout.width();
+  std::vector<Fixed> sums(near.size() * width);
+  const auto add_fixed = [](Fixed& sum, double term) { sum.add(Fixed::of(term)); };
+  for (std::size_t i = 0; i < owned.size(); ++i)
+    layout.add_vertex(&sums[cluster_of[i] * width], attributes, owned[i].index, vertex_weight[i], add_fixed);
+  std::vector<std::pair<std::uint64_t, std::size_t>> order;  // (bucket, cluster in near)
+  for (std::size_t c = 0; c < near.size(); ++c)
+    if (sums[c * width + 1].v != 0) order.push_back({near[c].index / cluster_span, c});  // it has members
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::int64_t> records;
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i;
+    records.clear();
+    for (; j < order.size() && order[j].first == order[i].first; ++j) {
+      const std::size_t c = order[j].second;
+      records.push_back(std::int64_t(near[c].index));
+      for (std::size_t k = 0; k < width; ++k) records.push_back(sums[c * width + k].v);
+    }
+    spill.append(std::uint32_t(order[i].first), records.data(), j - i);
+    i = j;
+  }
+}
+
 }  // namespace
 
 ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray& positions, const BlockStore& blocks,
@@ -57,12 +87,25 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   }
   // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
   // the budget even if every vertex were a centre.
-  out.cluster_span = std::max<std::uint64_t>(1, settings.memory_budget / 8 / sizeof(PartialCluster));
+  // With attributes, a bucket's attribute shares come on top of its cluster shares,
+  // and the buckets' allowance is split between the two spills.
+  const AttributeArray* attribute_array = settings.attributes;
+  if (attribute_array && !attribute_array->empty()) out.attributes = AttributeLayout(*attribute_array);
+  const AttributeLayout& layout = out.attributes;
+  const std::size_t attribute_bytes = layout.empty() ? 0 : attribute_record_bytes(layout);
+  const std::uint64_t cluster_allowance = layout.empty() ? spill.allow.buckets : spill.allow.buckets / 2;
+  out.cluster_span =
+      std::max<std::uint64_t>(1, settings.memory_budget / 8 / (sizeof(PartialCluster) + attribute_bytes));
   const std::uint64_t cluster_span = out.cluster_span;
   std::uint64_t cluster_buckets = vertex_count / cluster_span + 1;
   out.partials =
-      std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false, spill.allow.buckets);
+      std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false, cluster_allowance);
   for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.partials->add_stream();
+  if (!layout.empty()) {
+    out.attribute_shares = std::make_unique<StreamSpill>(spill.dir, "attributes", attribute_bytes, 64, false,
+                                                         spill.allow.buckets - cluster_allowance);
+    for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.attribute_shares->add_stream();
+  }
   ProgressReporter* progress = settings.progress;
   if (progress) progress->begin("cluster tiles", n, "tile");
   std::atomic<std::uint32_t> done{0};
@@ -91,6 +134,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     // so Q_v is the same for any tiling; Q_v then goes into the cluster's
     // fixed-point sum.
     std::vector<Quadric> vertex_q(owned.size());
+    // With attributes, a vertex's weight: a third of its faces' area, in cells squared.
+    std::vector<double> vertex_weight(layout.empty() ? 0 : owned.size());
     std::vector<KeptTriangle> kept;
     std::vector<CornerRecord> corners;
     const double inv = 1.0 / cell.size;
@@ -114,6 +159,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
           const Vec3d r = p[0] - near[cluster_of[local[k]]].p;
           double d = m.x * r.x * inv + m.y * r.y * inv + m.z * r.z * inv;  // m.(first corner), in cells
           add_plane_quadric(&vertex_q[local[k]], plane, d);
+          if (!vertex_weight.empty()) vertex_weight[local[k]] += plane.len / 6;
         }
       if (owned_count == 3) {
         std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
@@ -139,6 +185,9 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
         partial.push_back({near[i].index, sums[i]});
       }
     append_by_bucket(*out.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span; });
+    if (!layout.empty())
+      append_attribute_shares(*out.attribute_shares, layout, *attribute_array, owned, cluster_of, vertex_weight, near,
+                              cluster_span);
     // The triangles decided here go to the same buckets as the stitch's, so that
     // the output-sized list of kept triangles is built once, at its exact size,
     // instead of growing (and being copied) in the heap tile by tile.
@@ -149,6 +198,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   out.corners->flush();
   out.partials->flush();
   out.inside->flush();
+  if (out.attribute_shares) out.attribute_shares->flush();
   if (progress) progress->end();
   return out;
 }

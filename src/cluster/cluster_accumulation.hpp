@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "cluster/attribute_sums.hpp"
 #include "cluster/centre_sweeps.hpp"
 #include "cluster/floating_cells.hpp"
 #include "grid/tile_binning.hpp"
@@ -28,7 +29,17 @@ struct ClusterShares {
   /// `triangle index / bucket_span`.
   std::unique_ptr<StreamSpill> inside, corners;
   std::uint64_t bucket_span = 1;
+  /// With attributes: every tile's share of each cluster's attribute sums (records of
+  /// attribute_record_bytes(): the centre's input index, then the layout's width()
+  /// fixed-point sums), in the streams of `partials`; null without attributes.
+  std::unique_ptr<StreamSpill> attribute_shares;
+  AttributeLayout attributes;
 };
+
+/// Bytes of one attribute share for `layout`.
+inline std::size_t attribute_record_bytes(const AttributeLayout& layout) {
+  return sizeof(std::uint64_t) * (1 + layout.width());
+}
 
 /// Settings of the accumulation: the options it follows and where its spills go.
 struct AccumulationSettings {
@@ -37,6 +48,7 @@ struct AccumulationSettings {
   std::uint64_t memory_budget = 0;  ///< a cluster bucket's shares fit in an eighth of it
   SpillSettings spill;
   ProgressReporter* progress = nullptr;
+  const AttributeArray* attributes = nullptr;  ///< the carried vertex attributes, or none
 };
 
 /// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the

@@ -20,6 +20,7 @@
 #include <limits>
 #include <string>
 
+#include "cluster/attribute_sums.hpp"
 #include "cluster/triangle_set.hpp"
 #include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
@@ -58,7 +59,20 @@ struct FaceChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
   std::size_t count = 0;
   CellMap<Quadric> cells{4096};
-  std::vector<std::uint32_t> kept;  // local cell indices, 3 per surviving triangle
+  std::vector<std::uint32_t> kept;     // local cell indices, 3 per surviving triangle
+  std::vector<double> attribute_sums;  // AttributeLayout::width() per local cell
+};
+
+// The attribute sums of every cell, AttributeLayout::width() per cell, in the cells'
+// table order; added in input order (chunks merge in order), so deterministic.
+struct CellAttributeSums {
+  AttributeLayout layout;
+  std::vector<double> sums;
+  std::size_t width() const { return layout.width(); }
+  double* of(std::vector<double>& table, std::uint32_t cell) const {
+    if (table.size() < (std::size_t(cell) + 1) * width()) table.resize((std::size_t(cell) + 1) * width(), 0.0);
+    return &table[std::size_t(cell) * width()];
+  }
 };
 
 // Remembers the last cells looked up: neighbouring vertices and triangles in a file
@@ -208,7 +222,11 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
 }
 
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
-                          const TableBudget& budget, std::uint64_t* triangle_count, ProgressReporter* progress) {
+                          CellAttributeSums& attributes, const TableBudget& budget, std::uint64_t* triangle_count,
+                          ProgressReporter* progress) {
+  const AttributeArray& attribute_array = input.attributes;
+  const bool with_attributes = !attributes.layout.empty();
+  const auto add_double = [](double& sum, double term) { sum += term; };
   const PositionArray& positions = input.positions;
   TriangleStream& stream = *input.triangles;
   std::vector<std::uint32_t> to_global;
@@ -225,6 +243,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
       [&](FaceChunk& c) {
         c.cells.clear();
         c.kept.clear();
+        c.attribute_sums.clear();
         CellIndexCache<Quadric> index(c.cells);
         for (std::size_t t = 0; t < c.count; ++t) {
           const std::uint64_t* v = &c.tris[3 * t];
@@ -247,6 +266,14 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           }
           // Only a triangle spanning three cells survives the collapse.
           if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
+          if (with_attributes) {
+            // Each corner adds its values with a third of the area to its own cell.
+            const double third_area = length(cross(p1 - p0, p2 - p0)) / 6;
+            const std::uint32_t cell_of[3] = {i0, i1, k2 == k0 ? i0 : k2 == k1 ? i1 : i2};
+            for (int k = 0; k < 3; ++k)
+              attributes.layout.add_vertex(attributes.of(c.attribute_sums, cell_of[k]), attribute_array, v[k],
+                                           third_area, add_double);
+          }
         }
       },
       [&](FaceChunk& c) {
@@ -256,6 +283,11 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           std::uint32_t g = cells.insert(c.cells.key(i));
           cells.value(g).q.add(c.cells.value(i));
           to_global[i] = g;
+          if (with_attributes && c.attribute_sums.size() >= (i + 1) * attributes.width()) {
+            double* dst = attributes.of(attributes.sums, g);
+            const double* src = &c.attribute_sums[i * attributes.width()];
+            for (std::size_t j = 0; j < attributes.width(); ++j) dst[j] += src[j];
+          }
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
           kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
@@ -293,7 +325,14 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                std::to_string(cells.size()) + " occupied cells");
   double t1 = now_seconds();
   std::uint64_t triangles = 0;
-  accumulate_triangles(input, grid, cells, kept, budget, &triangles, progress);
+  CellAttributeSums attributes{AttributeLayout(input.attributes), {}};
+  if (!attributes.layout.empty()) {
+    const std::uint64_t bytes = std::uint64_t(cells.size()) * attributes.width() * sizeof(double);
+    budget.check(cells.bytes() + bytes, std::to_string(cells.size()) + " occupied cells with " +
+                                            std::to_string(attributes.layout.count()) + " attributes each");
+    attributes.sums.assign(cells.size() * attributes.width(), 0.0);
+  }
+  accumulate_triangles(input, grid, cells, kept, attributes, budget, &triangles, progress);
   double t2 = now_seconds();
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
@@ -307,7 +346,10 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   const std::string output =
       std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept_count) + " output triangles";
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * kept_count;
-  budget.check(cells.bytes() + kept.bytes() + 2 * sizeof(std::uint32_t) * cells.size() + triangle_bytes, output);
+  const std::uint64_t attribute_bytes = attributes.sums.capacity() * sizeof(double);
+  budget.check(
+      cells.bytes() + attribute_bytes + kept.bytes() + 2 * sizeof(std::uint32_t) * cells.size() + triangle_bytes,
+      output);
 
   // Output vertices are the cells the kept triangles use, numbered by first use.
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
@@ -327,9 +369,13 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     }
   std::vector<std::uint32_t>().swap(out_index);
   kept = TriangleSet();
-  budget.check(
-      cells.bytes() + sizeof(std::uint32_t) * order.capacity() + triangle_bytes + 3 * sizeof(double) * order.size(),
-      output);
+  const std::size_t attribute_count = attributes.layout.count();
+  budget.check(cells.bytes() + attribute_bytes + sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
+                   (3 + attribute_count) * sizeof(double) * order.size(),
+               output);
+  mesh.attributes.attributes = attributes.layout.attributes();
+  mesh.attributes.values.resize(attribute_count * order.size());
+  if (attribute_count > 0) attributes.sums.resize(cells.size() * attributes.width(), 0.0);  // before the parallel reads
 
   mesh.positions.resize(3 * order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024),
@@ -345,6 +391,9 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                         mesh.positions[3 * i] = x.x;
                         mesh.positions[3 * i + 1] = x.y;
                         mesh.positions[3 * i + 2] = x.z;
+                        if (attribute_count > 0)
+                          attributes.layout.finish(&attributes.sums[std::size_t(order[i]) * attributes.width()],
+                                                   &mesh.attributes.values[attribute_count * i]);
                       }
                     });
   double t3 = now_seconds();

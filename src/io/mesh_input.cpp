@@ -1,6 +1,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
@@ -159,6 +160,8 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
       throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
     }
   }
+  // STL has no vertex attributes: a selection that names one cannot be met.
+  if (stl) carried_attributes({}, options.attributes, path, nullptr);
   // A stream is copied as far as it was read; the triangle passes need the rest, and
   // progress needs its size.
   src.input()->read_to_end();

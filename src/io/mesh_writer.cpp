@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "common/vec3_math.hpp"
+#include "io/attribute_array.hpp"
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/temp_file.hpp"
@@ -51,6 +52,31 @@ struct MeshArrays {
   const std::vector<double>& pos;
   const std::vector<std::uint32_t>& tri;
   ScalarType precision;
+  const AttributeValues* attributes;  // null or empty: positions only
+  std::size_t attribute_count() const { return attributes ? attributes->attributes.size() : 0; }
+  double attribute(std::size_t i, std::size_t k) const { return attributes->values[attribute_count() * i + k]; }
+  // " a b c" of vertex i's attributes, integers as integers.
+  void append_attributes(std::string& s, std::size_t i) const {
+    for (std::size_t k = 0; k < attribute_count(); ++k) {
+      s += ' ';
+      const double v = attribute(i, k);
+      const AttributeType t = attributes->attributes[k].type;
+      if (is_integer_type(t)) {
+        char buf[24];
+        auto r = std::to_chars(buf, buf + sizeof buf, std::int64_t(v));
+        s.append(buf, r.ptr);
+      } else {
+        append_coord(s, v, t == AttributeType::f64 ? ScalarType::f64 : ScalarType::f32);
+      }
+    }
+  }
+  // OBJ's "r g b" in [0, 1] (integer colours divided by their type's maximum), when
+  // red, green and blue are carried; -1 otherwise.
+  int colour_index(const char* name) const {
+    for (std::size_t k = 0; k < attribute_count(); ++k)
+      if (attributes->attributes[k].name == name) return int(k);
+    return -1;
+  }
   std::size_t vertices() const { return pos.size() / 3; }
   std::size_t triangles() const { return tri.size() / 3; }
   // "x y z" of vertex i.
@@ -71,12 +97,38 @@ struct MeshArrays {
   }
 };
 
+// The divisor that takes a colour of type `t` into [0, 1]: 255 for uchar, 65535 for
+// ushort, 1 for floating point (stored as [0, 1] already).
+double colour_scale(AttributeType t) {
+  switch (t) {
+    case AttributeType::u8:
+      return 255.0;
+    case AttributeType::u16:
+      return 65535.0;
+    case AttributeType::i8:
+      return 127.0;
+    case AttributeType::i16:
+      return 32767.0;
+    default:
+      return 1.0;
+  }
+}
+
 void write_obj(ByteSink& sink, const MeshArrays& m) {
   TextOut out(sink);
   out.text() = "# oocsimp\n";
+  // "v x y z r g b", the colour extension MeshLab and most scanners read.
+  const int rgb[3] = {m.colour_index("red"), m.colour_index("green"), m.colour_index("blue")};
+  const bool colours = rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0;
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     out.text() += "v ";
     m.append_vertex(out.text(), i);
+    if (colours)
+      for (int c : rgb) {
+        out.text() += ' ';
+        append_coord(out.text(), m.attribute(i, std::size_t(c)) / colour_scale(m.attributes->attributes[c].type),
+                     ScalarType::f32);
+      }
     out.text() += '\n';
     out.maybe_flush();
   }
@@ -93,9 +145,10 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
 // faces as "3 a b c" with 0-based indices.
 // The body shared by OFF and ascii PLY: a line "x y z" per vertex, then "3 a b c" per
 // triangle with 0-based indices.
-void write_vertex_and_face_lines(TextOut& out, const MeshArrays& m) {
+void write_vertex_and_face_lines(TextOut& out, const MeshArrays& m, bool with_attributes) {
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     m.append_vertex(out.text(), i);
+    if (with_attributes) m.append_attributes(out.text(), i);
     out.text() += '\n';
     out.maybe_flush();
   }
@@ -111,20 +164,42 @@ void write_vertex_and_face_lines(TextOut& out, const MeshArrays& m) {
 void write_off(ByteSink& sink, const MeshArrays& m) {
   TextOut out(sink);
   out.text() = "OFF\n" + std::to_string(m.vertices()) + " " + std::to_string(m.triangles()) + " 0\n";
-  write_vertex_and_face_lines(out, m);
+  write_vertex_and_face_lines(out, m, false);
 }
 
 void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
   const char* type = m.precision == ScalarType::f32 ? "float" : "double";
   std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
                        " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(m.vertices()) + "\nproperty " + type +
-                       " x\nproperty " + type + " y\nproperty " + type + " z\nelement face " +
-                       std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+                       " x\nproperty " + type + " y\nproperty " + type + " z\n";
+  // The carried attributes under their names and types, after x, y, z.
+  for (std::size_t k = 0; k < m.attribute_count(); ++k)
+    header += std::string("property ") + attribute_type_name(m.attributes->attributes[k].type) + " " +
+              m.attributes->attributes[k].name + "\n";
+  header += "element face " + std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
   sink.write(header);
   if (!ascii) {
     static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE float and double");
     // x86 and ARM are little-endian: values are written as they are.
-    if (m.precision == ScalarType::f64) {
+    if (m.attribute_count() > 0) {
+      // Vertex records: x, y, z, then the attributes packed in their types.
+      std::vector<std::size_t> offset;
+      std::size_t stride = m.precision == ScalarType::f64 ? 24 : 12;
+      for (const VertexAttribute& a : m.attributes->attributes) {
+        offset.push_back(stride);
+        stride += attribute_type_size(a.type);
+      }
+      std::vector<unsigned char> rec(stride);
+      for (std::size_t i = 0; i < m.vertices(); ++i) {
+        for (int c = 0; c < 3; ++c)
+          store_attribute(m.pos[3 * i + std::size_t(c)],
+                          m.precision == ScalarType::f64 ? AttributeType::f64 : AttributeType::f32,
+                          &rec[std::size_t(c) * (m.precision == ScalarType::f64 ? 8 : 4)]);
+        for (std::size_t k = 0; k < offset.size(); ++k)
+          store_attribute(m.attribute(i, k), m.attributes->attributes[k].type, &rec[offset[k]]);
+        sink.write(rec.data(), stride);
+      }
+    } else if (m.precision == ScalarType::f64) {
       if (!m.pos.empty()) sink.write(m.pos.data(), m.pos.size() * sizeof(double));  // data() may be null when empty
     } else {
       for (double v : m.pos) {
@@ -141,7 +216,7 @@ void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
     return;
   }
   TextOut out(sink);
-  write_vertex_and_face_lines(out, m);
+  write_vertex_and_face_lines(out, m, true);
 }
 
 // The unit normal of triangle t by the right-hand rule over its corner order; 0 when
@@ -244,16 +319,27 @@ MeshFormat format_for_path(const std::string& path, bool ascii) {
 }
 
 void write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision) {
+                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision,
+                const AttributeValues* attributes) {
   OutputFile out(path);
-  write_mesh(out, positions, triangles, format, precision);
+  write_mesh(out, positions, triangles, format, precision, attributes);
   out.commit();
 }
 
+bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes) {
+  if (attributes.empty()) return true;
+  if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
+  if (format != MeshFormat::obj) return false;
+  int found = 0;
+  for (const VertexAttribute& a : attributes.attributes)
+    found += a.name == "red" || a.name == "green" || a.name == "blue";
+  return found == 3 && attributes.attributes.size() == 3;
+}
+
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format, ScalarType precision) {
+                MeshFormat format, ScalarType precision, const AttributeValues* attributes) {
   ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
-  write_body(sink, MeshArrays{positions, triangles, precision}, format, out.path());
+  write_body(sink, MeshArrays{positions, triangles, precision, attributes}, format, out.path());
   sink.finish();
 }
 

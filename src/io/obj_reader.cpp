@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
@@ -100,14 +101,18 @@ class ObjTriangleStream : public TriangleStream {
 void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   out.info.format = "obj";
   PositionArrayBuilder builder(options.temp_dir, src.path());
-  std::uint64_t faces = 0;
+  // "v x y z r g b" (MeshLab, CloudCompare and most scanners' exporters): colours, when
+  // the first vertex has them; which of them are carried is decided there too.
+  std::unique_ptr<AttributeArrayBuilder> colours;
+  std::vector<std::size_t> carried;
+  std::uint64_t faces = 0, texture_lines = 0, normal_lines = 0, uncoloured = 0;
   std::string_view line;
   while (src.next_line(&line)) {
     line = trim_front(line);
     if (is_keyword(line, 'v')) {
       // "v x y z [w]" or "v x y z r g b": the first three values are the position.
       TokenScanner t(line.substr(1));
-      double c[3];
+      double c[6];
       bool fits_float = true;
       for (int k = 0; k < 3; ++k) {
         std::string_view tok = t.next();
@@ -117,18 +122,58 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
               tok.empty() ? "vertex with fewer than 3 coordinates" : "malformed vertex coordinate " + quoted(tok)));
         fits_float = fits_float && decimal_fits_float(tok, c[k]);
       }
+      int extra = 0;
+      for (std::string_view tok = t.next(); !tok.empty() && extra < 3; tok = t.next()) {
+        if (!parse_double(tok, &c[3 + extra]))
+          throw InputError(at_line(src.path(), src.line_number(), "malformed vertex value " + quoted(tok)));
+        ++extra;
+      }
+      if (builder.count() == 0 && extra == 3) {
+        const std::vector<AttributeCandidate> offered = {
+            {"red", AttributeType::f32}, {"green", AttributeType::f32}, {"blue", AttributeType::f32}};
+        carried = carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);
+        std::vector<VertexAttribute> attrs;
+        for (std::size_t i : carried) attrs.push_back({offered[i].name, offered[i].type, 0, 0});
+        colours = std::make_unique<AttributeArrayBuilder>(options.temp_dir, src.path(), attrs);
+      } else if (builder.count() == 0 && options.attributes.mode == AttributeSelection::Mode::named) {
+        carried_attributes({}, options.attributes, src.path(), nullptr);  // names what it lacks
+      }
+      if (colours) {
+        if (extra < 3) {
+          ++uncoloured;
+          c[3] = c[4] = c[5] = 0;
+        }
+        double values[3];
+        for (std::size_t k = 0; k < carried.size(); ++k) values[k] = c[3 + carried[k]];
+        colours->add(values);
+      }
       builder.add(
           c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
     } else if (is_keyword(line, 'f')) {
       ++faces;
+    } else if (line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2])) {
+      texture_lines += line[1] == 't';
+      normal_lines += line[1] == 'n';
     }
     if (options.progress && (src.line_number() & 0xFFFF) == 0)
       options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
   }
+  if (builder.count() == 0 && options.attributes.mode == AttributeSelection::Mode::named)
+    carried_attributes({}, options.attributes, src.path(), nullptr);
+  if (texture_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
+    out.info.not_carried.push_back(src.path() + ": texture coordinates (" + std::to_string(texture_lines) +
+                                   " vt lines) are dropped: clustering merges vertices across texture seams");
+  if (normal_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
+    out.info.not_carried.push_back(src.path() + ": normals (" + std::to_string(normal_lines) +
+                                   " vn lines) belong to face corners in OBJ and are not carried");
+  if (uncoloured > 0)
+    out.info.not_carried.push_back(src.path() + ": " + std::to_string(uncoloured) +
+                                   " vertices have no colour (the first vertex has one); they count as black");
   out.info.vertex_count = builder.count();
   out.info.face_count = faces;
   out.info.elements = {"v " + std::to_string(builder.count()), "f " + std::to_string(faces)};
   builder.finish(out);
+  if (colours) colours->finish(out);
   std::shared_ptr<InputFile> file = src.input();
   std::uint64_t vcount = out.info.vertex_count;
   out.impl->make_triangles = [file, vcount]() -> std::unique_ptr<TriangleStream> {

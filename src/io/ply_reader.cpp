@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
@@ -561,6 +562,41 @@ std::string describe(const PlyElement& e) {
   return s + ")";
 }
 
+// The vertex element's scalar properties other than x, y, z, with their indices, and
+// what the input has that no attribute can carry (list properties of vertices,
+// properties of faces besides the index list).
+struct VertexCandidates {
+  std::vector<AttributeCandidate> candidates;
+  std::vector<int> property;  // index in the vertex element, per candidate
+};
+
+VertexCandidates vertex_candidates(const PlyHeader& h, const std::string& path, std::vector<std::string>* notes) {
+  VertexCandidates c;
+  const PlyElement& v = h.elements[h.vertex];
+  std::string lists;
+  for (int pi = 0; pi < int(v.props.size()); ++pi) {
+    if (pi == h.xyz[0] || pi == h.xyz[1] || pi == h.xyz[2]) continue;
+    const PlyProperty& p = v.props[pi];
+    if (p.is_list) {
+      lists += (lists.empty() ? "" : ", ") + p.name;
+      continue;
+    }
+    c.candidates.push_back({p.name, AttributeType(int(p.type))});  // PlyType and AttributeType list the same types
+    c.property.push_back(pi);
+  }
+  if (!lists.empty()) notes->push_back(path + ": vertex list properties (" + lists + ") are not carried");
+  if (h.face >= 0) {
+    const PlyElement& f = h.elements[h.face];
+    std::string others;
+    for (int pi = 0; pi < int(f.props.size()); ++pi)
+      if (pi != h.indices) others += (others.empty() ? "" : ", ") + f.props[pi].name;
+    if (!others.empty())
+      notes->push_back(path + ": face properties (" + others +
+                       ") are not carried: clustering keeps a triangle only where three clusters meet, per vertex");
+  }
+  return c;
+}
+
 }  // namespace
 
 void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
@@ -592,6 +628,15 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   bool same_float_type =
       (xt == PlyType::f32 || xt == PlyType::f64) && v.props[h->xyz[1]].type == xt && v.props[h->xyz[2]].type == xt;
   std::size_t next_element = 0;  // the first element that src has not read yet
+  const VertexCandidates offered = vertex_candidates(*h, src.path(), &out.info.not_carried);
+  const std::vector<std::size_t> carried =
+      carried_attributes(offered.candidates, options.attributes, src.path(), &out.info.not_carried);
+  std::vector<VertexAttribute> carried_attrs;
+  std::vector<int> want(h->xyz, h->xyz + 3);  // x, y, z, then the carried properties
+  for (std::size_t i : carried) {
+    carried_attrs.push_back({offered.candidates[i].name, offered.candidates[i].type, 0, 0});
+    want.push_back(offered.property[i]);
+  }
   if (offset_known && src.content_size_known() && v.fixed_size() && same_float_type) {
     std::size_t rs = v.record_size();
     // Compared by division: vertex_offset + count * rs may wrap around 2^64.
@@ -614,10 +659,25 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     }
     out.info.positions_in_place = true;
     scan_mapped_positions(out, vertex_offset);
+    if (!carried_attrs.empty()) {
+      AttributeArray& aa = out.attributes;
+      aa.attributes = carried_attrs;
+      aa.base = pa.base;
+      aa.count = v.count;
+      aa.stride = rs;
+      aa.swap = pa.swap;
+      for (std::size_t k = 0; k < carried.size(); ++k) {
+        std::size_t off = 0;
+        for (int pi = 0; pi < want[3 + k]; ++pi) off += type_size(v.props[pi].type);
+        aa.offset.push_back(off);
+      }
+      scan_attribute_ranges(aa);
+    }
   } else {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);
     PositionArrayBuilder builder(options.temp_dir, src.path());
+    AttributeArrayBuilder attribute_builder(options.temp_dir, src.path(), carried_attrs);
     if (same_float_type)
       builder.declare(xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64);
     else if (xt == PlyType::f64 || v.props[h->xyz[1]].type == PlyType::f64 || v.props[h->xyz[2]].type == PlyType::f64)
@@ -630,15 +690,18 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       for (const PlyProperty& p : v.props)
         min_record += binary ? type_size(p.is_list ? p.count_type : p.type) : 2;  // ascii: a digit and a blank
       builder.expect(std::min(v.count, src.file_size() / std::max<std::uint64_t>(min_record, 1)));
+      attribute_builder.expect(std::min(v.count, src.file_size() / std::max<std::uint64_t>(min_record, 1)));
     }
-    double xyz[3];
+    std::vector<double> values(want.size());
     for (std::uint64_t i = 0; i < v.count; ++i) {
-      reader.read_record(v, -1, nullptr, xyz, h->xyz, 3);
-      builder.add(xyz[0], xyz[1], xyz[2], [&] { return reader.record_position(); });
+      reader.read_record(v, -1, nullptr, values.data(), want.data(), int(want.size()));
+      builder.add(values[0], values[1], values[2], [&] { return reader.record_position(); });
+      attribute_builder.add(values.data() + 3);
       if (options.progress && (i & 0xFFFF) == 0)
         options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
     }
     builder.finish(out);
+    attribute_builder.finish(out);
     next_element = std::size_t(h->vertex) + 1;
   }
 

@@ -15,8 +15,10 @@
 namespace oocsimp {
 
 struct MeshInput::Impl {
-  std::unique_ptr<MappedFile> position_map;  // the input itself, or position_file
-  std::unique_ptr<TempFile> position_file;   // float or double x,y,z per vertex when converted
+  std::unique_ptr<MappedFile> position_map;   // the input itself, or position_file
+  std::unique_ptr<TempFile> position_file;    // float or double x,y,z per vertex when converted
+  std::unique_ptr<MappedFile> attribute_map;  // attribute_file, when the attributes were converted
+  std::unique_ptr<TempFile> attribute_file;   // the carried attributes packed, when converted
   std::function<std::unique_ptr<TriangleStream>()> make_triangles;
 };
 

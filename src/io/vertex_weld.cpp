@@ -26,6 +26,7 @@
 #include <memory>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "io/byte_sink.hpp"
 #include "io/mapped_file.hpp"
 #include "io/position_array.hpp"
@@ -314,6 +315,12 @@ class Welder {
   void number_vertices(IndexArray remap) {
     auto file = std::make_unique<TempFile>(temp_dir_, "oocsimp-positions-");
     auto sink = sink_for(*file, "welded position array");
+    // A welded vertex keeps the attributes of its first occurrence.
+    const AttributeArray& attrs = input_.attributes;
+    std::unique_ptr<AttributeArrayBuilder> attribute_builder;
+    if (!attrs.empty())
+      attribute_builder = std::make_unique<AttributeArrayBuilder>(temp_dir_, input_.info.path, attrs.attributes);
+    std::vector<double> values(attrs.size());
     std::uint64_t next = 0;
     for (std::uint64_t i = 0; i < n_; ++i) {
       const std::uint64_t to = remap.get(i);
@@ -321,6 +328,10 @@ class Welder {
         remap.set(i, next++);
         const Word w[3] = {word(i, 0), word(i, 1), word(i, 2)};
         sink->write(w, sizeof w);
+        if (attribute_builder) {
+          for (std::size_t k = 0; k < attrs.size(); ++k) values[k] = attrs.get(i, k);
+          attribute_builder->add(values.data());
+        }
       } else {
         remap.set(i, remap.get(to));
       }
@@ -342,6 +353,7 @@ class Welder {
     input_.impl->position_map = std::move(map);
     input_.impl->position_file = std::move(file);
     input_.info.positions_in_place = false;
+    if (attribute_builder) attribute_builder->finish(input_);  // replaces the array (and its file) it read
     input_.info.unwelded_vertex_count = n_;
     input_.info.vertex_count = next;
   }

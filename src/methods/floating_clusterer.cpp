@@ -105,7 +105,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   release_memory(options);
 
   // Cluster shares and kept triangles.
-  AccumulationSettings acc{cell, options.assign, options.memory_budget, spill, options.progress};
+  AccumulationSettings acc{cell, options.assign, options.memory_budget, spill, options.progress, &input.attributes};
   ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
   // Centres live on in the cluster records; the per-tile lists are done, and the
   // memory of the triangles and vertex blocks goes to the output tables.
@@ -127,13 +127,14 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   AssemblyCounts counts;
   {
     ProgressPhase phase(options.progress, "assemble", 0, "cell");
-    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.representative, &counts, budget);
+    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.representative, &counts, budget,
+                      shares.attribute_shares.get(), &shares.attributes);
   }
   double t5 = now_seconds();
 
   if (stats) {
-    const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(), shares.corners.get(), shares.partials.get(),
-                                   shares.inside.get()};
+    const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(),        shares.corners.get(),
+                                   shares.partials.get(), shares.inside.get(), shares.attribute_shares.get()};
     stats->spill_bytes = stats->spill_raw_bytes = blocks->bytes_on_disk();
     stats->spill_bytes_in_memory = blocks->bytes_in_memory();
     for (const StreamSpill* s : spills)

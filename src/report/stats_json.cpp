@@ -110,6 +110,14 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
   s += ", \"weld\": " + std::string(o.weld ? "true" : "false");
   s += ", \"precision\": " + quoted(precision_name(o.precision));
+  if (o.attributes.mode == AttributeSelection::Mode::named) {
+    std::string names;
+    for (const std::string& n : o.attributes.names) names += (names.empty() ? "" : ", ") + quoted(n);
+    s += ", \"attributes\": [" + names + "]";
+  } else {
+    s += std::string(", \"attributes\": ") +
+         (o.attributes.mode == AttributeSelection::Mode::all ? "\"all\"" : "\"none\"");
+  }
   s += ", \"ascii\": " + std::string(outputs.ascii ? "true" : "false");
   s += ", \"force\": " + std::string(outputs.replace_input ? "true" : "false");
   return s + "}";
@@ -159,6 +167,13 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                   s.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
   }
+  std::string attributes, warnings;
+  for (const VertexAttribute& a : s.attributes)
+    attributes += (attributes.empty() ? "" : ", ") + std::string("{\"name\": ") + quoted(a.name) +
+                  ", \"type\": " + quoted(attribute_type_name(a.type)) + "}";
+  for (const std::string& w : s.warnings) warnings += (warnings.empty() ? "" : ", ") + quoted(w);
+  js += "  \"attributes\": [" + attributes + "],\n";
+  js += "  \"warnings\": [" + warnings + "],\n";
   js += "  \"seconds\": {" + phases + "\"total\": " + seconds(total) + "},\n";
   std::snprintf(buf, sizeof buf,
                 "  \"memory\": {\"peak_rss_bytes\": %" PRIu64 ", \"peak_anon_bytes\": %" PRIu64

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cluster/cluster_accumulation.hpp"
 #include "cluster/fixed_point_sums.hpp"
 #include "common/memory_budget.hpp"
 #include "common/flat_hash_map.hpp"
@@ -29,6 +30,38 @@ std::uint64_t largest_bucket(const StreamSpill& spill) {
   std::uint64_t most = 0;
   for (std::uint32_t b = 0; b < spill.stream_count(); ++b) most = std::max(most, spill.record_count(b));
   return most;
+}
+
+// Each used cluster's attribute values from its shares, a cluster bucket at a time;
+// `index` numbers the output vertices by centre. The shares of one centre are summed
+// in fixed point, so in any order.
+void assemble_attributes(StreamSpill& shares, const AttributeLayout& layout, const FlatHashSet<std::uint64_t>& index,
+                         AttributeValues* out) {
+  const std::size_t width = layout.width(), n = layout.count(), record = 1 + width;
+  out->attributes = layout.attributes();
+  out->values.assign(n * index.size(), 0.0);
+  for (std::uint32_t b = 0; b < shares.stream_count(); ++b) {
+    std::vector<std::int64_t> records;
+    records.resize(std::size_t(shares.record_count(b)) * record);
+    shares.read_into(b, records.data(), records.size() * sizeof(std::int64_t));
+    const std::size_t count = records.size() / record;
+    std::vector<std::uint32_t> order(count);  // records by centre
+    for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
+    auto centre = [&](std::size_t i) { return std::uint64_t(records[i * record]); };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t c) { return centre(a) < centre(c); });
+    std::vector<Fixed> sum(width);
+    std::vector<double> value(width);
+    for (std::size_t i = 0; i < count;) {
+      const std::uint64_t c = centre(order[i]);
+      std::fill(sum.begin(), sum.end(), Fixed());
+      for (; i < count && centre(order[i]) == c; ++i)
+        for (std::size_t k = 0; k < width; ++k) sum[k].add(records[order[i] * record + 1 + k]);
+      const std::int64_t id = index.find(c);
+      if (id < 0) continue;  // a cluster no output triangle uses
+      for (std::size_t k = 0; k < width; ++k) value[k] = sum[k].value();
+      layout.finish(value.data(), &out->values[n * std::size_t(id)]);
+    }
+  }
 }
 
 }  // namespace
@@ -80,7 +113,8 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
 }
 
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
-                             RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget) {
+                             RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget,
+                             StreamSpill* attribute_shares, const AttributeLayout* attributes) {
   std::vector<KeptTriangle>& tris = kept;
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
@@ -104,7 +138,12 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   std::vector<KeptTriangle>().swap(kept);
   // The positions and the largest cluster bucket with its centre starts.
   const std::uint64_t bucket = largest_bucket(partials);
-  check_output_fits(budget, 3 * sizeof(double) * index.size() + bucket * (sizeof(PartialCluster) + sizeof(std::size_t)),
+  const std::size_t attribute_count = attributes && attribute_shares ? attributes->count() : 0;
+  const std::uint64_t attribute_bucket =
+      attribute_count ? largest_bucket(*attribute_shares) * (attribute_record_bytes(*attributes) + 4) : 0;
+  check_output_fits(budget,
+                    (3 + attribute_count) * sizeof(double) * index.size() +
+                        bucket * (sizeof(PartialCluster) + sizeof(std::size_t)) + attribute_bucket,
                     output + " and " + std::to_string(index.size()) + " vertices");
   // Representatives, a cluster bucket at a time: merge each centre's shares (in
   // fixed point, so in any order) and solve for the clusters some triangle uses.
@@ -132,6 +171,8 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
       mesh.positions[3 * std::size_t(id) + 2] = p.z;
     });
   }
+  if (attribute_shares && attributes && !attributes->empty())
+    assemble_attributes(*attribute_shares, *attributes, index, &mesh.attributes);
   if (counts) counts->clusters = clusters;
   return mesh;
 }

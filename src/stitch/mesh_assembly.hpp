@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cluster/attribute_sums.hpp"
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
 #include "common/memory_budget.hpp"
@@ -37,8 +38,11 @@ struct AssemblyCounts {
 /// its cluster's shares merged from `partials` a bucket at a time. With a
 /// `budget`, throws UsageError before allocating the output tables
 /// when they (and the largest cluster bucket) would not fit next to what the process holds.
+/// With `attribute_shares` (in the streams of `partials`, see ClusterShares), each
+/// output vertex also gets its cluster's attribute values (AttributeLayout::finish).
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
                              RepresentativeRule rule, AssemblyCounts* counts,
-                             const MemoryBudget& budget = MemoryBudget());
+                             const MemoryBudget& budget = MemoryBudget(), StreamSpill* attribute_shares = nullptr,
+                             const AttributeLayout* attributes = nullptr);
 
 }  // namespace oocsimp

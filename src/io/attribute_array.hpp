@@ -1,0 +1,73 @@
+// Building the mapped attribute arrays behind a MeshInput, and choosing which of an
+// input's vertex properties are carried (issue 11).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/byte_sink.hpp"
+#include "oocsimp/attributes.hpp"
+#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/temp_file.hpp"
+
+namespace oocsimp {
+
+/// A vertex property an input offers, before the selection.
+struct AttributeCandidate {
+  std::string name;
+  AttributeType type = AttributeType::f32;
+};
+
+/// Texture coordinates (PLY u, v, s, t, texture_u, texture_v, texcoord...): they
+/// cannot survive clustering, which merges vertices across texture seams.
+bool is_texture_coordinate(const std::string& name);
+
+/// The positions in `candidates` of the attributes a run carries, in the order the
+/// output writes them: every candidate but texture coordinates for Mode::all, the
+/// named ones in their order for Mode::named, none for Mode::none. Texture coordinates
+/// and (for a selection) the candidates left out are described in `notes`, one line
+/// each naming `path`. Throws UsageError naming `path` and what it has when a named
+/// attribute is not among the candidates, or names a texture coordinate.
+std::vector<std::size_t> carried_attributes(const std::vector<AttributeCandidate>& candidates,
+                                            const AttributeSelection& selection, const std::string& path,
+                                            std::vector<std::string>* notes);
+
+/// Streams converted attribute values into a temporary file under `temp_dir`, packed
+/// in their stored types (native byte order), tracking each attribute's range; finish()
+/// maps the file into MeshInput::attributes. Integer attributes are rounded and clamped
+/// into their type's range.
+class AttributeArrayBuilder {
+ public:
+  AttributeArrayBuilder(const std::string& temp_dir, const std::string& source_path,
+                        std::vector<VertexAttribute> attributes);
+  ~AttributeArrayBuilder();
+  bool empty() const { return attributes_.empty(); }
+  /// Throws IoError up front when the temp folder lacks the room for `vertices`.
+  void expect(std::uint64_t vertices);
+  /// Appends one vertex's values, attributes().size() of them.
+  void add(const double* values);
+  /// Flushes, maps the file and stores the view and the ranges in `out`.
+  void finish(MeshInput& out);
+
+ private:
+  std::vector<VertexAttribute> attributes_;
+  std::vector<std::size_t> offset_;
+  std::size_t stride_ = 0;
+  std::vector<unsigned char> record_;
+  std::unique_ptr<TempFile> file_;
+  std::unique_ptr<ByteSink> sink_;
+  std::string source_path_, temp_dir_;
+  std::uint64_t count_ = 0;
+};
+
+/// Fills attributes[k].min and max from the finite values of the mapped `array`
+/// (in parallel); an attribute without a finite value gets 0, 0.
+void scan_attribute_ranges(AttributeArray& array);
+
+/// Stores `value` as `type` at `out` (native byte order): integers rounded to nearest
+/// and clamped to the type's range, NaN as 0.
+void store_attribute(double value, AttributeType type, unsigned char* out);
+
+}  // namespace oocsimp
