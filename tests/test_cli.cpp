@@ -292,6 +292,51 @@ TEST_CASE("a fine grid whose tables or output cannot fit in --mem exits 2 naming
   }
 }
 
+TEST_CASE("a dense part whose tile cannot fit in --mem is refused up front and runs within a --mem that fits",
+          "[cli][memory]") {
+  // A coarse 100 x 100 plane (20k triangles) and, apart, a dense 300 x 300 patch 1/100
+  // as wide (180k triangles): tiles sized for the average put the whole patch into
+  // one tile, whose working set (about 200 bytes a record: 36 MB) is more than three
+  // quarters of 32 MiB, and fits in 64 MiB.
+  ScratchDir d, tmp;
+  std::vector<float> pos;
+  std::vector<std::uint32_t> tri;
+  auto grid = [&](int n, float size, float z) {
+    const auto base = std::uint32_t(pos.size() / 3);
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        pos.push_back(size * float(i) / float(n));
+        pos.push_back(size * float(j) / float(n));
+        pos.push_back(z);
+      }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::uint32_t a = base + std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1);
+        for (std::uint32_t v : {a, b, c + 1, a, c + 1, c}) tri.push_back(v);
+      }
+  };
+  grid(100, 1.0f, 0.0f);
+  grid(300, 0.01f, 0.5f);
+  write_binary_ply(d.file("dense.ply"), pos, tri);
+  const std::string args = " --grid 200 --threads 2 " + q(d.file("dense.ply")) + " -o " + q(d.file("o.ply")) +
+                           " --tmp " + q(tmp.path()) + " --stats " + q(d.file("st.json"));
+  CliResult r = run_cli("simplify --quiet --mem 32M" + args);
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--mem 32 MiB cannot hold the fullest tile of " + d.file("dense.ply")) != std::string::npos);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK_FALSE(file_exists(d.file("o.ply")));
+  CHECK(tmp.entries().empty());
+  REQUIRE(run_cli("simplify --quiet --mem 64M" + args).exit_code == 0);
+  const std::string js = read_file(d.file("st.json"));
+  INFO(js);
+  CHECK(json_number(js, "largest_tile_records") >= 180000);
+#if !OOCSIMP_TEST_UNDER_ASAN  // ASan's shadow memory is anonymous memory too
+  CHECK(json_number(js, "peak_anon_bytes") < double(64u << 20));
+#endif
+  CHECK(tmp.entries().empty());
+}
+
 // --- Outputs (issue 9 item 1): only regular files and new names go through a
 // temporary name and a rename; anything else is written where it is.
 

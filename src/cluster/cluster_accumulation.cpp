@@ -14,6 +14,7 @@
 #include "oocsimp/progress.hpp"
 #include "oocsimp/quadric.hpp"
 #include "cluster/triangle_records.hpp"
+#include "grid/tile_memory_gate.hpp"
 
 namespace oocsimp {
 
@@ -109,7 +110,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   ProgressReporter* progress = settings.progress;
   if (progress) progress->begin("cluster tiles", n, "tile");
   std::atomic<std::uint32_t> done{0};
-  tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
+  // One tile: its vertices assigned, its sums and its kept triangles.
+  const auto accumulate_tile = [&](std::uint32_t tile) {
     std::vector<TriangleRecord> tris = tiles.load(tile);
     // Owned vertices grouped by lookup cube: consecutive assignments then probe the
     // same cubes (by input index, the cluster pass took 15% longer). Their order
@@ -193,6 +195,10 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     // instead of growing (and being copied) in the heap tile by tile.
     dedupe_kept_triangles(kept);
     append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span; });
+  };
+  TileMemoryGate gate(settings.work_share);
+  tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
+    gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] { accumulate_tile(tile); });
     if (progress) progress->set(++done);
   });
   out.corners->flush();

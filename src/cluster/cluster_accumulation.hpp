@@ -49,6 +49,8 @@ struct AccumulationSettings {
   SpillSettings spill;
   ProgressReporter* progress = nullptr;
   const AttributeArray* attributes = nullptr;  ///< the carried vertex attributes, or none
+  /// Bytes the tiles in work may take together (TileMemoryGate).
+  std::uint64_t work_share = ~std::uint64_t(0);
 };
 
 /// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the

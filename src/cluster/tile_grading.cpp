@@ -4,6 +4,7 @@
 #include <atomic>
 
 #include "cluster/floating_cells.hpp"
+#include "grid/tile_memory_gate.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -19,18 +20,22 @@ std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, co
 
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
                                         const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, ProgressReporter* progress) {
+                                        std::uint64_t memory_allowance, ProgressReporter* progress,
+                                        std::uint64_t work_share) {
   std::uint32_t n = tiles.count();
   if (progress) progress->begin("grade tiles", n, "tile");
   std::atomic<std::uint32_t> done{0};
   // Round 1: grade, sort and spill every tile's vertices; the greedy with the
   // borders of the neighbours graded before.
   auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n, memory_allowance);
+  TileMemoryGate gate(work_share);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
-    std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
-    if (keep) keep->append(tile, graded.data(), graded.size());
-    std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
-    blocks->put(tile, block.data(), block.size());
+    gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
+      std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
+      if (keep) keep->append(tile, graded.data(), graded.size());
+      std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
+      blocks->put(tile, block.data(), block.size());
+    });
     if (progress) progress->set(++done);
   });
   if (keep) keep->flush();

@@ -61,9 +61,12 @@ using FirstChoice =
 /// class (TileGrid::for_each_by_colour) so that `choose` sees the borders of the
 /// classes before. With `keep`, each tile's sorted vertices are also appended to its
 /// stream there (--keep-tmp). Up to `memory_allowance` bytes of blocks stay in memory.
+/// The tiles in work take at most `work_share` bytes together (TileMemoryGate; a tile
+/// larger than that runs alone).
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
                                         const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, ProgressReporter* progress);
+                                        std::uint64_t memory_allowance, ProgressReporter* progress,
+                                        std::uint64_t work_share = ~std::uint64_t(0));
 
 /// The same from vertices graded by an earlier run (stream `tile` of `kept`).
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,

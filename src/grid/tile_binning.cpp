@@ -1,5 +1,7 @@
 #include "grid/tile_binning.hpp"
 
+#include "grid/tile_memory_gate.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -7,6 +9,7 @@
 #include "common/flat_hash_map.hpp"
 #include "grid/tile_plan.hpp"
 #include "io/ordered_pipeline.hpp"
+#include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/temp_file.hpp"
 
@@ -65,6 +68,14 @@ std::uint64_t BinnedTiles::largest_tile_records() const {
   return most;
 }
 
+std::uint64_t tile_work_share(std::uint64_t budget, std::uint64_t fullest_tile_records) {
+  const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::uint64_t planned =
+      std::min<std::uint64_t>(budget / 2, std::uint64_t(2 * threads * kMaxTileTriangles * kTileBytesPerTriangle));
+  // The plan's estimate of the fullest tile comes from a sample: a quarter more.
+  return std::max(planned, fullest_tile_records * kTileBytesPerRecord * 5 / 4);
+}
+
 // The raw triangle spill, estimated: most triangles are binned into one tile.
 static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
   return input.info.face_count * sizeof(TriangleRecord) * 5 / 4;
@@ -75,11 +86,8 @@ static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
 // up to twice the planned one, 1.7x measured on the 4M sphere), the binning buffers
 // (a quarter) and the output tables (an eighth). Kept tiles go to their file anyway.
 static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyOptions& options,
-                                         std::size_t vertex_record_bytes) {
+                                         std::size_t vertex_record_bytes, std::uint64_t tiles) {
   const std::uint64_t budget = options.memory_budget;
-  const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const std::uint64_t tiles =
-      std::min<std::uint64_t>(budget / 2, std::uint64_t(2 * threads * kMaxTileTriangles * kTileBytesPerTriangle));
   return spill_allowances(budget, tiles + budget / 4 + budget / 8, options.keep_temp ? 0 : triangle_spill_bytes(input),
                           input.positions.count * vertex_record_bytes * 3 / 2);
 }
@@ -102,10 +110,21 @@ static bool spill_compression(const MeshInput& input, const SimplifyOptions& opt
   return options.keep_temp || to_disk > available_memory_bytes() / 2;
 }
 
-SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes) {
+SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes,
+                             std::uint64_t fullest_tile_records) {
   SpillSettings s;
   s.dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
-  s.allow = memory_for_spills(input, options, vertex_record_bytes);
+  const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  s.work_share = tile_work_share(budget, fullest_tile_records);
+  const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
+  if (fullest > budget / 4 * 3)
+    throw UsageError("--mem " + std::to_string(budget >> 20) + " MiB cannot hold the fullest tile of " +
+                     input.info.path + " (about " + std::to_string(fullest_tile_records) + " triangle records, " +
+                     std::to_string((fullest + (1 << 20) - 1) >> 20) +
+                     " MiB to grade, estimated from a sample): a dense part of the mesh; give --mem " +
+                     std::to_string((fullest / 3 * 4 + (1 << 20) - 1) >> 20) +
+                     "M or more, or a larger --cell (--grid, --ratio)");
+  s.allow = memory_for_spills(input, options, vertex_record_bytes, s.work_share);
   s.compress = spill_compression(input, options, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
   // once, raw; the triangle records compress to an eighth or more, and (a header's

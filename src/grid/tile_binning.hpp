@@ -34,6 +34,11 @@ struct TriangleRecord {
 constexpr std::size_t kMinBufferRecords = 256;
 constexpr std::uint64_t kTileFixedBytes = kMinBufferRecords * sizeof(TriangleRecord) + 1024;
 
+/// The share of `budget` the tiles in work take at once (TileMemoryGate): half the
+/// budget, or what two tiles of kMaxTileTriangles per thread take when that is less;
+/// and at least what the fullest tile, of `fullest_tile_records`, takes alone.
+std::uint64_t tile_work_share(std::uint64_t budget, std::uint64_t fullest_tile_records);
+
 /// The binned mesh: the tiling, each tile's triangle records (stream `tile` of the
 /// spill, in input order) and what the triangle stream reported.
 struct BinnedTiles {
@@ -59,10 +64,17 @@ struct SpillSettings {
   std::uint64_t expected_bytes = 0;
   /// What each spill store may hold in memory instead of its file.
   SpillAllowances allow;
+  /// Bytes the tiles in work may take together (TileMemoryGate), set aside before
+  /// the allowances.
+  std::uint64_t work_share = 0;
 };
 /// From the options: the temp folder, zstd where the spill would go to the disk,
 /// and the estimate from the input's counts, `vertex_record_bytes` per vertex.
-SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes);
+/// `fullest_tile_records`: the fullest tile's records as planned (0: unknown), whose
+/// working set the tiles' share must hold. Throws UsageError (exit 2, before any
+/// binning) when that tile alone would take more than three quarters of the budget.
+SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes,
+                             std::uint64_t fullest_tile_records = 0);
 
 /// Bins the triangle stream of `input` (at its start) into tiles of side
 /// `tile_side`, with buffers from a quarter of `memory_budget`. Throws IoError when

@@ -35,6 +35,10 @@ double fullest_tile_vertices(const PositionArray& pos, double side) {
 
 }  // namespace
 
+std::uint64_t estimate_fullest_tile_records(const MeshInput& input, double side) {
+  return std::uint64_t(2 * fullest_tile_vertices(input.positions, side));
+}
+
 // Tile side from the memory budget: a tile's working set is about
 // kTileBytesPerTriangle per triangle and `threads` tiles are in memory at once; use
 // half the budget.

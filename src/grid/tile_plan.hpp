@@ -23,6 +23,10 @@ constexpr double kMaxTileTriangles = 1 << 16;
 /// a sample of the vertices. Never below `cell`, so a cell reaches only adjacent tiles.
 double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell);
 
+/// The triangle records of the fullest tile of side `side`, estimated from a sample
+/// of the vertices (about two triangles per vertex).
+std::uint64_t estimate_fullest_tile_records(const MeshInput& input, double side);
+
 /// A --tile so small that its tiles' fixed costs exceed the budget is refused before
 /// binning (UsageError, exit 2): the user chose the side, so it is not silently changed.
 void check_tile_count_fits(const MeshInput& input, double tile_side, double user_side, std::uint64_t budget);

@@ -31,6 +31,7 @@
 #include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
 #include "grid/tile_binning.hpp"
+#include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
 #include "oocsimp/progress.hpp"
 #include "stitch/mesh_assembly.hpp"
@@ -55,6 +56,21 @@ std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const
   return graded;
 }
 
+// An uneven input can put many times the planned triangles into its fullest tile
+// (1.19M records against the planned 65k on the generated 100M parts mesh), whose
+// working set then does not fit --mem even alone: the run stops (exit 2) before
+// grading, naming what it would take, rather than exceed the budget.
+void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tiles, const std::string& path) {
+  const std::uint64_t records = tiles.largest_tile_records();
+  const std::uint64_t need = records * kTileBytesPerRecord;
+  const std::uint64_t held = budget.held();
+  budget.check(held, need,
+               "the fullest tile of " + path + " (" + std::to_string(records) + " triangle records, " + mib_text(need) +
+                   " MiB to grade)",
+               "a dense part of the mesh: give --mem " + mib_text(held + need + need / 4) +
+                   "M or more, or a larger --cell (--grid, --ratio)");
+}
+
 }  // namespace
 
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, const GridSpec& grid,
@@ -63,20 +79,28 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   const MemoryBudget budget(options);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
   const FloatingCellShape cell{grid.cell, options.cell_shape};
-  const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex));
   double t0 = now_seconds();
 
   // The tiled mesh: kept by an earlier run, or binned.
-  KeptTileStore kept(input, spill.dir, stats ? &stats->warnings : nullptr);
+  KeptTileStore kept(input, options.temp_dir.empty() ? default_temp_dir() : options.temp_dir,
+                     stats ? &stats->warnings : nullptr);
   BinnedTiles tiles;
   std::unique_ptr<StreamSpill> graded;  // --keep-tmp: every tile's graded vertices
   const bool resumed = options.keep_temp && kept.resume(cell.size, &tiles, &graded);
   const bool keeping = options.keep_temp && !resumed && kept.start();
-  if (!resumed)
-    tiles =
-        bin_triangles(input, plan_tile_side(input, options, cell.size), options.memory_budget, spill, options.progress);
+  // The tiles' share of the budget holds the fullest tile as planned (known exactly
+  // when resumed); the spills' allowances come after it.
+  const double tile_side = resumed ? 0 : plan_tile_side(input, options, cell.size);
+  const std::uint64_t fullest =
+      resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, cell.size));
+  const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex), fullest);
+  if (!resumed) tiles = bin_triangles(input, tile_side, options.memory_budget, spill, options.progress);
   double t1 = now_seconds();
   release_memory(options);  // the binning chunks
+  // The fullest tile is known now; it must fit in the budget next to what the run
+  // holds, even alone (TileMemoryGate runs it alone).
+  const std::uint64_t work_share = std::max(spill.work_share, tile_work_share(options.memory_budget, 0));
+  check_fullest_tile_fits(budget, tiles, input.info.path);
 
   // Graded vertex blocks with the first greedy's decisions.
   BorderDecisions decisions(tiles.grid, cell);
@@ -89,7 +113,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   } else {
     if (options.keep_temp) graded = graded_vertex_spill(tiles, spill);
     blocks = grade_tiles(tiles, input.positions, cell.size, first, graded.get(), spill.dir, spill.allow.vertex_blocks,
-                         options.progress);
+                         options.progress, work_share);
     if (keeping) kept.keep(tiles, *graded);
   }
   release_memory(options);  // the tiles' grading buffers
@@ -105,7 +129,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   release_memory(options);
 
   // Cluster shares and kept triangles.
-  AccumulationSettings acc{cell, options.assign, options.memory_budget, spill, options.progress, &input.attributes};
+  AccumulationSettings acc{cell,      options.assign, options.memory_budget, spill, options.progress, &input.attributes,
+                           work_share};
   ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
   // Centres live on in the cluster records; the per-tile lists are done, and the
   // memory of the triangles and vertex blocks goes to the output tables.
