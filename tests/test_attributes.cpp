@@ -16,6 +16,7 @@
 
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "oocsimp/simplify.hpp"
 #include "test_support.hpp"
 
@@ -500,4 +501,61 @@ TEST_CASE("welding keeps the attributes of each position's first vertex", "[attr
   for (int i = 0; i < 4; ++i) CHECK(in.attributes.get(std::uint64_t(i), 0) == expected[i]);
   CHECK(in.attributes.attributes[0].min == 1);
   CHECK(in.attributes.attributes[0].max == 4);
+}
+
+TEST_CASE("the in-memory API gives the same mesh as the file path and touches no temp folder", "[attributes][api]") {
+  ScratchDir d;
+  const Mesh sphere = uv_sphere(80, 160);
+  Properties with;
+  with.quality = true;
+  write_ply(d.file("s.ply"), sphere, with);
+  // The same mesh as the caller's arrays: float positions interleaved with a pad (a
+  // stride of 16 bytes), colours in three arrays of their own, quality in a fourth.
+  const std::size_t n = sphere.positions.size() / 3;
+  std::vector<float> xyzw(4 * n);
+  std::vector<std::uint8_t> rgb[3];
+  std::vector<float> quality(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* p = &sphere.positions[3 * i];
+    for (int k = 0; k < 3; ++k) xyzw[4 * i + std::size_t(k)] = float(p[k]);
+    const double c[3] = {red_of(p), green_of(p), blue_of(p)};
+    for (int k = 0; k < 3; ++k) rgb[k].push_back(std::uint8_t(std::lround(std::min(255.0, std::max(0.0, c[k])))));
+    quality[i] = float(quality_of(p));
+  }
+  MeshView v;
+  v.positions = xyzw.data();
+  v.position_stride = 4 * sizeof(float);
+  v.vertex_count = n;
+  v.indices = sphere.triangles.data();
+  v.triangle_count = sphere.triangles.size() / 3;
+  const char* names[3] = {"red", "green", "blue"};
+  for (int k = 0; k < 3; ++k) v.attributes.add({names[k], AttributeType::u8, 0, 0}, rgb[k].data(), 1);
+  v.attributes.add({"quality", AttributeType::f32, 0, 0}, quality.data(), sizeof(float));
+  for (ClusterMethod method : kMethods) {
+    const SimplifiedMesh from_file = run(d.file("s.ply"), method, 24);
+    SimplifyOptions o;
+    o.method = method;
+    o.sizing.grid = 24;
+    o.temp_dir = d.file("no-such-folder");  // a spill file would fail here
+    const SimplifiedMesh from_memory = simplify_mesh(v, o);
+    INFO(method_name(method));
+    CHECK(from_memory.positions == from_file.positions);
+    CHECK(from_memory.triangles == from_file.triangles);
+    CHECK(from_memory.attributes.values == from_file.attributes.values);
+    REQUIRE(from_memory.attributes.attributes.size() == 4);
+    CHECK(from_memory.attributes.attributes[3].name == "quality");
+    CHECK(from_memory.attributes.attributes[0].type == AttributeType::u8);
+  }
+  CHECK_FALSE(file_exists(d.file("no-such-folder")));
+  // An index out of range is bad input, named by triangle.
+  std::vector<std::uint32_t> bad = sphere.triangles;
+  bad[7] = std::uint32_t(n);
+  v.indices = bad.data();
+  try {
+    simplify_mesh(v, SimplifyOptions());
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()) ==
+          "mesh in memory: triangle 2 names vertex " + std::to_string(n) + " of " + std::to_string(n));
+  }
 }

@@ -41,19 +41,24 @@ struct AttributeSelection {
 /// name.
 AttributeSelection parse_attribute_selection(const std::string& text);
 
-/// Read-only view of the carried attributes of every vertex, in mapped memory: value k
-/// of vertex i is at base + i*stride + offset[k], stored as attributes[k].type,
-/// byte-swapped when `swap`. Empty (no attributes) when nothing is carried.
+/// Read-only view of the carried attributes of every vertex, in mapped (or the
+/// caller's) memory: value k of vertex i is at base[k] + i*stride[k], stored as
+/// attributes[k].type, byte-swapped when `swap`. Empty when nothing is carried.
 struct AttributeArray {
   std::vector<VertexAttribute> attributes;
-  std::vector<std::size_t> offset;
-  const unsigned char* base = nullptr;
+  std::vector<const unsigned char*> base;  ///< per attribute: its value of vertex 0
+  std::vector<std::size_t> stride;         ///< per attribute: bytes from one vertex's value to the next
   std::uint64_t count = 0;
-  std::size_t stride = 0;
   bool swap = false;
 
   bool empty() const { return attributes.empty(); }
   std::size_t size() const { return attributes.size(); }
+  /// Adds attribute `a` whose values start at `first` and are `step` bytes apart.
+  void add(const VertexAttribute& a, const void* first, std::size_t step) {
+    attributes.push_back(a);
+    base.push_back(static_cast<const unsigned char*>(first));
+    stride.push_back(step);
+  }
   /// Value k of vertex i (unchecked) as a double.
   inline double get(std::uint64_t i, std::size_t k) const;
 };
@@ -84,7 +89,7 @@ T load_attribute(const unsigned char* p, bool swap) {
 }  // namespace detail
 
 inline double AttributeArray::get(std::uint64_t i, std::size_t k) const {
-  const unsigned char* p = base + i * stride + offset[k];
+  const unsigned char* p = base[k] + i * stride[k];
   switch (attributes[k].type) {
     case AttributeType::i8:
       return detail::load_attribute<std::int8_t>(p, false);

@@ -185,11 +185,8 @@ void AttributeArrayBuilder::finish(MeshInput& out) {
   file_->close();
   auto map = std::make_unique<MappedFile>(file_->path());
   AttributeArray& a = out.attributes;
-  a.attributes = attributes_;
-  a.offset = offset_;
-  a.base = map->data();
+  for (std::size_t k = 0; k < attributes_.size(); ++k) a.add(attributes_[k], map->data() + offset_[k], stride_);
   a.count = count_;
-  a.stride = stride_;
   a.swap = false;
   scan_attribute_ranges(a);
   out.impl->attribute_map = std::move(map);

@@ -4,8 +4,6 @@
 // hold x, y, z as float or double is read in place through mmap; anything else is
 // converted to a temporary position array of the declared type. Faces are streamed
 // record by record and fanned; other elements are skipped.
-#include <tbb/parallel_reduce.h>
-#include <tbb/blocked_range.h>
 
 #include <cmath>
 #include <cstring>
@@ -26,23 +24,8 @@ namespace {
 enum class PlyType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
 enum class PlyFormat { ascii, binary_le, binary_be };
 
-std::size_t type_size(PlyType t) {
-  switch (t) {
-    case PlyType::i8:
-    case PlyType::u8:
-      return 1;
-    case PlyType::i16:
-    case PlyType::u16:
-      return 2;
-    case PlyType::i32:
-    case PlyType::u32:
-    case PlyType::f32:
-      return 4;
-    case PlyType::f64:
-      return 8;
-  }
-  return 0;
-}
+// PlyType lists the types in AttributeType's order: one table of sizes and names.
+std::size_t type_size(PlyType t) { return attribute_type_size(AttributeType(int(t))); }
 
 bool parse_type(std::string_view s, PlyType* t) {
   static const struct {
@@ -60,10 +43,7 @@ bool parse_type(std::string_view s, PlyType* t) {
   return false;
 }
 
-const char* type_name(PlyType t) {
-  static const char* names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
-  return names[int(t)];
-}
+const char* type_name(PlyType t) { return attribute_type_name(AttributeType(int(t))); }
 
 bool is_integer(PlyType t) { return t != PlyType::f32 && t != PlyType::f64; }
 
@@ -513,41 +493,12 @@ class EmptyTriangleStream : public TriangleStream {
   std::uint64_t bytes_consumed() const override { return 0; }
 };
 
-// Bounding box of the finite mapped positions, and the count of the others (the first
-// in index order is described, so the report does not depend on the thread count).
+// The bounds of the mapped positions, and where the first non-finite one is.
 void scan_mapped_positions(MeshInput& out, std::uint64_t vertex_offset) {
-  struct Scan {
-    Box3d box;
-    std::uint64_t non_finite = 0;
-    std::uint64_t first_non_finite = ~std::uint64_t(0);
-  };
-  const PositionArray& pa = out.positions;
-  Scan s = tbb::parallel_reduce(
-      tbb::blocked_range<std::uint64_t>(0, pa.count, 1 << 16), Scan{},
-      [&](const tbb::blocked_range<std::uint64_t>& r, Scan acc) {
-        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-          Vec3d p = pa.get(i);
-          if (!is_finite(p)) {
-            ++acc.non_finite;
-            acc.first_non_finite = std::min(acc.first_non_finite, i);
-            continue;
-          }
-          acc.box.add(p);
-        }
-        return acc;
-      },
-      [](Scan a, const Scan& b) {
-        a.box.add(b.box);
-        a.non_finite += b.non_finite;
-        a.first_non_finite = std::min(a.first_non_finite, b.first_non_finite);
-        return a;
-      });
-  out.info.bounds = s.box;
-  out.info.non_finite_vertices = s.non_finite;
-  if (s.non_finite > 0) {
-    out.info.first_non_finite_vertex = s.first_non_finite;
-    out.info.first_non_finite_position = "byte " + std::to_string(vertex_offset + s.first_non_finite * pa.stride);
-  }
+  scan_positions(out);
+  if (out.info.non_finite_vertices > 0)
+    out.info.first_non_finite_position =
+        "byte " + std::to_string(vertex_offset + out.info.first_non_finite_vertex * out.positions.stride);
 }
 
 std::string describe(const PlyElement& e) {
@@ -661,15 +612,12 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     scan_mapped_positions(out, vertex_offset);
     if (!carried_attrs.empty()) {
       AttributeArray& aa = out.attributes;
-      aa.attributes = carried_attrs;
-      aa.base = pa.base;
       aa.count = v.count;
-      aa.stride = rs;
       aa.swap = pa.swap;
       for (std::size_t k = 0; k < carried.size(); ++k) {
         std::size_t off = 0;
         for (int pi = 0; pi < want[3 + k]; ++pi) off += type_size(v.props[pi].type);
-        aa.offset.push_back(off);
+        aa.add(carried_attrs[k], pa.base + off, rs);
       }
       scan_attribute_ranges(aa);
     }

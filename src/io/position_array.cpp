@@ -1,5 +1,7 @@
 #include "io/position_array.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -109,6 +111,40 @@ void PositionArrayBuilder::finish(MeshInput& out) {
   out.info.first_non_finite_position = first_non_finite_position_;
   out.impl->position_map = std::move(map);
   out.impl->position_file = std::move(file_);
+}
+
+// The first non-finite vertex in index order is described, so the report does not
+// depend on the thread count.
+void scan_positions(MeshInput& out) {
+  struct Scan {
+    Box3d box;
+    std::uint64_t non_finite = 0;
+    std::uint64_t first_non_finite = ~std::uint64_t(0);
+  };
+  const PositionArray& pa = out.positions;
+  Scan s = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint64_t>(0, pa.count, 1 << 16), Scan{},
+      [&](const tbb::blocked_range<std::uint64_t>& r, Scan acc) {
+        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
+          Vec3d p = pa.get(i);
+          if (!is_finite(p)) {
+            ++acc.non_finite;
+            acc.first_non_finite = std::min(acc.first_non_finite, i);
+            continue;
+          }
+          acc.box.add(p);
+        }
+        return acc;
+      },
+      [](Scan a, const Scan& b) {
+        a.box.add(b.box);
+        a.non_finite += b.non_finite;
+        a.first_non_finite = std::min(a.first_non_finite, b.first_non_finite);
+        return a;
+      });
+  out.info.bounds = s.box;
+  out.info.non_finite_vertices = s.non_finite;
+  if (s.non_finite > 0) out.info.first_non_finite_vertex = s.first_non_finite;
 }
 
 }  // namespace oocsimp

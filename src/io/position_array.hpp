@@ -108,4 +108,8 @@ class PositionArrayBuilder {
   std::string first_non_finite_position_;
 };
 
+/// Fills out.info's bounds (of the finite positions), non-finite count and first
+/// non-finite vertex from the positions already in `out` (in parallel).
+void scan_positions(MeshInput& out);
+
 }  // namespace oocsimp

@@ -1,0 +1,60 @@
+// oocsimp — out-of-core simplification of huge triangle meshes. The library's one
+// header: include this, link oocsimp::oocsimp (find_package(oocsimp)).
+//
+// Files (simplify_file):
+//   oocsimp::SimplifyOptions o;            // floating cells, --ratio 0.1, all attributes
+//   o.sizing.grid = 512;
+//   oocsimp::simplify_file("scan.ply", "small.ply", false, o, nullptr);
+// A mesh in memory (simplify_mesh):
+//   oocsimp::MeshView v;
+//   v.positions = xyz; v.vertex_count = n; v.indices = idx; v.triangle_count = t;
+//   oocsimp::SimplifiedMesh m = oocsimp::simplify_mesh(v, o);
+//
+// Every function throws oocsimp::UsageError for options it cannot honour (exit 2 in
+// the CLI), InputError for bad input (3) and IoError for I/O and resource failures
+// (4), each with a one-line message; see oocsimp/error.hpp.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "oocsimp/attributes.hpp"   // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
+#include "oocsimp/error.hpp"        // UsageError, InputError, IoError
+#include "oocsimp/generate.hpp"     // generate_mesh: synthetic dense meshes streamed to PLY
+#include "oocsimp/measure.hpp"      // measure_surface_distance: Hausdorff, mean and RMS distance
+#include "oocsimp/mesh_input.hpp"   // open_mesh_input: PLY, OBJ, STL (optionally .zst) as streams
+#include "oocsimp/mesh_writer.hpp"  // write_mesh: PLY, OBJ, STL, OFF
+#include "oocsimp/simplify.hpp"     // SimplifyOptions, simplify, simplify_file, SimplifiedMesh
+
+namespace oocsimp {
+
+/// A triangle mesh in the caller's memory, which must outlive the call it is given to.
+struct MeshView {
+  /// Vertex i's x, y, z: three values of `position_type` at positions + i*position_stride.
+  const void* positions = nullptr;
+  ScalarType position_type = ScalarType::f32;
+  std::size_t position_stride = 0;  ///< bytes from one vertex to the next; 0 = three packed values
+  std::uint64_t vertex_count = 0;
+  /// Three vertex indices (below vertex_count) per triangle.
+  const std::uint32_t* indices = nullptr;
+  std::uint64_t triangle_count = 0;
+  /// Optional per-vertex attributes (AttributeArray::add: name, type, first value,
+  /// stride), carried as for a file; their count is vertex_count, their ranges are
+  /// computed. Left empty: positions only.
+  AttributeArray attributes;
+};
+
+/// Opens a mesh in memory as a MeshInput for simplify() (no file, no copy: the views
+/// point into the caller's arrays), with the attributes `selection` names (as
+/// --attributes does). Throws UsageError for null arrays with non-zero counts, or a
+/// selection naming an attribute the view lacks; an index out of range is an
+/// InputError when the triangles are read.
+MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selection = {});
+
+/// Simplifies a mesh in memory: open_mesh_view (with options.attributes), then simplify(). With a budget the
+/// spills fit in (the default, a quarter of memory, for any mesh that fits in memory),
+/// no file is written, and options.temp_dir is not touched. The result equals the one
+/// simplify_file gives for the same mesh stored in a file.
+SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
+
+}  // namespace oocsimp
