@@ -15,9 +15,9 @@
 #include "methods/floating_clusterer.hpp"
 #include "cluster/uniform_clusterer.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_writer.hpp"
+#include "io/mesh_writer_output.hpp"
 #include "oocsimp/progress.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "io/mapped_file.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;

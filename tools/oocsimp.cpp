@@ -23,7 +23,7 @@
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
 #include "oocsimp/simplify.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "oocsimp/signals.hpp"
 
 using namespace oocsimp;
 

@@ -9,8 +9,6 @@
 
 namespace oocsimp {
 
-class OutputFile;
-
 enum class MeshFormat { ply_binary, ply_ascii, obj, stl_binary, stl_ascii, off };
 
 /// The format implied by a path's extension, ignoring case and an optional ".zst"
@@ -30,17 +28,13 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
 /// `attributes` (values per vertex, see AttributeValues) go where the format has room
 /// for them (format_keeps_attributes).
-/// The destination is an OutputFile: a regular file is written under a temporary name
+/// A regular file is written under a temporary name
 /// in its folder and renamed into place only when complete (on any failure it is
 /// untouched and the temporary file removed); a device, FIFO or "-" is streamed into.
 /// Throws IoError.
 void write_mesh(const std::string& path, const std::vector<double>& positions,
                 const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32,
                 const AttributeValues* attributes = nullptr);
-
-/// The same into an OutputFile opened earlier; the caller commits it.
-void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format, ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr);
 
 /// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
 /// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in

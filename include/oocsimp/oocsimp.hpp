@@ -20,6 +20,7 @@
 
 #include "oocsimp/attributes.hpp"   // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
 #include "oocsimp/error.hpp"        // UsageError, InputError, IoError
+#include "oocsimp/geometry.hpp"     // Vec3d, Box3d
 #include "oocsimp/generate.hpp"     // generate_mesh: synthetic dense meshes streamed to PLY
 #include "oocsimp/measure.hpp"      // measure_surface_distance: Hausdorff, mean and RMS distance
 #include "oocsimp/mesh_input.hpp"   // open_mesh_input: PLY, OBJ, STL (optionally .zst) as streams

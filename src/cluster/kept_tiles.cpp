@@ -12,7 +12,7 @@
 
 #include "cluster/vertex_grading.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

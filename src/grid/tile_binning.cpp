@@ -11,7 +11,7 @@
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/progress.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

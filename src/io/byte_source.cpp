@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

@@ -1,4 +1,4 @@
-#include "oocsimp/mesh_writer.hpp"
+#include "io/mesh_writer_output.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "io/attribute_array.hpp"
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

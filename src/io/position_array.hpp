@@ -10,7 +10,7 @@
 #include "io/byte_sink.hpp"
 #include "io/mapped_file.hpp"
 #include "oocsimp/mesh_input.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

@@ -1,4 +1,4 @@
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 #include <fcntl.h>
 #include <sys/socket.h>

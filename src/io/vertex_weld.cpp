@@ -30,7 +30,7 @@
 #include "io/byte_sink.hpp"
 #include "io/mapped_file.hpp"
 #include "io/position_array.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 

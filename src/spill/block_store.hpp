@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 #include "spill/memory_slabs.hpp"
 
 namespace oocsimp {

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 #include "spill/memory_slabs.hpp"
 
 namespace oocsimp {

@@ -14,7 +14,7 @@
 
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/temp_file.hpp"
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 
