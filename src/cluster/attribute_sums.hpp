@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ class AttributeLayout {
     for (const VertexAttribute& a : attributes_) {
       const double range = a.max - a.min;
       inv_range_.push_back(range > 0 ? 1.0 / range : 0.0);
+      min_.push_back(a.min);
     }
     normal_[0] = find("nx");
     normal_[1] = find("ny");
@@ -46,8 +48,9 @@ class AttributeLayout {
   /// Attribute k of vertex i scaled into [0, 1]; 0 for a constant attribute and for a
   /// value that is not finite (it counts as the attribute's minimum).
   double scaled(const AttributeArray& array, std::uint64_t i, std::size_t k) const {
-    const double v = (array.get(i, k) - attributes_[k].min) * inv_range_[k];
-    return std::isfinite(v) ? std::min(std::max(v, 0.0), 1.0) : 0.0;
+    const double v = (array.get(i, k) - min_[k]) * inv_range_[k];
+    if (v >= 0 && v <= 1) return v;  // every finite value: the range is the input's
+    return v > 1 && v <= std::numeric_limits<double>::max() ? 1.0 : 0.0;  // rounding; NaN and infinities
   }
 
   /// Adds vertex i of `array` with weight `w` to a cluster's sums (width() of them),
@@ -100,7 +103,7 @@ class AttributeLayout {
   }
 
   std::vector<VertexAttribute> attributes_;
-  std::vector<double> inv_range_;
+  std::vector<double> min_, inv_range_;  // flat copies for the per-corner loop
   int normal_[3] = {-1, -1, -1};
 };
 
