@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -71,44 +70,12 @@ struct AttributeValues {
   bool empty() const { return attributes.empty(); }
 };
 
-namespace detail {
-template <class T>
-T load_attribute(const unsigned char* p, bool swap) {
-  unsigned char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if (swap)
-    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) {
-      unsigned char c = b[i];
-      b[i] = b[sizeof(T) - 1 - i];
-      b[sizeof(T) - 1 - i] = c;
-    }
-  T v;
-  std::memcpy(&v, b, sizeof(T));
-  return v;
-}
-}  // namespace detail
+/// One value of type `t` at `p` (byte-swapped when `swap`) as a double: the one
+/// decoder of stored scalars, for attributes and the PLY reader alike.
+double load_value(const unsigned char* p, AttributeType t, bool swap);
 
 inline double AttributeArray::get(std::uint64_t i, std::size_t k) const {
-  const unsigned char* p = base[k] + i * stride[k];
-  switch (attributes[k].type) {
-    case AttributeType::i8:
-      return detail::load_attribute<std::int8_t>(p, false);
-    case AttributeType::u8:
-      return detail::load_attribute<std::uint8_t>(p, false);
-    case AttributeType::i16:
-      return detail::load_attribute<std::int16_t>(p, swap);
-    case AttributeType::u16:
-      return detail::load_attribute<std::uint16_t>(p, swap);
-    case AttributeType::i32:
-      return detail::load_attribute<std::int32_t>(p, swap);
-    case AttributeType::u32:
-      return detail::load_attribute<std::uint32_t>(p, swap);
-    case AttributeType::f32:
-      return detail::load_attribute<float>(p, swap);
-    case AttributeType::f64:
-      return detail::load_attribute<double>(p, swap);
-  }
-  return 0;
+  return load_value(base[k] + i * stride[k], attributes[k].type, swap);
 }
 
 }  // namespace oocsimp

@@ -138,7 +138,7 @@ class TableBudget {
     const double run = occupancy_.occupied_by(resolution_, vertices_) * double(kRunBytesPerCell);
     budget_.check(
         held_, bytes, "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
-        "give --mem " + mib_text(held_ + std::max(bytes, std::uint64_t(run))) +
+        "give --mem " + whole_mib(held_ + std::max(bytes, std::uint64_t(run))) +
             "M or more, or a coarser grid (--grid " + std::to_string(coarser) + " or less, or a smaller --ratio)");
   }
 

@@ -27,8 +27,9 @@
 
 namespace oocsimp {
 
-/// `bytes` in whole MiB, rounded up, as text.
-inline std::string mib_text(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
+/// `bytes` in whole MiB, rounded up, as text without a unit (io/temp_file.hpp's
+/// mib_text writes "12.3 MiB").
+inline std::string whole_mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
 
 /// The budget of a run and the process's anonymous memory it does not cover.
 class MemoryBudget {
@@ -51,8 +52,8 @@ class MemoryBudget {
   /// hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
   void check(std::uint64_t held, std::uint64_t more, const std::string& what, const std::string& advice) const {
     if (bytes_ == 0 || held + more <= bytes_) return;
-    throw UsageError("--mem " + mib_text(bytes_) + " MiB cannot hold " + what + ": " + mib_text(more) +
-                     " MiB or more next to the " + mib_text(held) + " MiB the run holds; " + advice);
+    throw UsageError("--mem " + whole_mib(bytes_) + " MiB cannot hold " + what + ": " + whole_mib(more) +
+                     " MiB or more next to the " + whole_mib(held) + " MiB the run holds; " + advice);
   }
 
  private:

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "common/flat_hash_map.hpp"
+#include "common/memory_budget.hpp"
 #include "grid/tile_plan.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
@@ -118,12 +119,10 @@ SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& opti
   s.work_share = tile_work_share(budget, fullest_tile_records);
   const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
   if (fullest > budget / 4 * 3)
-    throw UsageError("--mem " + std::to_string(budget >> 20) + " MiB cannot hold the fullest tile of " +
-                     input.info.path + " (about " + std::to_string(fullest_tile_records) + " triangle records, " +
-                     std::to_string((fullest + (1 << 20) - 1) >> 20) +
+    throw UsageError("--mem " + whole_mib(budget) + " MiB cannot hold the fullest tile of " + input.info.path +
+                     " (about " + std::to_string(fullest_tile_records) + " triangle records, " + whole_mib(fullest) +
                      " MiB to grade, estimated from a sample): a dense part of the mesh; give --mem " +
-                     std::to_string((fullest / 3 * 4 + (1 << 20) - 1) >> 20) +
-                     "M or more, or a larger --cell (--grid, --ratio)");
+                     whole_mib(fullest / 3 * 4) + "M or more, or a larger --cell (--grid, --ratio)");
   s.allow = memory_for_spills(input, options, vertex_record_bytes, s.work_share);
   s.compress = spill_compression(input, options, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled

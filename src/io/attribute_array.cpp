@@ -37,6 +37,42 @@ const char* attribute_type_name(AttributeType t) {
   return names[int(t)];
 }
 
+namespace {
+
+template <class T>
+T load_swapped(const unsigned char* p, bool swap) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+}  // namespace
+
+double load_value(const unsigned char* p, AttributeType t, bool swap) {
+  switch (t) {
+    case AttributeType::i8:
+      return load_swapped<std::int8_t>(p, false);
+    case AttributeType::u8:
+      return load_swapped<std::uint8_t>(p, false);
+    case AttributeType::i16:
+      return load_swapped<std::int16_t>(p, swap);
+    case AttributeType::u16:
+      return load_swapped<std::uint16_t>(p, swap);
+    case AttributeType::i32:
+      return load_swapped<std::int32_t>(p, swap);
+    case AttributeType::u32:
+      return load_swapped<std::uint32_t>(p, swap);
+    case AttributeType::f32:
+      return load_swapped<float>(p, swap);
+    case AttributeType::f64:
+      return load_swapped<double>(p, swap);
+  }
+  return 0;
+}
+
 bool is_integer_type(AttributeType t) { return t != AttributeType::f32 && t != AttributeType::f64; }
 
 AttributeSelection parse_attribute_selection(const std::string& text) {

@@ -135,8 +135,6 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
         std::vector<VertexAttribute> attrs;
         for (std::size_t i : carried) attrs.push_back({offered[i].name, offered[i].type, 0, 0});
         colours = std::make_unique<AttributeArrayBuilder>(options.temp_dir, src.path(), attrs);
-      } else if (builder.count() == 0 && options.attributes.mode == AttributeSelection::Mode::named) {
-        carried_attributes({}, options.attributes, src.path(), nullptr);  // names what it lacks
       }
       if (colours) {
         if (extra < 3) {
@@ -158,8 +156,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
     if (options.progress && (src.line_number() & 0xFFFF) == 0)
       options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
   }
-  if (builder.count() == 0 && options.attributes.mode == AttributeSelection::Mode::named)
-    carried_attributes({}, options.attributes, src.path(), nullptr);
+  // No colours (or no vertices): a selection that names an attribute cannot be met.
+  if (!colours) carried_attributes({}, options.attributes, src.path(), nullptr);
   if (texture_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
     out.info.not_carried.push_back(src.path() + ": texture coordinates (" + std::to_string(texture_lines) +
                                    " vt lines) are dropped: clustering merges vertices across texture seams");

@@ -99,27 +99,7 @@ T load(const unsigned char* p, bool swap) {
   return v;
 }
 
-double load_double(const unsigned char* p, PlyType t, bool swap) {
-  switch (t) {
-    case PlyType::i8:
-      return load<std::int8_t>(p, swap);
-    case PlyType::u8:
-      return load<std::uint8_t>(p, swap);
-    case PlyType::i16:
-      return load<std::int16_t>(p, swap);
-    case PlyType::u16:
-      return load<std::uint16_t>(p, swap);
-    case PlyType::i32:
-      return load<std::int32_t>(p, swap);
-    case PlyType::u32:
-      return load<std::uint32_t>(p, swap);
-    case PlyType::f32:
-      return load<float>(p, swap);
-    case PlyType::f64:
-      return load<double>(p, swap);
-  }
-  return 0;
-}
+double load_double(const unsigned char* p, PlyType t, bool swap) { return load_value(p, AttributeType(int(t)), swap); }
 
 // Integer types only (checked when the header is read).
 std::int64_t load_int(const unsigned char* p, PlyType t, bool swap) {

@@ -65,9 +65,9 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
   const std::uint64_t need = records * kTileBytesPerRecord;
   const std::uint64_t held = budget.held();
   budget.check(held, need,
-               "the fullest tile of " + path + " (" + std::to_string(records) + " triangle records, " + mib_text(need) +
-                   " MiB to grade)",
-               "a dense part of the mesh: give --mem " + mib_text(held + need + need / 4) +
+               "the fullest tile of " + path + " (" + std::to_string(records) + " triangle records, " +
+                   whole_mib(need) + " MiB to grade)",
+               "a dense part of the mesh: give --mem " + whole_mib(held + need + need / 4) +
                    "M or more, or a larger --cell (--grid, --ratio)");
 }
 
@@ -99,7 +99,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   release_memory(options);  // the binning chunks
   // The fullest tile is known now; it must fit in the budget next to what the run
   // holds, even alone (TileMemoryGate runs it alone).
-  const std::uint64_t work_share = std::max(spill.work_share, tile_work_share(options.memory_budget, 0));
+  const std::uint64_t work_share = spill.work_share;
   check_fullest_tile_fits(budget, tiles, input.info.path);
 
   // Graded vertex blocks with the first greedy's decisions.
