@@ -12,12 +12,12 @@
 #include <memory>
 #include <sstream>
 
-#include "methods/floating_clusterer.hpp"
-#include "cluster/uniform_clusterer.hpp"
-#include "oocsimp/error.hpp"
 #include "io/mesh_writer_output.hpp"
-#include "oocsimp/progress.hpp"
 #include "io/temp_file.hpp"
+#include "methods/cluster_methods.hpp"
+#include "oocsimp/error.hpp"
+#include "report/memory_usage.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -63,20 +63,6 @@ void round_to_float(const MeshInput& input, SimplifiedMesh& m) {
 
 }  // namespace
 
-const std::vector<ClusterMethodEntry>& cluster_methods() {
-  static const std::vector<ClusterMethodEntry> methods = {
-      {ClusterMethod::floating, "floating", cluster_floating},
-      {ClusterMethod::uniform, "uniform", cluster_uniform},
-  };
-  return methods;
-}
-
-const ClusterMethodEntry& cluster_method(ClusterMethod m) {
-  for (const ClusterMethodEntry& e : cluster_methods())
-    if (e.method == m) return e;
-  throw UsageError("unknown clustering method");
-}
-
 std::uint64_t default_memory_budget() {
   long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
@@ -99,9 +85,10 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   // buffers, the pipeline's chunks), whatever the input: say so before starting.
   constexpr std::uint64_t kMinimumBudget = 32u << 20;
   if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
-    throw UsageError("--mem " + std::to_string(options.memory_budget >> 20) + " MiB is below the minimum of " +
-                     std::to_string(kMinimumBudget >> 20) + " MiB");
+    throw UsageError("options.memory_budget " + std::to_string(options.memory_budget >> 20) +
+                     " MiB is below the minimum of " + std::to_string(kMinimumBudget >> 20) + " MiB");
   auto threads = limit_threads(options.threads);
+  const PeakAnonSampler memory;
   check_float_range(input);
   GridSpec grid = choose_grid(input, options.sizing, options.threads);
   SimplifyStats local;
@@ -119,6 +106,8 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   SimplifiedMesh m = cluster_method(options.method).run(input, options, grid, &st);
   m.precision = ScalarType::f64;
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = memory.peak();
   return m;
 }
 
@@ -147,12 +136,14 @@ void check_distinct_destinations(const std::string& input_path, const OutputOpti
     throw UsageError(a + " and " + b + " are the same file" + hint);
   };
   if (!outputs.replace_input && same_file(outputs.mesh, input_path))
-    refuse("output " + outputs.mesh, "input " + input_path, " (--force replaces the input after a successful run)");
+    refuse("output " + outputs.mesh, "input " + input_path,
+           " (outputs.replace_input replaces the input after a successful run)");
   if (outputs.stats.empty()) return;
-  if (same_file(outputs.stats, input_path)) refuse("--stats " + outputs.stats, "input " + input_path, "");
-  if (outputs.stats == "-" && outputs.mesh == "-") throw UsageError("-o - and --stats - cannot both write to stdout");
+  if (same_file(outputs.stats, input_path)) refuse("outputs.stats " + outputs.stats, "input " + input_path, "");
+  if (outputs.stats == "-" && outputs.mesh == "-")
+    throw UsageError("outputs.mesh - and outputs.stats - cannot both write to stdout");
   if (outputs.stats == outputs.mesh || same_file(outputs.stats, outputs.mesh))
-    refuse("--stats " + outputs.stats, "output " + outputs.mesh, "");
+    refuse("outputs.stats " + outputs.stats, "output " + outputs.mesh, "");
 }
 
 // The warning for an output format that cannot hold the carried attributes.
@@ -181,23 +172,15 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   if (!outputs.stats.empty()) stats_file = std::make_unique<OutputFile>(outputs.stats);
   OutputFile mesh_file(outputs.mesh);
   auto threads = limit_threads(options.threads);
+  const PeakAnonSampler memory;
   double t0 = now_seconds();
   OpenOptions open;
   open.temp_dir = options.temp_dir;
   open.weld = options.weld;
   open.attributes = options.attributes;
   open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
-  if (options.progress) {
-    options.progress->begin("read positions", 0, "B");
-    open.progress = [](std::uint64_t done, std::uint64_t total, void* user) {
-      auto* p = static_cast<ProgressReporter*>(user);
-      p->set_total(total);
-      p->set(done);
-    };
-    open.progress_user = options.progress;
-  }
+  open.progress = options.progress;
   MeshInput input = open_mesh_input(input_path, open);
-  if (options.progress) options.progress->end();
   double t1 = now_seconds();
   st.phases.push_back({"open", t1 - t0});
   SimplifiedMesh mesh = simplify(input, options, &st);
@@ -212,7 +195,7 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   st.phases.push_back({"write", t3 - t2});
   st.seconds_total = t3 - t0;
   st.peak_rss_bytes = peak_rss_bytes();
-  st.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+  st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
   // The stats first: when they cannot be written, the mesh output stays as it was.
   if (stats_file) {
     stats_file->write_all(stats_to_json(st, input_path, outputs, options));

@@ -164,7 +164,7 @@ SimplifiedMesh run(const std::string& path, ClusterMethod method, std::uint32_t 
   o.method = method;
   o.sizing.grid = grid;
   o.threads = threads;
-  o.tile_side = tile;
+  o.floating.tile_side = tile;
   o.attributes = attributes;
   return simplify(in, o, stats);
 }

@@ -70,10 +70,10 @@ SimplifiedMesh run_floating(const std::string& path, double cell, CellShape shap
   SimplifyOptions o;
   o.method = ClusterMethod::floating;
   o.sizing.cell = cell;
-  o.cell_shape = shape;
-  o.assign = rule;
-  o.representative = rep;
-  o.tile_side = tile;
+  o.floating.cell_shape = shape;
+  o.floating.assign = rule;
+  o.floating.representative = rep;
+  o.floating.tile_side = tile;
   o.threads = threads;
   return simplify(in, o, st);
 }
@@ -217,9 +217,9 @@ TEST_CASE("the triangle spill is zstd-compressed or not as asked, with the same 
     MeshInput in = open_mesh_input(d.file("sphere.ply"));
     SimplifyOptions o;
     o.sizing.cell = 0.06;
-    o.tile_side = 0.3;
+    o.floating.tile_side = 0.3;
     o.memory_budget = 32u << 20;
-    o.spill_compression = c;
+    o.floating.spill_compression = c;
     return simplify(in, o, st);
   };
   SimplifyStats none, zstd, automatic;
@@ -339,10 +339,10 @@ TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options re
     SimplifyOptions o;
     o.method = ClusterMethod::floating;
     o.sizing.cell = cell;
-    o.representative = rep;
-    o.tile_side = 0.1;
+    o.floating.representative = rep;
+    o.floating.tile_side = 0.1;
     o.temp_dir = tmp;
-    o.keep_temp = keep;
+    o.floating.keep_temp = keep;
     return simplify(in, o, st);
   };
   SimplifyStats first, second;
@@ -378,9 +378,9 @@ struct KeptFolder {
     SimplifyOptions o;
     o.method = ClusterMethod::floating;
     o.sizing.cell = 0.05;
-    o.tile_side = 0.25;
+    o.floating.tile_side = 0.25;
     o.temp_dir = tmp;
-    o.keep_temp = keep;
+    o.floating.keep_temp = keep;
     return simplify(in, o, st);
   }
   SimplifiedMesh kept_run(SimplifyStats* st) const { return run(input, kept, true, st); }

@@ -18,6 +18,7 @@
 #include "floating_cells_reference.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_plan.hpp"
+#include "methods/cluster_methods.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/simplify.hpp"
@@ -158,13 +159,13 @@ TEST_CASE("tile planning: never below a cell, a given --tile kept, one whose til
   SimplifyOptions o;
   o.memory_budget = 64u << 20;
   CHECK(plan_tile_side(in, o, f.cell) >= f.cell);
-  o.tile_side = 3 * f.cell;
+  o.floating.tile_side = 3 * f.cell;
   CHECK(plan_tile_side(in, o, f.cell) == 3 * f.cell);
   CHECK(plan_tile_side(in, o, 5 * f.cell) == 5 * f.cell);  // a cell wider than the tile wins
   // 32 MiB: at most 32 MiB / 4 / 9 KiB = 910 tiles; the sphere at 1/1000 of its side has more.
   o.memory_budget = 32u << 20;
-  o.tile_side = f.cell * 24 / 1000;
-  CHECK_THROWS_AS(plan_tile_side(in, o, o.tile_side), UsageError);
+  o.floating.tile_side = f.cell * 24 / 1000;
+  CHECK_THROWS_AS(plan_tile_side(in, o, o.floating.tile_side), UsageError);
 }
 
 TEST_CASE("grading a tile's owned vertices equals grading the whole mesh", "[floating][stages]") {
@@ -464,7 +465,7 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
   MeshInput in = open_mesh_input(f.path);
   SimplifyOptions o;
   o.sizing.cell = f.cell;
-  o.tile_side = 3 * f.cell;
+  o.floating.tile_side = 3 * f.cell;
   SimplifyStats st;
   simplify(in, o, &st);
   CHECK(st.tiles > 8);
@@ -489,9 +490,10 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
 }
 
 TEST_CASE("both methods are rows of one table that simplify() and the CLI use", "[stages][methods]") {
-  const std::vector<ClusterMethodEntry>& m = cluster_methods();
+  const std::vector<ClusterMethodEntry>& m = cluster_method_table();
   REQUIRE(m.size() == 2);
   CHECK(m[0].method == ClusterMethod::floating);  // the default first
+  CHECK(cluster_methods() == std::vector<ClusterMethod>{ClusterMethod::floating, ClusterMethod::uniform});
   std::set<std::string> names;
   for (const ClusterMethodEntry& e : m) {
     CHECK(e.run != nullptr);

@@ -82,10 +82,10 @@ TEST_CASE("the output of both methods is bit for bit what the pre-stage code gav
         SimplifyOptions o;
         o.method = c.method;
         o.sizing.grid = c.grid;
-        o.cell_shape = c.shape;
-        o.assign = c.assign;
-        o.representative = c.representative;
-        o.tile_side = c.tile;
+        o.floating.cell_shape = c.shape;
+        o.floating.assign = c.assign;
+        o.floating.representative = c.representative;
+        o.floating.tile_side = c.tile;
         o.threads = threads;
         o.temp_dir = dir.path();
         SimplifiedMesh out = simplify(in, o, nullptr);

@@ -83,7 +83,7 @@ SimplifiedMesh simplify_path(const std::string& path, const ScratchDir& tmp, Clu
   SimplifyOptions o;
   o.method = method;
   o.sizing.cell = cell;
-  o.tile_side = tile;
+  o.floating.tile_side = tile;
   o.threads = threads;
   o.temp_dir = tmp.path();
   o.memory_budget = 64u << 20;

@@ -4,7 +4,7 @@
 
 #include "cluster/plane_quadric.hpp"
 #include "common/vec3_math.hpp"
-#include "oocsimp/quadric.hpp"
+#include "cluster/quadric.hpp"
 
 using namespace oocsimp;
 

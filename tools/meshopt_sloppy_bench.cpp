@@ -17,7 +17,7 @@
 #include "oocsimp/error.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/mesh_writer.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
 
 using namespace oocsimp;
 

@@ -21,7 +21,7 @@
 #include "oocsimp/memory_tuning.hpp"
 #include "oocsimp/measure.hpp"
 #include "oocsimp/mesh_input.hpp"
-#include "oocsimp/progress.hpp"
+#include "oocsimp/progress_reporter.hpp"
 #include "oocsimp/simplify.hpp"
 #include "oocsimp/signals.hpp"
 
@@ -31,10 +31,31 @@ namespace {
 
 enum ExitCode { kOk = 0, kUsage = 2, kBadInput = 3, kIo = 4 };
 
-void progress_callback(std::uint64_t done, std::uint64_t total, void* user) {
-  auto* p = static_cast<ProgressReporter*>(user);
-  p->set_total(total);
-  p->set(done);
+// The library names an option at fault by its field ("options.memory_budget"); the
+// command line shows the flag that sets it. Longer names first, so that no name is
+// replaced inside another.
+std::string with_flags(std::string message) {
+  static const std::pair<const char*, const char*> kFlags[] = {
+      {"options.floating.tile_side", "--tile"},
+      {"options.floating.keep_temp", "--keep-tmp"},
+      {"options.memory_budget", "--mem"},
+      {"options.sizing.cell", "--cell"},
+      {"options.sizing.grid", "--grid"},
+      {"options.sizing.ratio", "--ratio"},
+      {"options.attributes", "--attributes"},
+      {"options.temp_dir", "--tmp"},
+      {"options.triangles", "--tris"},
+      {"options.samples", "--samples"},
+      {"outputs.replace_input", "--force"},
+      {"outputs.stats", "--stats"},
+      {"outputs.mesh", "-o"},
+  };
+  for (const auto& f : kFlags) {
+    const std::string field = f.first;
+    for (std::size_t at = message.find(field); at != std::string::npos; at = message.find(field, at))
+      message.replace(at, field.size(), f.second);
+  }
+  return message;
 }
 
 // --- Checked option values: every size and count is refused (exit 2, naming the flag
@@ -98,14 +119,14 @@ E enum_named(const std::string& text, std::initializer_list<E> values, const cha
 }
 
 ClusterMethod method_named(const std::string& text) {
-  for (const ClusterMethodEntry& m : cluster_methods())
-    if (text == m.name) return m.method;
+  for (ClusterMethod m : cluster_methods())
+    if (text == method_name(m)) return m;
   throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
 }
 
 std::vector<std::string> method_names() {
   std::vector<std::string> names;
-  for (const ClusterMethodEntry& m : cluster_methods()) names.push_back(m.name);
+  for (ClusterMethod m : cluster_methods()) names.push_back(method_name(m));
   return names;
 }
 
@@ -114,18 +135,18 @@ void resolve_simplify_args(SimplifyArgs& a) {
   SimplifyOptions& o = a.options;
   o.method = method_named(a.method);
   if (o.method == ClusterMethod::uniform) refuse_with_uniform(a.floating_only);
-  o.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
-  o.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
-  o.representative = enum_named(
+  o.floating.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
+  o.floating.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
+  o.floating.representative = enum_named(
       a.rep, {RepresentativeRule::quadric, RepresentativeRule::centre, RepresentativeRule::mean}, representative_name);
-  o.spill_compression = enum_named(
+  o.floating.spill_compression = enum_named(
       a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
   o.precision = enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
-  if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
+  if (a.tile.given()) o.floating.tile_side = positive_number("--tile", a.tile.text);
   if (a.threads.given()) o.threads = unsigned(whole_number("--threads", a.threads.text, 1, kMaxThreads));
   if (a.mem.given()) {
     try {
@@ -139,7 +160,7 @@ void resolve_simplify_args(SimplifyArgs& a) {
 int run_simplify(SimplifyArgs& a) {
   resolve_simplify_args(a);
   ProgressReporter progress(a.quiet);
-  a.options.progress = &progress;
+  a.options.progress = progress.callback();
   a.options.release_memory = release_free_heap;
   a.options.budget_counts_process = true;
   SimplifyStats stats;
@@ -181,7 +202,7 @@ int run_simplify(SimplifyArgs& a) {
   // Not silenced by --quiet: the output lacks part of the input.
   std::string skipped = skipped_input_summary(a.in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
-  for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", w.c_str());
+  for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
   return kOk;
 }
 
@@ -246,9 +267,8 @@ int run_generate(const std::string& tris_text, const std::string& shape, const s
     throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain or parts)");
   check_generate_output(out);
   ProgressReporter progress(quiet);
-  progress.begin("generate", o.triangles, "tri");
-  GenerateResult r = generate_mesh(out, o, progress_callback, &progress);
-  progress.end();
+  o.progress = progress.callback();
+  GenerateResult r = generate_mesh(out, o);
   if (!quiet)
     std::fprintf(out == "-" ? stderr : stdout, "%s: %" PRIu64 " vertices, %" PRIu64 " triangles\n", out.c_str(),
                  r.vertices, r.triangles);
@@ -257,7 +277,7 @@ int run_generate(const std::string& tris_text, const std::string& shape, const s
 
 int run_measure(const std::string& a, const std::string& b, MeasureOptions options, bool json, bool quiet) {
   ProgressReporter progress(quiet);
-  options.progress = &progress;
+  options.progress = progress.callback();
   DistanceReport r = measure_surface_distance(a, b, options);
   if (json) {
     std::fputs(distance_report_to_json(r).c_str(), stdout);
@@ -413,7 +433,7 @@ int main(int argc, char** argv) {
       sa.tile.option = simplify->add_option("--tile", sa.tile.text,
                                             "Tile side in model units (default: from --mem); refused when the "
                                             "tiles' buffers (9 KiB each) exceed a quarter of --mem"),
-      simplify->add_flag("--keep-tmp", sa.options.keep_temp,
+      simplify->add_flag("--keep-tmp", sa.options.floating.keep_temp,
                          "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
       simplify
           ->add_option("--spill-compress", sa.spill,
@@ -479,13 +499,13 @@ int main(int argc, char** argv) {
       return run_measure(in, second, measure_options, json, quiet);
     }
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
+    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
     return kUsage;
   } catch (const InputError& e) {
     std::fprintf(stderr, "oocsimp: %s\n", e.what());
     return kBadInput;
   } catch (const IoError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
+    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
     return kIo;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "oocsimp: out of memory\n");

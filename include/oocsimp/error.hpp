@@ -1,8 +1,12 @@
 // oocsimp — error types.
 //
-// Every failure leaves the library as an exception of one of three kinds; the
-// CLI maps each kind to an exit code (usage 2, bad input 3, I/O or resources 4).
-// Messages are one line and name the file and the position (byte offset or line).
+// Every failure leaves the library as an exception of one of three kinds (or
+// Cancelled, when the caller's progress callback asked to stop); the CLI maps each
+// kind to an exit code (usage 2, bad input 3, I/O or resources 4). Messages are one
+// line and name the file and the position (byte offset or line). An option at fault is
+// named by its field, as the caller set it: "options.memory_budget",
+// "options.sizing.grid", "options.floating.tile_side", "options.temp_dir" (the CLI
+// shows its own flags in their place).
 #pragma once
 
 #include <cstdint>
@@ -30,6 +34,13 @@ class InputError : public std::runtime_error {
 class IoError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+/// The caller's ProgressCallback returned false: the run stopped, deleting its
+/// temporary files and writing no output.
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled") {}
 };
 
 /// Builds "FILE: byte OFFSET: WHAT" for an InputError in a binary section.

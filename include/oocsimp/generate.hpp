@@ -1,8 +1,11 @@
-// oocsimp — synthetic dense meshes of any size.
+// oocsimp — synthetic dense meshes of any size (target oocsimp::generate, not part of
+// the core library).
 #pragma once
 
 #include <cstdint>
 #include <string>
+
+#include "oocsimp/progress.hpp"
 
 namespace oocsimp {
 
@@ -13,6 +16,8 @@ struct GenerateOptions {
   SyntheticShape shape = SyntheticShape::sphere;
   std::uint64_t seed = 1;
   bool ascii = false;  ///< ascii PLY instead of binary little-endian
+  /// Progress ("generate", in triangles), and cancellation (see ProgressCallback).
+  ProgressCallback progress;
 };
 
 struct GenerateResult {
@@ -27,9 +32,7 @@ struct GenerateResult {
 ///  - terrain: an open height field over the unit square with a boundary;
 ///  - parts: intersecting boxes and cylinders with sharp edges and small features.
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
-/// complete). `progress` (optional) is called with (triangles written, total).
-GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options,
-                             void (*progress)(std::uint64_t, std::uint64_t, void*) = nullptr,
-                             void* progress_user = nullptr);
+/// complete). Throws UsageError for options.triangles 0, IoError when writing fails.
+GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options);
 
 }  // namespace oocsimp

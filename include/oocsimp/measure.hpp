@@ -1,6 +1,7 @@
-// oocsimp — distance between two surfaces (shared/papers/004, "Polygonal Model
-// Simplification (8)": Hausdorff and mean distance, discretised by sampling points
-// on both surfaces).
+// oocsimp — distance between two surfaces (target oocsimp::metrics, not part of the
+// core library): Hausdorff and mean distance as the textbook's chapter 6 defines them
+// ("Polygonal Model Simplification (8)"), discretised by sampling points on both
+// surfaces.
 //
 // measure_surface_distance() samples points uniformly by area on both meshes and
 // measures each sample's exact distance to the other surface. The first mesh (A, the
@@ -11,16 +12,16 @@
 #include <cstdint>
 #include <string>
 
-namespace oocsimp {
+#include "oocsimp/progress.hpp"
 
-class ProgressReporter;
+namespace oocsimp {
 
 struct MeasureOptions {
   std::uint64_t samples = 1000000;  ///< points sampled on each surface (to within one)
   std::uint64_t seed = 1;           ///< the same seed gives the same samples and results
   unsigned threads = 0;             ///< 0 = all cores; results are identical for any count
   std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
-  ProgressReporter* progress = nullptr;
+  ProgressCallback progress;        ///< progress reports, and cancellation (see ProgressCallback)
 };
 
 /// Statistics of the distances of one set of sample points to a surface, in model units.

@@ -17,6 +17,7 @@
 
 #include "oocsimp/attributes.hpp"
 #include "oocsimp/geometry.hpp"
+#include "oocsimp/progress.hpp"
 
 namespace oocsimp {
 
@@ -96,9 +97,6 @@ class TriangleStream {
   virtual SkippedFaces skipped() const { return {}; }
 };
 
-class MappedFile;
-class TempFile;
-
 /// An opened mesh: info, positions and a triangle stream. Owns the mappings and
 /// temporary files behind them; they are released (and deleted) with it.
 class MeshInput {
@@ -120,9 +118,10 @@ class MeshInput {
   /// Reopens the triangle stream at the first triangle.
   void restart_triangles();
 
-  // Implementation state (format reader, mappings, temp files).
-  struct Impl;
-  std::unique_ptr<Impl> impl;
+ private:
+  struct Impl;  // the reader's state: mappings, temporary files, the stream's factory
+  std::unique_ptr<Impl> impl_;
+  friend Impl& reader_state(MeshInput& input);
 };
 
 struct OpenOptions {
@@ -132,9 +131,8 @@ struct OpenOptions {
   bool weld = false;
   /// Heap bytes the welding may use (it works out of core in temp_dir beyond that).
   std::uint64_t memory_budget = std::uint64_t(256) << 20;
-  /// Called with (bytes consumed, total bytes) while positions are converted.
-  void (*progress)(std::uint64_t done, std::uint64_t total, void* user) = nullptr;
-  void* progress_user = nullptr;
+  /// Hears the phase "read positions" (input bytes read); see ProgressCallback.
+  ProgressCallback progress;
   /// Which vertex attributes are read for carrying (all by default; see
   /// carried_attributes in src/io/attribute_array.hpp).
   AttributeSelection attributes;

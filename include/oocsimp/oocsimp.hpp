@@ -10,22 +10,29 @@
 //   v.positions = xyz; v.vertex_count = n; v.indices = idx; v.triangle_count = t;
 //   oocsimp::SimplifiedMesh m = oocsimp::simplify_mesh(v, o);
 //
+// Progress and cancelling: one callback (oocsimp/progress.hpp),
+//   o.progress = [](const oocsimp::Progress& p) { return !user_pressed_stop(); };
+//
 // Every function throws oocsimp::UsageError for options it cannot honour (exit 2 in
 // the CLI), InputError for bad input (3) and IoError for I/O and resource failures
-// (4), each with a one-line message; see oocsimp/error.hpp.
+// (4), each with a one-line message naming the option field at fault (see
+// oocsimp/error.hpp), or Cancelled when the progress callback returned false.
+//
+// Beside the core, in targets of their own: oocsimp::generate (oocsimp/generate.hpp,
+// synthetic test meshes), oocsimp::metrics (oocsimp/measure.hpp, surface distances)
+// and oocsimp::progress_ui (oocsimp/progress_reporter.hpp, a terminal progress bar).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
 #include "oocsimp/attributes.hpp"   // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
-#include "oocsimp/error.hpp"        // UsageError, InputError, IoError
+#include "oocsimp/error.hpp"        // UsageError, InputError, IoError, Cancelled
 #include "oocsimp/geometry.hpp"     // Vec3d, Box3d
-#include "oocsimp/generate.hpp"     // generate_mesh: synthetic dense meshes streamed to PLY
-#include "oocsimp/measure.hpp"      // measure_surface_distance: Hausdorff, mean and RMS distance
 #include "oocsimp/mesh_input.hpp"   // open_mesh_input: PLY, OBJ, STL (optionally .zst) as streams
 #include "oocsimp/mesh_writer.hpp"  // write_mesh: PLY, OBJ, STL, OFF
-#include "oocsimp/simplify.hpp"     // SimplifyOptions, simplify, simplify_file, SimplifiedMesh
+#include "oocsimp/progress.hpp"     // Progress, ProgressCallback
+#include "oocsimp/simplify.hpp"     // SimplifyOptions, FloatingOptions, simplify, simplify_file, SimplifiedMesh
 
 namespace oocsimp {
 

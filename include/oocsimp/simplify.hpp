@@ -12,10 +12,9 @@
 #include "oocsimp/grid_spec.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/mesh_writer.hpp"
+#include "oocsimp/progress.hpp"
 
 namespace oocsimp {
-
-class ProgressReporter;
 
 enum class ClusterMethod {
   uniform,   ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
@@ -64,12 +63,25 @@ struct CellSizing {
 /// The ratio when no size is given: "simplify this" keeps about a tenth of the triangles.
 constexpr double kDefaultRatio = 0.1;
 
+/// The floating method's own options (SimplifyOptions::floating).
+struct FloatingOptions {
+  CellShape cell_shape = CellShape::cube;
+  AssignRule assign = AssignRule::nearest;
+  RepresentativeRule representative = RepresentativeRule::quadric;
+  double tile_side = 0;  ///< tile side in model units; 0 = from the memory budget
+  /// Keep the binned and graded tiles in temp_dir after the run, and reuse tiles kept
+  /// by an earlier run on the same input (same path, inode, size and times, and the
+  /// same content checksum) when the cell still fits in a tile, skipping binning and
+  /// grading. Kept files that fail a check are recomputed, with a line in
+  /// SimplifyStats::warnings.
+  bool keep_temp = false;
+  SpillCompression spill_compression = SpillCompression::automatic;
+};
+
 struct SimplifyOptions {
   CellSizing sizing;
   ClusterMethod method = ClusterMethod::floating;
-  CellShape cell_shape = CellShape::cube;                           ///< floating only
-  AssignRule assign = AssignRule::nearest;                          ///< floating only
-  RepresentativeRule representative = RepresentativeRule::quadric;  ///< floating only
+  FloatingOptions floating;         ///< read by the floating method only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   /// Whether memory_budget bounds the whole process's anonymous memory, what it held
   /// before the run included (the CLI: the process is the run), or only what the run
@@ -78,20 +90,13 @@ struct SimplifyOptions {
   /// PLY and OBJ: weld vertices at exactly the same position before clustering (STL
   /// input always is; see OpenOptions::weld).
   bool weld = false;
-  double tile_side = 0;  ///< floating: tile side in model units; 0 = from the budget
-  /// Floating: keep the binned and graded tiles in temp_dir after the run, and reuse
-  /// tiles kept by an earlier run on the same input (same path, inode, size and
-  /// times, and the same content checksum) when the cell still fits in a tile,
-  /// skipping binning and grading. Kept files that fail a check are recomputed, with
-  /// a line in SimplifyStats::warnings.
-  bool keep_temp = false;
-  SpillCompression spill_compression = SpillCompression::automatic;  ///< floating only
-  unsigned threads = 0;                                              ///< 0 = all cores
-  std::string temp_dir;                                              ///< empty = default_temp_dir()
-  Precision precision = Precision::automatic;                        ///< of the output positions
+  unsigned threads = 0;                        ///< 0 = all cores
+  std::string temp_dir;                        ///< empty = default_temp_dir()
+  Precision precision = Precision::automatic;  ///< of the output positions
   /// Which vertex attributes are carried to the output (all by default).
   AttributeSelection attributes;
-  ProgressReporter* progress = nullptr;
+  /// Progress reports, and cancellation when it returns false (see ProgressCallback).
+  ProgressCallback progress;
   /// Floating: called between the phases of a run, whose tiles' buffers were just
   /// freed on several threads, so the process's allocator can give them back to the
   /// system (the CLI passes release_free_heap(), see oocsimp/memory_tuning.hpp).
@@ -218,20 +223,8 @@ std::string stats_to_json(const SimplifyStats& stats, const std::string& input_p
 /// The oocsimp version (the CMake project version).
 const char* version();
 
-/// A clustering method: simplify() opens the input, chooses the grid and calls its
-/// run function with the triangle stream at its start; run fills the clustering
-/// fields of `stats` (counts, the method's phases).
-using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                      SimplifyStats* stats);
-struct ClusterMethodEntry {
-  ClusterMethod method;
-  const char* name;  ///< as --method and the stats spell it
-  ClusterRun run;
-};
-/// Every method, the default first: a new method is an enum value, its file and a row here.
-const std::vector<ClusterMethodEntry>& cluster_methods();
-/// The entry of `m`; throws UsageError for a value without one.
-const ClusterMethodEntry& cluster_method(ClusterMethod m);
+/// Every clustering method, the default first.
+std::vector<ClusterMethod> cluster_methods();
 
 /// Option values as the command line spells them ("floating", "cube", "nearest", ...).
 const char* method_name(ClusterMethod m);

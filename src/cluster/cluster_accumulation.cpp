@@ -11,8 +11,8 @@
 #include "cluster/plane_quadric.hpp"
 #include "cluster/tile_grading.hpp"
 #include "common/vec3_math.hpp"
-#include "oocsimp/progress.hpp"
-#include "oocsimp/quadric.hpp"
+#include "report/progress_phase.hpp"
+#include "cluster/quadric.hpp"
 #include "cluster/triangle_records.hpp"
 #include "grid/tile_memory_gate.hpp"
 
@@ -107,9 +107,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
                                                          spill.allow.buckets - cluster_allowance);
     for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.attribute_shares->add_stream();
   }
-  ProgressReporter* progress = settings.progress;
-  if (progress) progress->begin("cluster tiles", n, "tile");
-  std::atomic<std::uint32_t> done{0};
+  const ProgressCallback none;
+  ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", n, "tile");
   // One tile: its vertices assigned, its sums and its kept triangles.
   const auto accumulate_tile = [&](std::uint32_t tile) {
     std::vector<TriangleRecord> tris = tiles.load(tile);
@@ -199,13 +198,12 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   TileMemoryGate gate(settings.work_share);
   tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] { accumulate_tile(tile); });
-    if (progress) progress->set(++done);
+    phase.advance(1);
   });
   out.corners->flush();
   out.partials->flush();
   out.inside->flush();
   if (out.attribute_shares) out.attribute_shares->flush();
-  if (progress) progress->end();
   return out;
 }
 

@@ -47,7 +47,7 @@ struct AccumulationSettings {
   AssignRule assign = AssignRule::nearest;
   std::uint64_t memory_budget = 0;  ///< a cluster bucket's shares fit in an eighth of it
   SpillSettings spill;
-  ProgressReporter* progress = nullptr;
+  const ProgressCallback* progress = nullptr;  ///< the caller's, or none
   const AttributeArray* attributes = nullptr;  ///< the carried vertex attributes, or none
   /// Bytes the tiles in work may take together (TileMemoryGate).
   std::uint64_t work_share = ~std::uint64_t(0);

@@ -9,7 +9,7 @@
 
 #include "common/vec3_math.hpp"
 #include "oocsimp/mesh_input.hpp"
-#include "oocsimp/quadric.hpp"
+#include "cluster/quadric.hpp"
 
 namespace oocsimp {
 

@@ -1,4 +1,4 @@
-// Floating-cell clustering, Low & Tan §3.2 and §4 (shared/papers/000), on one tile.
+// Floating-cell clustering, Low & Tan 1997 §3.2 and §4, on one tile.
 // See floating_cells_design.md for how tiles combine into the exact global result.
 #pragma once
 

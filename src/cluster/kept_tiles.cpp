@@ -142,7 +142,7 @@ void KeptTileStore::warn(const std::string& text) {
 
 bool KeptTileStore::start() {
   if (!regular_file_identity(input_.info.path, &kept_input_)) {
-    warn(input_.info.path + ": --keep-tmp needs a regular file as input; nothing is kept");
+    warn(input_.info.path + ": options.floating.keep_temp needs a regular file as input; nothing is kept");
     return false;
   }
   input_digest_ = std::make_unique<BackgroundDigest>(input_.info.path);

@@ -1,9 +1,9 @@
 // A triangle's plane quadric, computed the same way by both clustering methods
-// (Garland & Heckbert; shared/papers/004, "Quadratic error-metric").
+// (Garland & Heckbert 1997; the textbook's chapter 6, "Quadratic error-metric").
 #pragma once
 
 #include "common/vec3_math.hpp"
-#include "oocsimp/quadric.hpp"
+#include "cluster/quadric.hpp"
 
 namespace oocsimp {
 

@@ -1,4 +1,4 @@
-#include "oocsimp/quadric.hpp"
+#include "cluster/quadric.hpp"
 
 #include <algorithm>
 #include <cmath>

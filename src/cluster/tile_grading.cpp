@@ -5,7 +5,7 @@
 
 #include "cluster/floating_cells.hpp"
 #include "grid/tile_memory_gate.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -20,11 +20,10 @@ std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, co
 
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
                                         const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, ProgressReporter* progress,
+                                        std::uint64_t memory_allowance, const ProgressCallback& progress,
                                         std::uint64_t work_share) {
   std::uint32_t n = tiles.count();
-  if (progress) progress->begin("grade tiles", n, "tile");
-  std::atomic<std::uint32_t> done{0};
+  ProgressPhase phase(progress, "grade tiles", n, "tile");
   // Round 1: grade, sort and spill every tile's vertices; the greedy with the
   // borders of the neighbours graded before.
   auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n, memory_allowance);
@@ -36,11 +35,10 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
       std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
       blocks->put(tile, block.data(), block.size());
     });
-    if (progress) progress->set(++done);
+    phase.advance(1);
   });
   if (keep) keep->flush();
   blocks->map();
-  if (progress) progress->end();
   return blocks;
 }
 

@@ -65,7 +65,7 @@ using FirstChoice =
 /// larger than that runs alone).
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
                                         const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, ProgressReporter* progress,
+                                        std::uint64_t memory_allowance, const ProgressCallback& progress,
                                         std::uint64_t work_share = ~std::uint64_t(0));
 
 /// The same from vertices graded by an earlier run (stream `tile` of `kept`).

@@ -28,8 +28,9 @@
 #include "grid/occupancy.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/progress.hpp"
-#include "oocsimp/quadric.hpp"
+#include "report/memory_usage.hpp"
+#include "report/progress_phase.hpp"
+#include "cluster/quadric.hpp"
 
 namespace oocsimp {
 
@@ -137,9 +138,11 @@ class TableBudget {
     const std::uint32_t coarser = coarser_resolution(0.9 * room / double(kRunBytesPerCell));
     const double run = occupancy_.occupied_by(resolution_, vertices_) * double(kRunBytesPerCell);
     budget_.check(
-        held_, bytes, "the uniform method's tables at --grid " + std::to_string(resolution_) + " (" + what + ")",
-        "give --mem " + whole_mib(held_ + std::max(bytes, std::uint64_t(run))) +
-            "M or more, or a coarser grid (--grid " + std::to_string(coarser) + " or less, or a smaller --ratio)");
+        held_, bytes,
+        "the uniform method's tables at options.sizing.grid " + std::to_string(resolution_) + " (" + what + ")",
+        "give options.memory_budget " + whole_mib(held_ + std::max(bytes, std::uint64_t(run))) +
+            " MiB or more, or a coarser grid (options.sizing.grid " + std::to_string(coarser) +
+            " or less, or a smaller options.sizing.ratio)");
   }
 
  private:
@@ -181,10 +184,10 @@ class ChunkTables {
 std::size_t pipeline_tokens() { return 2 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
 
 void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, CellMap<CellRecord>& cells,
-                         const TableBudget& budget, ProgressReporter* progress) {
+                         const TableBudget& budget, const ProgressCallback& progress) {
   std::uint64_t next = 0;
   ChunkTables chunks(pipeline_tokens());
-  if (progress) progress->begin("cell means", positions.count, "vtx");
+  ProgressPhase phase(progress, "cell means", positions.count, "vtx");
   run_ordered_pipeline<VertexChunk>(
       pipeline_tokens(),
       [&](VertexChunk& c) {
@@ -216,14 +219,13 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
         chunks.saw(c.cells.bytes(), c.cells.size());
         budget.check(cells.bytes_with(chunks.next_entries()) + chunks.bytes(),
                      std::to_string(cells.size()) + " occupied cells after " + std::to_string(c.end) + " vertices");
-        if (progress) progress->set(c.end);
+        phase.set(c.end);
       });
-  if (progress) progress->end();
 }
 
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
                           CellAttributeSums& attributes, const TableBudget& budget, std::uint64_t* triangle_count,
-                          ProgressReporter* progress) {
+                          const ProgressCallback& progress) {
   const AttributeArray& attribute_array = input.attributes;
   const bool with_attributes = !attributes.layout.empty();
   const auto add_double = [](double& sum, double term) { sum += term; };
@@ -232,12 +234,12 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
   std::vector<std::uint32_t> to_global;
   std::uint64_t total = 0;
   ChunkTables chunks(pipeline_tokens());
-  if (progress) progress->begin("cell quadrics", input.file_size, "B");
+  ProgressPhase phase(progress, "cell quadrics", input.file_size, "B");
   run_ordered_pipeline<FaceChunk>(
       pipeline_tokens(),
       [&](FaceChunk& c) {
         c.count = stream.read(c.tris.data(), kFaceChunk);
-        if (progress) progress->set(stream.bytes_consumed());
+        phase.set(stream.bytes_consumed());
         return c.count > 0;
       },
       [&](FaceChunk& c) {
@@ -297,9 +299,8 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes(),
                      std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept.size()) +
                          " kept triangles after " + std::to_string(total) + " triangles");
-        if (progress) progress->set(stream.bytes_consumed());
+        phase.set(stream.bytes_consumed());
       });
-  if (progress) progress->end();
   *triangle_count = total;
 }
 
@@ -307,7 +308,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats) {
-  ProgressReporter* progress = options.progress;
+  const ProgressCallback& progress = options.progress;
   // Up front, before any table grows: the occupied cells alone, estimated from a
   // sample of the vertices (a lower estimate); kept triangles and output come on top.
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);

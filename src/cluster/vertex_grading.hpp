@@ -1,4 +1,4 @@
-// Vertex grading, Low & Tan §3.1 (shared/papers/000).
+// Vertex grading, Low & Tan 1997 §3.1.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The run against --mem (issue 10, "the budget is the process's"): the tables a method
+// The run against its memory budget (issue 10, "the budget is the process's"): the tables a method
 // is about to build must fit next to the anonymous memory the run holds, or the run
 // stops with a UsageError (exit 2) rather than exceed the budget.
 #pragma once
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
 #include "oocsimp/simplify.hpp"
 
 // Under AddressSanitizer the process's anonymous memory is mostly shadow memory and
@@ -48,12 +48,12 @@ class MemoryBudget {
     const std::uint64_t now = current_anon_bytes();
     return now - std::min(now, host_);
   }
-  /// Throws UsageError unless `more` bytes fit next to `held`: "--mem B MiB cannot
-  /// hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
+  /// Throws UsageError unless `more` bytes fit next to `held`: "options.memory_budget
+  /// B MiB cannot hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
   void check(std::uint64_t held, std::uint64_t more, const std::string& what, const std::string& advice) const {
     if (bytes_ == 0 || held + more <= bytes_) return;
-    throw UsageError("--mem " + whole_mib(bytes_) + " MiB cannot hold " + what + ": " + whole_mib(more) +
-                     " MiB or more next to the " + whole_mib(held) + " MiB the run holds; " + advice);
+    throw UsageError("options.memory_budget " + whole_mib(bytes_) + " MiB cannot hold " + what + ": " +
+                     whole_mib(more) + " MiB or more next to the " + whole_mib(held) + " MiB the run holds; " + advice);
   }
 
  private:

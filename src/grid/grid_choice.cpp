@@ -81,13 +81,14 @@ OccupancyGrowth sampled_occupancy_growth(const PositionArray& positions, const B
 GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned) {
   // Zero means "not given"; anything else given is checked, never replaced.
   int given = (sizing.cell != 0) + (sizing.grid != 0) + (sizing.ratio != 0);
-  if (given > 1) throw UsageError("give at most one of --cell, --grid and --ratio");
+  if (given > 1)
+    throw UsageError("give at most one of options.sizing.cell, options.sizing.grid and options.sizing.ratio");
   CellSizing s = sizing;
   if (given == 0) s.ratio = kDefaultRatio;
   const Box3d& bounds = input.info.bounds;
   if (s.cell != 0) return GridSpec::with_cell(bounds, s.cell);
   if (s.grid != 0) return GridSpec::with_divisions(bounds, s.grid);
-  if (!(s.ratio > 0 && s.ratio <= 1)) throw UsageError("--ratio must be in (0, 1]");
+  if (!(s.ratio > 0 && s.ratio <= 1)) throw UsageError("options.sizing.ratio must be in (0, 1]");
   if (input.positions.count == 0 || input.info.face_count == 0) return GridSpec::with_divisions(bounds, 1);
   // A clustered surface keeps about two triangles per occupied cell (Euler: F ~ 2V),
   // so the target is ratio * F / 2 cells. Occupancy grows as resolution^k (k ~ 2 for

@@ -11,7 +11,8 @@
 #include "grid/tile_plan.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
+#include "report/progress_phase.hpp"
 #include "io/temp_file.hpp"
 
 namespace oocsimp {
@@ -89,7 +90,8 @@ static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
 static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyOptions& options,
                                          std::size_t vertex_record_bytes, std::uint64_t tiles) {
   const std::uint64_t budget = options.memory_budget;
-  return spill_allowances(budget, tiles + budget / 4 + budget / 8, options.keep_temp ? 0 : triangle_spill_bytes(input),
+  return spill_allowances(budget, tiles + budget / 4 + budget / 8,
+                          options.floating.keep_temp ? 0 : triangle_spill_bytes(input),
                           input.positions.count * vertex_record_bytes * 3 / 2);
 }
 
@@ -98,7 +100,7 @@ static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyO
 // run on 2 threads; it pays only where the spill goes to the disk, not where memory
 // or the page cache holds it (and kept tiles outlive the run on disk).
 static bool spill_compression(const MeshInput& input, const SimplifyOptions& options, const SpillAllowances& allow) {
-  switch (options.spill_compression) {
+  switch (options.floating.spill_compression) {
     case SpillCompression::zstd:
       return true;
     case SpillCompression::none:
@@ -108,7 +110,7 @@ static bool spill_compression(const MeshInput& input, const SimplifyOptions& opt
   }
   // What goes to the disk: the part that does not stay in memory.
   const std::uint64_t to_disk = triangle_spill_bytes(input) - std::min(triangle_spill_bytes(input), allow.triangles);
-  return options.keep_temp || to_disk > available_memory_bytes() / 2;
+  return options.floating.keep_temp || to_disk > available_memory_bytes() / 2;
 }
 
 SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes,
@@ -119,10 +121,12 @@ SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& opti
   s.work_share = tile_work_share(budget, fullest_tile_records);
   const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
   if (fullest > budget / 4 * 3)
-    throw UsageError("--mem " + whole_mib(budget) + " MiB cannot hold the fullest tile of " + input.info.path +
-                     " (about " + std::to_string(fullest_tile_records) + " triangle records, " + whole_mib(fullest) +
-                     " MiB to grade, estimated from a sample): a dense part of the mesh; give --mem " +
-                     whole_mib(fullest / 3 * 4) + "M or more, or a larger --cell (--grid, --ratio)");
+    throw UsageError("options.memory_budget " + whole_mib(budget) + " MiB cannot hold the fullest tile of " +
+                     input.info.path + " (about " + std::to_string(fullest_tile_records) + " triangle records, " +
+                     whole_mib(fullest) +
+                     " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
+                     whole_mib(fullest / 3 * 4) +
+                     " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
   s.allow = memory_for_spills(input, options, vertex_record_bytes, s.work_share);
   s.compress = spill_compression(input, options, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
@@ -134,7 +138,7 @@ SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& opti
 }
 
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
-                          ProgressReporter* progress) {
+                          const ProgressCallback& progress) {
   BinnedTiles out;
   TileGrid& tiles = out.grid;
   tiles.side = tile_side;
@@ -170,14 +174,14 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
   const PositionArray& pos = input.positions;
   TriangleStream& stream = *input.triangles;
   std::uint64_t next = 0;
-  if (progress) progress->begin("bin tiles", input.file_size, "B");
+  ProgressPhase phase(progress, "bin tiles", input.file_size, "B");
   run_ordered_pipeline<BinChunk>(
       2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())),
       [&](BinChunk& c) {
         c.count = stream.read(c.tris.data(), kBinChunk);
         c.first = next;
         next += c.count;
-        if (progress) progress->set(stream.bytes_consumed());
+        phase.set(stream.bytes_consumed());
         return c.count > 0;
       },
       [&](BinChunk& c) {
@@ -204,7 +208,6 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
                            c.group_start[g + 1] - c.group_start[g]);
       });
   triangles.flush();
-  if (progress) progress->end();
   out.triangle_count = next;
   out.skipped = stream.skipped();
   return out;

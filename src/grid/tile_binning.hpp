@@ -80,6 +80,6 @@ SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& opti
 /// `tile_side`, with buffers from a quarter of `memory_budget`. Throws IoError when
 /// the temp folder cannot hold the spill.
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
-                          ProgressReporter* progress);
+                          const ProgressCallback& progress);
 
 }  // namespace oocsimp

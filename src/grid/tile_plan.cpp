@@ -45,7 +45,7 @@ std::uint64_t estimate_fullest_tile_records(const MeshInput& input, double side)
 double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell) {
   std::uint64_t budget = options.memory_budget;
   unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
-  double side = options.tile_side;
+  double side = options.floating.tile_side;
   if (side <= 0) {
     double per_tile = std::clamp(double(budget) / 2 / threads / kTileBytesPerTriangle, 1.0, kMaxTileTriangles);
     double tiles_needed = std::max(1.0, double(input.info.face_count) / per_tile);
@@ -85,7 +85,7 @@ double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, do
   // A tile is at least one floating cell wide, so a cell reaches only into the
   // adjacent tiles.
   side = std::max(side, cell);
-  if (options.tile_side > 0) check_tile_count_fits(input, side, options.tile_side, budget);
+  if (options.floating.tile_side > 0) check_tile_count_fits(input, side, options.floating.tile_side, budget);
   return side;
 }
 
@@ -111,10 +111,11 @@ void check_tile_count_fits(const MeshInput& input, double tile_side, double user
   if (occupied.size() <= most) return;
   char side[64];
   std::snprintf(side, sizeof side, "%g", user_side);
-  throw UsageError("--tile " + std::string(side) + " makes more than " + std::to_string(most) +
+  throw UsageError("options.floating.tile_side " + std::string(side) + " makes more than " + std::to_string(most) +
                    " tiles here, whose buffers (" + std::to_string(kTileFixedBytes >> 10) +
-                   " KiB each) need more than a quarter of --mem " + std::to_string(budget >> 20) +
-                   " MiB: give a larger --tile or --mem, or leave --tile out to size tiles from --mem");
+                   " KiB each) need more than a quarter of options.memory_budget " + std::to_string(budget >> 20) +
+                   " MiB: give a larger options.floating.tile_side or options.memory_budget, or leave "
+                   "options.floating.tile_side unset to size tiles from options.memory_budget");
 }
 
 }  // namespace oocsimp

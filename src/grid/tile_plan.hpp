@@ -17,7 +17,7 @@ constexpr double kTileBytesPerTriangle = 400;
 /// 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
 constexpr double kMaxTileTriangles = 1 << 16;
 
-/// The tile side for cells of side `cell`: options.tile_side when given (refused with
+/// The tile side for cells of side `cell`: options.floating.tile_side when given (refused with
 /// UsageError when its tiles' buffers would not fit options.memory_budget, see
 /// check_tile_count_fits), else from the budget, the face count and the occupancy of
 /// a sample of the vertices. Never below `cell`, so a cell reaches only adjacent tiles.

@@ -78,7 +78,7 @@ MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selecti
   in.file_size = mesh.triangle_count * 3 * sizeof(std::uint32_t);
   const std::uint32_t* indices = mesh.indices;
   const std::uint64_t triangles = mesh.triangle_count, vertices = mesh.vertex_count;
-  in.impl->make_triangles = [indices, triangles, vertices]() -> std::unique_ptr<TriangleStream> {
+  reader_state(in).make_triangles = [indices, triangles, vertices]() -> std::unique_ptr<TriangleStream> {
     return std::make_unique<MemoryTriangleStream>(indices, triangles, vertices);
   };
   in.restart_triangles();

@@ -10,7 +10,7 @@
 
 namespace oocsimp {
 
-MeshInput::MeshInput() : impl(std::make_unique<Impl>()) {}
+MeshInput::MeshInput() : impl_(std::make_unique<Impl>()) {}
 MeshInput::MeshInput(MeshInput&&) noexcept = default;
 MeshInput& MeshInput::operator=(MeshInput&&) noexcept = default;
 MeshInput::~MeshInput() {
@@ -71,7 +71,7 @@ class CheckedTriangleStream : public TriangleStream {
 }  // namespace
 
 void MeshInput::restart_triangles() {
-  triangles = std::make_unique<CheckedTriangleStream>(impl->make_triangles(), positions, info.non_finite_vertices > 0);
+  triangles = std::make_unique<CheckedTriangleStream>(impl_->make_triangles(), positions, info.non_finite_vertices > 0);
 }
 
 std::string default_temp_dir() {
@@ -140,22 +140,23 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   // bytes do not.
   const unsigned char* head = text_start(src, 4);
   bool stl = false;
+  ProgressPhase progress(options.progress, "read positions", src.file_size(), "B");
   if (head && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r')) {
-    open_ply(src, options, out);
+    open_ply(src, options, progress, out);
   } else if (ends_with(name, ".stl")) {
-    open_stl(src, options, out);
+    open_stl(src, options, progress, out);
     stl = true;
   } else if (ends_with(name, ".obj")) {
-    open_obj(src, options, out);
+    open_obj(src, options, progress, out);
   } else if (ends_with(name, ".ply")) {
     throw InputError(at_byte(path, 0, "not a PLY file (it does not start with \"ply\")"));
   } else {
     const unsigned char* p = text_start(src, 5);
     if (p && std::memcmp(p, "solid", 5) == 0) {
-      open_stl(src, options, out);
+      open_stl(src, options, progress, out);
       stl = true;
     } else if (looks_like_obj(src)) {
-      open_obj(src, options, out);
+      open_obj(src, options, progress, out);
     } else {
       throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
     }

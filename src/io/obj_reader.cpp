@@ -98,7 +98,7 @@ class ObjTriangleStream : public TriangleStream {
 
 }  // namespace
 
-void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
+void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out) {
   out.info.format = "obj";
   PositionArrayBuilder builder(options.temp_dir, src.path());
   // "v x y z r g b" (MeshLab, CloudCompare and most scanners' exporters): colours, when
@@ -153,8 +153,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       texture_lines += line[1] == 't';
       normal_lines += line[1] == 'n';
     }
-    if (options.progress && (src.line_number() & 0xFFFF) == 0)
-      options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+    if ((src.line_number() & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
   // No colours (or no vertices): a selection that names an attribute cannot be met.
   if (!colours) carried_attributes({}, options.attributes, src.path(), nullptr);
@@ -174,7 +173,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   if (colours) colours->finish(out);
   std::shared_ptr<InputFile> file = src.input();
   std::uint64_t vcount = out.info.vertex_count;
-  out.impl->make_triangles = [file, vcount]() -> std::unique_ptr<TriangleStream> {
+  reader_state(out).make_triangles = [file, vcount]() -> std::unique_ptr<TriangleStream> {
     return std::make_unique<ObjTriangleStream>(file, vcount);
   };
 }

@@ -530,7 +530,7 @@ VertexCandidates vertex_candidates(const PlyHeader& h, const std::string& path, 
 
 }  // namespace
 
-void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
+void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out) {
   auto h = std::make_shared<PlyHeader>(read_header(src));
   static const char* fmt_names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
   out.info.format = std::string("ply ") + fmt_names[int(h->format)];
@@ -576,9 +576,9 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
                                "file ends inside the vertex element (header declares " + std::to_string(v.count) +
                                    " vertices of " + std::to_string(rs) + " bytes from byte " +
                                    std::to_string(vertex_offset) + ")"));
-    out.impl->position_map = std::make_unique<MappedFile>(src.input()->fd(), src.file_size(), src.path());
+    reader_state(out).position_map = std::make_unique<MappedFile>(src.input()->fd(), src.file_size(), src.path());
     PositionArray& pa = out.positions;
-    pa.base = out.impl->position_map->data() + vertex_offset;
+    pa.base = reader_state(out).position_map->data() + vertex_offset;
     pa.count = v.count;
     pa.stride = rs;
     pa.type = xt == PlyType::f32 ? ScalarType::f32 : ScalarType::f64;
@@ -625,8 +625,7 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
       reader.read_record(v, -1, nullptr, values.data(), want.data(), int(want.size()));
       builder.add(values[0], values[1], values[2], [&] { return reader.record_position(); });
       attribute_builder.add(values.data() + 3);
-      if (options.progress && (i & 0xFFFF) == 0)
-        options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+      if ((i & 0xFFFF) == 0) progress.set(src.raw_consumed());
     }
     builder.finish(out);
     attribute_builder.finish(out);
@@ -636,14 +635,14 @@ void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   std::uint64_t vcount = v.count;
   if (h->face >= 0) {
     std::shared_ptr<InputFile> file = src.input();
-    out.impl->make_triangles = [h, file, vcount]() -> std::unique_ptr<TriangleStream> {
+    reader_state(out).make_triangles = [h, file, vcount]() -> std::unique_ptr<TriangleStream> {
       return std::make_unique<PlyTriangleStream>(h, file, vcount);
     };
   } else {
     // No triangle stream reads to the end, so the end is checked here.
     ElementReader reader(src, *h);
     check_nothing_follows(src, reader, *h, next_element);
-    out.impl->make_triangles = []() -> std::unique_ptr<TriangleStream> {
+    reader_state(out).make_triangles = []() -> std::unique_ptr<TriangleStream> {
       return std::make_unique<EmptyTriangleStream>();
     };
   }

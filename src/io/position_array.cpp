@@ -109,8 +109,8 @@ void PositionArrayBuilder::finish(MeshInput& out) {
   out.info.non_finite_vertices = non_finite_;
   out.info.first_non_finite_vertex = first_non_finite_;
   out.info.first_non_finite_position = first_non_finite_position_;
-  out.impl->position_map = std::move(map);
-  out.impl->position_file = std::move(file_);
+  reader_state(out).position_map = std::move(map);
+  reader_state(out).position_file = std::move(file_);
 }
 
 // The first non-finite vertex in index order is described, so the report does not

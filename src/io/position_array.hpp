@@ -22,6 +22,9 @@ struct MeshInput::Impl {
   std::function<std::unique_ptr<TriangleStream>()> make_triangles;
 };
 
+/// The reader's state behind `input`, for the readers and the welding that fill it.
+inline MeshInput::Impl& reader_state(MeshInput& input) { return *input.impl_; }
+
 /// Streams converted vertex positions into a temporary file under `temp_dir`,
 /// tracking the bounding box; finish() maps the file into a MeshInput. Positions are
 /// stored as the file means them: a PLY declares their type (declare()); for text

@@ -1,5 +1,6 @@
 // The per-format readers behind open_mesh_input(). Each fills `out` (info, positions,
-// impl->make_triangles) from the ByteSource it is given, positioned at the start.
+// reader_state(out).make_triangles) from the ByteSource it is given, positioned at the start, and
+// reports the bytes it has read to `progress`.
 #pragma once
 
 #include <string>
@@ -7,12 +8,13 @@
 
 #include "io/byte_source.hpp"
 #include "oocsimp/mesh_input.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
-void open_ply(ByteSource& src, const OpenOptions& options, MeshInput& out);
-void open_obj(ByteSource& src, const OpenOptions& options, MeshInput& out);
-void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out);
+void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
+void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
+void open_stl(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 
 /// Largest polygon accepted (corners); more is treated as a corrupt count.
 constexpr std::uint64_t kMaxPolygonCorners = 1u << 20;

@@ -67,7 +67,7 @@ bool looks_ascii(ByteSource& src) {
   return true;
 }
 
-void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuilder& builder, std::uint64_t* count) {
+void read_binary(ByteSource& src, ProgressPhase& progress, PositionArrayBuilder& builder, std::uint64_t* count) {
   unsigned char head[84];
   src.read_exact(head, 84, "the binary STL header");
   std::uint64_t n = load_u32le(head + 80);
@@ -87,15 +87,14 @@ void read_binary(ByteSource& src, const OpenOptions& options, PositionArrayBuild
                   [&] { return "byte " + std::to_string(src.offset() + 12 + 12 * c); });
     }
     src.consume(50);
-    if (options.progress && (t & 0xFFFF) == 0)
-      options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+    if ((t & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
   if (!src.at_end())
     throw InputError(at_byte(src.path(), src.offset(), "trailing data after " + std::to_string(n) + " triangles"));
   *count = n;
 }
 
-void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilder& builder, std::uint64_t* count) {
+void read_ascii(ByteSource& src, ProgressPhase& progress, PositionArrayBuilder& builder, std::uint64_t* count) {
   // solid / facet normal / outer loop / vertex x3 / endloop / endfacet / endsolid
   enum State { kSolid, kFacet, kLoop, kVertex, kEndLoop, kEndFacet };
   State st = kSolid;
@@ -161,8 +160,7 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
         st = kFacet;
         break;
     }
-    if (options.progress && (src.line_number() & 0xFFFF) == 0)
-      options.progress(src.raw_consumed(), src.file_size(), options.progress_user);
+    if ((src.line_number() & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
   if (!ended) fail(st == kFacet ? "missing \"endsolid\"" : "file ends inside a facet");
   *count = n;
@@ -170,7 +168,7 @@ void read_ascii(ByteSource& src, const OpenOptions& options, PositionArrayBuilde
 
 }  // namespace
 
-void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out) {
+void open_stl(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out) {
   bool binary;
   if (src.content_size_known()) {
     // The size formula decides; a file that fits it is binary even if it says "solid".
@@ -184,15 +182,15 @@ void open_stl(ByteSource& src, const OpenOptions& options, MeshInput& out) {
   PositionArrayBuilder builder(options.temp_dir, src.path());
   std::uint64_t n = 0;
   if (binary)
-    read_binary(src, options, builder, &n);
+    read_binary(src, progress, builder, &n);
   else
-    read_ascii(src, options, builder, &n);
+    read_ascii(src, progress, builder, &n);
   out.info.vertex_count = builder.count();
   out.info.face_count = n;
   out.info.elements = {"facet " + std::to_string(n)};
   builder.finish(out);
   std::uint64_t bytes = src.file_size();
-  out.impl->make_triangles = [n, bytes]() -> std::unique_ptr<TriangleStream> {
+  reader_state(out).make_triangles = [n, bytes]() -> std::unique_ptr<TriangleStream> {
     return std::make_unique<ImplicitTriangleStream>(n, bytes);
   };
 }

@@ -338,7 +338,7 @@ void require_free_space(const std::string& dir, std::uint64_t bytes, const std::
   std::uint64_t free = free_bytes(dir);
   if (free >= bytes) return;
   throw IoError(dir + ": " + what + " needs about " + mib_text(bytes) + ", but only " + mib_text(free) +
-                " are free (--tmp chooses the folder)");
+                " are free (options.temp_dir chooses the folder)");
 }
 
 void install_signal_cleanup() {

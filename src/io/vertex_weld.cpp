@@ -153,9 +153,9 @@ class Welder {
     weld->map = std::make_unique<MappedFile>(weld->file->path(), MapAccess::read_write);
     merge_runs(weld->indices());
     number_vertices(weld->indices());
-    auto inner = std::move(input_.impl->make_triangles);
+    auto inner = std::move(reader_state(input_).make_triangles);
     std::shared_ptr<const WeldMap> shared = std::move(weld);
-    input_.impl->make_triangles = [inner, shared]() -> std::unique_ptr<TriangleStream> {
+    reader_state(input_).make_triangles = [inner, shared]() -> std::unique_ptr<TriangleStream> {
       return std::make_unique<WeldedTriangleStream>(inner(), shared);
     };
   }
@@ -350,8 +350,8 @@ class Welder {
     for (int k = 0; k < 3; ++k) welded.offset[k] = k * sizeof(Word);
     welded.swap = false;
     input_.positions = welded;
-    input_.impl->position_map = std::move(map);
-    input_.impl->position_file = std::move(file);
+    reader_state(input_).position_map = std::move(map);
+    reader_state(input_).position_file = std::move(file);
     input_.info.positions_in_place = false;
     if (attribute_builder) attribute_builder->finish(input_);  // replaces the array (and its file) it read
     input_.info.unwelded_vertex_count = n_;

@@ -33,7 +33,8 @@
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
+#include "report/progress_phase.hpp"
 #include "stitch/mesh_assembly.hpp"
 
 namespace oocsimp {
@@ -67,8 +68,8 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
   budget.check(held, need,
                "the fullest tile of " + path + " (" + std::to_string(records) + " triangle records, " +
                    whole_mib(need) + " MiB to grade)",
-               "a dense part of the mesh: give --mem " + whole_mib(held + need + need / 4) +
-                   "M or more, or a larger --cell (--grid, --ratio)");
+               "a dense part of the mesh: give options.memory_budget " + whole_mib(held + need + need / 4) +
+                   " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
 }
 
 }  // namespace
@@ -78,7 +79,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   SimplifyOptions options = given;
   const MemoryBudget budget(options);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
-  const FloatingCellShape cell{grid.cell, options.cell_shape};
+  const FloatingCellShape cell{grid.cell, options.floating.cell_shape};
   double t0 = now_seconds();
 
   // The tiled mesh: kept by an earlier run, or binned.
@@ -86,8 +87,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
                      stats ? &stats->warnings : nullptr);
   BinnedTiles tiles;
   std::unique_ptr<StreamSpill> graded;  // --keep-tmp: every tile's graded vertices
-  const bool resumed = options.keep_temp && kept.resume(cell.size, &tiles, &graded);
-  const bool keeping = options.keep_temp && !resumed && kept.start();
+  const bool resumed = options.floating.keep_temp && kept.resume(cell.size, &tiles, &graded);
+  const bool keeping = options.floating.keep_temp && !resumed && kept.start();
   // The tiles' share of the budget holds the fullest tile as planned (known exactly
   // when resumed); the spills' allowances come after it.
   const double tile_side = resumed ? 0 : plan_tile_side(input, options, cell.size);
@@ -111,7 +112,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   if (resumed) {
     blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir, spill.allow.vertex_blocks);
   } else {
-    if (options.keep_temp) graded = graded_vertex_spill(tiles, spill);
+    if (options.floating.keep_temp) graded = graded_vertex_spill(tiles, spill);
     blocks = grade_tiles(tiles, input.positions, cell.size, first, graded.get(), spill.dir, spill.allow.vertex_blocks,
                          options.progress, work_share);
     if (keeping) kept.keep(tiles, *graded);
@@ -129,8 +130,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   release_memory(options);
 
   // Cluster shares and kept triangles.
-  AccumulationSettings acc{cell,      options.assign, options.memory_budget, spill, options.progress, &input.attributes,
-                           work_share};
+  AccumulationSettings acc{
+      cell, options.floating.assign, options.memory_budget, spill, &options.progress, &input.attributes, work_share};
   ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
   // Centres live on in the cluster records; the per-tile lists are done, and the
   // memory of the triangles and vertex blocks goes to the output tables.
@@ -152,8 +153,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   AssemblyCounts counts;
   {
     ProgressPhase phase(options.progress, "assemble", 0, "cell");
-    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.representative, &counts, budget,
-                      shares.attribute_shares.get(), &shares.attributes);
+    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
+                      budget, shares.attribute_shares.get(), &shares.attributes);
   }
   double t5 = now_seconds();
 

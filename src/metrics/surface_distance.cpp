@@ -1,5 +1,5 @@
 // Distance between two surfaces: the one-sided and symmetric Hausdorff, mean and RMS
-// distances of shared/papers/004 ("Polygonal Model Simplification (8)"), which
+// distances of the textbook's chapter 6 ("Polygonal Model Simplification (8)"), which
 // discretises them "by sampling a number of points on both surfaces" — as Metro
 // (Cignoni, Rocchini & Scopigno, 1998) does, but with A streamed instead of loaded.
 //
@@ -55,7 +55,8 @@
 #include "metrics/triangle_geometry.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/mesh_input.hpp"
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -123,15 +124,12 @@ using Phase = ProgressPhase;
 MeshInput open_input(const std::string& path, const MeasureOptions& options, const char* phase_name) {
   OpenOptions open;
   open.temp_dir = options.temp_dir;
-  Phase phase(options.progress, phase_name, 0, "B");
-  if (options.progress) {
-    open.progress = [](std::uint64_t done, std::uint64_t total, void* user) {
-      auto* p = static_cast<ProgressReporter*>(user);
-      p->set_total(total);
-      p->set(done);
+  // The reader's "read positions", under the name of the mesh it reads.
+  if (options.progress)
+    open.progress = [&options, phase_name](Progress p) {
+      p.phase = phase_name;
+      return options.progress(p);
     };
-    open.progress_user = options.progress;
-  }
   return open_mesh_input(path, open);
 }
 
@@ -229,8 +227,8 @@ struct StreamChunk {
 // One pass over A's triangles: `work(chunk)` runs in parallel, `merge(chunk)` serially
 // in stream order. Returns the number of triangles.
 template <class Work, class Merge>
-std::uint64_t stream_triangles(MeshInput& input, ProgressReporter* progress, const char* phase_name, const Work& work,
-                               const Merge& merge) {
+std::uint64_t stream_triangles(MeshInput& input, const ProgressCallback& progress, const char* phase_name,
+                               const Work& work, const Merge& merge) {
   input.restart_triangles();
   TriangleStream& stream = *input.triangles;
   Phase phase(progress, phase_name, input.file_size, "B");
@@ -253,7 +251,7 @@ std::uint64_t stream_triangles(MeshInput& input, ProgressReporter* progress, con
 }
 
 // Sums A's area in the order the sampler will add it up again.
-double streamed_area(MeshInput& input, ProgressReporter* progress, std::uint64_t* triangles) {
+double streamed_area(MeshInput& input, const ProgressCallback& progress, std::uint64_t* triangles) {
   double area = 0;
   *triangles = stream_triangles(
       input, progress, "area of A", [&](StreamChunk& c) { c.compute_areas(input.positions); },
@@ -283,7 +281,7 @@ std::vector<Vec3d> sample_streamed(MeshInput& input, double area, const MeasureO
 
 // Squared distance of every point to `surface`, in parallel.
 std::vector<double> distances2_to(const InMemorySurface& surface, const std::vector<Vec3d>& points,
-                                  ProgressReporter* progress) {
+                                  const ProgressCallback& progress) {
   std::vector<double> result(points.size());
   Phase phase(progress, "distance A->B", points.size(), "pt");
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kQueryGrain),
@@ -296,7 +294,7 @@ std::vector<double> distances2_to(const InMemorySurface& surface, const std::vec
 
 // For every query point, the squared distance to the nearest of `sites` (step 3a).
 std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std::vector<Vec3d>& queries,
-                                            ProgressReporter* progress) {
+                                            const ProgressCallback& progress) {
   BoxTree tree(sites.size(), kPointLeaf, [&](std::uint32_t i) {
     Box3d b;
     b.min = b.max = sites[i];
@@ -441,7 +439,7 @@ class StreamedDistanceSearch {
 // Step 3: the exact squared distance to streamed surface A of every point, given
 // `bounds2`, squared distances to points on A; in an order fixed by the points.
 std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d> points, std::vector<double> bounds2,
-                                           ProgressReporter* progress) {
+                                           const ProgressCallback& progress) {
   StreamedDistanceSearch search(points, std::move(bounds2));
   std::vector<Vec3d>().swap(points);
   stream_triangles(
@@ -465,10 +463,11 @@ DistanceStats DistanceReport::fraction_of_diagonal(const DistanceStats& stats) c
 DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
                                         const MeasureOptions& options) {
   if (options.samples == 0 || options.samples > std::numeric_limits<std::uint32_t>::max())
-    throw UsageError("the number of samples must be between 1 and 2^32 - 1");
+    throw UsageError("options.samples must be between 1 and 2^32 - 1");
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
+  const PeakAnonSampler memory;
   const double t0 = now_seconds();
   DistanceReport report;
 
@@ -503,7 +502,7 @@ DistanceReport measure_surface_distance(const std::string& a_path, const std::st
   report.symmetric = both.stats();
   report.seconds = now_seconds() - t0;
   report.peak_rss_bytes = peak_rss_bytes();
-  report.peak_anon_bytes = options.progress ? options.progress->peak_anon_bytes() : current_anon_bytes();
+  report.peak_anon_bytes = memory.peak();
   return report;
 }
 

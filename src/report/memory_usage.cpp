@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "oocsimp/progress.hpp"
+#include "report/memory_usage.hpp"
 
 namespace oocsimp {
 
@@ -37,6 +37,41 @@ std::uint64_t available_memory_bytes() { return status_field("MemAvailable", "/p
 double now_seconds() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+namespace {
+
+void raise_to(std::atomic<std::uint64_t>& peak, std::uint64_t value) {
+  std::uint64_t p = peak.load();
+  while (value > p && !peak.compare_exchange_weak(p, value)) {
+  }
+}
+
+}  // namespace
+
+PeakAnonSampler::PeakAnonSampler() : peak_(current_anon_bytes()) {
+  thread_ = std::thread([this] {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      raise_to(peak_, current_anon_bytes());
+      wake_.wait_for(lock, std::chrono::milliseconds(20));
+    }
+  });
+}
+
+PeakAnonSampler::~PeakAnonSampler() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_one();
+  thread_.join();
+}
+
+std::uint64_t PeakAnonSampler::peak() const {
+  const std::uint64_t now = current_anon_bytes();
+  const std::uint64_t p = peak_.load();
+  return now > p ? now : p;
 }
 
 }  // namespace oocsimp

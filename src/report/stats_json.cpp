@@ -14,7 +14,6 @@ namespace oocsimp {
 
 const char* version() { return OOCSIMP_VERSION; }
 
-const char* method_name(ClusterMethod m) { return cluster_method(m).name; }
 const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
 const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
 
@@ -98,12 +97,12 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   if (o.sizing.ratio != 0) s += ", \"ratio\": " + number(o.sizing.ratio);
   if (o.sizing.cell == 0 && o.sizing.grid == 0 && o.sizing.ratio == 0) s += ", \"ratio\": " + number(kDefaultRatio);
   if (floating) {
-    s += ", \"cell_shape\": " + quoted(cell_shape_name(o.cell_shape));
-    s += ", \"assign\": " + quoted(assign_name(o.assign));
-    s += ", \"rep\": " + quoted(representative_name(o.representative));
-    s += ", \"tile\": " + number(o.tile_side);
-    s += ", \"keep_tmp\": " + std::string(o.keep_temp ? "true" : "false");
-    s += ", \"spill_compress\": " + quoted(spill_compression_name(o.spill_compression));
+    s += ", \"cell_shape\": " + quoted(cell_shape_name(o.floating.cell_shape));
+    s += ", \"assign\": " + quoted(assign_name(o.floating.assign));
+    s += ", \"rep\": " + quoted(representative_name(o.floating.representative));
+    s += ", \"tile\": " + number(o.floating.tile_side);
+    s += ", \"keep_tmp\": " + std::string(o.floating.keep_temp ? "true" : "false");
+    s += ", \"spill_compress\": " + quoted(spill_compression_name(o.floating.spill_compression));
   }
   s += ", \"mem_bytes\": " + number(o.memory_budget ? o.memory_budget : default_memory_budget());
   s += ", \"threads\": " + number(std::uint64_t(o.threads));

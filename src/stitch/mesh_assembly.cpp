@@ -10,8 +10,7 @@
 #include "cluster/fixed_point_sums.hpp"
 #include "common/memory_budget.hpp"
 #include "common/flat_hash_map.hpp"
-#include "oocsimp/progress.hpp"
-#include "oocsimp/quadric.hpp"
+#include "cluster/quadric.hpp"
 
 namespace oocsimp {
 
@@ -22,7 +21,8 @@ namespace {
 // fit next to what the process holds, the run stops (exit 2) before allocating them.
 void check_output_fits(const MemoryBudget& budget, std::uint64_t bytes, const std::string& what) {
   budget.check(budget.held(), bytes, "the output (" + what + ")",
-               "the output alone cannot fit: give a larger --mem or a coarser grid (--grid, --ratio)");
+               "the output alone cannot fit: give a larger options.memory_budget or a coarser grid "
+               "(options.sizing.grid, options.sizing.ratio)");
 }
 
 // The most records one stream of `spill` holds: a bucket read whole.

@@ -15,6 +15,7 @@
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
 #include "io/temp_file.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -84,10 +85,12 @@ class PlyEmitter {
 // Reports progress every 2^20 faces.
 struct FaceCounter {
   std::uint64_t done = 0, total = 0;
-  void (*progress)(std::uint64_t, std::uint64_t, void*) = nullptr;
-  void* user = nullptr;
+  ProgressPhase* phase = nullptr;
   void tick() {
-    if (progress && (++done & 0xFFFFF) == 0) progress(done, total, user);
+    if ((++done & 0xFFFFF) == 0) {
+      phase->set_total(total);
+      phase->set(done);
+    }
   }
 };
 
@@ -299,12 +302,12 @@ GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
 
 }  // namespace
 
-GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options,
-                             void (*progress)(std::uint64_t, std::uint64_t, void*), void* progress_user) {
-  if (options.triangles == 0) throw UsageError("--tris must be at least 1");
+GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options) {
+  if (options.triangles == 0) throw UsageError("options.triangles must be at least 1");
   OutputFile out(path);
   GenerateResult r;
-  FaceCounter fc{0, 0, progress, progress_user};
+  ProgressPhase phase(options.progress, "generate", options.triangles, "tri");
+  FaceCounter fc{0, 0, &phase};
   {
     ByteSink sink(out.fd(), path, has_zst_suffix(path), 1);
     switch (options.shape) {

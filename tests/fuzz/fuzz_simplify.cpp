@@ -91,18 +91,18 @@ void run(std::uint8_t sel, const std::string& path) {
   oocsimp::SimplifyOptions floating;
   floating.method = oocsimp::ClusterMethod::floating;
   floating.sizing.cell = diag / 8;
-  if (sel & 0x04) floating.tile_side = 2 * floating.sizing.cell;
-  floating.cell_shape = sel & 0x08 ? oocsimp::CellShape::sphere : oocsimp::CellShape::cube;
-  floating.assign = sel & 0x10 ? oocsimp::AssignRule::heaviest : oocsimp::AssignRule::nearest;
+  if (sel & 0x04) floating.floating.tile_side = 2 * floating.sizing.cell;
+  floating.floating.cell_shape = sel & 0x08 ? oocsimp::CellShape::sphere : oocsimp::CellShape::cube;
+  floating.floating.assign = sel & 0x10 ? oocsimp::AssignRule::heaviest : oocsimp::AssignRule::nearest;
   switch ((sel >> 5) & 3) {
     case 1:
-      floating.representative = oocsimp::RepresentativeRule::centre;
+      floating.floating.representative = oocsimp::RepresentativeRule::centre;
       break;
     case 2:
-      floating.representative = oocsimp::RepresentativeRule::mean;
+      floating.floating.representative = oocsimp::RepresentativeRule::mean;
       break;
     default:
-      floating.representative = oocsimp::RepresentativeRule::quadric;
+      floating.floating.representative = oocsimp::RepresentativeRule::quadric;
       break;
   }
   floating.memory_budget = 64u << 20;

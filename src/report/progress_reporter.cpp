@@ -1,4 +1,4 @@
-#include "oocsimp/progress.hpp"
+#include "oocsimp/progress_reporter.hpp"
 
 #include <unistd.h>
 
@@ -8,14 +8,18 @@
 namespace oocsimp {
 
 namespace {
-constexpr double kSampleSeconds = 0.02;  // memory sampling period
+constexpr double kPollSeconds = 0.02;
 constexpr double kTtyRefresh = 0.2;
 constexpr double kLogInterval = 5.0;  // plain lines for batch logs
+
+double now_seconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
 }  // namespace
 
 ProgressReporter::ProgressReporter(bool quiet) : quiet_(quiet), tty_(::isatty(2) == 1) {
-  peak_anon_ = current_anon_bytes();
-  thread_ = std::thread([this] { loop(); });
+  if (!quiet_) thread_ = std::thread([this] { loop(); });
 }
 
 ProgressReporter::~ProgressReporter() {
@@ -23,10 +27,22 @@ ProgressReporter::~ProgressReporter() {
   if (thread_.joinable()) thread_.join();
 }
 
-std::uint64_t ProgressReporter::peak_anon_bytes() const {
-  std::uint64_t now = current_anon_bytes();
-  std::uint64_t peak = peak_anon_.load();
-  return now > peak ? now : peak;
+ProgressCallback ProgressReporter::callback() {
+  return [this](const Progress& p) {
+    switch (p.event) {
+      case Progress::Event::begin:
+        begin(p.phase, p.total, p.unit);
+        break;
+      case Progress::Event::advance:
+        if (p.total) set_total(p.total);
+        set(p.done);
+        break;
+      case Progress::Event::end:
+        end();
+        break;
+    }
+    return true;
+  };
 }
 
 void ProgressReporter::begin(const std::string& name, std::uint64_t total, const char* unit) {
@@ -36,7 +52,6 @@ void ProgressReporter::begin(const std::string& name, std::uint64_t total, const
   total_ = total;
   done_ = 0;
   phase_start_ = now_seconds();
-  last_print_ = phase_start_;
   active_ = true;
   // Batch logs (and whoever watches them) see when each phase starts, not only when
   // it ends.
@@ -57,17 +72,13 @@ void ProgressReporter::end() {
 void ProgressReporter::loop() {
   double last_sample_print = now_seconds();
   while (!stop_) {
-    std::uint64_t a = current_anon_bytes();
-    std::uint64_t p = peak_anon_.load();
-    while (a > p && !peak_anon_.compare_exchange_weak(p, a)) {
-    }
     double t = now_seconds();
-    if (!quiet_ && active_ && t - last_sample_print >= (tty_ ? kTtyRefresh : kLogInterval)) {
+    if (active_ && t - last_sample_print >= (tty_ ? kTtyRefresh : kLogInterval)) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (active_) print(false);
       last_sample_print = t;
     }
-    std::this_thread::sleep_for(std::chrono::duration<double>(kSampleSeconds));
+    std::this_thread::sleep_for(std::chrono::duration<double>(kPollSeconds));
   }
 }
 

@@ -1,4 +1,4 @@
-// oocsimp — quadric error metric (Garland & Heckbert; shared/papers/004, "Quadratic
+// The quadric error metric (Garland & Heckbert; the textbook's chapter 6, "Quadratic
 // error-metric").
 //
 // The squared distance to a plane n·x + d = 0 (|n| = 1) is x^T (n n^T) x + 2 d n·x + d^2.

@@ -1,0 +1,274 @@
+// The library as other programs use it (issue 11): one progress-and-cancel callback
+// for every long call, cancellation that leaves nothing behind, error messages that
+// name option fields (the CLI turns them into its flags), options nested per method.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "oocsimp/generate.hpp"
+#include "oocsimp/measure.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+// Records every call of a ProgressCallback and checks, as they come, that no two
+// calls overlap and that each phase's reports lie between its begin and its end.
+struct ProgressLog {
+  struct Phase {
+    std::string name;
+    std::string unit;
+    std::uint64_t total = 0;
+    std::uint64_t last_done = 0;
+    int advances = 0;
+    bool ended = false;
+  };
+  std::vector<Phase> phases;
+  std::atomic<int> inside{0};
+  bool overlapped = false, unmatched = false, beyond_total = false;
+  std::string cancel_in;  // cancel at the first advance of this phase ("" = never)
+  bool cancel_at_begin = false;
+
+  ProgressCallback callback() {
+    return [this](const Progress& p) {
+      if (inside.fetch_add(1) != 0) overlapped = true;
+      bool go_on = true;
+      switch (p.event) {
+        case Progress::Event::begin:
+          phases.push_back({p.phase, p.unit, p.total, 0, 0, false});
+          if (cancel_at_begin && cancel_in == p.phase) go_on = false;
+          break;
+        case Progress::Event::advance:
+          if (phases.empty() || phases.back().ended || phases.back().name != p.phase) {
+            unmatched = true;
+          } else {
+            Phase& ph = phases.back();
+            ++ph.advances;
+            ph.last_done = p.done;
+            if (p.total > 0 && p.done > p.total) beyond_total = true;
+          }
+          if (!cancel_at_begin && cancel_in == p.phase) go_on = false;
+          break;
+        case Progress::Event::end:
+          if (phases.empty() || phases.back().ended || phases.back().name != p.phase)
+            unmatched = true;
+          else
+            phases.back().ended = true;
+          break;
+      }
+      inside.fetch_sub(1);
+      return go_on;
+    };
+  }
+  std::vector<std::string> names() const {
+    std::vector<std::string> n;
+    for (const Phase& p : phases) n.push_back(p.name);
+    return n;
+  }
+  const Phase* find(const std::string& name) const {
+    for (const Phase& p : phases)
+      if (p.name == name) return &p;
+    return nullptr;
+  }
+};
+
+std::string sphere(const ScratchDir& d, std::uint64_t triangles) {
+  GenerateOptions g;
+  g.triangles = triangles;
+  std::string path = d.file("sphere.ply");
+  generate_mesh(path, g);
+  return path;
+}
+
+SimplifyOptions small_run(ClusterMethod method, const ScratchDir& tmp) {
+  SimplifyOptions o;
+  o.method = method;
+  o.sizing.grid = 32;
+  o.threads = 2;
+  o.temp_dir = tmp.path();
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("one callback hears every phase of a run, balanced and one call at a time", "[api][progress]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 200000);
+  for (ClusterMethod method : cluster_methods()) {
+    INFO(method_name(method));
+    ProgressLog log;
+    SimplifyOptions o = small_run(method, tmp);
+    o.floating.tile_side = 0.3;  // several tiles
+    o.progress = log.callback();
+    simplify_file(in, d.file("out.ply"), false, o, nullptr);
+    CHECK_FALSE(log.overlapped);
+    CHECK_FALSE(log.unmatched);
+    CHECK_FALSE(log.beyond_total);
+    for (const ProgressLog::Phase& p : log.phases) {
+      INFO(p.name);
+      CHECK(p.ended);
+    }
+    const std::vector<std::string> names = log.names();
+    REQUIRE(names.size() >= 3);
+    CHECK(names.front() == "read positions");
+    CHECK(names.back() == "write");
+    const std::vector<std::string> expected =
+        method == ClusterMethod::floating
+            ? std::vector<std::string>{"bin tiles", "grade tiles", "rounds", "cluster tiles", "stitch", "assemble"}
+            : std::vector<std::string>{"cell means", "cell quadrics", "solve"};
+    for (const std::string& e : expected) CHECK(log.find(e) != nullptr);
+    // A counted phase knows its total from the start, in its unit.
+    const ProgressLog::Phase* counted = log.find(method == ClusterMethod::floating ? "grade tiles" : "cell means");
+    REQUIRE(counted);
+    CHECK(counted->total > 0);
+    CHECK(counted->unit == (method == ClusterMethod::floating ? "tile" : "vtx"));
+  }
+}
+
+TEST_CASE("a callback that returns false cancels the run and leaves no file behind", "[api][progress]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 200000);
+  struct Case {
+    ClusterMethod method;
+    const char* phase;
+    bool at_begin;
+  };
+  const Case cases[] = {
+      {ClusterMethod::floating, "read positions", true}, {ClusterMethod::floating, "bin tiles", false},
+      {ClusterMethod::floating, "grade tiles", true},    {ClusterMethod::floating, "cluster tiles", true},
+      {ClusterMethod::floating, "assemble", true},       {ClusterMethod::uniform, "cell quadrics", true},
+      {ClusterMethod::uniform, "solve", true},
+  };
+  for (const Case& c : cases) {
+    INFO(method_name(c.method) << " " << c.phase << (c.at_begin ? " at its begin" : " at its first report"));
+    ProgressLog log;
+    log.cancel_in = c.phase;
+    log.cancel_at_begin = c.at_begin;
+    SimplifyOptions o = small_run(c.method, tmp);
+    o.floating.tile_side = 0.3;
+    o.progress = log.callback();
+    const std::string out = d.file("cancelled.ply");
+    CHECK_THROWS_AS(simplify_file(in, out, false, o, nullptr), Cancelled);
+    CHECK_FALSE(file_exists(out));
+    CHECK(tmp.entries().empty());
+    CHECK(d.entries() == std::vector<std::string>{"sphere.ply"});
+    CHECK(log.phases.back().name == c.phase);
+    // Nothing is heard after the cancel but the ends of the phases it unwinds.
+    CHECK_FALSE(log.unmatched);
+  }
+}
+
+TEST_CASE("the in-memory entry point reports and cancels through the same callback", "[api][progress]") {
+  std::vector<float> xyz;
+  std::vector<std::uint32_t> tri;
+  const int n = 100;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) xyz.insert(xyz.end(), {float(i) / n, float(j) / n, 0.0f});
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, e = c + 1;
+      tri.insert(tri.end(), {a, b, e, a, e, c});
+    }
+  MeshView v;
+  v.positions = xyz.data();
+  v.vertex_count = xyz.size() / 3;
+  v.indices = tri.data();
+  v.triangle_count = tri.size() / 3;
+  ScratchDir tmp;
+  SimplifyOptions o = small_run(ClusterMethod::floating, tmp);
+  ProgressLog log;
+  o.progress = log.callback();
+  SimplifyStats stats;
+  SimplifiedMesh m = simplify_mesh(v, o, &stats);
+  CHECK(!m.triangles.empty());
+  CHECK(log.find("grade tiles") != nullptr);
+  CHECK(stats.peak_anon_bytes > 0);  // sampled by the library, not by a progress display
+  ProgressLog stop;
+  stop.cancel_in = "grade tiles";
+  stop.cancel_at_begin = true;
+  o.progress = stop.callback();
+  CHECK_THROWS_AS(simplify_mesh(v, o), Cancelled);
+  CHECK(tmp.entries().empty());
+}
+
+TEST_CASE("generate and measure take the same callback and cancel without output", "[api][progress]") {
+  ScratchDir d;
+  ProgressLog log;
+  GenerateOptions g;
+  g.triangles = 3000000;  // past 2^20 faces: counted reports
+  g.progress = log.callback();
+  generate_mesh(d.file("g.ply"), g);
+  REQUIRE(log.find("generate"));
+  CHECK(log.find("generate")->unit == std::string("tri"));
+  CHECK(log.find("generate")->ended);
+
+  ProgressLog stop;
+  stop.cancel_in = "generate";
+  g.progress = stop.callback();
+  CHECK_THROWS_AS(generate_mesh(d.file("never.ply"), g), Cancelled);
+  CHECK_FALSE(file_exists(d.file("never.ply")));
+
+  GenerateOptions small;
+  small.triangles = 20000;
+  generate_mesh(d.file("s.ply"), small);
+  MeasureOptions m;
+  m.samples = 20000;
+  m.temp_dir = d.path();
+  ProgressLog heard;
+  m.progress = heard.callback();
+  DistanceReport r = measure_surface_distance(d.file("s.ply"), d.file("s.ply"), m);
+  CHECK(r.symmetric.max <= 1e-6 * r.a_diagonal);  // the same surface
+  CHECK(heard.find("open A"));
+  CHECK(heard.find("distance A->B"));
+  CHECK_FALSE(heard.overlapped);
+  ProgressLog cancel;
+  cancel.cancel_in = "distance A->B";
+  cancel.cancel_at_begin = true;
+  m.progress = cancel.callback();
+  CHECK_THROWS_AS(measure_surface_distance(d.file("s.ply"), d.file("s.ply"), m), Cancelled);
+}
+
+TEST_CASE("library errors name option fields; the CLI shows its flags instead", "[api][errors]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 20000);
+  auto message = [&](const SimplifyOptions& o) {
+    try {
+      simplify_file(in, d.file("o.ply"), false, o, nullptr);
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  SimplifyOptions both = small_run(ClusterMethod::floating, tmp);
+  both.sizing.ratio = 0.5;
+  const std::string two = message(both);
+  CHECK(two.find("options.sizing.grid") != std::string::npos);
+  CHECK(two.find("--") == std::string::npos);
+  SimplifyOptions tiny = small_run(ClusterMethod::uniform, tmp);
+  tiny.memory_budget = 1 << 20;
+  const std::string mem = message(tiny);
+  CHECK(mem.find("options.memory_budget 1 MiB") != std::string::npos);
+  CHECK(mem.find("--") == std::string::npos);
+  SimplifyOptions named = small_run(ClusterMethod::uniform, tmp);
+  named.attributes = parse_attribute_selection("nosuch");
+  const std::string attr = message(named);
+  CHECK(attr.find("options.attributes: ") != std::string::npos);
+  CHECK(attr.find("--") == std::string::npos);
+
+  CliResult cli = run_cli("simplify --quiet --mem 1M '" + in + "' -o '" + d.file("o.ply") + "'");
+  CHECK(cli.exit_code == 2);
+  CHECK(cli.err.find("--mem 1 MiB") != std::string::npos);
+  CHECK(cli.err.find("options.") == std::string::npos);
+  cli = run_cli("simplify --quiet --attributes nosuch '" + in + "' -o '" + d.file("o.ply") + "'");
+  CHECK(cli.exit_code == 2);
+  CHECK(cli.err.find("--attributes: ") != std::string::npos);
+  CHECK(cli.err.find("options.") == std::string::npos);
+}
