@@ -1,0 +1,578 @@
+#include "refine/edge_collapse.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+#include "cluster/plane_quadric.hpp"
+#include "common/vec3_math.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Velho 1999 eq. 4: 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a.
+double compactness(const Vec3d& p, const Vec3d& q, const Vec3d& r, double normal_length) {
+  const double sum = squared_distance(p, q) + squared_distance(q, r) + squared_distance(r, p);
+  return sum > 0 ? 2 * std::sqrt(3.0) * normal_length / sum : 0;
+}
+
+Quadric sum(const Quadric& x, const Quadric& y) {
+  Quadric q = x;
+  q.add(y);
+  return q;
+}
+
+// A x = b by Cramer's rule when A is well conditioned (its determinant is not small
+// against the cube of its scale); false for the flat and linear cases, whose minimum
+// is not a point.
+bool solve(const Quadric& q, Vec3d* x) {
+  const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+  const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+  const double scale = (q.a00 + q.a11 + q.a22) / 3;
+  if (!(std::fabs(det) > 1e-6 * scale * scale * scale)) return false;
+  const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+  const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+  const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  *x = Vec3d{c00 * q.b0 + c01 * q.b1 + c02 * q.b2, c01 * q.b0 + c11 * q.b1 + c12 * q.b2,
+             c02 * q.b0 + c12 * q.b1 + c22 * q.b2} /
+       det;
+  return is_finite(*x);
+}
+
+// A times v.
+Vec3d times(const Quadric& q, const Vec3d& v) {
+  return {q.a00 * v.x + q.a01 * v.y + q.a02 * v.z, q.a01 * v.x + q.a11 * v.y + q.a12 * v.z,
+          q.a02 * v.x + q.a12 * v.y + q.a22 * v.z};
+}
+
+}  // namespace
+
+std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
+  std::vector<Quadric> q(positions.size());
+  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
+    const Vec3d& p = positions[triangles[f]];
+    const TrianglePlane plane = triangle_plane(positions[triangles[f + 1]] - p, positions[triangles[f + 2]] - p);
+    if (plane.degenerate()) continue;
+    Quadric t;
+    add_plane_quadric(&t, plane, dot(plane.m, p));
+    for (int k = 0; k < 3; ++k) q[triangles[f + std::size_t(k)]].add(t);
+  }
+  return q;
+}
+
+// --- The state -------------------------------------------------------------------
+
+CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
+    : mesh_(std::move(mesh)),
+      cos_max_turn_(std::cos(settings.max_normal_turn_degrees * kPi / 180)),
+      min_compactness_(settings.min_compactness) {
+  const std::size_t n = mesh_.positions.size();
+  mesh_.quadrics.resize(n);
+  alive_.assign(n, 1);
+  locked_.assign(n, 0);
+  face_dead_.assign(mesh_.triangles.size() / 3, 0);
+  live_faces_ = face_dead_.size();
+  first_normal_.resize(face_dead_.size());
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    const Vec3d& p = mesh_.positions[t[0]];
+    first_normal_[f] = cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p);
+  }
+  build_adjacency();
+  lock_non_manifold();
+  boundary_.assign(n, 0);
+  for (std::uint32_t v = 0; v < n; ++v) boundary_[v] = alive_[v] && on_boundary(v);
+  add_boundary_planes(settings.boundary_weight);
+}
+
+template <class F>
+void CollapseState::for_each_face(std::uint32_t v, const F& f) const {
+  const std::uint32_t* p = faces_.data() + face_start_[v];
+  for (std::uint32_t i = 0; i < face_count_[v]; ++i)
+    if (!face_dead_[p[i]]) f(p[i]);
+}
+
+void CollapseState::build_adjacency() {
+  const std::size_t n = mesh_.positions.size();
+  face_count_.assign(n, 0);
+  for (std::uint32_t v : mesh_.triangles) ++face_count_[v];
+  face_start_.assign(n, 0);
+  std::uint32_t at = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    face_start_[v] = at;
+    at += face_count_[v];
+  }
+  faces_.assign(at, 0);
+  std::vector<std::uint32_t> fill(n, 0);
+  for (std::size_t f = 0; f < face_dead_.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(k)];
+      faces_[face_start_[v] + fill[v]++] = std::uint32_t(f);
+    }
+  compact_at_ = 3 * std::size_t(at) + 1024;
+  // A vertex used by no face takes no part (and is not in the result).
+  for (std::size_t v = 0; v < n; ++v)
+    if (face_count_[v] == 0) alive_[v] = 0;
+}
+
+void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u != v) out->push_back(u);
+    }
+  });
+  std::sort(out->begin(), out->end());
+  out->erase(std::unique(out->begin(), out->end()), out->end());
+}
+
+int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
+  int m = 0;
+  for_each_face(a, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    m += (t[0] == b || t[1] == b || t[2] == b);
+  });
+  return m;
+}
+
+void CollapseState::edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u != v) out->push_back(u);
+    }
+  });
+  std::sort(out->begin(), out->end());
+}
+
+bool CollapseState::on_boundary(std::uint32_t v) const {
+  edge_ends(v, &scratch_ends_);
+  const std::vector<std::uint32_t>& e = scratch_ends_;
+  for (std::size_t i = 0; i < e.size();) {
+    std::size_t j = i;
+    while (j < e.size() && e[j] == e[i]) ++j;
+    if (j - i == 1) return true;  // an edge of one face
+    i = j;
+  }
+  return false;
+}
+
+// A vertex on an edge of three or more faces, or whose faces form more than one fan
+// (two cones meeting at their apex), has no disk around it for the link condition to
+// keep: it is locked, and its edges never collapse.
+void CollapseState::lock_non_manifold() {
+  std::vector<std::uint32_t> ends, ring, parent;
+  for (std::uint32_t v = 0; v < mesh_.positions.size(); ++v) {
+    if (!alive_[v]) continue;
+    edge_ends(v, &ends);
+    bool manifold = true;
+    for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
+    // One fan: the neighbours, joined where a face joins them, form one piece (a
+    // cycle inside, a path on the boundary); two cones meeting at v make two.
+    ring = ends;
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    parent.resize(ring.size());
+    for (std::size_t i = 0; i < ring.size(); ++i) parent[i] = std::uint32_t(i);
+    auto root = [&](std::uint32_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    auto slot = [&](std::uint32_t u) {
+      return std::uint32_t(std::lower_bound(ring.begin(), ring.end(), u) - ring.begin());
+    };
+    for_each_face(v, [&](std::uint32_t f) {
+      const std::uint32_t* t = &mesh_.triangles[3 * f];
+      std::uint32_t other[2], n = 0;
+      for (int k = 0; k < 3; ++k)
+        if (t[k] != v && n < 2) other[n++] = t[k];
+      if (n == 2) parent[root(slot(other[0]))] = root(slot(other[1]));
+    });
+    std::size_t pieces = 0;
+    for (std::size_t i = 0; i < ring.size(); ++i) pieces += root(std::uint32_t(i)) == i;
+    if (!manifold || pieces != 1) locked_[v] = 1;
+  }
+}
+
+// Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the quadric
+// of the plane through it perpendicular to its face, so that moving off the outline
+// costs as moving off the surface does.
+void CollapseState::add_boundary_planes(double weight) {
+  if (!(weight > 0)) return;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    const Vec3d& p0 = mesh_.positions[t[0]];
+    const Vec3d normal = cross(mesh_.positions[t[1]] - p0, mesh_.positions[t[2]] - p0);
+    const double normal_length = length(normal);
+    if (!(normal_length > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
+      if (faces_on_edge(u, w) != 1) continue;
+      const Vec3d e = mesh_.positions[w] - mesh_.positions[u];
+      const Vec3d m = cross(e, normal / normal_length);
+      const double m_length = length(m);  // |e|: the normal is a unit vector perpendicular to e
+      if (!(m_length > 0)) continue;
+      const Vec3d unit = m / m_length;
+      Quadric plane;
+      plane.add_plane(unit, weight * squared_length(e), dot(unit, mesh_.positions[u]));
+      mesh_.quadrics[u].add(plane);
+      mesh_.quadrics[w].add(plane);
+    }
+  }
+}
+
+std::uint64_t CollapseState::locked_count() const {
+  std::uint64_t n = 0;
+  for (std::size_t v = 0; v < locked_.size(); ++v) n += alive_[v] && locked_[v];
+  return n;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> CollapseState::edges() const {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  std::vector<std::uint32_t> ring;
+  for (std::uint32_t a = 0; a < mesh_.positions.size(); ++a) {
+    if (!alive_[a] || locked_[a]) continue;
+    neighbours(a, &ring);
+    for (std::uint32_t b : ring)
+      if (b > a && !locked_[b]) out.emplace_back(a, b);
+  }
+  return out;
+}
+
+// The textbook's placement: the minimum of Q = Q_a + Q_b where A is invertible; where
+// it is not (flat and linear neighbourhoods), or the minimum lies far off the edge,
+// the best point of the edge; of those and the two ends, the one with the least cost.
+// The outline keeps its own vertices: a boundary vertex does not move for an inner
+// one, and two boundary vertices merge into one of them, so the outline loses
+// vertices but never leaves its polyline.
+CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t b) const {
+  const Quadric q = sum(mesh_.quadrics[a], mesh_.quadrics[b]);
+  const Vec3d& pa = mesh_.positions[a];
+  const Vec3d& pb = mesh_.positions[b];
+  if (boundary_[a] != boundary_[b]) {
+    const Vec3d& fixed = boundary_[a] ? pa : pb;
+    return {std::max(q.error(fixed), 0.0), a, b, fixed};
+  }
+  Candidate best{q.error(pa), a, b, pa};
+  auto consider = [&](const Vec3d& x) {
+    const double e = q.error(x);
+    if (e < best.cost) best.cost = e, best.placement = x;
+  };
+  consider(pb);
+  if (boundary_[a]) {
+    best.cost = std::max(best.cost, 0.0);
+    return best;
+  }
+  const Vec3d d = pb - pa;
+  const double dad = dot(d, times(q, d));
+  if (dad > 0) {
+    // E(pa + t d) = E(pa) + 2 t (d.A pa - d.b) + t^2 d.A d
+    const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, times(q, pa))) / dad;
+    if (t > 0 && t < 1) consider(pa + d * t);
+  }
+  Vec3d x;
+  const Vec3d mid = (pa + pb) * 0.5;
+  if (solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d)) consider(x);
+  best.cost = std::max(best.cost, 0.0);  // rounding below the minimum of a sum of squares
+  return best;
+}
+
+double CollapseState::error(const Candidate& c) const {
+  const Quadric& qa = mesh_.quadrics[c.a];
+  const Quadric& qb = mesh_.quadrics[c.b];
+  // trace(A) is the total weight: each plane adds w n n^T with |n| = 1.
+  const double weight = qa.a00 + qa.a11 + qa.a22 + qb.a00 + qb.a11 + qb.a22;
+  return weight > 0 ? std::sqrt(c.cost / weight) : 0;
+}
+
+bool CollapseState::valid(const Candidate& c) const {
+  const std::uint32_t a = c.a, b = c.b;
+  if (!alive_[a] || !alive_[b] || locked_[a] || locked_[b]) return false;
+  const int on_edge = faces_on_edge(a, b);
+  if (on_edge < 1 || on_edge > 2) return false;
+  // The link condition: the vertices next to both a and b are exactly those opposite
+  // the edge in its faces, so no edge or face is doubled.
+  std::vector<std::uint32_t>& ring_a = scratch_a_;
+  std::vector<std::uint32_t>& ring_b = scratch_b_;
+  std::vector<std::uint32_t>& common = scratch_common_;
+  neighbours(a, &ring_a);
+  neighbours(b, &ring_b);
+  common.clear();
+  std::set_intersection(ring_a.begin(), ring_a.end(), ring_b.begin(), ring_b.end(), std::back_inserter(common));
+  if (int(common.size()) != on_edge) return false;
+  for (std::uint32_t o : common) {
+    bool opposite = false;
+    for_each_face(a, [&](std::uint32_t f) {
+      const std::uint32_t* t = &mesh_.triangles[3 * f];
+      const bool has_b = t[0] == b || t[1] == b || t[2] == b;
+      const bool has_o = t[0] == o || t[1] == o || t[2] == o;
+      opposite = opposite || (has_b && has_o);
+    });
+    if (!opposite) return false;
+  }
+  // An inner edge between two boundary vertices would pinch the surface into two.
+  if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
+  // A tetrahedron has no edge left to collapse.
+  if (ring_a.size() == 3 && ring_b.size() == 3 && on_edge == 2) return false;
+  // The faces that stay: none may flip or become a needle.
+  bool ok = true;
+  auto check = [&](std::uint32_t f) {
+    if (!ok) return;
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    const bool has_a = t[0] == a || t[1] == a || t[2] == a;
+    const bool has_b = t[0] == b || t[1] == b || t[2] == b;
+    if (has_a && has_b) return;  // removed
+    Vec3d before[3], after[3];
+    for (int k = 0; k < 3; ++k) {
+      before[k] = mesh_.positions[t[k]];
+      after[k] = (t[k] == a || t[k] == b) ? c.placement : before[k];
+    }
+    const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
+    const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
+    const double l0 = length(n0), l1 = length(n1);
+    // Against the face as it is and as it was in the input: many small turns of one
+    // face, each allowed, must not add up to a flip of the surface it stands for.
+    const Vec3d& first = first_normal_[f];
+    if (!(l1 > 0) || dot(n0, n1) <= cos_max_turn_ * l0 * l1 || dot(first, n1) <= cos_max_turn_ * length(first) * l1) {
+      ok = false;
+      return;
+    }
+    const double c1 = compactness(after[0], after[1], after[2], l1);
+    if (c1 < min_compactness_ && c1 < compactness(before[0], before[1], before[2], l0)) ok = false;
+  };
+  for_each_face(a, check);
+  for_each_face(b, check);
+  return ok;
+}
+
+void CollapseState::collapse(const Candidate& c) {
+  const std::uint32_t a = c.a, b = c.b;
+  // Attributes follow the placement's position along the edge.
+  const Vec3d pa = mesh_.positions[a], d = mesh_.positions[b] - pa;
+  const double dd = squared_length(d);
+  const double t = dd > 0 ? std::clamp(dot(c.placement - pa, d) / dd, 0.0, 1.0) : 0.0;
+  const std::size_t k = mesh_.attribute_count;
+  for (std::size_t j = 0; j < k; ++j) {
+    double& va = mesh_.attributes[a * k + j];
+    va = (1 - t) * va + t * mesh_.attributes[b * k + j];
+  }
+  // The faces of the edge go; b's other faces become a's. The merged list is
+  // gathered apart first: appending to faces_ while reading it could move it.
+  std::vector<std::uint32_t>& merged = scratch_a_;
+  merged.clear();
+  for_each_face(a, [&](std::uint32_t f) {
+    const std::uint32_t* tr = &mesh_.triangles[3 * f];
+    if (tr[0] == b || tr[1] == b || tr[2] == b) {
+      face_dead_[f] = 1;
+      --live_faces_;
+    } else {
+      merged.push_back(f);
+    }
+  });
+  for_each_face(b, [&](std::uint32_t f) {
+    std::uint32_t* tr = &mesh_.triangles[3 * f];
+    for (int j = 0; j < 3; ++j)
+      if (tr[j] == b) tr[j] = a;
+    merged.push_back(f);
+  });
+  face_start_[a] = std::uint32_t(faces_.size());
+  face_count_[a] = std::uint32_t(merged.size());
+  faces_.insert(faces_.end(), merged.begin(), merged.end());
+  face_count_[b] = 0;
+  alive_[b] = 0;
+  mesh_.positions[a] = c.placement;
+  mesh_.quadrics[a].add(mesh_.quadrics[b]);
+  boundary_[a] = boundary_[a] | boundary_[b];  // a valid collapse neither makes nor closes a boundary
+  if (faces_.size() > compact_at_) compact_adjacency();
+}
+
+// The merged lists are appended; once they take three times the start, the live
+// ones are copied down.
+void CollapseState::compact_adjacency() {
+  std::vector<std::uint32_t> packed;
+  packed.reserve(faces_.size() / 2);
+  for (std::size_t v = 0; v < face_start_.size(); ++v) {
+    const std::uint32_t start = std::uint32_t(packed.size());
+    if (alive_[v]) for_each_face(std::uint32_t(v), [&](std::uint32_t f) { packed.push_back(f); });
+    face_start_[v] = start;
+    face_count_[v] = std::uint32_t(packed.size() - start);
+  }
+  faces_ = std::move(packed);
+  compact_at_ = 3 * faces_.size() + 1024;
+}
+
+QuadricMesh CollapseState::result() const {
+  constexpr std::uint32_t kUnused = ~std::uint32_t(0);
+  std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
+  QuadricMesh out;
+  out.attribute_count = mesh_.attribute_count;
+  const std::size_t k = mesh_.attribute_count;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    if (face_dead_[f]) continue;
+    for (int j = 0; j < 3; ++j) {
+      const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(j)];
+      if (index[v] == kUnused) {
+        index[v] = std::uint32_t(out.positions.size());
+        out.positions.push_back(mesh_.positions[v]);
+        out.quadrics.push_back(mesh_.quadrics[v]);
+        out.attributes.insert(out.attributes.end(), mesh_.attributes.begin() + std::ptrdiff_t(v * k),
+                              mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k));
+      }
+      out.triangles.push_back(index[v]);
+    }
+  }
+  return out;
+}
+
+// --- The queue -------------------------------------------------------------------
+
+namespace {
+
+struct QueueEntry {
+  double cost;
+  std::uint32_t a, b;
+};
+
+// std::push_heap keeps the largest on top: "larger" is the later collapse, so the
+// cheapest comes first, ties by the vertices (the same order for any thread count).
+bool later(const QueueEntry& x, const QueueEntry& y) {
+  if (x.cost != y.cost) return x.cost > y.cost;
+  if (x.a != y.a) return x.a > y.a;
+  return x.b > y.b;
+}
+
+bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+
+// The driver of one run: a heap of candidates, each checked against the state when
+// taken. An entry is stale when the cost of its edge has changed since it was pushed
+// (an end moved); a rejected edge is pushed again when a collapse changes its
+// neighbourhood, so the collapse taken is always the cheapest valid one, as if every
+// edge were re-evaluated after every collapse.
+class LazyQueue {
+ public:
+  LazyQueue(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats)
+      : state_(state), settings_(settings), stats_(stats), rejected_(state.vertex_count(), 0) {}
+
+  void run() {
+    fill();
+    std::vector<QueueEntry> deferred;  // inner edges when one triangle is left to remove
+    while (state_.triangle_count() > settings_.target_triangles) {
+      if (heap_.empty()) {
+        if (!take_deferred(deferred)) stats_->stuck = true;
+        return;
+      }
+      std::pop_heap(heap_.begin(), heap_.end(), later);
+      const QueueEntry e = heap_.back();
+      heap_.pop_back();
+      if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
+      const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
+      if (!same_bits(c.cost, e.cost)) continue;  // stale
+      if (!state_.valid(c)) {
+        reject(e.a, e.b);
+        continue;
+      }
+      // A closed surface's count is even: with one triangle to go, only a boundary
+      // edge meets the target.
+      if (state_.triangle_count() - settings_.target_triangles == 1 && state_.faces_on_edge(e.a, e.b) == 2) {
+        deferred.push_back(e);
+        continue;
+      }
+      if (!take(c)) return;
+    }
+  }
+
+ private:
+  // Every edge, its cost computed in parallel (each independent of the others).
+  void fill() {
+    const auto edges = state_.edges();
+    heap_.resize(edges.size());
+    tbb::parallel_for(std::size_t(0), edges.size(), [&](std::size_t i) {
+      const CollapseState::Candidate c = state_.evaluate(edges[i].first, edges[i].second);
+      heap_[i] = {c.cost, c.a, c.b};
+    });
+    std::make_heap(heap_.begin(), heap_.end(), later);
+  }
+
+  bool take(const CollapseState::Candidate& c) {
+    const double error = state_.error(c);
+    if (error > settings_.max_error) {
+      stats_->stuck = stats_->stopped_by_error = true;
+      return false;
+    }
+    state_.collapse(c);
+    ++stats_->collapses;
+    stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
+    stats_->largest_error = std::max(stats_->largest_error, error);
+    requeue_around(c.a);
+    return true;
+  }
+
+  // With no boundary edge left to meet the target, the cheapest valid inner collapse,
+  // one triangle below it: a closed surface cannot do better. False when there is none.
+  bool take_deferred(std::vector<QueueEntry>& deferred) {
+    std::sort(deferred.begin(), deferred.end(), [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); });
+    for (const QueueEntry& e : deferred) {
+      if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
+      const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
+      if (!same_bits(c.cost, e.cost) || !state_.valid(c)) continue;
+      if (take(c)) stats_->parity = true;
+      return true;
+    }
+    return false;
+  }
+
+  void reject(std::uint32_t a, std::uint32_t b) { rejected_[a] = rejected_[b] = 1; }
+
+  // a's quadric changed: its edges get new costs. Around it the faces changed, so the
+  // edges rejected there may be valid now.
+  void requeue_around(std::uint32_t a) {
+    state_.neighbours(a, &ring_);
+    const std::vector<std::uint32_t> around = ring_;
+    for (std::uint32_t u : around) push(a, u);
+    for (std::uint32_t u : around) {
+      if (!rejected_[u]) continue;
+      rejected_[u] = 0;
+      state_.neighbours(u, &ring_);
+      for (std::uint32_t x : ring_)
+        if (x != a) push(u, x);
+    }
+    rejected_[a] = 0;
+  }
+
+  void push(std::uint32_t u, std::uint32_t v) {
+    if (u > v) std::swap(u, v);
+    if (state_.locked(u) || state_.locked(v)) return;
+    const CollapseState::Candidate c = state_.evaluate(u, v);
+    heap_.push_back({c.cost, u, v});
+    std::push_heap(heap_.begin(), heap_.end(), later);
+  }
+
+  CollapseState& state_;
+  const CollapseSettings& settings_;
+  CollapseStats* stats_;
+  std::vector<QueueEntry> heap_;
+  std::vector<std::uint8_t> rejected_;
+  std::vector<std::uint32_t> ring_;
+};
+
+}  // namespace
+
+QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats) {
+  CollapseStats local;
+  CollapseStats& st = stats ? *stats : local;
+  CollapseState state(std::move(mesh), settings);
+  st.locked_vertices = state.locked_count();
+  LazyQueue(state, settings, &st).run();
+  return state.result();
+}
+
+}  // namespace oocsimp

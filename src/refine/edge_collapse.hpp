@@ -1,0 +1,130 @@
+// Quadric edge collapse in core (Garland & Heckbert 1997; the textbook's chapter 6,
+// "Simplification using Iterative Edge Collapses" (2)-(6)): the second phase of
+// multiphase simplification (Garland & Shaffer 2002), and the whole of --method qem.
+//
+// The state of the mesh being collapsed (CollapseState) is separate from the order
+// the collapses are taken in (collapse_edges: a priority queue with lazy updates), so
+// that a test can drive the same state with a naive queue and compare.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "cluster/quadric.hpp"
+#include "oocsimp/geometry.hpp"
+
+namespace oocsimp {
+
+/// An indexed triangle mesh with a quadric per vertex: what phase 1 hands on (its
+/// clusters' summed quadrics) or what face_quadrics() computes for a whole input.
+/// Positions and quadrics are in one frame (phase 1's: relative to its grid origin).
+struct QuadricMesh {
+  std::vector<Vec3d> positions;
+  std::vector<std::uint32_t> triangles;  ///< 3 per face
+  std::vector<Quadric> quadrics;         ///< 1 per vertex
+  std::size_t attribute_count = 0;       ///< values per vertex in `attributes`
+  std::vector<double> attributes;        ///< attribute_count per vertex (interpolated along collapses)
+};
+
+/// The area-weighted plane quadrics of the faces around each vertex (the textbook's
+/// Q_v = sum of w_T Q_T, w_T the area): the start of --method qem.
+std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
+
+struct CollapseSettings {
+  /// Collapse until this many triangles are left (at least 4).
+  std::uint64_t target_triangles = 4;
+  /// Stop before a collapse whose error, the placement's root-mean-square distance
+  /// to the planes of its quadric (sqrt(cost / area weight)), exceeds this (model units).
+  double max_error = std::numeric_limits<double>::infinity();
+  /// A face around the collapse whose normal would turn by more than this is a flip.
+  double max_normal_turn_degrees = 90;
+  /// Velho's compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2) (1 for an equilateral
+  /// triangle, Velho 1999 eq. 4): a collapse may not leave a face below this unless the
+  /// face was already worse.
+  double min_compactness = 0.05;
+  /// Weight of the constraint plane through each boundary edge, perpendicular to its
+  /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
+  /// of open scans and terrain.
+  double boundary_weight = 10;
+};
+
+struct CollapseStats {
+  std::uint64_t collapses = 0;
+  double largest_cost = 0;            ///< the largest quadric cost of a collapse taken (area x distance^2)
+  double largest_error = 0;           ///< the largest error (model units, see max_error) of a collapse taken
+  std::uint64_t locked_vertices = 0;  ///< on non-manifold edges or fans: never moved
+  /// The target could not be met: no valid collapse was left (stuck), the next one was
+  /// above max_error, or a closed surface, whose triangle count is even, was asked for an
+  /// odd count (one triangle fewer is given).
+  bool stuck = false;
+  bool stopped_by_error = false;
+  bool parity = false;
+};
+
+/// The mesh being collapsed: faces around each vertex, quadrics, locks.
+class CollapseState {
+ public:
+  /// A collapse of edge (a, b), a < b: b goes into a, which moves to `placement`.
+  struct Candidate {
+    double cost = 0;
+    std::uint32_t a = 0, b = 0;
+    Vec3d placement;
+  };
+
+  CollapseState(QuadricMesh mesh, const CollapseSettings& settings);
+
+  /// Every edge (a, b), a < b, of the live faces, once each, in order, whose
+  /// vertices may move (neither is locked).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges() const;
+  /// The quadric cost and the placement of collapsing (a, b).
+  Candidate evaluate(std::uint32_t a, std::uint32_t b) const;
+  /// Whether the collapse keeps the surface manifold (the link condition), flips no
+  /// face and leaves no needle. One thread at a time (it works in scratch lists).
+  bool valid(const Candidate& c) const;
+  /// The faces the collapse removes: 2 inside, 1 on a boundary.
+  int faces_on_edge(std::uint32_t a, std::uint32_t b) const;
+  /// The error of `c` in model units (see CollapseSettings::max_error).
+  double error(const Candidate& c) const;
+  /// Collapses b into a.
+  void collapse(const Candidate& c);
+
+  std::size_t vertex_count() const { return alive_.size(); }
+  bool alive(std::uint32_t v) const { return alive_[v] != 0; }
+  bool locked(std::uint32_t v) const { return locked_[v] != 0; }
+  std::uint64_t triangle_count() const { return live_faces_; }
+  std::uint64_t locked_count() const;
+  /// The distinct vertices sharing a live face with v, ascending.
+  void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// The live faces, their vertices numbered by first use, in face order.
+  QuadricMesh result() const;
+
+ private:
+  template <class F>
+  void for_each_face(std::uint32_t v, const F& f) const;
+  void build_adjacency();
+  void lock_non_manifold();
+  void add_boundary_planes(double weight);
+  bool on_boundary(std::uint32_t v) const;
+  // The other ends of v's face edges, ascending, each as often as faces share it.
+  void edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  void compact_adjacency();
+
+  QuadricMesh mesh_;
+  double cos_max_turn_;
+  double min_compactness_;
+  std::vector<std::uint8_t> face_dead_, alive_, locked_, boundary_;
+  std::vector<Vec3d> first_normal_;                             // each face's normal in the input
+  std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
+  std::size_t compact_at_ = 0;
+  std::uint64_t live_faces_ = 0;
+  mutable std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_common_, scratch_ends_;
+};
+
+/// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
+/// a priority queue whose entries are checked when taken (lazy updates), until
+/// settings.target_triangles are left. The result is the same for any thread count.
+QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats);
+
+}  // namespace oocsimp
