@@ -15,6 +15,7 @@
 #include "io/mesh_writer_output.hpp"
 #include "io/temp_file.hpp"
 #include "methods/cluster_methods.hpp"
+#include "methods/multiphase.hpp"
 #include "oocsimp/error.hpp"
 #include "report/memory_usage.hpp"
 #include "report/progress_phase.hpp"
@@ -90,7 +91,6 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   check_float_range(input);
-  GridSpec grid = choose_grid(input, options.sizing, options.threads);
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   st.input_vertices = input.positions.count;
@@ -100,10 +100,16 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   st.first_non_finite_position = input.info.first_non_finite_position;
   for (const std::string& note : input.info.not_carried) st.warnings.push_back(note);
   st.attributes = input.attributes.attributes;
-  st.cell_size = grid.cell;
-  for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
-  input.restart_triangles();
-  SimplifiedMesh m = cluster_method(options.method).run(input, options, grid, &st);
+  SimplifiedMesh m;
+  if (options.method == ClusterMethod::qem || options.target.given()) {
+    m = simplify_to_target(input, options, &st);
+  } else {
+    const GridSpec grid = choose_grid(input, options.sizing, options.threads);
+    st.cell_size = grid.cell;
+    for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
+    input.restart_triangles();
+    m = cluster_method(options.method).run(input, options, grid, &st, nullptr);
+  }
   m.precision = ScalarType::f64;
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   st.peak_rss_bytes = peak_rss_bytes();

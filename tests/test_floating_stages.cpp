@@ -491,16 +491,17 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
 
 TEST_CASE("both methods are rows of one table that simplify() and the CLI use", "[stages][methods]") {
   const std::vector<ClusterMethodEntry>& m = cluster_method_table();
-  REQUIRE(m.size() == 2);
+  REQUIRE(m.size() == 3);
   CHECK(m[0].method == ClusterMethod::floating);  // the default first
-  CHECK(cluster_methods() == std::vector<ClusterMethod>{ClusterMethod::floating, ClusterMethod::uniform});
+  CHECK(cluster_methods() ==
+        std::vector<ClusterMethod>{ClusterMethod::floating, ClusterMethod::uniform, ClusterMethod::qem});
   std::set<std::string> names;
   for (const ClusterMethodEntry& e : m) {
-    CHECK(e.run != nullptr);
+    CHECK((e.run != nullptr) == (e.method != ClusterMethod::qem));  // qem clusters nothing
     CHECK(names.insert(e.name).second);
     CHECK(&cluster_method(e.method) == &e);
     CHECK(std::string(method_name(e.method)) == e.name);
   }
-  CHECK(names == std::set<std::string>{"floating", "uniform"});
+  CHECK(names == std::set<std::string>{"floating", "uniform", "qem"});
   CHECK(run_cli("simplify --method nosuch in.ply -o out.ply").exit_code == 2);
 }

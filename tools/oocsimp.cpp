@@ -44,6 +44,9 @@ std::string with_flags(std::string message) {
       {"options.sizing.ratio", "--ratio"},
       {"options.attributes", "--attributes"},
       {"options.temp_dir", "--tmp"},
+      {"options.target.triangles", "--target-tris"},
+      {"options.target.ratio", "--target-ratio"},
+      {"options.target.max_error", "--max-error"},
       {"options.triangles", "--tris"},
       {"options.samples", "--samples"},
       {"outputs.replace_input", "--force"},
@@ -94,10 +97,11 @@ struct Given {
 
 constexpr std::uint64_t kMaxThreads = 65536;
 
-// Given with --method uniform, the floating-only options would do nothing.
-void refuse_with_uniform(const std::vector<CLI::Option*>& floating_only) {
+// Given with another method, the floating-only options would do nothing.
+void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, ClusterMethod method) {
   for (const CLI::Option* o : floating_only)
-    if (o->count() > 0) throw UsageError(o->get_name() + " applies to --method floating only, not to --method uniform");
+    if (o->count() > 0)
+      throw UsageError(o->get_name() + " applies to --method floating only, not to --method " + method_name(method));
 }
 
 struct SimplifyArgs {
@@ -106,7 +110,9 @@ struct SimplifyArgs {
   SimplifyOptions options;
   std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
               precision = "auto", attributes = "all";
-  Given cell, grid, ratio, tile, mem, threads;
+  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error;
+  std::string refine = "qem";
+  CLI::Option* refine_option = nullptr;
   std::vector<CLI::Option*> floating_only;
   bool quiet = false;
 };
@@ -134,7 +140,14 @@ std::vector<std::string> method_names() {
 void resolve_simplify_args(SimplifyArgs& a) {
   SimplifyOptions& o = a.options;
   o.method = method_named(a.method);
-  if (o.method == ClusterMethod::uniform) refuse_with_uniform(a.floating_only);
+  if (o.method != ClusterMethod::floating) refuse_floating_only(a.floating_only, o.method);
+  if (a.target_tris.given())
+    o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, ~std::uint64_t(0));
+  if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
+  if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
+  o.target.refine = enum_named(a.refine, {RefineMethod::qem, RefineMethod::none}, refine_name);
+  if (a.refine_option->count() > 0 && !o.target.given())
+    throw UsageError("--refine applies with a target: give --target-tris, --target-ratio or --max-error");
   o.floating.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
   o.floating.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
   o.floating.representative = enum_named(
@@ -180,6 +193,11 @@ int run_simplify(SimplifyArgs& a) {
       std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.tiles,
                    stats.resumed ? " (kept by an earlier run)" : "", stats.rounds, disk, memory);
     }
+    if (a.options.target.given() || a.options.method == ClusterMethod::qem)
+      std::fprintf(
+          to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
+          stats.intermediate_triangles, stats.collapses, stats.largest_collapse_error, stats.largest_collapse_cost,
+          stats.target_missed ? ", target missed" : "");
     std::string phases;
     for (const PhaseTime& p : stats.phases) {
       char buf[64];
@@ -391,7 +409,30 @@ int main(int argc, char** argv) {
                         ->group(common);
   sa.cell.option->excludes(sa.grid.option)->excludes(sa.ratio.option);
   sa.grid.option->excludes(sa.ratio.option);
-  simplify->add_option("--method", sa.method, "floating (Low & Tan, the default) or uniform (OoCS grid)")
+  sa.target_tris.option =
+      simplify
+          ->add_option("--target-tris", sa.target_tris.text,
+                       "Exactly this many output triangles (at least 4): clustering to a few times that, then quadric "
+                       "edge collapse")
+          ->group(common);
+  sa.target_ratio.option =
+      simplify->add_option("--target-ratio", sa.target_ratio.text, "Exactly this fraction of the input's triangles")
+          ->group(common);
+  sa.max_error.option =
+      simplify
+          ->add_option("--max-error", sa.max_error.text,
+                       "Stop collapsing before an error above this, in model units (with or without a count)")
+          ->group(common);
+  sa.refine_option = simplify
+                         ->add_option("--refine", sa.refine,
+                                      "With a target: qem (edge collapse to it exactly, the default) or none "
+                                      "(clustering alone, at a cell chosen for about the target)")
+                         ->check(CLI::IsMember({"qem", "none"}))
+                         ->group(common);
+  simplify
+      ->add_option("--method", sa.method,
+                   "floating (Low & Tan, the default), uniform (OoCS grid) or qem (edge collapse of the whole "
+                   "input in memory; with a target or --ratio's default share, exactly)")
       ->check(CLI::IsMember(method_names()))
       ->group(common);
   sa.threads.option =

@@ -19,6 +19,13 @@ namespace oocsimp {
 enum class ClusterMethod {
   uniform,   ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
   floating,  ///< Low & Tan's floating cells on a tiled out-of-core grid
+  qem,       ///< no clustering: quadric edge collapse of the whole input in memory (the quality reference)
+};
+
+/// What refines the clustering's result down to an exact target (TargetOptions).
+enum class RefineMethod {
+  qem,   ///< quadric edge collapse from the clusters' summed quadrics (Garland & Shaffer's multiphase)
+  none,  ///< the clustering alone, at a cell chosen for about the target
 };
 
 /// Floating cells: a cube of side `cell`, or a sphere of diameter `cell`.
@@ -78,8 +85,26 @@ struct FloatingOptions {
   SpillCompression spill_compression = SpillCompression::automatic;
 };
 
+/// An exact size for the output: clustering (the method) down to about
+/// intermediate_factor times the target, then quadric edge collapse down to it, from
+/// the clusters' summed quadrics. Give at most one of triangles and ratio, and no
+/// CellSizing with them.
+struct TargetOptions {
+  std::uint64_t triangles = 0;  ///< exactly this many output triangles (at least 4); 0 = not given
+  double ratio = 0;             ///< exactly this fraction of the input's triangles, rounded, in (0, 1]; 0 = not given
+  /// Stop before a collapse whose error (the placement's RMS distance to the planes it
+  /// stands for) exceeds this, in model units; alone it lets the collapse go as far as
+  /// it stays below. 0 = not given.
+  double max_error = 0;
+  RefineMethod refine = RefineMethod::qem;
+  /// Phase 1 aims at this many times the target's triangles (see README, "Exact targets").
+  double intermediate_factor = 4;
+  bool given() const { return triangles != 0 || ratio != 0 || max_error != 0; }
+};
+
 struct SimplifyOptions {
   CellSizing sizing;
+  TargetOptions target;
   ClusterMethod method = ClusterMethod::floating;
   FloatingOptions floating;         ///< read by the floating method only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
@@ -150,6 +175,15 @@ struct SimplifyStats {
   std::vector<VertexAttribute> attributes;
   std::uint64_t peak_rss_bytes = 0;
   std::uint64_t peak_anon_bytes = 0;
+  /// With a target (TargetOptions) or --method qem: the triangles phase 1 handed on
+  /// (the input's for qem), the collapses taken, the largest collapse cost (area x
+  /// distance^2) and error (model units), and whether the target was missed (no valid
+  /// collapse left, max_error reached, or a closed surface asked for an odd count).
+  std::uint64_t intermediate_triangles = 0;
+  std::uint64_t collapses = 0;
+  double largest_collapse_cost = 0;
+  double largest_collapse_error = 0;
+  bool target_missed = false;
 };
 
 struct SimplifiedMesh {
@@ -232,6 +266,7 @@ const char* cell_shape_name(CellShape s);
 const char* assign_name(AssignRule a);
 const char* representative_name(RepresentativeRule r);
 const char* spill_compression_name(SpillCompression c);
+const char* refine_name(RefineMethod r);
 const char* precision_name(Precision p);
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and

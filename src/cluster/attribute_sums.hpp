@@ -78,9 +78,18 @@ class AttributeLayout {
       double mean = w > 0 ? sums[2 + k] / w : members > 0 ? sums[2 + n + k] / members : 0.0;
       mean = std::min(std::max(mean, 0.0), 1.0);
       const VertexAttribute& a = attributes_[k];
-      double v = a.min + mean * (a.max - a.min);
-      if (is_integer_type(a.type)) v = std::min(std::max(std::nearbyint(v), a.min), a.max);
-      out[k] = v;
+      out[k] = a.min + mean * (a.max - a.min);
+    }
+    settle(out);
+  }
+
+  /// Values (count() of them) made what the attributes' types hold: integer types
+  /// rounded to nearest within the input's range, nx, ny, nz renormalised to unit
+  /// length. For values a collapse interpolated as well as for cluster means.
+  void settle(double* out) const {
+    for (std::size_t k = 0; k < count(); ++k) {
+      const VertexAttribute& a = attributes_[k];
+      if (is_integer_type(a.type)) out[k] = std::min(std::max(std::nearbyint(out[k]), a.min), a.max);
     }
     if (normal_[0] >= 0 && normal_[1] >= 0 && normal_[2] >= 0) {
       double& x = out[normal_[0]];

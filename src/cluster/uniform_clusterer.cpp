@@ -307,7 +307,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
 }  // namespace
 
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                               SimplifyStats* stats) {
+                               SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   const ProgressCallback& progress = options.progress;
   // Up front, before any table grows: the occupied cells alone, estimated from a
   // sample of the vertices (a lower estimate); kept triangles and output come on top.
@@ -379,6 +379,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   if (attribute_count > 0) attributes.sums.resize(cells.size() * attributes.width(), 0.0);  // before the parallel reads
 
   mesh.positions.resize(3 * order.size());
+  if (quadrics) quadrics->resize(order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i) {
@@ -389,6 +390,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                         const double half = 0.5 * grid.cell;
                         Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
                         Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
+                        if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         mesh.positions[3 * i] = x.x;
                         mesh.positions[3 * i + 1] = x.y;
                         mesh.positions[3 * i + 2] = x.z;

@@ -1,6 +1,9 @@
 // Uniform-grid clustering (OoCS); see uniform_clusterer.cpp.
 #pragma once
 
+#include <vector>
+
+#include "cluster/quadric.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
@@ -9,6 +12,6 @@ namespace oocsimp {
 /// options.progress (no other option applies); fills the clustering fields of `stats`
 /// (counts and the vertices / faces / solve seconds).
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                               SimplifyStats* stats);
+                               SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

@@ -10,6 +10,7 @@ const std::vector<ClusterMethodEntry>& cluster_method_table() {
   static const std::vector<ClusterMethodEntry> methods = {
       {ClusterMethod::floating, "floating", cluster_floating},
       {ClusterMethod::uniform, "uniform", cluster_uniform},
+      {ClusterMethod::qem, "qem", nullptr},  // no clustering: methods/multiphase.cpp
   };
   return methods;
 }

@@ -4,19 +4,22 @@
 
 #include <vector>
 
+#include "cluster/quadric.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
 
 /// A clustering method: simplify() opens the input, chooses the grid and calls its
 /// run function with the triangle stream at its start; run fills the clustering
-/// fields of `stats` (counts, the method's phases).
+/// fields of `stats` (counts, the method's phases). With `quadrics`, it also gives
+/// each output vertex its cluster's summed quadric, in model units relative to
+/// grid.origin (multiphase simplification's phase 1, Garland & Shaffer 2002).
 using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                      SimplifyStats* stats);
+                                      SimplifyStats* stats, std::vector<Quadric>* quadrics);
 struct ClusterMethodEntry {
   ClusterMethod method;
   const char* name;  ///< as the stats (and the CLI's --method) spell it
-  ClusterRun run;
+  ClusterRun run;    ///< null for qem, which clusters nothing (simplify_to_target)
 };
 /// Every method, the default first.
 const std::vector<ClusterMethodEntry>& cluster_method_table();

@@ -75,7 +75,7 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
 }  // namespace
 
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, const GridSpec& grid,
-                                SimplifyStats* stats) {
+                                SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   SimplifyOptions options = given;
   const MemoryBudget budget(options);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
@@ -154,7 +154,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   {
     ProgressPhase phase(options.progress, "assemble", 0, "cell");
     m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
-                      budget, shares.attribute_shares.get(), &shares.attributes);
+                      budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grid.origin);
   }
   double t5 = now_seconds();
 

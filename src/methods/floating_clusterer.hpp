@@ -2,6 +2,9 @@
 // floating_cells_design.md.
 #pragma once
 
+#include <vector>
+
+#include "cluster/quadric.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
@@ -12,6 +15,6 @@ namespace oocsimp {
 /// the sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
 /// count. Only vertices used by a triangle take part.
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                SimplifyStats* stats);
+                                SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

@@ -9,12 +9,30 @@
 
 #include "cluster/plane_quadric.hpp"
 #include "common/vec3_math.hpp"
+#include "report/progress_phase.hpp"
 
 namespace oocsimp {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// The lists around a vertex hold a dozen or so entries: insertion sort beats
+// std::sort's setup there; long lists (a high-valence vertex) take std::sort.
+void sort_small(std::vector<std::uint32_t>* v) {
+  std::uint32_t* a = v->data();
+  const std::size_t n = v->size();
+  if (n > 32) {
+    std::sort(a, a + n);
+    return;
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    const std::uint32_t x = a[i];
+    std::size_t j = i;
+    for (; j > 0 && a[j - 1] > x; --j) a[j] = a[j - 1];
+    a[j] = x;
+  }
+}
 
 // Velho 1999 eq. 4: 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a.
 double compactness(const Vec3d& p, const Vec3d& q, const Vec3d& r, double normal_length) {
@@ -77,7 +95,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   const std::size_t n = mesh_.positions.size();
   mesh_.quadrics.resize(n);
   alive_.assign(n, 1);
-  locked_.assign(n, 0);
+  complex_.assign(n, 0);
   face_dead_.assign(mesh_.triangles.size() / 3, 0);
   live_faces_ = face_dead_.size();
   first_normal_.resize(face_dead_.size());
@@ -87,7 +105,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
     first_normal_[f] = cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p);
   }
   build_adjacency();
-  lock_non_manifold();
+  mark_non_manifold();
   boundary_.assign(n, 0);
   for (std::uint32_t v = 0; v < n; ++v) boundary_[v] = alive_[v] && on_boundary(v);
   add_boundary_planes(settings.boundary_weight);
@@ -125,14 +143,27 @@ void CollapseState::build_adjacency() {
 
 void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
   out->clear();
+  const std::uint32_t stamp = next_stamp();
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u != v) out->push_back(u);
+      if (u != v && mark_[u] != stamp) {
+        mark_[u] = stamp;
+        out->push_back(u);
+      }
     }
   });
-  std::sort(out->begin(), out->end());
-  out->erase(std::unique(out->begin(), out->end()), out->end());
+  sort_small(out);
+}
+
+std::uint32_t CollapseState::next_stamp() const {
+  if (mark_.size() < alive_.size()) mark_.resize(alive_.size(), 0), seen_.resize(alive_.size(), 0);
+  if (++stamp_ == 0) {  // wrapped: old marks could match again
+    std::fill(mark_.begin(), mark_.end(), 0);
+    std::fill(seen_.begin(), seen_.end(), 0);
+    stamp_ = 1;
+  }
+  return stamp_;
 }
 
 int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
@@ -152,7 +183,7 @@ void CollapseState::edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) 
       if (u != v) out->push_back(u);
     }
   });
-  std::sort(out->begin(), out->end());
+  sort_small(out);
 }
 
 bool CollapseState::on_boundary(std::uint32_t v) const {
@@ -169,43 +200,50 @@ bool CollapseState::on_boundary(std::uint32_t v) const {
 
 // A vertex on an edge of three or more faces, or whose faces form more than one fan
 // (two cones meeting at their apex), has no disk around it for the link condition to
-// keep: it is locked, and its edges never collapse.
-void CollapseState::lock_non_manifold() {
-  std::vector<std::uint32_t> ends, ring, parent;
-  for (std::uint32_t v = 0; v < mesh_.positions.size(); ++v) {
-    if (!alive_[v]) continue;
-    edge_ends(v, &ends);
-    bool manifold = true;
-    for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
-    // One fan: the neighbours, joined where a face joins them, form one piece (a
-    // cycle inside, a path on the boundary); two cones meeting at v make two.
-    ring = ends;
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    parent.resize(ring.size());
-    for (std::size_t i = 0; i < ring.size(); ++i) parent[i] = std::uint32_t(i);
-    auto root = [&](std::uint32_t i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
-    auto slot = [&](std::uint32_t u) {
-      return std::uint32_t(std::lower_bound(ring.begin(), ring.end(), u) - ring.begin());
-    };
-    for_each_face(v, [&](std::uint32_t f) {
-      const std::uint32_t* t = &mesh_.triangles[3 * f];
-      std::uint32_t other[2], n = 0;
-      for (int k = 0; k < 3; ++k)
-        if (t[k] != v && n < 2) other[n++] = t[k];
-      if (n == 2) parent[root(slot(other[0]))] = root(slot(other[1]));
-    });
-    std::size_t pieces = 0;
-    for (std::size_t i = 0; i < ring.size(); ++i) pieces += root(std::uint32_t(i)) == i;
-    if (!manifold || pieces != 1) locked_[v] = 1;
-  }
+// keep. Clustering leaves many (folded sheets where coarse cells cut steep slopes), so
+// such a vertex is not locked but anchored: it does not move, other vertices may merge
+// into it, and collapses there are checked for doubled faces instead of by the link
+// condition.
+void CollapseState::mark_non_manifold() {
+  for (std::uint32_t v = 0; v < mesh_.positions.size(); ++v)
+    if (alive_[v] && !manifold_at(v)) complex_[v] = 1;
+}
+
+bool CollapseState::manifold_at(std::uint32_t v) const {
+  std::vector<std::uint32_t>& ends = scratch_ends_;
+  std::vector<std::uint32_t> ring, parent;
+  edge_ends(v, &ends);
+  bool manifold = true;
+  for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
+  // One fan: the neighbours, joined where a face joins them, form one piece (a
+  // cycle inside, a path on the boundary); two cones meeting at v make two.
+  ring = ends;
+  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  parent.resize(ring.size());
+  for (std::size_t i = 0; i < ring.size(); ++i) parent[i] = std::uint32_t(i);
+  auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  auto slot = [&](std::uint32_t u) {
+    return std::uint32_t(std::lower_bound(ring.begin(), ring.end(), u) - ring.begin());
+  };
+  for_each_face(v, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    std::uint32_t other[2], n = 0;
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != v && n < 2) other[n++] = t[k];
+    if (n == 2) parent[root(slot(other[0]))] = root(slot(other[1]));
+  });
+  std::size_t pieces = 0;
+  for (std::size_t i = 0; i < ring.size(); ++i) pieces += root(std::uint32_t(i)) == i;
+  return manifold && pieces == 1;
 }
 
 // Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the quadric
 // of the plane through it perpendicular to its face, so that moving off the outline
-// costs as moving off the surface does.
+// costs as moving off the surface does; and that of its face's plane, so that the two
+// measure the distance to the edge's line.
 void CollapseState::add_boundary_planes(double weight) {
   if (!(weight > 0)) return;
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
@@ -222,17 +260,21 @@ void CollapseState::add_boundary_planes(double weight) {
       const double m_length = length(m);  // |e|: the normal is a unit vector perpendicular to e
       if (!(m_length > 0)) continue;
       const Vec3d unit = m / m_length;
-      Quadric plane;
-      plane.add_plane(unit, weight * squared_length(e), dot(unit, mesh_.positions[u]));
-      mesh_.quadrics[u].add(plane);
-      mesh_.quadrics[w].add(plane);
+      const Vec3d face = normal / normal_length;
+      // With the face's own plane, the distance to the edge's line: the outline keeps
+      // its relief (a terrain's edge profile) as well as its course.
+      Quadric line;
+      line.add_plane(unit, weight * squared_length(e), dot(unit, mesh_.positions[u]));
+      line.add_plane(face, weight * squared_length(e), dot(face, mesh_.positions[u]));
+      mesh_.quadrics[u].add(line);
+      mesh_.quadrics[w].add(line);
     }
   }
 }
 
-std::uint64_t CollapseState::locked_count() const {
+std::uint64_t CollapseState::non_manifold_count() const {
   std::uint64_t n = 0;
-  for (std::size_t v = 0; v < locked_.size(); ++v) n += alive_[v] && locked_[v];
+  for (std::size_t v = 0; v < complex_.size(); ++v) n += alive_[v] && complex_[v];
   return n;
 }
 
@@ -240,10 +282,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CollapseState::edges() cons
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   std::vector<std::uint32_t> ring;
   for (std::uint32_t a = 0; a < mesh_.positions.size(); ++a) {
-    if (!alive_[a] || locked_[a]) continue;
+    if (!alive_[a]) continue;
     neighbours(a, &ring);
     for (std::uint32_t b : ring)
-      if (b > a && !locked_[b]) out.emplace_back(a, b);
+      if (b > a) out.emplace_back(a, b);
   }
   return out;
 }
@@ -258,8 +300,9 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
   const Quadric q = sum(mesh_.quadrics[a], mesh_.quadrics[b]);
   const Vec3d& pa = mesh_.positions[a];
   const Vec3d& pb = mesh_.positions[b];
-  if (boundary_[a] != boundary_[b]) {
-    const Vec3d& fixed = boundary_[a] ? pa : pb;
+  const bool anchored_a = boundary_[a] || complex_[a], anchored_b = boundary_[b] || complex_[b];
+  if (anchored_a != anchored_b) {
+    const Vec3d& fixed = anchored_a ? pa : pb;
     return {std::max(q.error(fixed), 0.0), a, b, fixed};
   }
   Candidate best{q.error(pa), a, b, pa};
@@ -268,7 +311,7 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
     if (e < best.cost) best.cost = e, best.placement = x;
   };
   consider(pb);
-  if (boundary_[a]) {
+  if (anchored_a) {
     best.cost = std::max(best.cost, 0.0);
     return best;
   }
@@ -296,34 +339,69 @@ double CollapseState::error(const Candidate& c) const {
 
 bool CollapseState::valid(const Candidate& c) const {
   const std::uint32_t a = c.a, b = c.b;
-  if (!alive_[a] || !alive_[b] || locked_[a] || locked_[b]) return false;
+  if (!alive_[a] || !alive_[b]) return false;
   const int on_edge = faces_on_edge(a, b);
-  if (on_edge < 1 || on_edge > 2) return false;
-  // The link condition: the vertices next to both a and b are exactly those opposite
-  // the edge in its faces, so no edge or face is doubled.
-  std::vector<std::uint32_t>& ring_a = scratch_a_;
-  std::vector<std::uint32_t>& ring_b = scratch_b_;
-  std::vector<std::uint32_t>& common = scratch_common_;
-  neighbours(a, &ring_a);
-  neighbours(b, &ring_b);
-  common.clear();
-  std::set_intersection(ring_a.begin(), ring_a.end(), ring_b.begin(), ring_b.end(), std::back_inserter(common));
-  if (int(common.size()) != on_edge) return false;
-  for (std::uint32_t o : common) {
-    bool opposite = false;
-    for_each_face(a, [&](std::uint32_t f) {
-      const std::uint32_t* t = &mesh_.triangles[3 * f];
-      const bool has_b = t[0] == b || t[1] == b || t[2] == b;
-      const bool has_o = t[0] == o || t[1] == o || t[2] == o;
-      opposite = opposite || (has_b && has_o);
-    });
-    if (!opposite) return false;
+  if (on_edge < 1) return false;
+  if (complex_[a] || complex_[b]) {
+    if (doubles_a_face(a, b)) return false;
+    return keeps_faces(c);
   }
+  if (on_edge > 2) return false;
+  // The link condition: the vertices next to both a and b are exactly those opposite
+  // the edge in its faces, so no edge or face is doubled. The opposite ones always are
+  // next to both, so counting the common neighbours is enough: a's are marked, b's
+  // counted against the marks (no sorting: a vertex may have hundreds).
+  const std::uint32_t in_a = next_stamp();
+  std::size_t ring_a = 0;
+  for_each_face(a, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u != a && mark_[u] != in_a) mark_[u] = in_a, ++ring_a;
+    }
+  });
+  const std::uint32_t in_b = next_stamp();
+  std::size_t ring_b = 1, common = 0;  // a, then the others
+  for_each_face(b, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u == a || u == b || seen_[u] == in_b) continue;
+      seen_[u] = in_b;
+      ++ring_b;
+      common += mark_[u] == in_a;
+    }
+  });
+  if (int(common) != on_edge) return false;
   // An inner edge between two boundary vertices would pinch the surface into two.
   if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
   // A tetrahedron has no edge left to collapse.
-  if (ring_a.size() == 3 && ring_b.size() == 3 && on_edge == 2) return false;
-  // The faces that stay: none may flip or become a needle.
+  if (ring_a == 3 && ring_b == 3 && on_edge == 2) return false;
+  return keeps_faces(c);
+}
+
+// Whether some face of b, moved to a, would have the corners of a face a has already.
+bool CollapseState::doubles_a_face(std::uint32_t a, std::uint32_t b) const {
+  bool doubled = false;
+  for_each_face(b, [&](std::uint32_t f) {
+    if (doubled) return;
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    if (t[0] == a || t[1] == a || t[2] == a) return;  // removed
+    std::uint32_t x = 0, y = 0;
+    int n = 0;
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != b) (n++ == 0 ? x : y) = t[k];
+    for_each_face(a, [&](std::uint32_t g) {
+      const std::uint32_t* s = &mesh_.triangles[3 * g];
+      const bool has_x = s[0] == x || s[1] == x || s[2] == x;
+      const bool has_y = s[0] == y || s[1] == y || s[2] == y;
+      doubled = doubled || (has_x && has_y);
+    });
+  });
+  return doubled;
+}
+
+// The faces that stay: none may flip or become a needle.
+bool CollapseState::keeps_faces(const Candidate& c) const {
+  const std::uint32_t a = c.a, b = c.b;
   bool ok = true;
   auto check = [&](std::uint32_t f) {
     if (!ok) return;
@@ -392,7 +470,66 @@ void CollapseState::collapse(const Candidate& c) {
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
   boundary_[a] = boundary_[a] | boundary_[b];  // a valid collapse neither makes nor closes a boundary
+  if (complex_[a] || complex_[b]) {
+    // Around a tangle the link condition was not checked: its neighbours may have
+    // become tangled too.
+    complex_[a] = 1;
+    std::vector<std::uint32_t> ring;
+    neighbours(a, &ring);
+    for (std::uint32_t u : ring)
+      if (!complex_[u] && !manifold_at(u)) complex_[u] = 1;
+  }
   if (faces_.size() > compact_at_) compact_adjacency();
+}
+
+bool CollapseState::split_boundary_edge() {
+  std::uint32_t face = 0, corner = 0;
+  double longest = -1;
+  std::pair<std::uint32_t, std::uint32_t> best{0, 0};
+  for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
+    if (face_dead_[f]) continue;
+    const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
+      if (faces_on_edge(u, w) != 1) continue;
+      const double l = squared_distance(mesh_.positions[u], mesh_.positions[w]);
+      const std::pair<std::uint32_t, std::uint32_t> key{std::min(u, w), std::max(u, w)};
+      if (l > longest || (l == longest && key < best)) longest = l, best = key, face = f, corner = k;
+    }
+  }
+  if (longest < 0) return false;
+  // Face (u, w, x) becomes (u, m, x) and (m, w, x): the same orientation, the same plane.
+  const std::uint32_t u = mesh_.triangles[3 * face + corner], w = mesh_.triangles[3 * face + (corner + 1) % 3];
+  const std::uint32_t x = mesh_.triangles[3 * face + (corner + 2) % 3];
+  const std::uint32_t m = std::uint32_t(mesh_.positions.size());
+  const std::uint32_t added = std::uint32_t(face_dead_.size());
+  mesh_.positions.push_back((mesh_.positions[u] + mesh_.positions[w]) * 0.5);
+  mesh_.quadrics.push_back(Quadric());
+  const std::size_t k = mesh_.attribute_count;
+  for (std::size_t j = 0; j < k; ++j)
+    mesh_.attributes.push_back(0.5 * (mesh_.attributes[u * k + j] + mesh_.attributes[w * k + j]));
+  alive_.push_back(1);
+  complex_.push_back(0);
+  boundary_.push_back(1);
+  mesh_.triangles[3 * face + (corner + 1) % 3] = m;
+  mesh_.triangles.insert(mesh_.triangles.end(), {m, w, x});
+  face_dead_.push_back(0);
+  first_normal_.push_back(first_normal_[face]);
+  ++live_faces_;
+  // m's faces; w trades `face` for the new one; x gains it.
+  face_start_.push_back(std::uint32_t(faces_.size()));
+  face_count_.push_back(2);
+  faces_.insert(faces_.end(), {face, added});
+  for (std::uint32_t v : {w, x}) {
+    std::vector<std::uint32_t>& list = scratch_a_;
+    list.clear();
+    for_each_face(v, [&](std::uint32_t f) { list.push_back(v == w && f == face ? added : f); });
+    if (v == x) list.push_back(added);
+    face_start_[v] = std::uint32_t(faces_.size());
+    face_count_[v] = std::uint32_t(list.size());
+    faces_.insert(faces_.end(), list.begin(), list.end());
+  }
+  return true;
 }
 
 // The merged lists are appended; once they take three times the start, the live
@@ -444,13 +581,70 @@ struct QueueEntry {
 
 // std::push_heap keeps the largest on top: "larger" is the later collapse, so the
 // cheapest comes first, ties by the vertices (the same order for any thread count).
-bool later(const QueueEntry& x, const QueueEntry& y) {
-  if (x.cost != y.cost) return x.cost > y.cost;
-  if (x.a != y.a) return x.a > y.a;
-  return x.b > y.b;
-}
+// A function object, so that the heap's sifting inlines it.
+struct Later {
+  bool operator()(const QueueEntry& x, const QueueEntry& y) const {
+    if (x.cost != y.cost) return x.cost > y.cost;
+    if (x.a != y.a) return x.a > y.a;
+    return x.b > y.b;
+  }
+};
+constexpr Later later{};
 
 bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+
+// A min-heap with four children per node: the queue holds millions of entries, most
+// of them stale, and a pop walks its depth; four 16-byte children share a cache line,
+// so a level costs one miss where a binary heap's two levels cost two. The order is
+// Later's, a strict total order, so the pops are those of any other heap.
+class QuadHeap {
+ public:
+  bool empty() const { return items_.empty(); }
+  void reserve(std::size_t n) { items_.reserve(n); }
+  /// Takes `items` and orders them.
+  void assign(std::vector<QueueEntry> items) {
+    items_ = std::move(items);
+    for (std::size_t i = items_.size(); i-- > 0;) sift_down(i);
+  }
+  void push(const QueueEntry& e) {
+    std::size_t i = items_.size();
+    items_.push_back(e);
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / 4;
+      if (!later(items_[parent], e)) break;
+      items_[i] = items_[parent];
+      i = parent;
+    }
+    items_[i] = e;
+  }
+  QueueEntry pop() {
+    const QueueEntry top = items_.front();
+    items_.front() = items_.back();
+    items_.pop_back();
+    if (!items_.empty()) sift_down(0);
+    return top;
+  }
+
+ private:
+  void sift_down(std::size_t i) {
+    const QueueEntry e = items_[i];
+    const std::size_t n = items_.size();
+    for (;;) {
+      const std::size_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::size_t best = first;
+      const std::size_t last = std::min(first + 4, n);
+      for (std::size_t c = first + 1; c < last; ++c)
+        if (later(items_[best], items_[c])) best = c;
+      if (!later(e, items_[best])) break;
+      items_[i] = items_[best];
+      i = best;
+    }
+    items_[i] = e;
+  }
+
+  std::vector<QueueEntry> items_;
+};
 
 // The driver of one run: a heap of candidates, each checked against the state when
 // taken. An entry is stale when the cost of its edge has changed since it was pushed
@@ -459,8 +653,8 @@ bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; 
 // edge were re-evaluated after every collapse.
 class LazyQueue {
  public:
-  LazyQueue(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats)
-      : state_(state), settings_(settings), stats_(stats), rejected_(state.vertex_count(), 0) {}
+  LazyQueue(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
+      : state_(state), settings_(settings), stats_(stats), progress_(progress), rejected_(state.vertex_count(), 0) {}
 
   void run() {
     fill();
@@ -470,9 +664,7 @@ class LazyQueue {
         if (!take_deferred(deferred)) stats_->stuck = true;
         return;
       }
-      std::pop_heap(heap_.begin(), heap_.end(), later);
-      const QueueEntry e = heap_.back();
-      heap_.pop_back();
+      const QueueEntry e = heap_.pop();
       if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
       const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
       if (!same_bits(c.cost, e.cost)) continue;  // stale
@@ -480,9 +672,10 @@ class LazyQueue {
         reject(e.a, e.b);
         continue;
       }
-      // A closed surface's count is even: with one triangle to go, only a boundary
-      // edge meets the target.
-      if (state_.triangle_count() - settings_.target_triangles == 1 && state_.faces_on_edge(e.a, e.b) == 2) {
+      // A collapse removes its edge's faces: 2 inside, 1 on a boundary, more in a
+      // tangle. One that would go below the target waits (a closed surface's count
+      // is even: with one triangle to go only a boundary edge meets it).
+      if (state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b))) {
         deferred.push_back(e);
         continue;
       }
@@ -494,12 +687,13 @@ class LazyQueue {
   // Every edge, its cost computed in parallel (each independent of the others).
   void fill() {
     const auto edges = state_.edges();
-    heap_.resize(edges.size());
+    std::vector<QueueEntry> entries(edges.size());
     tbb::parallel_for(std::size_t(0), edges.size(), [&](std::size_t i) {
       const CollapseState::Candidate c = state_.evaluate(edges[i].first, edges[i].second);
-      heap_[i] = {c.cost, c.a, c.b};
+      entries[i] = {c.cost, c.a, c.b};
     });
-    std::make_heap(heap_.begin(), heap_.end(), later);
+    entries.reserve(4 * edges.size());  // the pushes of the collapses to come, without regrowing
+    heap_.assign(std::move(entries));
   }
 
   bool take(const CollapseState::Candidate& c) {
@@ -509,22 +703,27 @@ class LazyQueue {
       return false;
     }
     state_.collapse(c);
-    ++stats_->collapses;
+    if ((++stats_->collapses & 0xFFF) == 0 && progress_) progress_->set(2 * stats_->collapses);
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
     stats_->largest_error = std::max(stats_->largest_error, error);
     requeue_around(c.a);
     return true;
   }
 
-  // With no boundary edge left to meet the target, the cheapest valid inner collapse,
-  // one triangle below it: a closed surface cannot do better. False when there is none.
+  // With no valid collapse left that meets the target, the cheapest valid one that
+  // goes below it, then boundary edges split in two until it is met; without a
+  // boundary edge (a closed surface, whose count is even) one triangle below. False
+  // when there is none.
   bool take_deferred(std::vector<QueueEntry>& deferred) {
     std::sort(deferred.begin(), deferred.end(), [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); });
     for (const QueueEntry& e : deferred) {
       if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
       const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
       if (!same_bits(c.cost, e.cost) || !state_.valid(c)) continue;
-      if (take(c)) stats_->parity = true;
+      if (!take(c)) return true;
+      while (state_.triangle_count() < settings_.target_triangles && state_.split_boundary_edge()) {
+      }
+      stats_->parity = state_.triangle_count() != settings_.target_triangles;
       return true;
     }
     return false;
@@ -550,28 +749,28 @@ class LazyQueue {
 
   void push(std::uint32_t u, std::uint32_t v) {
     if (u > v) std::swap(u, v);
-    if (state_.locked(u) || state_.locked(v)) return;
     const CollapseState::Candidate c = state_.evaluate(u, v);
-    heap_.push_back({c.cost, u, v});
-    std::push_heap(heap_.begin(), heap_.end(), later);
+    heap_.push({c.cost, u, v});
   }
 
   CollapseState& state_;
   const CollapseSettings& settings_;
   CollapseStats* stats_;
-  std::vector<QueueEntry> heap_;
+  ProgressPhase* progress_;
+  QuadHeap heap_;
   std::vector<std::uint8_t> rejected_;
   std::vector<std::uint32_t> ring_;
 };
 
 }  // namespace
 
-QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats) {
+QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
+                           ProgressPhase* progress) {
   CollapseStats local;
   CollapseStats& st = stats ? *stats : local;
   CollapseState state(std::move(mesh), settings);
-  st.locked_vertices = state.locked_count();
-  LazyQueue(state, settings, &st).run();
+  st.non_manifold_vertices = state.non_manifold_count();
+  LazyQueue(state, settings, &st, progress).run();
   return state.result();
 }
 

@@ -17,6 +17,8 @@
 
 namespace oocsimp {
 
+class ProgressPhase;
+
 /// An indexed triangle mesh with a quadric per vertex: what phase 1 hands on (its
 /// clusters' summed quadrics) or what face_quadrics() computes for a whole input.
 /// Positions and quadrics are in one frame (phase 1's: relative to its grid origin).
@@ -47,17 +49,18 @@ struct CollapseSettings {
   /// Weight of the constraint plane through each boundary edge, perpendicular to its
   /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
   /// of open scans and terrain.
-  double boundary_weight = 10;
+  double boundary_weight = 1000;
 };
 
 struct CollapseStats {
   std::uint64_t collapses = 0;
-  double largest_cost = 0;            ///< the largest quadric cost of a collapse taken (area x distance^2)
-  double largest_error = 0;           ///< the largest error (model units, see max_error) of a collapse taken
-  std::uint64_t locked_vertices = 0;  ///< on non-manifold edges or fans: never moved
+  double largest_cost = 0;                  ///< the largest quadric cost of a collapse taken (area x distance^2)
+  double largest_error = 0;                 ///< the largest error (model units, see max_error) of a collapse taken
+  std::uint64_t non_manifold_vertices = 0;  ///< on edges of 3+ faces or fans apart, at the start: anchored
   /// The target could not be met: no valid collapse was left (stuck), the next one was
   /// above max_error, or a closed surface, whose triangle count is even, was asked for an
-  /// odd count (one triangle fewer is given).
+  /// odd count (one triangle fewer is given). With one triangle to go and no valid
+  /// boundary collapse, an inner collapse and a split of a boundary edge meet it.
   bool stuck = false;
   bool stopped_by_error = false;
   bool parity = false;
@@ -76,7 +79,7 @@ class CollapseState {
   CollapseState(QuadricMesh mesh, const CollapseSettings& settings);
 
   /// Every edge (a, b), a < b, of the live faces, once each, in order, whose
-  /// vertices may move (neither is locked).
+  /// vertices may move.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges() const;
   /// The quadric cost and the placement of collapsing (a, b).
   Candidate evaluate(std::uint32_t a, std::uint32_t b) const;
@@ -89,13 +92,17 @@ class CollapseState {
   double error(const Candidate& c) const;
   /// Collapses b into a.
   void collapse(const Candidate& c);
+  /// Splits the longest boundary edge (ties: the lowest vertices) at its midpoint,
+  /// its face into two: one triangle more and the surface unchanged, for a target that
+  /// an inner collapse overshot by one. False when the mesh has no boundary edge.
+  bool split_boundary_edge();
 
   std::size_t vertex_count() const { return alive_.size(); }
   bool alive(std::uint32_t v) const { return alive_[v] != 0; }
-  bool locked(std::uint32_t v) const { return locked_[v] != 0; }
+  bool non_manifold(std::uint32_t v) const { return complex_[v] != 0; }
   std::uint64_t triangle_count() const { return live_faces_; }
-  std::uint64_t locked_count() const;
-  /// The distinct vertices sharing a live face with v, ascending.
+  std::uint64_t non_manifold_count() const;
+  /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// The live faces, their vertices numbered by first use, in face order.
   QuadricMesh result() const;
@@ -104,7 +111,10 @@ class CollapseState {
   template <class F>
   void for_each_face(std::uint32_t v, const F& f) const;
   void build_adjacency();
-  void lock_non_manifold();
+  void mark_non_manifold();
+  bool manifold_at(std::uint32_t v) const;
+  bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
+  bool keeps_faces(const Candidate& c) const;
   void add_boundary_planes(double weight);
   bool on_boundary(std::uint32_t v) const;
   // The other ends of v's face edges, ascending, each as often as faces share it.
@@ -114,17 +124,23 @@ class CollapseState {
   QuadricMesh mesh_;
   double cos_max_turn_;
   double min_compactness_;
-  std::vector<std::uint8_t> face_dead_, alive_, locked_, boundary_;
+  std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_;
   std::vector<Vec3d> first_normal_;                             // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
   std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;
-  mutable std::vector<std::uint32_t> scratch_a_, scratch_b_, scratch_common_, scratch_ends_;
+  mutable std::vector<std::uint32_t> scratch_a_, scratch_ends_;
+  // Marks of vertices seen, by stamp: a new stamp clears them all at once.
+  std::uint32_t next_stamp() const;
+  mutable std::vector<std::uint32_t> mark_, seen_;
+  mutable std::uint32_t stamp_ = 0;
 };
 
 /// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
 /// a priority queue whose entries are checked when taken (lazy updates), until
 /// settings.target_triangles are left. The result is the same for any thread count.
-QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats);
+/// Reports the collapses taken to `progress` when given (which may cancel).
+QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
+                           ProgressPhase* progress = nullptr);
 
 }  // namespace oocsimp

@@ -14,6 +14,7 @@ namespace oocsimp {
 
 const char* version() { return OOCSIMP_VERSION; }
 
+const char* refine_name(RefineMethod r) { return r == RefineMethod::none ? "none" : "qem"; }
 const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
 const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
 
@@ -95,7 +96,18 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   if (o.sizing.cell != 0) s += ", \"cell\": " + number(o.sizing.cell);
   if (o.sizing.grid != 0) s += ", \"grid\": " + number(std::uint64_t(o.sizing.grid));
   if (o.sizing.ratio != 0) s += ", \"ratio\": " + number(o.sizing.ratio);
-  if (o.sizing.cell == 0 && o.sizing.grid == 0 && o.sizing.ratio == 0) s += ", \"ratio\": " + number(kDefaultRatio);
+  const bool target = o.target.given() || o.method == ClusterMethod::qem;
+  if (!target && o.sizing.cell == 0 && o.sizing.grid == 0 && o.sizing.ratio == 0)
+    s += ", \"ratio\": " + number(kDefaultRatio);
+  if (target) {
+    s += ", \"target\": {";
+    if (o.target.triangles != 0) s += "\"triangles\": " + number(o.target.triangles) + ", ";
+    if (o.target.ratio != 0) s += "\"ratio\": " + number(o.target.ratio) + ", ";
+    if (!o.target.given()) s += "\"ratio\": " + number(kDefaultRatio) + ", ";
+    if (o.target.max_error != 0) s += "\"max_error\": " + number(o.target.max_error) + ", ";
+    s += "\"refine\": " + quoted(refine_name(o.target.refine)) +
+         ", \"intermediate_factor\": " + number(o.target.intermediate_factor) + "}";
+  }
   if (floating) {
     s += ", \"cell_shape\": " + quoted(cell_shape_name(o.floating.cell_shape));
     s += ", \"assign\": " + quoted(assign_name(o.floating.assign));
@@ -165,6 +177,14 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                   s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.spill_bytes_in_memory,
                   s.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
+  }
+  if (options.target.given() || options.method == ClusterMethod::qem) {
+    std::snprintf(buf, sizeof buf,
+                  "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"collapses\": %" PRIu64
+                  ", \"largest_collapse_cost\": %.9g, \"largest_collapse_error\": %.9g, \"target_missed\": %s},\n",
+                  s.intermediate_triangles, s.collapses, s.largest_collapse_cost, s.largest_collapse_error,
+                  s.target_missed ? "true" : "false");
+    js += buf;
   }
   std::string attributes, warnings;
   for (const VertexAttribute& a : s.attributes)

@@ -112,9 +112,30 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
   return c + x * cell.size;
 }
 
+Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell, const Vec3d& origin) {
+  const Quadric q = s.quadric();
+  const double s1 = cell.size, s2 = s1 * s1, s3 = s2 * s1, s4 = s2 * s2;
+  const Vec3d t = s.centre - origin;
+  const Vec3d at{q.a00 * t.x + q.a01 * t.y + q.a02 * t.z, q.a01 * t.x + q.a11 * t.y + q.a12 * t.z,
+                 q.a02 * t.x + q.a12 * t.y + q.a22 * t.z};
+  Quadric out;
+  out.a00 = s2 * q.a00;
+  out.a01 = s2 * q.a01;
+  out.a02 = s2 * q.a02;
+  out.a11 = s2 * q.a11;
+  out.a12 = s2 * q.a12;
+  out.a22 = s2 * q.a22;
+  out.b0 = s2 * at.x + s3 * q.b0;
+  out.b1 = s2 * at.y + s3 * q.b1;
+  out.b2 = s2 * at.z + s3 * q.b2;
+  out.c = s2 * dot(t, at) + 2 * s3 * (q.b0 * t.x + q.b1 * t.y + q.b2 * t.z) + s4 * q.c;
+  return out;
+}
+
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
                              RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget,
-                             StreamSpill* attribute_shares, const AttributeLayout* attributes) {
+                             StreamSpill* attribute_shares, const AttributeLayout* attributes,
+                             std::vector<Quadric>* quadrics, const Vec3d& origin) {
   std::vector<KeptTriangle>& tris = kept;
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
@@ -148,6 +169,7 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   // Representatives, a cluster bucket at a time: merge each centre's shares (in
   // fixed point, so in any order) and solve for the clusters some triangle uses.
   mesh.positions.assign(3 * index.size(), 0.0);
+  if (quadrics) quadrics->assign(index.size(), Quadric());
   std::uint64_t clusters = 0;
   for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
     std::vector<PartialCluster> shares;
@@ -166,6 +188,7 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
       ClusterRecord sum = shares[starts[k]].sums;
       for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
       Vec3d p = representative(sum, cell, rule);
+      if (quadrics) (*quadrics)[std::size_t(id)] = multiphase_quadric(sum, cell, origin);
       mesh.positions[3 * std::size_t(id)] = p.x;
       mesh.positions[3 * std::size_t(id) + 1] = p.y;
       mesh.positions[3 * std::size_t(id) + 2] = p.z;

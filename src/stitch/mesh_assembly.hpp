@@ -40,9 +40,17 @@ struct AssemblyCounts {
 /// when they (and the largest cluster bucket) would not fit next to what the process holds.
 /// With `attribute_shares` (in the streams of `partials`, see ClusterShares), each
 /// output vertex also gets its cluster's attribute values (AttributeLayout::finish).
+/// With `quadrics`, each output vertex also gets its cluster's summed quadric, in
+/// model units relative to `origin` (multiphase_quadric).
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
                              RepresentativeRule rule, AssemblyCounts* counts,
                              const MemoryBudget& budget = MemoryBudget(), StreamSpill* attribute_shares = nullptr,
-                             const AttributeLayout* attributes = nullptr);
+                             const AttributeLayout* attributes = nullptr, std::vector<Quadric>* quadrics = nullptr,
+                             const Vec3d& origin = {});
+
+/// A cluster's summed quadric, kept in cell units about its centre, in model units
+/// about `origin`: with u = (y - t) / s (t the centre less origin, s the cell side)
+/// E_model(y) = s^4 E(u), so A' = s^2 A, b' = s^2 A t + s^3 b, c' = s^2 t.A t + 2 s^3 b.t + s^4 c.
+Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell, const Vec3d& origin);
 
 }  // namespace oocsimp

@@ -1,0 +1,26 @@
+// Exact triangle targets (TargetOptions) and --method qem: multiphase simplification
+// (Garland & Shaffer 2002) with clustering as phase 1 and quadric edge collapse
+// (refine/edge_collapse) as phase 2, or the collapse alone on a mesh held whole.
+#pragma once
+
+#include "oocsimp/simplify.hpp"
+
+namespace oocsimp {
+
+/// Simplifies `input` (triangle stream at its start) to options.target:
+///  - ClusterMethod::qem: the whole mesh in memory (refused with a UsageError when it
+///    would not fit in options.memory_budget), per-vertex face quadrics, collapse;
+///  - uniform or floating: phase 1 clusters to about target.intermediate_factor x the
+///    target at a cell chosen from the vertex sample (choose_grid), handing on each
+///    cluster's summed quadric; phase 2 collapses that mesh, in memory, to the target.
+/// A target at or above the input's triangles gives the input back with a warning.
+/// Fills `stats` (the clustering's fields, intermediate_triangles, collapses, the
+/// largest collapse cost and error, target_missed, phase seconds "refine").
+SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+
+/// Throws UsageError unless options.target is consistent: at most one of triangles and
+/// ratio, no CellSizing beside them, triangles at least 4, ratio in (0, 1], max_error
+/// positive and finite.
+void check_target_options(const SimplifyOptions& options);
+
+}  // namespace oocsimp
