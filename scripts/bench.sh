@@ -19,7 +19,7 @@
 # And per floating run, the seconds of each phase from its --stats JSON.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
-peer="${MESHOPT_BENCH_BIN:-$root/build/meshopt_sloppy_bench}"
+peer="${MESHOPT_BENCH_BIN:-$root/build/meshopt_bench}"
 sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(1000000 10000000 50000000)
 grids=(${GRIDS:-256 1024})
@@ -70,7 +70,7 @@ for shape in "${shapes[@]}"; do
       ps=""
       if [ -x "$peer" ]; then
         t0=$(now)
-        line=$("$peer" "$mesh" "$dir/sloppy.ply" "$target")
+        line=$("$peer" sloppy "$mesh" "$dir/sloppy.ply" "$target")
         t1=$(now)
         ps=$(calc "$t1 - $t0")
         prss=$(echo "$line" | awk '{for (i = 1; i < NF; i++) if ($i == "peak_rss_mib") print $(i + 1)}')
