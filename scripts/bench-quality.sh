@@ -18,7 +18,9 @@
 #   sloppy     meshopt_simplifySloppy
 #   floating   oocsimp simplify --ratio TARGET/input (an estimate: the count is not TARGET)
 #   uniform    the same with --method uniform
-#   target     oocsimp simplify --target-tris TARGET (when simplify --help lists it)
+#   target     oocsimp simplify --target-tris TARGET (when simplify --help lists it):
+#              floating cells, then quadric edge collapse
+#   target-uniform  the same with --method uniform as phase 1
 #   qem        oocsimp simplify --method qem --target-tris TARGET (when --method qem exists)
 # A peer whose program is not built is skipped with a note.
 #
@@ -34,7 +36,7 @@ target="${TARGET:-100000}"
 samples="${SAMPLES:-1000000}"
 threads="${THREADS:-2}"
 size="${SIZE:-2000000}"
-runs=(${RUNS:-openmesh simplify sloppy floating uniform target qem})
+runs=(${RUNS:-openmesh simplify sloppy floating uniform target target-uniform qem})
 out="$dir/quality"
 mkdir -p "$out"
 
@@ -68,8 +70,8 @@ measured() {  # measured MEASURE.json -> "rms/diag hausdorff/diag" of the symmet
 b_triangles() { grep -o '"b": {"triangles": [0-9]*' "$1" | awk '{print $NF}'; }
 a_triangles() { grep -o '"a": {"triangles": [0-9]*' "$1" | awk '{print $NF}'; }
 
-head_fmt='%-10s %9s %8s %9s %9s %9s %11s %11s %10s %10s\n'
-row_fmt='%-10s %9.3f %8.2f %9s %9s %9s %11.3e %11.3e %10s %10s\n'
+head_fmt='%-14s %9s %8s %9s %9s %9s %11s %11s %10s %10s\n'
+row_fmt='%-14s %9.3f %8.2f %9s %9s %9s %11.3e %11.3e %10s %10s\n'
 
 for mesh in "${inputs[@]}"; do
   cat "$mesh" >/dev/null  # a warm page cache for every run
@@ -106,7 +108,7 @@ for mesh in "${inputs[@]}"; do
         [ "$r" = openmesh ] &&
           phases[$r]+=", $(field "$line" collapses) collapses, $(field "$line" rejected_faces) input faces rejected"
         ;;
-      floating | uniform | target | qem)
+      floating | uniform | target | target-uniform | qem)
         case "$r" in
           floating | uniform)
             args=(--method "$r" --ratio "$(calc "$target / $faces")")
@@ -114,6 +116,10 @@ for mesh in "${inputs[@]}"; do
           target)
             [ $has_target = 1 ] || continue
             args=(--target-tris "$target")
+            ;;
+          target-uniform)
+            [ $has_target = 1 ] || continue
+            args=(--method uniform --target-tris "$target")
             ;;
           qem)
             [ $has_qem = 1 ] || continue

@@ -158,7 +158,7 @@ TEST_CASE("the lazy queue takes the collapses a naive full re-evaluation takes",
   }
 }
 
-TEST_CASE("collapse meets exact triangle counts; a closed surface's odd count is one below", "[refine][collapse]") {
+TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count one below", "[refine][collapse]") {
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
   for (std::uint64_t target : {1000, 1001, 4000, 9999}) {

@@ -241,7 +241,7 @@ TEST_CASE("generate and measure take the same callback and cancel without output
   CHECK_THROWS_AS(measure_surface_distance(d.file("s.ply"), d.file("s.ply"), m), Cancelled);
 }
 
-TEST_CASE("library errors name option fields; the CLI shows its flags instead", "[api][errors]") {
+TEST_CASE("library errors name option fields, the CLI shows its flags instead", "[api][errors]") {
   ScratchDir d, tmp;
   const std::string in = sphere(d, 20000);
   auto message = [&](const SimplifyOptions& o) {

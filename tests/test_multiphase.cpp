@@ -169,7 +169,7 @@ TEST_CASE("a maximum error (--max-error) stops the collapse, in model units", "[
   CHECK(js.find("\"refine\": ") != std::string::npos);
 }
 
-TEST_CASE("bad targets exit 2 with one line; a target at or above the input gives it back", "[multiphase][cli]") {
+TEST_CASE("bad targets exit 2 with one line, a target at or above the input gives it back", "[multiphase][cli]") {
   ScratchDir d;
   const std::string in = generated(d, "sphere", 20000);
   const std::string out = d.file("o.ply");

@@ -83,7 +83,7 @@ TEST_CASE("an empty quadric returns the anchor", "[quadric]") {
   CHECK(dist(x, {0.1, 0.2, 0.3}) == 0);
 }
 
-TEST_CASE("triangle_plane gives the normal and twice the area; degenerate triangles have no plane", "[quadric]") {
+TEST_CASE("triangle_plane gives the normal and twice the area, degenerate triangles no plane", "[quadric]") {
   TrianglePlane t = triangle_plane({3, 0, 0}, {0, 4, 0});  // legs 3 and 4: area 6
   CHECK(t.m.x == 0);
   CHECK(t.m.y == 0);

@@ -654,7 +654,7 @@ class QuadHeap {
 class LazyQueue {
  public:
   LazyQueue(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
-      : state_(state), settings_(settings), stats_(stats), progress_(progress), rejected_(state.vertex_count(), 0) {}
+      : state_(state), settings_(settings), stats_(stats), progress_(progress), rejected_(state.vertex_count()) {}
 
   void run() {
     fill();
@@ -729,22 +729,31 @@ class LazyQueue {
     return false;
   }
 
-  void reject(std::uint32_t a, std::uint32_t b) { rejected_[a] = rejected_[b] = 1; }
+  // A rejected edge is remembered at both ends: it is pushed again when a collapse
+  // changes the faces around either (only those edges, not all of the vertex's: a hub
+  // of a cylinder cap has hundreds).
+  void reject(std::uint32_t a, std::uint32_t b) {
+    rejected_[a].push_back(b);
+    rejected_[b].push_back(a);
+  }
 
   // a's quadric changed: its edges get new costs. Around it the faces changed, so the
   // edges rejected there may be valid now.
   void requeue_around(std::uint32_t a) {
     state_.neighbours(a, &ring_);
-    const std::vector<std::uint32_t> around = ring_;
-    for (std::uint32_t u : around) push(a, u);
-    for (std::uint32_t u : around) {
-      if (!rejected_[u]) continue;
-      rejected_[u] = 0;
-      state_.neighbours(u, &ring_);
-      for (std::uint32_t x : ring_)
-        if (x != a) push(u, x);
-    }
-    rejected_[a] = 0;
+    for (std::uint32_t u : ring_) push(a, u);
+    for (std::uint32_t u : ring_) requeue_rejected(u, a);
+    requeue_rejected(a, a);
+  }
+
+  void requeue_rejected(std::uint32_t u, std::uint32_t a) {
+    std::vector<std::uint32_t>& partners = rejected_[u];
+    // Once each: an edge rejected from several entries must not come back as many.
+    sort_small(&partners);
+    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
+    for (std::uint32_t x : partners)
+      if (x != a && state_.alive(x) && state_.alive(u)) push(u, x);
+    partners.clear();
   }
 
   void push(std::uint32_t u, std::uint32_t v) {
@@ -758,7 +767,7 @@ class LazyQueue {
   CollapseStats* stats_;
   ProgressPhase* progress_;
   QuadHeap heap_;
-  std::vector<std::uint8_t> rejected_;
+  std::vector<std::vector<std::uint32_t>> rejected_;  // per vertex: the other ends of its rejected edges
   std::vector<std::uint32_t> ring_;
 };
 
