@@ -285,31 +285,45 @@ TEST_CASE("a float quality property follows its linear function", "[attributes]"
   }
 }
 
-TEST_CASE("the weights are a third of each incident triangle's area (uniform cells against independent sums)",
-          "[attributes]") {
-  ScratchDir d;
-  // A plane with uneven triangles: the colour's area-weighted mean differs from the
-  // plain mean of a cell's vertices.
+namespace {
+
+// A plane of (n + 1)^2 vertices with uneven triangles (dense near 0, coarse near 1),
+// so that a colour's area-weighted mean differs from the plain mean of a cell's
+// vertices; vertex i of the grid is stored as vertex number(i).
+template <class Number>
+Mesh uneven_plane(int n, Number number) {
   Mesh m;
-  const int n = 60;
-  auto warp = [](double t) { return t * t; };  // dense near 0, coarse near 1
+  const std::size_t count = std::size_t(n + 1) * std::size_t(n + 1);
+  m.positions.resize(3 * count);
+  auto warp = [](double t) { return t * t; };
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) append(m.positions, {warp(double(i) / n), warp(double(j) / n), 0});
+    for (int i = 0; i <= n; ++i) {
+      const std::size_t at = 3 * std::size_t(number(std::uint32_t(j * (n + 1) + i)));
+      m.positions[at] = warp(double(i) / n);
+      m.positions[at + 1] = warp(double(j) / n);
+      m.positions[at + 2] = 0;
+    }
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), e = c + 1;
-      append(m.triangles, {a, b, e, a, e, c});
+      append(m.triangles, {number(a), number(b), number(e), number(a), number(e), number(c)});
     }
+  return m;
+}
+
+// Checks every output vertex's quality of a uniform run against an independent sum,
+// per cell, of (area / 3) * quality over the corners in it; returns how many.
+std::size_t check_weighted_quality(const ScratchDir& d, const Mesh& m, std::uint32_t grid_resolution,
+                                   unsigned threads) {
   Properties with;
   with.colour = false;
   with.quality = true;
   write_ply(d.file("plane.ply"), m, with);
-  SimplifiedMesh out = run(d.file("plane.ply"), ClusterMethod::uniform, 4);
+  SimplifiedMesh out = run(d.file("plane.ply"), ClusterMethod::uniform, grid_resolution, threads);
   MeshInput in = open_mesh_input(d.file("plane.ply"));
   CellSizing sizing;
-  sizing.grid = 4;
+  sizing.grid = grid_resolution;
   const GridSpec grid = choose_grid(in, sizing, 1);
-  // Per cell: sum of (area / 3) * quality over the corners in it, and the area sum.
   std::map<std::uint64_t, std::pair<double, double>> sums;
   for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
     const double* p[3];
@@ -331,7 +345,64 @@ TEST_CASE("the weights are a third of each incident triangle's area (uniform cel
     CHECK(value(out, i, q) == Approx(s.first / s.second).epsilon(1e-6));
     ++checked;
   }
-  CHECK(checked >= 9);
+  return checked;
+}
+
+}  // namespace
+
+TEST_CASE("the weights are a third of each incident triangle's area (uniform cells against independent sums)",
+          "[attributes]") {
+  ScratchDir d;
+  const Mesh m = uneven_plane(60, [](std::uint32_t i) { return i; });
+  CHECK(check_weighted_quality(d, m, 4, 2) >= 9);
+}
+
+TEST_CASE("the weights hold for vertices numbered in any order (corners past a chunk's window of indices)",
+          "[attributes]") {
+  ScratchDir d;
+  // 300^2 triangles' chunks reference vertex numbers scattered over all 301^2 = 90601
+  // (more than the window of 65536 a chunk gathers its vertices' weights in): the
+  // uniform method adds those corners to their cells directly.
+  const std::uint32_t count = 301 * 301;
+  const Mesh m = uneven_plane(300, [count](std::uint32_t i) { return std::uint32_t(std::uint64_t(i) * 7919 % count); });
+  CHECK(check_weighted_quality(d, m, 12, 1) >= 100);
+  const SimplifiedMesh one = run(d.file("plane.ply"), ClusterMethod::uniform, 12, 1);
+  const SimplifiedMesh two = run(d.file("plane.ply"), ClusterMethod::uniform, 12, 2);
+  CHECK(one.positions == two.positions);
+  CHECK(one.attributes.values == two.attributes.values);
+}
+
+TEST_CASE("a uniform cell whose triangles have no area takes the plain mean of its corners", "[attributes]") {
+  ScratchDir d;
+  // Two collinear (zero-area) triangles along one line, each corner in its own
+  // vertex, spanning the same three cells of a 4-grid (so one of them is kept), and a
+  // triangle with area far from them that gives the box its size.
+  Mesh m;
+  append(m.positions, {0.02, 0.02, 0.02, 0.52, 0.02, 0.02, 0.92, 0.02, 0.02});
+  append(m.positions, {0.07, 0.02, 0.02, 0.57, 0.02, 0.02, 0.97, 0.02, 0.02});
+  append(m.positions, {0, 1, 0, 1, 1, 0, 0, 1, 1});
+  append(m.triangles, {0, 1, 2, 3, 4, 5, 6, 7, 8});
+  Properties with;
+  with.colour = false;
+  with.quality = true;
+  write_ply(d.file("flat.ply"), m, with);
+  const SimplifiedMesh out = run(d.file("flat.ply"), ClusterMethod::uniform, 4);
+  const int q = attribute_index(out, "quality");
+  REQUIRE(q >= 0);
+  REQUIRE(out.triangles.size() == 2 * 3);  // one of the collinear pair (same cells), the far one
+  // Each corner's cell holds the two corners at the same place on the two triangles.
+  std::size_t checked = 0;
+  for (int corner = 0; corner < 3; ++corner) {
+    const double* a = &m.positions[3 * corner];
+    const double* b = &m.positions[3 * (corner + 3)];
+    const double expected = 0.5 * (double(float(quality_of(a))) + double(float(quality_of(b))));
+    for (std::size_t i = 0; i < out.positions.size() / 3; ++i)
+      if (out.positions[3 * i + 1] < 0.5 && std::fabs(out.positions[3 * i] - 0.5 * (a[0] + b[0])) < 0.1) {
+        CHECK(value(out, i, q) == Approx(expected).epsilon(1e-6));
+        ++checked;
+      }
+  }
+  CHECK(checked == 3);
 }
 
 TEST_CASE("attributes keep their names and types through a PLY round trip", "[attributes]") {

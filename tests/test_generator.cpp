@@ -1,9 +1,15 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cinttypes>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <string>
 #include <utility>
+#include <vector>
 
+#include "io/content_hash.hpp"
 #include "oocsimp/generate.hpp"
 #include "test_support.hpp"
 
@@ -45,6 +51,69 @@ std::map<std::pair<std::uint64_t, std::uint64_t>, int> directed_edges(const Load
   for (std::size_t i = 0; i < m.triangles.size(); i += 3)
     for (int k = 0; k < 3; ++k) ++e[{m.triangles[i + k], m.triangles[i + (k + 1) % 3]}];
   return e;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A mesh generated with attributes, read back through oocsimp's reader: the geometry,
+// the attributes' names and types, and their values (6 per vertex).
+struct AttributedMesh {
+  LoadedMesh mesh;
+  std::vector<VertexAttribute> attributes;
+  std::vector<double> values;
+  const double* colour(std::size_t i) const { return &values[6 * i]; }
+  const double* normal(std::size_t i) const { return &values[6 * i + 3]; }
+};
+
+AttributedMesh generate_attributed(const ScratchDir& d, const std::string& name, SyntheticShape shape,
+                                   std::uint64_t tris, std::uint64_t seed = 1, bool ascii = false) {
+  GenerateOptions o;
+  o.shape = shape;
+  o.triangles = tris;
+  o.seed = seed;
+  o.ascii = ascii;
+  o.attributes = true;
+  generate_mesh(d.file(name), o);
+  AttributedMesh a;
+  a.mesh = load_mesh(d.file(name));
+  MeshInput in = open_mesh_input(d.file(name));
+  a.attributes = in.attributes.attributes;
+  REQUIRE(in.attributes.count == a.mesh.vertex_count());
+  for (std::uint64_t i = 0; i < in.attributes.count; ++i)
+    for (std::size_t k = 0; k < in.attributes.size(); ++k) a.values.push_back(in.attributes.get(i, k));
+  return a;
+}
+
+// Per vertex, the sum of its triangles' area-weighted normals (the mesh's own normal).
+std::vector<double> mesh_normals(const LoadedMesh& m) {
+  std::vector<double> n(m.positions.size(), 0.0);
+  for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+    const double* a = &m.positions[3 * m.triangles[t]];
+    const double* b = &m.positions[3 * m.triangles[t + 1]];
+    const double* c = &m.positions[3 * m.triangles[t + 2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double cross[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) n[3 * m.triangles[t + std::size_t(k)] + std::size_t(j)] += cross[j];
+  }
+  return n;
+}
+
+// The angle between a and b in degrees.
+double degrees_between(const double* a, const double* b) {
+  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  return std::acos(std::max(-1.0, std::min(1.0, dot / (la * lb)))) * 180 / kPi;
+}
+
+// The largest angle between the written normals and the mesh's own.
+double worst_against_mesh_normals(const AttributedMesh& a) {
+  const std::vector<double> n = mesh_normals(a.mesh);
+  double worst = 0;
+  for (std::size_t i = 0; i < a.mesh.vertex_count(); ++i)
+    worst = std::max(worst, degrees_between(a.normal(i), &n[3 * i]));
+  return worst;
 }
 
 }  // namespace
@@ -127,4 +196,137 @@ TEST_CASE("compressed and ascii generation give the same mesh", "[generator]") {
   CHECK(a.triangles == z.triangles);
   CHECK(a.positions == t.positions);
   CHECK(a.triangles == t.triangles);
+}
+
+TEST_CASE("the plain output is the bytes it always was", "[generator]") {
+  // XXH64 of whole files recorded from the generator before attributes existed
+  // (commit 8e4b8cc): --attributes must leave the plain output alone.
+  struct Expected {
+    SyntheticShape shape;
+    bool ascii;
+    std::uint64_t digest;
+  };
+  const Expected expected[] = {
+      {SyntheticShape::sphere, false, 0x8583b02ebe23f014}, {SyntheticShape::terrain, false, 0x24af1eaad4421a97},
+      {SyntheticShape::parts, false, 0xc5ed852e02e71ceb},  {SyntheticShape::sphere, true, 0x4c9b305e1a44fead},
+      {SyntheticShape::terrain, true, 0x4a999cb4190c821b}, {SyntheticShape::parts, true, 0xd7baebe7a65f0227},
+  };
+  ScratchDir d;
+  for (const Expected& e : expected) {
+    GenerateOptions o;
+    o.shape = e.shape;
+    o.triangles = 30000;
+    o.seed = 5;
+    o.ascii = e.ascii;
+    generate_mesh(d.file("g.ply"), o);
+    const std::string bytes = read_file(d.file("g.ply"));
+    const std::uint64_t got = content_hash(bytes.data(), bytes.size());
+    char line[96];
+    std::snprintf(line, sizeof line, "shape %d ascii %d: 0x%016" PRIx64, int(e.shape), int(e.ascii), got);
+    INFO(line);
+    CHECK(got == e.digest);
+  }
+}
+
+TEST_CASE("with attributes every vertex gets uchar red, green, blue and float nx, ny, nz", "[generator][attributes]") {
+  ScratchDir d;
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+    INFO("shape " << int(shape));
+    const AttributedMesh a = generate_attributed(d, "a.ply", shape, 40000, 7);
+    const char* names[] = {"red", "green", "blue", "nx", "ny", "nz"};
+    REQUIRE(a.attributes.size() == 6);
+    for (std::size_t k = 0; k < 6; ++k) {
+      CHECK(a.attributes[k].name == names[k]);
+      CHECK(a.attributes[k].type == (k < 3 ? AttributeType::u8 : AttributeType::f32));
+    }
+    // The option adds properties and changes no position or triangle.
+    const LoadedMesh plain = generate(d, "p.ply", shape, 40000, 7);
+    CHECK(a.mesh.positions == plain.positions);
+    CHECK(a.mesh.triangles == plain.triangles);
+    // Colours: 255 (p - lo) / (hi - lo) per axis over the bounding box of the positions
+    // read back, rounded to nearest: within half a unit of 1/255.
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (std::size_t i = 0; i < a.mesh.positions.size(); ++i) {
+      lo[i % 3] = std::min(lo[i % 3], a.mesh.positions[i]);
+      hi[i % 3] = std::max(hi[i % 3], a.mesh.positions[i]);
+    }
+    double worst_colour = 0, worst_length = 0;
+    for (std::size_t i = 0; i < a.mesh.vertex_count(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const double expected = 255 * (a.mesh.positions[3 * i + std::size_t(k)] - lo[k]) / (hi[k] - lo[k]);
+        worst_colour = std::max(worst_colour, std::fabs(a.colour(i)[k] - expected));
+      }
+      const double* n = a.normal(i);
+      worst_length = std::max(worst_length, std::fabs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1));
+    }
+    CHECK(worst_colour <= 0.5 + 1e-9);
+    // Unit in double, then each component rounded to float (relative 2^-24).
+    CHECK(worst_length <= 1e-6);
+    // Every normal faces the side the triangles face. The terrain's finest waves are
+    // too steep for this tessellation to follow (its mesh normals are no reference
+    // there); its normal (-h_x, -h_y, 1) points up by construction.
+    if (shape == SyntheticShape::terrain) {
+      double lowest = 1;
+      for (std::size_t i = 0; i < a.mesh.vertex_count(); ++i) lowest = std::min(lowest, a.normal(i)[2]);
+      CHECK(lowest > 0);
+    } else {
+      CHECK(worst_against_mesh_normals(a) < 90);
+    }
+  }
+}
+
+TEST_CASE("the sphere's normals are those of the displaced surface", "[generator][attributes]") {
+  ScratchDir d;
+  // The mesh's normal (its triangles' area-weighted normals about a vertex) differs from
+  // the surface's by the turn of the surface across a triangle; the centred average
+  // cancels the first-order term, so the difference shrinks with the square of the
+  // spacing: a quarter for four times the triangles. A wrong formula would not shrink.
+  const AttributedMesh coarse = generate_attributed(d, "c.ply", SyntheticShape::sphere, 250000);
+  const AttributedMesh fine = generate_attributed(d, "f.ply", SyntheticShape::sphere, 1000000);
+  const double worst_coarse = worst_against_mesh_normals(coarse), worst_fine = worst_against_mesh_normals(fine);
+  INFO("worst angle to the mesh's normals: " << worst_coarse << " degrees at 250k triangles, " << worst_fine
+                                             << " at 1M");
+  CHECK(worst_fine <= worst_coarse / 3);
+  CHECK(worst_fine <= 5.0);
+  // Against the radial direction: the displacement f (amplitudes a_i = 0.04 / (i + 1),
+  // wavenumbers k_i = 3 * 1.7^i, i < 8) tilts the normal by atan(|grad_s f| / r), and
+  // |grad f| <= sum a_i k_i = 2.0, r >= 1 - sum a_i = 0.89: at most 66 degrees. The
+  // fine waves are steep (the finest: a = 0.005, k = 123, a slope of 0.6), so the
+  // normals are not within a few degrees of radial, and must not be.
+  const double bound = std::atan(2.0 / 0.89) * 180 / kPi;
+  double worst = 0, sum = 0;
+  for (std::size_t i = 0; i < fine.mesh.vertex_count(); ++i) {
+    const double angle = degrees_between(fine.normal(i), &fine.mesh.positions[3 * i]);
+    worst = std::max(worst, angle);
+    sum += angle;
+  }
+  INFO("angle to radial: worst " << worst << ", mean " << sum / double(fine.mesh.vertex_count()) << " degrees");
+  CHECK(worst <= bound);
+  CHECK(worst > 10);
+}
+
+TEST_CASE("with attributes the output is deterministic, the CLI's, and the same in ascii and compressed",
+          "[generator][attributes]") {
+  ScratchDir d;
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+    GenerateOptions o;
+    o.shape = shape;
+    o.triangles = 20000;
+    o.seed = 5;
+    o.attributes = true;
+    generate_mesh(d.file("a.ply"), o);
+    generate_mesh(d.file("b.ply"), o);
+    CHECK(read_file(d.file("a.ply")) == read_file(d.file("b.ply")));
+    const char* names[] = {"sphere", "terrain", "parts"};
+    REQUIRE(run_cli(std::string("generate --attributes --quiet --tris 20000 --seed 5 --shape ") + names[int(shape)] +
+                    " -o " + d.file("cli.ply"))
+                .exit_code == 0);
+    CHECK(read_file(d.file("a.ply")) == read_file(d.file("cli.ply")));
+    const AttributedMesh a = generate_attributed(d, "a.ply", shape, 20000, 5);
+    const AttributedMesh t = generate_attributed(d, "t.ply", shape, 20000, 5, true);
+    const AttributedMesh z = generate_attributed(d, "z.ply.zst", shape, 20000, 5);
+    CHECK(a.mesh.positions == t.mesh.positions);
+    CHECK(a.values == t.values);
+    CHECK(a.values == z.values);
+  }
 }

@@ -270,11 +270,12 @@ void check_generate_output(const std::string& out) {
 }
 
 int run_generate(const std::string& tris_text, const std::string& shape, const std::string& seed_text,
-                 const std::string& out, bool ascii, bool quiet) {
+                 const std::string& out, bool ascii, bool attributes, bool quiet) {
   GenerateOptions o;
   o.triangles = whole_number("--tris", tris_text, 1, ~std::uint64_t(0));
   o.seed = whole_number("--seed", seed_text, 0, ~std::uint64_t(0));
   o.ascii = ascii;
+  o.attributes = attributes;
   if (shape == "sphere")
     o.shape = SyntheticShape::sphere;
   else if (shape == "terrain")
@@ -498,6 +499,10 @@ int main(int argc, char** argv) {
   generate->add_option("--seed", seed_text, "Random seed (default 1)");
   generate->add_option("-o,--output", out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
   generate->add_flag("--ascii", ascii, "Write ascii PLY");
+  bool generate_attributes = false;
+  generate->add_flag("--attributes", generate_attributes,
+                     "Also write uchar red, green, blue (linear in x, y, z over the bounding box) and float nx, ny, "
+                     "nz (the unit surface normal) per vertex");
   generate->add_flag("--quiet", quiet, "No progress");
 
   std::string second, samples_text, measure_seed_text, measure_threads_text;
@@ -530,7 +535,7 @@ int main(int argc, char** argv) {
   try {
     if (*simplify) return run_simplify(sa);
     if (*info) return run_info(in, tmp);
-    if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, quiet);
+    if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, generate_attributes, quiet);
     if (*measure) {
       constexpr std::uint64_t kMost = ~std::uint64_t(0);
       if (samples->count() > 0) measure_options.samples = whole_number("--samples", samples_text, 1, kMost);

@@ -16,6 +16,9 @@ struct GenerateOptions {
   SyntheticShape shape = SyntheticShape::sphere;
   std::uint64_t seed = 1;
   bool ascii = false;  ///< ascii PLY instead of binary little-endian
+  /// Every vertex also gets uchar red, green, blue and float nx, ny, nz (see
+  /// generate_mesh); without it the file is what it always was, byte for byte.
+  bool attributes = false;
   /// Progress ("generate", in triangles), and cancellation (see ProgressCallback).
   ProgressCallback progress;
 };
@@ -31,6 +34,15 @@ struct GenerateResult {
 ///    a sum of seeded sinusoids of several frequencies;
 ///  - terrain: an open height field over the unit square with a boundary;
 ///  - parts: intersecting boxes and cylinders with sharp edges and small features.
+/// With `attributes`, each vertex follows x, y, z with
+///  - uchar red, green, blue: a linear function of position over the bounding box
+///    [lo, hi] of the written (float) positions: red = floor(255 (x - lo_x) /
+///    (hi_x - lo_x) + 0.5), green the same of y, blue of z (0 where the box is flat);
+///  - float nx, ny, nz: the unit outward normal of the surface, analytic from the
+///    parametrisation: on the sphere the gradient of |p| - 1 - f(p / |p|) (f the
+///    displacement), on the terrain (-h_x, -h_y, 1) normalised, on the parts the
+///    normal of the box face, cylinder side or cap the vertex belongs to.
+/// The vertices are then computed twice (the box first), still in O(1) memory.
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
 /// complete). Throws UsageError for options.triangles 0, IoError when writing fails.
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options);

@@ -10,7 +10,8 @@
 // floating method's fixed-point sums (partition-independent, like its quadric sums)
 // keep their precision and cannot overflow whatever the attribute's units. A cluster
 // whose triangles have no area (W = 0) takes the plain mean. Colours are averaged in
-// the space they are stored in (no gamma decoding), as MeshLab and Open3D do.
+// the space they are stored in (no gamma decoding), as MeshLab and Open3D do. The
+// uniform method keeps sums of its own (UniformAttributeSums) and shares finish_means.
 #pragma once
 
 #include <algorithm>
@@ -74,9 +75,18 @@ class AttributeLayout {
   void finish(const double* sums, double* out) const {
     const std::size_t n = count();
     const double w = sums[0], members = sums[1];
+    for (std::size_t k = 0; k < n; ++k)
+      out[k] = w > 0 ? sums[2 + k] / w : members > 0 ? sums[2 + n + k] / members : 0.0;
+    finish_means(out);
+  }
+
+  /// The output values (count() of them) in place from the cluster's means scaled into
+  /// [0, 1] (clamped to it): in the attribute's units, integer types rounded to nearest
+  /// within the input's range, nx, ny, nz renormalised.
+  void finish_means(double* out) const {
+    const std::size_t n = count();
     for (std::size_t k = 0; k < n; ++k) {
-      double mean = w > 0 ? sums[2 + k] / w : members > 0 ? sums[2 + n + k] / members : 0.0;
-      mean = std::min(std::max(mean, 0.0), 1.0);
+      const double mean = std::min(std::max(out[k], 0.0), 1.0);
       const VertexAttribute& a = attributes_[k];
       out[k] = a.min + mean * (a.max - a.min);
     }

@@ -6,26 +6,34 @@
 //   1. vertices: per cell, the sum and count of the vertex positions in it (the
 //      anchor of the quadric solve);
 //   2. triangles: per cell, the sum of the area-weighted plane quadrics of every
-//      triangle with a corner in it; triangles whose corners fall in three different
+//      triangle with a corner in it (and the weighted sums of the corners' attribute
+//      values, UniformAttributeSums); triangles whose corners fall in three different
 //      cells survive, each unordered cell triple once.
 // Then every surviving cell gets the point that minimises its quadric (see
 // minimize_quadric). Memory holds the occupied cells and the surviving triangles,
 // never the input, and stays within --mem (TableBudget) or the run stops.
 #include "cluster/uniform_clusterer.hpp"
 
+#include <sys/mman.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "cluster/attribute_sums.hpp"
+#include "cluster/plane_quadric.hpp"
 #include "cluster/triangle_set.hpp"
 #include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/occupancy.hpp"
+#include "io/attribute_array.hpp"
 #include "io/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
 #include "report/memory_usage.hpp"
@@ -56,25 +64,168 @@ struct VertexChunk {
   CellMap<VertexSum> cells{4096};
 };
 
+// Per input vertex of a window of indices: the weight its corners in a face chunk
+// carry, and its cell there (kNoCell before its first corner).
+struct VertexWeights {
+  static constexpr std::uint32_t kNoCell = ~std::uint32_t(0);
+  struct Slot {
+    double weight = 0;
+    std::uint32_t cell = kNoCell;
+  };
+  std::uint64_t first = 0;
+  std::vector<Slot> slots;
+  std::uint64_t bytes() const { return slots.capacity() * sizeof(Slot); }
+};
+
 struct FaceChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
   std::size_t count = 0;
   CellMap<Quadric> cells{4096};
   std::vector<std::uint32_t> kept;     // local cell indices, 3 per surviving triangle
-  std::vector<double> attribute_sums;  // AttributeLayout::width() per local cell
+  std::vector<double> attribute_sums;  // UniformAttributeSums::width() per local cell
+  VertexWeights vertex_weights;
 };
 
-// The attribute sums of every cell, AttributeLayout::width() per cell, in the cells'
-// table order; added in input order (chunks merge in order), so deterministic.
-struct CellAttributeSums {
-  AttributeLayout layout;
-  std::vector<double> sums;
-  std::size_t width() const { return layout.width(); }
-  double* of(std::vector<double>& table, std::uint32_t cell) const {
-    if (table.size() < (std::size_t(cell) + 1) * width()) table.resize((std::size_t(cell) + 1) * width(), 0.0);
-    return &table[std::size_t(cell) * width()];
+// The most vertex indices a face chunk's weights window spans (16 bytes each): a
+// chunk of a file whose vertices are numbered along its surface references a few rows
+// of them; corners past the window add to their cells directly.
+constexpr std::uint64_t kVertexWindow = 2 * kFaceChunk;
+
+// The least and the greatest of `count` indices (0, 0 for none), in four lanes whose
+// comparisons do not wait on each other.
+std::pair<std::uint64_t, std::uint64_t> index_range(const std::uint64_t* index, std::size_t count) {
+  if (count == 0) return {0, 0};
+  std::uint64_t lo[4], hi[4];
+  for (int l = 0; l < 4; ++l) lo[l] = hi[l] = index[0];
+  std::size_t i = 0;
+  for (; i + 4 <= count; i += 4)
+    for (int l = 0; l < 4; ++l) {
+      lo[l] = std::min(lo[l], index[i + l]);
+      hi[l] = std::max(hi[l], index[i + l]);
+    }
+  for (; i < count; ++i) {
+    lo[0] = std::min(lo[0], index[i]);
+    hi[0] = std::max(hi[0], index[i]);
   }
+  return {std::min({lo[0], lo[1], lo[2], lo[3]}), std::max({hi[0], hi[1], hi[2], hi[3]})};
+}
+
+// The attribute sums of the uniform cells. Per cell, width() = 1 + n sums for n
+// attributes: [0] W, the sum of its corners' weights, and [1 + k] sum w x_k, where
+// x_k = a_k - min_k (0 for a value that is not finite: it counts as the minimum).
+// A vertex's corners all lie in its cell, so a vertex can be added once with the
+// weight of its corners (add_vertex) instead of once per corner: its values are then
+// decoded once per chunk. The layout's [0, 1] scaling is affine, so it commutes with
+// the weighted mean: finish() applies it once per cell. Doubles added in an order
+// fixed by the input and the chunk size: deterministic for any thread count.
+class UniformAttributeSums {
+ public:
+  /// The least weight a corner carries: a triangle without area (or with an area that
+  /// is not finite) weighs this instead of 0, so that a cell of such triangles takes
+  /// the plain mean of its corners (the method's cell policy where W = 0) without sums
+  /// of its own, while next to any real area (above 2^-547, where adding it rounds
+  /// away) it changes nothing. Far above the smallest normal double, so w x stays
+  /// normal for x down to 2^-400.
+  static constexpr double kLeastWeight = 0x1p-600;
+
+  explicit UniformAttributeSums(const AttributeArray& array) : layout_(array) {
+    const std::vector<VertexAttribute>& a = layout_.attributes();
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      columns_.push_back({array.base[k], array.stride[k], a[k].min, 1 + k});
+      const double range = a[k].max - a[k].min;
+      inv_range_.push_back(range > 0 ? 1.0 / range : 0.0);
+      if (runs_.empty() || a[k].type != a[runs_.back().first].type) {
+        runs_.push_back({nullptr, k, 0});
+        with_stored_type(a[k].type, [&](auto zero) { set_adder<decltype(zero)>(runs_.back(), array.swap); });
+      }
+      ++runs_.back().count;
+    }
+  }
+  const AttributeLayout& layout() const { return layout_; }
+  bool empty() const { return layout_.empty(); }
+  std::size_t width() const { return width_; }
+
+  /// A corner's weight from its triangle's third of the area.
+  static double corner_weight(double third_area) { return third_area > kLeastWeight ? third_area : kLeastWeight; }
+
+  /// Adds vertex v with weight w to the sums of local cell `cell` of `table` (width()
+  /// per cell).
+  void add_vertex(double* table, std::uint64_t v, std::uint32_t cell, double w) const {
+    double* s = table + std::size_t(cell) * width();
+    s[0] += w;
+    for (const Run& run : runs_) run.add(&columns_[run.first], run.count, v, s, w);
+  }
+
+  /// Adds every vertex of the window that has a cell, with its weight, and leaves the
+  /// window clean.
+  void add_window(double* table, VertexWeights& window) const {
+    VertexWeights::Slot* const slots = window.slots.data();
+    for (std::size_t i = 0; i < window.slots.size(); ++i) {
+      if (slots[i].cell == VertexWeights::kNoCell) continue;
+      add_vertex(table, window.first + i, slots[i].cell, slots[i].weight);
+      slots[i] = VertexWeights::Slot();
+    }
+  }
+
+  /// A cell's output values (count() of them) from its merged sums.
+  void finish(const double* sums, double* out) const {
+    const double w = sums[0];
+    for (std::size_t k = 0; k < layout_.count(); ++k) out[k] = w > 0 ? sums[1 + k] / w * inv_range_[k] : 0.0;
+    layout_.finish_means(out);
+  }
+
+ private:
+  struct Column {
+    const unsigned char* base;
+    std::size_t stride;
+    double min;
+    std::size_t sum;  // its sum's index in a cell's sums
+  };
+  using Adder = void (*)(const Column*, std::size_t, std::uint64_t, double*, double);
+  // Consecutive attributes of one stored type, decoded by a function of that type (a
+  // call per run and vertex rather than a switch per value).
+  struct Run {
+    Adder add;
+    std::size_t first, count;
+  };
+
+  template <class T>
+  static void set_adder(Run& run, bool swap) {
+    run.add = swap ? add_values<T, true> : add_values<T, false>;
+  }
+
+  // s[c.sum] += w x for each column c of a run.
+  template <class T, bool kSwap>
+  static void add_values(const Column* c, std::size_t count, std::uint64_t v, double* s, double w) {
+    for (const Column* end = c + count; c != end; ++c) {
+      double x = double(load_stored<T>(c->base + v * c->stride, kSwap)) - c->min;
+      if (std::is_floating_point_v<T> && !std::isfinite(x)) x = 0;
+      s[c->sum] += w * x;
+    }
+  }
+
+  AttributeLayout layout_;
+  std::vector<Column> columns_;
+  std::vector<Run> runs_;
+  std::vector<double> inv_range_;
+  std::size_t width_ = 1 + layout_.count();
 };
+
+// Resizes an empty `table` to `count` zeros, backed by transparent huge pages where
+// the system grants them on request (madvise mode): the first touch of each fresh
+// 4 KiB page is a fault, slow enough in virtual machines that a table of tens of MiB
+// spends tens of milliseconds in them, all in one thread; huge pages take 512 times
+// fewer.
+void resize_zeroed(std::vector<double>& table, std::size_t count) {
+  table.reserve(count);
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const std::uintptr_t huge = std::uintptr_t(2) << 20;
+  const auto at = reinterpret_cast<std::uintptr_t>(table.data());
+  const std::uintptr_t begin = (at + huge - 1) & ~(huge - 1), end = (at + count * sizeof(double)) & ~(huge - 1);
+  if (table.empty() && end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+  table.resize(count, 0.0);
+}
 
 // Remembers the last cells looked up: neighbouring vertices and triangles in a file
 // mostly fall in the same few cells, so this skips most hash probes.
@@ -224,11 +375,9 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
 }
 
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
-                          CellAttributeSums& attributes, const TableBudget& budget, std::uint64_t* triangle_count,
-                          const ProgressCallback& progress) {
-  const AttributeArray& attribute_array = input.attributes;
-  const bool with_attributes = !attributes.layout.empty();
-  const auto add_double = [](double& sum, double term) { sum += term; };
+                          const UniformAttributeSums& attributes, std::vector<double>& attribute_sums,
+                          const TableBudget& budget, std::uint64_t* triangle_count, const ProgressCallback& progress) {
+  const bool with_attributes = !attributes.empty();
   const PositionArray& positions = input.positions;
   TriangleStream& stream = *input.triangles;
   std::vector<std::uint32_t> to_global;
@@ -247,14 +396,26 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         c.kept.clear();
         c.attribute_sums.clear();
         CellIndexCache<Quadric> index(c.cells);
+        // With attributes, a window over the chunk's vertex indices: the weights of the
+        // corners of each vertex, added once per vertex after the triangles.
+        VertexWeights& vw = c.vertex_weights;
+        if (with_attributes) {
+          const auto [least, most] = index_range(c.tris.data(), 3 * c.count);
+          vw.first = least;
+          vw.slots.resize(std::size_t(std::min(most - least + 1, kVertexWindow)));  // clean from earlier chunks
+        }
+        VertexWeights::Slot* const window = vw.slots.data();
+        const std::uint64_t window_first = vw.first, window_size = vw.slots.size();
         for (std::size_t t = 0; t < c.count; ++t) {
           const std::uint64_t* v = &c.tris[3 * t];
           Vec3d p0 = grid.relative(positions.get(v[0]));
           Vec3d p1 = grid.relative(positions.get(v[1]));
           Vec3d p2 = grid.relative(positions.get(v[2]));
           std::uint64_t k0 = grid.key_relative(p0), k1 = grid.key_relative(p1), k2 = grid.key_relative(p2);
+          // Quadric::add_triangle, with the plane kept for the attributes' weight.
+          const TrianglePlane plane = triangle_plane(p1 - p0, p2 - p0);
           Quadric q;
-          q.add_triangle(p0, p1, p2);
+          if (!plane.degenerate()) add_plane_quadric(&q, plane, dot(plane.m, p0));
           // The quadric goes once to each distinct cell the triangle touches.
           std::uint32_t i0 = index(k0), i1 = i0, i2 = i0;
           c.cells.value(i0).add(q);
@@ -269,13 +430,26 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           // Only a triangle spanning three cells survives the collapse.
           if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
           if (with_attributes) {
-            // Each corner adds its values with a third of the area to its own cell.
-            const double third_area = length(cross(p1 - p0, p2 - p0)) / 6;
+            // Each corner adds its values with a third of the area to its own cell:
+            // through its vertex's slot in the window, or directly.
+            const double w = UniformAttributeSums::corner_weight(plane.len / 6);
             const std::uint32_t cell_of[3] = {i0, i1, k2 == k0 ? i0 : k2 == k1 ? i1 : i2};
-            for (int k = 0; k < 3; ++k)
-              attributes.layout.add_vertex(attributes.of(c.attribute_sums, cell_of[k]), attribute_array, v[k],
-                                           third_area, add_double);
+            for (int j = 0; j < 3; ++j) {
+              const std::uint64_t slot = v[j] - window_first;
+              if (slot < window_size) {
+                window[slot].weight += w;
+                window[slot].cell = cell_of[j];
+              } else {
+                if (c.attribute_sums.size() < c.cells.size() * attributes.width())
+                  c.attribute_sums.resize(c.cells.size() * attributes.width(), 0.0);
+                attributes.add_vertex(c.attribute_sums.data(), v[j], cell_of[j], w);
+              }
+            }
           }
+        }
+        if (with_attributes) {
+          c.attribute_sums.resize(c.cells.size() * attributes.width(), 0.0);
+          attributes.add_window(c.attribute_sums.data(), vw);
         }
       },
       [&](FaceChunk& c) {
@@ -286,16 +460,19 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
           cells.value(g).q.add(c.cells.value(i));
           to_global[i] = g;
           if (with_attributes && c.attribute_sums.size() >= (i + 1) * attributes.width()) {
-            double* dst = attributes.of(attributes.sums, g);
+            if (attribute_sums.size() < (std::size_t(g) + 1) * attributes.width())
+              attribute_sums.resize((std::size_t(g) + 1) * attributes.width(), 0.0);
+            double* dst = &attribute_sums[std::size_t(g) * attributes.width()];
             const double* src = &c.attribute_sums[i * attributes.width()];
             for (std::size_t j = 0; j < attributes.width(); ++j) dst[j] += src[j];
           }
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
           kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
-        chunks.saw(
-            c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) + c.kept.capacity() * sizeof(std::uint32_t),
-            c.kept.size() / 3);
+        chunks.saw(c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) +
+                       c.kept.capacity() * sizeof(std::uint32_t) + c.attribute_sums.capacity() * sizeof(double) +
+                       c.vertex_weights.bytes(),
+                   c.kept.size() / 3);
         budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes(),
                      std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept.size()) +
                          " kept triangles after " + std::to_string(total) + " triangles");
@@ -326,14 +503,15 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                std::to_string(cells.size()) + " occupied cells");
   double t1 = now_seconds();
   std::uint64_t triangles = 0;
-  CellAttributeSums attributes{AttributeLayout(input.attributes), {}};
-  if (!attributes.layout.empty()) {
+  const UniformAttributeSums attributes(input.attributes);
+  std::vector<double> attribute_sums;  // width() per cell, in the cells' table order
+  if (!attributes.empty()) {
     const std::uint64_t bytes = std::uint64_t(cells.size()) * attributes.width() * sizeof(double);
     budget.check(cells.bytes() + bytes, std::to_string(cells.size()) + " occupied cells with " +
-                                            std::to_string(attributes.layout.count()) + " attributes each");
-    attributes.sums.assign(cells.size() * attributes.width(), 0.0);
+                                            std::to_string(attributes.layout().count()) + " attributes each");
+    resize_zeroed(attribute_sums, cells.size() * attributes.width());
   }
-  accumulate_triangles(input, grid, cells, kept, attributes, budget, &triangles, progress);
+  accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, budget, &triangles, progress);
   double t2 = now_seconds();
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
@@ -347,7 +525,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   const std::string output =
       std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept_count) + " output triangles";
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * kept_count;
-  const std::uint64_t attribute_bytes = attributes.sums.capacity() * sizeof(double);
+  const std::uint64_t attribute_bytes = attribute_sums.capacity() * sizeof(double);
   budget.check(
       cells.bytes() + attribute_bytes + kept.bytes() + 2 * sizeof(std::uint32_t) * cells.size() + triangle_bytes,
       output);
@@ -370,13 +548,13 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     }
   std::vector<std::uint32_t>().swap(out_index);
   kept = TriangleSet();
-  const std::size_t attribute_count = attributes.layout.count();
+  const std::size_t attribute_count = attributes.layout().count();
   budget.check(cells.bytes() + attribute_bytes + sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
                    (3 + attribute_count) * sizeof(double) * order.size(),
                output);
-  mesh.attributes.attributes = attributes.layout.attributes();
-  mesh.attributes.values.resize(attribute_count * order.size());
-  if (attribute_count > 0) attributes.sums.resize(cells.size() * attributes.width(), 0.0);  // before the parallel reads
+  mesh.attributes.attributes = attributes.layout().attributes();
+  resize_zeroed(mesh.attributes.values, attribute_count * order.size());
+  if (attribute_count > 0) attribute_sums.resize(cells.size() * attributes.width(), 0.0);  // before the parallel reads
 
   mesh.positions.resize(3 * order.size());
   if (quadrics) quadrics->resize(order.size());
@@ -395,8 +573,8 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                         mesh.positions[3 * i + 1] = x.y;
                         mesh.positions[3 * i + 2] = x.z;
                         if (attribute_count > 0)
-                          attributes.layout.finish(&attributes.sums[std::size_t(order[i]) * attributes.width()],
-                                                   &mesh.attributes.values[attribute_count * i]);
+                          attributes.finish(&attribute_sums[std::size_t(order[i]) * attributes.width()],
+                                            &mesh.attributes.values[attribute_count * i]);
                       }
                     });
   double t3 = now_seconds();

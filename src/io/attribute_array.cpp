@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "io/mapped_file.hpp"
 #include "io/position_array.hpp"
@@ -37,40 +38,8 @@ const char* attribute_type_name(AttributeType t) {
   return names[int(t)];
 }
 
-namespace {
-
-template <class T>
-T load_swapped(const unsigned char* p, bool swap) {
-  unsigned char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if (swap) std::reverse(b, b + sizeof(T));
-  T v;
-  std::memcpy(&v, b, sizeof(T));
-  return v;
-}
-
-}  // namespace
-
 double load_value(const unsigned char* p, AttributeType t, bool swap) {
-  switch (t) {
-    case AttributeType::i8:
-      return load_swapped<std::int8_t>(p, false);
-    case AttributeType::u8:
-      return load_swapped<std::uint8_t>(p, false);
-    case AttributeType::i16:
-      return load_swapped<std::int16_t>(p, swap);
-    case AttributeType::u16:
-      return load_swapped<std::uint16_t>(p, swap);
-    case AttributeType::i32:
-      return load_swapped<std::int32_t>(p, swap);
-    case AttributeType::u32:
-      return load_swapped<std::uint32_t>(p, swap);
-    case AttributeType::f32:
-      return load_swapped<float>(p, swap);
-    case AttributeType::f64:
-      return load_swapped<double>(p, swap);
-  }
-  return 0;
+  return with_stored_type(t, [&](auto zero) { return double(load_stored<decltype(zero)>(p, swap)); });
 }
 
 bool is_integer_type(AttributeType t) { return t != AttributeType::f32 && t != AttributeType::f64; }
@@ -229,38 +198,79 @@ void AttributeArrayBuilder::finish(MeshInput& out) {
   reader_state(out).attribute_file = std::move(file_);
 }
 
-void scan_attribute_ranges(AttributeArray& array) {
-  const std::size_t n = array.size();
-  if (n == 0) return;
-  struct Range {
-    std::vector<double> lo, hi;
-  };
-  const double inf = std::numeric_limits<double>::infinity();
-  Range init{std::vector<double>(n, inf), std::vector<double>(n, -inf)};
-  Range r = tbb::parallel_reduce(
-      tbb::blocked_range<std::uint64_t>(0, array.count, 1 << 16), init,
-      [&](const tbb::blocked_range<std::uint64_t>& range, Range acc) {
-        for (std::uint64_t i = range.begin(); i != range.end(); ++i)
-          for (std::size_t k = 0; k < n; ++k) {
-            double v = array.get(i, k);
-            if (!std::isfinite(v)) continue;
-            acc.lo[k] = std::min(acc.lo[k], v);
-            acc.hi[k] = std::max(acc.hi[k], v);
+AttributeRanges::AttributeRanges(std::size_t attributes)
+    : lo(attributes, std::numeric_limits<double>::infinity()),
+      hi(attributes, -std::numeric_limits<double>::infinity()) {}
+
+void AttributeRanges::widen(const AttributeArray& array, std::uint64_t begin, std::uint64_t end) {
+  if (begin == end) return;
+  // An attribute at a time, decoded by a loop of its own type; integers compared as
+  // they are stored (every one is finite, and converts exactly).
+  for (std::size_t k = 0; k < lo.size(); ++k)
+    with_stored_type(array.attributes[k].type, [&](auto zero) {
+      using T = decltype(zero);
+      const unsigned char* base = array.base[k];
+      const std::size_t stride = array.stride[k];
+      if constexpr (std::is_integral_v<T>) {
+        // Four lanes, whose comparisons do not wait on each other.
+        T least[4], most[4];
+        for (int l = 0; l < 4; ++l) least[l] = most[l] = load_stored<T>(base + begin * stride, array.swap);
+        std::uint64_t i = begin;
+        for (; i + 4 <= end; i += 4)
+          for (int l = 0; l < 4; ++l) {
+            const T v = load_stored<T>(base + (i + std::uint64_t(l)) * stride, array.swap);
+            least[l] = std::min(least[l], v);
+            most[l] = std::max(most[l], v);
           }
+        for (; i != end; ++i) {
+          const T v = load_stored<T>(base + i * stride, array.swap);
+          least[0] = std::min(least[0], v);
+          most[0] = std::max(most[0], v);
+        }
+        lo[k] = std::min(lo[k], double(std::min({least[0], least[1], least[2], least[3]})));
+        hi[k] = std::max(hi[k], double(std::max({most[0], most[1], most[2], most[3]})));
+      } else {
+        double least = lo[k], most = hi[k];
+        for (std::uint64_t i = begin; i != end; ++i) {
+          const double v = double(load_stored<T>(base + i * stride, array.swap));
+          if (!std::isfinite(v)) continue;
+          least = std::min(least, v);
+          most = std::max(most, v);
+        }
+        lo[k] = least;
+        hi[k] = most;
+      }
+    });
+}
+
+void AttributeRanges::merge(const AttributeRanges& later) {
+  for (std::size_t k = 0; k < lo.size(); ++k) {
+    lo[k] = std::min(lo[k], later.lo[k]);
+    hi[k] = std::max(hi[k], later.hi[k]);
+  }
+}
+
+void AttributeRanges::store(AttributeArray& array) const {
+  for (std::size_t k = 0; k < lo.size(); ++k) {
+    const bool any = lo[k] <= hi[k];
+    array.attributes[k].min = any ? lo[k] : 0;
+    array.attributes[k].max = any ? hi[k] : 0;
+  }
+}
+
+void scan_attribute_ranges(AttributeArray& array) {
+  if (array.empty()) return;
+  const AttributeRanges r = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint64_t>(0, array.count, 1 << 16), AttributeRanges(array.size()),
+      [&](const tbb::blocked_range<std::uint64_t>& range, AttributeRanges acc) {
+        acc.widen(array, range.begin(), range.end());
         return acc;
       },
-      [n](Range a, const Range& b) {
-        for (std::size_t k = 0; k < n; ++k) {
-          a.lo[k] = std::min(a.lo[k], b.lo[k]);
-          a.hi[k] = std::max(a.hi[k], b.hi[k]);
-        }
+      [](AttributeRanges a, const AttributeRanges& b) {
+        a.merge(b);
         return a;
       });
-  for (std::size_t k = 0; k < n; ++k) {
-    bool any = r.lo[k] <= r.hi[k];
-    array.attributes[k].min = any ? r.lo[k] : 0;
-    array.attributes[k].max = any ? r.hi[k] : 0;
-  }
+  r.store(array);
 }
 
 }  // namespace oocsimp

@@ -2,7 +2,9 @@
 // input's vertex properties are carried (issue 11).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,6 +62,56 @@ class AttributeArrayBuilder {
   std::unique_ptr<ByteSink> sink_;
   std::string source_path_, temp_dir_;
   std::uint64_t count_ = 0;
+};
+
+/// One value stored as T at `p`, byte-swapped when `swap`.
+template <class T>
+inline T load_stored(const unsigned char* p, bool swap) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (sizeof(T) > 1 && swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+/// Calls f(T()) with the C++ type of `t`: loops over many values of one attribute
+/// dispatch once and decode inline, instead of a switch per value (load_value).
+template <class F>
+inline decltype(auto) with_stored_type(AttributeType t, F&& f) {
+  switch (t) {
+    case AttributeType::i8:
+      return f(std::int8_t());
+    case AttributeType::u8:
+      return f(std::uint8_t());
+    case AttributeType::i16:
+      return f(std::int16_t());
+    case AttributeType::u16:
+      return f(std::uint16_t());
+    case AttributeType::i32:
+      return f(std::int32_t());
+    case AttributeType::u32:
+      return f(std::uint32_t());
+    case AttributeType::f32:
+      return f(float());
+    case AttributeType::f64:
+      break;
+  }
+  return f(double());
+}
+
+/// The least and greatest finite value of each attribute of an array, gathered a
+/// block of vertices at a time (so that a scan of the positions can take them in the
+/// same pass over the records).
+struct AttributeRanges {
+  std::vector<double> lo, hi;
+  explicit AttributeRanges(std::size_t attributes = 0);
+  /// Takes in vertices [begin, end) of `array`.
+  void widen(const AttributeArray& array, std::uint64_t begin, std::uint64_t end);
+  /// Takes in the ranges of vertices that come after these.
+  void merge(const AttributeRanges& later);
+  /// Stores them as the attributes' min and max; 0, 0 for one without a finite value.
+  void store(AttributeArray& array) const;
 };
 
 /// Fills attributes[k].min and max from the finite values of the mapped `array`

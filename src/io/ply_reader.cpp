@@ -589,7 +589,6 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
       pa.offset[k] = off;
     }
     out.info.positions_in_place = true;
-    scan_mapped_positions(out, vertex_offset);
     if (!carried_attrs.empty()) {
       AttributeArray& aa = out.attributes;
       aa.count = v.count;
@@ -599,8 +598,8 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
         for (int pi = 0; pi < want[3 + k]; ++pi) off += type_size(v.props[pi].type);
         aa.add(carried_attrs[k], pa.base + off, rs);
       }
-      scan_attribute_ranges(aa);
     }
+    scan_mapped_positions(out, vertex_offset);  // and the attributes' ranges
   } else {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/vec3_math.hpp"
+#include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -114,25 +115,35 @@ void PositionArrayBuilder::finish(MeshInput& out) {
 }
 
 // The first non-finite vertex in index order is described, so the report does not
-// depend on the thread count.
+// depend on the thread count. Attributes stored next to the positions are scanned in
+// the same pass, a block at a time while its records are in cache: a second pass
+// over a mapped file larger than the cache would read it all again.
 void scan_positions(MeshInput& out) {
   struct Scan {
     Box3d box;
     std::uint64_t non_finite = 0;
     std::uint64_t first_non_finite = ~std::uint64_t(0);
+    AttributeRanges attributes;
   };
   const PositionArray& pa = out.positions;
+  const AttributeArray& aa = out.attributes;
   Scan s = tbb::parallel_reduce(
-      tbb::blocked_range<std::uint64_t>(0, pa.count, 1 << 16), Scan{},
+      tbb::blocked_range<std::uint64_t>(0, pa.count, 1 << 16),
+      Scan{{}, 0, ~std::uint64_t(0), AttributeRanges(aa.size())},
       [&](const tbb::blocked_range<std::uint64_t>& r, Scan acc) {
-        for (std::uint64_t i = r.begin(); i != r.end(); ++i) {
-          Vec3d p = pa.get(i);
-          if (!is_finite(p)) {
-            ++acc.non_finite;
-            acc.first_non_finite = std::min(acc.first_non_finite, i);
-            continue;
+        constexpr std::uint64_t kBlock = 1024;  // records that stay in cache for the attributes
+        for (std::uint64_t begin = r.begin(); begin < r.end(); begin += kBlock) {
+          const std::uint64_t end = std::min(r.end(), begin + kBlock);
+          for (std::uint64_t i = begin; i != end; ++i) {
+            Vec3d p = pa.get(i);
+            if (!is_finite(p)) {
+              ++acc.non_finite;
+              acc.first_non_finite = std::min(acc.first_non_finite, i);
+              continue;
+            }
+            acc.box.add(p);
           }
-          acc.box.add(p);
+          if (!aa.empty()) acc.attributes.widen(aa, begin, end);
         }
         return acc;
       },
@@ -140,11 +151,13 @@ void scan_positions(MeshInput& out) {
         a.box.add(b.box);
         a.non_finite += b.non_finite;
         a.first_non_finite = std::min(a.first_non_finite, b.first_non_finite);
+        a.attributes.merge(b.attributes);
         return a;
       });
   out.info.bounds = s.box;
   out.info.non_finite_vertices = s.non_finite;
   if (s.non_finite > 0) out.info.first_non_finite_vertex = s.first_non_finite;
+  if (!aa.empty()) s.attributes.store(out.attributes);
 }
 
 }  // namespace oocsimp

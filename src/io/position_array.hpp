@@ -112,7 +112,8 @@ class PositionArrayBuilder {
 };
 
 /// Fills out.info's bounds (of the finite positions), non-finite count and first
-/// non-finite vertex from the positions already in `out` (in parallel).
+/// non-finite vertex from the positions already in `out` (in parallel), and the ranges
+/// of out.attributes when it has any (as scan_attribute_ranges, in the same pass).
 void scan_positions(MeshInput& out);
 
 }  // namespace oocsimp
