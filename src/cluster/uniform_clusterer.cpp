@@ -519,6 +519,9 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   // are allocated, which keeps the peak down.
   cells.release_index();
   kept.release_index();
+  // The chunks' tables were freed on several threads: let the caller's allocator give
+  // that memory back before the output arrays come (see SimplifyOptions::release_memory).
+  if (options.release_memory) options.release_memory();
   const std::size_t kept_count = kept.size();
   // The output tables next to the cells: numbering and triangles, then (numbering
   // freed) the positions of at most every cell.
