@@ -75,6 +75,15 @@ class PlyEmitter {
   }
   bool attributes() const { return attributes_; }
   void set_colour_box(const ColourBox& box) { box_ = box; }
+  // Three values as ascii PLY text, space-separated, then `last`; returns the end.
+  template <class T>
+  static char* put_text(char* p, char* end, const T (&v)[3], char last) {
+    for (int k = 0; k < 3; ++k) {
+      p = std::to_chars(p, end, v[k]).ptr;
+      *p++ = k == 2 ? last : ' ';
+    }
+    return p;
+  }
   void vertex(double x, double y, double z) {
     float f[3] = {float(x), float(y), float(z)};
     if (!ascii_) {
@@ -82,11 +91,7 @@ class PlyEmitter {
       return;
     }
     char buf[96];
-    char* p = buf;
-    for (int k = 0; k < 3; ++k) {
-      p = std::to_chars(p, buf + sizeof buf, f[k]).ptr;
-      *p++ = k == 2 ? '\n' : ' ';
-    }
+    char* p = put_text(buf, buf + sizeof buf, f, '\n');
     sink_.write(buf, std::size_t(p - buf));
   }
   // A vertex with its colour (from the box) and unit normal `n`.
@@ -103,20 +108,10 @@ class PlyEmitter {
       return;
     }
     char buf[192];
-    char* p = buf;
-    for (int k = 0; k < 3; ++k) {
-      p = std::to_chars(p, buf + sizeof buf, f[k]).ptr;
-      *p++ = ' ';
-    }
-    for (int k = 0; k < 3; ++k) {
-      const std::string digits = std::to_string(int(rgb[k])) + ' ';
-      std::memcpy(p, digits.data(), digits.size());
-      p += digits.size();
-    }
-    for (int k = 0; k < 3; ++k) {
-      p = std::to_chars(p, buf + sizeof buf, fn[k]).ptr;
-      *p++ = k == 2 ? '\n' : ' ';
-    }
+    const int channels[3] = {rgb[0], rgb[1], rgb[2]};
+    char* p = put_text(buf, buf + sizeof buf, f, ' ');
+    p = put_text(p, buf + sizeof buf, channels, ' ');
+    p = put_text(p, buf + sizeof buf, fn, '\n');
     sink_.write(buf, std::size_t(p - buf));
   }
   void face(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
