@@ -42,6 +42,8 @@ inline double squared_length(const Vec3d& a) { return dot(a, a); }
 inline double length(const Vec3d& a) { return std::sqrt(squared_length(a)); }
 inline double squared_distance(const Vec3d& a, const Vec3d& b) { return squared_length(a - b); }
 inline double distance(const Vec3d& a, const Vec3d& b) { return length(a - b); }
+/// Exact equality of the coordinates.
+inline bool same_point(const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 /// Per coordinate std::min(a, b) / std::max(a, b) (so a NaN in b is ignored, one in a kept).
 inline Vec3d min(const Vec3d& a, const Vec3d& b) {

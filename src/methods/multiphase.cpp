@@ -96,9 +96,12 @@ SimplifiedMesh to_output(const QuadricMesh& m, const Vec3d& origin, const std::v
 }
 
 // Phase 2 on `m` down to the target; fills the collapse's stats and, when `last` (no
-// finer phase 1 to try), the warning of a missed target. Sets *missed.
+// finer phase 1 to try) or a finer one could not help, the warning of a missed target.
+// *finer_may_help says whether a finer phase 1 could meet a missed target: not when
+// the surface is closed and one triangle is left over, as it would be there too.
 SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<VertexAttribute>& attributes,
-                      std::uint64_t target, const SimplifyOptions& options, SimplifyStats* stats, bool last = true) {
+                      std::uint64_t target, const SimplifyOptions& options, SimplifyStats* stats, bool last = true,
+                      bool* finer_may_help = nullptr) {
   const double t0 = now_seconds();
   stats->intermediate_triangles = m.triangles.size() / 3;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
@@ -120,7 +123,8 @@ SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<Vert
   const bool count_asked =
       options.target.triangles != 0 || options.target.ratio != 0 || options.method == ClusterMethod::qem;
   stats->target_missed = left != target && (count_asked || !cs.stopped_by_error);
-  if (stats->target_missed && count_asked && last) {
+  if (finer_may_help) *finer_may_help = stats->target_missed && !cs.parity;
+  if (stats->target_missed && count_asked && (last || cs.parity)) {
     std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
                       : cs.stopped_by_error
                           ? "the next collapse's error was above the maximum error"
@@ -208,7 +212,8 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // coarser, clustering folds the sheets of steep or thin parts over one another
   // (a fifth of the edges of the 200k terrain clustered to 5k are non-manifold), and
   // the collapse gets stuck in the tangles. When it falls short of the target or gets
-  // stuck all the same, phase 1 runs again four times finer, twice at most.
+  // stuck all the same, phase 1 runs again four times finer, twice at most (not for a
+  // closed surface one triangle short: its count is even at any cell).
   constexpr double kLeastIntermediate = 65536;
   const ClusterMethodEntry& method = cluster_method(o.method);
   const std::size_t phases_before = stats->phases.size();
@@ -242,8 +247,10 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
     q.quadrics = std::move(quadrics);
     q.attribute_count = m.attributes.attributes.size();
     q.attributes = std::move(m.attributes.values);
-    SimplifiedMesh out = refine(std::move(q), grid.origin, m.attributes.attributes, target, o, stats, finest);
-    if (!stats->target_missed || finest) return out;
+    bool finer_may_help = false;
+    SimplifiedMesh out =
+        refine(std::move(q), grid.origin, m.attributes.attributes, target, o, stats, finest, &finer_may_help);
+    if (!finer_may_help || finest) return out;
   }
 }
 

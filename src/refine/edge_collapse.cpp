@@ -19,15 +19,16 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The lists around a vertex hold a dozen or so entries: insertion sort beats
 // std::sort's setup there; long lists (a high-valence vertex) take std::sort.
-void sort_small(std::vector<std::uint32_t>* v) {
-  std::uint32_t* a = v->data();
+template <class T>
+void sort_small(std::vector<T>* v) {
+  T* a = v->data();
   const std::size_t n = v->size();
   if (n > 32) {
     std::sort(a, a + n);
     return;
   }
   for (std::size_t i = 1; i < n; ++i) {
-    const std::uint32_t x = a[i];
+    const T x = a[i];
     std::size_t j = i;
     for (; j > 0 && a[j - 1] > x; --j) a[j] = a[j - 1];
     a[j] = x;
@@ -337,14 +338,17 @@ double CollapseState::error(const Candidate& c) const {
   return weight > 0 ? std::sqrt(c.cost / weight) : 0;
 }
 
-bool CollapseState::valid(const Candidate& c) const {
+bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
   const std::uint32_t a = c.a, b = c.b;
+  std::uint32_t no_face = kNoFace;
+  if (!blamed) blamed = &no_face;
+  *blamed = kNoFace;
   if (!alive_[a] || !alive_[b]) return false;
   const int on_edge = faces_on_edge(a, b);
   if (on_edge < 1) return false;
   if (complex_[a] || complex_[b]) {
     if (doubles_a_face(a, b)) return false;
-    return keeps_faces(c);
+    return keeps_faces(c, blamed);
   }
   if (on_edge > 2) return false;
   // The link condition: the vertices next to both a and b are exactly those opposite
@@ -375,7 +379,7 @@ bool CollapseState::valid(const Candidate& c) const {
   if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
   // A tetrahedron has no edge left to collapse.
   if (ring_a == 3 && ring_b == 3 && on_edge == 2) return false;
-  return keeps_faces(c);
+  return keeps_faces(c, blamed);
 }
 
 // Whether some face of b, moved to a, would have the corners of a face a has already.
@@ -399,37 +403,42 @@ bool CollapseState::doubles_a_face(std::uint32_t a, std::uint32_t b) const {
   return doubled;
 }
 
-// The faces that stay: none may flip or become a needle.
-bool CollapseState::keeps_faces(const Candidate& c) const {
-  const std::uint32_t a = c.a, b = c.b;
-  bool ok = true;
-  auto check = [&](std::uint32_t f) {
-    if (!ok) return;
-    const std::uint32_t* t = &mesh_.triangles[3 * f];
-    const bool has_a = t[0] == a || t[1] == a || t[2] == a;
-    const bool has_b = t[0] == b || t[1] == b || t[2] == b;
-    if (has_a && has_b) return;  // removed
-    Vec3d before[3], after[3];
-    for (int k = 0; k < 3; ++k) {
-      before[k] = mesh_.positions[t[k]];
-      after[k] = (t[k] == a || t[k] == b) ? c.placement : before[k];
-    }
-    const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
-    const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
-    const double l0 = length(n0), l1 = length(n1);
-    // Against the face as it is and as it was in the input: many small turns of one
-    // face, each allowed, must not add up to a flip of the surface it stands for.
-    const Vec3d& first = first_normal_[f];
-    if (!(l1 > 0) || dot(n0, n1) <= cos_max_turn_ * l0 * l1 || dot(first, n1) <= cos_max_turn_ * length(first) * l1) {
-      ok = false;
-      return;
-    }
-    const double c1 = compactness(after[0], after[1], after[2], l1);
-    if (c1 < min_compactness_ && c1 < compactness(before[0], before[1], before[2], l0)) ok = false;
-  };
-  for_each_face(a, check);
-  for_each_face(b, check);
-  return ok;
+bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
+  if (face_dead_[f]) return true;
+  const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+  int moved = -1;
+  for (int k = 0; k < 3; ++k)
+    if (t[k] == c.a || t[k] == c.b) moved = moved < 0 ? k : 3;
+  if (moved < 0 || moved == 3) return true;  // not around the edge, or removed
+  Vec3d before[3], after[3];
+  for (int k = 0; k < 3; ++k) after[k] = before[k] = mesh_.positions[t[k]];
+  after[moved] = c.placement;
+  if (same_point(after[moved], before[moved])) return true;  // it passed when it last changed
+  const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
+  const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
+  const double l0 = length(n0), l1 = length(n1);
+  // Against the face as it is and as it was in the input: many small turns of one
+  // face, each allowed, must not add up to a flip of the surface it stands for.
+  const Vec3d& first = first_normal_[f];
+  if (!(l1 > 0) || dot(n0, n1) <= cos_max_turn_ * l0 * l1 || dot(first, n1) <= cos_max_turn_ * length(first) * l1)
+    return false;
+  const double c1 = compactness(after[0], after[1], after[2], l1);
+  return !(c1 < min_compactness_ && c1 < compactness(before[0], before[1], before[2], l0));
+}
+
+// The faces that stay: none may flip or become a needle. Only the faces of an end
+// that moves change; the first to fail is blamed.
+bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const {
+  for (const std::uint32_t end : {c.a, c.b}) {
+    if (same_point(mesh_.positions[end], c.placement)) continue;
+    const std::uint32_t* p = faces_.data() + face_start_[end];
+    for (std::uint32_t i = 0; i < face_count_[end]; ++i)
+      if (!keeps_face(c, p[i])) {
+        *blamed = p[i];
+        return false;
+      }
+  }
+  return true;
 }
 
 void CollapseState::collapse(const Candidate& c) {
@@ -668,8 +677,9 @@ class LazyQueue {
       if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
       const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
       if (!same_bits(c.cost, e.cost)) continue;  // stale
-      if (!state_.valid(c)) {
-        reject(e.a, e.b);
+      std::uint32_t blamed = CollapseState::kNoFace;
+      if (!state_.valid(c, &blamed)) {
+        reject(e.a, e.b, blamed);
         continue;
       }
       // A collapse removes its edge's faces: 2 inside, 1 on a boundary, more in a
@@ -729,12 +739,12 @@ class LazyQueue {
     return false;
   }
 
-  // A rejected edge is remembered at both ends: it is pushed again when a collapse
-  // changes the faces around either (only those edges, not all of the vertex's: a hub
-  // of a cylinder cap has hundreds).
-  void reject(std::uint32_t a, std::uint32_t b) {
-    rejected_[a].push_back(b);
-    rejected_[b].push_back(a);
+  // A rejected edge is remembered at both ends, with the face blamed: it is looked at
+  // again when a collapse changes the faces around either end (only those edges, not
+  // all of the vertex's: a hub of a cylinder cap has hundreds).
+  void reject(std::uint32_t a, std::uint32_t b, std::uint32_t blamed) {
+    rejected_[a].push_back(std::uint64_t(b) << 32 | blamed);
+    rejected_[b].push_back(std::uint64_t(a) << 32 | blamed);
   }
 
   // a's quadric changed: its edges get new costs. Around it the faces changed, so the
@@ -746,14 +756,25 @@ class LazyQueue {
     requeue_rejected(a, a);
   }
 
+  // Each edge rejected at u goes back into the queue, once (an edge rejected from
+  // several entries must not come back as many), unless its blamed face still fails:
+  // then it is still invalid, and stays here until the next change around u. Edges
+  // with a, which requeue_around pushes anyway, and dead ones are dropped.
   void requeue_rejected(std::uint32_t u, std::uint32_t a) {
-    std::vector<std::uint32_t>& partners = rejected_[u];
-    // Once each: an edge rejected from several entries must not come back as many.
-    sort_small(&partners);
-    partners.erase(std::unique(partners.begin(), partners.end()), partners.end());
-    for (std::uint32_t x : partners)
-      if (x != a && state_.alive(x) && state_.alive(u)) push(u, x);
-    partners.clear();
+    std::vector<std::uint64_t>& list = rejected_[u];
+    sort_small(&list);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::uint32_t x = std::uint32_t(list[i] >> 32), blamed = std::uint32_t(list[i]);
+      if (i > 0 && x == std::uint32_t(list[i - 1] >> 32)) continue;
+      if (x == a || !state_.alive(x) || !state_.alive(u)) continue;
+      const CollapseState::Candidate c = state_.evaluate(std::min(u, x), std::max(u, x));
+      if (blamed != CollapseState::kNoFace && !state_.keeps_face(c, blamed))
+        list[kept++] = list[i];
+      else
+        heap_.push({c.cost, c.a, c.b});
+    }
+    list.resize(kept);
   }
 
   void push(std::uint32_t u, std::uint32_t v) {
@@ -767,7 +788,7 @@ class LazyQueue {
   CollapseStats* stats_;
   ProgressPhase* progress_;
   QuadHeap heap_;
-  std::vector<std::vector<std::uint32_t>> rejected_;  // per vertex: the other ends of its rejected edges
+  std::vector<std::vector<std::uint64_t>> rejected_;  // per vertex: the other end << 32 | the blamed face
   std::vector<std::uint32_t> ring_;
 };
 

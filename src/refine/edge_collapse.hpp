@@ -83,9 +83,16 @@ class CollapseState {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges() const;
   /// The quadric cost and the placement of collapsing (a, b).
   Candidate evaluate(std::uint32_t a, std::uint32_t b) const;
+  /// No face: what valid() blames when a check other than a face's failed.
+  static constexpr std::uint32_t kNoFace = ~std::uint32_t(0);
   /// Whether the collapse keeps the surface manifold (the link condition), flips no
   /// face and leaves no needle. One thread at a time (it works in scratch lists).
-  bool valid(const Candidate& c) const;
+  /// When invalid, `blamed` (if given) gets the face that would flip or become a
+  /// needle, or kNoFace: while keeps_face() fails on it the collapse stays invalid.
+  bool valid(const Candidate& c, std::uint32_t* blamed = nullptr) const;
+  /// Whether face f, moved by the collapse, neither flips nor becomes a needle. A
+  /// dead face, one the collapse removes and one that does not move pass.
+  bool keeps_face(const Candidate& c, std::uint32_t f) const;
   /// The faces the collapse removes: 2 inside, 1 on a boundary.
   int faces_on_edge(std::uint32_t a, std::uint32_t b) const;
   /// The error of `c` in model units (see CollapseSettings::max_error).
@@ -114,7 +121,7 @@ class CollapseState {
   void mark_non_manifold();
   bool manifold_at(std::uint32_t v) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
-  bool keeps_faces(const Candidate& c) const;
+  bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
   bool on_boundary(std::uint32_t v) const;
   // The other ends of v's face edges, ascending, each as often as faces share it.
