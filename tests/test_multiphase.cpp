@@ -169,14 +169,49 @@ TEST_CASE("a maximum error (--max-error) stops the collapse, in model units", "[
   CHECK(js.find("\"refine\": ") != std::string::npos);
 }
 
+namespace {
+std::uint64_t json_count(const std::string& js, const std::string& key) {
+  const std::size_t at = js.find("\"" + key + "\": ");
+  REQUIRE(at != std::string::npos);
+  return std::stoull(js.substr(at + key.size() + 4));
+}
+}  // namespace
+
+TEST_CASE("phase 1's size follows --intermediate-factor, and a small --mem lowers it", "[multiphase][cli]") {
+  ScratchDir d;
+  const std::string in = generated(d, "sphere", OOCSIMP_TEST_UNDER_ASAN ? 200000 : 400000);
+  // Phase 1 asks for max(k x target, 65536) triangles, and at most --mem / 192 bytes.
+  auto intermediate = [&](std::uint64_t target, const std::string& args) {
+    REQUIRE(simplify(in, d.file("o.ply"),
+                     "--method uniform --target-tris " + std::to_string(target) + " --stats " + q(d.file("s.json")) +
+                         " " + args)
+                .exit_code == 0);
+    CHECK(load_mesh(d.file("o.ply")).triangle_count() == target);
+    const std::string js = read_file(d.file("s.json"));
+    CHECK(json_count(js, "phase1_peak_anon_bytes") > 0);
+    CHECK(json_count(js, "phase2_peak_anon_bytes") > 0);
+    return json_count(js, "intermediate_triangles");
+  };
+  const std::uint64_t two = intermediate(30000, "--intermediate-factor 2");   // asks 65536
+  const std::uint64_t four = intermediate(30000, "--intermediate-factor 4");  // asks 120000
+  CHECK(double(four) / double(two) > 1.4);
+  CHECK(double(four) / double(two) < 2.6);
+  if (!OOCSIMP_TEST_UNDER_ASAN) {
+    const std::uint64_t free = intermediate(60000, "");             // asks 240000
+    const std::uint64_t capped = intermediate(60000, "--mem 32M");  // asks 174763
+    CHECK(double(free) / double(capped) > 1.15);
+  }
+}
+
 TEST_CASE("bad targets exit 2 with one line, a target at or above the input gives it back", "[multiphase][cli]") {
   ScratchDir d;
   const std::string in = generated(d, "sphere", 20000);
   const std::string out = d.file("o.ply");
-  for (const char* args : {"--target-tris 3", "--target-tris 0", "--target-ratio 0", "--target-ratio 1.5",
-                           "--target-ratio -1", "--target-tris 1000 --grid 64", "--target-tris 1000 --ratio 0.1",
-                           "--target-tris 1000 --cell 0.1", "--target-tris 1000 --target-ratio 0.5",
-                           "--method qem --grid 64", "--refine qem", "--max-error 0", "--max-error nan"}) {
+  for (const char* args :
+       {"--target-tris 3", "--target-tris 0", "--target-ratio 0", "--target-ratio 1.5", "--target-ratio -1",
+        "--target-tris 1000 --grid 64", "--target-tris 1000 --ratio 0.1", "--target-tris 1000 --cell 0.1",
+        "--target-tris 1000 --target-ratio 0.5", "--method qem --grid 64", "--refine qem", "--max-error 0",
+        "--max-error nan", "--target-tris 1000 --intermediate-factor 0.5", "--intermediate-factor 2"}) {
     INFO(args);
     CliResult r = simplify(in, out, args);
     CHECK(r.exit_code == 2);

@@ -47,6 +47,7 @@ std::string with_flags(std::string message) {
       {"options.target.triangles", "--target-tris"},
       {"options.target.ratio", "--target-ratio"},
       {"options.target.max_error", "--max-error"},
+      {"options.target.intermediate_factor", "--intermediate-factor"},
       {"options.triangles", "--tris"},
       {"options.samples", "--samples"},
       {"outputs.replace_input", "--force"},
@@ -110,7 +111,7 @@ struct SimplifyArgs {
   SimplifyOptions options;
   std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
               precision = "auto", attributes = "all";
-  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error;
+  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
   std::string refine = "qem";
   CLI::Option* refine_option = nullptr;
   std::vector<CLI::Option*> floating_only;
@@ -148,6 +149,12 @@ void resolve_simplify_args(SimplifyArgs& a) {
   o.target.refine = enum_named(a.refine, {RefineMethod::qem, RefineMethod::none}, refine_name);
   if (a.refine_option->count() > 0 && !o.target.given())
     throw UsageError("--refine applies with a target: give --target-tris, --target-ratio or --max-error");
+  if (a.intermediate_factor.given()) {
+    if (!o.target.given())
+      throw UsageError(
+          "--intermediate-factor applies with a target: give --target-tris, --target-ratio or --max-error");
+    o.target.intermediate_factor = positive_number("--intermediate-factor", a.intermediate_factor.text);
+  }
   o.floating.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
   o.floating.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
   o.floating.representative = enum_named(
@@ -198,6 +205,9 @@ int run_simplify(SimplifyArgs& a) {
           to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
           stats.intermediate_triangles, stats.collapses, stats.largest_collapse_error, stats.largest_collapse_cost,
           stats.target_missed ? ", target missed" : "");
+    if (stats.phase1_peak_anon_bytes)
+      std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
+                   double(stats.phase1_peak_anon_bytes) / 1048576.0, double(stats.phase2_peak_anon_bytes) / 1048576.0);
     std::string phases;
     for (const PhaseTime& p : stats.phases) {
       char buf[64];
@@ -430,6 +440,12 @@ int main(int argc, char** argv) {
                                       "(clustering alone, at a cell chosen for about the target)")
                          ->check(CLI::IsMember({"qem", "none"}))
                          ->group(common);
+  sa.intermediate_factor.option =
+      simplify
+          ->add_option("--intermediate-factor", sa.intermediate_factor.text,
+                       "With a target: phase 1 clusters to about this many times the target, at least 1 (default 4; "
+                       "less when --mem cannot hold that)")
+          ->group(common);
   simplify
       ->add_option("--method", sa.method,
                    "floating (Low & Tan, the default), uniform (OoCS grid) or qem (edge collapse of the whole "

@@ -180,6 +180,11 @@ struct SimplifyStats {
   /// distance^2) and error (model units), and whether the target was missed (no valid
   /// collapse left, max_error reached, or a closed surface asked for an odd count).
   std::uint64_t intermediate_triangles = 0;
+  /// Peak anonymous memory of phase 1 (the clustering, which --mem bounds) and of
+  /// phase 2 (the collapse, which holds the intermediate whole), in bytes; 0 for a
+  /// phase that did not run.
+  std::uint64_t phase1_peak_anon_bytes = 0;
+  std::uint64_t phase2_peak_anon_bytes = 0;
   std::uint64_t collapses = 0;
   double largest_collapse_cost = 0;
   double largest_collapse_error = 0;

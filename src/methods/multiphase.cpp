@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -103,6 +104,7 @@ SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<Vert
                       std::uint64_t target, const SimplifyOptions& options, SimplifyStats* stats, bool last = true,
                       bool* finer_may_help = nullptr) {
   const double t0 = now_seconds();
+  const PeakAnonSampler memory;
   stats->intermediate_triangles = m.triangles.size() / 3;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
   CollapseSettings settings;
@@ -136,6 +138,7 @@ SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<Vert
   stats->output_vertices = out.positions.size() / 3;
   stats->output_triangles = out.triangles.size() / 3;
   stats->phases.push_back({"refine", now_seconds() - t0});
+  stats->phase2_peak_anon_bytes = memory.peak();
   return out;
 }
 
@@ -215,13 +218,26 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // stuck all the same, phase 1 runs again four times finer, twice at most (not for a
   // closed surface one triangle short: its count is even at any cell).
   constexpr double kLeastIntermediate = 65536;
+  // --mem bounds phase 1; phase 2 holds the intermediate whole, on top (about 180
+  // bytes a triangle, measured). Phase 1's output with its quadrics takes about 90
+  // bytes per triangle it hands on, and floating hands on up to 1.6x the triangles
+  // asked for: kPhase1BytesPerIntermediateTriangle per triangle asked keeps it inside,
+  // so a smaller budget gets a smaller k, down to the target itself.
+  constexpr double kPhase1BytesPerIntermediateTriangle = 192;
+  const MemoryBudget budget(o);
+  const double budget_intermediate = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
+                                                    : std::numeric_limits<double>::infinity();
   const ClusterMethodEntry& method = cluster_method(o.method);
   const std::size_t phases_before = stats->phases.size();
   const std::size_t warnings_before = stats->warnings.size();
   for (int attempt = 0;; ++attempt) {
     const bool refining = o.target.refine == RefineMethod::qem;
+    const double finer = std::pow(4.0, attempt);
     const double want =
-        refining ? std::max(k * double(estimate), kLeastIntermediate) * std::pow(4.0, attempt) : double(estimate);
+        refining
+            ? std::max({std::min(k * double(estimate), budget_intermediate), double(estimate), kLeastIntermediate}) *
+                  finer
+            : double(estimate);
     if (refining && want >= double(faces)) return collapse_whole(input, o, origin, stats);
     o.sizing = CellSizing();
     o.sizing.ratio = want / double(std::max<std::uint64_t>(faces, 1));
@@ -233,7 +249,9 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
     for (int a = 0; a < 3; ++a) stats->grid_dims[a] = grid.dims[a];
     input.restart_triangles();
     std::vector<Quadric> quadrics;
+    const PeakAnonSampler phase1_memory;
     SimplifiedMesh m = method.run(input, o, grid, stats, refining ? &quadrics : nullptr);
+    stats->phase1_peak_anon_bytes = phase1_memory.peak();
     if (!refining) return m;
     const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
     if (o.target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, o, target, stats);
@@ -243,6 +261,7 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
     q.positions.resize(got ? m.positions.size() / 3 : 0);
     for (std::size_t i = 0; i < q.positions.size(); ++i)
       q.positions[i] = Vec3d{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]} - grid.origin;
+    std::vector<double>().swap(m.positions);  // copied: not held through phase 2
     q.triangles = std::move(m.triangles);
     q.quadrics = std::move(quadrics);
     q.attribute_count = m.attributes.attributes.size();

@@ -180,10 +180,11 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   }
   if (options.target.given() || options.method == ClusterMethod::qem) {
     std::snprintf(buf, sizeof buf,
-                  "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"collapses\": %" PRIu64
+                  "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"phase1_peak_anon_bytes\": %" PRIu64
+                  ", \"phase2_peak_anon_bytes\": %" PRIu64 ", \"collapses\": %" PRIu64
                   ", \"largest_collapse_cost\": %.9g, \"largest_collapse_error\": %.9g, \"target_missed\": %s},\n",
-                  s.intermediate_triangles, s.collapses, s.largest_collapse_cost, s.largest_collapse_error,
-                  s.target_missed ? "true" : "false");
+                  s.intermediate_triangles, s.phase1_peak_anon_bytes, s.phase2_peak_anon_bytes, s.collapses,
+                  s.largest_collapse_cost, s.largest_collapse_error, s.target_missed ? "true" : "false");
     js += buf;
   }
   std::string attributes, warnings;
