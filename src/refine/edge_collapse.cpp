@@ -346,11 +346,13 @@ bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
   if (!alive_[a] || !alive_[b]) return false;
   const int on_edge = faces_on_edge(a, b);
   if (on_edge < 1) return false;
-  if (complex_[a] || complex_[b]) {
-    if (doubles_a_face(a, b)) return false;
-    return keeps_faces(c, blamed);
-  }
+  // The cheap checks first: the faces of the end that moves (often few, where the
+  // other end is a hub of hundreds), then those over both ends' faces.
+  if (complex_[a] || complex_[b]) return keeps_faces(c, blamed) && !doubles_a_face(a, b);
   if (on_edge > 2) return false;
+  // An inner edge between two boundary vertices would pinch the surface into two.
+  if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
+  if (!keeps_faces(c, blamed)) return false;
   // The link condition: the vertices next to both a and b are exactly those opposite
   // the edge in its faces, so no edge or face is doubled. The opposite ones always are
   // next to both, so counting the common neighbours is enough: a's are marked, b's
@@ -375,11 +377,8 @@ bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
     }
   });
   if (int(common) != on_edge) return false;
-  // An inner edge between two boundary vertices would pinch the surface into two.
-  if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
   // A tetrahedron has no edge left to collapse.
-  if (ring_a == 3 && ring_b == 3 && on_edge == 2) return false;
-  return keeps_faces(c, blamed);
+  return !(ring_a == 3 && ring_b == 3 && on_edge == 2);
 }
 
 // Whether some face of b, moved to a, would have the corners of a face a has already.
@@ -479,6 +478,7 @@ void CollapseState::collapse(const Candidate& c) {
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
   boundary_[a] = boundary_[a] | boundary_[b];  // a valid collapse neither makes nor closes a boundary
+  newly_anchored_.clear();
   if (complex_[a] || complex_[b]) {
     // Around a tangle the link condition was not checked: its neighbours may have
     // become tangled too.
@@ -486,7 +486,10 @@ void CollapseState::collapse(const Candidate& c) {
     std::vector<std::uint32_t> ring;
     neighbours(a, &ring);
     for (std::uint32_t u : ring)
-      if (!complex_[u] && !manifold_at(u)) complex_[u] = 1;
+      if (!complex_[u] && !manifold_at(u)) {
+        complex_[u] = 1;
+        newly_anchored_.push_back(u);
+      }
   }
   if (faces_.size() > compact_at_) compact_adjacency();
 }
@@ -717,6 +720,13 @@ class LazyQueue {
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
     stats_->largest_error = std::max(stats_->largest_error, error);
     requeue_around(c.a);
+    // An anchored vertex does not move: the costs of all its edges changed, and their
+    // entries are stale.
+    for (std::uint32_t v : state_.newly_anchored()) {
+      state_.neighbours(v, &ring_);
+      for (std::uint32_t u : ring_)
+        if (u != c.a) push(v, u);
+    }
     return true;
   }
 

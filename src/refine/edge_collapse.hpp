@@ -99,6 +99,9 @@ class CollapseState {
   double error(const Candidate& c) const;
   /// Collapses b into a.
   void collapse(const Candidate& c);
+  /// The vertices next to a that the last collapse left non-manifold: now anchored,
+  /// all their edges cost anew.
+  const std::vector<std::uint32_t>& newly_anchored() const { return newly_anchored_; }
   /// Splits the longest boundary edge (ties: the lowest vertices) at its midpoint,
   /// its face into two: one triangle more and the surface unchanged, for a target that
   /// an inner collapse overshot by one. False when the mesh has no boundary edge.
@@ -137,6 +140,7 @@ class CollapseState {
   std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;
   mutable std::vector<std::uint32_t> scratch_a_, scratch_ends_;
+  std::vector<std::uint32_t> newly_anchored_;
   // Marks of vertices seen, by stamp: a new stamp clears them all at once.
   std::uint32_t next_stamp() const;
   mutable std::vector<std::uint32_t> mark_, seen_;
