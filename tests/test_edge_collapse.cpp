@@ -175,36 +175,41 @@ TEST_CASE("the lazy queue takes the collapses a naive full re-evaluation takes",
 TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count one below", "[refine][collapse]") {
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
-  for (std::uint64_t target : {1000, 1001, 4000, 9999}) {
-    INFO("target " << target);
-    CollapseSettings s;
-    s.target_triangles = target;
-    CollapseStats st;
-    QuadricMesh m = collapse_edges(sphere, s, &st);
-    CHECK_FALSE(st.stuck);
-    CHECK(st.parity == (target % 2 == 1));  // closed: every edge has two faces
-    CHECK(m.triangles.size() / 3 == (target % 2 == 1 ? target - 1 : target));
-    CollapseStats open;
-    QuadricMesh t = collapse_edges(terrain, s, &open);
-    CHECK_FALSE(open.stuck);
-    CHECK_FALSE(open.parity);  // a boundary edge removes one face
-    CHECK(t.triangles.size() / 3 == target);
-  }
+  for (std::uint64_t target : {1000, 1001, 4000, 9999})
+    for (std::uint64_t tiles : {0, 4096}) {
+      INFO("target " << target << ", tiles of " << tiles << " faces");
+      CollapseSettings s;
+      s.target_triangles = target;
+      s.tile_faces = tiles;
+      CollapseStats st;
+      QuadricMesh m = collapse_edges(sphere, s, &st);
+      CHECK_FALSE(st.stuck);
+      CHECK(st.parity == (target % 2 == 1));  // closed: every edge has two faces
+      CHECK(m.triangles.size() / 3 == (target % 2 == 1 ? target - 1 : target));
+      CollapseStats open;
+      QuadricMesh t = collapse_edges(terrain, s, &open);
+      CHECK_FALSE(open.stuck);
+      CHECK_FALSE(open.parity);  // a boundary edge removes one face
+      CHECK(t.triangles.size() / 3 == target);
+    }
 }
 
 TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler characteristic 2", "[refine][collapse]") {
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
-  for (std::uint64_t target : {200, 2000}) {
-    CollapseSettings s;
-    s.target_triangles = target;
-    QuadricMesh m = collapse_edges(sphere, s, nullptr);
-    const auto edges = edge_faces(m);
-    bool two_each = true;
-    for (const auto& e : edges) two_each = two_each && e.second == 2;
-    CHECK(two_each);
-    const long euler = long(m.positions.size()) - long(edges.size()) + long(m.triangles.size() / 3);
-    CHECK(euler == 2);
-  }
+  for (std::uint64_t target : {200, 2000})
+    for (std::uint64_t tiles : {0, 4096}) {
+      INFO("target " << target << ", tiles of " << tiles << " faces");
+      CollapseSettings s;
+      s.target_triangles = target;
+      s.tile_faces = tiles;
+      QuadricMesh m = collapse_edges(sphere, s, nullptr);
+      const auto edges = edge_faces(m);
+      bool two_each = true;
+      for (const auto& e : edges) two_each = two_each && e.second == 2;
+      CHECK(two_each);
+      const long euler = long(m.positions.size()) - long(edges.size()) + long(m.triangles.size() / 3);
+      CHECK(euler == 2);
+    }
 }
 
 TEST_CASE("no face turns against the original surface's local normal", "[refine][collapse]") {
@@ -224,28 +229,30 @@ TEST_CASE("no face turns against the original surface's local normal", "[refine]
   // than 120 degrees away from up (a fold faces down, z near -1; a face on a steep
   // slope may come out somewhat past vertical, as a coarse face spans a ridge).
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
-  for (std::uint64_t target : {500, 2000, 5000}) {
-    INFO("target " << target);
-    CollapseSettings s;
-    s.target_triangles = target;
-    QuadricMesh m = collapse_edges(sphere, s, nullptr);
-    int against = 0;
-    for (std::size_t f = 0; f < m.triangles.size() / 3; ++f) {
-      const Vec3d c = centre(m, f);
-      std::size_t nearest = 0;
-      for (std::size_t g = 1; g < centres.size(); ++g)
-        if (squared_distance(centres[g], c) < squared_distance(centres[nearest], c)) nearest = g;
-      against += dot(normal(m, f), normal(sphere, nearest)) <= 0;
+  for (std::uint64_t target : {500, 2000, 5000})
+    for (std::uint64_t tiles : {0, 4096}) {
+      INFO("target " << target << ", tiles of " << tiles << " faces");
+      CollapseSettings s;
+      s.target_triangles = target;
+      s.tile_faces = tiles;
+      QuadricMesh m = collapse_edges(sphere, s, nullptr);
+      int against = 0;
+      for (std::size_t f = 0; f < m.triangles.size() / 3; ++f) {
+        const Vec3d c = centre(m, f);
+        std::size_t nearest = 0;
+        for (std::size_t g = 1; g < centres.size(); ++g)
+          if (squared_distance(centres[g], c) < squared_distance(centres[nearest], c)) nearest = g;
+        against += dot(normal(m, f), normal(sphere, nearest)) <= 0;
+      }
+      CHECK(against == 0);
+      QuadricMesh t = collapse_edges(terrain, s, nullptr);
+      int turned_over = 0;
+      for (std::size_t f = 0; f < t.triangles.size() / 3; ++f) {
+        const Vec3d n = normal(t, f);
+        turned_over += n.z < -0.5 * length(n);
+      }
+      CHECK(turned_over == 0);
     }
-    CHECK(against == 0);
-    QuadricMesh t = collapse_edges(terrain, s, nullptr);
-    int turned_over = 0;
-    for (std::size_t f = 0; f < t.triangles.size() / 3; ++f) {
-      const Vec3d n = normal(t, f);
-      turned_over += n.z < -0.5 * length(n);
-    }
-    CHECK(turned_over == 0);
-  }
 }
 
 TEST_CASE("a cube keeps its 8 corners", "[refine][collapse]") {
@@ -276,33 +283,37 @@ TEST_CASE("a cube keeps its 8 corners", "[refine][collapse]") {
 
 TEST_CASE("boundary edges keep the outline of an open surface", "[refine][collapse]") {
   ScratchDir d;
-  write_plane_ply(d.file("p.ply"), 60, 0.2, -0.1, 0.5);  // a tilted square with an outline of 240 edges
+  write_plane_ply(d.file("p.ply"), 100, 0.2, -0.1, 0.5);  // a tilted square with an outline of 400 edges
   const QuadricMesh plane = mesh_of(load_mesh(d.file("p.ply")));
-  CollapseSettings s;
-  s.target_triangles = 50;
-  CollapseStats st;
-  QuadricMesh m = collapse_edges(plane, s, &st);
-  CHECK(m.triangles.size() / 3 == 50);
-  // Every vertex on an outline edge lies on the square's outline: x or y is 0 or 1.
-  const auto edges = edge_faces(m);
-  double off = 0;
-  int boundary = 0;
-  for (const auto& e : edges) {
-    if (e.second != 1) continue;
-    ++boundary;
-    for (std::uint32_t v : {e.first.first, e.first.second}) {
-      const Vec3d& p = m.positions[v];
-      off = std::max(off, std::min({std::fabs(p.x), std::fabs(1 - p.x), std::fabs(p.y), std::fabs(1 - p.y)}));
+  for (std::uint64_t tiles : {0, 4096}) {
+    INFO("tiles of " << tiles << " faces");
+    CollapseSettings s;
+    s.target_triangles = 50;
+    s.tile_faces = tiles;
+    CollapseStats st;
+    QuadricMesh m = collapse_edges(plane, s, &st);
+    CHECK(m.triangles.size() / 3 == 50);
+    // Every vertex on an outline edge lies on the square's outline: x or y is 0 or 1.
+    const auto edges = edge_faces(m);
+    double off = 0;
+    int boundary = 0;
+    for (const auto& e : edges) {
+      if (e.second != 1) continue;
+      ++boundary;
+      for (std::uint32_t v : {e.first.first, e.first.second}) {
+        const Vec3d& p = m.positions[v];
+        off = std::max(off, std::min({std::fabs(p.x), std::fabs(1 - p.x), std::fabs(p.y), std::fabs(1 - p.y)}));
+      }
     }
-  }
-  CHECK(boundary >= 4);
-  CHECK(off <= 1e-12);  // outline vertices stay input vertices
-  // And the four corners are still there.
-  for (int corner = 0; corner < 4; ++corner) {
-    const double x = corner & 1, y = corner >> 1;
-    double nearest = HUGE_VAL;
-    for (const Vec3d& p : m.positions) nearest = std::min(nearest, std::hypot(p.x - x, p.y - y));
-    CHECK(nearest <= 1e-12);
+    CHECK(boundary >= 4);
+    CHECK(off <= 1e-12);  // outline vertices stay input vertices
+    // And the four corners are still there.
+    for (int corner = 0; corner < 4; ++corner) {
+      const double x = corner & 1, y = corner >> 1;
+      double nearest = HUGE_VAL;
+      for (const Vec3d& p : m.positions) nearest = std::min(nearest, std::hypot(p.x - x, p.y - y));
+      CHECK(nearest <= 1e-12);
+    }
   }
 }
 
@@ -344,19 +355,26 @@ TEST_CASE("non-manifold vertices are anchored: the count is met, their positions
 }
 
 TEST_CASE("the collapse is the same for any thread count", "[refine][collapse]") {
+  // Tiles of 4096 faces collapse in parallel first: they follow from the mesh, not
+  // from the threads.
   const QuadricMesh parts = generated(SyntheticShape::parts, 20000);
-  CollapseSettings s;
-  s.target_triangles = 2000;
-  QuadricMesh one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = collapse_edges(parts, s, nullptr);
+  for (std::uint64_t tiles : {0, 4096}) {
+    INFO("tiles of " << tiles << " faces");
+    CollapseSettings s;
+    s.target_triangles = 2000;
+    s.tile_faces = tiles;
+    QuadricMesh one, two;
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+      one = collapse_edges(parts, s, nullptr);
+    }
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+      two = collapse_edges(parts, s, nullptr);
+    }
+    CHECK(same_mesh(one, two));
+    CHECK(one.triangles.size() / 3 == 2000);
   }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = collapse_edges(parts, s, nullptr);
-  }
-  CHECK(same_mesh(one, two));
 }
 
 TEST_CASE("attributes follow the placement along the collapsed edge", "[refine][collapse]") {

@@ -99,12 +99,19 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   complex_.assign(n, 0);
   face_dead_.assign(mesh_.triangles.size() / 3, 0);
   live_faces_ = face_dead_.size();
-  first_normal_.resize(face_dead_.size());
-  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
-    const std::uint32_t* t = &mesh_.triangles[3 * f];
-    const Vec3d& p = mesh_.positions[t[0]];
-    first_normal_[f] = cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p);
+  first_normal_ = std::move(mesh_.face_normals);
+  mesh_.face_normals.clear();
+  if (first_normal_.size() != face_dead_.size()) {
+    first_normal_.resize(face_dead_.size());
+    for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+      const std::uint32_t* t = &mesh_.triangles[3 * f];
+      const Vec3d& p = mesh_.positions[t[0]];
+      first_normal_[f] = cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p);
+    }
   }
+  locked_ = std::move(mesh_.locked);
+  mesh_.locked.clear();
+  locked_.resize(n, 0);
   build_adjacency();
   mark_non_manifold();
   boundary_.assign(n, 0);
@@ -283,10 +290,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CollapseState::edges() cons
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   std::vector<std::uint32_t> ring;
   for (std::uint32_t a = 0; a < mesh_.positions.size(); ++a) {
-    if (!alive_[a]) continue;
+    if (!alive_[a] || locked_[a]) continue;
     neighbours(a, &ring);
     for (std::uint32_t b : ring)
-      if (b > a) out.emplace_back(a, b);
+      if (b > a && !locked_[b]) out.emplace_back(a, b);
   }
   return out;
 }
@@ -343,7 +350,7 @@ bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
   std::uint32_t no_face = kNoFace;
   if (!blamed) blamed = &no_face;
   *blamed = kNoFace;
-  if (!alive_[a] || !alive_[b]) return false;
+  if (!alive_[a] || !alive_[b] || locked_[a] || locked_[b]) return false;
   const int on_edge = faces_on_edge(a, b);
   if (on_edge < 1) return false;
   // The cheap checks first: the faces of the end that moves (often few, where the
@@ -521,6 +528,7 @@ bool CollapseState::split_boundary_edge() {
   for (std::size_t j = 0; j < k; ++j)
     mesh_.attributes.push_back(0.5 * (mesh_.attributes[u * k + j] + mesh_.attributes[w * k + j]));
   alive_.push_back(1);
+  locked_.push_back(0);
   complex_.push_back(0);
   boundary_.push_back(1);
   mesh_.triangles[3 * face + (corner + 1) % 3] = m;
@@ -559,10 +567,25 @@ void CollapseState::compact_adjacency() {
   compact_at_ = 3 * faces_.size() + 1024;
 }
 
-QuadricMesh CollapseState::result() const {
+QuadricMesh CollapseState::release() {
+  QuadricMesh out = std::move(mesh_);
+  std::size_t live = 0;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    if (face_dead_[f]) continue;
+    for (int k = 0; k < 3; ++k) out.triangles[3 * live + std::size_t(k)] = out.triangles[3 * f + std::size_t(k)];
+    first_normal_[live++] = first_normal_[f];
+  }
+  out.triangles.resize(3 * live);
+  first_normal_.resize(live);
+  out.face_normals = std::move(first_normal_);
+  return out;
+}
+
+QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
   constexpr std::uint32_t kUnused = ~std::uint32_t(0);
   std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
   QuadricMesh out;
+  if (sources) sources->clear();
   out.attribute_count = mesh_.attribute_count;
   const std::size_t k = mesh_.attribute_count;
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
@@ -575,9 +598,11 @@ QuadricMesh CollapseState::result() const {
         out.quadrics.push_back(mesh_.quadrics[v]);
         out.attributes.insert(out.attributes.end(), mesh_.attributes.begin() + std::ptrdiff_t(v * k),
                               mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k));
+        if (sources) sources->push_back(v);
       }
       out.triangles.push_back(index[v]);
     }
+    out.face_normals.push_back(first_normal_[f]);
   }
   return out;
 }
@@ -673,7 +698,7 @@ class LazyQueue {
     std::vector<QueueEntry> deferred;  // inner edges when one triangle is left to remove
     while (state_.triangle_count() > settings_.target_triangles) {
       if (heap_.empty()) {
-        if (!take_deferred(deferred)) stats_->stuck = true;
+        if (settings_.exact_count && !take_deferred(deferred)) stats_->stuck = true;
         return;
       }
       const QueueEntry e = heap_.pop();
@@ -688,7 +713,8 @@ class LazyQueue {
       // A collapse removes its edge's faces: 2 inside, 1 on a boundary, more in a
       // tangle. One that would go below the target waits (a closed surface's count
       // is even: with one triangle to go only a boundary edge meets it).
-      if (state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b))) {
+      if (settings_.exact_count &&
+          state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b))) {
         deferred.push_back(e);
         continue;
       }
@@ -788,6 +814,7 @@ class LazyQueue {
   }
 
   void push(std::uint32_t u, std::uint32_t v) {
+    if (state_.locked(u) || state_.locked(v)) return;
     if (u > v) std::swap(u, v);
     const CollapseState::Candidate c = state_.evaluate(u, v);
     heap_.push({c.cost, u, v});
@@ -804,13 +831,33 @@ class LazyQueue {
 
 }  // namespace
 
+void collapse_in_order(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
+                       ProgressPhase* progress) {
+  LazyQueue(state, settings, stats, progress).run();
+}
+
+// Large meshes collapse in tiles first, in parallel, in rounds of at most 4x fewer
+// faces: the tiles' borders stay as they were in a round, and the next round's tiles,
+// cut from the fewer faces, fall elsewhere. The whole mesh then collapses in order of
+// cost, from the tiles' result (the boundary planes already in its quadrics).
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress) {
   CollapseStats local;
   CollapseStats& st = stats ? *stats : local;
   CollapseState state(std::move(mesh), settings);
   st.non_manifold_vertices = state.non_manifold_count();
-  LazyQueue(state, settings, &st, progress).run();
+  const double tiles_to = double(settings.target_triangles) * settings.tile_share;
+  while (settings.tile_faces && state.triangle_count() >= 4 * settings.tile_faces &&
+         tiles_to < 0.75 * double(state.triangle_count())) {
+    CollapseSettings round = settings;
+    round.target_triangles = std::uint64_t(std::max(tiles_to, 0.25 * double(state.triangle_count())));
+    round.tile_share = 1;
+    QuadricMesh tiled = collapse_tiles(state, round, &st);
+    if (progress) progress->set(2 * st.collapses);
+    round.boundary_weight = 0;
+    state = CollapseState(std::move(tiled), round);
+  }
+  collapse_in_order(state, settings, &st, progress);
   return state.result();
 }
 

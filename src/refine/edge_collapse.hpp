@@ -28,6 +28,10 @@ struct QuadricMesh {
   std::vector<Quadric> quadrics;         ///< 1 per vertex
   std::size_t attribute_count = 0;       ///< values per vertex in `attributes`
   std::vector<double> attributes;        ///< attribute_count per vertex (interpolated along collapses)
+  /// Each face's normal in the input, for the flip check (empty: from the positions).
+  std::vector<Vec3d> face_normals;
+  /// Vertices that may neither move nor go (empty: none): a tile's border.
+  std::vector<std::uint8_t> locked;
 };
 
 /// The area-weighted plane quadrics of the faces around each vertex (the textbook's
@@ -50,6 +54,16 @@ struct CollapseSettings {
   /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
   /// of open scans and terrain.
   double boundary_weight = 1000;
+  /// Meet target_triangles exactly (collapses that overshoot wait; boundary edges are
+  /// split at the end). Off, the collapse stops at or below it, or when none is left.
+  bool exact_count = true;
+  /// Tiles of about this many faces collapse in parallel first (0: none); see
+  /// collapse_tiles(). The tiles follow from the mesh alone, so the result is the same
+  /// for any thread count.
+  std::uint64_t tile_faces = 65536;
+  /// The tiles collapse to this many times their share of the target; the collapse of
+  /// the whole mesh, in order of cost, does the rest.
+  double tile_share = 1.5;
 };
 
 struct CollapseStats {
@@ -112,10 +126,20 @@ class CollapseState {
   bool non_manifold(std::uint32_t v) const { return complex_[v] != 0; }
   std::uint64_t triangle_count() const { return live_faces_; }
   std::uint64_t non_manifold_count() const;
+  bool locked(std::uint32_t v) const { return locked_[v] != 0; }
+  /// The mesh as it is (faces dead or alive), with the boundary planes in its quadrics.
+  const QuadricMesh& mesh() const { return mesh_; }
+  bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
+  /// Each face's normal in the input.
+  const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
-  /// The live faces, their vertices numbered by first use, in face order.
-  QuadricMesh result() const;
+  /// The live faces, their vertices numbered by first use, in face order, with their
+  /// input normals; `sources` (if given) gets each result vertex's index here.
+  QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
+  /// The mesh, moved out (the state is spent): every vertex in its place, the faces as
+  /// they are, their input normals in face_normals.
+  QuadricMesh release();
 
  private:
   template <class F>
@@ -134,7 +158,7 @@ class CollapseState {
   QuadricMesh mesh_;
   double cos_max_turn_;
   double min_compactness_;
-  std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_;
+  std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_, locked_;
   std::vector<Vec3d> first_normal_;                             // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
   std::size_t compact_at_ = 0;
@@ -146,6 +170,20 @@ class CollapseState {
   mutable std::vector<std::uint32_t> mark_, seen_;
   mutable std::uint32_t stamp_ = 0;
 };
+
+/// The collapses of `state` in order of cost, from a priority queue with lazy updates,
+/// down to settings.target_triangles (exactly, with settings.exact_count). The driver
+/// of collapse_edges() and of each tile of collapse_tiles().
+void collapse_in_order(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
+                       ProgressPhase* progress);
+
+/// The parallel first pass of collapse_edges() (refine/tiled_collapse.cpp): the faces
+/// of `state` (no collapse taken yet) are cut into tiles of about settings.tile_faces,
+/// consecutive in Morton order of their centroids; each tile collapses on its own, its
+/// border vertices locked, to settings.tile_share times its share of the target. Returns
+/// the mesh with the tiles' collapses taken, vertices in their places, and adds to
+/// `stats`. Spends `state`.
+QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats);
 
 /// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
 /// a priority queue whose entries are checked when taken (lazy updates), until
