@@ -124,9 +124,9 @@ TEST_CASE("the terrain's outline stays within 1e-3 of the diagonal", "[multiphas
   for (std::size_t i = 0; i < input.positions.size(); ++i)
     lo[i % 3] = std::min(lo[i % 3], input.positions[i]), hi[i % 3] = std::max(hi[i % 3], input.positions[i]);
   const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-  // --method qem only: the clustering methods' intermediates carry holes of their
-  // own (clustering drops triangles whose corners share a cluster), whose edges are
-  // outline too (issue 12 leaves them open).
+  // --method qem only: the clustering methods' intermediates of this terrain carry
+  // fins (folded triangles standing off non-manifold edges) whose open edges are
+  // outline too, far from the input's (README, Limits: Topology).
   for (const char* method : {"qem"})
     for (const char* target : {"20000", "50000"}) {
       INFO(method << " to " << target);

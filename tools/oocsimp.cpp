@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include "oocsimp/measure.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress_reporter.hpp"
+#include "oocsimp/render.hpp"
 #include "oocsimp/simplify.hpp"
 #include "oocsimp/signals.hpp"
 
@@ -304,6 +306,44 @@ int run_generate(const std::string& tris_text, const std::string& shape, const s
   return kOk;
 }
 
+// "WxH" and "AZ,EL" of render.
+void parse_render_args(const std::string& size, const std::string& view, RenderOptions* o) {
+  if (!size.empty()) {
+    const std::size_t x = size.find('x');
+    if (x == std::string::npos) bad_value("--size", size, "WIDTHxHEIGHT, e.g. 1024x768");
+    o->width = std::uint32_t(whole_number("--size", size.substr(0, x), 1, 16384));
+    o->height = std::uint32_t(whole_number("--size", size.substr(x + 1), 1, 16384));
+  }
+  if (!view.empty()) {
+    const std::size_t comma = view.find(',');
+    if (comma == std::string::npos) bad_value("--view", view, "AZIMUTH,ELEVATION in degrees, e.g. 30,20");
+    auto angle = [&](const std::string& text) {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(v)) bad_value("--view", view, "two finite numbers of degrees");
+      return v;
+    };
+    o->azimuth_degrees = angle(view.substr(0, comma));
+    o->elevation_degrees = angle(view.substr(comma + 1));
+  }
+}
+
+int run_render(const std::string& in, const std::string& out, RenderOptions options, const std::string& tmp,
+               bool quiet) {
+  ProgressReporter progress(quiet);
+  options.progress = progress.callback();
+  OpenOptions open;
+  open.temp_dir = tmp;
+  const auto t0 = std::chrono::steady_clock::now();
+  const RenderStats s = render_file(in, out, options, open);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!quiet)
+    std::fprintf(stderr,
+                 "render  %" PRIu64 " triangles, %ux%u pixels (%" PRIu64 " covered, %.3g model units each), %.3f s\n",
+                 s.triangles, options.width, options.height, s.covered_pixels, s.pixel_size, seconds);
+  return kOk;
+}
+
 int run_measure(const std::string& a, const std::string& b, MeasureOptions options, bool json, bool quiet) {
   ProgressReporter progress(quiet);
   options.progress = progress.callback();
@@ -534,6 +574,18 @@ int main(int argc, char** argv) {
   measure->add_flag("--json", json, "Print the report as JSON");
   measure->add_flag("--quiet", quiet, "No progress");
 
+  std::string render_size, render_view, render_shading = "flat";
+  CLI::App* render = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
+  render->add_option("input", in, "Mesh file (PLY, OBJ, STL, optionally .zst)")->required();
+  render->add_option("-o,--output", out, "PNG file")->required();
+  render->add_option("--size", render_size, "Image size WIDTHxHEIGHT (default 1024x768)");
+  render->add_option("--view", render_view,
+                     "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
+  render->add_option("--shading", render_shading, "flat (default) or smooth (the file's vertex normals)")
+      ->check(CLI::IsMember({"flat", "smooth"}));
+  render->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
+  render->add_flag("--quiet", quiet, "No progress or summary");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -551,6 +603,12 @@ int main(int argc, char** argv) {
   try {
     if (*simplify) return run_simplify(sa);
     if (*info) return run_info(in, tmp);
+    if (*render) {
+      RenderOptions o;
+      parse_render_args(render_size, render_view, &o);
+      o.shading = render_shading == "smooth" ? Shading::smooth : Shading::flat;
+      return run_render(in, out, o, tmp, quiet);
+    }
     if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, generate_attributes, quiet);
     if (*measure) {
       constexpr std::uint64_t kMost = ~std::uint64_t(0);

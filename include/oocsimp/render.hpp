@@ -1,0 +1,62 @@
+// oocsimp — pictures of a mesh file (issue 13): a headless software rasteriser.
+//
+// The triangles are streamed from the file (MeshInput), projected orthographically and
+// drawn into a depth buffer one at a time, so memory is the image's (about 8 bytes a
+// pixel) whatever the mesh's size. No GPU, display or OpenGL is involved.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+enum class Shading : std::uint8_t {
+  flat,    ///< each face by its own normal
+  smooth,  ///< by the file's vertex normals (nx, ny, nz), interpolated; flat without them
+};
+
+struct RenderOptions {
+  std::uint32_t width = 1024, height = 768;  ///< pixels, 1 to 16384 each
+  /// The direction the camera looks from, in degrees: azimuth about +z from +x,
+  /// elevation above the xy plane (90: from straight above, looking down -z).
+  double azimuth_degrees = 30, elevation_degrees = 20;
+  Shading shading = Shading::flat;
+  /// The background's and the surface's colour, 0xRRGGBB. Faces are lit by a light at
+  /// the camera: surface x (0.2 + 0.8 |cos|) of the angle to the view, both sides alike.
+  std::uint32_t background = 0xFFFFFF, surface = 0xB4B4BE;
+  ProgressCallback progress;  ///< phase "render" (input bytes)
+};
+
+/// An RGB image, 3 bytes a pixel, rows from the top.
+struct Image {
+  std::uint32_t width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
+struct RenderStats {
+  std::uint64_t triangles = 0;       ///< triangles read
+  std::uint64_t covered_pixels = 0;  ///< pixels the surface covers
+  /// The size of a pixel in model units: the camera frames the bounding box's
+  /// circumscribed sphere, its diameter x 1.05 across the image's shorter side.
+  double pixel_size = 0;
+};
+
+/// Draws the triangles of `input` (one pass over its triangle stream) as seen from
+/// the options' view, framing its bounding box. An empty mesh gives the background.
+/// Throws UsageError on a bad size, InputError from the reader.
+Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats = nullptr);
+
+/// `image` as PNG bytes (8-bit RGB, through libpng).
+std::string encode_png(const Image& image);
+
+/// Opens `input`, renders it and writes the PNG to `output` under a temporary name,
+/// renamed when complete (the output is opened first: a bad folder fails before the
+/// work). Throws UsageError (output = input), InputError, IoError.
+RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
+                        const OpenOptions& open = {});
+
+}  // namespace oocsimp

@@ -1,0 +1,186 @@
+// The software rasteriser behind `oocsimp render`: an orthographic camera framing the
+// bounding box, a depth buffer, triangles streamed from the file and drawn in file
+// order (so ties in depth go to the earlier triangle, the same for every run).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/vec3_math.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/render.hpp"
+#include "report/progress_phase.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFraming = 1.05;  // the bounding sphere's diameter over the shorter side
+
+// The view: screen axes `right` and `up` and the direction `towards` the camera, all
+// unit, and the model point at the image's centre.
+struct Camera {
+  Vec3d right, up, towards, centre;
+  double pixel = 1;               // model units per pixel
+  double half_w = 0, half_h = 0;  // the image's half size in pixels
+
+  Camera(const Box3d& box, const RenderOptions& o) {
+    const double az = o.azimuth_degrees * kPi / 180, el = o.elevation_degrees * kPi / 180;
+    towards = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+    // Up is +z on the screen, unless the camera looks along z: then +y.
+    const Vec3d world_up = std::fabs(towards.z) > 0.999 ? Vec3d{-std::cos(az), -std::sin(az), 0} : Vec3d{0, 0, 1};
+    right = cross(world_up, towards);
+    right = right / length(right);
+    up = cross(towards, right);
+    centre = box.empty() ? Vec3d{} : (box.min + box.max) * 0.5;
+    const double diameter = box.empty() ? 0 : length(box.max - box.min);
+    const double shorter = double(std::min(o.width, o.height));
+    pixel = diameter > 0 ? kFraming * diameter / shorter : 1;
+    half_w = 0.5 * o.width;
+    half_h = 0.5 * o.height;
+  }
+
+  // Pixel coordinates (x right, y down, pixel centres at .5) and depth (larger: nearer).
+  Vec3d project(const Vec3d& p) const {
+    const Vec3d d = p - centre;
+    return {half_w + dot(d, right) / pixel, half_h - dot(d, up) / pixel, dot(d, towards)};
+  }
+};
+
+// The smooth-shading normals: the input's nx, ny, nz attributes, when it has them.
+struct VertexNormals {
+  int index[3] = {-1, -1, -1};
+  bool present() const { return index[0] >= 0 && index[1] >= 0 && index[2] >= 0; }
+  explicit VertexNormals(const AttributeArray& a) {
+    const char* names[3] = {"nx", "ny", "nz"};
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        if (a.attributes[i].name == names[k]) index[k] = int(i);
+  }
+  Vec3d get(const AttributeArray& a, std::uint64_t v) const {
+    return {a.get(v, std::size_t(index[0])), a.get(v, std::size_t(index[1])), a.get(v, std::size_t(index[2]))};
+  }
+};
+
+class Rasterizer {
+ public:
+  explicit Rasterizer(const RenderOptions& o)
+      : o_(o), depth_(std::size_t(o.width) * o.height, -HUGE_VAL), shade_(std::size_t(o.width) * o.height, -1.0f) {}
+
+  // Draws the triangle with pixel-space corners s[3]; `light` gives the shading
+  // (|cos| of the normal against the view) at each corner.
+  void draw(const Vec3d s[3], const double light[3]) {
+    const double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+    if (!(std::fabs(area) > 0)) return;  // degenerate, or not finite
+    const double w = o_.width, h = o_.height;
+    const double lo_x = std::max(0.0, std::floor(std::min({s[0].x, s[1].x, s[2].x}) - 0.5));
+    const double hi_x = std::min(w - 1, std::ceil(std::max({s[0].x, s[1].x, s[2].x}) - 0.5));
+    const double lo_y = std::max(0.0, std::floor(std::min({s[0].y, s[1].y, s[2].y}) - 0.5));
+    const double hi_y = std::min(h - 1, std::ceil(std::max({s[0].y, s[1].y, s[2].y}) - 0.5));
+    if (!(lo_x <= hi_x && lo_y <= hi_y)) return;  // off the image
+    const double sign = area > 0 ? 1 : -1;
+    for (std::uint32_t y = std::uint32_t(lo_y); y <= std::uint32_t(hi_y); ++y) {
+      const double py = y + 0.5;
+      for (std::uint32_t x = std::uint32_t(lo_x); x <= std::uint32_t(hi_x); ++x) {
+        const double px = x + 0.5;
+        // Barycentric weights by edge functions; a pixel centre on an edge belongs to
+        // the triangle on the edge's left or top (the top-left rule), so that two
+        // triangles sharing an edge cover each pixel once.
+        double b[3];
+        bool inside = true;
+        for (int k = 0; k < 3 && inside; ++k) {
+          const Vec3d& p = s[(k + 1) % 3];
+          const Vec3d& q = s[(k + 2) % 3];
+          const double e = sign * ((q.x - p.x) * (py - p.y) - (q.y - p.y) * (px - p.x));
+          const double dx = sign * (q.x - p.x), dy = sign * (q.y - p.y);
+          const bool top_left = (dy < 0) || (dy == 0 && dx > 0);
+          inside = e > 0 || (e == 0 && top_left);
+          b[k] = e;
+        }
+        if (!inside) continue;
+        const double total = b[0] + b[1] + b[2];
+        const double z = (b[0] * s[0].z + b[1] * s[1].z + b[2] * s[2].z) / total;
+        const std::size_t at = std::size_t(y) * o_.width + x;
+        if (!(z > depth_[at])) continue;
+        depth_[at] = z;
+        shade_[at] = float((b[0] * light[0] + b[1] * light[1] + b[2] * light[2]) / total);
+      }
+    }
+  }
+
+  Image image(std::uint64_t* covered) const {
+    Image out;
+    out.width = o_.width;
+    out.height = o_.height;
+    out.rgb.resize(std::size_t(o_.width) * o_.height * 3);
+    *covered = 0;
+    for (std::size_t i = 0; i < shade_.size(); ++i) {
+      const std::uint32_t c = shade_[i] < 0 ? o_.background : o_.surface;
+      const double f = shade_[i] < 0 ? 1.0 : 0.2 + 0.8 * std::clamp(double(shade_[i]), 0.0, 1.0);
+      *covered += shade_[i] >= 0;
+      for (int k = 0; k < 3; ++k) {
+        const double channel = double((c >> (16 - 8 * k)) & 0xFF) * f;
+        out.rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround(std::clamp(channel, 0.0, 255.0)));
+      }
+    }
+    return out;
+  }
+
+ private:
+  const RenderOptions& o_;
+  std::vector<double> depth_;
+  std::vector<float> shade_;  // -1: background
+};
+
+void check_size(const RenderOptions& o) {
+  constexpr std::uint32_t kLargest = 16384;
+  if (o.width < 1 || o.height < 1 || o.width > kLargest || o.height > kLargest)
+    throw UsageError("options.width and options.height must be 1 to " + std::to_string(kLargest) + " pixels");
+  if (!std::isfinite(o.azimuth_degrees) || !std::isfinite(o.elevation_degrees))
+    throw UsageError("options.azimuth_degrees and options.elevation_degrees must be finite");
+}
+
+}  // namespace
+
+Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats) {
+  check_size(options);
+  RenderStats local;
+  RenderStats& st = stats ? *stats : local;
+  const Camera camera(input.info.bounds, options);
+  st.pixel_size = camera.pixel;
+  Rasterizer raster(options);
+  const VertexNormals normals(input.attributes);
+  const bool smooth = options.shading == Shading::smooth && normals.present();
+  ProgressPhase phase(options.progress, "render", input.file_size, "B");
+  input.restart_triangles();
+  constexpr std::size_t kChunk = 65536;
+  std::vector<std::uint64_t> chunk(3 * kChunk);
+  while (std::size_t n = input.triangles->read(chunk.data(), kChunk)) {
+    for (std::size_t t = 0; t < n; ++t) {
+      Vec3d p[3], s[3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = input.positions.get(chunk[3 * t + std::size_t(k)]);
+        s[k] = camera.project(p[k]);
+      }
+      double light[3];
+      if (smooth) {
+        for (int k = 0; k < 3; ++k) {
+          const Vec3d nv = normals.get(input.attributes, chunk[3 * t + std::size_t(k)]);
+          const double l = length(nv);
+          light[k] = l > 0 ? std::fabs(dot(nv, camera.towards)) / l : 0;
+        }
+      } else {
+        const Vec3d nf = cross(p[1] - p[0], p[2] - p[0]);
+        const double l = length(nf);
+        light[0] = light[1] = light[2] = l > 0 ? std::fabs(dot(nf, camera.towards)) / l : 0;
+      }
+      raster.draw(s, light);
+    }
+    st.triangles += n;
+    phase.set(input.triangles->bytes_consumed());
+  }
+  return raster.image(&st.covered_pixels);
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,117 @@
+// `oocsimp render` (src/render): pixel counts against the camera's documented framing,
+// the PNG read back through libpng, and hostile meshes.
+#include <catch2/catch.hpp>
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "oocsimp/render.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+// The PNG at `path`, decoded by libpng as 8-bit RGB.
+Image read_png(const std::string& path) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  REQUIRE(png_image_begin_read_from_file(&png, path.c_str()) != 0);
+  png.format = PNG_FORMAT_RGB;
+  Image out;
+  out.width = png.width;
+  out.height = png.height;
+  out.rgb.resize(PNG_IMAGE_SIZE(png));
+  REQUIRE(png_image_finish_read(&png, nullptr, out.rgb.data(), 0, nullptr) != 0);
+  return out;
+}
+
+std::size_t non_white(const Image& image) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < image.rgb.size(); i += 3)
+    n += !(image.rgb[i] == 255 && image.rgb[i + 1] == 255 && image.rgb[i + 2] == 255);
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("a unit square facing the camera covers its analytic pixel count", "[render][cli]") {
+  ScratchDir d;
+  // The square [0, 1]^2 at z = 0 in 8 x 8 cells, seen from straight above.
+  write_plane_ply(d.file("square.ply"), 8, 0, 0, 0);
+  const CliResult r = run_cli("render --quiet " + q(d.file("square.ply")) + " -o " + q(d.file("s.png")) +
+                              " --size 400x300 --view 0,90");
+  REQUIRE(r.exit_code == 0);
+  const Image image = read_png(d.file("s.png"));
+  CHECK(image.width == 400);
+  CHECK(image.height == 300);
+  // The camera frames the bounding box's sphere: its diameter (the square's diagonal,
+  // sqrt 2) x 1.05 across the shorter side, 300 pixels.
+  const double pixel = 1.05 * std::sqrt(2.0) / 300;
+  const double expected = 1 / (pixel * pixel);
+  CHECK(std::fabs(double(non_white(image)) - expected) <= 0.02 * expected);
+}
+
+TEST_CASE("the library's count of covered pixels is the picture's", "[render]") {
+  ScratchDir d;
+  write_plane_ply(d.file("p.ply"), 30, 0.3, -0.2, 0.1);
+  MeshInput m = open_mesh_input(d.file("p.ply"));
+  RenderOptions o;
+  o.width = 320;
+  o.height = 200;
+  RenderStats st;
+  const Image image = render_mesh(m, o, &st);
+  CHECK(st.triangles == 2 * 30 * 30);
+  CHECK(st.covered_pixels == non_white(image));
+  CHECK(st.covered_pixels > 0);
+  // Seen edge-on, a plane covers (almost) nothing: at most its outline's pixels.
+  RenderOptions side = o;
+  write_plane_ply(d.file("z.ply"), 30, 0, 0, 0);
+  MeshInput z = open_mesh_input(d.file("z.ply"));
+  side.elevation_degrees = 0;
+  RenderStats edge_on;
+  render_mesh(z, side, &edge_on);
+  CHECK(edge_on.covered_pixels == 0);
+}
+
+TEST_CASE("an empty mesh gives the background, degenerate triangles do not crash", "[render][cli]") {
+  ScratchDir d;
+  write_binary_ply(d.file("empty.ply"), {}, {});
+  REQUIRE(run_cli("render --quiet " + q(d.file("empty.ply")) + " -o " + q(d.file("e.png")) + " --size 64x48").exit_code ==
+          0);
+  const Image empty = read_png(d.file("e.png"));
+  CHECK(empty.width == 64);
+  CHECK(non_white(empty) == 0);
+  // Every triangle degenerate: a repeated corner, collinear corners, all at one point.
+  write_binary_ply(d.file("degenerate.ply"), {0, 0, 0, 1, 1, 1, 2, 2, 2, 0, 0, 0, 5, 5, 5},
+                   {0, 1, 2, 0, 0, 1, 0, 3, 0, 4, 4, 4});
+  REQUIRE(run_cli("render --quiet " + q(d.file("degenerate.ply")) + " -o " + q(d.file("g.png"))).exit_code == 0);
+  CHECK(non_white(read_png(d.file("g.png"))) == 0);
+}
+
+TEST_CASE("render refuses bad sizes, views and an output over its input with exit 2", "[render][cli]") {
+  ScratchDir d;
+  write_plane_ply(d.file("p.ply"), 4, 0, 0, 0);
+  for (const char* args : {"--size 0x10", "--size 100", "--size 20000x10", "--view 30", "--view a,b", "--view nan,3",
+                           "--shading phong"}) {
+    INFO(args);
+    const CliResult r = run_cli("render " + q(d.file("p.ply")) + " -o " + q(d.file("o.png")) + " " + args);
+    CHECK(r.exit_code == 2);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(file_exists(d.file("o.png")));
+  }
+  const std::string before = read_file(d.file("p.ply"));
+  CHECK(run_cli("render " + q(d.file("p.ply")) + " -o " + q(d.file("p.ply"))).exit_code == 2);
+  CHECK(read_file(d.file("p.ply")) == before);
+  // A missing input: exit 3 or 4 with one line, and no picture left behind.
+  const CliResult missing = run_cli("render " + q(d.file("none.ply")) + " -o " + q(d.file("m.png")));
+  CHECK(missing.exit_code != 0);
+  CHECK_FALSE(file_exists(d.file("m.png")));
+}
