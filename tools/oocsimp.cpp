@@ -18,6 +18,7 @@
 
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
+#include "oocsimp/lod.hpp"
 #include "oocsimp/grid_spec.hpp"
 #include "oocsimp/memory_tuning.hpp"
 #include "oocsimp/measure.hpp"
@@ -344,6 +345,28 @@ int run_render(const std::string& in, const std::string& out, RenderOptions opti
   return kOk;
 }
 
+// Low & Tan §4: the level for a viewing distance. X defaults to 5, the accurate end of
+// the paper's 5-10 (its experiments show visible loss towards 10 on some models).
+int run_lod_select(const std::string& path, const std::string& distance, const std::string& fov,
+                   const std::string& height, const std::string& factor, bool json) {
+  const std::vector<LodLevel> levels = read_lod_levels(path);
+  const double r = pixel_size_at(positive_number("--distance", distance), positive_number("--fov", fov, 179.999),
+                                 double(whole_number("--height", height, 1, 1u << 20)));
+  const double x = factor.empty() ? 5.0 : positive_number("--factor", factor);
+  if (x < 1) bad_value("--factor", factor, "a number of at least 1");
+  const LodChoice c = choose_lod(levels, r, x);
+  const LodLevel& l = levels[c.level];
+  if (json) {
+    std::puts(lod_choice_json(levels, c, r, x).c_str());
+    return kOk;
+  }
+  std::printf("level      %zu: %s (cell %.6g)%s\n", c.level, l.file.c_str(), l.cell,
+              c.finest_too_coarse ? ", the finest there is: its cell spans more than the factor's pixels" : "");
+  std::printf("pixel      %.6g model units (R = 2 D tan(FOV/2) / H); cells up to %.6g (factor %g)\n", r, x * r, x);
+  std::printf("thick line T / R = T x %.6g pixels for an edge of thickness T\n", 1 / r);
+  return kOk;
+}
+
 int run_measure(const std::string& a, const std::string& b, MeasureOptions options, bool json, bool quiet) {
   ProgressReporter progress(quiet);
   options.progress = progress.callback();
@@ -574,6 +597,17 @@ int main(int argc, char** argv) {
   measure->add_flag("--json", json, "Print the report as JSON");
   measure->add_flag("--quiet", quiet, "No progress");
 
+  std::string lod_distance, lod_fov, lod_height, lod_factor;
+  bool lod_json = false;
+  CLI::App* lod_select =
+      app.add_subcommand("lod-select", "Pick the level of detail for a viewing distance (Low & Tan §4)");
+  lod_select->add_option("lods", in, "OUT.lods.json, written by simplify --lods")->required();
+  lod_select->add_option("--distance", lod_distance, "Distance from the camera, model units")->required();
+  lod_select->add_option("--fov", lod_fov, "Vertical field of view, degrees")->required();
+  lod_select->add_option("--height", lod_height, "Image height, pixels")->required();
+  lod_select->add_option("--factor", lod_factor, "Pixels a cell may span, at least 1 (default 5)");
+  lod_select->add_flag("--json", lod_json, "Print the choice as JSON");
+
   std::string render_size, render_view, render_shading = "flat";
   CLI::App* render = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
   render->add_option("input", in, "Mesh file (PLY, OBJ, STL, optionally .zst)")->required();
@@ -603,6 +637,7 @@ int main(int argc, char** argv) {
   try {
     if (*simplify) return run_simplify(sa);
     if (*info) return run_info(in, tmp);
+    if (*lod_select) return run_lod_select(in, lod_distance, lod_fov, lod_height, lod_factor, lod_json);
     if (*render) {
       RenderOptions o;
       parse_render_args(render_size, render_view, &o);
