@@ -346,7 +346,7 @@ int run_render(const std::string& in, const std::string& out, RenderOptions opti
 }
 
 // Low & Tan §4: the level for a viewing distance. X defaults to 5, the accurate end of
-// the paper's 5-10 (its experiments show visible loss towards 10 on some models).
+// the paper's 5-10 (a higher X trades visual accuracy for speed).
 int run_lod_select(const std::string& path, const std::string& distance, const std::string& fov,
                    const std::string& height, const std::string& factor, bool json) {
   const std::vector<LodLevel> levels = read_lod_levels(path);
