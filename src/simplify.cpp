@@ -190,6 +190,7 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t1 = now_seconds();
   st.phases.push_back({"open", t1 - t0});
   SimplifiedMesh mesh = simplify(input, options, &st);
+  if (outputs.normals) add_vertex_normals(&mesh);
   double t2 = now_seconds();
   {
     ProgressPhase phase(options.progress, "write", 0, "B");

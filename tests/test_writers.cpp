@@ -451,3 +451,44 @@ TEST_CASE("text coordinates: the shortest float for float output, the shortest d
   CHECK(d.info.double_precision);
   CHECK(d.positions[0] == 451234.5673829);
 }
+
+TEST_CASE("simplify writes area-weighted unit normals per vertex with normals asked", "[writers][cli]") {
+  oocsimp_test::ScratchDir d;
+  auto normals_of = [](const std::string& path) {
+    oocsimp::MeshInput m = oocsimp::open_mesh_input(path);
+    int at[3] = {-1, -1, -1};
+    for (std::size_t k = 0; k < m.attributes.size(); ++k)
+      for (int j = 0; j < 3; ++j)
+        if (m.attributes.attributes[k].name == std::string("n") + "xyz"[j]) at[j] = int(k);
+    REQUIRE(at[0] >= 0);
+    REQUIRE(at[1] >= 0);
+    REQUIRE(at[2] >= 0);
+    std::vector<std::array<double, 6>> out;  // position, normal
+    for (std::uint64_t v = 0; v < m.positions.count; ++v) {
+      const oocsimp::Vec3d p = m.positions.get(v);
+      out.push_back({p.x, p.y, p.z, m.attributes.get(v, std::size_t(at[0])), m.attributes.get(v, std::size_t(at[1])),
+                     m.attributes.get(v, std::size_t(at[2]))});
+    }
+    return out;
+  };
+  // The octahedron: each corner has four faces of equal area around its axis, so its
+  // normal is the axis itself. (A target at its own count gives it back.)
+  oocsimp_test::write_binary_ply(d.file("oct.ply"), {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1},
+                                 {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5});
+  REQUIRE(oocsimp_test::run_cli("simplify --quiet '" + d.file("oct.ply") + "' -o '" + d.file("o.ply") +
+                                "' --target-tris 8 --normals")
+              .exit_code == 0);
+  for (const auto& v : normals_of(d.file("o.ply")))
+    for (int k = 0; k < 3; ++k) CHECK(v[3 + std::size_t(k)] == Approx(v[std::size_t(k)]).margin(1e-7));
+  // A plane z = 0.3 x - 0.2 y + 0.1, simplified: every normal is (-0.3, 0.2, 1) / |.|.
+  oocsimp_test::write_plane_ply(d.file("plane.ply"), 40, 0.3, -0.2, 0.1);
+  REQUIRE(oocsimp_test::run_cli("simplify --quiet '" + d.file("plane.ply") + "' -o '" + d.file("p.ply") +
+                                "' --target-tris 100 --normals")
+              .exit_code == 0);
+  const double l = std::sqrt(0.09 + 0.04 + 1);
+  for (const auto& v : normals_of(d.file("p.ply"))) {
+    CHECK(v[3] == Approx(-0.3 / l).margin(1e-6));
+    CHECK(v[4] == Approx(0.2 / l).margin(1e-6));
+    CHECK(v[5] == Approx(1 / l).margin(1e-6));
+  }
+}

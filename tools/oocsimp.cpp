@@ -528,6 +528,11 @@ int main(int argc, char** argv) {
   simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
   simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY or STL instead of binary")->group(common);
   simplify
+      ->add_flag(
+          "--normals", sa.outputs.normals,
+          "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)")
+      ->group(common);
+  simplify
       ->add_option("--precision", sa.precision,
                    "Output coordinates: float, double or auto (double when the input holds more than float "
                    "precision, the default)")

@@ -202,6 +202,14 @@ struct SimplifiedMesh {
   ScalarType precision = ScalarType::f32;
 };
 
+/// Sets float attributes nx, ny, nz on every vertex: the unit sum of the normals of its
+/// triangles, each weighted by its area (the cross product's length), so that a thin
+/// sliver does not turn a vertex; (0, 0, 0) for a vertex of no area. Carried nx, ny, nz
+/// are replaced (they were clusters' means); other attributes stay, nx, ny, nz last.
+/// For thick edges (Low & Tan 1997 §3.3.2) a renderer computes a dynamic normal
+/// instead: (V1 - C) x (V2 - C) x (V2 - V1), C the camera.
+void add_vertex_normals(SimplifiedMesh* mesh);
+
 /// A quarter of physical memory: the default working-set budget.
 std::uint64_t default_memory_budget();
 
@@ -235,6 +243,7 @@ struct OutputOptions {
   std::string stats;           ///< the stats JSON; empty = none, "-" = stdout
   bool ascii = false;          ///< ascii PLY
   bool replace_input = false;  ///< the mesh may be the input (--force): replaced only after success
+  bool normals = false;        ///< write per-vertex normals (add_vertex_normals)
 };
 
 /// Opens `input_path`, simplifies it and writes `outputs` (see OutputFile: regular files

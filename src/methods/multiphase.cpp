@@ -238,12 +238,15 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
             ? std::max({std::min(k * double(estimate), budget_intermediate), double(estimate), kLeastIntermediate}) *
                   finer
             : double(estimate);
-    if (refining && want >= double(faces)) return collapse_whole(input, o, origin, stats);
+    stats->phases.resize(phases_before);  // only the last attempt's phases
+    stats->warnings.resize(warnings_before);
+    if (refining && want >= double(faces)) {
+      stats->phase1_peak_anon_bytes = 0;
+      return collapse_whole(input, o, origin, stats);
+    }
     o.sizing = CellSizing();
     o.sizing.ratio = want / double(std::max<std::uint64_t>(faces, 1));
     const bool finest = attempt == 2;
-    stats->phases.resize(phases_before);  // only the last attempt's phases
-    stats->warnings.resize(warnings_before);
     const GridSpec grid = choose_grid(input, o.sizing, o.threads);
     stats->cell_size = grid.cell;
     for (int a = 0; a < 3; ++a) stats->grid_dims[a] = grid.dims[a];
