@@ -127,6 +127,8 @@ class CollapseState {
   std::uint64_t triangle_count() const { return live_faces_; }
   std::uint64_t non_manifold_count() const;
   bool locked(std::uint32_t v) const { return locked_[v] != 0; }
+  /// Drops the needle guard (CollapseSettings::min_compactness) from here on.
+  void drop_needle_guard() { min_compactness_ = 0; }
   /// The mesh as it is (faces dead or alive), with the boundary planes in its quadrics.
   const QuadricMesh& mesh() const { return mesh_; }
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
