@@ -119,35 +119,18 @@ std::vector<std::size_t> carried_attributes(const std::vector<AttributeCandidate
 }
 
 void store_attribute(double value, AttributeType type, unsigned char* out) {
-  auto put_int = [&](auto tag) {
+  with_stored_type(type, [&](auto tag) {
     using T = decltype(tag);
-    double v = std::isnan(value) ? 0.0 : std::nearbyint(value);
-    v = std::min(std::max(v, double(std::numeric_limits<T>::min())), double(std::numeric_limits<T>::max()));
-    T t = T(v);
-    std::memcpy(out, &t, sizeof t);
-  };
-  switch (type) {
-    case AttributeType::i8:
-      return put_int(std::int8_t());
-    case AttributeType::u8:
-      return put_int(std::uint8_t());
-    case AttributeType::i16:
-      return put_int(std::int16_t());
-    case AttributeType::u16:
-      return put_int(std::uint16_t());
-    case AttributeType::i32:
-      return put_int(std::int32_t());
-    case AttributeType::u32:
-      return put_int(std::uint32_t());
-    case AttributeType::f32: {
-      float f = float(value);
-      std::memcpy(out, &f, sizeof f);
-      return;
+    T t;
+    if constexpr (std::is_floating_point_v<T>) {
+      t = T(value);
+    } else {  // rounded and clamped into the type's range; NaN as 0
+      double v = std::isnan(value) ? 0.0 : std::nearbyint(value);
+      v = std::min(std::max(v, double(std::numeric_limits<T>::min())), double(std::numeric_limits<T>::max()));
+      t = T(v);
     }
-    case AttributeType::f64:
-      std::memcpy(out, &value, sizeof value);
-      return;
-  }
+    std::memcpy(out, &t, sizeof t);
+  });
 }
 
 AttributeArrayBuilder::AttributeArrayBuilder(const std::string& temp_dir, const std::string& source_path,

@@ -572,17 +572,9 @@ void CollapseState::compact_adjacency() {
   compact_at_ = 3 * faces_.size() + 1024;
 }
 
-QuadricMesh CollapseState::release() {
+QuadricMesh CollapseState::release_vertices() {
   QuadricMesh out = std::move(mesh_);
-  std::size_t live = 0;
-  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
-    if (face_dead_[f]) continue;
-    for (int k = 0; k < 3; ++k) out.triangles[3 * live + std::size_t(k)] = out.triangles[3 * f + std::size_t(k)];
-    first_normal_[live++] = first_normal_[f];
-  }
-  out.triangles.resize(3 * live);
-  first_normal_.resize(live);
-  out.face_normals = std::move(first_normal_);
+  out.triangles.clear();
   return out;
 }
 

@@ -139,9 +139,9 @@ class CollapseState {
   /// The live faces, their vertices numbered by first use, in face order, with their
   /// input normals; `sources` (if given) gets each result vertex's index here.
   QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
-  /// The mesh, moved out (the state is spent): every vertex in its place, the faces as
-  /// they are, their input normals in face_normals.
-  QuadricMesh release();
+  /// The vertices, moved out (the state is spent): positions, quadrics and attributes
+  /// of every vertex in its place; no faces.
+  QuadricMesh release_vertices();
 
  private:
   template <class F>

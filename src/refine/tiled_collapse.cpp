@@ -153,10 +153,8 @@ QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& setting
     std::vector<std::uint32_t>().swap(faces_of[t]);
   });
   // The tiles' faces, in tile order, over the whole mesh's vertices.
-  QuadricMesh out = state.release();
+  QuadricMesh out = state.release_vertices();
   const std::size_t k = out.attribute_count;
-  out.triangles.clear();
-  out.face_normals.clear();
   for (const TileResult& r : results) {
     for (std::size_t i = 0; i < r.global.size(); ++i) {
       const std::uint32_t g = r.global[i];
