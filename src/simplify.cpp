@@ -88,6 +88,11 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
     throw UsageError("options.memory_budget " + std::to_string(options.memory_budget >> 20) +
                      " MiB is below the minimum of " + std::to_string(kMinimumBudget >> 20) + " MiB");
+  // Thick edges come from the uniform grid's face pass; the floating method and the
+  // collapse to a target do not produce them yet, and saying so beats dropping them.
+  if (options.thick_edges && (options.method != ClusterMethod::uniform || options.target.given()))
+    throw UsageError("options.thick_edges needs options.method uniform without a target (the floating method and "
+                     "exact targets do not make thick edges yet)");
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   check_float_range(input);
@@ -196,7 +201,18 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
     ProgressPhase phase(options.progress, "write", 0, "B");
     if (!format_keeps_attributes(format, mesh.attributes))
       st.warnings.push_back(attributes_not_written(outputs.mesh, format, mesh.attributes));
-    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes);
+    if (!mesh.primitives.empty() && !format_keeps_primitives(format))
+      st.warnings.push_back(outputs.mesh + ": " +
+                            (format == MeshFormat::obj ? std::string("OBJ's l and p lines have no thickness; ") +
+                                                             "the thick edges and points are written without it"
+                                                       : std::string("STL and OFF have no edges or points; ") +
+                                                             std::to_string(mesh.primitives.edge_count()) +
+                                                             " thick edges and " +
+                                                             std::to_string(mesh.primitives.point_count()) +
+                                                             " points not written") +
+                            " (write .ply to keep them)");
+    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes,
+               &mesh.primitives);
   }
   double t3 = now_seconds();
   st.phases.push_back({"write", t3 - t2});

@@ -354,7 +354,7 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
       REQUIRE(r.cli.exit_code == 0);
       CHECK(r.output.triangle_count() == 0);
       CHECK(r.output.vertex_count() == 0);
-      CHECK_THAT(r.stats, Contains("\"output\": {\"vertices\": 0, \"triangles\": 0}"));
+      CHECK_THAT(r.stats, Contains("\"output\": {\"vertices\": 0, \"triangles\": 0, \"edges\": 0, \"points\": 0}"));
     }
   for (const char* name : {"zero-bytes.ply", "zero-bytes.stl"}) {
     CAPTURE(name);

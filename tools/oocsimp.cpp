@@ -51,6 +51,8 @@ std::string with_flags(std::string message) {
       {"options.target.ratio", "--target-ratio"},
       {"options.target.max_error", "--max-error"},
       {"options.target.intermediate_factor", "--intermediate-factor"},
+      {"options.thick_edges", "--thick-edges"},
+      {"options.method", "--method"},
       {"options.triangles", "--tris"},
       {"options.samples", "--samples"},
       {"outputs.replace_input", "--force"},
@@ -217,16 +219,19 @@ int run_simplify(SimplifyArgs& a) {
       std::snprintf(buf, sizeof buf, "%s%s %.3f", phases.empty() ? "" : ", ", p.name.c_str(), p.seconds);
       phases += buf;
     }
+    const std::string thick = a.options.thick_edges ? ", " + std::to_string(stats.output_edges) + " edges, " +
+                                                          std::to_string(stats.output_points) + " points"
+                                                    : std::string();
     double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
     std::fprintf(to,
                  "input   %" PRIu64 " vertices, %" PRIu64
                  " triangles\n"
                  "output  %" PRIu64 " vertices, %" PRIu64
-                 " triangles (%s, grid %ux%ux%u, cell %.6g)\n"
+                 " triangles%s (%s, grid %ux%ux%u, cell %.6g)\n"
                  "time    %.3f s (%s): %.2f Mtri/s\n"
                  "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                  stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-                 method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
+                 thick.c_str(), method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
                  stats.cell_size, stats.seconds_total, phases.c_str(), mtri, double(stats.peak_rss_bytes) / 1048576.0,
                  double(stats.peak_anon_bytes) / 1048576.0);
   }
@@ -235,6 +240,33 @@ int run_simplify(SimplifyArgs& a) {
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
   for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
   return kOk;
+}
+
+// The thick edges and points of `m` (read through its triangle stream): counts and
+// the range and mean of their thicknesses.
+void print_thick_primitives(MeshInput& m) {
+  struct Tally {
+    std::uint64_t count = 0;
+    double least = HUGE_VAL, most = 0, sum = 0;
+  } edges, points;
+  m.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+      Tally& t = p[k].a == p[k].b ? points : edges;
+      ++t.count;
+      t.least = std::min(t.least, double(p[k].thickness));
+      t.most = std::max(t.most, double(p[k].thickness));
+      t.sum += p[k].thickness;
+    }
+  });
+  std::vector<std::uint64_t> chunk(3 * 65536);
+  while (m.triangles->read(chunk.data(), 65536) > 0) {
+  }
+  for (const auto& [name, t] : {std::pair<const char*, const Tally&>{"edges", edges}, {"points", points}})
+    if (t.count > 0 && t.most == 0)
+      std::printf("%-9s %" PRIu64 " (no thickness)\n", name, t.count);
+    else if (t.count > 0)
+      std::printf("%-9s %" PRIu64 " (thickness %.6g to %.6g, mean %.6g)\n", name, t.count, t.least, t.most,
+                  t.sum / double(t.count));
 }
 
 int run_info(const std::string& in, const std::string& tmp) {
@@ -248,6 +280,7 @@ int run_info(const std::string& in, const std::string& tmp) {
   if (i.unwelded_vertex_count) std::printf(" (welded from %" PRIu64 " stored)", i.unwelded_vertex_count);
   std::printf("\n");
   std::printf("faces     %" PRIu64 "\n", i.face_count);
+  if (i.edge_count > 0 || i.point_count > 0) print_thick_primitives(m);
   for (const auto& e : i.elements) std::printf("element   %s\n", e.c_str());
   for (const auto& c : i.comments) std::printf("header    %s\n", c.c_str());
   std::printf("positions %s\n", i.positions_in_place ? "read in place (mmap)" : "converted to a temporary array");
@@ -295,8 +328,10 @@ int run_generate(const std::string& tris_text, const std::string& shape, const s
     o.shape = SyntheticShape::terrain;
   else if (shape == "parts")
     o.shape = SyntheticShape::parts;
+  else if (shape == "branches")
+    o.shape = SyntheticShape::branches;
   else
-    throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain or parts)");
+    throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain, parts or branches)");
   check_generate_output(out);
   ProgressReporter progress(quiet);
   o.progress = progress.callback();
@@ -533,6 +568,11 @@ int main(int argc, char** argv) {
           "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)")
       ->group(common);
   simplify
+      ->add_flag("--thick-edges", sa.options.thick_edges,
+                 "Uniform: keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; "
+                 "PLY element edge and point with a thickness, OBJ l and p lines)")
+      ->group(common);
+  simplify
       ->add_option("--precision", sa.precision,
                    "Output coordinates: float, double or auto (double when the input holds more than float "
                    "precision, the default)")
@@ -578,8 +618,8 @@ int main(int argc, char** argv) {
   std::string tris_text, seed_text = "1";
   CLI::App* generate = app.add_subcommand("generate", "Write a synthetic dense mesh, streamed in O(1) memory");
   generate->add_option("--tris", tris_text, "Number of triangles (approximately), at least 1")->required();
-  generate->add_option("--shape", shape, "Shape (default sphere)")
-      ->check(CLI::IsMember({"sphere", "terrain", "parts"}));
+  generate->add_option("--shape", shape, "Shape (default sphere; branches: a leafless tree of thin tubes)")
+      ->check(CLI::IsMember({"sphere", "terrain", "parts", "branches"}));
   generate->add_option("--seed", seed_text, "Random seed (default 1)");
   generate->add_option("-o,--output", out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
   generate->add_flag("--ascii", ascii, "Write ascii PLY");

@@ -9,7 +9,14 @@
 
 namespace oocsimp {
 
-enum class SyntheticShape { sphere, terrain, parts };
+enum class SyntheticShape { sphere, terrain, parts, branches };
+
+/// The branches shape's dimensions (model units): the trunk's radius, the thin
+/// branches' radius and count, the buds' radius.
+constexpr double kBranchTrunkRadius = 0.035;
+constexpr double kBranchRadius = 0.005;
+constexpr int kBranchCount = 24;
+constexpr double kBudRadius = 0.004;
 
 struct GenerateOptions {
   std::uint64_t triangles = 1000000;  ///< target; the result is within 2% for 10^4 and more
@@ -33,7 +40,13 @@ struct GenerateResult {
 ///  - sphere: a closed genus-0 surface (latitude-longitude tessellation) displaced by
 ///    a sum of seeded sinusoids of several frequencies;
 ///  - terrain: an open height field over the unit square with a boundary;
-///  - parts: intersecting boxes and cylinders with sharp edges and small features.
+///  - parts: intersecting boxes and cylinders with sharp edges and small features;
+///  - branches: a leafless tree (Low & Tan 1997, Plate 3) in the unit cube: a trunk
+///    (a closed cylinder of radius kBranchTrunkRadius along z from (0.5, 0.5, 0) up
+///    0.45), kBranchCount closed cylinders of radius kBranchRadius and length 0.25 to
+///    0.4 leaving its axis upwards, and past every other tip, 0.02 beyond it, a closed
+///    ball of radius kBudRadius: thin parts that vertex clustering reduces to edges and
+///    points. At least 2000 triangles' worth, however few are asked.
 /// With `attributes`, each vertex follows x, y, z with
 ///  - uchar red, green, blue: a linear function of position over the bounding box
 ///    [lo, hi] of the written (float) positions: red = floor(255 (x - lo_x) /

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +45,9 @@ struct MeshInfo {
   bool compressed = false;         ///< read through zstd
   std::uint64_t vertex_count = 0;  ///< after welding, when welded
   std::uint64_t face_count = 0;    ///< faces as stored (polygons); STL: triangles
+  /// Thick edges and points (see LinePrimitive): PLY "edge" and "point" records, OBJ
+  /// "l" and "p" lines.
+  std::uint64_t edge_count = 0, point_count = 0;
   /// Vertices as stored (STL: 3 per triangle) when they were welded (STL always,
   /// PLY and OBJ with OpenOptions::weld); 0 when not welded.
   std::uint64_t unwelded_vertex_count = 0;
@@ -77,6 +81,17 @@ struct SkippedFaces {
   std::uint64_t total() const { return short_faces + non_finite + repeated_index; }
 };
 
+/// A thick edge or point read from a file (PLY elements "edge" and "point", OBJ "l"
+/// and "p" lines; see ThickPrimitives): vertices a and b, equal for a point, and the
+/// thickness in model units, 0 where the file gives none (OBJ).
+struct LinePrimitive {
+  std::uint64_t a = 0, b = 0;
+  float thickness = 0;
+};
+
+/// Hears the thick edges and points a TriangleStream meets, a batch at a time.
+using PrimitiveSink = std::function<void(const LinePrimitive* primitives, std::size_t count)>;
+
 /// A sequential source of triangles as vertex-index triples, in file order.
 ///
 /// MeshInput::triangles only yields triangles with three distinct vertex indices whose
@@ -95,6 +110,11 @@ class TriangleStream {
   virtual std::uint64_t bytes_consumed() const = 0;
   /// Faces left out so far, by reason.
   virtual SkippedFaces skipped() const { return {}; }
+  /// Where the thick edges and points go that reading the triangles meets (a PLY
+  /// file's "edge" and "point" elements after its faces, an OBJ file's "l" and "p"
+  /// lines among them); their indices are validated like the faces'. Set before the
+  /// first read(); without a sink they are skipped. A polyline "l a b c" is two edges.
+  virtual void set_primitive_sink(PrimitiveSink sink) { (void)sink; }
 };
 
 /// An opened mesh: info, positions and a triangle stream. Owns the mappings and

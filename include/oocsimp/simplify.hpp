@@ -120,6 +120,9 @@ struct SimplifyOptions {
   Precision precision = Precision::automatic;  ///< of the output positions
   /// Which vertex attributes are carried to the output (all by default).
   AttributeSelection attributes;
+  /// Uniform: keep what clustering reduces below a triangle as thick edges and points
+  /// (Low & Tan 1997 §3.3; SimplifiedMesh::primitives) instead of dropping it.
+  bool thick_edges = false;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).
   ProgressCallback progress;
   /// Floating: called between the phases of a run, whose tiles' buffers were just
@@ -146,6 +149,7 @@ struct SimplifyStats {
   std::uint64_t occupied_cells = 0;
   std::uint64_t output_vertices = 0;
   std::uint64_t output_triangles = 0;
+  std::uint64_t output_edges = 0, output_points = 0;  ///< thick edges and points (SimplifyOptions::thick_edges)
   double cell_size = 0;
   std::uint32_t grid_dims[3] = {0, 0, 0};
   /// Wall seconds of each phase in order: "open" (header, positions, bounding box), the
@@ -197,6 +201,9 @@ struct SimplifiedMesh {
   /// The carried vertex attributes (MeshInput::attributes): per output vertex the
   /// area-weighted mean of its cluster's values (src/cluster/attribute_sums.hpp).
   AttributeValues attributes;
+  /// Thick edges and points (SimplifyOptions::thick_edges); their vertices follow
+  /// the triangles' in the numbering.
+  ThickPrimitives primitives;
   /// The precision chosen for the output: with f32 every position is a float value
   /// (rounded from the double the clustering computed), and writers store it as float.
   ScalarType precision = ScalarType::f32;

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -28,6 +29,7 @@
 
 #include "cluster/attribute_sums.hpp"
 #include "cluster/plane_quadric.hpp"
+#include "cluster/thick_primitives.hpp"
 #include "cluster/triangle_set.hpp"
 #include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
@@ -46,6 +48,7 @@ namespace {
 
 struct VertexSum {
   Vec3d sum;
+  double squares = 0;  // sum of |p|^2, for the width of a thick point (point_width)
   std::uint64_t n = 0;
 };
 
@@ -77,6 +80,33 @@ struct VertexWeights {
   std::uint64_t bytes() const { return slots.capacity() * sizeof(Slot); }
 };
 
+// With thick edges (Low & Tan 1997 §3.3): per cluster pair the moments of the
+// corners of the triangles that collapse to an edge between them (EdgeMoments, `a` in
+// the lower-numbered cell, each relative to its cell's corner), and the cells some
+// triangle collapsed into (a point there).
+struct ThickSums {
+  FlatHashMap<std::uint64_t, EdgeMoments> edges{64};
+  std::vector<std::uint8_t> collapsed;  // per cell
+
+  void clear() {
+    edges.clear();
+    std::fill(collapsed.begin(), collapsed.end(), 0);
+  }
+  void mark_point(std::uint32_t cell) {
+    if (cell >= collapsed.size()) collapsed.resize(std::size_t(cell) + 1024, 0);
+    collapsed[cell] = 1;
+  }
+  // Adds the triangle's corners u[k] (relative to their cells' corners) in cells c[k]
+  // to the edge between its two cells.
+  void add_edge(const std::uint32_t c[3], const Vec3d u[3]) {
+    const std::uint32_t lo = std::min({c[0], c[1], c[2]});
+    const std::uint32_t hi = std::max({c[0], c[1], c[2]});
+    EdgeMoments& e = edges.value(edges.insert(cluster_pair_key(lo, hi)));
+    for (int k = 0; k < 3; ++k) (c[k] == lo ? e.a : e.b).add(u[k]);
+  }
+  std::uint64_t bytes() const { return edges.bytes() + collapsed.capacity(); }
+};
+
 struct FaceChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
   std::size_t count = 0;
@@ -84,6 +114,7 @@ struct FaceChunk {
   std::vector<std::uint32_t> kept;     // local cell indices, 3 per surviving triangle
   std::vector<double> attribute_sums;  // UniformAttributeSums::width() per local cell
   VertexWeights vertex_weights;
+  ThickSums thick;  // with thick edges: over local cells
 };
 
 // The most vertex indices a face chunk's weights window spans (16 bytes each): a
@@ -357,6 +388,7 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           Vec3d p = grid.relative(q);
           VertexSum& s = c.cells.value(index(grid.key_relative(p)));
           s.sum += p;
+          s.squares += dot(p, p);
           ++s.n;
         }
       },
@@ -365,6 +397,7 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
           VertexSum& dst = cells.value(cells.insert(c.cells.key(i))).vertices;
           const VertexSum& src = c.cells.value(i);
           dst.sum += src.sum;
+          dst.squares += src.squares;
           dst.n += src.n;
         }
         chunks.saw(c.cells.bytes(), c.cells.size());
@@ -374,9 +407,24 @@ void accumulate_vertices(const PositionArray& positions, const GridSpec& grid, C
       });
 }
 
+// Adds a chunk's thick sums (over its local cells) to the run's (over global cells).
+void merge_thick_sums(const ThickSums& chunk, const std::vector<std::uint32_t>& to_global, ThickSums* run) {
+  for (std::size_t i = 0; i < chunk.edges.size(); ++i) {
+    const std::uint64_t key = chunk.edges.key(i);
+    const std::uint32_t a = to_global[key >> 32], b = to_global[key & 0xFFFFFFFFu];
+    EdgeMoments sums = chunk.edges.value(i);
+    if (a > b) std::swap(sums.a, sums.b);  // `a` goes with the lower global cell
+    run->edges.value(run->edges.insert(cluster_pair_key(a, b))).add(sums);
+  }
+  const std::size_t cells = std::min(chunk.collapsed.size(), to_global.size());
+  for (std::size_t i = 0; i < cells; ++i)
+    if (chunk.collapsed[i]) run->mark_point(to_global[i]);
+}
+
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
                           const UniformAttributeSums& attributes, std::vector<double>& attribute_sums,
-                          const TableBudget& budget, std::uint64_t* triangle_count, const ProgressCallback& progress) {
+                          ThickSums* thick, const TableBudget& budget, std::uint64_t* triangle_count,
+                          const ProgressCallback& progress) {
   const bool with_attributes = !attributes.empty();
   const PositionArray& positions = input.positions;
   TriangleStream& stream = *input.triangles;
@@ -395,6 +443,7 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         c.cells.clear();
         c.kept.clear();
         c.attribute_sums.clear();
+        if (thick) c.thick.clear();
         CellIndexCache<Quadric> index(c.cells);
         // With attributes, a window over the chunk's vertex indices: the weights of the
         // corners of each vertex, added once per vertex after the triangles.
@@ -427,8 +476,20 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
             i2 = index(k2);
             c.cells.value(i2).add(q);
           }
-          // Only a triangle spanning three cells survives the collapse.
-          if (k0 != k1 && k1 != k2 && k0 != k2) c.kept.insert(c.kept.end(), {i0, i1, i2});
+          // Only a triangle spanning three cells survives the collapse; with thick
+          // edges, one over two cells leaves an edge and one in a single cell a point.
+          const bool three = k0 != k1 && k1 != k2 && k0 != k2;
+          if (three) c.kept.insert(c.kept.end(), {i0, i1, i2});
+          if (thick && !three) {
+            if (k0 == k1 && k1 == k2) {
+              c.thick.mark_point(i0);
+            } else {
+              const std::uint32_t cell_of[3] = {i0, i1, k2 == k0 ? i0 : k2 == k1 ? i1 : i2};
+              const Vec3d u[3] = {p0 - grid.cell_min_relative(k0), p1 - grid.cell_min_relative(k1),
+                                  p2 - grid.cell_min_relative(k2)};
+              c.thick.add_edge(cell_of, u);
+            }
+          }
           if (with_attributes) {
             // Each corner adds its values with a third of the area to its own cell:
             // through its vertex's slot in the window, or directly.
@@ -469,16 +530,46 @@ void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRe
         }
         for (std::size_t t = 0; t < c.kept.size(); t += 3)
           kept.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
+        if (thick) merge_thick_sums(c.thick, to_global, thick);
         chunks.saw(c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) +
                        c.kept.capacity() * sizeof(std::uint32_t) + c.attribute_sums.capacity() * sizeof(double) +
-                       c.vertex_weights.bytes(),
+                       c.vertex_weights.bytes() + c.thick.bytes(),
                    c.kept.size() / 3);
-        budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes(),
+        const std::uint64_t thick_bytes = thick ? thick->bytes() : 0;
+        budget.check(cells.bytes() + kept.bytes_with(chunks.next_entries()) + chunks.bytes() + thick_bytes,
                      std::to_string(cells.size()) + " occupied cells and " + std::to_string(kept.size()) +
-                         " kept triangles after " + std::to_string(total) + " triangles");
+                         " kept triangles" + (thick ? " and " + std::to_string(thick->edges.size()) + " edges" : "") +
+                         " after " + std::to_string(total) + " triangles");
         phase.set(stream.bytes_consumed());
       });
   *triangle_count = total;
+}
+
+// The thick edges and points that survive (select_thick_primitives), over the
+// cells' numbers: thicknesses from the edges' corner moments (relative to each cell's
+// corner) and the points' widths from their cells' vertex sums.
+ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept, const CellMap<CellRecord>& cells,
+                                 const GridSpec& grid) {
+  std::vector<std::uint32_t> triangles(3 * kept.size());
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) triangles[3 * t + k] = kept[t][k];
+  std::vector<EdgeCandidate> edges(thick.edges.size());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const std::uint64_t key = thick.edges.key(i);
+    EdgeCandidate& e = edges[i];
+    e.a = std::uint32_t(key >> 32);
+    e.b = std::uint32_t(key & 0xFFFFFFFFu);
+    const EdgeMoments& m = thick.edges.value(i);
+    e.thickness = float(edge_thickness(m.a, grid.cell_min_relative(cells.key(e.a)), m.b,
+                                       grid.cell_min_relative(cells.key(e.b))));
+  }
+  std::vector<std::pair<std::uint32_t, float>> points;
+  for (std::size_t c = 0; c < thick.collapsed.size() && c < cells.size(); ++c)
+    if (thick.collapsed[c]) {
+      const VertexSum& v = cells.value(c).vertices;
+      points.push_back({std::uint32_t(c), float(point_width(double(v.n), v.sum, v.squares))});
+    }
+  return select_thick_primitives(triangles, edges, points, cells.size());
 }
 
 }  // namespace
@@ -511,7 +602,13 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                                             std::to_string(attributes.layout().count()) + " attributes each");
     resize_zeroed(attribute_sums, cells.size() * attributes.width());
   }
-  accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, budget, &triangles, progress);
+  std::unique_ptr<ThickSums> thick;
+  if (options.thick_edges) {
+    thick = std::make_unique<ThickSums>();
+    thick->collapsed.assign(cells.size(), 0);
+  }
+  accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, thick.get(), budget, &triangles,
+                       progress);
   double t2 = now_seconds();
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
@@ -549,6 +646,20 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
       }
       mesh.triangles[3 * t + k] = out_index[c];
     }
+  if (thick) {
+    // Their clusters not yet numbered follow the triangles'.
+    mesh.primitives = thick_primitives(*thick, kept, cells, grid);
+    thick.reset();
+    auto number = [&](std::uint32_t& c) {
+      if (out_index[c] == kUnused) {
+        out_index[c] = std::uint32_t(order.size());
+        order.push_back(c);
+      }
+      c = out_index[c];
+    };
+    for (std::uint32_t& c : mesh.primitives.edges) number(c);
+    for (std::uint32_t& c : mesh.primitives.points) number(c);
+  }
   std::vector<std::uint32_t>().swap(out_index);
   kept = TriangleSet();
   const std::size_t attribute_count = attributes.layout().count();
@@ -588,6 +699,8 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     stats->occupied_cells = cells.size();
     stats->output_vertices = order.size();
     stats->output_triangles = kept_count;
+    stats->output_edges = mesh.primitives.edge_count();
+    stats->output_points = mesh.primitives.point_count();
     stats->phases.push_back({"vertices", t1 - t0});
     stats->phases.push_back({"faces", t2 - t1});
     stats->phases.push_back({"solve", t3 - t2});

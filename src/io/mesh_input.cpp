@@ -54,6 +54,7 @@ class CheckedTriangleStream : public TriangleStream {
     }
   }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
+  void set_primitive_sink(PrimitiveSink sink) override { inner_->set_primitive_sink(std::move(sink)); }
   SkippedFaces skipped() const override {
     SkippedFaces s = inner_->skipped();
     s.non_finite += non_finite_;

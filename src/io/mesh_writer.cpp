@@ -53,6 +53,9 @@ struct MeshArrays {
   const std::vector<std::uint32_t>& tri;
   ScalarType precision;
   const AttributeValues* attributes;  // null or empty: positions only
+  const ThickPrimitives* primitives;  // null or empty: triangles only
+  std::size_t edges() const { return primitives ? primitives->edge_count() : 0; }
+  std::size_t points() const { return primitives ? primitives->point_count() : 0; }
   std::size_t attribute_count() const { return attributes ? attributes->attributes.size() : 0; }
   double attribute(std::size_t i, std::size_t k) const { return attributes->values[attribute_count() * i + k]; }
   // " a b c" of vertex i's attributes, integers as integers.
@@ -138,7 +141,61 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
     out.text() += '\n';
     out.maybe_flush();
   }
+  for (std::size_t e = 0; e < m.edges(); ++e) {
+    out.text() += "l ";
+    append_uint(out.text(), std::uint64_t(m.primitives->edges[2 * e]) + 1);
+    out.text() += ' ';
+    append_uint(out.text(), std::uint64_t(m.primitives->edges[2 * e + 1]) + 1);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
+  for (std::size_t p = 0; p < m.points(); ++p) {
+    out.text() += "p ";
+    append_uint(out.text(), std::uint64_t(m.primitives->points[p]) + 1);
+    out.text() += '\n';
+    out.maybe_flush();
+  }
   out.flush();
+}
+
+// PLY's edge records "vertex1 vertex2 thickness" and point records "vertex thickness",
+// as text lines (ascii) or little-endian int32 and float32.
+void write_ply_primitives(ByteSink& sink, const MeshArrays& m, bool ascii) {
+  if (!m.primitives) return;
+  const ThickPrimitives& p = *m.primitives;
+  if (ascii) {
+    TextOut out(sink);
+    for (std::size_t e = 0; e < m.edges(); ++e) {
+      append_uint(out.text(), p.edges[2 * e]);
+      out.text() += ' ';
+      append_uint(out.text(), p.edges[2 * e + 1]);
+      out.text() += ' ';
+      append_coord(out.text(), p.edge_thickness[e], ScalarType::f32);
+      out.text() += '\n';
+      out.maybe_flush();
+    }
+    for (std::size_t i = 0; i < m.points(); ++i) {
+      append_uint(out.text(), p.points[i]);
+      out.text() += ' ';
+      append_coord(out.text(), p.point_thickness[i], ScalarType::f32);
+      out.text() += '\n';
+      out.maybe_flush();
+    }
+    out.flush();
+    return;
+  }
+  for (std::size_t e = 0; e < m.edges(); ++e) {
+    unsigned char rec[12];
+    std::memcpy(rec, &p.edges[2 * e], 8);
+    std::memcpy(rec + 8, &p.edge_thickness[e], 4);
+    sink.write(rec, sizeof rec);
+  }
+  for (std::size_t i = 0; i < m.points(); ++i) {
+    unsigned char rec[8];
+    std::memcpy(rec, &p.points[i], 4);
+    std::memcpy(rec + 4, &p.point_thickness[i], 4);
+    sink.write(rec, sizeof rec);
+  }
 }
 
 // OFF (Geomview): "OFF", the counts (vertices, faces, edges: 0, not needed), vertices,
@@ -176,7 +233,13 @@ void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
   for (std::size_t k = 0; k < m.attribute_count(); ++k)
     header += std::string("property ") + attribute_type_name(m.attributes->attributes[k].type) + " " +
               m.attributes->attributes[k].name + "\n";
-  header += "element face " + std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  header += "element face " + std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\n";
+  if (m.edges() > 0)
+    header += "element edge " + std::to_string(m.edges()) +
+              "\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\n";
+  if (m.points() > 0)
+    header += "element point " + std::to_string(m.points()) + "\nproperty int vertex\nproperty float thickness\n";
+  header += "end_header\n";
   sink.write(header);
   if (!ascii) {
     static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE float and double");
@@ -213,10 +276,12 @@ void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
       std::memcpy(rec + 1, &m.tri[3 * t], 12);
       sink.write(rec, 13);
     }
+    write_ply_primitives(sink, m, false);
     return;
   }
   TextOut out(sink);
   write_vertex_and_face_lines(out, m, true);
+  write_ply_primitives(sink, m, true);
 }
 
 // The unit normal of triangle t by the right-hand rule over its corner order; 0 when
@@ -320,10 +385,14 @@ MeshFormat format_for_path(const std::string& path, bool ascii) {
 
 void write_mesh(const std::string& path, const std::vector<double>& positions,
                 const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision,
-                const AttributeValues* attributes) {
+                const AttributeValues* attributes, const ThickPrimitives* primitives) {
   OutputFile out(path);
-  write_mesh(out, positions, triangles, format, precision, attributes);
+  write_mesh(out, positions, triangles, format, precision, attributes, primitives);
   out.commit();
+}
+
+bool format_keeps_primitives(MeshFormat format) {
+  return format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii;
 }
 
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes) {
@@ -337,9 +406,12 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
 }
 
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format, ScalarType precision, const AttributeValues* attributes) {
+                MeshFormat format, ScalarType precision, const AttributeValues* attributes,
+                const ThickPrimitives* primitives) {
+  if (primitives && !primitives->empty() && positions.size() / 3 > 0x7FFFFFFFu)
+    throw IoError(out.path() + ": thick edges and points name vertices as int, and there are more than 2^31");
   ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
-  write_body(sink, MeshArrays{positions, triangles, precision, attributes}, format, out.path());
+  write_body(sink, MeshArrays{positions, triangles, precision, attributes, primitives}, format, out.path());
   sink.finish();
 }
 

@@ -9,6 +9,7 @@ namespace oocsimp {
 
 /// write_mesh into an OutputFile opened earlier; the caller commits it.
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
-                MeshFormat format, ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr);
+                MeshFormat format, ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr,
+                const ThickPrimitives* primitives = nullptr);
 
 }  // namespace oocsimp

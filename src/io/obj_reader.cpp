@@ -1,4 +1,5 @@
-// Wavefront OBJ reader: `v` and `f` lines; everything else is ignored.
+// Wavefront OBJ reader: `v` and `f` lines, and `l` and `p` lines for a PrimitiveSink;
+// everything else is ignored.
 //
 // Two streaming passes: the first converts `v` lines to a temporary position array
 // (and counts `f` lines), the second streams the faces. An index refers to the
@@ -6,6 +7,7 @@
 // format's definition, so forward references are rejected.
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
@@ -41,21 +43,45 @@ class ObjTriangleStream : public TriangleStream {
         n += fan_.emit(out + 3 * n, max - n);
         continue;
       }
-      if (!src_.next_line(&line)) break;
+      if (!src_.next_line(&line)) {
+        primitives_.flush();
+        break;
+      }
       line = trim_front(line);
       if (is_keyword(line, 'v')) {
         ++defined_;
       } else if (is_keyword(line, 'f')) {
         parse_face(line);
         fan_.start();
+      } else if (primitives_.wanted() && (is_keyword(line, 'l') || is_keyword(line, 'p'))) {
+        parse_primitives(line);
       }
     }
     return n;
   }
   std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
   SkippedFaces skipped() const override { return {skipped_, 0, 0}; }
+  void set_primitive_sink(PrimitiveSink sink) override { primitives_.set_sink(std::move(sink)); }
 
  private:
+  // "l a b c ...": the edges of the polyline (a, b), (b, c), ...; "p a b ...": a point
+  // at each. OBJ gives no thickness.
+  void parse_primitives(std::string_view line) {
+    const bool points = line[0] == 'p';
+    TokenScanner t(line.substr(1));
+    std::uint64_t previous = 0;
+    bool first = true;
+    for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
+      const std::uint64_t v = index_of(tok.substr(0, tok.find('/')), tok);
+      if (points)
+        primitives_.add(v, v, 0);
+      else if (!first)
+        primitives_.add(previous, v, 0);
+      previous = v;
+      first = false;
+    }
+  }
+
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(at_line(src_.path(), src_.line_number(), what));
   }
@@ -66,21 +92,9 @@ class ObjTriangleStream : public TriangleStream {
     poly.clear();
     for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
       // v, v/vt, v//vn, v/vt/vn: the position index is the part before the first '/'.
-      std::string_view vtok = tok.substr(0, tok.find('/'));
-      std::int64_t idx;
-      if (!parse_int(vtok, &idx)) fail("malformed face index " + quoted(tok));
-      std::int64_t abs;
-      if (idx > 0)
-        abs = idx - 1;
-      else if (idx < 0)
-        abs = std::int64_t(defined_) + idx;
-      else
-        fail("face index 0 (OBJ indices start at 1)");
-      if (abs < 0 || std::uint64_t(abs) >= defined_)
-        fail("face index " + std::to_string(idx) + " refers to a vertex not defined yet (" + std::to_string(defined_) +
-             " so far)");
+      const std::uint64_t v = index_of(tok.substr(0, tok.find('/')), tok);
       if (poly.size() >= kMaxPolygonCorners) fail("polygon with more than 2^20 corners");
-      poly.push_back(std::uint64_t(abs));
+      poly.push_back(v);
     }
     if (poly.size() < 3) {
       ++skipped_;
@@ -89,7 +103,26 @@ class ObjTriangleStream : public TriangleStream {
     (void)vertex_count_;
   }
 
+  // The 0-based vertex of index text `vtok` (of token `tok`): 1-based, or negative
+  // counting back from the latest vertex.
+  std::uint64_t index_of(std::string_view vtok, std::string_view tok) const {
+    std::int64_t idx;
+    if (!parse_int(vtok, &idx)) fail("malformed vertex index " + quoted(tok));
+    std::int64_t abs = 0;
+    if (idx > 0)
+      abs = idx - 1;
+    else if (idx < 0)
+      abs = std::int64_t(defined_) + idx;
+    else
+      fail("vertex index 0 (OBJ indices start at 1)");
+    if (abs < 0 || std::uint64_t(abs) >= defined_)
+      fail("vertex index " + std::to_string(idx) + " refers to a vertex not defined yet (" + std::to_string(defined_) +
+           " so far)");
+    return std::uint64_t(abs);
+  }
+
   ByteSource src_;
+  PrimitiveBatch primitives_;
   std::uint64_t vertex_count_;
   std::uint64_t defined_ = 0;
   std::uint64_t skipped_ = 0;
@@ -105,7 +138,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   // the first vertex has them; which of them are carried is decided there too.
   std::unique_ptr<AttributeArrayBuilder> colours;
   std::vector<std::size_t> carried;
-  std::uint64_t faces = 0, texture_lines = 0, normal_lines = 0, uncoloured = 0;
+  std::uint64_t faces = 0, texture_lines = 0, normal_lines = 0, uncoloured = 0, line_elements = 0, point_elements = 0;
   std::string_view line;
   while (src.next_line(&line)) {
     line = trim_front(line);
@@ -149,6 +182,10 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
           c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
     } else if (is_keyword(line, 'f')) {
       ++faces;
+    } else if (is_keyword(line, 'l')) {
+      ++line_elements;
+    } else if (is_keyword(line, 'p')) {
+      ++point_elements;
     } else if (line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2])) {
       texture_lines += line[1] == 't';
       normal_lines += line[1] == 'n';
@@ -168,7 +205,11 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
                                    " vertices have no colour (the first vertex has one); they count as black");
   out.info.vertex_count = builder.count();
   out.info.face_count = faces;
+  out.info.edge_count = line_elements;
+  out.info.point_count = point_elements;
   out.info.elements = {"v " + std::to_string(builder.count()), "f " + std::to_string(faces)};
+  if (line_elements > 0) out.info.elements.push_back("l " + std::to_string(line_elements));
+  if (point_elements > 0) out.info.elements.push_back("p " + std::to_string(point_elements));
   builder.finish(out);
   if (colours) colours->finish(out);
   std::shared_ptr<InputFile> file = src.input();

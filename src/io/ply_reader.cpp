@@ -6,6 +6,7 @@
 // record by record and fanned; other elements are skipped.
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -358,8 +359,15 @@ class ElementReader {
 // Once the elements before `next` have been read: the elements that follow must be
 // complete, and nothing may follow them. Lines of blanks after an ascii body are
 // tolerated (editors add a final newline); in binary, any byte is trailing data.
+void check_no_trailing_data(ByteSource& src, const PlyHeader& h);
+
 void check_nothing_follows(ByteSource& src, ElementReader& reader, const PlyHeader& h, std::size_t next) {
   for (std::size_t i = next; i < h.elements.size(); ++i) reader.skip(h.elements[i]);
+  check_no_trailing_data(src, h);
+}
+
+// Nothing but blank lines (ascii) or nothing at all (binary) after the last element.
+void check_no_trailing_data(ByteSource& src, const PlyHeader& h) {
   if (h.format == PlyFormat::ascii) {
     std::string_view line;
     while (src.next_line(&line))
@@ -383,7 +391,10 @@ class PlyTriangleStream : public TriangleStream {
     } else {
       src_.skip(h_->header_bytes, "header");
     }
-    for (int i = 0; i < h_->face; ++i) reader_.skip(h_->elements[i]);
+    // Without faces the stream only reads what follows the vertices (edges, points).
+    const int first = h_->face >= 0 ? h_->face : h_->vertex + 1;
+    for (int i = 0; i < first; ++i) reader_.skip(h_->elements[i]);
+    if (h_->face < 0) return;
     remaining_ = h_->elements[h_->face].count;
     // The common binary layout, "property list uchar int|uint vertex_indices" alone,
     // gets a direct path for its triangles (13-byte records).
@@ -395,6 +406,10 @@ class PlyTriangleStream : public TriangleStream {
   }
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
+    if (h_->face < 0) {
+      if (!finished_) finish();
+      return 0;
+    }
     const PlyElement& face = h_->elements[h_->face];
     const bool swap = h_->format == PlyFormat::binary_be;
     std::size_t n = 0;
@@ -442,11 +457,49 @@ class PlyTriangleStream : public TriangleStream {
   }
   std::uint64_t bytes_consumed() const override { return src_.raw_consumed(); }
   SkippedFaces skipped() const override { return {skipped_, 0, 0}; }
+  void set_primitive_sink(PrimitiveSink sink) override { primitives_.set_sink(std::move(sink)); }
 
  private:
+  // After the faces: the thick edges and points to the sink, the rest skipped, and
+  // nothing after the last element.
   void finish() {
     finished_ = true;
-    check_nothing_follows(src_, reader_, *h_, std::size_t(h_->face) + 1);
+    const int first = h_->face >= 0 ? h_->face + 1 : h_->vertex + 1;
+    for (std::size_t i = std::size_t(first); i < h_->elements.size(); ++i)
+      if (!(primitives_.wanted() && read_primitives(h_->elements[i]))) reader_.skip(h_->elements[i]);
+    primitives_.flush();
+    check_no_trailing_data(src_, *h_);
+  }
+
+  // Element "edge" (vertex1, vertex2, optional thickness) or "point" (vertex,
+  // optional thickness) to the sink; false for any other element.
+  bool read_primitives(const PlyElement& e) {
+    const bool edge = e.name == "edge";
+    if (!edge && e.name != "point") return false;
+    int want[3] = {e.find(edge ? "vertex1" : "vertex"), edge ? e.find("vertex2") : 0, e.find("thickness")};
+    for (int k = 0; k < 3; ++k)
+      if (want[k] >= 0 && e.props[std::size_t(want[k])].is_list) want[k] = -1;
+    if (want[0] < 0 || want[1] < 0) return false;  // not an element of ours: skipped
+    double values[3] = {0, 0, 0};
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      reader_.read_record(e, -1, nullptr, values, want, 3);
+      const std::uint64_t a = vertex_index(values[0]), b = edge ? vertex_index(values[1]) : a;
+      const double t = want[2] >= 0 && std::isfinite(values[2]) && values[2] > 0 ? values[2] : 0.0;
+      primitives_.add(a, b, float(t));
+    }
+    return true;
+  }
+
+  std::uint64_t vertex_index(double v) const {
+    if (!(v >= 0 && v < double(vertex_count_) && v == std::floor(v)))
+      reader_.fail("vertex index " + format_value(v) + " out of range (" + std::to_string(vertex_count_) +
+                   " vertices)");
+    return std::uint64_t(v);
+  }
+  static std::string format_value(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
   }
 
   [[noreturn]] void fast_index_error(std::int64_t v) const {
@@ -465,6 +518,7 @@ class PlyTriangleStream : public TriangleStream {
   std::uint64_t skipped_ = 0;
   bool finished_ = false;
   FanTriangulator fan_;
+  PrimitiveBatch primitives_;
 };
 
 class EmptyTriangleStream : public TriangleStream {
@@ -539,6 +593,10 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   const PlyElement& v = h->elements[h->vertex];
   out.info.vertex_count = v.count;
   out.info.face_count = h->face >= 0 ? h->elements[h->face].count : 0;
+  for (const PlyElement& e : h->elements) {
+    if (e.name == "edge") out.info.edge_count = e.count;
+    if (e.name == "point") out.info.point_count = e.count;
+  }
 
   // Where the vertex element starts, if every element before it has a fixed size.
   bool binary = h->format != PlyFormat::ascii;
@@ -632,15 +690,17 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   }
 
   std::uint64_t vcount = v.count;
-  if (h->face >= 0) {
+  if (h->face < 0) {
+    // A stream that reads nothing may never reach the end, so the end is checked here.
+    ElementReader reader(src, *h);
+    check_nothing_follows(src, reader, *h, next_element);
+  }
+  if (h->face >= 0 || out.info.edge_count > 0 || out.info.point_count > 0) {
     std::shared_ptr<InputFile> file = src.input();
     reader_state(out).make_triangles = [h, file, vcount]() -> std::unique_ptr<TriangleStream> {
       return std::make_unique<PlyTriangleStream>(h, file, vcount);
     };
   } else {
-    // No triangle stream reads to the end, so the end is checked here.
-    ElementReader reader(src, *h);
-    check_nothing_follows(src, reader, *h, next_element);
     reader_state(out).make_triangles = []() -> std::unique_ptr<TriangleStream> {
       return std::make_unique<EmptyTriangleStream>();
     };

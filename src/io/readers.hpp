@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/byte_source.hpp"
@@ -43,6 +44,27 @@ class FanTriangulator {
  private:
   std::vector<std::uint64_t> poly_;
   std::size_t next_ = 0;
+};
+
+/// Hands the thick edges and points a reader meets to a PrimitiveSink, a batch at a
+/// time; without a sink the reader skips them.
+class PrimitiveBatch {
+ public:
+  void set_sink(PrimitiveSink sink) { sink_ = std::move(sink); }
+  bool wanted() const { return bool(sink_); }
+  void add(std::uint64_t a, std::uint64_t b, float thickness) {
+    batch_.push_back({a, b, thickness});
+    if (batch_.size() >= 4096) flush();
+  }
+  void flush() {
+    if (batch_.empty()) return;
+    sink_(batch_.data(), batch_.size());
+    batch_.clear();
+  }
+
+ private:
+  PrimitiveSink sink_;
+  std::vector<LinePrimitive> batch_;
 };
 
 }  // namespace oocsimp

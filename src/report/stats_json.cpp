@@ -120,6 +120,7 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   s += ", \"threads\": " + number(std::uint64_t(o.threads));
   s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
   s += ", \"weld\": " + std::string(o.weld ? "true" : "false");
+  s += ", \"thick_edges\": " + std::string(o.thick_edges ? "true" : "false");
   s += ", \"precision\": " + quoted(precision_name(o.precision));
   if (o.attributes.mode == AttributeSelection::Mode::named) {
     std::string names;
@@ -152,11 +153,13 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                 ", \"non_finite_triangles\": %" PRIu64 ", \"repeated_index_triangles\": %" PRIu64
                 ", \"non_finite_vertices\": %" PRIu64
                 "},\n"
-                "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64
+                "  \"output\": {\"vertices\": %" PRIu64 ", \"triangles\": %" PRIu64 ", \"edges\": %" PRIu64
+                ", \"points\": %" PRIu64
                 "},\n"
                 "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %" PRIu64 "},\n",
                 s.input_vertices, s.input_triangles, s.skipped.total(), s.skipped.short_faces, s.skipped.non_finite,
-                s.skipped.repeated_index, s.non_finite_vertices, s.output_vertices, s.output_triangles, s.cell_size,
+                s.skipped.repeated_index, s.non_finite_vertices, s.output_vertices, s.output_triangles, s.output_edges,
+                s.output_points, s.cell_size,
                 s.grid_dims[0], s.grid_dims[1], s.grid_dims[2], s.occupied_cells);
   std::string js = "{\n  \"version\": " + quoted(version()) + ",\n";
   js += "  \"paths\": {\"input\": " + quoted(input_path) + ", \"output\": " + quoted(outputs.mesh) +

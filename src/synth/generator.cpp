@@ -430,6 +430,139 @@ GenerateResult parts(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
   return {nv, nf};
 }
 
+// --- branches: a leafless tree of thin closed tubes, and buds (Low & Tan's Plate 3) ---
+struct V3 {
+  double x, y, z;
+};
+V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
+
+// A closed cylinder from `a` to `b` (radius r, S segments around, L along, flat caps
+// fanned from their centres), or a ball (centre a, radius r, S around, L from pole to
+// pole). u, v: unit vectors across the axis with u x v along it.
+struct Solid {
+  bool tube;
+  V3 a, b, u, v;
+  double r;
+  std::uint64_t S, L, first_vertex;
+  std::uint64_t vertices() const { return tube ? S * (L + 1) + 2 : S * (L - 1) + 2; }
+  std::uint64_t faces() const { return tube ? 2 * S * L + 2 * S : 2 * S * (L - 1); }
+};
+
+// A frame across `w` (unit): u, v unit, u x v = w.
+void frame_across(V3 w, V3* u, V3* v) {
+  V3 t = std::fabs(w.z) < 0.9 ? V3{0, 0, 1} : V3{1, 0, 0};
+  V3 c = {t.y * w.z - t.z * w.y, t.z * w.x - t.x * w.z, t.x * w.y - t.y * w.x};  // t x w
+  double l = std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
+  *u = (1 / l) * c;
+  *v = {w.y * u->z - w.z * u->y, w.z * u->x - w.x * u->z, w.x * u->y - w.y * u->x};  // w x u
+}
+
+Solid make_tube(V3 a, V3 b, double r, double faces) {
+  Solid s{true, a, b, {}, {}, r, 0, 0, 0};
+  V3 d = b + (-1.0) * a;
+  const double len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  frame_across((1 / len) * d, &s.u, &s.v);
+  // Square side quads: 2 pi r / S = len / L, and faces = 2 S (L + 1).
+  const double per_s = len / (2 * kPi * r);
+  s.S = std::max<std::uint64_t>(6, std::uint64_t(std::llround(std::sqrt(faces / (2 * per_s)))));
+  s.L = std::max<std::uint64_t>(1, std::uint64_t(std::llround(double(s.S) * per_s)));
+  return s;
+}
+
+Solid make_ball(V3 c, double r, double faces) {
+  Solid s{false, c, c, {1, 0, 0}, {0, 1, 0}, r, 0, 0, 0};
+  s.S = std::max<std::uint64_t>(6, std::uint64_t(std::llround(std::sqrt(faces))));
+  s.L = std::max<std::uint64_t>(3, s.S / 2);
+  return s;
+}
+
+GenerateResult branches(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) {
+  SplitMix64 rng{o.seed};
+  const double budget = double(std::max<std::uint64_t>(o.triangles, 2000));
+  std::vector<Solid> solids;
+  const V3 root = {0.5, 0.5, 0.0};
+  solids.push_back(make_tube(root, {0.5, 0.5, 0.45}, kBranchTrunkRadius, 0.25 * budget));
+  for (int i = 0; i < kBranchCount; ++i) {
+    const double height = rng.uniform(0.2, 0.45), azimuth = rng.uniform(0, 2 * kPi);
+    const double elevation = rng.uniform(15, 60) * kPi / 180, len = rng.uniform(0.25, 0.4);
+    const V3 w = {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                  std::sin(elevation)};
+    const V3 start = {0.5, 0.5, height}, tip = start + len * w;
+    solids.push_back(make_tube(start, tip, kBranchRadius, 0.6 * budget / kBranchCount));
+    if (i % 2 == 0)  // a bud past every other tip, apart from it
+      solids.push_back(make_ball(tip + 0.02 * w, kBudRadius, 0.15 * budget / (kBranchCount / 2)));
+  }
+  std::uint64_t nv = 0, nf = 0;
+  for (Solid& s : solids) {
+    s.first_vertex = nv;
+    nv += s.vertices();
+    nf += s.faces();
+  }
+  PlyEmitter out(sink, o.ascii, o.attributes, nv, nf);
+  fc.total = nf;
+  emit_vertices(out, [&](const auto& visit) {
+    for (const Solid& s : solids) {
+      // A point at offset (c_u, c_v) across and t along, with outward normal n.
+      auto emit = [&](V3 p, V3 n) { visit(p.x, p.y, p.z, [&](double m[3]) { m[0] = n.x, m[1] = n.y, m[2] = n.z; }); };
+      if (s.tube) {
+        const V3 d = s.b + (-1.0) * s.a;
+        const V3 w = (1 / std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z)) * d;
+        for (std::uint64_t l = 0; l <= s.L; ++l)
+          for (std::uint64_t j = 0; j < s.S; ++j) {
+            const double ph = 2 * kPi * double(j) / double(s.S);
+            const V3 radial = std::cos(ph) * s.u + std::sin(ph) * s.v;
+            emit(s.a + (double(l) / double(s.L)) * d + s.r * radial, radial);
+          }
+        emit(s.a, (-1.0) * w);
+        emit(s.b, w);
+      } else {
+        emit(s.a + V3{0, 0, s.r}, {0, 0, 1});
+        for (std::uint64_t i = 1; i < s.L; ++i)
+          for (std::uint64_t j = 0; j < s.S; ++j) {
+            const double th = kPi * double(i) / double(s.L), ph = 2 * kPi * double(j) / double(s.S);
+            const V3 n = {std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)};
+            emit(s.a + s.r * n, n);
+          }
+        emit(s.a + V3{0, 0, -s.r}, {0, 0, -1});
+      }
+    }
+  });
+  for (const Solid& s : solids) {
+    const std::uint64_t b = s.first_vertex, S = s.S;
+    auto face = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+      out.face(x, y, z);
+      fc.tick();
+    };
+    if (s.tube) {
+      auto ring = [&](std::uint64_t l, std::uint64_t j) { return b + l * S + j % S; };
+      for (std::uint64_t l = 0; l < s.L; ++l)
+        for (std::uint64_t j = 0; j < S; ++j) {
+          face(ring(l, j), ring(l, j + 1), ring(l + 1, j + 1));
+          face(ring(l, j), ring(l + 1, j + 1), ring(l + 1, j));
+        }
+      const std::uint64_t bottom = b + (s.L + 1) * S, top = bottom + 1;
+      for (std::uint64_t j = 0; j < S; ++j) {
+        face(bottom, ring(0, j + 1), ring(0, j));
+        face(top, ring(s.L, j), ring(s.L, j + 1));
+      }
+    } else {
+      const std::uint64_t north = b, south = b + 1 + (s.L - 1) * S;
+      auto ring = [&](std::uint64_t i, std::uint64_t j) { return b + 1 + (i - 1) * S + j % S; };
+      for (std::uint64_t j = 0; j < S; ++j) {
+        face(north, ring(1, j), ring(1, j + 1));
+        face(south, ring(s.L - 1, j + 1), ring(s.L - 1, j));
+      }
+      for (std::uint64_t i = 1; i + 1 < s.L; ++i)
+        for (std::uint64_t j = 0; j < S; ++j) {
+          face(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
+          face(ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
+        }
+    }
+  }
+  return {nv, nf};
+}
+
 }  // namespace
 
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options) {
@@ -449,6 +582,9 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
         break;
       case SyntheticShape::parts:
         r = parts(sink, options, fc);
+        break;
+      case SyntheticShape::branches:
+        r = branches(sink, options, fc);
         break;
     }
     sink.finish();
