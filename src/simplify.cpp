@@ -88,11 +88,11 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
     throw UsageError("options.memory_budget " + std::to_string(options.memory_budget >> 20) +
                      " MiB is below the minimum of " + std::to_string(kMinimumBudget >> 20) + " MiB");
-  // Thick edges come from the uniform grid's face pass; the floating method and the
-  // collapse to a target do not produce them yet, and saying so beats dropping them.
-  if (options.thick_edges && (options.method != ClusterMethod::uniform || options.target.given()))
-    throw UsageError("options.thick_edges needs options.method uniform without a target (the floating method and "
-                     "exact targets do not make thick edges yet)");
+  // Thick edges come from clustering; a collapse to a target does not make them (yet),
+  // and saying so beats dropping them.
+  if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
+    throw UsageError("options.thick_edges needs a clustering method without a target (options.method floating or "
+                     "uniform; exact targets do not make thick edges yet)");
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   check_float_range(input);

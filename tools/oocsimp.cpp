@@ -569,7 +569,7 @@ int main(int argc, char** argv) {
       ->group(common);
   simplify
       ->add_flag("--thick-edges", sa.options.thick_edges,
-                 "Uniform: keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; "
+                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; "
                  "PLY element edge and point with a thickness, OBJ l and p lines)")
       ->group(common);
   simplify

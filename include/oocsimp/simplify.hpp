@@ -120,7 +120,7 @@ struct SimplifyOptions {
   Precision precision = Precision::automatic;  ///< of the output positions
   /// Which vertex attributes are carried to the output (all by default).
   AttributeSelection attributes;
-  /// Uniform: keep what clustering reduces below a triangle as thick edges and points
+  /// Keep what clustering reduces below a triangle as thick edges and points
   /// (Low & Tan 1997 §3.3; SimplifiedMesh::primitives) instead of dropping it.
   bool thick_edges = false;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).

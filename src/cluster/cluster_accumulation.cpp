@@ -9,6 +9,7 @@
 
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/plane_quadric.hpp"
+#include "cluster/thick_primitives.hpp"
 #include "cluster/tile_grading.hpp"
 #include "common/vec3_math.hpp"
 #include "report/progress_phase.hpp"
@@ -107,6 +108,10 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
                                                          spill.allow.buckets - cluster_allowance);
     for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.attribute_shares->add_stream();
   }
+  if (settings.thick_edges) {
+    out.edge_shares = std::make_unique<StreamSpill>(spill.dir, "edges", sizeof(EdgeShare), 64, spill.compress, 0);
+    for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.edge_shares->add_stream();
+  }
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", n, "tile");
   // One tile: its vertices assigned, its sums and its kept triangles.
@@ -139,6 +144,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     std::vector<double> vertex_weight(layout.empty() ? 0 : owned.size());
     std::vector<KeptTriangle> kept;
     std::vector<CornerRecord> corners;
+    EdgeShareTable edges;                                                        // with thick edges
+    std::vector<std::uint64_t> collapsed(settings.thick_edges ? near.size() : 0);  // triangles, per cluster
     const double inv = 1.0 / cell.size;
     for (std::size_t t = 0; t < tris.size(); ++t) {
       const TriangleRecord& r = tris[t];
@@ -163,19 +170,30 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
           if (!vertex_weight.empty()) vertex_weight[local[k]] += plane.len / 6;
         }
       if (owned_count == 3) {
-        std::uint64_t c0 = near[cluster_of[local[0]]].index, c1 = near[cluster_of[local[1]]].index,
-                      c2 = near[cluster_of[local[2]]].index;
-        if (c0 != c1 && c1 != c2 && c0 != c2) kept.push_back(KeptTriangle::of(r.index(), c0, c1, c2));
+        const std::uint64_t c[3] = {near[cluster_of[local[0]]].index, near[cluster_of[local[1]]].index,
+                                    near[cluster_of[local[2]]].index};
+        if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) {
+          kept.push_back(KeptTriangle::of(r.index(), c[0], c[1], c[2]));
+        } else if (settings.thick_edges && c[0] == c[1] && c[1] == c[2]) {
+          ++collapsed[cluster_of[local[0]]];
+        } else if (settings.thick_edges) {
+          Vec3d offset[3];
+          for (int k = 0; k < 3; ++k) offset[k] = (p[k] - near[cluster_of[local[k]]].p) * inv;
+          edges.add(c, offset);
+        }
       } else {
         for (int k = 0; k < 3; ++k)
           if (local[k] != SIZE_MAX)
-            corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index});
+            corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index, mesh.index[id[k]]});
       }
     }
     std::vector<ClusterRecord> sums(near.size());
     for (std::size_t i = 0; i < owned.size(); ++i) {
       sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
     }
+    for (std::size_t i = 0; i < collapsed.size(); ++i) sums[i].collapsed = collapsed[i];
+    if (settings.thick_edges)
+      append_by_bucket(*out.edge_shares, &edges.shares(), [&](const EdgeShare& e) { return e.a / cluster_span; });
     // Cross-tile corners go to the stitch buckets by triangle index.
     append_by_bucket(*out.corners, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span; });
     // This tile's shares of clusters go to the cluster buckets, by centre index.
@@ -204,6 +222,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   out.partials->flush();
   out.inside->flush();
   if (out.attribute_shares) out.attribute_shares->flush();
+  if (out.edge_shares) out.edge_shares->flush();
   return out;
 }
 

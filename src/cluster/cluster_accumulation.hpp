@@ -34,6 +34,10 @@ struct ClusterShares {
   /// fixed-point sums), in the streams of `partials`; null without attributes.
   std::unique_ptr<StreamSpill> attribute_shares;
   AttributeLayout attributes;
+  /// With thick edges: EdgeShare records of the triangles decided in tiles that
+  /// collapse to an edge, one per tile and cluster pair, in the streams of `partials`
+  /// by the pair's first cluster; the stitch adds the cross-tile ones. Null without.
+  std::unique_ptr<StreamSpill> edge_shares;
 };
 
 /// Bytes of one attribute share for `layout`.
@@ -51,6 +55,9 @@ struct AccumulationSettings {
   const AttributeArray* attributes = nullptr;  ///< the carried vertex attributes, or none
   /// Bytes the tiles in work may take together (TileMemoryGate).
   std::uint64_t work_share = ~std::uint64_t(0);
+  /// Keep what collapses below a triangle (ClusterShares::edge_shares, and
+  /// ClusterRecord::collapsed): Low & Tan 1997 §3.3.
+  bool thick_edges = false;
 };
 
 /// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the

@@ -99,25 +99,62 @@ struct FixedVec3 {
   Vec3d value() const { return {x.value(), y.value(), z.value()}; }
 };
 
+/// Count, sum and second moments of points in fixed point (PointMoments, whose
+/// value() this gives back), each point added on its own so that the sums do not
+/// depend on the partition.
+struct FixedMoments {
+  std::uint64_t n = 0;
+  FixedVec3 sum;
+  Fixed xx, xy, xz, yy, yz, zz;
+
+  void add(const Vec3d& u) {
+    ++n;
+    sum.add(u);
+    xx.add(Fixed::of(u.x * u.x));
+    xy.add(Fixed::of(u.x * u.y));
+    xz.add(Fixed::of(u.x * u.z));
+    yy.add(Fixed::of(u.y * u.y));
+    yz.add(Fixed::of(u.y * u.z));
+    zz.add(Fixed::of(u.z * u.z));
+  }
+  void add(const FixedMoments& o) {
+    n += o.n;
+    sum.add(o.sum);
+    xx.add(o.xx.v);
+    xy.add(o.xy.v);
+    xz.add(o.xz.v);
+    yy.add(o.yy.v);
+    yz.add(o.yz.v);
+    zz.add(o.zz.v);
+  }
+};
+
 // What a cluster accumulates, relative to its centre and in cell units: the sum of
-// its members' vertex quadrics, the sum of their positions and their count.
+// its members' vertex quadrics, the sum of their positions and of their squared
+// lengths (a thick point's width), their count, and how many triangles collapsed
+// inside it (a thick point's candidate).
 struct ClusterRecord {
   Vec3d centre;
   FixedQuadric quadric_sum;
   FixedVec3 offset_sum;
+  Fixed offset_squares;
   std::uint64_t members = 0;
+  std::uint64_t collapsed = 0;
 
   /// Adds a member vertex: its quadric and its offset from the centre, both in cell units.
   void add_vertex(const Quadric& q, const Vec3d& offset_in_cells) {
     quadric_sum.add(q);
     offset_sum.add(offset_in_cells);
+    offset_squares.add(Fixed::of(dot(offset_in_cells, offset_in_cells)));
     ++members;
   }
   /// Merges another share of the same cluster.
   void add(const ClusterRecord& o) {
     quadric_sum.add(o.quadric_sum);
     offset_sum.add(o.offset_sum);
+    offset_squares.add(o.offset_squares.v);
     members += o.members;
+    collapsed += o.collapsed;
   }
   /// The summed quadric (relative to the centre, in cell units; c = 0).
   Quadric quadric() const { return quadric_sum.value(); }

@@ -4,9 +4,12 @@
 // no surviving triangle already shows.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
+#include "cluster/fixed_point_sums.hpp"
 #include "common/flat_hash_map.hpp"
 #include "common/vec3_math.hpp"
 #include "oocsimp/mesh_writer.hpp"
@@ -93,6 +96,61 @@ ThickPrimitives select_thick_primitives(const std::vector<std::uint32_t>& triang
                                         const std::vector<EdgeCandidate>& edges,
                                         const std::vector<std::pair<std::uint32_t, float>>& point_clusters,
                                         std::size_t cluster_count);
+
+/// The moments in double.
+inline PointMoments moments_value(const FixedMoments& f) {
+  PointMoments m;
+  m.n = double(f.n);
+  m.sum = f.sum.value();
+  m.xx = f.xx.value();
+  m.xy = f.xy.value();
+  m.xz = f.xz.value();
+  m.yy = f.yy.value();
+  m.yz = f.yz.value();
+  m.zz = f.zz.value();
+  return m;
+}
+
+/// Floating cells: one tile's (or the stitch's) share of the triangles that collapse
+/// to the edge between clusters a < b (input indices of their centres), their corners'
+/// moments in cell units relative to each cluster's centre, in fixed point so that
+/// shares add up the same in any order. a == b: a triangle that crossed tiles and
+/// collapsed into cluster a (a thick point's candidate; no moments).
+struct EdgeShare {
+  std::uint64_t a = 0, b = 0;
+  FixedMoments in_a, in_b;
+  bool point() const { return a == b; }
+};
+
+/// Adds the corners of a triangle over clusters `cluster[3]` (two distinct, or one)
+/// to the share of its edge in `shares` (found through `at`, by cluster pair), each
+/// corner's offset from its cluster's centre `offset[k]` in cell units.
+class EdgeShareTable {
+ public:
+  void add(const std::uint64_t cluster[3], const Vec3d offset[3]) {
+    const std::uint64_t lo = std::min({cluster[0], cluster[1], cluster[2]});
+    const std::uint64_t hi = std::max({cluster[0], cluster[1], cluster[2]});
+    const auto [i, fresh] = at_.try_insert({lo, hi});
+    if (fresh) shares_.push_back({lo, hi, {}, {}});
+    EdgeShare& s = shares_[i];
+    if (lo == hi) return;
+    for (int k = 0; k < 3; ++k) (cluster[k] == lo ? s.in_a : s.in_b).add(offset[k]);
+  }
+  std::vector<EdgeShare>& shares() { return shares_; }
+  void clear() {
+    at_.clear();
+    shares_.clear();
+  }
+
+ private:
+  struct PairHash {
+    std::uint64_t operator()(const std::pair<std::uint64_t, std::uint64_t>& p) const {
+      return p.first * 0x9E3779B97F4A7C15ull ^ p.second;
+    }
+  };
+  FlatHashSet<std::pair<std::uint64_t, std::uint64_t>, PairHash> at_;
+  std::vector<EdgeShare> shares_;
+};
 
 /// The key of an unordered cluster pair.
 inline std::uint64_t cluster_pair_key(std::uint32_t a, std::uint32_t b) {

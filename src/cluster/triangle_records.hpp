@@ -16,6 +16,7 @@ namespace oocsimp {
 struct CornerRecord {
   std::uint64_t t_and_slot;  // t << 2 | corner slot
   std::uint64_t cluster;     // input index of the cluster's centre
+  std::uint64_t vertex;      // input index of the corner (thick edges' moments)
 };
 
 // A triangle over three clusters: its clusters sorted (the key that finds the same

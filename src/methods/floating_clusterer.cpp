@@ -130,8 +130,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   release_memory(options);
 
   // Cluster shares and kept triangles.
-  AccumulationSettings acc{
-      cell, options.floating.assign, options.memory_budget, spill, &options.progress, &input.attributes, work_share};
+  AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget, spill, &options.progress,
+                           &input.attributes, work_share,        options.thick_edges};
   ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
   // Centres live on in the cluster records; the per-tile lists are done, and the
   // memory of the triangles and vertex blocks goes to the output tables.
@@ -144,7 +144,9 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   std::vector<KeptTriangle> kept_triangles;
   {
     ProgressPhase phase(options.progress, "stitch", 0, "bucket");
-    kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget);
+    CrossTileEdges cross{&input.positions, cell.size, shares.edge_shares.get(), shares.cluster_span};
+    kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget,
+                                           options.thick_edges ? &cross : nullptr);
   }
   shares.corners->discard();  // read into kept_triangles
   shares.inside->discard();
@@ -153,14 +155,17 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   AssemblyCounts counts;
   {
     ProgressPhase phase(options.progress, "assemble", 0, "cell");
+    const ThickAssembly thick{shares.edge_shares.get(), &input.positions};
     m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
-                      budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grid.origin);
+                      budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grid.origin,
+                      options.thick_edges ? &thick : nullptr);
   }
   double t5 = now_seconds();
 
   if (stats) {
     const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(),        shares.corners.get(),
-                                   shares.partials.get(), shares.inside.get(), shares.attribute_shares.get()};
+                                   shares.partials.get(), shares.inside.get(), shares.attribute_shares.get(),
+                                   shares.edge_shares.get()};
     stats->spill_bytes = stats->spill_raw_bytes = blocks->bytes_on_disk();
     stats->spill_bytes_in_memory = blocks->bytes_in_memory();
     for (const StreamSpill* s : spills)
@@ -174,6 +179,8 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
     stats->occupied_cells = counts.clusters;
     stats->output_vertices = m.positions.size() / 3;
     stats->output_triangles = m.triangles.size() / 3;
+    stats->output_edges = m.primitives.edge_count();
+    stats->output_points = m.primitives.point_count();
     stats->tiles = tiles.count();
     stats->largest_tile_records = tiles.largest_tile_records();
     stats->resumed = resumed;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cluster/triangle_records.hpp"
+#include "oocsimp/mesh_input.hpp"
 #include "spill/stream_spill.hpp"
 
 namespace oocsimp {
@@ -16,6 +17,18 @@ namespace oocsimp {
 /// bucket small enough to sort in memory): appends to `kept` the triangles whose
 /// three clusters differ, deduplicated per bucket. Throws std::logic_error when a
 /// triangle lacks a corner (the tiles did not report every owned corner).
-void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept);
+void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept,
+                               const struct CrossTileEdges* edges = nullptr);
+
+/// With thick edges, where the stitch puts the cross-tile triangles over two clusters
+/// or one: EdgeShare records appended to `shares` (stream: first cluster /
+/// `cluster_span`, as the tiles' shares), the corners' offsets from their centres
+/// taken from `positions` (a centre is an input vertex) in units of `cell`.
+struct CrossTileEdges {
+  const PositionArray* positions = nullptr;
+  double cell = 1;
+  StreamSpill* shares = nullptr;
+  std::uint64_t cluster_span = 1;
+};
 
 }  // namespace oocsimp

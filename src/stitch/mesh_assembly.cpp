@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <utility>
 
 #include "cluster/cluster_accumulation.hpp"
 #include "cluster/fixed_point_sums.hpp"
+#include "cluster/thick_primitives.hpp"
 #include "common/memory_budget.hpp"
 #include "common/flat_hash_map.hpp"
 #include "cluster/quadric.hpp"
@@ -64,11 +67,70 @@ void assemble_attributes(StreamSpill& shares, const AttributeLayout& layout, con
   }
 }
 
+using ClusterPair = std::pair<std::uint64_t, std::uint64_t>;
+struct ClusterPairHash {
+  std::uint64_t operator()(const ClusterPair& p) const { return p.first * 0x9E3779B97F4A7C15ull ^ p.second; }
+};
+
+// The thick edges that survive (Low & Tan 1997 §2 step 5, as select_thick_primitives):
+// per bucket of edge shares, each pair's shares summed (fixed point: in any order),
+// those no kept triangle has as a side kept with their thickness (edge_thickness, in
+// cell units about the second centre, then scaled), sorted by pair. Pairs of one
+// cluster (cross-tile triangles collapsed into it) go to `stitched_points`.
+std::vector<EdgeCandidate> surviving_edges(const std::vector<KeptTriangle>& tris, const ThickAssembly& thick,
+                                           const FloatingCellShape& cell, const MemoryBudget& budget,
+                                           FlatHashSet<std::uint64_t>* stitched_points,
+                                           std::vector<ClusterPair>* pairs) {
+  check_output_fits(budget, 3 * tris.size() * (sizeof(ClusterPair) + 4 * sizeof(std::uint32_t)) +
+                                largest_bucket(*thick.edge_shares) * sizeof(EdgeShare),
+                    "the sides of " + std::to_string(tris.size()) + " output triangles and a bucket of edges");
+  FlatHashSet<ClusterPair, ClusterPairHash> sides(6 * tris.size() + 16);
+  for (const KeptTriangle& t : tris) {  // t.c ascending
+    sides.insert({t.c[0], t.c[1]});
+    sides.insert({t.c[0], t.c[2]});
+    sides.insert({t.c[1], t.c[2]});
+  }
+  std::vector<EdgeCandidate> out;
+  std::vector<EdgeShare> shares;
+  for (std::uint32_t b = 0; b < thick.edge_shares->stream_count(); ++b) {
+    thick.edge_shares->read(b, &shares);
+    std::sort(shares.begin(), shares.end(),
+              [](const EdgeShare& x, const EdgeShare& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    for (std::size_t i = 0; i < shares.size();) {
+      EdgeShare sum = shares[i];
+      std::size_t j = i + 1;
+      for (; j < shares.size() && shares[j].a == sum.a && shares[j].b == sum.b; ++j) {
+        sum.in_a.add(shares[j].in_a);
+        sum.in_b.add(shares[j].in_b);
+      }
+      i = j;
+      if (sum.point()) {
+        stitched_points->insert(sum.a);
+        continue;
+      }
+      if (sides.find({sum.a, sum.b}) >= 0) continue;
+      const Vec3d offset = (thick.positions->get(sum.a) - thick.positions->get(sum.b)) * (1.0 / cell.size);
+      const double t = edge_thickness(moments_value(sum.in_a), offset, moments_value(sum.in_b), Vec3d{});
+      out.push_back({0, 0, float(t * cell.size)});
+      pairs->push_back({sum.a, sum.b});
+    }
+  }
+  return out;
+}
+
+// A thick point found among the clusters no triangle or edge uses.
+struct PointCluster {
+  std::uint64_t centre;
+  Vec3d position;
+  float width;
+};
+
 }  // namespace
 
 // Cross-tile triangles: their corners' clusters were written by the tiles owning
 // the corners into buckets by triangle index; a bucket fits in memory.
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners, const MemoryBudget& budget) {
+std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners, const MemoryBudget& budget,
+                                                const CrossTileEdges* edges) {
   std::vector<KeptTriangle> kept;
   // At most: every triangle decided in a tile, and one per three stitch corners.
   const std::uint64_t most =
@@ -84,7 +146,7 @@ std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill
     kept.resize(at + inside.record_count(b));
     inside.read_into(b, kept.data() + at, (kept.size() - at) * sizeof(KeptTriangle));
   }
-  stitch_cross_tile_corners(corners, &kept);
+  stitch_cross_tile_corners(corners, &kept, edges);
   return kept;
 }
 
@@ -135,7 +197,7 @@ Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
                              RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget,
                              StreamSpill* attribute_shares, const AttributeLayout* attributes,
-                             std::vector<Quadric>* quadrics, const Vec3d& origin) {
+                             std::vector<Quadric>* quadrics, const Vec3d& origin, const ThickAssembly* thick) {
   std::vector<KeptTriangle>& tris = kept;
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
@@ -156,6 +218,18 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   mesh.triangles.reserve(3 * tris.size());
   for (const KeptTriangle& t : tris)
     for (std::uint64_t c : t.corners()) mesh.triangles.push_back(index.insert(c));
+  // Thick edges: their clusters numbered after the triangles'.
+  FlatHashSet<std::uint64_t> stitched_points;
+  if (thick) {
+    std::vector<ClusterPair> pairs;
+    std::vector<EdgeCandidate> edges = surviving_edges(tris, *thick, cell, budget, &stitched_points, &pairs);
+    ThickPrimitives& p = mesh.primitives;
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      p.edges.push_back(index.insert(pairs[e].first));
+      p.edges.push_back(index.insert(pairs[e].second));
+      p.edge_thickness.push_back(edges[e].thickness);
+    }
+  }
   std::vector<KeptTriangle>().swap(kept);
   // The positions and the largest cluster bucket with its centre starts.
   const std::uint64_t bucket = largest_bucket(partials);
@@ -171,6 +245,8 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   mesh.positions.assign(3 * index.size(), 0.0);
   if (quadrics) quadrics->assign(index.size(), Quadric());
   std::uint64_t clusters = 0;
+  std::vector<PointCluster> points;
+  std::mutex points_lock;
   for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
     std::vector<PartialCluster> shares;
     partials.read(b, &shares);
@@ -183,16 +259,34 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
     clusters += starts.size();
     starts.push_back(shares.size());
     tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t k) {
-      std::int64_t id = index.find(shares[starts[k]].centre);
-      if (id < 0) return;  // a cluster no output triangle uses
+      const std::uint64_t centre = shares[starts[k]].centre;
+      const std::int64_t id = index.find(centre);
+      if (id < 0 && !thick) return;  // a cluster no output triangle uses
       ClusterRecord sum = shares[starts[k]].sums;
       for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
       Vec3d p = representative(sum, cell, rule);
+      if (id < 0) {
+        // No triangle or edge uses it: a thick point when a triangle collapsed into it.
+        if (sum.collapsed == 0 && stitched_points.find(centre) < 0) return;
+        const double width =
+            point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
+        std::lock_guard<std::mutex> hold(points_lock);
+        points.push_back({centre, p, float(width)});
+        return;
+      }
       if (quadrics) (*quadrics)[std::size_t(id)] = multiphase_quadric(sum, cell, origin);
       mesh.positions[3 * std::size_t(id)] = p.x;
       mesh.positions[3 * std::size_t(id) + 1] = p.y;
       mesh.positions[3 * std::size_t(id) + 2] = p.z;
     });
+  }
+  // The points in centre order, numbered after everything else.
+  std::sort(points.begin(), points.end(),
+            [](const PointCluster& a, const PointCluster& b) { return a.centre < b.centre; });
+  for (const PointCluster& pc : points) {
+    mesh.primitives.points.push_back(index.insert(pc.centre));
+    mesh.primitives.point_thickness.push_back(pc.width);
+    mesh.positions.insert(mesh.positions.end(), {pc.position.x, pc.position.y, pc.position.z});
   }
   if (attribute_shares && attributes && !attributes->empty())
     assemble_attributes(*attribute_shares, *attributes, index, &mesh.attributes);

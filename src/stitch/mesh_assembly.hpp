@@ -21,8 +21,11 @@ namespace oocsimp {
 /// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners). With
 /// a `budget`, throws UsageError when the list and the largest
 /// stitch bucket would not fit next to what the process holds.
+/// With `edges`, the cross-tile triangles over two clusters or one go to its shares
+/// (CrossTileEdges).
 std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
-                                                const MemoryBudget& budget = MemoryBudget());
+                                                const MemoryBudget& budget = MemoryBudget(),
+                                                const CrossTileEdges* edges = nullptr);
 
 /// The output position of a cluster from its merged sums: its centre, the mean of
 /// its vertices or the quadric minimiser kept in the cell (`rule`), for cells `cell`.
@@ -42,11 +45,20 @@ struct AssemblyCounts {
 /// output vertex also gets its cluster's attribute values (AttributeLayout::finish).
 /// With `quadrics`, each output vertex also gets its cluster's summed quadric, in
 /// model units relative to `origin` (multiphase_quadric).
+/// With `thick` (thick edges, Low & Tan 1997 §3.3), the output also gets
+/// SimplifiedMesh::primitives: the edges of `thick->edge_shares` (summed per cluster
+/// pair) that no output triangle has as a side, sorted by cluster pair, and as points
+/// the clusters that some triangle collapsed into and no triangle or edge uses, by
+/// centre index; their vertices follow the triangles'. See select_thick_primitives.
+struct ThickAssembly {
+  StreamSpill* edge_shares = nullptr;       ///< EdgeShare records by first cluster / cluster span
+  const PositionArray* positions = nullptr;  ///< the input's: a centre is an input vertex
+};
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
                              RepresentativeRule rule, AssemblyCounts* counts,
                              const MemoryBudget& budget = MemoryBudget(), StreamSpill* attribute_shares = nullptr,
                              const AttributeLayout* attributes = nullptr, std::vector<Quadric>* quadrics = nullptr,
-                             const Vec3d& origin = {});
+                             const Vec3d& origin = {}, const ThickAssembly* thick = nullptr);
 
 /// A cluster's summed quadric, kept in cell units about its centre, in model units
 /// about `origin`: with u = (y - t) / s (t the centre less origin, s the cell side)
