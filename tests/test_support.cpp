@@ -81,6 +81,9 @@ LoadedMesh load_mesh(const std::string& path, const std::string& temp_dir) {
     oocsimp::Vec3d p = in.positions.get(i);
     m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
   }
+  in.triangles->set_primitive_sink([&](const oocsimp::LinePrimitive* p, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) (p[k].a == p[k].b ? m.points : m.edges).push_back(p[k]);
+  });
   std::vector<std::uint64_t> buf(3 * 1000);
   while (std::size_t n = in.triangles->read(buf.data(), 1000))
     m.triangles.insert(m.triangles.end(), buf.begin(), buf.begin() + 3 * n);

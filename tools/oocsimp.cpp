@@ -375,8 +375,9 @@ int run_render(const std::string& in, const std::string& out, RenderOptions opti
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!quiet)
     std::fprintf(stderr,
-                 "render  %" PRIu64 " triangles, %ux%u pixels (%" PRIu64 " covered, %.3g model units each), %.3f s\n",
-                 s.triangles, options.width, options.height, s.covered_pixels, s.pixel_size, seconds);
+                 "render  %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64 " points, %ux%u pixels (%" PRIu64
+                 " covered, %.3g model units each), %.3f s\n",
+                 s.triangles, s.edges, s.points, options.width, options.height, s.covered_pixels, s.pixel_size, seconds);
   return kOk;
 }
 
@@ -662,6 +663,10 @@ int main(int argc, char** argv) {
                      "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
   render->add_option("--shading", render_shading, "flat (default) or smooth (the file's vertex normals)")
       ->check(CLI::IsMember({"flat", "smooth"}));
+  bool render_thick = false;
+  render->add_flag("--thick-edges", render_thick,
+                   "Draw edges T/R pixels wide and points as discs T/R across (T their thickness, R the pixel size; "
+                   "Low & Tan 1997 sec. 3.3); one pixel wide without");
   render->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
   render->add_flag("--quiet", quiet, "No progress or summary");
 
@@ -687,6 +692,7 @@ int main(int argc, char** argv) {
       RenderOptions o;
       parse_render_args(render_size, render_view, &o);
       o.shading = render_shading == "smooth" ? Shading::smooth : Shading::flat;
+      o.thick_edges = render_thick;
       return run_render(in, out, o, tmp, quiet);
     }
     if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, generate_attributes, quiet);

@@ -25,6 +25,13 @@ struct RenderOptions {
   /// elevation above the xy plane (90: from straight above, looking down -z).
   double azimuth_degrees = 30, elevation_degrees = 20;
   Shading shading = Shading::flat;
+  /// The file's edges and points (LinePrimitive): with thick_edges, an edge of
+  /// thickness T is drawn T / R pixels wide and a point as a disc T / R pixels across,
+  /// R the pixel size (Low & Tan 1997 §3.3, §4), at least one pixel; without, one
+  /// pixel wide. Either way a line is lit by Low & Tan's dynamic normal (§3.3.2: in
+  /// the plane of the edge and the view, across the edge), turned across the line's
+  /// width as a cylinder's, and a disc as a sphere.
+  bool thick_edges = false;
   /// The background's and the surface's colour, 0xRRGGBB. Faces are lit by a light at
   /// the camera: surface x (0.2 + 0.8 |cos|) of the angle to the view, both sides alike.
   std::uint32_t background = 0xFFFFFF, surface = 0xB4B4BE;
@@ -39,14 +46,15 @@ struct Image {
 
 struct RenderStats {
   std::uint64_t triangles = 0;       ///< triangles read
+  std::uint64_t edges = 0, points = 0;  ///< thick edges and points read
   std::uint64_t covered_pixels = 0;  ///< pixels the surface covers
   /// The size of a pixel in model units: the camera frames the bounding box's
   /// circumscribed sphere, its diameter x 1.05 across the image's shorter side.
   double pixel_size = 0;
 };
 
-/// Draws the triangles of `input` (one pass over its triangle stream) as seen from
-/// the options' view, framing its bounding box. An empty mesh gives the background.
+/// Draws the triangles, edges and points of `input` (one pass over its triangle
+/// stream) as seen from the options' view, framing its bounding box. An empty mesh gives the background.
 /// Throws UsageError on a bad size, InputError from the reader.
 Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats = nullptr);
 

@@ -109,6 +109,34 @@ class Rasterizer {
     }
   }
 
+  // Draws the capsule of half width `half` pixels around the segment s0 s1 (pixel
+  // space, depth in z): a cylinder of radius `radius` (model units) seen from the side,
+  // lit by `light` (the dynamic normal's cosine) times that of the turn across its
+  // width. With s0 = s1 it is a sphere's disc, lit by its own normals.
+  void draw_capsule(const Vec3d& s0, const Vec3d& s1, double half, double radius, double light) {
+    const double w = o_.width, h = o_.height;
+    const double lo_x = std::max(0.0, std::floor(std::min(s0.x, s1.x) - half - 0.5));
+    const double hi_x = std::min(w - 1, std::ceil(std::max(s0.x, s1.x) + half - 0.5));
+    const double lo_y = std::max(0.0, std::floor(std::min(s0.y, s1.y) - half - 0.5));
+    const double hi_y = std::min(h - 1, std::ceil(std::max(s0.y, s1.y) + half - 0.5));
+    if (!(lo_x <= hi_x && lo_y <= hi_y)) return;  // off the image, or not finite
+    const double dx = s1.x - s0.x, dy = s1.y - s0.y, len2 = dx * dx + dy * dy;
+    for (std::uint32_t y = std::uint32_t(lo_y); y <= std::uint32_t(hi_y); ++y)
+      for (std::uint32_t x = std::uint32_t(lo_x); x <= std::uint32_t(hi_x); ++x) {
+        const double px = x + 0.5 - s0.x, py = y + 0.5 - s0.y;
+        const double t = len2 > 0 ? std::clamp((px * dx + py * dy) / len2, 0.0, 1.0) : 0.0;
+        const double ex = px - t * dx, ey = py - t * dy;
+        const double off2 = (ex * ex + ey * ey) / (half * half);
+        if (off2 > 1) continue;
+        const double across = std::sqrt(1 - off2);  // cos of the turn away from the view
+        const double z = s0.z + t * (s1.z - s0.z) + radius * across;
+        const std::size_t at = std::size_t(y) * o_.width + x;
+        if (!(z > depth_[at])) continue;
+        depth_[at] = z;
+        shade_[at] = float(light * across);
+      }
+  }
+
   Image image(std::uint64_t* covered) const {
     Image out;
     out.width = o_.width;
@@ -154,6 +182,27 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
   const bool smooth = options.shading == Shading::smooth && normals.present();
   ProgressPhase phase(options.progress, "render", input.file_size, "B");
   input.restart_triangles();
+  input.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3d a = input.positions.get(p[k].a), b = input.positions.get(p[k].b);
+      // Half the width in pixels, at least half a pixel; the radius in model units.
+      const double radius = options.thick_edges ? 0.5 * double(p[k].thickness) : 0.0;
+      const double half = std::max(0.5, radius / camera.pixel);
+      if (p[k].a == p[k].b) {
+        ++st.points;
+        raster.draw_capsule(camera.project(a), camera.project(a), half, radius, 1.0);
+        continue;
+      }
+      ++st.edges;
+      // Low & Tan's dynamic normal lies in the plane of the edge and the view, across
+      // the edge: with the camera at infinity, its cosine to the view is
+      // |towards x e| / |e|, the sine of the angle between the edge and the view.
+      const Vec3d e = b - a;
+      const double len = length(e);
+      const double light = len > 0 ? length(cross(camera.towards, e)) / len : 1.0;
+      raster.draw_capsule(camera.project(a), camera.project(b), half, radius, light);
+    }
+  });
   constexpr std::size_t kChunk = 65536;
   std::vector<std::uint64_t> chunk(3 * kChunk);
   while (std::size_t n = input.triangles->read(chunk.data(), kChunk)) {
