@@ -11,10 +11,15 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
+#include "common/vec3_math.hpp"
+#include "io/byte_sink.hpp"
 #include "io/mesh_writer_output.hpp"
 #include "io/temp_file.hpp"
 #include "methods/cluster_methods.hpp"
+#include "methods/floating_clusterer.hpp"
 #include "methods/multiphase.hpp"
 #include "oocsimp/error.hpp"
 #include "report/memory_usage.hpp"
@@ -81,7 +86,11 @@ ScalarType output_precision(const MeshInput& input, Precision precision) {
   }
 }
 
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+namespace {
+
+// What every run checks and records before its work: the budget's minimum, thick
+// edges' methods, the float range, the input's counts and notes.
+SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) {
   // Below this a run cannot hold its buffers (I/O buffers, one tile's spill
   // buffers, the pipeline's chunks), whatever the input: say so before starting.
   constexpr std::uint64_t kMinimumBudget = 32u << 20;
@@ -93,11 +102,8 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
     throw UsageError("options.thick_edges needs a clustering method without a target (options.method floating or "
                      "uniform; exact targets do not make thick edges yet)");
-  auto threads = limit_threads(options.threads);
-  const PeakAnonSampler memory;
   check_float_range(input);
-  SimplifyStats local;
-  SimplifyStats& st = stats ? *stats : local;
+  SimplifyStats st;
   st.input_vertices = input.positions.count;
   st.unwelded_vertices = input.info.unwelded_vertex_count;
   st.non_finite_vertices = input.info.non_finite_vertices;
@@ -105,22 +111,148 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   st.first_non_finite_position = input.info.first_non_finite_position;
   for (const std::string& note : input.info.not_carried) st.warnings.push_back(note);
   st.attributes = input.attributes.attributes;
+  return st;
+}
+
+// The output's precision and the run's peak memory.
+void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory,
+                SimplifiedMesh& m, SimplifyStats& st) {
+  m.precision = ScalarType::f64;
+  if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
+}
+
+void record_grid(const GridSpec& grid, SimplifyStats* st) {
+  st->cell_size = grid.cell;
+  for (int a = 0; a < 3; ++a) st->grid_dims[a] = grid.dims[a];
+}
+
+}  // namespace
+
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+  auto threads = limit_threads(options.threads);
+  const PeakAnonSampler memory;
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  const SimplifyStats begun = begin_run(input, options);
+  {
+    // The caller's phases so far (simplify_file's "open") stay first.
+    std::vector<PhaseTime> phases = std::move(st.phases);
+    st = begun;
+    st.phases = std::move(phases);
+  }
   SimplifiedMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {
     m = simplify_to_target(input, options, &st);
   } else {
     const GridSpec grid = choose_grid(input, options.sizing, options.threads);
-    st.cell_size = grid.cell;
-    for (int a = 0; a < 3; ++a) st.grid_dims[a] = grid.dims[a];
+    record_grid(grid, &st);
     input.restart_triangles();
     m = cluster_method(options.method).run(input, options, grid, &st, nullptr);
   }
-  m.precision = ScalarType::f64;
-  if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
-  st.peak_rss_bytes = peak_rss_bytes();
-  st.peak_anon_bytes = memory.peak();
+  finish_run(input, options, memory, m, st);
   return m;
 }
+
+namespace {
+
+void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
+  if (lods.levels < 1 || lods.levels > 16) throw UsageError("options.lods.levels must be 1 to 16");
+  if (!(lods.factor > 1) || !std::isfinite(lods.factor))
+    throw UsageError("options.lods.factor must be a number above 1");
+  if (options.method == ClusterMethod::qem)
+    throw UsageError("options.lods needs a clustering method (options.method floating or uniform)");
+  if (options.target.max_error > 0)
+    throw UsageError("options.lods halves a triangle target per level; it does not take options.target.max_error");
+}
+
+// sqrt(2 A / T) for the output's area A and triangle count T (SimplifyStats::lod_cell).
+double equivalent_cell(const SimplifiedMesh& m) {
+  double area = 0;
+  auto at = [&](std::uint32_t v) { return Vec3d{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}; };
+  for (std::size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+    const Vec3d a = at(m.triangles[t]);
+    area += 0.5 * length(cross(at(m.triangles[t + 1]) - a, at(m.triangles[t + 2]) - a));
+  }
+  const double triangles = double(m.triangles.size() / 3);
+  return triangles > 0 ? std::sqrt(2 * area / triangles) : 0;
+}
+
+}  // namespace
+
+void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink) {
+  check_lods(options, lods);
+  auto threads = limit_threads(options.threads);
+  if (options.target.given()) {
+    // Each level a run of its own, at half the previous level's target.
+    for (std::uint32_t k = 0; k < lods.levels; ++k) {
+      SimplifyOptions o = options;
+      o.target.triangles = std::max<std::uint64_t>(options.target.triangles >> k, options.target.triangles ? 1 : 0);
+      o.target.ratio = std::ldexp(options.target.ratio, -int(k));
+      SimplifyStats st;
+      SimplifiedMesh m = simplify(input, o, &st);
+      st.lod_cell = equivalent_cell(m);
+      sink(k, m, st);
+    }
+    return;
+  }
+  const SimplifyStats base = begin_run(input, options);
+  const GridSpec first = choose_grid(input, options.sizing, options.threads);
+  std::vector<GridSpec> grids = {first};
+  for (std::uint32_t k = 1; k < lods.levels; ++k)
+    grids.push_back(GridSpec::with_cell(input.info.bounds, first.cell * std::pow(lods.factor, double(k))));
+  if (options.method == ClusterMethod::floating) {
+    const PeakAnonSampler memory;
+    input.restart_triangles();
+    cluster_floating_levels(
+        input, options, grids,
+        [&](std::size_t k, SimplifiedMesh& m, SimplifyStats& st) {
+          record_grid(grids[k], &st);
+          st.lod_cell = grids[k].cell;
+          finish_run(input, options, memory, m, st);
+          sink(std::uint32_t(k), m, st);
+        },
+        base);
+    return;
+  }
+  for (std::uint32_t k = 0; k < lods.levels; ++k) {
+    const PeakAnonSampler memory;
+    SimplifyStats st = base;
+    record_grid(grids[k], &st);
+    st.lod_cell = grids[k].cell;
+    input.restart_triangles();
+    SimplifiedMesh m = cluster_method(options.method).run(input, options, grids[k], &st, nullptr);
+    finish_run(input, options, memory, m, st);
+    sink(k, m, st);
+  }
+}
+
+namespace {
+
+// "out.ply" -> ("out", ".ply"); "a/b.obj.zst" -> ("a/b", ".obj.zst"); no extension: ("x", "").
+std::pair<std::string, std::string> split_extension(const std::string& path) {
+  std::string p = path;
+  std::string zst;
+  if (has_zst_suffix(p)) {
+    zst = p.substr(p.size() - 4);
+    p.resize(p.size() - 4);
+  }
+  const std::size_t slash = p.rfind('/'), dot = p.rfind('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash) || dot == 0 ||
+      (slash != std::string::npos && dot == slash + 1))
+    return {p, zst};
+  return {p.substr(0, dot), p.substr(dot) + zst};
+}
+
+}  // namespace
+
+std::string lod_level_path(const std::string& mesh_path, std::uint32_t level) {
+  const auto [stem, ext] = split_extension(mesh_path);
+  return stem + ".lod" + std::to_string(level) + ext;
+}
+
+std::string lod_description_path(const std::string& mesh_path) { return split_extension(mesh_path).first + ".lods.json"; }
 
 MeshFormat output_format(const OutputOptions& outputs) {
   // stdout, a device, a FIFO or a socket has no extension to tell the format by (a name
@@ -169,6 +301,40 @@ std::string attributes_not_written(const std::string& path, MeshFormat format, c
   return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
 }
 
+// Opens the input as `options` say (welding, attributes, budget, progress).
+MeshInput open_input(const std::string& input_path, const SimplifyOptions& options) {
+  OpenOptions open;
+  open.temp_dir = options.temp_dir;
+  open.weld = options.weld;
+  open.attributes = options.attributes;
+  open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  open.progress = options.progress;
+  return open_mesh_input(input_path, open);
+}
+
+// Writes `mesh` (normals added when asked) to `file`, with a warning in `st` for what
+// the format cannot keep, and records the "write" phase.
+void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outputs, SimplifiedMesh& mesh,
+                  const ProgressCallback& progress, SimplifyStats& st) {
+  if (outputs.normals) add_vertex_normals(&mesh);
+  const double t0 = now_seconds();
+  ProgressPhase phase(progress, "write", 0, "B");
+  if (!format_keeps_attributes(format, mesh.attributes))
+    st.warnings.push_back(attributes_not_written(file.path(), format, mesh.attributes));
+  if (!mesh.primitives.empty() && !format_keeps_primitives(format))
+    st.warnings.push_back(file.path() + ": " +
+                          (format == MeshFormat::obj ? std::string("OBJ's l and p lines have no thickness; ") +
+                                                           "the thick edges and points are written without it"
+                                                     : std::string("STL and OFF have no edges or points; ") +
+                                                           std::to_string(mesh.primitives.edge_count()) +
+                                                           " thick edges and " +
+                                                           std::to_string(mesh.primitives.point_count()) +
+                                                           " points not written") +
+                          " (write .ply to keep them)");
+  write_mesh(file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes, &mesh.primitives);
+  st.phases.push_back({"write", now_seconds() - t0});
+}
+
 }  // namespace
 
 void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
@@ -185,38 +351,11 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   double t0 = now_seconds();
-  OpenOptions open;
-  open.temp_dir = options.temp_dir;
-  open.weld = options.weld;
-  open.attributes = options.attributes;
-  open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
-  open.progress = options.progress;
-  MeshInput input = open_mesh_input(input_path, open);
-  double t1 = now_seconds();
-  st.phases.push_back({"open", t1 - t0});
+  MeshInput input = open_input(input_path, options);
+  st.phases.push_back({"open", now_seconds() - t0});
   SimplifiedMesh mesh = simplify(input, options, &st);
-  if (outputs.normals) add_vertex_normals(&mesh);
-  double t2 = now_seconds();
-  {
-    ProgressPhase phase(options.progress, "write", 0, "B");
-    if (!format_keeps_attributes(format, mesh.attributes))
-      st.warnings.push_back(attributes_not_written(outputs.mesh, format, mesh.attributes));
-    if (!mesh.primitives.empty() && !format_keeps_primitives(format))
-      st.warnings.push_back(outputs.mesh + ": " +
-                            (format == MeshFormat::obj ? std::string("OBJ's l and p lines have no thickness; ") +
-                                                             "the thick edges and points are written without it"
-                                                       : std::string("STL and OFF have no edges or points; ") +
-                                                             std::to_string(mesh.primitives.edge_count()) +
-                                                             " thick edges and " +
-                                                             std::to_string(mesh.primitives.point_count()) +
-                                                             " points not written") +
-                            " (write .ply to keep them)");
-    write_mesh(mesh_file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes,
-               &mesh.primitives);
-  }
-  double t3 = now_seconds();
-  st.phases.push_back({"write", t3 - t2});
-  st.seconds_total = t3 - t0;
+  write_output(mesh_file, format, outputs, mesh, options.progress, st);
+  st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
   // The stats first: when they cannot be written, the mesh output stays as it was.
@@ -225,6 +364,42 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
     stats_file->commit();
   }
   mesh_file.commit();
+}
+
+void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                        const LodOptions& lods, std::vector<SimplifyStats>* stats) {
+  if (outputs.mesh == "-") throw UsageError("options.lods writes a file per level, not to stdout");
+  if (!outputs.stats.empty())
+    throw UsageError("outputs.stats and options.lods: the levels' figures go to their description (" +
+                     lod_description_path(outputs.mesh) + ")");
+  check_lods(options, lods);
+  const MeshFormat format = output_format(outputs);
+  // Every level's file is opened before the work, and committed when all are written.
+  std::vector<std::unique_ptr<OutputFile>> files;
+  for (std::uint32_t k = 0; k < lods.levels; ++k) {
+    OutputOptions level = outputs;
+    level.mesh = lod_level_path(outputs.mesh, k);
+    check_distinct_destinations(input_path, level);
+    files.push_back(std::make_unique<OutputFile>(level.mesh));
+  }
+  auto threads = limit_threads(options.threads);
+  double t0 = now_seconds();
+  MeshInput input = open_input(input_path, options);
+  const double open_seconds = now_seconds() - t0;
+  std::vector<SimplifyStats> local;
+  std::vector<SimplifyStats>& st = stats ? *stats : local;
+  st.clear();
+  double level_start = now_seconds();
+  simplify_lods(input, options, lods, [&](std::uint32_t k, SimplifiedMesh& mesh, const SimplifyStats& level) {
+    st.push_back(level);
+    SimplifyStats& s = st.back();
+    if (k == 0) s.phases.insert(s.phases.begin(), {"open", open_seconds});
+    write_output(*files[k], format, outputs, mesh, options.progress, s);
+    const double now = now_seconds();
+    s.seconds_total = now - level_start + (k == 0 ? open_seconds : 0);
+    level_start = now;
+  });
+  for (auto& f : files) f->commit();
 }
 
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,

@@ -53,6 +53,9 @@ std::string with_flags(std::string message) {
       {"options.target.intermediate_factor", "--intermediate-factor"},
       {"options.thick_edges", "--thick-edges"},
       {"options.method", "--method"},
+      {"options.lods.levels", "--lods"},
+      {"options.lods.factor", "--lod-factor"},
+      {"options.lods", "--lods"},
       {"options.triangles", "--tris"},
       {"options.samples", "--samples"},
       {"outputs.replace_input", "--force"},
@@ -117,6 +120,9 @@ struct SimplifyArgs {
   std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
               precision = "auto", attributes = "all";
   Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
+  Given lods, lod_factor;
+  LodOptions lod;
+  bool measure = false;
   std::string refine = "qem";
   CLI::Option* refine_option = nullptr;
   std::vector<CLI::Option*> floating_only;
@@ -180,6 +186,67 @@ void resolve_simplify_args(SimplifyArgs& a) {
       throw UsageError(std::string("--mem: ") + e.what());
     }
   }
+  if (a.lods.given()) a.lod.levels = std::uint32_t(whole_number("--lods", a.lods.text, 1, 16));
+  if (a.lod_factor.given()) {
+    if (!a.lods.given()) throw UsageError("--lod-factor applies with --lods");
+    a.lod.factor = positive_number("--lod-factor", a.lod_factor.text);
+    if (!(a.lod.factor > 1)) bad_value("--lod-factor", a.lod_factor.text, "a number above 1");
+  }
+  if (a.measure && !a.lods.given()) throw UsageError("--measure applies with --lods (use oocsimp measure otherwise)");
+}
+
+// The last part of a path: level files are named in their description relative to it.
+std::string base_name(const std::string& path) {
+  const std::size_t slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+// simplify --lods: the levels, then (with --measure) each against the input, then the
+// description OUT.lods.json, and a line per level.
+int run_simplify_lods(SimplifyArgs& a) {
+  std::vector<SimplifyStats> stats;
+  simplify_lods_file(a.in, a.outputs, a.options, a.lod, &stats);
+  std::vector<LodLevel> levels;
+  for (std::uint32_t k = 0; k < stats.size(); ++k) {
+    const SimplifyStats& s = stats[k];
+    LodLevel l;
+    l.file = base_name(lod_level_path(a.outputs.mesh, k));
+    l.cell = s.lod_cell;
+    l.vertices = s.output_vertices;
+    l.triangles = s.output_triangles;
+    l.edges = s.output_edges;
+    l.points = s.output_points;
+    l.seconds = s.seconds_total;
+    if (a.measure) {
+      MeasureOptions m;
+      m.threads = a.options.threads;
+      m.temp_dir = a.options.temp_dir;
+      m.progress = a.options.progress;
+      const DistanceReport r = measure_surface_distance(a.in, lod_level_path(a.outputs.mesh, k), m);
+      l.rms = r.symmetric.rms;
+      l.hausdorff = r.symmetric.max;
+    }
+    levels.push_back(l);
+  }
+  write_lod_levels(lod_description_path(a.outputs.mesh), levels);
+  if (!a.quiet) {
+    double total = 0;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      const LodLevel& l = levels[k];
+      total += l.seconds;
+      char measured[96] = "";
+      if (l.rms >= 0) std::snprintf(measured, sizeof measured, ", RMS %.3g, Hausdorff %.3g", l.rms, l.hausdorff);
+      std::printf("level %zu  %s: cell %.6g, %" PRIu64 " vertices, %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64
+                  " points, %.3f s%s\n",
+                  k, lod_level_path(a.outputs.mesh, std::uint32_t(k)).c_str(), l.cell, l.vertices, l.triangles, l.edges,
+                  l.points, l.seconds, measured);
+    }
+    std::printf("levels  %zu in %.3f s, described in %s\n", levels.size(), total,
+                lod_description_path(a.outputs.mesh).c_str());
+  }
+  for (const SimplifyStats& s : stats)
+    for (const std::string& w : s.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
+  return kOk;
 }
 
 int run_simplify(SimplifyArgs& a) {
@@ -188,6 +255,7 @@ int run_simplify(SimplifyArgs& a) {
   a.options.progress = progress.callback();
   a.options.release_memory = release_free_heap;
   a.options.budget_counts_process = true;
+  if (a.lods.given()) return run_simplify_lods(a);
   SimplifyStats stats;
   simplify_file(a.in, a.outputs, a.options, &stats);
   if (!a.quiet) {
@@ -539,6 +607,19 @@ int main(int argc, char** argv) {
                                       "(clustering alone, at a cell chosen for about the target)")
                          ->check(CLI::IsMember({"qem", "none"}))
                          ->group(common);
+  sa.lods.option = simplify
+                      ->add_option("--lods", sa.lods.text,
+                                   "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... "
+                                   "and their description OUT.lods.json (floating cells bin and grade once)")
+                      ->group(common);
+  sa.lod_factor.option =
+      simplify->add_option("--lod-factor", sa.lod_factor.text, "With --lods: the cell grows F times a level (default 2)")
+          ->group(common);
+  simplify
+      ->add_flag("--measure", sa.measure,
+                 "With --lods: measure each level's RMS and Hausdorff distance to the input (oocsimp measure's "
+                 "symmetric figures) into OUT.lods.json")
+      ->group(common);
   sa.intermediate_factor.option =
       simplify
           ->add_option("--intermediate-factor", sa.intermediate_factor.text,

@@ -19,7 +19,20 @@ struct LodLevel {
   std::string file;  ///< as written in the JSON (relative to its folder)
   double cell = 0;   ///< clustering cell, model units
   std::uint64_t vertices = 0, triangles = 0, edges = 0, points = 0;
+  double seconds = 0;  ///< the level's wall time (the first level's includes opening, binning and grading)
+  /// Symmetric RMS and Hausdorff distance to the input (measure), model units; -1
+  /// when not measured.
+  double rms = -1, hausdorff = -1;
 };
+
+/// The levels as OUT.lods.json: {"levels": [{"file", "cell", "vertices",
+/// "triangles", "edges", "points", "seconds", and "rms" and "hausdorff" when
+/// measured}, ...]}, numbers written so that they read back exactly.
+std::string lod_levels_json(const std::vector<LodLevel>& levels);
+
+/// Writes lod_levels_json to `path` under a temporary name, renamed when complete.
+/// Throws IoError.
+void write_lod_levels(const std::string& path, const std::vector<LodLevel>& levels);
 
 /// Reads OUT.lods.json: {"levels": [{"file": ..., "cell": ..., "vertices": ...,
 /// "triangles": ..., "edges": ..., "points": ...}, ...]} (other members are read past).

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -150,6 +151,10 @@ struct SimplifyStats {
   std::uint64_t output_vertices = 0;
   std::uint64_t output_triangles = 0;
   std::uint64_t output_edges = 0, output_points = 0;  ///< thick edges and points (SimplifyOptions::thick_edges)
+  /// simplify_lods: the level's cell for choosing a level (lod-select): the clustering
+  /// cell, or with a target sqrt(2 A / T) for an output of area A and T triangles, the
+  /// cell of a grid that leaves about T triangles on such a surface (two per cell).
+  double lod_cell = 0;
   double cell_size = 0;
   std::uint32_t grid_dims[3] = {0, 0, 0};
   /// Wall seconds of each phase in order: "open" (header, positions, bounding box), the
@@ -241,6 +246,33 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned 
 /// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
 
+/// Levels of detail from one run (Low & Tan 1997 §3.2.2 and §4).
+struct LodOptions {
+  std::uint32_t levels = 1;  ///< K, 1 to 16
+  double factor = 2;         ///< F > 1: level k clusters at cell C F^k, C the first level's cell
+};
+
+/// Hears each level when it is done: its number, its mesh (which the sink may move
+/// from) and its stats.
+using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, const SimplifyStats& stats)>;
+
+/// simplify() at K levels, finest first. Level 0 is what simplify() gives for
+/// `options`; level k clusters at cell C F^k (C the cell of level 0), and equals
+/// simplify() with options.sizing.cell = C F^k. Floating cells bin and grade the
+/// input once for all levels (binning and grading do not depend on the cell; the
+/// tiles fit the coarsest); the uniform grid, which neither bins nor grades, reads
+/// the input twice per level. With a target (triangles or ratio, not max_error),
+/// level k aims at the target halved k times, each a run of its own (its
+/// SimplifyStats::lod_cell an equivalent cell). Throws
+/// UsageError for a bad `lods`, `qem` or options.target.max_error.
+void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink);
+
+/// Where level k of `mesh_path` goes: ".lod<k>" before the extension ("out.ply" ->
+/// "out.lod0.ply", "a/b.obj.zst" -> "a/b.lod0.obj.zst").
+std::string lod_level_path(const std::string& mesh_path, std::uint32_t level);
+/// Where the description of the levels goes: "out.ply" -> "out.lods.json".
+std::string lod_description_path(const std::string& mesh_path);
+
 /// The precision `options` ask for on `input` (resolves Precision::automatic).
 ScalarType output_precision(const MeshInput& input, Precision precision);
 
@@ -264,6 +296,14 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
 /// The same with only a mesh output.
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats);
+
+/// simplify_lods on the file at `input_path`, level k written to
+/// lod_level_path(outputs.mesh, k) (outputs.normals and outputs.ascii apply; not
+/// stdout, and outputs.stats is refused: the levels' figures are the caller's to
+/// describe). Every level file is opened before the work and renamed into place only
+/// when all levels are written. Fills `stats` with one entry per level.
+void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                        const LodOptions& lods, std::vector<SimplifyStats>* stats);
 
 /// The format `outputs.mesh` is written in: format_for_path, except that stdout ("-"),
 /// a device, a FIFO or a socket whose name has no extension we write gets binary (or

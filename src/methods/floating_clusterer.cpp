@@ -19,6 +19,7 @@
 //                order of first occurrence
 #include "methods/floating_clusterer.hpp"
 
+#include <algorithm>
 #include <iterator>
 #include <memory>
 #include <string>
@@ -74,26 +75,43 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
 
 }  // namespace
 
-SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, const GridSpec& grid,
+SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  SimplifiedMesh out;
+  cluster_floating_levels(
+      input, options, {grid},
+      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
+        out = std::move(m);
+        if (stats) *stats = std::move(s);
+      },
+      stats ? *stats : SimplifyStats(), quadrics);
+  return out;
+}
+
+void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+                             const FloatingLevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
   SimplifyOptions options = given;
   const MemoryBudget budget(options);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
-  const FloatingCellShape cell{grid.cell, options.floating.cell_shape};
+  // Binning and grading do not depend on the cell (kept_tiles.hpp): the tiles fit the
+  // coarsest level, and every level clusters the same graded tiles.
+  double coarsest = 0;
+  for (const GridSpec& g : grids) coarsest = std::max(coarsest, g.cell);
+  const FloatingCellShape first_cell{grids.front().cell, options.floating.cell_shape};
   double t0 = now_seconds();
 
   // The tiled mesh: kept by an earlier run, or binned.
-  KeptTileStore kept(input, options.temp_dir.empty() ? default_temp_dir() : options.temp_dir,
-                     stats ? &stats->warnings : nullptr);
+  std::vector<std::string> warnings;  // the kept tiles', reported with the first level
+  KeptTileStore kept(input, options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, &warnings);
   BinnedTiles tiles;
-  std::unique_ptr<StreamSpill> graded;  // --keep-tmp: every tile's graded vertices
-  const bool resumed = options.floating.keep_temp && kept.resume(cell.size, &tiles, &graded);
+  std::unique_ptr<StreamSpill> graded;  // --keep-tmp, or more levels: every tile's graded vertices
+  const bool resumed = options.floating.keep_temp && kept.resume(coarsest, &tiles, &graded);
   const bool keeping = options.floating.keep_temp && !resumed && kept.start();
   // The tiles' share of the budget holds the fullest tile as planned (known exactly
   // when resumed); the spills' allowances come after it.
-  const double tile_side = resumed ? 0 : plan_tile_side(input, options, cell.size);
+  const double tile_side = resumed ? 0 : plan_tile_side(input, options, coarsest);
   const std::uint64_t fullest =
-      resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, cell.size));
+      resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, coarsest));
   const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex), fullest);
   if (!resumed) tiles = bin_triangles(input, tile_side, options.memory_budget, spill, options.progress);
   double t1 = now_seconds();
@@ -103,98 +121,110 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& given, 
   const std::uint64_t work_share = spill.work_share;
   check_fullest_tile_fits(budget, tiles, input.info.path);
 
-  // Graded vertex blocks with the first greedy's decisions.
-  BorderDecisions decisions(tiles.grid, cell);
+  // Graded vertex blocks with the first level's first greedy.
+  auto decisions = std::make_unique<BorderDecisions>(tiles.grid, first_cell);
   FirstChoice first = [&](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
-    return decisions.choose_first(tile, sorted);
+    return decisions->choose_first(tile, sorted);
   };
   std::unique_ptr<BlockStore> blocks;
   if (resumed) {
-    blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir, spill.allow.vertex_blocks);
+    blocks = blocks_from_kept(tiles.grid, *graded, first_cell.size, first, spill.dir, spill.allow.vertex_blocks);
   } else {
-    if (options.floating.keep_temp) graded = graded_vertex_spill(tiles, spill);
-    blocks = grade_tiles(tiles, input.positions, cell.size, first, graded.get(), spill.dir, spill.allow.vertex_blocks,
-                         options.progress, work_share);
+    if (options.floating.keep_temp || grids.size() > 1) graded = graded_vertex_spill(tiles, spill);
+    blocks = grade_tiles(tiles, input.positions, first_cell.size, first, graded.get(), spill.dir,
+                         spill.allow.vertex_blocks, options.progress, work_share);
     if (keeping) kept.keep(tiles, *graded);
   }
   release_memory(options);  // the tiles' grading buffers
-
-  // The decided centres: sweeps until no border changes.
-  double rounds_start = now_seconds();
-  {
-    ProgressPhase phase(options.progress, "rounds", 0, "round");
-    decisions.sweep(*blocks, stats);
-  }
   double t2 = now_seconds();
-  TileBorders borders = decisions.take_borders();
-  release_memory(options);
 
-  // Cluster shares and kept triangles.
-  AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget, spill, &options.progress,
-                           &input.attributes, work_share,        options.thick_edges};
-  ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
-  // Centres live on in the cluster records; the per-tile lists are done, and the
-  // memory of the triangles and vertex blocks goes to the output tables.
-  TileBorders().swap(borders);
-  tiles.triangles->discard();
-  blocks->discard();
-  release_memory(options);
-  double t3 = now_seconds();
+  for (std::size_t level = 0; level < grids.size(); ++level) {
+    const FloatingCellShape cell{grids[level].cell, options.floating.cell_shape};
+    double level_start = now_seconds();
+    if (level > 0) {
+      // The next level's first greedy, from the graded vertices kept above.
+      decisions = std::make_unique<BorderDecisions>(tiles.grid, cell);
+      blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir, spill.allow.vertex_blocks);
+    }
+    double t3 = now_seconds();
+    SimplifyStats stats = base;
+    {
+      ProgressPhase phase(options.progress, "rounds", 0, "round");
+      decisions->sweep(*blocks, &stats);
+    }
+    double t4 = now_seconds();
+    TileBorders borders = decisions->take_borders();
+    release_memory(options);
 
-  std::vector<KeptTriangle> kept_triangles;
-  {
-    ProgressPhase phase(options.progress, "stitch", 0, "bucket");
-    CrossTileEdges cross{&input.positions, cell.size, shares.edge_shares.get(), shares.cluster_span};
-    kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget,
-                                           options.thick_edges ? &cross : nullptr);
-  }
-  shares.corners->discard();  // read into kept_triangles
-  shares.inside->discard();
-  double t4 = now_seconds();
-  SimplifiedMesh m;
-  AssemblyCounts counts;
-  {
-    ProgressPhase phase(options.progress, "assemble", 0, "cell");
-    const ThickAssembly thick{shares.edge_shares.get(), &input.positions};
-    m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
-                      budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grid.origin,
-                      options.thick_edges ? &thick : nullptr);
-  }
-  double t5 = now_seconds();
+    // Cluster shares and kept triangles.
+    AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget, spill, &options.progress,
+                             &input.attributes, work_share,        options.thick_edges};
+    ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
+    // Centres live on in the cluster records; the per-tile lists are done, and the
+    // memory of the triangles (after the last level) and vertex blocks goes to the
+    // output tables.
+    TileBorders().swap(borders);
+    const bool last = level + 1 == grids.size();
+    if (last) tiles.triangles->discard();
+    blocks->discard();
+    release_memory(options);
+    double t5 = now_seconds();
 
-  if (stats) {
+    std::vector<KeptTriangle> kept_triangles;
+    {
+      ProgressPhase phase(options.progress, "stitch", 0, "bucket");
+      CrossTileEdges cross{&input.positions, cell.size, shares.edge_shares.get(), shares.cluster_span};
+      kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget,
+                                             options.thick_edges ? &cross : nullptr);
+    }
+    shares.corners->discard();  // read into kept_triangles
+    shares.inside->discard();
+    double t6 = now_seconds();
+    SimplifiedMesh m;
+    AssemblyCounts counts;
+    {
+      ProgressPhase phase(options.progress, "assemble", 0, "cell");
+      const ThickAssembly thick{shares.edge_shares.get(), &input.positions};
+      m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
+                        budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grids[level].origin,
+                        options.thick_edges ? &thick : nullptr);
+    }
+    double t7 = now_seconds();
+
     const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(),        shares.corners.get(),
                                    shares.partials.get(), shares.inside.get(), shares.attribute_shares.get(),
                                    shares.edge_shares.get()};
-    stats->spill_bytes = stats->spill_raw_bytes = blocks->bytes_on_disk();
-    stats->spill_bytes_in_memory = blocks->bytes_in_memory();
-    for (const StreamSpill* s : spills)
-      if (s) {
-        stats->spill_bytes += s->bytes_on_disk();
-        stats->spill_raw_bytes += s->bytes_spilled();
-        stats->spill_bytes_in_memory += s->bytes_kept_in_memory();
+    stats.spill_bytes = stats.spill_raw_bytes = blocks->bytes_on_disk();
+    stats.spill_bytes_in_memory = blocks->bytes_in_memory();
+    for (const StreamSpill* sp : spills)
+      if (sp) {
+        stats.spill_bytes += sp->bytes_on_disk();
+        stats.spill_raw_bytes += sp->bytes_spilled();
+        stats.spill_bytes_in_memory += sp->bytes_kept_in_memory();
       }
-    stats->input_triangles = tiles.triangle_count;
-    stats->skipped = tiles.skipped;
-    stats->occupied_cells = counts.clusters;
-    stats->output_vertices = m.positions.size() / 3;
-    stats->output_triangles = m.triangles.size() / 3;
-    stats->output_edges = m.primitives.edge_count();
-    stats->output_points = m.primitives.point_count();
-    stats->tiles = tiles.count();
-    stats->largest_tile_records = tiles.largest_tile_records();
-    stats->resumed = resumed;
-    // A resumed run reads kept tiles where the others bin.
-    const double rounds = t2 - rounds_start;
-    const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0},
-                                {"grade", t2 - t1 - rounds},
-                                {"rounds", rounds},
-                                {"cluster", t3 - t2},
-                                {"stitch", t4 - t3},
-                                {"assemble", t5 - t4}};
-    stats->phases.insert(stats->phases.end(), std::begin(phases), std::end(phases));
+    stats.input_triangles = tiles.triangle_count;
+    stats.skipped = tiles.skipped;
+    stats.occupied_cells = counts.clusters;
+    stats.output_vertices = m.positions.size() / 3;
+    stats.output_triangles = m.triangles.size() / 3;
+    stats.output_edges = m.primitives.edge_count();
+    stats.output_points = m.primitives.point_count();
+    stats.tiles = tiles.count();
+    stats.largest_tile_records = tiles.largest_tile_records();
+    stats.resumed = resumed;
+    if (level == 0) stats.warnings.insert(stats.warnings.end(), warnings.begin(), warnings.end());
+    // The first level bins (or resumes) and grades; every later one re-runs its first
+    // greedy from the graded vertices ("regrade").
+    if (level == 0) {
+      const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0}, {"grade", t2 - t1}};
+      stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
+    } else {
+      stats.phases.push_back({"regrade", t3 - level_start});
+    }
+    const PhaseTime phases[] = {{"rounds", t4 - t3}, {"cluster", t5 - t4}, {"stitch", t6 - t5}, {"assemble", t7 - t6}};
+    stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
+    sink(level, m, stats);
   }
-  return m;
 }
 
 }  // namespace oocsimp

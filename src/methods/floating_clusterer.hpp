@@ -2,6 +2,8 @@
 // floating_cells_design.md.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "cluster/quadric.hpp"
@@ -16,5 +18,20 @@ namespace oocsimp {
 /// count. Only vertices used by a triangle take part.
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                 SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+
+/// Hears each level of cluster_floating_levels when it is done: its number, its mesh
+/// (which the sink may move from) and its stats.
+using FloatingLevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, SimplifyStats& stats)>;
+
+/// cluster_floating at each of `grids` (levels of detail, Low & Tan 1997 §3.2.2 and
+/// §4: "sort once"): the input is binned and graded once, with tiles that fit the
+/// coarsest cell (binning and grading do not depend on the cell, see kept_tiles.hpp),
+/// and every level runs its first greedy from the graded vertices, then its sweeps,
+/// accumulation, stitch and assembly. Each level equals cluster_floating with its
+/// grid, since the result does not depend on the tiling. Each level's stats start as
+/// a copy of `base`; the first level's phases include the binning and grading.
+void cluster_floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                             const FloatingLevelSink& sink, const SimplifyStats& base,
+                             std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/lod.hpp"
 
@@ -62,6 +63,31 @@ std::vector<LodLevel> read_lod_levels(const std::string& path) {
   }
   if (levels.empty()) bad(path, "\"levels\" is empty");
   return levels;
+}
+
+std::string lod_levels_json(const std::vector<LodLevel>& levels) {
+  nlohmann::ordered_json doc;
+  doc["levels"] = nlohmann::ordered_json::array();
+  for (const LodLevel& l : levels) {
+    nlohmann::ordered_json j;
+    j["file"] = l.file;
+    j["cell"] = l.cell;
+    j["vertices"] = l.vertices;
+    j["triangles"] = l.triangles;
+    j["edges"] = l.edges;
+    j["points"] = l.points;
+    j["seconds"] = l.seconds;
+    if (l.rms >= 0) j["rms"] = l.rms;
+    if (l.hausdorff >= 0) j["hausdorff"] = l.hausdorff;
+    doc["levels"].push_back(j);
+  }
+  return doc.dump(2) + "\n";
+}
+
+void write_lod_levels(const std::string& path, const std::vector<LodLevel>& levels) {
+  OutputFile out(path);
+  out.write_all(lod_levels_json(levels));
+  out.commit();
 }
 
 double pixel_size_at(double distance, double fov_degrees, double height_pixels) {

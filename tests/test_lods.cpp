@@ -1,0 +1,131 @@
+// simplify --lods (Low & Tan 1997 §3.2.2 and §4): every level equals its own run byte
+// for byte, the description lists what the files hold, and bad requests exit 2 before
+// anything is written.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "oocsimp/generate.hpp"
+#include "oocsimp/lod.hpp"
+#include "oocsimp/simplify.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+// The cell as text that reads back as the same double.
+std::string exact(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+TEST_CASE("level names and the description's name", "[lods]") {
+  CHECK(lod_level_path("out.ply", 0) == "out.lod0.ply");
+  CHECK(lod_level_path("a/b.obj.zst", 3) == "a/b.lod3.obj.zst");
+  CHECK(lod_level_path("a.b/c", 1) == "a.b/c.lod1");
+  CHECK(lod_description_path("a/out.ply.zst") == "a/out.lods.json");
+  CHECK(lod_description_path("out.stl") == "out.lods.json");
+}
+
+TEST_CASE("every level of --lods equals its separate run byte for byte", "[lods][determinism]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
+  generate_mesh(d.file("sphere.ply"), g);
+  for (const char* method : {"floating", "uniform"})
+    for (const char* threads : {"1", "2"}) {
+      INFO(method << " threads " << threads);
+      const std::string common = std::string(" --quiet --method ") + method + " --threads " + threads;
+      const CliResult r = run_cli("simplify " + q(d.file("sphere.ply")) + " -o " + q(d.file("l.ply")) +
+                                  " --grid 100 --lods 3 --lod-factor 2" + common);
+      REQUIRE(r.exit_code == 0);
+      const std::vector<LodLevel> levels = read_lod_levels(d.file("l.lods.json"));
+      REQUIRE(levels.size() == 3);
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        INFO("level " << k);
+        CHECK(levels[k].file == "l.lod" + std::to_string(k) + ".ply");
+        CHECK(levels[k].cell == levels[0].cell * std::pow(2.0, double(k)));
+        // Level 0 is the run with the options given; the others the runs at their cell.
+        const std::string sizing = k == 0 ? " --grid 100" : " --cell " + exact(levels[k].cell);
+        REQUIRE(run_cli("simplify " + q(d.file("sphere.ply")) + " -o " + q(d.file("one.ply")) + sizing + common)
+                    .exit_code == 0);
+        CHECK(read_file(d.file("one.ply")) == read_file(d.file(levels[k].file)));
+        // The description counts what the file holds.
+        const LoadedMesh m = load_mesh(d.file(levels[k].file));
+        CHECK(levels[k].vertices == m.vertex_count());
+        CHECK(levels[k].triangles == m.triangle_count());
+      }
+      CHECK(levels[1].triangles < levels[0].triangles);
+      CHECK(levels[2].triangles < levels[1].triangles);
+    }
+}
+
+TEST_CASE("--lods with thick edges, a target and --measure", "[lods]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.shape = SyntheticShape::branches;
+  g.triangles = 50000;
+  generate_mesh(d.file("tree.ply"), g);
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("tree.ply")) + " -o " + q(d.file("t.ply")) +
+                  " --cell 0.02 --lods 2 --thick-edges --measure")
+              .exit_code == 0);
+  const std::vector<LodLevel> levels = read_lod_levels(d.file("t.lods.json"));
+  REQUIRE(levels.size() == 2);
+  for (const LodLevel& l : levels) {
+    const LoadedMesh m = load_mesh(d.file(l.file));
+    CHECK(l.edges == m.edges.size());
+    CHECK(l.points == m.points.size());
+    CHECK(l.edges > 0);
+  }
+  // Measured into the description.
+  const std::string json = read_file(d.file("t.lods.json"));
+  CHECK(json.find("\"rms\"") != std::string::npos);
+  CHECK(json.find("\"hausdorff\"") != std::string::npos);
+
+  // With a target, each level halves it; the collapse meets it exactly.
+  GenerateOptions sphere;
+  sphere.triangles = 100000;
+  generate_mesh(d.file("sphere.ply"), sphere);
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("sphere.ply")) + " -o " + q(d.file("s.ply")) +
+                  " --target-tris 8000 --lods 3 --measure")
+              .exit_code == 0);
+  const std::vector<LodLevel> s = read_lod_levels(d.file("s.lods.json"));
+  REQUIRE(s.size() == 3);
+  CHECK(s[0].triangles == 8000);
+  CHECK(s[1].triangles == 4000);
+  CHECK(s[2].triangles == 2000);
+}
+
+TEST_CASE("bad --lods requests exit 2 before writing anything", "[lods][cli]") {
+  ScratchDir d;
+  write_cube_ply(d.file("cube.ply"), 8);
+  const std::string in = q(d.file("cube.ply"));
+  for (const std::string& args : std::vector<std::string>{
+           " -o " + q(d.file("o.ply")) + " --lods 0", " -o " + q(d.file("o.ply")) + " --lods 17",
+        " -o " + q(d.file("o.ply")) + " --lods 2 --lod-factor 1", " -o " + q(d.file("o.ply")) + " --lod-factor 2",
+        " -o " + q(d.file("o.ply")) + " --measure", " -o - --lods 2",
+        " -o " + q(d.file("o.ply")) + " --lods 2 --stats " + q(d.file("s.json")),
+        " -o " + q(d.file("o.ply")) + " --lods 2 --method qem --target-tris 10",
+           " -o " + q(d.file("o.ply")) + " --lods 2 --max-error 0.01"}) {
+    INFO(args);
+    const CliResult r = run_cli("simplify " + in + args);
+    CHECK(r.exit_code == 2);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+  CHECK(d.entries() == std::vector<std::string>{"cube.ply"});
+  // A missing folder fails before the work, with nothing left behind.
+  const CliResult missing = run_cli("simplify " + in + " -o " + q(d.file("none/o.ply")) + " --lods 2");
+  CHECK(missing.exit_code == 4);
+  CHECK(d.entries() == std::vector<std::string>{"cube.ply"});
+}
