@@ -38,7 +38,7 @@ TEST_CASE("level names and the description's name", "[lods]") {
   CHECK(lod_description_path("out.stl") == "out.lods.json");
 }
 
-TEST_CASE("every level of --lods equals its separate run byte for byte", "[lods][determinism]") {
+TEST_CASE("every level of simplify --lods equals its separate run byte for byte", "[lods][determinism]") {
   ScratchDir d;
   GenerateOptions g;
   g.triangles = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
@@ -71,7 +71,7 @@ TEST_CASE("every level of --lods equals its separate run byte for byte", "[lods]
     }
 }
 
-TEST_CASE("--lods with thick edges, a target and --measure", "[lods]") {
+TEST_CASE("levels of detail with thick edges, a target and --measure", "[lods]") {
   ScratchDir d;
   GenerateOptions g;
   g.shape = SyntheticShape::branches;
@@ -107,7 +107,7 @@ TEST_CASE("--lods with thick edges, a target and --measure", "[lods]") {
   CHECK(s[2].triangles == 2000);
 }
 
-TEST_CASE("bad --lods requests exit 2 before writing anything", "[lods][cli]") {
+TEST_CASE("bad simplify --lods requests exit 2 before writing anything", "[lods][cli]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 8);
   const std::string in = q(d.file("cube.ply"));
