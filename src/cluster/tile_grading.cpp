@@ -42,6 +42,20 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
   return blocks;
 }
 
+std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier, double cell_size,
+                                               const FirstChoice& choose, const std::string& temp_dir,
+                                               std::uint64_t memory_allowance) {
+  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count(), memory_allowance);
+  grid.for_each_by_colour([&](std::uint32_t tile) {
+    const TileVertexBlock before(earlier.block(tile));
+    const std::vector<GradedVertex> sorted(before.vertices(), before.vertices() + before.size());
+    std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose(tile, sorted), cell_size);
+    blocks->put(tile, block.data(), block.size());
+  });
+  blocks->map();
+  return blocks;
+}
+
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
                                              const FirstChoice& choose, const std::string& temp_dir,
                                              std::uint64_t memory_allowance) {

@@ -68,6 +68,12 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
                                         std::uint64_t memory_allowance, const ProgressCallback& progress,
                                         std::uint64_t work_share = ~std::uint64_t(0));
 
+/// The same from the graded vertices in `earlier`, the blocks of another cell (levels
+/// of detail: the sweeps change which vertices are centres, never their order).
+std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier, double cell_size,
+                                               const FirstChoice& choose, const std::string& temp_dir,
+                                               std::uint64_t memory_allowance);
+
 /// The same from vertices graded by an earlier run (stream `tile` of `kept`).
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
                                              const FirstChoice& choose, const std::string& temp_dir,

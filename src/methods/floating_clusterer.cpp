@@ -130,7 +130,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   if (resumed) {
     blocks = blocks_from_kept(tiles.grid, *graded, first_cell.size, first, spill.dir, spill.allow.vertex_blocks);
   } else {
-    if (options.floating.keep_temp || grids.size() > 1) graded = graded_vertex_spill(tiles, spill);
+    if (options.floating.keep_temp) graded = graded_vertex_spill(tiles, spill);
     blocks = grade_tiles(tiles, input.positions, first_cell.size, first, graded.get(), spill.dir,
                          spill.allow.vertex_blocks, options.progress, work_share);
     if (keeping) kept.keep(tiles, *graded);
@@ -142,9 +142,11 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     const FloatingCellShape cell{grids[level].cell, options.floating.cell_shape};
     double level_start = now_seconds();
     if (level > 0) {
-      // The next level's first greedy, from the graded vertices kept above.
+      // This level's first greedy over the graded vertices of the level before.
       decisions = std::make_unique<BorderDecisions>(tiles.grid, cell);
-      blocks = blocks_from_kept(tiles.grid, *graded, cell.size, first, spill.dir, spill.allow.vertex_blocks);
+      std::unique_ptr<BlockStore> before = std::move(blocks);
+      blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, spill.allow.vertex_blocks);
+      before->discard();
     }
     double t3 = now_seconds();
     SimplifyStats stats = base;
@@ -165,8 +167,10 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     // output tables.
     TileBorders().swap(borders);
     const bool last = level + 1 == grids.size();
-    if (last) tiles.triangles->discard();
-    blocks->discard();
+    if (last) {
+      tiles.triangles->discard();
+      blocks->discard();  // a next level grades from them
+    }
     release_memory(options);
     double t5 = now_seconds();
 
