@@ -1,5 +1,6 @@
 #include "cluster/cluster_accumulation.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -114,6 +115,18 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   }
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", n, "tile");
+  // Each thread's buffers, kept from tile to tile: fresh ones cost a page fault per
+  // page, which on virtual machines rivals the work done in them.
+  struct Scratch {
+    std::vector<GradedVertex> owned;
+    std::vector<std::size_t> owned_at;
+    std::vector<Quadric> vertex_q;
+    std::vector<KeptTriangle> kept;
+    std::vector<CornerRecord> corners;
+    std::vector<ClusterRecord> sums;
+    std::vector<PartialCluster> partial;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratches;
   // One tile: its vertices assigned, its sums and its kept triangles.
   const auto accumulate_tile = [&](std::uint32_t tile) {
     std::vector<TriangleRecord> tris = tiles.load(tile);
@@ -121,12 +134,15 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     // same cubes (by input index, the cluster pass took 15% longer). Their order
     // changes no sum: vertex quadrics follow the triangles, cluster sums are fixed point.
     TileVertexBlock block(blocks.block(tile));
-    std::vector<GradedVertex> owned(block.size());
+    Scratch& scratch = scratches.local();
+    std::vector<GradedVertex>& owned = scratch.owned;
+    owned.resize(block.size());
     for (std::size_t j = 0; j < owned.size(); ++j) owned[j] = block.vertex(block.filed(j));
     // Local vertex id -> position in `owned` (a binary search per corner took 40%
     // of this pass).
     TileLocalMesh mesh(tris, positions);
-    std::vector<std::size_t> owned_at(mesh.index.size(), SIZE_MAX);
+    std::vector<std::size_t>& owned_at = scratch.owned_at;
+    owned_at.assign(mesh.index.size(), SIZE_MAX);
     for (std::size_t i = 0; i < owned.size(); ++i) owned_at[std::size_t(mesh.ids.find(owned[i].index))] = i;
     std::vector<GradedVertex> near = block.centres();
     std::vector<GradedVertex> ext = external_centres(tiles.grid, tile, borders, half);
@@ -139,11 +155,14 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     // units. A vertex's faces all lie in its tile and are summed in input order,
     // so Q_v is the same for any tiling; Q_v then goes into the cluster's
     // fixed-point sum.
-    std::vector<Quadric> vertex_q(owned.size());
+    std::vector<Quadric>& vertex_q = scratch.vertex_q;
+    vertex_q.assign(owned.size(), Quadric());
     // With attributes, a vertex's weight: a third of its faces' area, in cells squared.
     std::vector<double> vertex_weight(layout.empty() ? 0 : owned.size());
-    std::vector<KeptTriangle> kept;
-    std::vector<CornerRecord> corners;
+    std::vector<KeptTriangle>& kept = scratch.kept;
+    std::vector<CornerRecord>& corners = scratch.corners;
+    kept.clear();
+    corners.clear();
     EdgeShareTable edges;                                                        // with thick edges
     std::vector<std::uint64_t> collapsed(settings.thick_edges ? near.size() : 0);  // triangles, per cluster
     const double inv = 1.0 / cell.size;
@@ -187,7 +206,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
             corners.push_back({r.index() << 2 | std::uint64_t(k), near[cluster_of[local[k]]].index, mesh.index[id[k]]});
       }
     }
-    std::vector<ClusterRecord> sums(near.size());
+    std::vector<ClusterRecord>& sums = scratch.sums;
+    sums.assign(near.size(), ClusterRecord());
     for (std::size_t i = 0; i < owned.size(); ++i) {
       sums[cluster_of[i]].add_vertex(vertex_q[i], (owned[i].p - near[cluster_of[i]].p) * inv);
     }
@@ -197,7 +217,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     // Cross-tile corners go to the stitch buckets by triangle index.
     append_by_bucket(*out.corners, &corners, [&](const CornerRecord& c) { return (c.t_and_slot >> 2) / bucket_span; });
     // This tile's shares of clusters go to the cluster buckets, by centre index.
-    std::vector<PartialCluster> partial;
+    std::vector<PartialCluster>& partial = scratch.partial;
+    partial.clear();
     for (std::size_t i = 0; i < near.size(); ++i)
       if (sums[i].members) {
         sums[i].centre = near[i].p;
