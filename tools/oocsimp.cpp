@@ -217,6 +217,7 @@ int run_simplify_lods(SimplifyArgs& a) {
     l.edges = s.output_edges;
     l.points = s.output_points;
     l.seconds = s.seconds_total;
+    for (const PhaseTime& p : s.phases) l.phases.push_back({p.name, p.seconds});
     if (a.measure) {
       MeasureOptions m;
       m.threads = a.options.threads;

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace oocsimp {
@@ -20,13 +21,15 @@ struct LodLevel {
   double cell = 0;   ///< clustering cell, model units
   std::uint64_t vertices = 0, triangles = 0, edges = 0, points = 0;
   double seconds = 0;  ///< the level's wall time (the first level's includes opening, binning and grading)
+  std::vector<std::pair<std::string, double>> phases;  ///< seconds per phase (SimplifyStats::phases)
   /// Symmetric RMS and Hausdorff distance to the input (measure), model units; -1
   /// when not measured.
   double rms = -1, hausdorff = -1;
 };
 
 /// The levels as OUT.lods.json: {"levels": [{"file", "cell", "vertices",
-/// "triangles", "edges", "points", "seconds", and "rms" and "hausdorff" when
+/// "triangles", "edges", "points", "seconds", "phases" {name: seconds}, and "rms" and
+/// "hausdorff" when
 /// measured}, ...]}, numbers written so that they read back exactly.
 std::string lod_levels_json(const std::vector<LodLevel>& levels);
 

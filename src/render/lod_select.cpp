@@ -77,6 +77,9 @@ std::string lod_levels_json(const std::vector<LodLevel>& levels) {
     j["edges"] = l.edges;
     j["points"] = l.points;
     j["seconds"] = l.seconds;
+    nlohmann::ordered_json phases = nlohmann::ordered_json::object();
+    for (const auto& [name, seconds] : l.phases) phases[name] = seconds;
+    j["phases"] = phases;
     if (l.rms >= 0) j["rms"] = l.rms;
     if (l.hausdorff >= 0) j["hausdorff"] = l.hausdorff;
     doc["levels"].push_back(j);
