@@ -100,8 +100,9 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
   // Thick edges come from clustering; a collapse to a target does not make them (yet),
   // and saying so beats dropping them.
   if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
-    throw UsageError("options.thick_edges needs a clustering method without a target (options.method floating or "
-                     "uniform; exact targets do not make thick edges yet)");
+    throw UsageError(
+        "options.thick_edges needs a clustering method without a target (options.method floating or "
+        "uniform; exact targets do not make thick edges yet)");
   check_float_range(input);
   SimplifyStats st;
   st.input_vertices = input.positions.count;
@@ -252,7 +253,9 @@ std::string lod_level_path(const std::string& mesh_path, std::uint32_t level) {
   return stem + ".lod" + std::to_string(level) + ext;
 }
 
-std::string lod_description_path(const std::string& mesh_path) { return split_extension(mesh_path).first + ".lods.json"; }
+std::string lod_description_path(const std::string& mesh_path) {
+  return split_extension(mesh_path).first + ".lods.json";
+}
 
 MeshFormat output_format(const OutputOptions& outputs) {
   // stdout, a device, a FIFO or a socket has no extension to tell the format by (a name
@@ -323,13 +326,12 @@ void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outp
     st.warnings.push_back(attributes_not_written(file.path(), format, mesh.attributes));
   if (!mesh.primitives.empty() && !format_keeps_primitives(format))
     st.warnings.push_back(file.path() + ": " +
-                          (format == MeshFormat::obj ? std::string("OBJ's l and p lines have no thickness; ") +
-                                                           "the thick edges and points are written without it"
-                                                     : std::string("STL and OFF have no edges or points; ") +
-                                                           std::to_string(mesh.primitives.edge_count()) +
-                                                           " thick edges and " +
-                                                           std::to_string(mesh.primitives.point_count()) +
-                                                           " points not written") +
+                          (format == MeshFormat::obj
+                               ? std::string("OBJ's l and p lines have no thickness; ") +
+                                     "the thick edges and points are written without it"
+                               : std::string("STL and OFF have no edges or points; ") +
+                                     std::to_string(mesh.primitives.edge_count()) + " thick edges and " +
+                                     std::to_string(mesh.primitives.point_count()) + " points not written") +
                           " (write .ply to keep them)");
   write_mesh(file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes, &mesh.primitives);
   st.phases.push_back({"write", now_seconds() - t0});

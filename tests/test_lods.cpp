@@ -113,10 +113,10 @@ TEST_CASE("bad simplify --lods requests exit 2 before writing anything", "[lods]
   const std::string in = q(d.file("cube.ply"));
   for (const std::string& args : std::vector<std::string>{
            " -o " + q(d.file("o.ply")) + " --lods 0", " -o " + q(d.file("o.ply")) + " --lods 17",
-        " -o " + q(d.file("o.ply")) + " --lods 2 --lod-factor 1", " -o " + q(d.file("o.ply")) + " --lod-factor 2",
-        " -o " + q(d.file("o.ply")) + " --measure", " -o - --lods 2",
-        " -o " + q(d.file("o.ply")) + " --lods 2 --stats " + q(d.file("s.json")),
-        " -o " + q(d.file("o.ply")) + " --lods 2 --method qem --target-tris 10",
+           " -o " + q(d.file("o.ply")) + " --lods 2 --lod-factor 1", " -o " + q(d.file("o.ply")) + " --lod-factor 2",
+           " -o " + q(d.file("o.ply")) + " --measure", " -o - --lods 2",
+           " -o " + q(d.file("o.ply")) + " --lods 2 --stats " + q(d.file("s.json")),
+           " -o " + q(d.file("o.ply")) + " --lods 2 --method qem --target-tris 10",
            " -o " + q(d.file("o.ply")) + " --lods 2 --max-error 0.01"}) {
     INFO(args);
     const CliResult r = run_cli("simplify " + in + args);

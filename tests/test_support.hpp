@@ -53,7 +53,7 @@ struct LoadedMesh {
   std::vector<std::uint64_t> triangles;
   oocsimp::MeshInfo info;
   oocsimp::SkippedFaces skipped;
-  std::uint64_t skipped_faces = 0;  ///< skipped.short_faces
+  std::uint64_t skipped_faces = 0;                    ///< skipped.short_faces
   std::vector<oocsimp::LinePrimitive> edges, points;  ///< thick edges and points (a == b)
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t triangle_count() const { return triangles.size() / 3; }

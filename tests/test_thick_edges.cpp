@@ -44,8 +44,8 @@ double area_off_trunk(const LoadedMesh& m, double margin) {
     const double cx = (a.x + b.x + c.x) / 3 - 0.5, cy = (a.y + b.y + c.y) / 3 - 0.5, cz = (a.z + b.z + c.z) / 3;
     if (std::hypot(cx, cy) <= kBranchTrunkRadius + margin && cz <= 0.45 + margin) continue;
     const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z, vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
-    area += 0.5 * std::sqrt(std::pow(uy * vz - uz * vy, 2) + std::pow(uz * vx - ux * vz, 2) +
-                            std::pow(ux * vy - uy * vx, 2));
+    area += 0.5 *
+            std::sqrt(std::pow(uy * vz - uz * vy, 2) + std::pow(uz * vx - ux * vz, 2) + std::pow(ux * vy - uy * vx, 2));
   }
   return area;
 }
@@ -63,7 +63,8 @@ void add_octahedron(std::vector<float>* p, std::vector<std::uint32_t>* t, double
   const std::uint32_t b = std::uint32_t(p->size() / 3);
   const double v[6][3] = {{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {0, 0, r}, {0, 0, -r}};
   for (const auto& d : v) p->insert(p->end(), {float(cx + d[0]), float(cy + d[1]), float(cz + d[2])});
-  const std::uint32_t f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const std::uint32_t f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
   for (const auto& k : f) t->insert(t->end(), {b + k[0], b + k[1], b + k[2]});
 }
 
@@ -221,9 +222,9 @@ TEST_CASE("thick edges and points are written to PLY and OBJ and read back", "[t
     CHECK(m.edges[1].thickness == (thickness ? 0.5f : 0.0f));
     CHECK(m.points[0].thickness == (thickness ? 0.125f : 0.0f));
   }
-  CHECK(read_file(d.file("b.ply")).find("element edge 2\nproperty int vertex1\nproperty int vertex2\nproperty float "
-                                        "thickness\nelement point 1\nproperty int vertex\nproperty float thickness\n") !=
-        std::string::npos);
+  CHECK(read_file(d.file("b.ply"))
+            .find("element edge 2\nproperty int vertex1\nproperty int vertex2\nproperty float "
+                  "thickness\nelement point 1\nproperty int vertex\nproperty float thickness\n") != std::string::npos);
   // An OBJ polyline is its segments, "p" a point per index, negative indices count back.
   write_file(d.file("l.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2/1 3\np -1 1\n");
   const LoadedMesh l = load_mesh(d.file("l.obj"));

@@ -300,9 +300,9 @@ int run_simplify(SimplifyArgs& a) {
                  "time    %.3f s (%s): %.2f Mtri/s\n"
                  "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                  stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-                 thick.c_str(), method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
-                 stats.cell_size, stats.seconds_total, phases.c_str(), mtri, double(stats.peak_rss_bytes) / 1048576.0,
-                 double(stats.peak_anon_bytes) / 1048576.0);
+                 thick.c_str(), method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1],
+                 stats.grid_dims[2], stats.cell_size, stats.seconds_total, phases.c_str(), mtri,
+                 double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
   }
   // Not silenced by --quiet: the output lacks part of the input.
   std::string skipped = skipped_input_summary(a.in, stats);
@@ -446,7 +446,8 @@ int run_render(const std::string& in, const std::string& out, RenderOptions opti
     std::fprintf(stderr,
                  "render  %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64 " points, %ux%u pixels (%" PRIu64
                  " covered, %.3g model units each), %.3f s\n",
-                 s.triangles, s.edges, s.points, options.width, options.height, s.covered_pixels, s.pixel_size, seconds);
+                 s.triangles, s.edges, s.points, options.width, options.height, s.covered_pixels, s.pixel_size,
+                 seconds);
   return kOk;
 }
 
@@ -609,12 +610,13 @@ int main(int argc, char** argv) {
                          ->check(CLI::IsMember({"qem", "none"}))
                          ->group(common);
   sa.lods.option = simplify
-                      ->add_option("--lods", sa.lods.text,
-                                   "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... "
-                                   "and their description OUT.lods.json (floating cells bin and grade once)")
-                      ->group(common);
+                       ->add_option("--lods", sa.lods.text,
+                                    "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... "
+                                    "and their description OUT.lods.json (floating cells bin and grade once)")
+                       ->group(common);
   sa.lod_factor.option =
-      simplify->add_option("--lod-factor", sa.lod_factor.text, "With --lods: the cell grows F times a level (default 2)")
+      simplify
+          ->add_option("--lod-factor", sa.lod_factor.text, "With --lods: the cell grows F times a level (default 2)")
           ->group(common);
   simplify
       ->add_flag("--measure", sa.measure,

@@ -45,9 +45,9 @@ struct Image {
 };
 
 struct RenderStats {
-  std::uint64_t triangles = 0;       ///< triangles read
+  std::uint64_t triangles = 0;          ///< triangles read
   std::uint64_t edges = 0, points = 0;  ///< thick edges and points read
-  std::uint64_t covered_pixels = 0;  ///< pixels the surface covers
+  std::uint64_t covered_pixels = 0;     ///< pixels the surface covers
   /// The size of a pixel in model units: the camera frames the bounding box's
   /// circumscribed sphere, its diameter x 1.05 across the image's shorter side.
   double pixel_size = 0;

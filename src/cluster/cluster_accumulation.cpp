@@ -163,7 +163,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     std::vector<CornerRecord>& corners = scratch.corners;
     kept.clear();
     corners.clear();
-    EdgeShareTable edges;                                                        // with thick edges
+    EdgeShareTable edges;                                                          // with thick edges
     std::vector<std::uint64_t> collapsed(settings.thick_edges ? near.size() : 0);  // triangles, per cluster
     const double inv = 1.0 / cell.size;
     for (std::size_t t = 0; t < tris.size(); ++t) {

@@ -422,9 +422,8 @@ void merge_thick_sums(const ThickSums& chunk, const std::vector<std::uint32_t>& 
 }
 
 void accumulate_triangles(MeshInput& input, const GridSpec& grid, CellMap<CellRecord>& cells, TriangleSet& kept,
-                          const UniformAttributeSums& attributes, std::vector<double>& attribute_sums,
-                          ThickSums* thick, const TableBudget& budget, std::uint64_t* triangle_count,
-                          const ProgressCallback& progress) {
+                          const UniformAttributeSums& attributes, std::vector<double>& attribute_sums, ThickSums* thick,
+                          const TableBudget& budget, std::uint64_t* triangle_count, const ProgressCallback& progress) {
   const bool with_attributes = !attributes.empty();
   const PositionArray& positions = input.positions;
   TriangleStream& stream = *input.triangles;
@@ -560,8 +559,8 @@ ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept
     e.a = std::uint32_t(key >> 32);
     e.b = std::uint32_t(key & 0xFFFFFFFFu);
     const EdgeMoments& m = thick.edges.value(i);
-    e.thickness = float(edge_thickness(m.a, grid.cell_min_relative(cells.key(e.a)), m.b,
-                                       grid.cell_min_relative(cells.key(e.b))));
+    e.thickness =
+        float(edge_thickness(m.a, grid.cell_min_relative(cells.key(e.a)), m.b, grid.cell_min_relative(cells.key(e.b))));
   }
   std::vector<std::pair<std::uint32_t, float>> points;
   for (std::size_t c = 0; c < thick.collapsed.size() && c < cells.size(); ++c)
@@ -607,8 +606,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     thick = std::make_unique<ThickSums>();
     thick->collapsed.assign(cells.size(), 0);
   }
-  accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, thick.get(), budget, &triangles,
-                       progress);
+  accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, thick.get(), budget, &triangles, progress);
   double t2 = now_seconds();
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");

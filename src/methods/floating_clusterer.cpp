@@ -159,8 +159,9 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     release_memory(options);
 
     // Cluster shares and kept triangles.
-    AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget, spill, &options.progress,
-                             &input.attributes, work_share,        options.thick_edges};
+    AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget,
+                             spill,      &options.progress,       &input.attributes,
+                             work_share, options.thick_edges};
     ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
     // Centres live on in the cluster records; the per-tile lists are done, and the
     // memory of the triangles (after the last level) and vertex blocks goes to the
@@ -178,8 +179,8 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     {
       ProgressPhase phase(options.progress, "stitch", 0, "bucket");
       CrossTileEdges cross{&input.positions, cell.size, shares.edge_shares.get(), shares.cluster_span};
-      kept_triangles = stitch_kept_triangles(*shares.inside, *shares.corners, budget,
-                                             options.thick_edges ? &cross : nullptr);
+      kept_triangles =
+          stitch_kept_triangles(*shares.inside, *shares.corners, budget, options.thick_edges ? &cross : nullptr);
     }
     shares.corners->discard();  // read into kept_triangles
     shares.inside->discard();
@@ -195,8 +196,8 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     }
     double t7 = now_seconds();
 
-    const StreamSpill* spills[] = {tiles.triangles.get(), graded.get(),        shares.corners.get(),
-                                   shares.partials.get(), shares.inside.get(), shares.attribute_shares.get(),
+    const StreamSpill* spills[] = {tiles.triangles.get(),   graded.get(),        shares.corners.get(),
+                                   shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
                                    shares.edge_shares.get()};
     stats.spill_bytes = stats.spill_raw_bytes = blocks->bytes_on_disk();
     stats.spill_bytes_in_memory = blocks->bytes_in_memory();

@@ -159,8 +159,7 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                 "  \"grid\": {\"cell\": %.17g, \"dims\": [%u, %u, %u], \"occupied_cells\": %" PRIu64 "},\n",
                 s.input_vertices, s.input_triangles, s.skipped.total(), s.skipped.short_faces, s.skipped.non_finite,
                 s.skipped.repeated_index, s.non_finite_vertices, s.output_vertices, s.output_triangles, s.output_edges,
-                s.output_points, s.cell_size,
-                s.grid_dims[0], s.grid_dims[1], s.grid_dims[2], s.occupied_cells);
+                s.output_points, s.cell_size, s.grid_dims[0], s.grid_dims[1], s.grid_dims[2], s.occupied_cells);
   std::string js = "{\n  \"version\": " + quoted(version()) + ",\n";
   js += "  \"paths\": {\"input\": " + quoted(input_path) + ", \"output\": " + quoted(outputs.mesh) +
         ", \"stats\": " + quoted(outputs.stats) + "},\n";

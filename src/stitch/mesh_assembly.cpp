@@ -81,8 +81,9 @@ std::vector<EdgeCandidate> surviving_edges(const std::vector<KeptTriangle>& tris
                                            const FloatingCellShape& cell, const MemoryBudget& budget,
                                            FlatHashSet<std::uint64_t>* stitched_points,
                                            std::vector<ClusterPair>* pairs) {
-  check_output_fits(budget, 3 * tris.size() * (sizeof(ClusterPair) + 4 * sizeof(std::uint32_t)) +
-                                largest_bucket(*thick.edge_shares) * sizeof(EdgeShare),
+  check_output_fits(budget,
+                    3 * tris.size() * (sizeof(ClusterPair) + 4 * sizeof(std::uint32_t)) +
+                        largest_bucket(*thick.edge_shares) * sizeof(EdgeShare),
                     "the sides of " + std::to_string(tris.size()) + " output triangles and a bucket of edges");
   FlatHashSet<ClusterPair, ClusterPairHash> sides(6 * tris.size() + 16);
   for (const KeptTriangle& t : tris) {  // t.c ascending

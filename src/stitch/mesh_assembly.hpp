@@ -51,7 +51,7 @@ struct AssemblyCounts {
 /// the clusters that some triangle collapsed into and no triangle or edge uses, by
 /// centre index; their vertices follow the triangles'. See select_thick_primitives.
 struct ThickAssembly {
-  StreamSpill* edge_shares = nullptr;       ///< EdgeShare records by first cluster / cluster span
+  StreamSpill* edge_shares = nullptr;        ///< EdgeShare records by first cluster / cluster span
   const PositionArray* positions = nullptr;  ///< the input's: a centre is an input vertex
 };
 SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
