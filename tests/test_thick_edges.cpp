@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "oocsimp/generate.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "oocsimp/render.hpp"
 #include "oocsimp/simplify.hpp"
 #include "test_support.hpp"
@@ -299,4 +300,34 @@ TEST_CASE("thick edges: refused with a target, warned about where the format dro
   CHECK_THAT(stl.err, Catch::Contains("2 points not written"));
   CHECK_THAT(read_file(d.file("s.json")), Catch::Contains("\"edges\": 0, \"points\": 2"));
   CHECK_THAT(read_file(d.file("s.json")), Catch::Contains("\"thick_edges\": true"));
+}
+
+TEST_CASE("thick edges from a mesh in memory touch no temporary folder", "[thick][library]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.shape = SyntheticShape::branches;
+  g.triangles = 50000;
+  generate_mesh(d.file("tree.ply"), g);
+  const LoadedMesh in = load_mesh(d.file("tree.ply"));
+  std::vector<float> xyz(in.positions.begin(), in.positions.end());
+  std::vector<std::uint32_t> tri(in.triangles.begin(), in.triangles.end());
+  MeshView view;
+  view.positions = xyz.data();
+  view.vertex_count = in.vertex_count();
+  view.indices = tri.data();
+  view.triangle_count = in.triangle_count();
+  for (ClusterMethod method : {ClusterMethod::floating, ClusterMethod::uniform}) {
+    INFO(method_name(method));
+    SimplifyOptions o = clustering(method, 5 * kBranchRadius, true);
+    o.temp_dir = d.file("no-such-folder");
+    const SimplifiedMesh m = simplify_mesh(view, o);
+    // The same as from the file.
+    o.temp_dir.clear();
+    simplify_file(d.file("tree.ply"), d.file("f.ply"), false, o, nullptr);
+    const LoadedMesh f = load_mesh(d.file("f.ply"));
+    CHECK(m.primitives.edge_count() == f.edges.size());
+    CHECK(m.primitives.point_count() == f.points.size());
+    CHECK(m.primitives.edge_count() > 0);
+    CHECK(m.triangles.size() == f.triangles.size());
+  }
 }

@@ -90,13 +90,15 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   }
   // Cluster buckets by centre index: a bucket's shares must fit in an eighth of
   // the budget even if every vertex were a centre.
-  // With attributes, a bucket's attribute shares come on top of its cluster shares,
-  // and the buckets' allowance is split between the two spills.
+  // With attributes (and with thick edges), a bucket's attribute shares (edge shares)
+  // come on top of its cluster shares, and the buckets' allowance is split between
+  // the spills.
   const AttributeArray* attribute_array = settings.attributes;
   if (attribute_array && !attribute_array->empty()) out.attributes = AttributeLayout(*attribute_array);
   const AttributeLayout& layout = out.attributes;
   const std::size_t attribute_bytes = layout.empty() ? 0 : attribute_record_bytes(layout);
-  const std::uint64_t cluster_allowance = layout.empty() ? spill.allow.buckets : spill.allow.buckets / 2;
+  const std::uint64_t sharers = 1 + std::uint64_t(!layout.empty()) + std::uint64_t(settings.thick_edges);
+  const std::uint64_t cluster_allowance = spill.allow.buckets / sharers;
   out.cluster_span =
       std::max<std::uint64_t>(1, settings.memory_budget / 8 / (sizeof(PartialCluster) + attribute_bytes));
   const std::uint64_t cluster_span = out.cluster_span;
@@ -105,12 +107,14 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
       std::make_unique<StreamSpill>(spill.dir, "clusters", sizeof(PartialCluster), 64, false, cluster_allowance);
   for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.partials->add_stream();
   if (!layout.empty()) {
-    out.attribute_shares = std::make_unique<StreamSpill>(spill.dir, "attributes", attribute_bytes, 64, false,
-                                                         spill.allow.buckets - cluster_allowance);
+    out.attribute_shares = std::make_unique<StreamSpill>(
+        spill.dir, "attributes", attribute_bytes, 64, false,
+        settings.thick_edges ? cluster_allowance : spill.allow.buckets - cluster_allowance);
     for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.attribute_shares->add_stream();
   }
   if (settings.thick_edges) {
-    out.edge_shares = std::make_unique<StreamSpill>(spill.dir, "edges", sizeof(EdgeShare), 64, spill.compress, 0);
+    out.edge_shares = std::make_unique<StreamSpill>(spill.dir, "edges", sizeof(EdgeShare), 64, spill.compress,
+                                                    spill.allow.buckets - (sharers - 1) * cluster_allowance);
     for (std::uint64_t b = 0; b < cluster_buckets; ++b) out.edge_shares->add_stream();
   }
   const ProgressCallback none;
