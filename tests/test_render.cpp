@@ -1,7 +1,6 @@
 // `oocsimp render` (src/render): pixel counts against the camera's documented framing,
 // the PNG read back through libpng, and hostile meshes.
 #include <catch2/catch.hpp>
-#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "oocsimp/render.hpp"
+#include "png_support.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -18,27 +18,6 @@ using namespace oocsimp_test;
 namespace {
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
-
-// The PNG at `path`, decoded by libpng as 8-bit RGB.
-Image read_png(const std::string& path) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  REQUIRE(png_image_begin_read_from_file(&png, path.c_str()) != 0);
-  png.format = PNG_FORMAT_RGB;
-  Image out;
-  out.width = png.width;
-  out.height = png.height;
-  out.rgb.resize(PNG_IMAGE_SIZE(png));
-  REQUIRE(png_image_finish_read(&png, nullptr, out.rgb.data(), 0, nullptr) != 0);
-  return out;
-}
-
-std::size_t non_white(const Image& image) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < image.rgb.size(); i += 3)
-    n += !(image.rgb[i] == 255 && image.rgb[i + 1] == 255 && image.rgb[i + 2] == 255);
-  return n;
-}
 
 }  // namespace
 
@@ -84,8 +63,9 @@ TEST_CASE("the library's count of covered pixels is the picture's", "[render]") 
 TEST_CASE("an empty mesh gives the background, degenerate triangles do not crash", "[render][cli]") {
   ScratchDir d;
   write_binary_ply(d.file("empty.ply"), {}, {});
-  REQUIRE(run_cli("render --quiet " + q(d.file("empty.ply")) + " -o " + q(d.file("e.png")) + " --size 64x48").exit_code ==
-          0);
+  REQUIRE(
+      run_cli("render --quiet " + q(d.file("empty.ply")) + " -o " + q(d.file("e.png")) + " --size 64x48").exit_code ==
+      0);
   const Image empty = read_png(d.file("e.png"));
   CHECK(empty.width == 64);
   CHECK(non_white(empty) == 0);
@@ -99,8 +79,8 @@ TEST_CASE("an empty mesh gives the background, degenerate triangles do not crash
 TEST_CASE("render refuses bad sizes, views and an output over its input with exit 2", "[render][cli]") {
   ScratchDir d;
   write_plane_ply(d.file("p.ply"), 4, 0, 0, 0);
-  for (const char* args : {"--size 0x10", "--size 100", "--size 20000x10", "--view 30", "--view a,b", "--view nan,3",
-                           "--shading phong"}) {
+  for (const char* args :
+       {"--size 0x10", "--size 100", "--size 20000x10", "--view 30", "--view a,b", "--view nan,3", "--shading phong"}) {
     INFO(args);
     const CliResult r = run_cli("render " + q(d.file("p.ply")) + " -o " + q(d.file("o.png")) + " " + args);
     CHECK(r.exit_code == 2);

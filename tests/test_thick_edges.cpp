@@ -2,7 +2,6 @@
 // edges about their diameter thick, tiny closed objects to points, both written and
 // read back, drawn at their width, and the same for any threads and tiles.
 #include <catch2/catch.hpp>
-#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include "oocsimp/oocsimp.hpp"
 #include "oocsimp/render.hpp"
 #include "oocsimp/simplify.hpp"
+#include "png_support.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -67,26 +67,6 @@ void add_octahedron(std::vector<float>* p, std::vector<std::uint32_t>* t, double
   const std::uint32_t f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
                                  {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
   for (const auto& k : f) t->insert(t->end(), {b + k[0], b + k[1], b + k[2]});
-}
-
-Image read_png(const std::string& path) {
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  REQUIRE(png_image_begin_read_from_file(&png, path.c_str()) != 0);
-  png.format = PNG_FORMAT_RGB;
-  Image out;
-  out.width = png.width;
-  out.height = png.height;
-  out.rgb.resize(PNG_IMAGE_SIZE(png));
-  REQUIRE(png_image_finish_read(&png, nullptr, out.rgb.data(), 0, nullptr) != 0);
-  return out;
-}
-
-std::size_t non_white(const Image& image) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < image.rgb.size(); i += 3)
-    n += !(image.rgb[i] == 255 && image.rgb[i + 1] == 255 && image.rgb[i + 2] == 255);
-  return n;
 }
 
 }  // namespace
