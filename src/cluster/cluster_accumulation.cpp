@@ -1,6 +1,7 @@
 #include "cluster/cluster_accumulation.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/task_arena.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -120,7 +121,9 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", n, "tile");
   // Each thread's buffers, kept from tile to tile: fresh ones cost a page fault per
-  // page, which on virtual machines rivals the work done in them.
+  // page, which on virtual machines rivals the work done in them. Between tiles a
+  // thread keeps at most half its part of the tiles' share (the buffers of an outsized
+  // tile are freed after it; a planned tile's take about 7 MB).
   struct Scratch {
     std::vector<GradedVertex> owned;
     std::vector<std::size_t> owned_at;
@@ -129,8 +132,16 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     std::vector<CornerRecord> corners;
     std::vector<ClusterRecord> sums;
     std::vector<PartialCluster> partial;
+    std::uint64_t bytes() const {
+      return owned.capacity() * sizeof(GradedVertex) + owned_at.capacity() * sizeof(std::size_t) +
+             vertex_q.capacity() * sizeof(Quadric) + kept.capacity() * sizeof(KeptTriangle) +
+             corners.capacity() * sizeof(CornerRecord) + sums.capacity() * sizeof(ClusterRecord) +
+             partial.capacity() * sizeof(PartialCluster);
+    }
   };
   tbb::enumerable_thread_specific<Scratch> scratches;
+  const std::uint64_t threads = std::uint64_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::uint64_t kept_scratch = settings.work_share / 2 / threads;
   // One tile: its vertices assigned, its sums and its kept triangles.
   const auto accumulate_tile = [&](std::uint32_t tile) {
     std::vector<TriangleRecord> tris = tiles.load(tile);
@@ -240,7 +251,11 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   };
   TileMemoryGate gate(settings.work_share);
   tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
-    gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] { accumulate_tile(tile); });
+    gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
+      accumulate_tile(tile);
+      Scratch& scratch = scratches.local();
+      if (scratch.bytes() > kept_scratch) scratch = Scratch();
+    });
     phase.advance(1);
   });
   out.corners->flush();
