@@ -138,10 +138,13 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
   SimplifyStats& st = stats ? *stats : local;
   const SimplifyStats begun = begin_run(input, options);
   {
-    // The caller's phases so far (simplify_file's "open") stay first.
+    // The caller's phases so far (simplify_file's "open") and warnings stay first.
     std::vector<PhaseTime> phases = std::move(st.phases);
+    std::vector<std::string> warnings = std::move(st.warnings);
     st = begun;
     st.phases = std::move(phases);
+    warnings.insert(warnings.end(), st.warnings.begin(), st.warnings.end());
+    st.warnings = std::move(warnings);
   }
   SimplifiedMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {

@@ -311,3 +311,30 @@ TEST_CASE("thick edges from a mesh in memory touch no temporary folder", "[thick
     CHECK(m.triangles.size() == f.triangles.size());
   }
 }
+
+TEST_CASE("welded input renumbers the vertices of edges and points too", "[thick][readers]") {
+  ScratchDir d;
+  // Vertex 3 lies where vertex 0 does: welding makes it vertex 0.
+  write_file(d.file("w.ply"),
+             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+             "element face 1\nproperty list uchar int vertex_indices\n"
+             "element edge 1\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\n"
+             "element point 1\nproperty int vertex\nproperty float thickness\nend_header\n"
+             "0 0 0\n1 0 0\n0 1 0\n0 0 0\n3 0 1 2\n1 3 0.5\n3 0.25\n");
+  OpenOptions o;
+  o.weld = true;
+  MeshInput m = open_mesh_input(d.file("w.ply"), o);
+  REQUIRE(m.positions.count == 3);
+  std::vector<LinePrimitive> seen;
+  m.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) { seen.insert(seen.end(), p, p + n); });
+  std::vector<std::uint64_t> buf(3 * 16);
+  while (m.triangles->read(buf.data(), 16) > 0) {
+  }
+  REQUIRE(seen.size() == 2);
+  CHECK(((seen[0].a == 1 && seen[0].b == 0) || (seen[0].a == 0 && seen[0].b == 1)));
+  CHECK(seen[0].thickness == 0.5f);
+  CHECK(seen[1].a == seen[1].b);
+  CHECK(seen[1].a < 3);
+  const Vec3d at = m.positions.get(seen[1].a);
+  CHECK((at.x == 0 && at.y == 0 && at.z == 0));
+}

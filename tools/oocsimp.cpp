@@ -201,11 +201,28 @@ std::string base_name(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& stats, const std::string& description);
+
 // simplify --lods: the levels, then (with --measure) each against the input, then the
 // description OUT.lods.json, and a line per level.
 int run_simplify_lods(SimplifyArgs& a) {
   std::vector<SimplifyStats> stats;
   simplify_lods_file(a.in, a.outputs, a.options, a.lod, &stats);
+  // The levels are in place now: a description of the ones they replaced must not
+  // outlive a failure to describe them (measuring or writing).
+  const std::string description = lod_description_path(a.outputs.mesh);
+  try {
+    describe_levels(a, stats, description);
+  } catch (...) {
+    std::remove(description.c_str());
+    throw;
+  }
+  return kOk;
+}
+
+// The description OUT.lods.json of the levels just written (with --measure, each
+// measured against the input), and a line per level.
+void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& stats, const std::string& description) {
   std::vector<LodLevel> levels;
   for (std::uint32_t k = 0; k < stats.size(); ++k) {
     const SimplifyStats& s = stats[k];
@@ -229,7 +246,7 @@ int run_simplify_lods(SimplifyArgs& a) {
     }
     levels.push_back(l);
   }
-  write_lod_levels(lod_description_path(a.outputs.mesh), levels);
+  write_lod_levels(description, levels);
   if (!a.quiet) {
     double total = 0;
     for (std::size_t k = 0; k < levels.size(); ++k) {
@@ -242,12 +259,10 @@ int run_simplify_lods(SimplifyArgs& a) {
                   k, lod_level_path(a.outputs.mesh, std::uint32_t(k)).c_str(), l.cell, l.vertices, l.triangles, l.edges,
                   l.points, l.seconds, measured);
     }
-    std::printf("levels  %zu in %.3f s, described in %s\n", levels.size(), total,
-                lod_description_path(a.outputs.mesh).c_str());
+    std::printf("levels  %zu in %.3f s, described in %s\n", levels.size(), total, description.c_str());
   }
   for (const SimplifyStats& s : stats)
     for (const std::string& w : s.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
-  return kOk;
 }
 
 int run_simplify(SimplifyArgs& a) {

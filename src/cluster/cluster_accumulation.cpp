@@ -123,7 +123,8 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   // Each thread's buffers, kept from tile to tile: fresh ones cost a page fault per
   // page, which on virtual machines rivals the work done in them. Between tiles a
   // thread keeps at most half its part of the tiles' share (the buffers of an outsized
-  // tile are freed after it; a planned tile's take about 7 MB).
+  // tile are freed after it; a planned tile's take about 7 MB), and the gate lets the
+  // tiles in work take the other half, so the two stay within the share.
   struct Scratch {
     std::vector<GradedVertex> owned;
     std::vector<std::size_t> owned_at;
@@ -249,7 +250,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
     dedupe_kept_triangles(kept);
     append_by_bucket(*out.inside, &kept, [&](const KeptTriangle& k) { return k.index() / bucket_span; });
   };
-  TileMemoryGate gate(settings.work_share);
+  TileMemoryGate gate(settings.work_share - kept_scratch * threads);
   tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       accumulate_tile(tile);

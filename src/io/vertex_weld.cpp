@@ -100,9 +100,21 @@ class WeldedTriangleStream : public TriangleStream {
   }
   std::uint64_t bytes_consumed() const override { return inner_->bytes_consumed(); }
   SkippedFaces skipped() const override { return inner_->skipped(); }
+  // Edges and points name the welded vertices too.
+  void set_primitive_sink(PrimitiveSink sink) override {
+    inner_->set_primitive_sink([this, sink = std::move(sink)](const LinePrimitive* p, std::size_t n) {
+      welded_.assign(p, p + n);
+      for (LinePrimitive& l : welded_) {
+        l.a = indices_.get(l.a);
+        l.b = indices_.get(l.b);
+      }
+      sink(welded_.data(), welded_.size());
+    });
+  }
 
  private:
   std::unique_ptr<TriangleStream> inner_;
+  std::vector<LinePrimitive> welded_;
   std::shared_ptr<const WeldMap> weld_;
   IndexArray indices_;
 };

@@ -104,7 +104,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   std::vector<std::string> warnings;  // the kept tiles', reported with the first level
   KeptTileStore kept(input, options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, &warnings);
   BinnedTiles tiles;
-  std::unique_ptr<StreamSpill> graded;  // --keep-tmp, or more levels: every tile's graded vertices
+  std::unique_ptr<StreamSpill> graded;  // --keep-tmp: every tile's graded vertices
   const bool resumed = options.floating.keep_temp && kept.resume(coarsest, &tiles, &graded);
   const bool keeping = options.floating.keep_temp && !resumed && kept.start();
   // The tiles' share of the budget holds the fullest tile as planned (known exactly
@@ -144,8 +144,12 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     if (level > 0) {
       // This level's first greedy over the graded vertices of the level before.
       decisions = std::make_unique<BorderDecisions>(tiles.grid, cell);
+      // Both levels' blocks exist at once: the new ones get what the old ones leave
+      // of the blocks' allowance.
       std::unique_ptr<BlockStore> before = std::move(blocks);
-      blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, spill.allow.vertex_blocks);
+      const std::uint64_t held = before->bytes_in_memory();
+      const std::uint64_t allowance = spill.allow.vertex_blocks > held ? spill.allow.vertex_blocks - held : 0;
+      blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, allowance);
       before->discard();
     }
     double t3 = now_seconds();
@@ -168,9 +172,9 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     // output tables.
     TileBorders().swap(borders);
     const bool last = level + 1 == grids.size();
-    if (last) {
+    if (last) {  // a next level reads the triangles again and grades from the blocks
       tiles.triangles->discard();
-      blocks->discard();  // a next level grades from them
+      blocks->discard();
     }
     release_memory(options);
     double t5 = now_seconds();

@@ -114,12 +114,13 @@ class Rasterizer {
   // lit by `light` (the dynamic normal's cosine) times that of the turn across its
   // width. With s0 = s1 it is a sphere's disc, lit by its own normals.
   void draw_capsule(const Vec3d& s0, const Vec3d& s1, double half, double radius, double light) {
+    if (!is_finite(s0) || !is_finite(s1) || !std::isfinite(half) || !std::isfinite(radius)) return;
     const double w = o_.width, h = o_.height;
     const double lo_x = std::max(0.0, std::floor(std::min(s0.x, s1.x) - half - 0.5));
     const double hi_x = std::min(w - 1, std::ceil(std::max(s0.x, s1.x) + half - 0.5));
     const double lo_y = std::max(0.0, std::floor(std::min(s0.y, s1.y) - half - 0.5));
     const double hi_y = std::min(h - 1, std::ceil(std::max(s0.y, s1.y) + half - 0.5));
-    if (!(lo_x <= hi_x && lo_y <= hi_y)) return;  // off the image, or not finite
+    if (!(lo_x <= hi_x && lo_y <= hi_y)) return;  // off the image
     const double dx = s1.x - s0.x, dy = s1.y - s0.y, len2 = dx * dx + dy * dy;
     for (std::uint32_t y = std::uint32_t(lo_y); y <= std::uint32_t(hi_y); ++y)
       for (std::uint32_t x = std::uint32_t(lo_x); x <= std::uint32_t(hi_x); ++x) {

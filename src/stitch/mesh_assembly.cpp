@@ -138,9 +138,13 @@ std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill
       inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3;
   // The list, and a stitch bucket's corners with the triangles they join.
   const std::uint64_t bucket = largest_bucket(corners);
-  check_output_fits(budget,
-                    most * sizeof(KeptTriangle) + bucket * sizeof(CornerRecord) + bucket / 3 * sizeof(KeptTriangle),
-                    "up to " + std::to_string(most) + " kept triangles");
+  // With thick edges, a bucket's cross-tile triangles over two clusters become edge
+  // shares (with their table's slots) before they go to their spill.
+  const std::uint64_t edge_shares = edges ? bucket / 3 * (sizeof(EdgeShare) + 4 * sizeof(std::uint32_t) + 16) : 0;
+  check_output_fits(
+      budget,
+      most * sizeof(KeptTriangle) + bucket * sizeof(CornerRecord) + bucket / 3 * sizeof(KeptTriangle) + edge_shares,
+      "up to " + std::to_string(most) + " kept triangles");
   kept.reserve(most);
   for (std::uint32_t b = 0; b < inside.stream_count(); ++b) {
     std::size_t at = kept.size();
@@ -265,10 +269,10 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
       if (id < 0 && !thick) return;  // a cluster no output triangle uses
       ClusterRecord sum = shares[starts[k]].sums;
       for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
+      // No triangle or edge uses it: a thick point when a triangle collapsed into it.
+      if (id < 0 && sum.collapsed == 0 && stitched_points.find(centre) < 0) return;
       Vec3d p = representative(sum, cell, rule);
       if (id < 0) {
-        // No triangle or edge uses it: a thick point when a triangle collapsed into it.
-        if (sum.collapsed == 0 && stitched_points.find(centre) < 0) return;
         const double width =
             point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
         std::lock_guard<std::mutex> hold(points_lock);
