@@ -68,6 +68,14 @@ TEST_CASE("every level of simplify --lods equals its separate run byte for byte"
       }
       CHECK(levels[1].triangles < levels[0].triangles);
       CHECK(levels[2].triangles < levels[1].triangles);
+      // lod-select reads the description: with FOV 90 over 1000 pixels a pixel spans
+      // R = 2 D / 1000; at D = 150 C the level of cell 2C is too coarse for 5 R = 1.5 C,
+      // the level of cell C (level 1) is not.
+      const CliResult pick = run_cli("lod-select " + q(d.file("l.lods.json")) + " --distance " +
+                                     exact(150 * levels[1].cell) + " --fov 90 --height 1000 --json");
+      REQUIRE(pick.exit_code == 0);
+      CHECK_THAT(pick.out, Catch::Contains("\"level\":1,"));
+      CHECK_THAT(pick.out, Catch::Contains("\"file\":\"l.lod1.ply\""));
     }
 }
 
