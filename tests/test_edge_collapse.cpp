@@ -176,11 +176,11 @@ TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count on
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
   for (std::uint64_t target : {1000, 1001, 4000, 9999})
-    for (std::uint64_t tiles : {0, 4096}) {
-      INFO("target " << target << ", tiles of " << tiles << " faces");
+    for (std::uint64_t passes : {0, 4096}) {
+      INFO("target " << target << ", passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.tile_faces = tiles;
+      s.pass_faces = passes;
       CollapseStats st;
       QuadricMesh m = collapse_edges(sphere, s, &st);
       CHECK_FALSE(st.stuck);
@@ -197,11 +197,11 @@ TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count on
 TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler characteristic 2", "[refine][collapse]") {
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
   for (std::uint64_t target : {200, 2000})
-    for (std::uint64_t tiles : {0, 4096}) {
-      INFO("target " << target << ", tiles of " << tiles << " faces");
+    for (std::uint64_t passes : {0, 4096}) {
+      INFO("target " << target << ", passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.tile_faces = tiles;
+      s.pass_faces = passes;
       QuadricMesh m = collapse_edges(sphere, s, nullptr);
       const auto edges = edge_faces(m);
       bool two_each = true;
@@ -230,11 +230,11 @@ TEST_CASE("no face turns against the original surface's local normal", "[refine]
   // slope may come out somewhat past vertical, as a coarse face spans a ridge).
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
   for (std::uint64_t target : {500, 2000, 5000})
-    for (std::uint64_t tiles : {0, 4096}) {
-      INFO("target " << target << ", tiles of " << tiles << " faces");
+    for (std::uint64_t passes : {0, 4096}) {
+      INFO("target " << target << ", passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.tile_faces = tiles;
+      s.pass_faces = passes;
       QuadricMesh m = collapse_edges(sphere, s, nullptr);
       int against = 0;
       for (std::size_t f = 0; f < m.triangles.size() / 3; ++f) {
@@ -285,11 +285,11 @@ TEST_CASE("boundary edges keep the outline of an open surface", "[refine][collap
   ScratchDir d;
   write_plane_ply(d.file("p.ply"), 100, 0.2, -0.1, 0.5);  // a tilted square with an outline of 400 edges
   const QuadricMesh plane = mesh_of(load_mesh(d.file("p.ply")));
-  for (std::uint64_t tiles : {0, 4096}) {
-    INFO("tiles of " << tiles << " faces");
+  for (std::uint64_t passes : {0, 4096}) {
+    INFO("passes from " << passes << " faces");
     CollapseSettings s;
     s.target_triangles = 50;
-    s.tile_faces = tiles;
+    s.pass_faces = passes;
     CollapseStats st;
     QuadricMesh m = collapse_edges(plane, s, &st);
     CHECK(m.triangles.size() / 3 == 50);
@@ -355,14 +355,14 @@ TEST_CASE("non-manifold vertices are anchored: the count is met, their positions
 }
 
 TEST_CASE("the collapse is the same for any thread count", "[refine][collapse]") {
-  // Tiles of 4096 faces collapse in parallel first: they follow from the mesh, not
-  // from the threads.
+  // From 4096 faces the collapse runs in passes, whose edges are costed in
+  // parallel: the passes follow from the mesh, not from the threads.
   const QuadricMesh parts = generated(SyntheticShape::parts, 20000);
-  for (std::uint64_t tiles : {0, 4096}) {
-    INFO("tiles of " << tiles << " faces");
+  for (std::uint64_t passes : {0, 4096}) {
+    INFO("passes from " << passes << " faces");
     CollapseSettings s;
     s.target_triangles = 2000;
-    s.tile_faces = tiles;
+    s.pass_faces = passes;
     QuadricMesh one, two;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);

@@ -14,7 +14,6 @@
 // never the input, and stays within --mem (TableBudget) or the run stops.
 #include "cluster/uniform_clusterer.hpp"
 
-#include <sys/mman.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -31,6 +30,7 @@
 #include "cluster/plane_quadric.hpp"
 #include "cluster/thick_primitives.hpp"
 #include "cluster/triangle_set.hpp"
+#include "common/huge_pages.hpp"
 #include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
@@ -242,19 +242,9 @@ class UniformAttributeSums {
   std::size_t width_ = 1 + layout_.count();
 };
 
-// Resizes an empty `table` to `count` zeros, backed by transparent huge pages where
-// the system grants them on request (madvise mode): the first touch of each fresh
-// 4 KiB page is a fault, slow enough in virtual machines that a table of tens of MiB
-// spends tens of milliseconds in them, all in one thread; huge pages take 512 times
-// fewer.
+// Resizes an empty `table` to `count` zeros, over huge pages.
 void resize_zeroed(std::vector<double>& table, std::size_t count) {
-  table.reserve(count);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  const std::uintptr_t huge = std::uintptr_t(2) << 20;
-  const auto at = reinterpret_cast<std::uintptr_t>(table.data());
-  const std::uintptr_t begin = (at + huge - 1) & ~(huge - 1), end = (at + count * sizeof(double)) & ~(huge - 1);
-  if (table.empty() && end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#endif
+  reserve_huge(&table, count);
   table.resize(count, 0.0);
 }
 

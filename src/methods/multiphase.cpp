@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cluster/attribute_sums.hpp"
+#include "common/huge_pages.hpp"
 #include "common/memory_budget.hpp"
 #include "common/vec3_math.hpp"
 #include "methods/cluster_methods.hpp"
@@ -55,6 +56,7 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
                    " MiB or more, or a clustering method with the target");
   ProgressPhase phase(options.progress, "load mesh", input.file_size, "B");
   QuadricMesh m;
+  reserve_huge(&m.positions, v);
   m.positions.resize(v);
   for (std::uint64_t i = 0; i < v; ++i) m.positions[i] = input.positions.get(i) - origin;
   m.attribute_count = k;
@@ -63,7 +65,7 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
     for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = input.attributes.get(i, j);
   input.restart_triangles();
   std::vector<std::uint64_t> chunk(3 * 65536);
-  m.triangles.reserve(3 * f);
+  reserve_huge(&m.triangles, 3 * f);
   while (std::size_t n = input.triangles->read(chunk.data(), 65536)) {
     for (std::size_t i = 0; i < 3 * n; ++i) m.triangles.push_back(std::uint32_t(chunk[i]));
     phase.set(input.triangles->bytes_consumed());

@@ -1,6 +1,8 @@
 #include "refine/edge_collapse.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +10,7 @@
 #include <utility>
 
 #include "cluster/plane_quadric.hpp"
+#include "common/huge_pages.hpp"
 #include "common/vec3_math.hpp"
 #include "report/progress_phase.hpp"
 
@@ -80,7 +83,9 @@ Vec3d times(const Quadric& q, const Vec3d& v) {
 }  // namespace
 
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
-  std::vector<Quadric> q(positions.size());
+  std::vector<Quadric> q;
+  reserve_huge(&q, positions.size());
+  q.resize(positions.size());
   for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
     const Vec3d& p = positions[triangles[f]];
     const TrianglePlane plane = triangle_plane(positions[triangles[f + 1]] - p, positions[triangles[f + 2]] - p);
@@ -107,6 +112,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   first_normal_ = std::move(mesh_.face_normals);
   mesh_.face_normals.clear();
   if (first_normal_.size() != face_dead_.size()) {
+    reserve_huge(&first_normal_, face_dead_.size());
     first_normal_.resize(face_dead_.size());
     for (std::size_t f = 0; f < face_dead_.size(); ++f) {
       const std::uint32_t* t = &mesh_.triangles[3 * f];
@@ -118,9 +124,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   mesh_.locked.clear();
   locked_.resize(n, 0);
   build_adjacency();
-  mark_non_manifold();
-  boundary_.assign(n, 0);
-  for (std::uint32_t v = 0; v < n; ++v) boundary_[v] = alive_[v] && on_boundary(v);
+  classify_vertices();
   add_boundary_planes(settings.boundary_weight);
 }
 
@@ -141,6 +145,7 @@ void CollapseState::build_adjacency() {
     face_start_[v] = at;
     at += face_count_[v];
   }
+  reserve_huge(&faces_, at);
   faces_.assign(at, 0);
   std::vector<std::uint32_t> fill(n, 0);
   for (std::size_t f = 0; f < face_dead_.size(); ++f)
@@ -167,6 +172,18 @@ void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out)
     }
   });
   sort_small(out);
+}
+
+void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u > v) out->push_back(u);
+    }
+  });
+  sort_small(out);
+  out->erase(std::unique(out->begin(), out->end()), out->end());
 }
 
 std::uint32_t CollapseState::next_stamp() const {
@@ -199,9 +216,9 @@ void CollapseState::edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) 
   sort_small(out);
 }
 
-bool CollapseState::on_boundary(std::uint32_t v) const {
-  edge_ends(v, &scratch_ends_);
-  const std::vector<std::uint32_t>& e = scratch_ends_;
+bool CollapseState::on_boundary(std::uint32_t v, VertexScratch* scratch) const {
+  edge_ends(v, &scratch->ends);
+  const std::vector<std::uint32_t>& e = scratch->ends;
   for (std::size_t i = 0; i < e.size();) {
     std::size_t j = i;
     while (j < e.size() && e[j] == e[i]) ++j;
@@ -216,15 +233,27 @@ bool CollapseState::on_boundary(std::uint32_t v) const {
 // keep. Clustering leaves many (folded sheets where coarse cells cut steep slopes), so
 // such a vertex is not locked but anchored: it does not move, other vertices may merge
 // into it, and collapses there are checked for doubled faces instead of by the link
-// condition.
-void CollapseState::mark_non_manifold() {
-  for (std::uint32_t v = 0; v < mesh_.positions.size(); ++v)
-    if (alive_[v] && !manifold_at(v)) complex_[v] = 1;
+// condition. Each vertex is classified on its own, in parallel: anchored or not, on
+// the outline or not.
+void CollapseState::classify_vertices() {
+  const std::size_t n = mesh_.positions.size();
+  boundary_.assign(n, 0);
+  tbb::enumerable_thread_specific<VertexScratch> scratch;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(n), 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      VertexScratch& s = scratch.local();
+                      for (std::uint32_t v = r.begin(); v != r.end(); ++v) {
+                        if (!alive_[v]) continue;
+                        complex_[v] = !manifold_at(v, &s);
+                        boundary_[v] = on_boundary(v, &s);
+                      }
+                    });
 }
 
-bool CollapseState::manifold_at(std::uint32_t v) const {
-  std::vector<std::uint32_t>& ends = scratch_ends_;
-  std::vector<std::uint32_t> ring, parent;
+bool CollapseState::manifold_at(std::uint32_t v, VertexScratch* scratch) const {
+  std::vector<std::uint32_t>& ends = scratch->ends;
+  std::vector<std::uint32_t>& ring = scratch->ring;
+  std::vector<std::uint32_t>& parent = scratch->parent;
   edge_ends(v, &ends);
   bool manifold = true;
   for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
@@ -267,7 +296,7 @@ void CollapseState::add_boundary_planes(double weight) {
     if (!(normal_length > 0)) continue;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
-      if (faces_on_edge(u, w) != 1) continue;
+      if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
       const Vec3d e = mesh_.positions[w] - mesh_.positions[u];
       const Vec3d m = cross(e, normal / normal_length);
       const double m_length = length(m);  // |e|: the normal is a unit vector perpendicular to e
@@ -498,7 +527,7 @@ void CollapseState::collapse(const Candidate& c) {
     std::vector<std::uint32_t> ring;
     neighbours(a, &ring);
     for (std::uint32_t u : ring)
-      if (!complex_[u] && !manifold_at(u)) {
+      if (!complex_[u] && !manifold_at(u, &scratch_)) {
         complex_[u] = 1;
         newly_anchored_.push_back(u);
       }
@@ -561,7 +590,7 @@ bool CollapseState::split_boundary_edge() {
 // ones are copied down.
 void CollapseState::compact_adjacency() {
   std::vector<std::uint32_t> packed;
-  packed.reserve(faces_.size() / 2);
+  reserve_huge(&packed, faces_.size() / 2);
   for (std::size_t v = 0; v < face_start_.size(); ++v) {
     const std::uint32_t start = std::uint32_t(packed.size());
     if (alive_[v]) for_each_face(std::uint32_t(v), [&](std::uint32_t f) { packed.push_back(f); });
@@ -570,12 +599,6 @@ void CollapseState::compact_adjacency() {
   }
   faces_ = std::move(packed);
   compact_at_ = 3 * faces_.size() + 1024;
-}
-
-QuadricMesh CollapseState::release_vertices() {
-  QuadricMesh out = std::move(mesh_);
-  out.triangles.clear();
-  return out;
 }
 
 QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
@@ -728,7 +751,10 @@ class LazyQueue {
       const CollapseState::Candidate c = state_.evaluate(edges[i].first, edges[i].second);
       entries[i] = {c.cost, c.a, c.b};
     });
-    entries.reserve(4 * edges.size());  // the pushes of the collapses to come, without regrowing
+    std::vector<QueueEntry> room;  // the pushes of the collapses to come, without regrowing
+    reserve_huge(&room, 4 * edges.size());
+    room.insert(room.end(), entries.begin(), entries.end());
+    entries.swap(room);
     heap_.assign(std::move(entries));
   }
 
@@ -826,6 +852,116 @@ class LazyQueue {
   std::vector<std::uint32_t> ring_;
 };
 
+// Garland & Heckbert's greedy order taken in passes, as meshoptimizer's simplifier
+// does: each pass costs every edge at once (in parallel), sorts them, and takes the
+// cheapest valid collapses in that order, each vertex in at most one collapse a pass,
+// so that every cost taken is still the edge's cost then (a collapse changes the
+// quadric and position of its two ends only). A pass stops when it has halved the
+// count still to remove; the lazy queue then finishes in strict order. Where the lazy
+// queue re-costs and re-checks the neighbourhood of every collapse, one at a time, a
+// pass re-costs each edge once and checks only the collapses it takes.
+class PassDriver {
+ public:
+  PassDriver(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
+      : state_(state), settings_(settings), stats_(stats), progress_(progress), touched_(state.vertex_count(), 0) {}
+
+  /// Passes until at most `stop_at` triangles are left, a pass takes nothing, or the
+  /// next collapse is above settings.max_error (false).
+  bool run(std::uint64_t stop_at) {
+    while (state_.triangle_count() > stop_at) {
+      const std::uint64_t excess = state_.triangle_count() - stop_at;
+      const std::uint64_t pass_to = excess <= stop_at / 8 ? stop_at : stop_at + excess / 2;
+      const std::uint64_t taken = pass(pass_to);
+      if (stopped_) return false;
+      if (taken == 0) break;
+    }
+    return true;
+  }
+
+ private:
+  // Each edge (a, b), a < b, that may collapse, with its cost, into entries_; in no
+  // particular order. The lists are kept from pass to pass, so their pages are not
+  // faulted in anew.
+  void cost_edges() {
+    const std::size_t n = state_.vertex_count();
+    for (std::vector<QueueEntry>& part : found_) part.clear();
+    const std::size_t edge_bound = 3 * std::size_t(state_.triangle_count()) / 2 + 1024;
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(n), 4096),
+                      [&](const tbb::blocked_range<std::uint32_t>& r) {
+                        std::vector<QueueEntry>& out = found_.local();
+                        // Room for every edge, untouched until used: no regrowing.
+                        if (out.capacity() == 0) reserve_huge(&out, edge_bound);
+                        std::vector<std::uint32_t>& ring = rings_.local();
+                        for (std::uint32_t a = r.begin(); a != r.end(); ++a) {
+                          if (!state_.alive(a) || state_.locked(a)) continue;
+                          state_.neighbours_above(a, &ring);
+                          for (std::uint32_t b : ring)
+                            if (!state_.locked(b)) out.push_back({state_.evaluate(a, b).cost, a, b});
+                        }
+                      });
+    entries_.clear();
+    std::size_t total = 0;
+    for (const std::vector<QueueEntry>& part : found_) total += part.size();
+    reserve_huge(&entries_, total);
+    for (const std::vector<QueueEntry>& part : found_) entries_.insert(entries_.end(), part.begin(), part.end());
+  }
+
+  std::uint64_t pass(std::uint64_t pass_to) {
+    cost_edges();
+    std::vector<QueueEntry>& entries = entries_;
+    // Entries past a few times the collapses wanted would not be reached: only the
+    // cheapest are sorted (their set, and so the order, does not depend on the threads).
+    const std::uint64_t wanted = (state_.triangle_count() - pass_to + 1) / 2;
+    const std::size_t look = std::size_t(std::min<std::uint64_t>(entries.size(), look_factor_ * wanted + 16));
+    auto earlier = [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); };
+    if (look < entries.size())
+      std::nth_element(entries.begin(), entries.begin() + std::ptrdiff_t(look), entries.end(), earlier);
+    entries.resize(look);
+    tbb::parallel_sort(entries.begin(), entries.end(), earlier);
+    const std::uint32_t stamp = ++stamp_;
+    std::uint64_t taken = 0;
+    for (const QueueEntry& e : entries) {
+      if (state_.triangle_count() <= pass_to) break;
+      if (touched_[e.a] == stamp || touched_[e.b] == stamp) continue;
+      const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
+      if (!state_.valid(c)) continue;
+      if (state_.triangle_count() - settings_.target_triangles < 3 &&
+          state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b)))
+        continue;
+      const double error = state_.error(c);
+      if (error > settings_.max_error) {
+        stopped_ = true;
+        break;
+      }
+      state_.collapse(c);
+      ++taken;
+      stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
+      stats_->largest_error = std::max(stats_->largest_error, error);
+      touched_[e.a] = touched_[e.b] = stamp;
+      for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
+    }
+    stats_->collapses += taken;
+    // Short of the pass's count, the cheapest edges were refused or shared a vertex:
+    // the next pass looks further down the list; one that met it, less far.
+    look_factor_ = state_.triangle_count() > pass_to ? std::min<std::uint64_t>(2 * look_factor_, 64)
+                                                     : std::max<std::uint64_t>(look_factor_ / 2, 2);
+    if (progress_) progress_->set(2 * stats_->collapses);
+    return taken;
+  }
+
+  CollapseState& state_;
+  const CollapseSettings& settings_;
+  CollapseStats* stats_;
+  ProgressPhase* progress_;
+  std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
+  std::vector<QueueEntry> entries_;
+  tbb::enumerable_thread_specific<std::vector<QueueEntry>> found_;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;
+  std::uint32_t stamp_ = 0;
+  std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted
+  bool stopped_ = false;
+};
+
 }  // namespace
 
 void collapse_in_order(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
@@ -833,26 +969,20 @@ void collapse_in_order(CollapseState& state, const CollapseSettings& settings, C
   LazyQueue(state, settings, stats, progress).run();
 }
 
-// Large meshes collapse in tiles first, in parallel, in rounds of at most 4x fewer
-// faces: the tiles' borders stay as they were in a round, and the next round's tiles,
-// cut from the fewer faces, fall elsewhere. The whole mesh then collapses in order of
-// cost, from the tiles' result (the boundary planes already in its quadrics).
+// Large meshes collapse in passes first (PassDriver), down to settings.pass_share
+// times the target; the lazy queue then takes the collapses in strict order of cost.
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress) {
   CollapseStats local;
   CollapseStats& st = stats ? *stats : local;
   CollapseState state(std::move(mesh), settings);
   st.non_manifold_vertices = state.non_manifold_count();
-  const double tiles_to = double(settings.target_triangles) * settings.tile_share;
-  while (settings.tile_faces && state.triangle_count() >= 4 * settings.tile_faces &&
-         tiles_to < 0.75 * double(state.triangle_count())) {
-    CollapseSettings round = settings;
-    round.target_triangles = std::uint64_t(std::max(tiles_to, 0.25 * double(state.triangle_count())));
-    round.tile_share = 1;
-    QuadricMesh tiled = collapse_tiles(state, round, &st);
-    if (progress) progress->set(2 * st.collapses);
-    round.boundary_weight = 0;
-    state = CollapseState(std::move(tiled), round);
+  const std::uint64_t passes_to =
+      std::max(settings.target_triangles, std::uint64_t(settings.pass_share * double(settings.target_triangles)));
+  if (settings.pass_faces && state.triangle_count() >= settings.pass_faces && state.triangle_count() > passes_to &&
+      !PassDriver(state, settings, &st, progress).run(passes_to)) {
+    st.stuck = st.stopped_by_error = true;
+    return state.result();
   }
   collapse_in_order(state, settings, &st, progress);
   // Every collapse left would make a needle: on the 2M generated sphere to 20000 the

@@ -30,7 +30,7 @@ struct QuadricMesh {
   std::vector<double> attributes;        ///< attribute_count per vertex (interpolated along collapses)
   /// Each face's normal in the input, for the flip check (empty: from the positions).
   std::vector<Vec3d> face_normals;
-  /// Vertices that may neither move nor go (empty: none): a tile's border.
+  /// Vertices that may neither move nor go (empty: none).
   std::vector<std::uint8_t> locked;
 };
 
@@ -57,13 +57,14 @@ struct CollapseSettings {
   /// Meet target_triangles exactly (collapses that overshoot wait; boundary edges are
   /// split at the end). Off, the collapse stops at or below it, or when none is left.
   bool exact_count = true;
-  /// Tiles of about this many faces collapse in parallel first (0: none); see
-  /// collapse_tiles(). The tiles follow from the mesh alone, so the result is the same
-  /// for any thread count.
-  std::uint64_t tile_faces = 65536;
-  /// The tiles collapse to this many times their share of the target; the collapse of
-  /// the whole mesh, in order of cost, does the rest.
-  double tile_share = 1.5;
+  /// Meshes of at least this many faces collapse in passes first (0: never): every
+  /// edge costed at once, in parallel, and the cheapest valid collapses taken, each
+  /// vertex in at most one a pass. The passes follow from the mesh alone, so the
+  /// result is the same for any thread count.
+  std::uint64_t pass_faces = 65536;
+  /// The passes stop at this many times target_triangles; the lazy queue, in strict
+  /// order of cost, takes the rest.
+  double pass_share = 1.5;
 };
 
 struct CollapseStats {
@@ -132,27 +133,28 @@ class CollapseState {
   /// The mesh as it is (faces dead or alive), with the boundary planes in its quadrics.
   const QuadricMesh& mesh() const { return mesh_; }
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
-  /// Each face's normal in the input.
-  const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// The distinct vertices above v sharing a live face with v, ascending. Any thread.
+  void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// The live faces, their vertices numbered by first use, in face order, with their
   /// input normals; `sources` (if given) gets each result vertex's index here.
   QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
-  /// The vertices, moved out (the state is spent): positions, quadrics and attributes
-  /// of every vertex in its place; no faces.
-  QuadricMesh release_vertices();
 
  private:
   template <class F>
   void for_each_face(std::uint32_t v, const F& f) const;
   void build_adjacency();
-  void mark_non_manifold();
-  bool manifold_at(std::uint32_t v) const;
+  // The lists manifold_at() and on_boundary() work in: one per thread.
+  struct VertexScratch {
+    std::vector<std::uint32_t> ends, ring, parent;
+  };
+  bool manifold_at(std::uint32_t v, VertexScratch* scratch) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
-  bool on_boundary(std::uint32_t v) const;
+  bool on_boundary(std::uint32_t v, VertexScratch* scratch) const;
+  void classify_vertices();
   // The other ends of v's face edges, ascending, each as often as faces share it.
   void edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   void compact_adjacency();
@@ -165,7 +167,8 @@ class CollapseState {
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
   std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;
-  mutable std::vector<std::uint32_t> scratch_a_, scratch_ends_;
+  mutable std::vector<std::uint32_t> scratch_a_;
+  mutable VertexScratch scratch_;
   std::vector<std::uint32_t> newly_anchored_;
   // Marks of vertices seen, by stamp: a new stamp clears them all at once.
   std::uint32_t next_stamp() const;
@@ -175,17 +178,9 @@ class CollapseState {
 
 /// The collapses of `state` in order of cost, from a priority queue with lazy updates,
 /// down to settings.target_triangles (exactly, with settings.exact_count). The driver
-/// of collapse_edges() and of each tile of collapse_tiles().
+/// of collapse_edges() after its passes.
 void collapse_in_order(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
                        ProgressPhase* progress);
-
-/// The parallel first pass of collapse_edges() (refine/tiled_collapse.cpp): the faces
-/// of `state` (no collapse taken yet) are cut into tiles of about settings.tile_faces,
-/// consecutive in Morton order of their centroids; each tile collapses on its own, its
-/// border vertices locked, to settings.tile_share times its share of the target. Returns
-/// the mesh with the tiles' collapses taken, vertices in their places, and adds to
-/// `stats`. Spends `state`.
-QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats);
 
 /// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
 /// a priority queue whose entries are checked when taken (lazy updates), until
