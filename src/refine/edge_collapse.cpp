@@ -879,31 +879,39 @@ class PassDriver {
   }
 
  private:
-  // Each edge (a, b), a < b, that may collapse, with its cost, into entries_; in no
-  // particular order. The lists are kept from pass to pass, so their pages are not
-  // faulted in anew.
+  // Each edge (a, b), a < b, that may collapse, with its cost, into entries_ in order
+  // of a: the edges of each block of vertices are counted, then costed into their
+  // place, both in parallel. entries_ keeps its pages from pass to pass.
   void cost_edges() {
-    const std::size_t n = state_.vertex_count();
-    for (std::vector<QueueEntry>& part : found_) part.clear();
-    const std::size_t edge_bound = 3 * std::size_t(state_.triangle_count()) / 2 + 1024;
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(n), 4096),
-                      [&](const tbb::blocked_range<std::uint32_t>& r) {
-                        std::vector<QueueEntry>& out = found_.local();
-                        // Room for every edge, untouched until used: no regrowing.
-                        if (out.capacity() == 0) reserve_huge(&out, edge_bound);
-                        std::vector<std::uint32_t>& ring = rings_.local();
-                        for (std::uint32_t a = r.begin(); a != r.end(); ++a) {
-                          if (!state_.alive(a) || state_.locked(a)) continue;
-                          state_.neighbours_above(a, &ring);
-                          for (std::uint32_t b : ring)
-                            if (!state_.locked(b)) out.push_back({state_.evaluate(a, b).cost, a, b});
-                        }
-                      });
-    entries_.clear();
-    std::size_t total = 0;
-    for (const std::vector<QueueEntry>& part : found_) total += part.size();
-    reserve_huge(&entries_, total);
-    for (const std::vector<QueueEntry>& part : found_) entries_.insert(entries_.end(), part.begin(), part.end());
+    constexpr std::uint32_t kBlock = 4096;
+    const std::uint32_t n = std::uint32_t(state_.vertex_count());
+    const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
+    auto for_each_edge = [&](std::uint32_t block, std::vector<std::uint32_t>& ring, const auto& f) {
+      for (std::uint32_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
+        if (!state_.alive(a) || state_.locked(a)) continue;
+        state_.neighbours_above(a, &ring);
+        for (std::uint32_t b : ring)
+          if (!state_.locked(b)) f(a, b);
+      }
+    };
+    tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
+      std::size_t count = 0;
+      for_each_edge(block, rings_.local(), [&](std::uint32_t, std::uint32_t) { ++count; });
+      start[block + 1] = count;
+    });
+    for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
+    if (entries_.capacity() < start[blocks]) {
+      entries_ = std::vector<QueueEntry>();
+      reserve_huge(&entries_, start[blocks]);
+    }
+    entries_.resize(start[blocks]);
+    tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
+      QueueEntry* out = entries_.data() + start[block];
+      for_each_edge(block, rings_.local(), [&](std::uint32_t a, std::uint32_t b) {
+        *out++ = {state_.evaluate(a, b).cost, a, b};
+      });
+    });
   }
 
   std::uint64_t pass(std::uint64_t pass_to) {
@@ -955,7 +963,6 @@ class PassDriver {
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
   std::vector<QueueEntry> entries_;
-  tbb::enumerable_thread_specific<std::vector<QueueEntry>> found_;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;
   std::uint32_t stamp_ = 0;
   std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted
