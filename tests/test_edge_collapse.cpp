@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "common/vec3_math.hpp"
@@ -58,6 +59,34 @@ QuadricMesh cube(int n) {
   return mesh_of(load_mesh(d.file("c.ply")));
 }
 
+// A closed surface with no edge of one face but edges of three: the unit cube, each
+// side an n x n grid, and a wall across it at x = 0.5 whose rim lies on the sides'
+// grid lines. Clustering leaves such surfaces (the parts mesh's intermediate).
+QuadricMesh walled_cube(int n) {
+  QuadricMesh m;
+  std::map<std::tuple<double, double, double>, std::uint32_t> index;
+  auto vertex = [&](const Vec3d& p) {
+    const auto key = std::make_tuple(p.x, p.y, p.z);
+    auto it = index.find(key);
+    if (it != index.end()) return it->second;
+    m.positions.push_back(p);
+    return index[key] = std::uint32_t(m.positions.size() - 1);
+  };
+  auto grid = [&](const Vec3d& origin, const Vec3d& u, const Vec3d& v) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        auto at = [&](int a, int b) { return vertex(origin + u * (double(a) / n) + v * (double(b) / n)); };
+        const std::uint32_t p = at(i, j), q = at(i + 1, j), r = at(i + 1, j + 1), t = at(i, j + 1);
+        m.triangles.insert(m.triangles.end(), {p, q, r, p, r, t});
+      }
+  };
+  const Vec3d x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1}, o{0, 0, 0};
+  grid(o, z, y), grid(x, y, z), grid(o, x, z), grid(y, z, x), grid(o, y, x), grid(z, x, y);  // outward
+  grid(x * 0.5, y, z);
+  m.quadrics = face_quadrics(m.positions, m.triangles);
+  return m;
+}
+
 // The naive driver the issue asks for: after every collapse, every edge evaluated
 // again and the cheapest valid one taken (ties by vertex index), with the same rules
 // for the last triangle and for max_error as collapse_edges.
@@ -78,10 +107,13 @@ QuadricMesh naive_collapse(QuadricMesh mesh, const CollapseSettings& settings, C
         pick = &c;
         break;
       }
+    // None fits: the cheapest valid one whose overshoot edge splits can make up, else
+    // the cheapest valid one.
     bool split = false;
-    if (!pick)
+    const bool boundary = state.has_boundary_edge();
+    for (int loose = 0; loose < 2 && !pick; ++loose)
       for (const auto& c : all)
-        if (state.valid(c)) {
+        if (state.valid(c) && (loose || state.split_can_make_up(c, settings.target_triangles, boundary))) {
           pick = &c;
           split = true;
           break;
@@ -98,9 +130,7 @@ QuadricMesh naive_collapse(QuadricMesh mesh, const CollapseSettings& settings, C
     state.collapse(*pick);
     ++stats->collapses;
     if (split) {
-      while (state.triangle_count() < settings.target_triangles && state.split_boundary_edge()) {
-      }
-      stats->parity = state.triangle_count() != settings.target_triangles;
+      stats->parity = !state.split_up_to(settings.target_triangles);
       break;
     }
   }
@@ -154,6 +184,7 @@ TEST_CASE("the lazy queue takes the collapses a naive full re-evaluation takes",
       {"parts", generated(SyntheticShape::parts, 2000), 400, HUGE_VAL},
       {"cube", cube(6), 12, HUGE_VAL},
       {"clustered terrain (non-manifold)", clustered_terrain(), 600, HUGE_VAL},
+      {"closed with edges of three faces, odd target", walled_cube(4), 61, HUGE_VAL},
       {"sphere to an error", generated(SyntheticShape::sphere, 1200), 4, 0.01},
   };
   for (Case& c : cases) {
@@ -192,6 +223,35 @@ TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count on
       CHECK_FALSE(open.parity);  // a boundary edge removes one face
       CHECK(t.triangles.size() / 3 == target);
     }
+}
+
+TEST_CASE("a closed surface with edges of three faces meets an odd target exactly", "[refine][collapse]") {
+  // A closed manifold's count is even (every edge has two faces); an edge of three
+  // faces makes an odd count reachable: collapse it (three go), split an edge of two.
+  const QuadricMesh m = walled_cube(4);  // 6 x 32 + 32 triangles
+  for (std::uint64_t target : {21, 61, 101, 151}) {
+    INFO("target " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    CollapseStats st;
+    QuadricMesh out = collapse_edges(m, s, &st);
+    CHECK_FALSE(st.parity);
+    CHECK(out.triangles.size() / 3 == target);
+    int one_face = 0;
+    for (const auto& e : edge_faces(out)) one_face += e.second == 1;
+    CHECK(one_face == 0);  // still closed
+    // Every vertex in the cube and, while the sides keep inner vertices (the split
+    // edge's midpoint lies on the surface as it is then, a coarse one cuts corners),
+    // on a side or the wall.
+    double off = 0, outside = 0;
+    for (const Vec3d& p : out.positions) {
+      const double side = std::min({p.x, 1 - p.x, p.y, 1 - p.y, p.z, 1 - p.z});
+      off = std::max(off, std::min(std::fabs(side), std::fabs(p.x - 0.5)));
+      outside = std::max(outside, -side);
+    }
+    CHECK(outside <= 1e-12);
+    if (target >= 61) CHECK(off <= 1e-12);
+  }
 }
 
 TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler characteristic 2", "[refine][collapse]") {

@@ -535,8 +535,7 @@ void CollapseState::collapse(const Candidate& c) {
   if (faces_.size() > compact_at_) compact_adjacency();
 }
 
-bool CollapseState::split_boundary_edge() {
-  std::uint32_t face = 0, corner = 0;
+bool CollapseState::split_longest_edge(int faces) {
   double longest = -1;
   std::pair<std::uint32_t, std::uint32_t> best{0, 0};
   for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
@@ -544,18 +543,20 @@ bool CollapseState::split_boundary_edge() {
     const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
     for (std::uint32_t k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
-      if (faces_on_edge(u, w) != 1) continue;
+      if (faces_on_edge(u, w) != faces) continue;
       const double l = squared_distance(mesh_.positions[u], mesh_.positions[w]);
       const std::pair<std::uint32_t, std::uint32_t> key{std::min(u, w), std::max(u, w)};
-      if (l > longest || (l == longest && key < best)) longest = l, best = key, face = f, corner = k;
+      if (l > longest || (l == longest && key < best)) longest = l, best = key;
     }
   }
   if (longest < 0) return false;
-  // Face (u, w, x) becomes (u, m, x) and (m, w, x): the same orientation, the same plane.
-  const std::uint32_t u = mesh_.triangles[3 * face + corner], w = mesh_.triangles[3 * face + (corner + 1) % 3];
-  const std::uint32_t x = mesh_.triangles[3 * face + (corner + 2) % 3];
+  const std::uint32_t u = best.first, w = best.second;
+  std::vector<std::uint32_t> around;  // the faces on (u, w)
+  for_each_face(u, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    if (t[0] == w || t[1] == w || t[2] == w) around.push_back(f);
+  });
   const std::uint32_t m = std::uint32_t(mesh_.positions.size());
-  const std::uint32_t added = std::uint32_t(face_dead_.size());
   mesh_.positions.push_back((mesh_.positions[u] + mesh_.positions[w]) * 0.5);
   mesh_.quadrics.push_back(Quadric());
   const std::size_t k = mesh_.attribute_count;
@@ -563,27 +564,61 @@ bool CollapseState::split_boundary_edge() {
     mesh_.attributes.push_back(0.5 * (mesh_.attributes[u * k + j] + mesh_.attributes[w * k + j]));
   alive_.push_back(1);
   locked_.push_back(0);
-  complex_.push_back(0);
-  boundary_.push_back(1);
-  mesh_.triangles[3 * face + (corner + 1) % 3] = m;
-  mesh_.triangles.insert(mesh_.triangles.end(), {m, w, x});
-  face_dead_.push_back(0);
-  first_normal_.push_back(first_normal_[face]);
-  ++live_faces_;
-  // m's faces; w trades `face` for the new one; x gains it.
+  complex_.push_back(faces > 2);  // on an edge of three or more faces
+  boundary_.push_back(faces == 1);
   face_start_.push_back(std::uint32_t(faces_.size()));
-  face_count_.push_back(2);
-  faces_.insert(faces_.end(), {face, added});
-  for (std::uint32_t v : {w, x}) {
+  face_count_.push_back(0);
+  // Each face (p, q, r) on the edge, p q its side along it, becomes (p, m, r) and
+  // (m, q, r): the same orientation, the same plane. q trades the face for the new
+  // one; r and m gain faces.
+  auto replace_list = [&](std::uint32_t v, std::uint32_t from, std::uint32_t to, bool add) {
     std::vector<std::uint32_t>& list = scratch_a_;
     list.clear();
-    for_each_face(v, [&](std::uint32_t f) { list.push_back(v == w && f == face ? added : f); });
-    if (v == x) list.push_back(added);
+    for_each_face(v, [&](std::uint32_t f) { list.push_back(f == from ? to : f); });
+    if (add) list.push_back(to);
     face_start_[v] = std::uint32_t(faces_.size());
     face_count_[v] = std::uint32_t(list.size());
     faces_.insert(faces_.end(), list.begin(), list.end());
+  };
+  for (std::uint32_t f : around) {
+    int side = 0;
+    for (int j = 0; j < 3; ++j) {
+      const std::uint32_t x = mesh_.triangles[3 * f + std::size_t(j)];
+      const std::uint32_t y = mesh_.triangles[3 * f + std::size_t(j + 1) % 3];
+      if ((x == u && y == w) || (x == w && y == u)) side = j;
+    }
+    const std::uint32_t q = mesh_.triangles[3 * f + std::size_t(side + 1) % 3];
+    const std::uint32_t r = mesh_.triangles[3 * f + std::size_t(side + 2) % 3];
+    const std::uint32_t added = std::uint32_t(face_dead_.size());
+    mesh_.triangles[3 * f + std::size_t(side + 1) % 3] = m;
+    mesh_.triangles.insert(mesh_.triangles.end(), {m, q, r});
+    face_dead_.push_back(0);
+    first_normal_.push_back(first_normal_[f]);
+    ++live_faces_;
+    replace_list(q, f, added, false);
+    replace_list(r, kNoFace, added, true);
+    replace_list(m, kNoFace, f, true);
+    replace_list(m, kNoFace, added, true);
   }
   return true;
+}
+
+bool CollapseState::has_boundary_edge() const {
+  for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
+    if (face_dead_[f]) continue;
+    const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+    for (int k = 0; k < 3; ++k)
+      if (boundary_[t[k]] && boundary_[t[(k + 1) % 3]] && faces_on_edge(t[k], t[(k + 1) % 3]) == 1) return true;
+  }
+  return false;
+}
+
+bool CollapseState::split_up_to(std::uint64_t target) {
+  while (live_faces_ < target) {
+    const bool odd = (target - live_faces_) % 2 == 1;
+    if (!(odd ? split_longest_edge(1) : split_longest_edge(2) || split_longest_edge(1))) return false;
+  }
+  return live_faces_ == target;
 }
 
 // The merged lists are appended; once they take three times the start, the live
@@ -785,17 +820,23 @@ class LazyQueue {
   // when there is none.
   bool take_deferred(std::vector<QueueEntry>& deferred) {
     std::sort(deferred.begin(), deferred.end(), [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); });
+    const bool any_boundary = state_.has_boundary_edge();
+    const QueueEntry* first = nullptr;
     for (const QueueEntry& e : deferred) {
       if (!state_.alive(e.a) || !state_.alive(e.b)) continue;
       const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
       if (!same_bits(c.cost, e.cost) || !state_.valid(c)) continue;
-      if (!take(c)) return true;
-      while (state_.triangle_count() < settings_.target_triangles && state_.split_boundary_edge()) {
-      }
-      stats_->parity = state_.triangle_count() != settings_.target_triangles;
-      return true;
+      if (!first) first = &e;
+      if (!state_.split_can_make_up(c, settings_.target_triangles, any_boundary)) continue;
+      return take_and_split(c);
     }
-    return false;
+    return first && take_and_split(state_.evaluate(first->a, first->b));
+  }
+
+  bool take_and_split(const CollapseState::Candidate& c) {
+    if (!take(c)) return true;
+    stats_->parity = !state_.split_up_to(settings_.target_triangles);
+    return true;
   }
 
   // A rejected edge is remembered at both ends, with the face blamed: it is looked at

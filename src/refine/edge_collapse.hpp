@@ -64,7 +64,7 @@ struct CollapseSettings {
   std::uint64_t pass_faces = 65536;
   /// The passes stop at this many times target_triangles; the lazy queue, in strict
   /// order of cost, takes the rest.
-  double pass_share = 1.5;
+  double pass_share = 1.1;
 };
 
 struct CollapseStats {
@@ -117,10 +117,22 @@ class CollapseState {
   /// The vertices next to a that the last collapse left non-manifold: now anchored,
   /// all their edges cost anew.
   const std::vector<std::uint32_t>& newly_anchored() const { return newly_anchored_; }
-  /// Splits the longest boundary edge (ties: the lowest vertices) at its midpoint,
-  /// its face into two: one triangle more and the surface unchanged, for a target that
-  /// an inner collapse overshot by one. False when the mesh has no boundary edge.
-  bool split_boundary_edge();
+  /// Splits the longest edge of `faces` faces (ties: the lowest vertices) at its
+  /// midpoint, each of its faces into two: `faces` triangles more and the surface
+  /// unchanged. False when the mesh has no such edge.
+  bool split_longest_edge(int faces);
+  /// Whether an edge of one face is left.
+  bool has_boundary_edge() const;
+  /// For a target that a collapse overshot: splits edges until `target` triangles are
+  /// left, one of one face for an odd number to add, else one of two faces (or of
+  /// one). False when it cannot be met: an odd number to add and no edge of one face.
+  bool split_up_to(std::uint64_t target);
+  /// Whether split_up_to() could make up what collapse `c` would take below `target`:
+  /// an even number of triangles, or `boundary` (an edge of one face is left).
+  bool split_can_make_up(const Candidate& c, std::uint64_t target, bool boundary) const {
+    const std::uint64_t after = live_faces_ - std::uint64_t(faces_on_edge(c.a, c.b));
+    return after >= target || boundary || (target - after) % 2 == 0;
+  }
 
   std::size_t vertex_count() const { return alive_.size(); }
   bool alive(std::uint32_t v) const { return alive_[v] != 0; }
