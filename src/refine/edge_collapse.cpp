@@ -636,27 +636,37 @@ void CollapseState::compact_adjacency() {
   compact_at_ = 3 * faces_.size() + 1024;
 }
 
-QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
+QuadricMesh CollapseState::result() const {
   constexpr std::uint32_t kUnused = ~std::uint32_t(0);
   std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
+  // The vertices numbered by first use, counted first so that every array is
+  // allocated once.
+  std::uint32_t used = 0;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f)
+    if (!face_dead_[f])
+      for (int j = 0; j < 3; ++j) {
+        std::uint32_t& slot = index[mesh_.triangles[3 * f + std::size_t(j)]];
+        if (slot == kUnused) slot = used++;
+      }
   QuadricMesh out;
-  if (sources) sources->clear();
-  out.attribute_count = mesh_.attribute_count;
   const std::size_t k = mesh_.attribute_count;
+  out.attribute_count = k;
+  out.positions.resize(used);
+  out.quadrics.resize(used);
+  out.attributes.resize(std::size_t(used) * k);
+  for (std::size_t v = 0; v < index.size(); ++v) {
+    const std::uint32_t i = index[v];
+    if (i == kUnused) continue;
+    out.positions[i] = mesh_.positions[v];
+    out.quadrics[i] = mesh_.quadrics[v];
+    std::copy(mesh_.attributes.begin() + std::ptrdiff_t(v * k), mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k),
+              out.attributes.begin() + std::ptrdiff_t(i * k));
+  }
+  out.triangles.reserve(3 * live_faces_);
+  out.face_normals.reserve(live_faces_);
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
     if (face_dead_[f]) continue;
-    for (int j = 0; j < 3; ++j) {
-      const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(j)];
-      if (index[v] == kUnused) {
-        index[v] = std::uint32_t(out.positions.size());
-        out.positions.push_back(mesh_.positions[v]);
-        out.quadrics.push_back(mesh_.quadrics[v]);
-        out.attributes.insert(out.attributes.end(), mesh_.attributes.begin() + std::ptrdiff_t(v * k),
-                              mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k));
-        if (sources) sources->push_back(v);
-      }
-      out.triangles.push_back(index[v]);
-    }
+    for (int j = 0; j < 3; ++j) out.triangles.push_back(index[mesh_.triangles[3 * f + std::size_t(j)]]);
     out.face_normals.push_back(first_normal_[f]);
   }
   return out;

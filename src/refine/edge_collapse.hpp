@@ -150,8 +150,8 @@ class CollapseState {
   /// The distinct vertices above v sharing a live face with v, ascending. Any thread.
   void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// The live faces, their vertices numbered by first use, in face order, with their
-  /// input normals; `sources` (if given) gets each result vertex's index here.
-  QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
+  /// input normals.
+  QuadricMesh result() const;
 
  private:
   template <class F>
