@@ -208,10 +208,11 @@ TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count on
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
   for (std::uint64_t target : {1000, 1001, 4000, 9999})
     for (std::uint64_t passes : {0, 4096}) {
-      INFO("target " << target << ", passes from " << passes << " faces");
+      INFO("target " << target << ", tiles and passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.pass_faces = passes;
+      s.pass_faces = s.tile_faces = passes;
+      s.tile_min_faces = 4 * passes;
       CollapseStats st;
       QuadricMesh m = collapse_edges(sphere, s, &st);
       CHECK_FALSE(st.stuck);
@@ -258,10 +259,11 @@ TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler character
   const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
   for (std::uint64_t target : {200, 2000})
     for (std::uint64_t passes : {0, 4096}) {
-      INFO("target " << target << ", passes from " << passes << " faces");
+      INFO("target " << target << ", tiles and passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.pass_faces = passes;
+      s.pass_faces = s.tile_faces = passes;
+      s.tile_min_faces = 4 * passes;
       QuadricMesh m = collapse_edges(sphere, s, nullptr);
       const auto edges = edge_faces(m);
       bool two_each = true;
@@ -291,10 +293,11 @@ TEST_CASE("no face turns against the original surface's local normal", "[refine]
   const QuadricMesh terrain = generated(SyntheticShape::terrain, 20000);
   for (std::uint64_t target : {500, 2000, 5000})
     for (std::uint64_t passes : {0, 4096}) {
-      INFO("target " << target << ", passes from " << passes << " faces");
+      INFO("target " << target << ", tiles and passes from " << passes << " faces");
       CollapseSettings s;
       s.target_triangles = target;
-      s.pass_faces = passes;
+      s.pass_faces = s.tile_faces = passes;
+      s.tile_min_faces = 4 * passes;
       QuadricMesh m = collapse_edges(sphere, s, nullptr);
       int against = 0;
       for (std::size_t f = 0; f < m.triangles.size() / 3; ++f) {
@@ -346,10 +349,11 @@ TEST_CASE("boundary edges keep the outline of an open surface", "[refine][collap
   write_plane_ply(d.file("p.ply"), 100, 0.2, -0.1, 0.5);  // a tilted square with an outline of 400 edges
   const QuadricMesh plane = mesh_of(load_mesh(d.file("p.ply")));
   for (std::uint64_t passes : {0, 4096}) {
-    INFO("passes from " << passes << " faces");
+    INFO("tiles and passes from " << passes << " faces");
     CollapseSettings s;
     s.target_triangles = 50;
-    s.pass_faces = passes;
+    s.pass_faces = s.tile_faces = passes;
+    s.tile_min_faces = 4 * passes;
     CollapseStats st;
     QuadricMesh m = collapse_edges(plane, s, &st);
     CHECK(m.triangles.size() / 3 == 50);
@@ -415,14 +419,15 @@ TEST_CASE("non-manifold vertices are anchored: the count is met, their positions
 }
 
 TEST_CASE("the collapse is the same for any thread count", "[refine][collapse]") {
-  // From 4096 faces the collapse runs in passes, whose edges are costed in
-  // parallel: the passes follow from the mesh, not from the threads.
+  // Tiles of 4096 faces collapse in parallel first, and the edges of a pass are
+  // costed in parallel: tiles and passes follow from the mesh, not from the threads.
   const QuadricMesh parts = generated(SyntheticShape::parts, 20000);
   for (std::uint64_t passes : {0, 4096}) {
-    INFO("passes from " << passes << " faces");
+    INFO("tiles and passes from " << passes << " faces");
     CollapseSettings s;
     s.target_triangles = 2000;
-    s.pass_faces = passes;
+    s.pass_faces = s.tile_faces = passes;
+    s.tile_min_faces = 4 * passes;
     QuadricMesh one, two;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);

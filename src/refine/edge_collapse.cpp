@@ -636,7 +636,13 @@ void CollapseState::compact_adjacency() {
   compact_at_ = 3 * faces_.size() + 1024;
 }
 
-QuadricMesh CollapseState::result() const {
+QuadricMesh CollapseState::release_vertices() {
+  QuadricMesh out = std::move(mesh_);
+  out.triangles.clear();
+  return out;
+}
+
+QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
   constexpr std::uint32_t kUnused = ~std::uint32_t(0);
   std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
   // The vertices numbered by first use, counted first so that every array is
@@ -654,9 +660,11 @@ QuadricMesh CollapseState::result() const {
   out.positions.resize(used);
   out.quadrics.resize(used);
   out.attributes.resize(std::size_t(used) * k);
+  if (sources) sources->assign(used, 0);
   for (std::size_t v = 0; v < index.size(); ++v) {
     const std::uint32_t i = index[v];
     if (i == kUnused) continue;
+    if (sources) (*sources)[i] = std::uint32_t(v);
     out.positions[i] = mesh_.positions[v];
     out.quadrics[i] = mesh_.quadrics[v];
     std::copy(mesh_.attributes.begin() + std::ptrdiff_t(v * k), mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k),
@@ -1027,22 +1035,40 @@ void collapse_in_order(CollapseState& state, const CollapseSettings& settings, C
   LazyQueue(state, settings, stats, progress).run();
 }
 
-// Large meshes collapse in passes first (PassDriver), down to settings.pass_share
-// times the target; the lazy queue then takes the collapses in strict order of cost.
+void collapse_state(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
+                    ProgressPhase* progress) {
+  const std::uint64_t passes_to =
+      std::max(settings.target_triangles, std::uint64_t(settings.pass_share * double(settings.target_triangles)));
+  if (settings.pass_faces && state.triangle_count() >= settings.pass_faces && state.triangle_count() > passes_to &&
+      !PassDriver(state, settings, stats, progress).run(passes_to)) {
+    stats->stuck = stats->stopped_by_error = true;
+    return;
+  }
+  collapse_in_order(state, settings, stats, progress);
+}
+
+// Large meshes collapse in tiles first, in parallel, in rounds of at most 4x fewer
+// faces (a tile's data stays in the caches, where the whole mesh's passes miss them): the tiles' borders stay as they
+// were in a round, and the next round's tiles, cut from the fewer faces, fall elsewhere. The whole mesh then collapses,
+// in passes and in order of cost, from the tiles' result (the boundary planes already in its quadrics).
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress) {
   CollapseStats local;
   CollapseStats& st = stats ? *stats : local;
   CollapseState state(std::move(mesh), settings);
   st.non_manifold_vertices = state.non_manifold_count();
-  const std::uint64_t passes_to =
-      std::max(settings.target_triangles, std::uint64_t(settings.pass_share * double(settings.target_triangles)));
-  if (settings.pass_faces && state.triangle_count() >= settings.pass_faces && state.triangle_count() > passes_to &&
-      !PassDriver(state, settings, &st, progress).run(passes_to)) {
-    st.stuck = st.stopped_by_error = true;
-    return state.result();
+  const double tiles_to = double(settings.target_triangles) * settings.tile_share;
+  while (settings.tile_faces && state.triangle_count() >= std::max(settings.tile_min_faces, 4 * settings.tile_faces) &&
+         tiles_to < 0.75 * double(state.triangle_count())) {
+    CollapseSettings round = settings;
+    round.target_triangles = std::uint64_t(std::max(tiles_to, 0.25 * double(state.triangle_count())));
+    round.tile_share = 1;
+    QuadricMesh tiled = collapse_tiles(state, round, &st);
+    if (progress) progress->set(2 * st.collapses);
+    round.boundary_weight = 0;
+    state = CollapseState(std::move(tiled), round);
   }
-  collapse_in_order(state, settings, &st, progress);
+  collapse_state(state, settings, &st, progress);
   // Every collapse left would make a needle: on the 2M generated sphere to 20000 the
   // collapse jammed at 40898 triangles, every one of its 61347 edges refused, most by
   // the needle guard. The count asked wins over the guard: the rest go without it.

@@ -30,7 +30,7 @@ struct QuadricMesh {
   std::vector<double> attributes;        ///< attribute_count per vertex (interpolated along collapses)
   /// Each face's normal in the input, for the flip check (empty: from the positions).
   std::vector<Vec3d> face_normals;
-  /// Vertices that may neither move nor go (empty: none).
+  /// Vertices that may neither move nor go (empty: none): a tile's border.
   std::vector<std::uint8_t> locked;
 };
 
@@ -57,11 +57,21 @@ struct CollapseSettings {
   /// Meet target_triangles exactly (collapses that overshoot wait; boundary edges are
   /// split at the end). Off, the collapse stops at or below it, or when none is left.
   bool exact_count = true;
+  /// Tiles of about this many faces collapse in parallel first (0: none); see
+  /// collapse_tiles(). The tiles follow from the mesh alone, so the result is the same
+  /// for any thread count.
+  std::uint64_t tile_faces = 65536;
+  /// Meshes of at least this many faces are cut into tiles: below it the passes alone
+  /// are about as fast (README, "the collapse in passes").
+  std::uint64_t tile_min_faces = std::uint64_t(1) << 22;
+  /// The tiles collapse to this many times their share of the target; the collapse of
+  /// the whole mesh, in order of cost, does the rest.
+  double tile_share = 1.5;
   /// Meshes of at least this many faces collapse in passes first (0: never): every
   /// edge costed at once, in parallel, and the cheapest valid collapses taken, each
   /// vertex in at most one a pass. The passes follow from the mesh alone, so the
   /// result is the same for any thread count.
-  std::uint64_t pass_faces = 65536;
+  std::uint64_t pass_faces = 16384;
   /// The passes stop at this many times target_triangles; the lazy queue, in strict
   /// order of cost, takes the rest.
   double pass_share = 1.1;
@@ -149,9 +159,14 @@ class CollapseState {
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// The distinct vertices above v sharing a live face with v, ascending. Any thread.
   void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// Each face's normal in the input.
+  const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
-  /// input normals.
-  QuadricMesh result() const;
+  /// input normals; `sources` (if given) gets each result vertex's index here.
+  QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
+  /// The vertices, moved out (the state is spent): positions, quadrics and attributes
+  /// of every vertex in its place; no faces.
+  QuadricMesh release_vertices();
 
  private:
   template <class F>
@@ -190,9 +205,23 @@ class CollapseState {
 
 /// The collapses of `state` in order of cost, from a priority queue with lazy updates,
 /// down to settings.target_triangles (exactly, with settings.exact_count). The driver
-/// of collapse_edges() after its passes.
+/// of collapse_state() after its passes.
 void collapse_in_order(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
                        ProgressPhase* progress);
+
+/// The collapses of `state` down to settings.target_triangles: in passes
+/// (settings.pass_faces, pass_share), then in strict order (collapse_in_order). The
+/// driver of collapse_edges() after its tiles, and of each tile.
+void collapse_state(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
+                    ProgressPhase* progress);
+
+/// The parallel first step of collapse_edges() (refine/tiled_collapse.cpp): the faces
+/// of `state` (no collapse taken yet) are cut into tiles of about settings.tile_faces,
+/// consecutive in Morton order of their centroids; each tile collapses on its own
+/// (collapse_state), its border vertices locked, to settings.tile_share times its share
+/// of the target. Returns the mesh with the tiles' collapses taken, vertices in their
+/// places, and adds to `stats`. Spends `state`.
+QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats);
 
 /// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
 /// a priority queue whose entries are checked when taken (lazy updates), until
