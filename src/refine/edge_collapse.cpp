@@ -174,16 +174,23 @@ void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out)
   sort_small(out);
 }
 
-void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+void CollapseState::neighbours_above(std::uint32_t v, NeighbourMarks* marks, std::vector<std::uint32_t>* out) const {
+  std::vector<std::uint32_t>& seen = marks->seen;
+  if (seen.size() < alive_.size()) seen.resize(alive_.size(), 0);
+  if (++marks->stamp == 0) {  // wrapped: old marks could match again
+    std::fill(seen.begin(), seen.end(), 0);
+    marks->stamp = 1;
+  }
   out->clear();
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u > v) out->push_back(u);
+      if (u > v && seen[u] != marks->stamp) {
+        seen[u] = marks->stamp;
+        out->push_back(u);
+      }
     }
   });
-  sort_small(out);
-  out->erase(std::unique(out->begin(), out->end()), out->end());
 }
 
 std::uint32_t CollapseState::next_stamp() const {
@@ -946,17 +953,18 @@ class PassDriver {
     const std::uint32_t n = std::uint32_t(state_.vertex_count());
     const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
-    auto for_each_edge = [&](std::uint32_t block, std::vector<std::uint32_t>& ring, const auto& f) {
+    auto for_each_edge = [&](std::uint32_t block, const auto& f) {
+      Scratch& scratch = scratch_.local();
       for (std::uint32_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
         if (!state_.alive(a) || state_.locked(a)) continue;
-        state_.neighbours_above(a, &ring);
-        for (std::uint32_t b : ring)
+        state_.neighbours_above(a, &scratch.marks, &scratch.ring);
+        for (std::uint32_t b : scratch.ring)
           if (!state_.locked(b)) f(a, b);
       }
     };
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       std::size_t count = 0;
-      for_each_edge(block, rings_.local(), [&](std::uint32_t, std::uint32_t) { ++count; });
+      for_each_edge(block, [&](std::uint32_t, std::uint32_t) { ++count; });
       start[block + 1] = count;
     });
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
@@ -967,9 +975,7 @@ class PassDriver {
     entries_.resize(start[blocks]);
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       QueueEntry* out = entries_.data() + start[block];
-      for_each_edge(block, rings_.local(), [&](std::uint32_t a, std::uint32_t b) {
-        *out++ = {state_.evaluate(a, b).cost, a, b};
-      });
+      for_each_edge(block, [&](std::uint32_t a, std::uint32_t b) { *out++ = {state_.evaluate(a, b).cost, a, b}; });
     });
   }
 
@@ -1022,7 +1028,12 @@ class PassDriver {
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
   std::vector<QueueEntry> entries_;
-  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;
+  // A thread's neighbour list and marks while it costs edges.
+  struct Scratch {
+    CollapseState::NeighbourMarks marks;
+    std::vector<std::uint32_t> ring;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch_;
   std::uint32_t stamp_ = 0;
   std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted
   bool stopped_ = false;

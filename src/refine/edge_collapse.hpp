@@ -157,8 +157,14 @@ class CollapseState {
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
   /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
-  /// The distinct vertices above v sharing a live face with v, ascending. Any thread.
-  void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// Marks of the vertices neighbours_above() has seen: one per thread.
+  struct NeighbourMarks {
+    std::vector<std::uint32_t> seen;
+    std::uint32_t stamp = 0;
+  };
+  /// The distinct vertices above v sharing a live face with v, in the order of v's
+  /// faces. Any thread, each with marks of its own.
+  void neighbours_above(std::uint32_t v, NeighbourMarks* marks, std::vector<std::uint32_t>* out) const;
   /// Each face's normal in the input.
   const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
