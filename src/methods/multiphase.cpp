@@ -42,6 +42,12 @@ std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangl
   return 4;  // max_error alone: as far as the error allows
 }
 
+// Whether the whole input fits in the budget for the collapse, next to what the run holds.
+bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
+  const std::uint64_t need = collapse_bytes(input.positions.count, input.info.face_count, input.attributes.size());
+  return budget.bytes() == 0 || budget.held() + need <= budget.bytes();
+}
+
 // The whole input, relative to `origin`, with its carried attributes, after a check
 // that it fits in the budget next to what the run holds.
 QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, const char* why,
@@ -217,8 +223,9 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // coarser, clustering folds the sheets of steep or thin parts over one another
   // (a fifth of the edges of the 200k terrain clustered to 5k are non-manifold), and
   // the collapse gets stuck in the tangles. When it falls short of the target or gets
-  // stuck all the same, phase 1 runs again four times finer, twice at most (not for a
-  // closed surface one triangle short: its count is even at any cell).
+  // stuck all the same, phase 1 runs again four times finer, twice at most, and then
+  // the whole input collapses if it fits the budget (not for a closed surface one
+  // triangle short: its count is even at any cell).
   constexpr double kLeastIntermediate = 65536;
   // --mem bounds phase 1; phase 2 holds the intermediate whole, on top (about 180
   // bytes a triangle, measured). Phase 1's output with its quadrics takes about 90
@@ -232,6 +239,7 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   const ClusterMethodEntry& method = cluster_method(o.method);
   const std::size_t phases_before = stats->phases.size();
   const std::size_t warnings_before = stats->warnings.size();
+  const bool whole_possible = whole_fits(input, budget);
   for (int attempt = 0;; ++attempt) {
     const bool refining = o.target.refine == RefineMethod::qem;
     const double finer = std::pow(4.0, attempt);
@@ -242,13 +250,17 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
             : double(estimate);
     stats->phases.resize(phases_before);  // only the last attempt's phases
     stats->warnings.resize(warnings_before);
-    if (refining && want >= double(faces)) {
+    // A phase 1 that would keep three quarters of the input or more saves phase 2
+    // little and costs a pass of its own; and when the finest phase 1 missed the
+    // target, the whole input is the last resort: it collapses whole, when it fits
+    // the budget.
+    if (refining && (want >= double(faces) || (4 * want >= 3 * double(faces) && whole_possible) || attempt == 3)) {
       stats->phase1_peak_anon_bytes = 0;
       return collapse_whole(input, o, origin, stats);
     }
     o.sizing = CellSizing();
     o.sizing.ratio = want / double(std::max<std::uint64_t>(faces, 1));
-    const bool finest = attempt == 2;
+    const bool finest = attempt == 2 && !whole_possible;
     const GridSpec grid = choose_grid(input, o.sizing, o.threads);
     stats->cell_size = grid.cell;
     for (int a = 0; a < 3; ++a) stats->grid_dims[a] = grid.dims[a];
