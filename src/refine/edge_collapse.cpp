@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "cluster/plane_quadric.hpp"
@@ -53,6 +54,14 @@ Quadric sum(const Quadric& x, const Quadric& y) {
   Quadric q = x;
   q.add(y);
   return q;
+}
+
+// A cost as the queue and the passes order it: rounding below the minimum of a sum of
+// squares is 0, and a NaN (a quadric overflowed) the last of all, so that the order
+// stays a strict one.
+double clean_cost(double cost) {
+  if (cost >= 0) return cost;
+  return cost < 0 ? 0.0 : std::numeric_limits<double>::infinity();
 }
 
 // A x = b by Cramer's rule when A is well conditioned (its determinant is not small
@@ -174,23 +183,27 @@ void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out)
   sort_small(out);
 }
 
-void CollapseState::neighbours_above(std::uint32_t v, NeighbourMarks* marks, std::vector<std::uint32_t>* out) const {
-  std::vector<std::uint32_t>& seen = marks->seen;
-  if (seen.size() < alive_.size()) seen.resize(alive_.size(), 0);
-  if (++marks->stamp == 0) {  // wrapped: old marks could match again
-    std::fill(seen.begin(), seen.end(), 0);
-    marks->stamp = 1;
-  }
+void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const {
   out->clear();
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u > v && seen[u] != marks->stamp) {
-        seen[u] = marks->stamp;
-        out->push_back(u);
-      }
+      if (u > v) out->push_back(u);
     }
   });
+  // Each neighbour comes once or twice (once per face on the edge). A dozen or so
+  // entries are deduplicated in place, in the order of v's faces; a hub's many sorted.
+  std::vector<std::uint32_t>& list = *out;
+  if (list.size() > 32) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    return;
+  }
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (std::find(list.begin(), list.begin() + std::ptrdiff_t(kept), list[i]) == list.begin() + std::ptrdiff_t(kept))
+      list[kept++] = list[i];
+  list.resize(kept);
 }
 
 std::uint32_t CollapseState::next_stamp() const {
@@ -352,7 +365,7 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
   const bool anchored_a = boundary_[a] || complex_[a], anchored_b = boundary_[b] || complex_[b];
   if (anchored_a != anchored_b) {
     const Vec3d& fixed = anchored_a ? pa : pb;
-    return {std::max(q.error(fixed), 0.0), a, b, fixed};
+    return {clean_cost(q.error(fixed)), a, b, fixed};
   }
   Candidate best{q.error(pa), a, b, pa};
   auto consider = [&](const Vec3d& x) {
@@ -361,7 +374,7 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
   };
   consider(pb);
   if (anchored_a) {
-    best.cost = std::max(best.cost, 0.0);
+    best.cost = clean_cost(best.cost);
     return best;
   }
   const Vec3d d = pb - pa;
@@ -374,7 +387,7 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
   Vec3d x;
   const Vec3d mid = (pa + pb) * 0.5;
   if (solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d)) consider(x);
-  best.cost = std::max(best.cost, 0.0);  // rounding below the minimum of a sum of squares
+  best.cost = clean_cost(best.cost);
   return best;
 }
 
@@ -622,8 +635,12 @@ bool CollapseState::has_boundary_edge() const {
 
 bool CollapseState::split_up_to(std::uint64_t target) {
   while (live_faces_ < target) {
-    const bool odd = (target - live_faces_) % 2 == 1;
-    if (!(odd ? split_longest_edge(1) : split_longest_edge(2) || split_longest_edge(1))) return false;
+    const std::uint64_t missing = target - live_faces_;
+    if (missing % 2 == 1 && split_longest_edge(1)) continue;
+    // Without an edge of one face an odd count stays one short: edges of two faces
+    // take it there.
+    if (missing >= 2 && split_longest_edge(2)) continue;
+    if (!split_longest_edge(1)) return false;
   }
   return live_faces_ == target;
 }
@@ -922,7 +939,8 @@ class LazyQueue {
 // does: each pass costs every edge at once (in parallel), sorts them, and takes the
 // cheapest valid collapses in that order, each vertex in at most one collapse a pass,
 // so that every cost taken is still the edge's cost then (a collapse changes the
-// quadric and position of its two ends only). A pass stops when it has halved the
+// quadric and position of its two ends only, and the anchoring of neighbours it
+// leaves non-manifold, which count as moved too). A pass stops when it has halved the
 // count still to remove; the lazy queue then finishes in strict order. Where the lazy
 // queue re-costs and re-checks the neighbourhood of every collapse, one at a time, a
 // pass re-costs each edge once and checks only the collapses it takes.
@@ -931,34 +949,31 @@ class PassDriver {
   PassDriver(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
       : state_(state), settings_(settings), stats_(stats), progress_(progress), touched_(state.vertex_count(), 0) {}
 
-  /// Passes until at most `stop_at` triangles are left, a pass takes nothing, or the
-  /// next collapse is above settings.max_error (false).
-  bool run(std::uint64_t stop_at) {
-    while (state_.triangle_count() > stop_at) {
+  /// Passes until at most `stop_at` triangles are left, a pass takes nothing, or a
+  /// collapse above settings.max_error comes up.
+  void run(std::uint64_t stop_at) {
+    while (state_.triangle_count() > stop_at && !at_max_error_) {
       const std::uint64_t excess = state_.triangle_count() - stop_at;
       const std::uint64_t pass_to = excess <= stop_at / 8 ? stop_at : stop_at + excess / 2;
-      const std::uint64_t taken = pass(pass_to);
-      if (stopped_) return false;
-      if (taken == 0) break;
+      if (pass(pass_to) == 0) break;
     }
-    return true;
   }
 
  private:
-  // Each edge (a, b), a < b, that may collapse, with its cost, into entries_ in order
-  // of a: the edges of each block of vertices are counted, then costed into their
-  // place, both in parallel. entries_ keeps its pages from pass to pass.
-  void cost_edges() {
+  // Each edge (a, b), a < b, that may collapse, with its cost, into the first entries
+  // of entries_ in order of a; returns their count. The edges of each block of
+  // vertices are counted, then costed into their place, both in parallel.
+  std::size_t cost_edges() {
     constexpr std::uint32_t kBlock = 4096;
     const std::uint32_t n = std::uint32_t(state_.vertex_count());
     const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
     auto for_each_edge = [&](std::uint32_t block, const auto& f) {
-      Scratch& scratch = scratch_.local();
+      std::vector<std::uint32_t>& ring = rings_.local();
       for (std::uint32_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
         if (!state_.alive(a) || state_.locked(a)) continue;
-        state_.neighbours_above(a, &scratch.marks, &scratch.ring);
-        for (std::uint32_t b : scratch.ring)
+        state_.neighbours_above(a, &ring);
+        for (std::uint32_t b : ring)
           if (!state_.locked(b)) f(a, b);
       }
     };
@@ -968,49 +983,54 @@ class PassDriver {
       start[block + 1] = count;
     });
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
-    if (entries_.capacity() < start[blocks]) {
+    // entries_ only grows (the first pass has the most edges), so that it is not
+    // filled with zeros again each pass before the costs overwrite them.
+    if (entries_.size() < start[blocks]) {
       entries_ = std::vector<QueueEntry>();
       reserve_huge(&entries_, start[blocks]);
+      entries_.resize(start[blocks]);
     }
-    entries_.resize(start[blocks]);
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       QueueEntry* out = entries_.data() + start[block];
       for_each_edge(block, [&](std::uint32_t a, std::uint32_t b) { *out++ = {state_.evaluate(a, b).cost, a, b}; });
     });
+    return start[blocks];
   }
 
   std::uint64_t pass(std::uint64_t pass_to) {
-    cost_edges();
-    std::vector<QueueEntry>& entries = entries_;
+    const std::size_t edges = cost_edges();
     // Entries past a few times the collapses wanted would not be reached: only the
     // cheapest are sorted (their set, and so the order, does not depend on the threads).
     const std::uint64_t wanted = (state_.triangle_count() - pass_to + 1) / 2;
-    const std::size_t look = std::size_t(std::min<std::uint64_t>(entries.size(), look_factor_ * wanted + 16));
+    const std::size_t look = std::size_t(std::min<std::uint64_t>(edges, look_factor_ * wanted + 16));
     auto earlier = [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); };
-    if (look < entries.size())
-      std::nth_element(entries.begin(), entries.begin() + std::ptrdiff_t(look), entries.end(), earlier);
-    entries.resize(look);
-    tbb::parallel_sort(entries.begin(), entries.end(), earlier);
+    QueueEntry* const first = entries_.data();
+    if (look < edges) std::nth_element(first, first + look, first + edges, earlier);
+    tbb::parallel_sort(first, first + look, earlier);
     const std::uint32_t stamp = ++stamp_;
     std::uint64_t taken = 0;
-    for (const QueueEntry& e : entries) {
-      if (state_.triangle_count() <= pass_to) break;
-      if (touched_[e.a] == stamp || touched_[e.b] == stamp) continue;
-      const CollapseState::Candidate c = state_.evaluate(e.a, e.b);
+    for (const QueueEntry* e = first; e != first + look; ++e) {
+      const std::uint64_t left = state_.triangle_count();
+      if (left <= pass_to) break;
+      if (touched_[e->a] == stamp || touched_[e->b] == stamp) continue;
+      const CollapseState::Candidate c = state_.evaluate(e->a, e->b);
       if (!state_.valid(c)) continue;
-      if (state_.triangle_count() - settings_.target_triangles < 3 &&
-          state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b)))
+      // Never below an exact target (an edge may have many faces): the lazy queue
+      // settles the last ones.
+      if (settings_.exact_count && left - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e->a, e->b)))
         continue;
+      // Skipped edges may be cheaper than this one now: whether the collapse stops at
+      // max_error is for the lazy queue to say, in strict order of cost.
       const double error = state_.error(c);
       if (error > settings_.max_error) {
-        stopped_ = true;
+        at_max_error_ = true;
         break;
       }
       state_.collapse(c);
       ++taken;
       stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
       stats_->largest_error = std::max(stats_->largest_error, error);
-      touched_[e.a] = touched_[e.b] = stamp;
+      touched_[e->a] = touched_[e->b] = stamp;
       for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
     }
     stats_->collapses += taken;
@@ -1028,15 +1048,10 @@ class PassDriver {
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
   std::vector<QueueEntry> entries_;
-  // A thread's neighbour list and marks while it costs edges.
-  struct Scratch {
-    CollapseState::NeighbourMarks marks;
-    std::vector<std::uint32_t> ring;
-  };
-  tbb::enumerable_thread_specific<Scratch> scratch_;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
   std::uint32_t stamp_ = 0;
   std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted
-  bool stopped_ = false;
+  bool at_max_error_ = false;
 };
 
 }  // namespace
@@ -1050,18 +1065,16 @@ void collapse_state(CollapseState& state, const CollapseSettings& settings, Coll
                     ProgressPhase* progress) {
   const std::uint64_t passes_to =
       std::max(settings.target_triangles, std::uint64_t(settings.pass_share * double(settings.target_triangles)));
-  if (settings.pass_faces && state.triangle_count() >= settings.pass_faces && state.triangle_count() > passes_to &&
-      !PassDriver(state, settings, stats, progress).run(passes_to)) {
-    stats->stuck = stats->stopped_by_error = true;
-    return;
-  }
+  if (settings.pass_faces && state.triangle_count() >= settings.pass_faces && state.triangle_count() > passes_to)
+    PassDriver(state, settings, stats, progress).run(passes_to);
   collapse_in_order(state, settings, stats, progress);
 }
 
 // Large meshes collapse in tiles first, in parallel, in rounds of at most 4x fewer
-// faces (a tile's data stays in the caches, where the whole mesh's passes miss them): the tiles' borders stay as they
-// were in a round, and the next round's tiles, cut from the fewer faces, fall elsewhere. The whole mesh then collapses,
-// in passes and in order of cost, from the tiles' result (the boundary planes already in its quadrics).
+// faces (a tile's data stays in the caches, which the whole mesh's passes miss): the
+// tiles' borders stay as they were in a round, and the next round's tiles, cut from
+// the fewer faces, fall elsewhere. The whole mesh then collapses, in passes and in
+// order of cost, from the tiles' result (the boundary planes already in its quadrics).
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress) {
   CollapseStats local;

@@ -3,8 +3,10 @@
 // multiphase simplification (Garland & Shaffer 2002), and the whole of --method qem.
 //
 // The state of the mesh being collapsed (CollapseState) is separate from the order
-// the collapses are taken in (collapse_edges: a priority queue with lazy updates), so
-// that a test can drive the same state with a naive queue and compare.
+// the collapses are taken in, so that a test can drive the same state with a naive
+// queue and compare. collapse_edges() takes them in parallel tiles (large meshes), then
+// in passes (each vertex in one collapse a pass, the cheapest first), then from a
+// priority queue with lazy updates in strict order of cost.
 #pragma once
 
 #include <cstddef>
@@ -54,8 +56,9 @@ struct CollapseSettings {
   /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
   /// of open scans and terrain.
   double boundary_weight = 1000;
-  /// Meet target_triangles exactly (collapses that overshoot wait; boundary edges are
-  /// split at the end). Off, the collapse stops at or below it, or when none is left.
+  /// Meet target_triangles exactly (collapses that overshoot wait; edges are split at
+  /// the end to make up an overshoot). Off, the collapse stops at or below it, or when
+  /// none is left.
   bool exact_count = true;
   /// Tiles of about this many faces collapse in parallel first (0: none); see
   /// collapse_tiles(). The tiles follow from the mesh alone, so the result is the same
@@ -65,7 +68,7 @@ struct CollapseSettings {
   /// are about as fast (README, "the collapse in passes").
   std::uint64_t tile_min_faces = std::uint64_t(1) << 22;
   /// The tiles collapse to this many times their share of the target; the collapse of
-  /// the whole mesh, in order of cost, does the rest.
+  /// the whole mesh, in passes and in order of cost, does the rest.
   double tile_share = 1.5;
   /// Meshes of at least this many faces collapse in passes first (0: never): every
   /// edge costed at once, in parallel, and the cheapest valid collapses taken, each
@@ -84,8 +87,8 @@ struct CollapseStats {
   std::uint64_t non_manifold_vertices = 0;  ///< on edges of 3+ faces or fans apart, at the start: anchored
   /// The target could not be met: no valid collapse was left (stuck), the next one was
   /// above max_error, or a closed surface, whose triangle count is even, was asked for an
-  /// odd count (one triangle fewer is given). With one triangle to go and no valid
-  /// boundary collapse, an inner collapse and a split of a boundary edge meet it.
+  /// odd count (one triangle fewer is given). When every collapse left would overshoot,
+  /// one is taken and edges split until the count is met (CollapseState::split_up_to).
   bool stuck = false;
   bool stopped_by_error = false;
   bool parity = false;
@@ -157,14 +160,9 @@ class CollapseState {
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
   /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
-  /// Marks of the vertices neighbours_above() has seen: one per thread.
-  struct NeighbourMarks {
-    std::vector<std::uint32_t> seen;
-    std::uint32_t stamp = 0;
-  };
-  /// The distinct vertices above v sharing a live face with v, in the order of v's
-  /// faces. Any thread, each with marks of its own.
-  void neighbours_above(std::uint32_t v, NeighbourMarks* marks, std::vector<std::uint32_t>* out) const;
+  /// The distinct vertices above v sharing a live face with v (in the order of v's
+  /// faces, or ascending when there are many). Any thread.
+  void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// Each face's normal in the input.
   const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
@@ -229,9 +227,10 @@ void collapse_state(CollapseState& state, const CollapseSettings& settings, Coll
 /// places, and adds to `stats`. Spends `state`.
 QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats);
 
-/// QEM edge collapse: the cheapest valid collapse first (ties by vertex index), from
-/// a priority queue whose entries are checked when taken (lazy updates), until
-/// settings.target_triangles are left. The result is the same for any thread count.
+/// QEM edge collapse until settings.target_triangles are left: large meshes in tiles
+/// first (collapse_tiles), then collapse_state(): passes, then the cheapest valid
+/// collapse first (ties by vertex index) from a priority queue whose entries are
+/// checked when taken (lazy updates). The result is the same for any thread count.
 /// Reports the collapses taken to `progress` when given (which may cancel).
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress = nullptr);

@@ -1,5 +1,5 @@
-// The parallel first pass of quadric edge collapse: tiles of the mesh collapse on their
-// own, their borders locked, then the whole mesh (collapse_edges).
+// The parallel first step of quadric edge collapse on large meshes: tiles of the mesh
+// collapse on their own, their borders locked, then the whole mesh (collapse_edges).
 //
 // A collapse changes only the faces around its edge, so collapses whose faces lie in
 // different tiles do not meet: each tile runs the same collapse on its own faces,
