@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -59,61 +60,62 @@ QuadricMesh cube(int n) {
   return mesh_of(load_mesh(d.file("c.ply")));
 }
 
+// Flat n x n grids of quads, each split in two, welded where their corners meet.
+class WeldedGrids {
+ public:
+  explicit WeldedGrids(int n) : n_(n) {}
+  /// The grid spanning origin + [0, 1] u + [0, 1] v.
+  void add(const Vec3d& origin, const Vec3d& u, const Vec3d& v) {
+    auto at = [&](int a, int b) { return vertex(origin + u * (double(a) / n_) + v * (double(b) / n_)); };
+    for (int i = 0; i < n_; ++i)
+      for (int j = 0; j < n_; ++j) {
+        const std::uint32_t p = at(i, j), q = at(i + 1, j), r = at(i + 1, j + 1), t = at(i, j + 1);
+        mesh_.triangles.insert(mesh_.triangles.end(), {p, q, r, p, r, t});
+      }
+  }
+  /// The mesh, with the faces' quadrics.
+  QuadricMesh mesh() const {
+    QuadricMesh m = mesh_;
+    m.quadrics = face_quadrics(m.positions, m.triangles);
+    return m;
+  }
+
+ private:
+  std::uint32_t vertex(const Vec3d& p) {
+    const auto key = std::make_tuple(p.x, p.y, p.z);
+    const auto it = index_.find(key);
+    if (it != index_.end()) return it->second;
+    mesh_.positions.push_back(p);
+    return index_[key] = std::uint32_t(mesh_.positions.size() - 1);
+  }
+
+  int n_;
+  QuadricMesh mesh_;
+  std::map<std::tuple<double, double, double>, std::uint32_t> index_;
+};
+
 // A closed surface with no edge of one face but edges of three: the unit cube, each
 // side an n x n grid, and a wall across it at x = 0.5 whose rim lies on the sides'
 // grid lines. Clustering leaves such surfaces (the parts mesh's intermediate).
 QuadricMesh walled_cube(int n) {
-  QuadricMesh m;
-  std::map<std::tuple<double, double, double>, std::uint32_t> index;
-  auto vertex = [&](const Vec3d& p) {
-    const auto key = std::make_tuple(p.x, p.y, p.z);
-    auto it = index.find(key);
-    if (it != index.end()) return it->second;
-    m.positions.push_back(p);
-    return index[key] = std::uint32_t(m.positions.size() - 1);
-  };
-  auto grid = [&](const Vec3d& origin, const Vec3d& u, const Vec3d& v) {
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        auto at = [&](int a, int b) { return vertex(origin + u * (double(a) / n) + v * (double(b) / n)); };
-        const std::uint32_t p = at(i, j), q = at(i + 1, j), r = at(i + 1, j + 1), t = at(i, j + 1);
-        m.triangles.insert(m.triangles.end(), {p, q, r, p, r, t});
-      }
-  };
+  WeldedGrids g(n);
   const Vec3d x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1}, o{0, 0, 0};
-  grid(o, z, y), grid(x, y, z), grid(o, x, z), grid(y, z, x), grid(o, y, x), grid(z, x, y);  // outward
-  grid(x * 0.5, y, z);
-  m.quadrics = face_quadrics(m.positions, m.triangles);
-  return m;
+  for (const auto& side : {std::array<Vec3d, 3>{o, z, y}, {x, y, z}, {o, x, z}, {y, z, x}, {o, y, x}, {z, x, y}})
+    g.add(side[0], side[1], side[2]);  // facing outward
+  g.add(x * 0.5, y, z);
+  return g.mesh();
 }
 
 // A book: `pages` flat n x n grids in half-planes around the z axis, sharing the
 // spine, whose edges have `pages` faces each. Planes z = const on the spine make its
 // edges the dearest, so they are collapsed last, when few triangles are left to go.
 QuadricMesh book(int pages, int n) {
-  QuadricMesh m;
-  std::map<std::tuple<double, double, double>, std::uint32_t> index;
-  auto vertex = [&](const Vec3d& p) {
-    const auto key = std::make_tuple(p.x, p.y, p.z);
-    auto it = index.find(key);
-    if (it != index.end()) return it->second;
-    m.positions.push_back(p);
-    return index[key] = std::uint32_t(m.positions.size() - 1);
-  };
+  WeldedGrids g(n);
   for (int page = 0; page < pages; ++page) {
     const double angle = 2 * 3.14159265358979323846 * page / pages;
-    const Vec3d out{std::cos(angle), std::sin(angle), 0};
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        auto at = [&](int r, int z) {
-          return r == 0 ? vertex(Vec3d{0, 0, double(z) / n})
-                        : vertex(out * (double(r) / n) + Vec3d{0, 0, double(z) / n});
-        };
-        const std::uint32_t p = at(i, j), q = at(i + 1, j), r = at(i + 1, j + 1), t = at(i, j + 1);
-        m.triangles.insert(m.triangles.end(), {p, q, r, p, r, t});
-      }
+    g.add(Vec3d{0, 0, 0}, Vec3d{std::cos(angle), std::sin(angle), 0}, Vec3d{0, 0, 1});
   }
-  m.quadrics = face_quadrics(m.positions, m.triangles);
+  QuadricMesh m = g.mesh();
   for (std::size_t v = 0; v < m.positions.size(); ++v) {
     const Vec3d& p = m.positions[v];
     if (p.x == 0 && p.y == 0) m.quadrics[v].add_plane(Vec3d{0, 0, 1}, 1e3, p.z);
