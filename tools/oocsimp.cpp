@@ -201,25 +201,6 @@ std::string base_name(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& stats, const std::string& description);
-
-// simplify --lods: the levels, then (with --measure) each against the input, then the
-// description OUT.lods.json, and a line per level.
-int run_simplify_lods(SimplifyArgs& a) {
-  std::vector<SimplifyStats> stats;
-  simplify_lods_file(a.in, a.outputs, a.options, a.lod, &stats);
-  // The levels are in place now: a description of the ones they replaced must not
-  // outlive a failure to describe them (measuring or writing).
-  const std::string description = lod_description_path(a.outputs.mesh);
-  try {
-    describe_levels(a, stats, description);
-  } catch (...) {
-    std::remove(description.c_str());
-    throw;
-  }
-  return kOk;
-}
-
 // The description OUT.lods.json of the levels just written (with --measure, each
 // measured against the input), and a line per level.
 void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& stats, const std::string& description) {
@@ -263,6 +244,23 @@ void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& st
   }
   for (const SimplifyStats& s : stats)
     for (const std::string& w : s.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
+}
+
+// simplify --lods: the levels, then (with --measure) each against the input, then the
+// description OUT.lods.json, and a line per level.
+int run_simplify_lods(SimplifyArgs& a) {
+  std::vector<SimplifyStats> stats;
+  simplify_lods_file(a.in, a.outputs, a.options, a.lod, &stats);
+  // The levels are in place now: a description of the ones they replaced must not
+  // outlive a failure to describe them (measuring or writing).
+  const std::string description = lod_description_path(a.outputs.mesh);
+  try {
+    describe_levels(a, stats, description);
+  } catch (...) {
+    std::remove(description.c_str());
+    throw;
+  }
+  return kOk;
 }
 
 int run_simplify(SimplifyArgs& a) {

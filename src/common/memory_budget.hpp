@@ -48,10 +48,12 @@ class MemoryBudget {
     const std::uint64_t now = current_anon_bytes();
     return now - std::min(now, host_);
   }
+  /// Whether `more` bytes fit next to `held`.
+  bool fits(std::uint64_t held, std::uint64_t more) const { return bytes_ == 0 || held + more <= bytes_; }
   /// Throws UsageError unless `more` bytes fit next to `held`: "options.memory_budget
   /// B MiB cannot hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
   void check(std::uint64_t held, std::uint64_t more, const std::string& what, const std::string& advice) const {
-    if (bytes_ == 0 || held + more <= bytes_) return;
+    if (fits(held, more)) return;
     throw UsageError("options.memory_budget " + whole_mib(bytes_) + " MiB cannot hold " + what + ": " +
                      whole_mib(more) + " MiB or more next to the " + whole_mib(held) + " MiB the run holds; " + advice);
   }

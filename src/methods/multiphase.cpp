@@ -44,8 +44,8 @@ std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangl
 
 // Whether the whole input fits in the budget for the collapse, next to what the run holds.
 bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
-  const std::uint64_t need = collapse_bytes(input.positions.count, input.info.face_count, input.attributes.size());
-  return budget.bytes() == 0 || budget.held() + need <= budget.bytes();
+  return budget.fits(budget.held(),
+                     collapse_bytes(input.positions.count, input.info.face_count, input.attributes.size()));
 }
 
 // The whole input, relative to `origin`, with its carried attributes, after a check

@@ -555,7 +555,7 @@ void CollapseState::collapse(const Candidate& c) {
   if (faces_.size() > compact_at_) compact_adjacency();
 }
 
-bool CollapseState::split_longest_edge(int faces) {
+bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const {
   double longest = -1;
   std::pair<std::uint32_t, std::uint32_t> best{0, 0};
   for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
@@ -569,8 +569,14 @@ bool CollapseState::split_longest_edge(int faces) {
       if (l > longest || (l == longest && key < best)) longest = l, best = key;
     }
   }
-  if (longest < 0) return false;
-  const std::uint32_t u = best.first, w = best.second;
+  if (edge) *edge = best;
+  return longest >= 0;
+}
+
+bool CollapseState::split_longest_edge(int faces) {
+  std::pair<std::uint32_t, std::uint32_t> edge;
+  if (!longest_edge(faces, &edge)) return false;
+  const std::uint32_t u = edge.first, w = edge.second;
   std::vector<std::uint32_t> around;  // the faces on (u, w)
   for_each_face(u, [&](std::uint32_t f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
@@ -621,16 +627,6 @@ bool CollapseState::split_longest_edge(int faces) {
     replace_list(m, kNoFace, added, true);
   }
   return true;
-}
-
-bool CollapseState::has_boundary_edge() const {
-  for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
-    if (face_dead_[f]) continue;
-    const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
-    for (int k = 0; k < 3; ++k)
-      if (boundary_[t[k]] && boundary_[t[(k + 1) % 3]] && faces_on_edge(t[k], t[(k + 1) % 3]) == 1) return true;
-  }
-  return false;
 }
 
 bool CollapseState::split_up_to(std::uint64_t target) {

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "cluster/quadric.hpp"
@@ -135,7 +136,7 @@ class CollapseState {
   /// unchanged. False when the mesh has no such edge.
   bool split_longest_edge(int faces);
   /// Whether an edge of one face is left.
-  bool has_boundary_edge() const;
+  bool has_boundary_edge() const { return longest_edge(1, nullptr); }
   /// For a target that a collapse overshot: splits edges until `target` triangles are
   /// left, one of one face for an odd number to add, else one of two faces (or of
   /// one). False when it cannot be met: an odd number to add and no edge of one face.
@@ -184,6 +185,9 @@ class CollapseState {
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
+  // The longest live edge of `faces` faces (ties: the lowest vertices) into *edge (if
+  // given); false when there is none.
+  bool longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const;
   bool on_boundary(std::uint32_t v, VertexScratch* scratch) const;
   void classify_vertices();
   // The other ends of v's face edges, ascending, each as often as faces share it.
