@@ -14,10 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/oocsimp.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -569,7 +570,7 @@ TEST_CASE("welding keeps the attributes of each position's first vertex", "[attr
   REQUIRE(in.positions.count == 4);
   REQUIRE(in.attributes.count == 4);
   const double expected[4] = {1, 2, 3, 4};
-  for (int i = 0; i < 4; ++i) CHECK(in.attributes.get(std::uint64_t(i), 0) == expected[i]);
+  for (int i = 0; i < 4; ++i) CHECK(attribute_value(in.attributes, std::uint64_t(i), 0) == expected[i]);
   CHECK(in.attributes.attributes[0].min == 1);
   CHECK(in.attributes.attributes[0].max == 4);
 }

@@ -16,7 +16,7 @@
 #include "cluster/vertex_grading.hpp"
 #include "floating_cells_reference.hpp"
 #include "oocsimp/generate.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;

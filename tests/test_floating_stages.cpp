@@ -21,7 +21,7 @@
 #include "methods/cluster_methods.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "stitch/mesh_assembly.hpp"
 #include "test_support.hpp"
 
@@ -156,16 +156,16 @@ TEST_CASE("tile planning: never below a cell, a given --tile kept, one whose til
           "[floating][stages]") {
   Fixture f;
   MeshInput in = open_mesh_input(f.path);
-  SimplifyOptions o;
+  TileSettings o;
   o.memory_budget = 64u << 20;
   CHECK(plan_tile_side(in, o, f.cell) >= f.cell);
-  o.floating.tile_side = 3 * f.cell;
+  o.tile_side = 3 * f.cell;
   CHECK(plan_tile_side(in, o, f.cell) == 3 * f.cell);
   CHECK(plan_tile_side(in, o, 5 * f.cell) == 5 * f.cell);  // a cell wider than the tile wins
   // 32 MiB: at most 32 MiB / 4 / 9 KiB = 910 tiles; the sphere at 1/1000 of its side has more.
   o.memory_budget = 32u << 20;
-  o.floating.tile_side = f.cell * 24 / 1000;
-  CHECK_THROWS_AS(plan_tile_side(in, o, o.floating.tile_side), UsageError);
+  o.tile_side = f.cell * 24 / 1000;
+  CHECK_THROWS_AS(plan_tile_side(in, o, o.tile_side), UsageError);
 }
 
 TEST_CASE("grading a tile's owned vertices equals grading the whole mesh", "[floating][stages]") {

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_input.hpp"
-#include "oocsimp/simplify.hpp"
+#include "io/mesh_input.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/generate.hpp"
 #include "test_support.hpp"
@@ -80,7 +81,7 @@ AttributedMesh generate_attributed(const ScratchDir& d, const std::string& name,
   a.attributes = in.attributes.attributes;
   REQUIRE(in.attributes.count == a.mesh.vertex_count());
   for (std::uint64_t i = 0; i < in.attributes.count; ++i)
-    for (std::size_t k = 0; k < in.attributes.size(); ++k) a.values.push_back(in.attributes.get(i, k));
+    for (std::size_t k = 0; k < in.attributes.size(); ++k) a.values.push_back(attribute_value(in.attributes, i, k));
   return a;
 }
 

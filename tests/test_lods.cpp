@@ -11,7 +11,7 @@
 
 #include "oocsimp/generate.hpp"
 #include "oocsimp/lod.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;

@@ -16,7 +16,7 @@
 
 #include "io/content_hash.hpp"
 #include "oocsimp/generate.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;

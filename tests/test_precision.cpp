@@ -14,8 +14,8 @@
 
 #include "io/text_scan.hpp"
 #include "oocsimp/generate.hpp"
-#include "oocsimp/mesh_writer.hpp"
-#include "oocsimp/simplify.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;

@@ -18,8 +18,9 @@
 #include <thread>
 #include <vector>
 
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "test_support.hpp"
 
 using Catch::Matchers::Contains;

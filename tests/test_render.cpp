@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "oocsimp/render.hpp"
+#include "render/rasterizer.hpp"
 #include "png_support.hpp"
 #include "test_support.hpp"
 

@@ -1,4 +1,5 @@
 #include "test_support.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 #include <dirent.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 // Whether this is an AddressSanitizer build (tests whose memory figures ASan distorts
 // skip there): GCC defines __SANITIZE_ADDRESS__, clang says it through __has_feature.

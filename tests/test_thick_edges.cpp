@@ -11,7 +11,8 @@
 #include "oocsimp/generate.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "oocsimp/render.hpp"
-#include "oocsimp/simplify.hpp"
+#include "render/rasterizer.hpp"
+#include "api/simplify.hpp"
 #include "png_support.hpp"
 #include "test_support.hpp"
 

@@ -6,7 +6,7 @@
 #include <set>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;

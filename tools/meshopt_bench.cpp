@@ -27,9 +27,9 @@
 #include <vector>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_input.hpp"
-#include "oocsimp/mesh_writer.hpp"
-#include "report/memory_usage.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "runtime/memory_usage.hpp"
 
 using namespace oocsimp;
 

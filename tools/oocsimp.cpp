@@ -19,14 +19,14 @@
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/lod.hpp"
-#include "oocsimp/grid_spec.hpp"
-#include "oocsimp/memory_tuning.hpp"
+#include "grid/grid_spec.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "oocsimp/measure.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "oocsimp/progress_reporter.hpp"
 #include "oocsimp/render.hpp"
-#include "oocsimp/simplify.hpp"
-#include "oocsimp/signals.hpp"
+#include "api/simplify.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 using namespace oocsimp;
 
@@ -450,10 +450,8 @@ int run_render(const std::string& in, const std::string& out, RenderOptions opti
                bool quiet) {
   ProgressReporter progress(quiet);
   options.progress = progress.callback();
-  OpenOptions open;
-  open.temp_dir = tmp;
   const auto t0 = std::chrono::steady_clock::now();
-  const RenderStats s = render_file(in, out, options, open);
+  const RenderStats s = render_file(in, out, options, tmp);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!quiet)
     std::fprintf(stderr,

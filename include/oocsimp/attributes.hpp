@@ -58,8 +58,6 @@ struct AttributeArray {
     base.push_back(static_cast<const unsigned char*>(first));
     stride.push_back(step);
   }
-  /// Value k of vertex i (unchecked) as a double.
-  inline double get(std::uint64_t i, std::size_t k) const;
 };
 
 /// The attributes of a simplified mesh: `values` holds attributes.size() values per
@@ -69,13 +67,5 @@ struct AttributeValues {
   std::vector<double> values;
   bool empty() const { return attributes.empty(); }
 };
-
-/// One value of type `t` at `p` (byte-swapped when `swap`) as a double: the one
-/// decoder of stored scalars, for attributes and the PLY reader alike.
-double load_value(const unsigned char* p, AttributeType t, bool swap);
-
-inline double AttributeArray::get(std::uint64_t i, std::size_t k) const {
-  return load_value(base[k] + i * stride[k], attributes[k].type, swap);
-}
 
 }  // namespace oocsimp

@@ -19,50 +19,171 @@
 // oocsimp/error.hpp), or Cancelled when the progress callback returned false.
 //
 // Beside the core, in targets of their own: oocsimp::generate (oocsimp/generate.hpp,
-// synthetic test meshes), oocsimp::metrics (oocsimp/measure.hpp, surface distances)
-// and oocsimp::progress_ui (oocsimp/progress_reporter.hpp, a terminal progress bar).
+// synthetic test meshes), oocsimp::metrics (oocsimp/measure.hpp, surface distances),
+// oocsimp::progress_ui (oocsimp/progress_reporter.hpp, a terminal progress bar),
+// oocsimp::render (oocsimp/render.hpp, pictures) and oocsimp::lod (oocsimp/lod.hpp,
+// choosing a level of detail).
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
-#include "oocsimp/attributes.hpp"   // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
-#include "oocsimp/error.hpp"        // UsageError, InputError, IoError, Cancelled
-#include "oocsimp/geometry.hpp"     // Vec3d, Box3d
-#include "oocsimp/mesh_input.hpp"   // open_mesh_input: PLY, OBJ, STL (optionally .zst) as streams
-#include "oocsimp/mesh_writer.hpp"  // write_mesh: PLY, OBJ, STL, OFF
-#include "oocsimp/progress.hpp"     // Progress, ProgressCallback
-#include "oocsimp/simplify.hpp"     // SimplifyOptions, FloatingOptions, simplify, simplify_file, SimplifiedMesh
+#include "oocsimp/attributes.hpp"  // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
+#include "oocsimp/error.hpp"       // UsageError, InputError, IoError, Cancelled
+#include "oocsimp/geometry.hpp"    // Vec3d, Box3d
+#include "oocsimp/mesh.hpp"        // MeshView, SimplifiedMesh, MeshInfo, MeshFormat
+#include "oocsimp/options.hpp"     // SimplifyOptions, TargetOptions, LodOptions, OutputOptions
+#include "oocsimp/progress.hpp"    // Progress, ProgressCallback
+#include "oocsimp/stats.hpp"       // SimplifyStats
 
 namespace oocsimp {
 
-/// A triangle mesh in the caller's memory, which must outlive the call it is given to.
-struct MeshView {
-  /// Vertex i's x, y, z: three values of `position_type` at positions + i*position_stride.
-  const void* positions = nullptr;
-  ScalarType position_type = ScalarType::f32;
-  std::size_t position_stride = 0;  ///< bytes from one vertex to the next; 0 = three packed values
-  std::uint64_t vertex_count = 0;
-  /// Three vertex indices (below vertex_count) per triangle.
-  const std::uint32_t* indices = nullptr;
-  std::uint64_t triangle_count = 0;
-  /// Optional per-vertex attributes (AttributeArray::add: name, type, first value,
-  /// stride), carried as for a file; their count is vertex_count, their ranges are
-  /// computed. Left empty: positions only.
-  AttributeArray attributes;
-};
+// --- Simplifying ---------------------------------------------------------------
 
-/// Opens a mesh in memory as a MeshInput for simplify() (no file, no copy: the views
-/// point into the caller's arrays), with the attributes `selection` names (as
-/// --attributes does). Throws UsageError for null arrays with non-zero counts, or a
-/// selection naming an attribute the view lacks; an index out of range is an
-/// InputError when the triangles are read.
-MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selection = {});
+/// Opens `input_path`, simplifies it and writes `outputs` (see OutputFile: regular files
+/// through a temporary name and a rename, devices, FIFOs and stdout streamed). Before any
+/// work it refuses (UsageError) an unwritable extension and destinations that are the
+/// input (unless replace_input) or each other, and opens every destination; the stats
+/// are committed before the mesh, so a failure leaves the mesh as it was. Fills `stats`
+/// when given.
+void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                   SimplifyStats* stats);
+/// The same with only a mesh output.
+void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                   const SimplifyOptions& options, SimplifyStats* stats);
 
-/// Simplifies a mesh in memory: open_mesh_view (with options.attributes), then simplify(). With a budget the
+/// simplify_lods on the file at `input_path`, level k written to
+/// lod_level_path(outputs.mesh, k) (outputs.normals and outputs.ascii apply; not
+/// stdout, and outputs.stats is refused: the levels' figures are the caller's to
+/// describe). Every level file is opened before the work and renamed into place only
+/// when all levels are written. Fills `stats` with one entry per level.
+void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                        const LodOptions& lods, std::vector<SimplifyStats>* stats);
+
+/// Simplifies a mesh in memory: the mesh is read in place (with options.attributes), then simplified as a file would be. With a budget the
 /// spills fit in (the default, a quarter of memory, for any mesh that fits in memory),
 /// no file is written, and options.temp_dir is not touched. The result equals the one
 /// simplify_file gives for the same mesh stored in a file.
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
+
+// --- Writing -------------------------------------------------------------------
+
+/// The format implied by a path's extension, ignoring case and an optional ".zst"
+/// (which compresses the stream): ".ply" (ascii PLY when `ascii`), ".obj", ".stl"
+/// (ascii STL when `ascii`) or ".off". Any other name throws UsageError listing what
+/// can be written.
+MeshFormat format_for_path(const std::string& path, bool ascii);
+
+/// Writes a triangle mesh given as flat arrays: `positions` holds 3 coordinates per
+/// vertex, `triangles` 3 vertex indices per face. `precision` says how coordinates
+/// are stored: PLY writes "property float x" or "property double x", the text formats
+/// (OBJ, OFF, ascii STL) the shortest text that reads back as the same double (rounded
+/// to float first for f32, so that a float output reads back as float input; ascii
+/// PLY, which declares float, the shortest text of the float); binary STL holds
+/// float32 whatever `precision` says. PLY faces are
+/// "uchar uint vertex_indices" lists; STL facet normals are the unit normals of the
+/// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
+/// `attributes` (values per vertex, see AttributeValues) go where the format has room
+/// for them (format_keeps_attributes).
+/// A regular file is written under a temporary name
+/// in its folder and renamed into place only when complete (on any failure it is
+/// untouched and the temporary file removed); a device, FIFO or "-" is streamed into.
+/// `primitives` (may be null) go to PLY as elements after the faces, "element edge"
+/// (int vertex1, int vertex2, float thickness) and "element point" (int vertex, float
+/// thickness), and to OBJ as "l a b" and "p a" lines, which have no room for the
+/// thickness; STL and OFF drop them (format_keeps_primitives).
+/// Throws IoError.
+void write_mesh(const std::string& path, const std::vector<double>& positions,
+                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32,
+                const AttributeValues* attributes = nullptr, const ThickPrimitives* primitives = nullptr);
+
+/// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
+/// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in
+/// [0, 1]); STL and OFF none.
+bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
+
+/// Whether `format` stores thick edges and points with their thickness (PLY only; OBJ
+/// keeps the edges and points without it, STL and OFF drop them).
+bool format_keeps_primitives(MeshFormat format);
+
+/// The format `outputs.mesh` is written in: format_for_path, except that stdout ("-"),
+/// a device, a FIFO or a socket whose name has no extension we write gets binary (or
+/// ascii) PLY. Throws UsageError for a regular or new file whose name we cannot write.
+MeshFormat output_format(const OutputOptions& outputs);
+
+/// Sets float attributes nx, ny, nz on every vertex: the unit sum of the normals of its
+/// triangles, each weighted by its area (the cross product's length), so that a thin
+/// sliver does not turn a vertex; (0, 0, 0) for a vertex of no area. Carried nx, ny, nz
+/// are replaced (they were clusters' means); other attributes stay, nx, ny, nz last.
+/// For thick edges (Low & Tan 1997 §3.3.2) a renderer computes a dynamic normal
+/// instead: (V1 - C) x (V2 - C) x (V2 - V1), C the camera.
+void add_vertex_normals(SimplifiedMesh* mesh);
+
+/// Where level k of `mesh_path` goes: ".lod<k>" before the extension ("out.ply" ->
+/// "out.lod0.ply", "a/b.obj.zst" -> "a/b.lod0.obj.zst").
+std::string lod_level_path(const std::string& mesh_path, std::uint32_t level);
+/// Where the description of the levels goes: "out.ply" -> "out.lods.json".
+std::string lod_description_path(const std::string& mesh_path);
+
+// --- Options, names and reports --------------------------------------------------
+
+/// A quarter of physical memory: the default working-set budget.
+std::uint64_t default_memory_budget();
+
+/// Parses a byte size with an optional binary suffix: "256M", "2G", "512k", "1048576".
+/// Throws UsageError.
+std::uint64_t parse_byte_size(const std::string& text);
+
+/// The default temporary directory: $TMPDIR if set and non-empty, else /tmp.
+std::string default_temp_dir();
+
+/// A run as a JSON object: the version, the paths, the method and every option, counts,
+/// seconds per phase, peak memory and input Mtri/s.
+std::string stats_to_json(const SimplifyStats& stats, const std::string& input_path, const OutputOptions& outputs,
+                          const SimplifyOptions& options);
+
+/// The oocsimp version (the CMake project version).
+const char* version();
+
+/// Every clustering method, the default first.
+std::vector<ClusterMethod> cluster_methods();
+
+/// Option values as the command line spells them ("floating", "cube", "nearest", ...).
+const char* method_name(ClusterMethod m);
+const char* cell_shape_name(CellShape s);
+const char* assign_name(AssignRule a);
+const char* representative_name(RepresentativeRule r);
+const char* spill_compression_name(SpillCompression c);
+const char* refine_name(RefineMethod r);
+const char* precision_name(Precision p);
+
+/// One line (no newline) naming `input_path` and every count of skipped faces and
+/// ignored vertices in `stats`, with the first non-finite vertex; empty when the input
+/// lost nothing.
+std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& stats);
+
+// --- Process-wide settings for a program that runs oocsimp (the library sets none
+// itself; the CLI calls these) -------------------------------------------------------
+
+/// Fixes glibc's mmap threshold at 4 MiB: the floating method's tiles allocate and
+/// free buffers of 0.1-10 MiB on every thread, and glibc's dynamic threshold would
+/// soon serve even the largest from its per-thread arenas, which keep freed memory.
+/// Call once at start-up, before other threads allocate.
+void tune_allocator_for_tiles();
+
+/// Gives the allocator's free memory back to the system (malloc_trim): freed memory
+/// in the per-thread arenas otherwise counts against the budget. For
+/// SimplifyOptions::release_memory.
+void release_free_heap();
+
+/// Installs SIGINT, SIGTERM, SIGHUP and SIGQUIT handlers that delete all registered
+/// temporary files and then terminate the process with the conventional status
+/// (128 + signal), and ignores SIGXFSZ and SIGPIPE, so that a write beyond a file-size
+/// limit (ulimit -f) fails with EFBIG, and one into a pipe or FIFO whose reader has gone
+/// with EPIPE, and the run cleans up and exits 4 instead of being killed. A SIGBUS from reading a memory-mapped input
+/// that shrank during the run (truncated by another process) deletes them too and exits 4 with "oocsimp: FILE: input
+/// changed during the run"; any other SIGBUS is a crash after the clean-up.
+void install_signal_cleanup();
 
 }  // namespace oocsimp

@@ -1,6 +1,6 @@
 // oocsimp — pictures of a mesh file (issue 13): a headless software rasteriser.
 //
-// The triangles are streamed from the file (MeshInput), projected orthographically and
+// The triangles are streamed from the file, projected orthographically and
 // drawn into a depth buffer one at a time, so memory is the image's (about 8 bytes a
 // pixel) whatever the mesh's size. No GPU, display or OpenGL is involved.
 #pragma once
@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -53,18 +52,14 @@ struct RenderStats {
   double pixel_size = 0;
 };
 
-/// Draws the triangles, edges and points of `input` (one pass over its triangle
-/// stream) as seen from the options' view, framing its bounding box. An empty mesh gives the background.
-/// Throws UsageError on a bad size, InputError from the reader.
-Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats = nullptr);
-
 /// `image` as PNG bytes (8-bit RGB, through libpng).
 std::string encode_png(const Image& image);
 
-/// Opens `input`, renders it and writes the PNG to `output` under a temporary name,
-/// renamed when complete (the output is opened first: a bad folder fails before the
-/// work). Throws UsageError (output = input), InputError, IoError.
+/// Opens `input` (converted positions and stream copies go under `temp_dir`, empty:
+/// the default temporary directory), renders it and writes the PNG to `output` under a
+/// temporary name, renamed when complete (the output is opened first: a bad folder
+/// fails before the work). Throws UsageError (output = input), InputError, IoError.
 RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
-                        const OpenOptions& open = {});
+                        const std::string& temp_dir = {});
 
 }  // namespace oocsimp

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "oocsimp/attributes.hpp"
 
 namespace oocsimp {
@@ -49,7 +50,7 @@ class AttributeLayout {
   /// Attribute k of vertex i scaled into [0, 1]; 0 for a constant attribute and for a
   /// value that is not finite (it counts as the attribute's minimum).
   double scaled(const AttributeArray& array, std::uint64_t i, std::size_t k) const {
-    const double v = (array.get(i, k) - min_[k]) * inv_range_[k];
+    const double v = (attribute_value(array, i, k) - min_[k]) * inv_range_[k];
     if (v >= 0 && v <= 1) return v;  // every finite value: the range is the input's
     return v > 1 && v <= std::numeric_limits<double>::max() ? 1.0 : 0.0;  // rounding; NaN and infinities
   }

@@ -9,7 +9,10 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/vertex_grading.hpp"
 #include "grid/tile_grid.hpp"
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 #include "spill/block_store.hpp"
 
 namespace oocsimp {

@@ -14,7 +14,7 @@
 #include "cluster/thick_primitives.hpp"
 #include "cluster/tile_grading.hpp"
 #include "common/vec3_math.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/progress_phase.hpp"
 #include "cluster/quadric.hpp"
 #include "cluster/triangle_records.hpp"
 #include "grid/tile_memory_gate.hpp"

@@ -12,7 +12,10 @@
 #include "cluster/centre_sweeps.hpp"
 #include "cluster/floating_cells.hpp"
 #include "grid/tile_binning.hpp"
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 #include "spill/block_store.hpp"
 #include "spill/stream_spill.hpp"
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "common/vec3_math.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "cluster/quadric.hpp"
 
 namespace oocsimp {

@@ -10,7 +10,10 @@
 #include "cluster/vertex_grading.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 

@@ -14,7 +14,7 @@
 #include "grid/tile_binning.hpp"
 #include "spill/stream_spill.hpp"
 #include "io/content_hash.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

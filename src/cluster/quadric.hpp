@@ -6,7 +6,7 @@
 // E(x) = x^T A x - 2 b^T x + c with A symmetric (6 unique entries).
 #pragma once
 
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

@@ -5,7 +5,7 @@
 
 #include "cluster/floating_cells.hpp"
 #include "grid/tile_memory_gate.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 

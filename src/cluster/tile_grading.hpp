@@ -13,7 +13,7 @@
 #include "cluster/vertex_grading.hpp"
 #include "common/flat_hash_map.hpp"
 #include "grid/tile_binning.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "spill/block_store.hpp"
 #include "spill/stream_spill.hpp"
 

@@ -31,15 +31,15 @@
 #include "cluster/thick_primitives.hpp"
 #include "cluster/triangle_set.hpp"
 #include "common/huge_pages.hpp"
-#include "common/memory_budget.hpp"
+#include "runtime/memory_budget.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/occupancy.hpp"
 #include "io/attribute_array.hpp"
-#include "io/ordered_pipeline.hpp"
+#include "runtime/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 #include "cluster/quadric.hpp"
 
 namespace oocsimp {
@@ -569,7 +569,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   // Up front, before any table grows: the occupied cells alone, estimated from a
   // sample of the vertices (a lower estimate); kept triangles and output come on top.
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
-  const TableBudget budget(MemoryBudget(options), grid, occupancy, input.positions.count);
+  const TableBudget budget(MemoryBudget(options.memory_budget, options.budget_counts_process), grid, occupancy, input.positions.count);
   const auto estimate = std::uint64_t(occupancy.occupied_by(grid_resolution(grid), input.positions.count));
   budget.check(estimate * kCellEntryBytes, "about " + std::to_string(estimate) + " occupied cells, estimated");
   CellMap<CellRecord> cells(1 << 16);

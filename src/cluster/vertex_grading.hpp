@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "grid/grid_choice.hpp"
 #include "grid/occupancy.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
 

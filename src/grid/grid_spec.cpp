@@ -1,4 +1,4 @@
-#include "oocsimp/grid_spec.hpp"
+#include "grid/grid_spec.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,12 +7,12 @@
 #include <utility>
 
 #include "common/flat_hash_map.hpp"
-#include "common/memory_budget.hpp"
+#include "runtime/memory_budget.hpp"
 #include "grid/tile_plan.hpp"
-#include "io/ordered_pipeline.hpp"
+#include "runtime/ordered_pipeline.hpp"
 #include "oocsimp/error.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 #include "io/temp_file.hpp"
 
 namespace oocsimp {
@@ -87,11 +87,11 @@ static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
 // (half the budget, or what kMaxTileTriangles tiles can take: the fullest tile is
 // up to twice the planned one, 1.7x measured on the 4M sphere), the binning buffers
 // (a quarter) and the output tables (an eighth). Kept tiles go to their file anyway.
-static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyOptions& options,
+static SpillAllowances memory_for_spills(const MeshInput& input, const TileSettings& settings,
                                          std::size_t vertex_record_bytes, std::uint64_t tiles) {
-  const std::uint64_t budget = options.memory_budget;
+  const std::uint64_t budget = settings.memory_budget;
   return spill_allowances(budget, tiles + budget / 4 + budget / 8,
-                          options.floating.keep_temp ? 0 : triangle_spill_bytes(input),
+                          settings.keep_temp ? 0 : triangle_spill_bytes(input),
                           input.positions.count * vertex_record_bytes * 3 / 2);
 }
 
@@ -99,8 +99,8 @@ static SpillAllowances memory_for_spills(const MeshInput& input, const SimplifyO
 // halves the triangle spill (10M sphere: 620 -> 346 MB) but cost 1.4 s of a 10.6 s
 // run on 2 threads; it pays only where the spill goes to the disk, not where memory
 // or the page cache holds it (and kept tiles outlive the run on disk).
-static bool spill_compression(const MeshInput& input, const SimplifyOptions& options, const SpillAllowances& allow) {
-  switch (options.floating.spill_compression) {
+static bool spill_compression(const MeshInput& input, const TileSettings& settings, const SpillAllowances& allow) {
+  switch (settings.spill_compression) {
     case SpillCompression::zstd:
       return true;
     case SpillCompression::none:
@@ -110,14 +110,14 @@ static bool spill_compression(const MeshInput& input, const SimplifyOptions& opt
   }
   // What goes to the disk: the part that does not stay in memory.
   const std::uint64_t to_disk = triangle_spill_bytes(input) - std::min(triangle_spill_bytes(input), allow.triangles);
-  return options.floating.keep_temp || to_disk > available_memory_bytes() / 2;
+  return settings.keep_temp || to_disk > available_memory_bytes() / 2;
 }
 
-SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes,
+SpillSettings spill_settings(const MeshInput& input, const TileSettings& settings, std::size_t vertex_record_bytes,
                              std::uint64_t fullest_tile_records) {
   SpillSettings s;
-  s.dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
-  const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  s.dir = settings.temp_dir.empty() ? default_temp_dir() : settings.temp_dir;
+  const std::uint64_t budget = settings.memory_budget;
   s.work_share = tile_work_share(budget, fullest_tile_records);
   const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
   if (fullest > budget / 4 * 3)
@@ -127,8 +127,8 @@ SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& opti
                      " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
                      whole_mib(fullest / 3 * 4) +
                      " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
-  s.allow = memory_for_spills(input, options, vertex_record_bytes, s.work_share);
-  s.compress = spill_compression(input, options, s.allow);
+  s.allow = memory_for_spills(input, settings, vertex_record_bytes, s.work_share);
+  s.compress = spill_compression(input, settings, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
   // once, raw; the triangle records compress to an eighth or more, and (a header's
   // face count being unchecked so far) to no less than the input file holds.

@@ -10,8 +10,12 @@
 #include <vector>
 
 #include "grid/tile_grid.hpp"
-#include "oocsimp/mesh_input.hpp"
-#include "oocsimp/simplify.hpp"
+#include "io/mesh_input.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
+#include "grid/tile_plan.hpp"
 #include "spill/spill_allowances.hpp"
 #include "spill/stream_spill.hpp"
 
@@ -68,12 +72,12 @@ struct SpillSettings {
   /// the allowances.
   std::uint64_t work_share = 0;
 };
-/// From the options: the temp folder, zstd where the spill would go to the disk,
+/// From the tile settings: the temp folder, zstd where the spill would go to the disk,
 /// and the estimate from the input's counts, `vertex_record_bytes` per vertex.
 /// `fullest_tile_records`: the fullest tile's records as planned (0: unknown), whose
 /// working set the tiles' share must hold. Throws UsageError (exit 2, before any
 /// binning) when that tile alone would take more than three quarters of the budget.
-SpillSettings spill_settings(const MeshInput& input, const SimplifyOptions& options, std::size_t vertex_record_bytes,
+SpillSettings spill_settings(const MeshInput& input, const TileSettings& settings, std::size_t vertex_record_bytes,
                              std::uint64_t fullest_tile_records = 0);
 
 /// Bins the triangle stream of `input` (at its start) into tiles of side

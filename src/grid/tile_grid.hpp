@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "grid/grid_coord.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

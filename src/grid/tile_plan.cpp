@@ -42,10 +42,10 @@ std::uint64_t estimate_fullest_tile_records(const MeshInput& input, double side)
 // Tile side from the memory budget: a tile's working set is about
 // kTileBytesPerTriangle per triangle and `threads` tiles are in memory at once; use
 // half the budget.
-double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell) {
-  std::uint64_t budget = options.memory_budget;
+double plan_tile_side(const MeshInput& input, const TileSettings& settings, double cell) {
+  std::uint64_t budget = settings.memory_budget;
   unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
-  double side = options.floating.tile_side;
+  double side = settings.tile_side;
   if (side <= 0) {
     double per_tile = std::clamp(double(budget) / 2 / threads / kTileBytesPerTriangle, 1.0, kMaxTileTriangles);
     double tiles_needed = std::max(1.0, double(input.info.face_count) / per_tile);
@@ -85,7 +85,7 @@ double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, do
   // A tile is at least one floating cell wide, so a cell reaches only into the
   // adjacent tiles.
   side = std::max(side, cell);
-  if (options.floating.tile_side > 0) check_tile_count_fits(input, side, options.floating.tile_side, budget);
+  if (settings.tile_side > 0) check_tile_count_fits(input, side, settings.tile_side, budget);
   return side;
 }
 

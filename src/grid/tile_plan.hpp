@@ -4,8 +4,12 @@
 
 #include <cstdint>
 
-#include "oocsimp/mesh_input.hpp"
-#include "oocsimp/simplify.hpp"
+#include <string>
+
+#include "io/mesh_input.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
 
 namespace oocsimp {
 
@@ -17,11 +21,20 @@ constexpr double kTileBytesPerTriangle = 400;
 /// 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
 constexpr double kMaxTileTriangles = 1 << 16;
 
-/// The tile side for cells of side `cell`: options.floating.tile_side when given (refused with
-/// UsageError when its tiles' buffers would not fit options.memory_budget, see
+/// What the tiling and its spills take from a run's options.
+struct TileSettings {
+  std::uint64_t memory_budget = 0;  ///< bytes (resolved: never 0)
+  double tile_side = 0;             ///< the user's tile side in model units; 0 = from the budget
+  bool keep_temp = false;           ///< tiles are kept for a later run (FloatingOptions::keep_temp)
+  SpillCompression spill_compression = SpillCompression::automatic;
+  std::string temp_dir;  ///< empty = default_temp_dir()
+};
+
+/// The tile side for cells of side `cell`: settings.tile_side when given (refused with
+/// UsageError when its tiles' buffers would not fit settings.memory_budget, see
 /// check_tile_count_fits), else from the budget, the face count and the occupancy of
 /// a sample of the vertices. Never below `cell`, so a cell reaches only adjacent tiles.
-double plan_tile_side(const MeshInput& input, const SimplifyOptions& options, double cell);
+double plan_tile_side(const MeshInput& input, const TileSettings& settings, double cell);
 
 /// The triangle records of the fullest tile of side `side`, estimated from a sample
 /// of the vertices (about two triangles per vertex).

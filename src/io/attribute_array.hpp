@@ -11,10 +11,19 @@
 
 #include "io/byte_sink.hpp"
 #include "oocsimp/attributes.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "io/temp_file.hpp"
 
 namespace oocsimp {
+
+/// One value of type `t` at `p` (byte-swapped when `swap`) as a double: the one
+/// decoder of stored scalars, for attributes and the PLY reader alike.
+double load_value(const unsigned char* p, AttributeType t, bool swap);
+
+/// Value k of vertex i of `array` (unchecked) as a double.
+inline double attribute_value(const AttributeArray& array, std::uint64_t i, std::size_t k) {
+  return load_value(array.base[k] + i * array.stride[k], array.attributes[k].type, array.swap);
+}
 
 /// A vertex property an input offers, before the selection.
 struct AttributeCandidate {

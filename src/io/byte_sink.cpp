@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 #include "io/temp_file.hpp"
 

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

@@ -8,6 +8,7 @@
 #include <cerrno>
 
 #include "io/signal_cleanup.hpp"
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

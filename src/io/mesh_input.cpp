@@ -6,6 +6,7 @@
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
 #include "io/vertex_weld.hpp"
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

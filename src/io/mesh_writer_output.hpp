@@ -3,7 +3,7 @@
 #pragma once
 
 #include "io/temp_file.hpp"
-#include "oocsimp/mesh_writer.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 namespace oocsimp {
 

@@ -9,7 +9,7 @@
 
 #include "io/byte_sink.hpp"
 #include "io/mapped_file.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "io/temp_file.hpp"
 
 namespace oocsimp {

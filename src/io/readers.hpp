@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "io/byte_source.hpp"
-#include "oocsimp/mesh_input.hpp"
-#include "report/progress_phase.hpp"
+#include "io/mesh_input.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 

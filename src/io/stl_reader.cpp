@@ -12,6 +12,7 @@
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

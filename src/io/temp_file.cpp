@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "io/signal_cleanup.hpp"
+#include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "oocsimp/signals.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 namespace oocsimp {
 

@@ -341,7 +341,7 @@ class Welder {
         const Word w[3] = {word(i, 0), word(i, 1), word(i, 2)};
         sink->write(w, sizeof w);
         if (attribute_builder) {
-          for (std::size_t k = 0; k < attrs.size(); ++k) values[k] = attrs.get(i, k);
+          for (std::size_t k = 0; k < attrs.size(); ++k) values[k] = attribute_value(attrs, i, k);
           attribute_builder->add(values.data());
         }
       } else {

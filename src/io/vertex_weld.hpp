@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 

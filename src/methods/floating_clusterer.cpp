@@ -34,8 +34,8 @@
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 #include "stitch/mesh_assembly.hpp"
 
 namespace oocsimp {
@@ -91,7 +91,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
                              const FloatingLevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
   SimplifyOptions options = given;
-  const MemoryBudget budget(options);  // the output's check, at the end
+  const MemoryBudget budget(options.memory_budget, options.budget_counts_process);  // the output's check, at the end
   if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
   // Binning and grading do not depend on the cell (kept_tiles.hpp): the tiles fit the
   // coarsest level, and every level clusters the same graded tiles.
@@ -109,10 +109,12 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   const bool keeping = options.floating.keep_temp && !resumed && kept.start();
   // The tiles' share of the budget holds the fullest tile as planned (known exactly
   // when resumed); the spills' allowances come after it.
-  const double tile_side = resumed ? 0 : plan_tile_side(input, options, coarsest);
+  const TileSettings tiling{options.memory_budget, options.floating.tile_side, options.floating.keep_temp,
+                            options.floating.spill_compression, options.temp_dir};
+  const double tile_side = resumed ? 0 : plan_tile_side(input, tiling, coarsest);
   const std::uint64_t fullest =
       resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, coarsest));
-  const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex), fullest);
+  const SpillSettings spill = spill_settings(input, tiling, sizeof(GradedVertex), fullest);
   if (!resumed) tiles = bin_triangles(input, tile_side, options.memory_budget, spill, options.progress);
   double t1 = now_seconds();
   release_memory(options);  // the binning chunks

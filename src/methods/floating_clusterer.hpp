@@ -7,7 +7,10 @@
 #include <vector>
 
 #include "cluster/quadric.hpp"
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 

@@ -3,6 +3,7 @@
 // from those quadrics down to the target, so that no error information is lost
 // between the phases (Garland & Shaffer 2002). --method qem is phase 2 alone on the
 // whole input.
+#include "io/attribute_array.hpp"
 #include "methods/multiphase.hpp"
 
 #include <algorithm>
@@ -14,13 +15,14 @@
 
 #include "cluster/attribute_sums.hpp"
 #include "common/huge_pages.hpp"
-#include "common/memory_budget.hpp"
+#include "runtime/memory_budget.hpp"
 #include "common/vec3_math.hpp"
+#include "grid/grid_choice.hpp"
 #include "methods/cluster_methods.hpp"
 #include "oocsimp/error.hpp"
 #include "refine/edge_collapse.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -53,7 +55,7 @@ bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
 QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, const char* why,
                        SimplifyStats* stats) {
   const std::size_t k = input.attributes.size();
-  const MemoryBudget budget(options);
+  const MemoryBudget budget(options.memory_budget, options.budget_counts_process);
   const std::uint64_t v = input.positions.count, f = input.info.face_count;
   budget.check(budget.held(), collapse_bytes(v, f, k),
                "the whole mesh of " + input.info.path + " (" + std::to_string(v) + " vertices, " + std::to_string(f) +
@@ -68,7 +70,7 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
   m.attribute_count = k;
   m.attributes.resize(v * k);
   for (std::uint64_t i = 0; i < v; ++i)
-    for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = input.attributes.get(i, j);
+    for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = attribute_value(input.attributes, i, j);
   input.restart_triangles();
   std::vector<std::uint64_t> chunk(3 * 65536);
   reserve_huge(&m.triangles, 3 * f);
@@ -233,7 +235,7 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // asked for: kPhase1BytesPerIntermediateTriangle per triangle asked keeps it inside,
   // so a smaller budget gets a smaller k, down to the target itself.
   constexpr double kPhase1BytesPerIntermediateTriangle = 192;
-  const MemoryBudget budget(o);
+  const MemoryBudget budget(o.memory_budget, o.budget_counts_process);
   const double budget_intermediate = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
                                                     : std::numeric_limits<double>::infinity();
   const ClusterMethodEntry& method = cluster_method(o.method);

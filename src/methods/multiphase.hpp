@@ -3,7 +3,10 @@
 // (refine/edge_collapse) as phase 2, or the collapse alone on a mesh held whole.
 #pragma once
 
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 

@@ -49,14 +49,14 @@
 #include <memory>
 #include <vector>
 
-#include "io/ordered_pipeline.hpp"
+#include "runtime/ordered_pipeline.hpp"
 #include "metrics/area_sampler.hpp"
 #include "metrics/box_tree.hpp"
 #include "metrics/triangle_geometry.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_input.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "io/mesh_input.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "common/vec3_math.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp {
 namespace metrics {

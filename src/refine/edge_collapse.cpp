@@ -13,7 +13,7 @@
 #include "cluster/plane_quadric.hpp"
 #include "common/huge_pages.hpp"
 #include "common/vec3_math.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 

@@ -5,7 +5,7 @@
 
 #include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/render.hpp"
+#include "render/rasterizer.hpp"
 
 namespace oocsimp {
 
@@ -47,10 +47,12 @@ std::string encode_png(const Image& image) {
 }
 
 RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
-                        const OpenOptions& open) {
+                        const std::string& temp_dir) {
   if (input != "-" && output != "-" && same_file(input, output))
     throw UsageError(output + ": the picture would overwrite its input");
   OutputFile file(output);
+  OpenOptions open;
+  open.temp_dir = temp_dir;
   MeshInput mesh = open_mesh_input(input, open);
   RenderStats stats;
   const Image image = render_mesh(mesh, options, &stats);

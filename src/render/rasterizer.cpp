@@ -7,9 +7,10 @@
 #include <vector>
 
 #include "common/vec3_math.hpp"
+#include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/render.hpp"
-#include "report/progress_phase.hpp"
+#include "render/rasterizer.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -59,7 +60,7 @@ struct VertexNormals {
         if (a.attributes[i].name == names[k]) index[k] = int(i);
   }
   Vec3d get(const AttributeArray& a, std::uint64_t v) const {
-    return {a.get(v, std::size_t(index[0])), a.get(v, std::size_t(index[1])), a.get(v, std::size_t(index[2]))};
+    return {attribute_value(a, v, std::size_t(index[0])), attribute_value(a, v, std::size_t(index[1])), attribute_value(a, v, std::size_t(index[2]))};
   }
 };
 

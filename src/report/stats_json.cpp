@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "oocsimp/simplify.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 #ifndef OOCSIMP_VERSION
 #error "OOCSIMP_VERSION comes from the CMake project version"

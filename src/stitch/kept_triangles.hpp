@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "cluster/triangle_records.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 #include "spill/stream_spill.hpp"
 
 namespace oocsimp {

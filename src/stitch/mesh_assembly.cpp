@@ -11,7 +11,7 @@
 #include "cluster/cluster_accumulation.hpp"
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/thick_primitives.hpp"
-#include "common/memory_budget.hpp"
+#include "runtime/memory_budget.hpp"
 #include "common/flat_hash_map.hpp"
 #include "cluster/quadric.hpp"
 

@@ -10,9 +10,12 @@
 #include "cluster/attribute_sums.hpp"
 #include "cluster/fixed_point_sums.hpp"
 #include "cluster/floating_cells.hpp"
-#include "common/memory_budget.hpp"
+#include "runtime/memory_budget.hpp"
 #include "spill/stream_spill.hpp"
-#include "oocsimp/simplify.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 #include "stitch/kept_triangles.hpp"
 
 namespace oocsimp {

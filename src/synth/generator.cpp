@@ -19,7 +19,7 @@
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
 #include "io/temp_file.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 

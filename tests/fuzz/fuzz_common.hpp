@@ -33,7 +33,7 @@
 #include "io/byte_source.hpp"     // starts_zstd_frame
 #include "io/position_array.hpp"  // MeshInput::Impl: the mapping behind the positions
 #include "oocsimp/error.hpp"
-#include "oocsimp/mesh_input.hpp"
+#include "io/mesh_input.hpp"
 
 namespace oocsimp_fuzz {
 

@@ -17,8 +17,8 @@
 #include <set>
 
 #include "fuzz_common.hpp"
-#include "oocsimp/mesh_writer.hpp"
-#include "oocsimp/simplify.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "api/simplify.hpp"
 
 namespace {
 

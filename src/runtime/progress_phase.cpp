@@ -1,4 +1,4 @@
-#include "report/progress_phase.hpp"
+#include "runtime/progress_phase.hpp"
 
 #include <chrono>
 

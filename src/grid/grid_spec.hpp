@@ -1,10 +1,11 @@
-// oocsimp — the uniform cell grid shared by the clustering methods.
+// The uniform cell grid shared by the clustering methods.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
-#include "oocsimp/mesh_input.hpp"
+#include "oocsimp/geometry.hpp"
+#include "oocsimp/options.hpp"
 
 namespace oocsimp {
 
@@ -16,7 +17,7 @@ struct GridSpec {
   double cell = 1;
   std::uint32_t dims[3] = {1, 1, 1};
 
-  static constexpr std::uint32_t kMaxDim = (1u << 21) - 1;
+  static constexpr std::uint32_t kMaxDim = kMaxGridDivisions;
 
   /// Packed key of the cell holding p: x | y << 21 | z << 42. Points on the far
   /// boundary of the box go to the last cell.

@@ -1,4 +1,4 @@
-// oocsimp — streaming mesh input.
+// Streaming mesh input.
 //
 // A mesh file is opened as two things: a random-access array of vertex positions
 // that lives in a memory-mapped file (the input itself for binary PLY with
@@ -18,11 +18,10 @@
 
 #include "oocsimp/attributes.hpp"
 #include "oocsimp/geometry.hpp"
+#include "oocsimp/mesh.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
-
-enum class ScalarType : std::uint8_t { f32, f64 };
 
 /// Read-only view of vertex positions in mapped memory: vertex i's x, y and z are
 /// at base + i*stride + offset[k], stored as `type`, byte-swapped when `swap`.
@@ -36,49 +35,6 @@ struct PositionArray {
 
   /// Position of vertex i (i < count, unchecked) in double precision.
   inline Vec3d get(std::uint64_t i) const;
-};
-
-/// What `oocsimp info` prints: the format and the header-level facts of a mesh.
-struct MeshInfo {
-  std::string path;
-  std::string format;              ///< e.g. "ply binary_little_endian", "obj", "stl binary"
-  bool compressed = false;         ///< read through zstd
-  std::uint64_t vertex_count = 0;  ///< after welding, when welded
-  std::uint64_t face_count = 0;    ///< faces as stored (polygons); STL: triangles
-  /// Thick edges and points (see LinePrimitive): PLY "edge" and "point" records, OBJ
-  /// "l" and "p" lines.
-  std::uint64_t edge_count = 0, point_count = 0;
-  /// Vertices as stored (STL: 3 per triangle) when they were welded (STL always,
-  /// PLY and OBJ with OpenOptions::weld); 0 when not welded.
-  std::uint64_t unwelded_vertex_count = 0;
-  std::vector<std::string> elements;  ///< "vertex 100 (x float, y float, ...)" per element
-  std::vector<std::string> comments;  ///< PLY comment / obj_info lines
-  bool positions_in_place = false;    ///< true when positions are read from the input through mmap
-  /// Positions carry more than float precision: the file stores them as double (PLY
-  /// double), or a text coordinate has more digits than a float keeps ("451234.567",
-  /// where "0.1" or a float written with %.9g does not count). They are then read as
-  /// double (PositionArray type f64), and Precision::automatic writes double output.
-  bool double_precision = false;
-  Box3d bounds;  ///< of the finite vertices
-  /// Vertices with a NaN or infinite coordinate (see is_finite), the first of them by
-  /// index and where it is in the file ("byte N" or "line N"); only the first is
-  /// described, so a file full of them costs no memory.
-  std::uint64_t non_finite_vertices = 0;
-  std::uint64_t first_non_finite_vertex = 0;
-  std::string first_non_finite_position;
-  /// What the input has that the output will not carry, one line each naming the file:
-  /// texture coordinates, per-face properties, vertex list properties, attributes left
-  /// out by the selection (OpenOptions::attributes).
-  std::vector<std::string> not_carried;
-};
-
-/// Faces that the triangle stream left out instead of failing, by reason. Polygons are
-/// fanned first, so the last two count triangles of the fan.
-struct SkippedFaces {
-  std::uint64_t short_faces = 0;     ///< faces with fewer than 3 corners
-  std::uint64_t non_finite = 0;      ///< triangles with a corner that is not finite
-  std::uint64_t repeated_index = 0;  ///< triangles that name one vertex twice (no area, no edge of their own)
-  std::uint64_t total() const { return short_faces + non_finite + repeated_index; }
 };
 
 /// A thick edge or point read from a file (PLY elements "edge" and "point", OBJ "l"
@@ -191,8 +147,5 @@ inline Vec3d PositionArray::get(std::uint64_t i) const {
   }
   return {v[0], v[1], v[2]};
 }
-
-/// The default temporary directory: $TMPDIR if set and non-empty, else /tmp.
-std::string default_temp_dir();
 
 }  // namespace oocsimp

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "report/memory_usage.hpp"
+#include "runtime/memory_usage.hpp"
 
 namespace oocsimp {
 

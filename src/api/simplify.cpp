@@ -1,5 +1,5 @@
 // The simplify entry points: open, choose the grid, cluster, write.
-#include "oocsimp/simplify.hpp"
+#include "api/simplify.hpp"
 
 #include <tbb/global_control.h>
 
@@ -22,8 +22,8 @@
 #include "methods/floating_clusterer.hpp"
 #include "methods/multiphase.hpp"
 #include "oocsimp/error.hpp"
-#include "report/memory_usage.hpp"
-#include "report/progress_phase.hpp"
+#include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -131,7 +131,16 @@ void record_grid(const GridSpec& grid, SimplifyStats* st) {
 
 }  // namespace
 
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+// The options with their defaults resolved, as the stages take them: the budget in
+// bytes (0 asks for default_memory_budget()).
+static SimplifyOptions resolved(const SimplifyOptions& given) {
+  SimplifyOptions options = given;
+  if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
+  return options;
+}
+
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
+  const SimplifyOptions options = resolved(given);
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   SimplifyStats local;
@@ -185,7 +194,8 @@ double equivalent_cell(const SimplifiedMesh& m) {
 
 }  // namespace
 
-void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink) {
+void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods, const LodSink& sink) {
+  const SimplifyOptions options = resolved(given);
   check_lods(options, lods);
   auto threads = limit_threads(options.threads);
   if (options.target.given()) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "api/simplify.hpp"
 #include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
 #include "oocsimp/error.hpp"

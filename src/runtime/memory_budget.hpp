@@ -8,8 +8,7 @@
 #include <string>
 
 #include "oocsimp/error.hpp"
-#include "report/memory_usage.hpp"
-#include "oocsimp/simplify.hpp"
+#include "runtime/memory_usage.hpp"
 
 // Under AddressSanitizer the process's anonymous memory is mostly shadow memory and
 // quarantined blocks, which say nothing of what the run holds: there only the
@@ -35,10 +34,11 @@ inline std::string whole_mib(std::uint64_t bytes) { return std::to_string((bytes
 class MemoryBudget {
  public:
   MemoryBudget() = default;  // unbounded
-  /// From the options, when the run begins (SimplifyOptions::budget_counts_process).
-  explicit MemoryBudget(const SimplifyOptions& options)
-      : bytes_(options.memory_budget ? options.memory_budget : default_memory_budget()),
-        host_(options.budget_counts_process ? 0 : current_anon_bytes()) {}
+  /// A budget of `bytes`, taken when the run begins: with `counts_process` it bounds
+  /// the whole process's anonymous memory, else only what the run adds to what the
+  /// process held before it.
+  MemoryBudget(std::uint64_t bytes, bool counts_process)
+      : bytes_(bytes), host_(counts_process ? 0 : current_anon_bytes()) {}
 
   std::uint64_t bytes() const { return bytes_; }
   /// Anonymous bytes the run holds now (all the process's, less what it held before

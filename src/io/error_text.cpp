@@ -1,4 +1,4 @@
-#include "oocsimp/error.hpp"
+#include "io/error_text.hpp"
 
 #include <cstring>
 

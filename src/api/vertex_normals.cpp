@@ -4,7 +4,8 @@
 #include <vector>
 
 #include "common/vec3_math.hpp"
-#include "oocsimp/simplify.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 

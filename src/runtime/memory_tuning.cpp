@@ -1,4 +1,4 @@
-#include "oocsimp/memory_tuning.hpp"
+#include "oocsimp/oocsimp.hpp"
 
 #include <malloc.h>
 

@@ -1,0 +1,148 @@
+// oocsimp — the options of a run, as plain data: the clustering method and its
+// settings, an exact target, levels of detail and where a file run writes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "oocsimp/attributes.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+/// The largest grid: cell coordinates are packed into 21 bits per axis, so a grid
+/// has at most 2^21 - 1 cells along each axis (CellSizing::grid).
+constexpr std::uint32_t kMaxGridDivisions = (1u << 21) - 1;
+
+enum class ClusterMethod {
+  uniform,   ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
+  floating,  ///< Low & Tan's floating cells on a tiled out-of-core grid
+  qem,       ///< no clustering: quadric edge collapse of the whole input in memory (the quality reference)
+};
+
+/// What refines the clustering's result down to an exact target (TargetOptions).
+enum class RefineMethod {
+  qem,   ///< quadric edge collapse from the clusters' summed quadrics (Garland & Shaffer's multiphase)
+  none,  ///< the clustering alone, at a cell chosen for about the target
+};
+
+/// Floating cells: a cube of side `cell`, or a sphere of diameter `cell`.
+enum class CellShape { cube, sphere };
+
+/// Floating cells: which cell takes a vertex that lies in several.
+enum class AssignRule {
+  nearest,   ///< Low & Tan §3.2.3: the nearest centre (ties: the heavier)
+  heaviest,  ///< Low & Tan §3.2: the heaviest centre (the first cell that took it)
+};
+
+/// Floating cells: where a cluster's output vertex goes.
+enum class RepresentativeRule {
+  quadric,  ///< minimiser of the cluster's summed vertex quadrics, kept in the cell
+  centre,   ///< the centre vertex (Low & Tan)
+  mean,     ///< the mean of the cluster's vertices
+};
+
+/// Floating: whether the triangle, stitch and kept-triangle spills under temp_dir are
+/// compressed with zstd.
+enum class SpillCompression {
+  automatic,  ///< zstd when the raw spill would not fit in half the available memory
+  zstd,       ///< always (slow disks: the spill shrinks to about half)
+  none,       ///< never (the spill stays in the page cache, or the disk is fast)
+};
+
+/// The precision of the output positions.
+enum class Precision {
+  automatic,  ///< double when the input holds more than float precision (MeshInfo::double_precision), else float
+  float32,    ///< float, whatever the input
+  float64,    ///< double, whatever the input
+};
+
+/// How the cell size is chosen: at most one of the three is set (non-zero); when none
+/// is, the ratio is kDefaultRatio.
+struct CellSizing {
+  double cell = 0;         ///< absolute cell side in model units
+  std::uint32_t grid = 0;  ///< cells along the bounding box's longest axis
+  double ratio = 0;        ///< approximate fraction of input triangles to keep, in (0, 1]
+};
+
+/// The ratio when no size is given: "simplify this" keeps about a tenth of the triangles.
+constexpr double kDefaultRatio = 0.1;
+
+/// The floating method's own options (SimplifyOptions::floating).
+struct FloatingOptions {
+  CellShape cell_shape = CellShape::cube;
+  AssignRule assign = AssignRule::nearest;
+  RepresentativeRule representative = RepresentativeRule::quadric;
+  double tile_side = 0;  ///< tile side in model units; 0 = from the memory budget
+  /// Keep the binned and graded tiles in temp_dir after the run, and reuse tiles kept
+  /// by an earlier run on the same input (same path, inode, size and times, and the
+  /// same content checksum) when the cell still fits in a tile, skipping binning and
+  /// grading. Kept files that fail a check are recomputed, with a line in
+  /// SimplifyStats::warnings.
+  bool keep_temp = false;
+  SpillCompression spill_compression = SpillCompression::automatic;
+};
+
+/// An exact size for the output: clustering (the method) down to about
+/// intermediate_factor times the target, then quadric edge collapse down to it, from
+/// the clusters' summed quadrics. Give at most one of triangles and ratio, and no
+/// CellSizing with them.
+struct TargetOptions {
+  std::uint64_t triangles = 0;  ///< exactly this many output triangles (at least 4); 0 = not given
+  double ratio = 0;             ///< exactly this fraction of the input's triangles, rounded, in (0, 1]; 0 = not given
+  /// Stop before a collapse whose error (the placement's RMS distance to the planes it
+  /// stands for) exceeds this, in model units; alone it lets the collapse go as far as
+  /// it stays below. 0 = not given.
+  double max_error = 0;
+  RefineMethod refine = RefineMethod::qem;
+  /// Phase 1 aims at this many times the target's triangles (see README, "Exact targets").
+  double intermediate_factor = 4;
+  bool given() const { return triangles != 0 || ratio != 0 || max_error != 0; }
+};
+
+struct SimplifyOptions {
+  CellSizing sizing;
+  TargetOptions target;
+  ClusterMethod method = ClusterMethod::floating;
+  FloatingOptions floating;         ///< read by the floating method only
+  std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
+  /// Whether memory_budget bounds the whole process's anonymous memory, what it held
+  /// before the run included (the CLI: the process is the run), or only what the run
+  /// adds to it (a program that holds memory of its own).
+  bool budget_counts_process = false;
+  /// PLY and OBJ: weld vertices at exactly the same position before clustering (STL
+  /// input always is; see OpenOptions::weld).
+  bool weld = false;
+  unsigned threads = 0;                        ///< 0 = all cores
+  std::string temp_dir;                        ///< empty = default_temp_dir()
+  Precision precision = Precision::automatic;  ///< of the output positions
+  /// Which vertex attributes are carried to the output (all by default).
+  AttributeSelection attributes;
+  /// Keep what clustering reduces below a triangle as thick edges and points
+  /// (Low & Tan 1997 §3.3; SimplifiedMesh::primitives) instead of dropping it.
+  bool thick_edges = false;
+  /// Progress reports, and cancellation when it returns false (see ProgressCallback).
+  ProgressCallback progress;
+  /// Floating: called between the phases of a run, whose tiles' buffers were just
+  /// freed on several threads, so the process's allocator can give them back to the
+  /// system (the CLI passes release_free_heap(), see oocsimp/memory_tuning.hpp).
+  /// Process-wide allocator settings are the program's business, not the library's.
+  void (*release_memory)() = nullptr;
+};
+
+/// Levels of detail from one run (Low & Tan 1997 §3.2.2 and §4).
+struct LodOptions {
+  std::uint32_t levels = 1;  ///< K, 1 to 16
+  double factor = 2;         ///< F > 1: level k clusters at cell C F^k, C the first level's cell
+};
+
+/// Where simplify_file writes.
+struct OutputOptions {
+  std::string mesh;            ///< format and compression from the name; "-" is binary PLY on stdout
+  std::string stats;           ///< the stats JSON; empty = none, "-" = stdout
+  bool ascii = false;          ///< ascii PLY
+  bool replace_input = false;  ///< the mesh may be the input (--force): replaced only after success
+  bool normals = false;        ///< write per-vertex normals (add_vertex_normals)
+};
+
+}  // namespace oocsimp

@@ -1,0 +1,51 @@
+// The facade's entry points on an opened input (MeshInput), for the facade's own
+// functions, the tests and the tools that work on a MeshInput directly.
+#pragma once
+
+#include <functional>
+
+#include "grid/grid_choice.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/oocsimp.hpp"
+
+namespace oocsimp {
+
+/// Clusters `input` by `options.method`: floating cells (the default; Low & Tan,
+/// see src/cluster/floating_cells_design.md: cells centred on the heaviest vertices,
+/// quadric representatives kept in their cell, tiles of the grid spilled to
+/// `options.temp_dir` and sized from `options.memory_budget`) or a uniform grid
+/// (OoCS: per cell the area-weighted plane quadrics of every triangle with a corner
+/// in it and the mean of its vertices; the representative minimises the quadric
+/// around that mean and stays in its cell). Either way a triangle survives when its
+/// corners fall in three different clusters, each unordered triple once with the
+/// orientation of its first occurrence in file order, and the result is
+/// byte-identical for any thread count (and, for floating cells, any tiling).
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+
+/// Hears each level when it is done: its number, its mesh (which the sink may move
+/// from) and its stats.
+using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, const SimplifyStats& stats)>;
+
+/// simplify() at K levels, finest first. Level 0 is what simplify() gives for
+/// `options`; level k clusters at cell C F^k (C the cell of level 0), and equals
+/// simplify() with options.sizing.cell = C F^k. Floating cells bin and grade the
+/// input once for all levels (binning and grading do not depend on the cell; the
+/// tiles fit the coarsest); the uniform grid, which neither bins nor grades, reads
+/// the input twice per level. With a target (triangles or ratio, not max_error),
+/// level k aims at the target halved k times, each a run of its own (its
+/// SimplifyStats::lod_cell an equivalent cell). Throws
+/// UsageError for a bad `lods`, `qem` or options.target.max_error.
+void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink);
+
+/// The precision `options` ask for on `input` (resolves Precision::automatic).
+ScalarType output_precision(const MeshInput& input, Precision precision);
+
+/// Opens a mesh in memory as a MeshInput for simplify() (no file, no copy: the views
+/// point into the caller's arrays), with the attributes `selection` names (as
+/// --attributes does). Throws UsageError for null arrays with non-zero counts, or a
+/// selection naming an attribute the view lacks; an index out of range is an
+/// InputError when the triangles are read.
+MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selection = {});
+
+}  // namespace oocsimp
