@@ -1,4 +1,4 @@
-// Precision (issue 9 item 3): georeferenced input keeps its precision through reading,
+// Precision: georeferenced input keeps its precision through reading,
 // clustering and writing, double input gives double output (--precision auto), and
 // float input near the origin still gives float output.
 #include <catch2/catch.hpp>
