@@ -7,8 +7,8 @@
 #
 # Per method and size: the median wall time of the finest level alone (`--grid GRID`)
 # and of `--lods LEVELS --lod-factor FACTOR` (each run after a warm-up), the ratio,
-# input Mtri/s and peak RSS of the --lods run. Issue 13 asks for LEVELS=3 in at most
-# 1.6x the finest level's time.
+# input Mtri/s and peak RSS of the --lods run. The goal is LEVELS=3 in at most 1.6x
+# the finest level's time.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 sizes=("$@")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Quality and time at a triangle target (issue 12): oocsimp against the in-core
+# Quality and time at a triangle target: oocsimp against the in-core
 # quadric edge collapses, every run in one invocation, errors from `oocsimp measure`.
 #
 #   scripts/bench-quality.sh                    generated 2M sphere and 2M parts, target 100000

@@ -1,4 +1,4 @@
-// Vertex attributes from reader to writer (issue 11): colours, normals and scalars
+// Vertex attributes from reader to writer: colours, normals and scalars
 // travel through both clustering methods as area-weighted cluster means.
 //
 // Expected values come from the functions the attributes were made of (a linear

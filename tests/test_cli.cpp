@@ -241,7 +241,7 @@ TEST_CASE("a memory budget too small to work is refused up front", "[cli]") {
             .exit_code == 0);
 }
 
-// --- The budget is the process's (issue 10): both methods keep the whole process,
+// --- The budget is the process's: both methods keep the whole process,
 // output tables included, under --mem, or refuse with exit 2 naming --mem.
 
 TEST_CASE("uniform at a --mem its tables fit in stays under it, with the output of a run without --mem",
@@ -337,8 +337,10 @@ TEST_CASE("a dense part whose tile cannot fit in --mem is refused up front and r
   CHECK(tmp.entries().empty());
 }
 
-// --- Outputs (issue 9 item 1): only regular files and new names go through a
-// temporary name and a rename; anything else is written where it is.
+// --- Outputs: only regular files and new names go through a temporary name and a
+// rename (so a failed run leaves no partial file); anything else (a device, a FIFO, a
+// socket, a link's target, standard output) is written where it is, since a rename
+// would replace it instead of writing to it.
 
 namespace {
 
@@ -548,7 +550,8 @@ TEST_CASE("generate writes to stdout with -o - and refuses names that are not PL
   CliResult r = run_cli("generate --tris 2000 --quiet -o -");
   CHECK(r.exit_code == 0);
   CHECK(r.out == read_file(d.file("g.ply")));
-  // generate writes PLY only (issue 9 item 13): another extension exits 2, saying what it can write.
+  // generate writes PLY only: another extension exits 2, saying what it can write,
+  // rather than writing PLY bytes under a name that promises another format.
   for (const char* name : {"x.obj", "x.stl", "x.off", "x.glb", "x.obj.zst", "x"}) {
     r = run_cli("generate --tris 2000 --quiet -o " + q(d.file(name)));
     INFO(name << ": " << r.err);
@@ -558,7 +561,7 @@ TEST_CASE("generate writes to stdout with -o - and refuses names that are not PL
   CHECK(d.entries() == std::vector<std::string>{"g.ply"});
 }
 
-// --- Same paths (issue 9 item 2).
+// --- Same paths: an output that is the input (or another output) would destroy it.
 
 TEST_CASE("an output or --stats that is the input, or each other, exits 2 naming both", "[cli][outputs]") {
   ScratchDir d;
@@ -614,7 +617,7 @@ TEST_CASE("a --stats that cannot be written exits 4 and leaves the output as it 
   CHECK(d.entries() == std::vector<std::string>{"o.ply", "ref.ply", "s.ply"});
 }
 
-// --- Options (issue 9 item 12): every size and count is checked; a bad one exits 2
+// --- Options: every size and count is checked; a bad one exits 2
 // naming the flag and the value, before any work and without any output.
 
 TEST_CASE("every invalid size or count exits 2 naming the flag and the value", "[cli][options]") {
@@ -728,7 +731,7 @@ TEST_CASE("without --cell, --grid or --ratio, simplify keeps about a tenth of th
   CHECK(help.out.find("--ratio 0.1") != std::string::npos);
 }
 
-// --- Reporting (issue 9 item 15).
+// --- Reporting: the summary and --stats must describe the phases the method ran.
 
 TEST_CASE("the summary and --stats name each method's own phases", "[cli][report]") {
   ScratchDir d;

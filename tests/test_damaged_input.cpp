@@ -370,7 +370,8 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
 }
 
 // ---------------------------------------------------------------------------------
-// Hostile text and streams (issue 9, items 5, 8, 10 and 11 e)
+// Hostile text and streams (damaged or malicious input must fail fast, with bounded
+// memory and a readable message, and streams must read like files)
 
 namespace {
 

@@ -123,9 +123,10 @@ QuadricMesh book(int pages, int n) {
   return m;
 }
 
-// The naive driver the issue asks for: after every collapse, every edge evaluated
-// again and the cheapest valid one taken (ties by vertex index), with the same rules
-// for the last triangle and for max_error as collapse_edges.
+// The naive driver, the plainest form of the collapse for the fast one to be checked
+// against: after every collapse, every edge evaluated again and the cheapest valid
+// one taken (ties by vertex index), with the same rules for the last triangle and
+// for max_error as collapse_edges.
 QuadricMesh naive_collapse(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats) {
   CollapseState state(std::move(mesh), settings);
   while (state.triangle_count() > settings.target_triangles) {

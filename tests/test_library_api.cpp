@@ -1,4 +1,4 @@
-// The library as other programs use it (issue 11): one progress-and-cancel callback
+// The library as other programs use it: one progress-and-cancel callback
 // for every long call, cancellation that leaves nothing behind, error messages that
 // name option fields (the CLI turns them into its flags), options nested per method.
 #include <catch2/catch.hpp>

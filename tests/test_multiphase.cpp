@@ -1,4 +1,4 @@
-// Exact triangle targets (issue 12) from the command line: multiphase simplification
+// Exact triangle targets from the command line: multiphase simplification
 // (clustering, then quadric edge collapse) and --method qem. Counts and outlines are
 // checked against the numbers asked for and the input's own geometry.
 #include <catch2/catch.hpp>

@@ -3,7 +3,7 @@
 // several cells, both cell shapes, both assignment rules and every representative.
 //
 // The expected digests were recorded from the code of 2026-12-02 (commit 89c9f18)
-// before the floating path was split into stages (issue 10): the restructuring must
+// before the floating path was split into stages: the restructuring must
 // reproduce that output bit for bit. They are not a statement that the output is
 // right (test_floating_clusterer and test_uniform_clusterer check that against
 // independent references); a deliberate change of the output updates them, and its

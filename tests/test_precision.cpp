@@ -1,4 +1,4 @@
-// Precision (issue 9 item 3): georeferenced input keeps its precision through reading,
+// Precision: georeferenced input keeps its precision through reading,
 // clustering and writing, double input gives double output (--precision auto), and
 // float input near the origin still gives float output.
 #include <catch2/catch.hpp>
@@ -25,7 +25,7 @@ namespace {
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
-// The UTM-like offset of the issue.
+// A UTM-like offset, as georeferenced scans carry.
 constexpr double kShift[3] = {4.5e5, 5.4e6, 200};
 
 // A scan 0.27 units wide: the generator's terrain (unit square) scaled down, each
@@ -132,7 +132,7 @@ TEST_CASE("a scan shifted to UTM coordinates simplifies to the unshifted result,
       check_same_after_shift_back(got, want, 1e-6 * diagonal);
     }
     // Forced to float, the same run is off by up to half a float step at 5.4e6 (0.25):
-    // what the issue saw.
+    // the loss that georeferenced input suffers in float.
     SimplifiedMesh as_float = simplify_path(d.file("utm.ply"), d, method, cell, 0, 0, Precision::float32);
     CHECK(as_float.precision == ScalarType::f32);
     REQUIRE(as_float.triangles == want.triangles);
@@ -184,7 +184,7 @@ TEST_CASE("the CLI writes double output for a double input at UTM coordinates", 
     std::vector<double> back = shifted(b.positions, -1);
     for (std::size_t i = 0; i < back.size(); ++i) CHECK(std::abs(back[i] - a.positions[i]) <= 1e-6 * 0.4);
     // --precision float: float output, and the y coordinates fall on the float grid
-    // at 5.4e6 (multiples of 0.5), as in the issue.
+    // at 5.4e6 (multiples of 0.5), the precision float has there.
     CliResult r = run_cli("simplify --quiet " + q(d.file("utm.ply")) + " -o " + q(d.file("f.ply")) + " --cell " + cell +
                           " --method " + method + " --precision float --tmp " + q(d.path()));
     INFO(r.err);

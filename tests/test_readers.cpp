@@ -1474,7 +1474,8 @@ TEST_CASE("Binary PLY read in place creates no temporary file", "[readers][temp]
 }
 
 // ---------------------------------------------------------------------------------
-// Text: line ends, byte order marks, long lines (issue 9, items 5 and 8)
+// Text: line ends, byte order marks, long lines (files written by other tools and
+// systems read the same, and no line can make memory grow without bound)
 
 namespace {
 
@@ -1673,7 +1674,8 @@ TEST_CASE("A PLY header is bounded at 1 MiB, in one line or in many", "[readers]
 }
 
 // ---------------------------------------------------------------------------------
-// Numbers and messages (issue 9, item 11 d and e)
+// Numbers and messages (out-of-range numbers behave as strtod does, and a damaged
+// token cannot garble the error message)
 
 TEST_CASE("A coordinate below the double range rounds to zero as strtod does, one above it is rejected",
           "[readers][text]") {
@@ -1752,7 +1754,8 @@ TEST_CASE("A NUL or control byte in a token is escaped in the message, which goe
 }
 
 // ---------------------------------------------------------------------------------
-// PLY header contradictions and trailing data (issue 9, item 11 b and c)
+// PLY header contradictions and trailing data (a file that disagrees with itself is
+// rejected rather than read one way of several)
 
 TEST_CASE("PLY headers that contradict themselves are rejected naming the line", "[readers][errors]") {
   ScratchDir dir;
@@ -1840,7 +1843,7 @@ TEST_CASE("PLY without a face element: garbage after the last element is rejecte
 }
 
 // ---------------------------------------------------------------------------------
-// zstd frames (issue 9, item 11 a)
+// zstd frames (every file zstd -d accepts reads the same here)
 
 namespace {
 
@@ -1907,7 +1910,8 @@ TEST_CASE("zstd files of several frames, with skippable frames before or between
 }
 
 // ---------------------------------------------------------------------------------
-// Non-seekable input and an input replaced between passes (issue 9, item 10)
+// Non-seekable input and an input replaced between passes (a stream can be read only
+// once and a path can change under the run, yet every pass must read the same mesh)
 
 namespace {
 

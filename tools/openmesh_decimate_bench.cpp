@@ -1,8 +1,8 @@
 // Peer benchmark: OpenMesh's Decimater with ModQuadricT, the in-core quadric edge
-// collapse (Garland & Heckbert 1997) that issue 12 takes as its quality reference,
-// file to file, on the same input as `oocsimp simplify`. Reads with our mmap reader
-// into an OpenMesh TriMesh, decimates to a triangle count, garbage-collects and writes
-// a binary PLY of the vertices the triangles use.
+// collapse (Garland & Heckbert 1997) that exact triangle targets are measured against
+// for quality, file to file, on the same input as `oocsimp simplify`. Reads with our
+// mmap reader into an OpenMesh TriMesh, decimates to a triangle count, garbage-collects
+// and writes a binary PLY of the vertices the triangles use.
 //
 //   openmesh_decimate_bench IN.ply OUT.ply TARGET_TRIANGLES [--normal-flip DEGREES] [--lock-boundary]
 //

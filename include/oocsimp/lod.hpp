@@ -1,6 +1,6 @@
 // oocsimp — picking a level of detail by viewing distance (Low & Tan 1997 §4).
 //
-// A chain of levels (simplify --lods, issue 13) is described by OUT.lods.json: per
+// A chain of levels (simplify --lods) is described by OUT.lods.json: per
 // level its file and clustering cell. At distance D from a camera of vertical field of
 // view FOV drawing H pixels, one pixel spans R = 2 D tan(FOV / 2) / H model units; a
 // level whose cell spans at most X pixels (cell <= X R) differs from the full model by

@@ -1,7 +1,8 @@
 // oocsimp — distance between two surfaces (target oocsimp::metrics, not part of the
-// core library): Hausdorff and mean distance as the textbook's chapter 6 defines them
-// ("Polygonal Model Simplification (8)"), discretised by sampling points on both
-// surfaces.
+// core library): Hausdorff and mean distance as Theoharis et al. 2008, "Graphics &
+// Visualization: Principles and Algorithms", ch. 6 ("Model Representation and
+// Simplification") defines them (section "Polygonal Model Simplification (8)"),
+// discretised by sampling points on both surfaces.
 //
 // measure_surface_distance() samples points uniformly by area on both meshes and
 // measures each sample's exact distance to the other surface. The first mesh (A, the

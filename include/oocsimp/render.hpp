@@ -1,4 +1,5 @@
-// oocsimp — pictures of a mesh file (issue 13): a headless software rasteriser.
+// oocsimp — pictures of a mesh file, to compare inputs, levels and results by eye on a
+// machine without a display: a headless software rasteriser.
 //
 // The triangles are streamed from the file, projected orthographically and
 // drawn into a depth buffer one at a time, so memory is the image's (about 8 bytes a

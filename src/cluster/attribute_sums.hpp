@@ -1,5 +1,6 @@
-// What a cluster accumulates of its vertices' attributes (issue 11), shared by both
-// methods: in vcglib's terms the cell policy for colours, normals and scalars.
+// What a cluster accumulates of its vertices' attributes so that the output keeps
+// them, shared by both methods: in vcglib's terms the cell policy for colours, normals
+// and scalars.
 //
 // An output vertex gets the area-weighted mean of its cluster's values: a vertex
 // weighs a third of the area of its incident triangles, the same weight its quadric

@@ -123,7 +123,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   // Each thread's buffers, kept from tile to tile: fresh ones cost a page fault per
   // page, which on virtual machines rivals the work done in them. Between tiles a
   // thread keeps at most half its part of the tiles' share (the buffers of an outsized
-  // tile are freed after it; a planned tile's take about 7 MB), and the gate lets the
+  // tile are freed after it; a planned tile's take a few MB), and the gate lets the
   // tiles in work take the other half, so the two stay within the share.
   struct Scratch {
     std::vector<GradedVertex> owned;
@@ -147,15 +147,15 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   const auto accumulate_tile = [&](std::uint32_t tile) {
     std::vector<TriangleRecord> tris = tiles.load(tile);
     // Owned vertices grouped by lookup cube: consecutive assignments then probe the
-    // same cubes (by input index, the cluster pass took 15% longer). Their order
+    // same cubes (by input index, the cluster pass was slower). Their order
     // changes no sum: vertex quadrics follow the triangles, cluster sums are fixed point.
     TileVertexBlock block(blocks.block(tile));
     Scratch& scratch = scratches.local();
     std::vector<GradedVertex>& owned = scratch.owned;
     owned.resize(block.size());
     for (std::size_t j = 0; j < owned.size(); ++j) owned[j] = block.vertex(block.filed(j));
-    // Local vertex id -> position in `owned` (a binary search per corner took 40%
-    // of this pass).
+    // Local vertex id -> position in `owned` (a binary search per corner took a large
+    // share of this pass).
     TileLocalMesh mesh(tris, positions);
     std::vector<std::size_t>& owned_at = scratch.owned_at;
     owned_at.assign(mesh.index.size(), SIZE_MAX);

@@ -87,8 +87,8 @@ class BackgroundDigest {
 /// otherwise). The manifest records the input's identity (device, inode, size,
 /// modification and status change times) and the XXH64 of its bytes, read while
 /// binning; a resume requires the same identity and reads the input again to compare
-/// the checksum (a sequential read: on the 2M sphere it costs a small fraction of
-/// the binning it saves), then checks the size and XXH64 of both kept files. Anything
+/// the checksum (a sequential read, which costs a small fraction of the binning it
+/// saves), then checks the size and XXH64 of both kept files. Anything
 /// that does not match, or a damaged manifest, means binning again, with a warning:
 /// kept tiles are a cache, never a reason to fail.
 class KeptTileStore {

@@ -1,5 +1,7 @@
 // A triangle's plane quadric, computed the same way by both clustering methods
-// (Garland & Heckbert 1997; the textbook's chapter 6, "Quadratic error-metric").
+// (Garland & Heckbert 1997; Theoharis et al. 2008, "Graphics & Visualization:
+// Principles and Algorithms", ch. 6 ("Model Representation and Simplification"),
+// section "Quadratic error-metric").
 #pragma once
 
 #include "common/vec3_math.hpp"

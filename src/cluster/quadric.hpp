@@ -1,5 +1,6 @@
-// The quadric error metric (Garland & Heckbert; the textbook's chapter 6, "Quadratic
-// error-metric").
+// The quadric error metric (Garland & Heckbert; Theoharis et al. 2008, "Graphics &
+// Visualization: Principles and Algorithms", ch. 6 ("Model Representation and
+// Simplification"), section "Quadratic error-metric").
 //
 // The squared distance to a plane n·x + d = 0 (|n| = 1) is x^T (n n^T) x + 2 d n·x + d^2.
 // A quadric stores the sums of these terms, weighted by triangle area, as

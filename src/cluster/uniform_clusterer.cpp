@@ -285,7 +285,7 @@ constexpr std::uint64_t kCellEntryBytes = sizeof(std::uint64_t) + sizeof(CellRec
 constexpr std::uint64_t kRunBytesPerCell =
     kCellEntryBytes + 2 * 2 * 3 * sizeof(std::uint32_t) + 2 * sizeof(std::uint32_t) + 3 * sizeof(double);
 
-// The uniform method's tables within --mem (issue 10, "the budget is the process's"):
+// The uniform method's tables within --mem (the budget bounds the whole process):
 // the occupied cells and kept triangles in their hash tables, the pipeline's per-chunk
 // tables and, at the end, the output arrays, on top of what the process held when the
 // run began (its buffers, the libraries). A run that would need more stops with a

@@ -1,7 +1,7 @@
 // Component-wise arithmetic on Vec3d for the library's internals (the public Vec3d in
 // include/oocsimp/mesh_input.hpp stays plain data).
 //
-// Each operation is the textbook expression, written out once with a fixed order of
+// Each operation is the standard expression, written out once with a fixed order of
 // operations: rewriting `a.y * b.z - a.z * b.y` as cross(a, b) gives the same bits, so
 // code whose results reach the output may use these freely. The operations are
 // exactly what they say: v / s divides each coordinate by s (it does not multiply by

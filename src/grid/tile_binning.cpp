@@ -85,8 +85,8 @@ static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
 
 // The spills' memory allowances: what the budget leaves after the threads' tiles
 // (half the budget, or what kMaxTileTriangles tiles can take: the fullest tile is
-// up to twice the planned one, 1.7x measured on the 4M sphere), the binning buffers
-// (a quarter) and the output tables (an eighth). Kept tiles go to their file anyway.
+// up to twice the planned one), the binning buffers (a quarter) and the output
+// tables (an eighth). Kept tiles go to their file anyway.
 static SpillAllowances memory_for_spills(const MeshInput& input, const TileSettings& settings,
                                          std::size_t vertex_record_bytes, std::uint64_t tiles) {
   const std::uint64_t budget = settings.memory_budget;
@@ -96,9 +96,9 @@ static SpillAllowances memory_for_spills(const MeshInput& input, const TileSetti
 }
 
 // Whether the triangle, stitch and kept-triangle spills are zstd-compressed. zstd
-// halves the triangle spill (10M sphere: 620 -> 346 MB) but cost 1.4 s of a 10.6 s
-// run on 2 threads; it pays only where the spill goes to the disk, not where memory
-// or the page cache holds it (and kept tiles outlive the run on disk).
+// about halves the triangle spill but costs a noticeable share of the run's time;
+// it pays only where the spill goes to the disk, not where memory or the page cache
+// holds it (and kept tiles outlive the run on disk).
 static bool spill_compression(const MeshInput& input, const TileSettings& settings, const SpillAllowances& allow) {
   switch (settings.spill_compression) {
     case SpillCompression::zstd:
@@ -153,8 +153,8 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
       est_tiles = std::size_t(std::min(n, 1e6));
     }
   }
-  // Blocks beyond 32 KiB buy nothing (10M sphere, 2 threads: 8192 records per
-  // buffer ran as fast as 1024, with 175 instead of 97 MiB at the peak).
+  // Blocks beyond 32 KiB buy nothing: larger buffers ran no faster and only raised
+  // the peak memory.
   std::size_t buffer_records = std::clamp<std::size_t>(
       std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), kMinBufferRecords, 1024);
   // Free space for the spill, checked before writing it, when some of it goes to the disk.

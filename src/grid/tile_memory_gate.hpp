@@ -2,11 +2,10 @@
 //
 // Tiles are planned from a sample of the vertices, but an uneven input (a dense part
 // in a sparse scan, the generated parts mesh) puts many times the planned triangles in
-// its fullest tiles: 1.19M records against the planned 65k on the 100M parts mesh. Two
-// such tiles on two threads at once would take the process past --mem. The gate lets a
-// tile start only while the working sets of the tiles in work, its own included, stay
-// within the share; a tile larger than the whole share runs alone. Which thread works
-// on which tile, and when, changes no output.
+// its fullest tiles. Two such tiles on two threads at once would take the process past
+// --mem. The gate lets a tile start only while the working sets of the tiles in work,
+// its own included, stay within the share; a tile larger than the whole share runs
+// alone. Which thread works on which tile, and when, changes no output.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -18,10 +17,10 @@
 namespace oocsimp {
 
 /// A tile's working set per triangle record while it is graded or clustered (its
-/// records, local mesh, graded vertices, block and sums). Measured on the generated
-/// 2M sphere, --grid 256 --mem 64M, 1 thread: the fullest tile at 101389 records
-/// (--tile 0.5) peaked at 47.7 MB anonymous, at 252753 records (--tile 100) at
-/// 72.2 MB: 160 bytes per record, rounded up for the grading's own peak.
+/// records, local mesh, graded vertices, block and sums). Taken from the peak
+/// anonymous memory of one-thread runs whose fullest tiles differed in size (the
+/// difference over the difference in records: about 160 bytes per record), rounded up
+/// for the grading's own peak.
 constexpr std::uint64_t kTileBytesPerRecord = 200;
 
 class TileMemoryGate {

@@ -69,11 +69,10 @@ double plan_tile_side(const MeshInput& input, const TileSettings& settings, doub
           double(kLevels[l]) * std::sqrt(tiles_needed / double(std::max<std::uint64_t>(occ[std::size_t(l)], 1)));
       side = longest / divisions;
       // That is the average tile; the fullest one can hold several times as much
-      // (measured: 6.4x on the generated sphere, whose poles are dense), and the
-      // fullest sets the memory. Shrink the side until the fullest, estimated from
-      // a sample of the vertices, fits, but to no less than half: a denser part
-      // would otherwise cut the whole mesh into tiny tiles (11064 tiles instead
-      // of 243 on the 10M sphere at --mem 64M), each costing buffers and rounds.
+      // (the generated sphere's poles are dense), and the fullest sets the memory.
+      // Shrink the side until the fullest, estimated from a sample of the vertices,
+      // fits, but to no less than half: a denser part would otherwise cut the whole
+      // mesh into many times as many tiny tiles, each costing buffers and rounds.
       const double average_side = side;
       for (int pass = 0; pass < 4 && side > 0.5 * average_side; ++pass) {
         double fullest = 2 * fullest_tile_vertices(input.positions, std::max(side, cell));  // ~2 triangles per vertex

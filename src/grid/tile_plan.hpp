@@ -16,9 +16,8 @@ namespace oocsimp {
 /// A tile's working set per triangle while it is graded or clustered (its records,
 /// local mesh, graded vertices and block), for sizing tiles from the budget.
 constexpr double kTileBytesPerTriangle = 400;
-/// Tiles beyond this outgrow the processor caches: measured on the 10M sphere
-/// (--grid 256, 1 thread), 8 tiles of 1.25M triangles took 23.7 s, 128 tiles of 78k
-/// 18.6 s, 483 tiles of 21k 19.6 s (more border rounds).
+/// Tiles beyond this outgrow the processor caches and run slower; much smaller ones
+/// run slower too, as they need more border rounds.
 constexpr double kMaxTileTriangles = 1 << 16;
 
 /// What the tiling and its spills take from a run's options.

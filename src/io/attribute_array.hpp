@@ -1,5 +1,6 @@
 // Building the mapped attribute arrays behind a MeshInput, and choosing which of an
-// input's vertex properties are carried (issue 11).
+// input's vertex properties are carried, so that colours, normals and scalars reach
+// the output.
 #pragma once
 
 #include <algorithm>

@@ -49,8 +49,7 @@ void release_memory(const SimplifyOptions& options) {
 }
 
 // The graded vertices of every tile, kept for --keep-tmp. They barely compress
-// (positions and weights are noise to zstd: 422 vs 498 MiB for the whole spill of
-// the 10M sphere, when every round read it).
+// (positions and weights are noise to zstd), so they are not compressed.
 std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const SpillSettings& spill) {
   auto graded = std::make_unique<StreamSpill>(spill.dir, "vertices", sizeof(GradedVertex), 4096, false);
   graded->set_expected_bytes(spill.expected_bytes);
@@ -59,9 +58,9 @@ std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const
 }
 
 // An uneven input can put many times the planned triangles into its fullest tile
-// (1.19M records against the planned 65k on the generated 100M parts mesh), whose
-// working set then does not fit --mem even alone: the run stops (exit 2) before
-// grading, naming what it would take, rather than exceed the budget.
+// (the generated parts mesh does, with its small dense parts), whose working set
+// then does not fit --mem even alone: the run stops (exit 2) before grading, naming
+// what it would take, rather than exceed the budget.
 void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tiles, const std::string& path) {
   const std::uint64_t records = tiles.largest_tile_records();
   const std::uint64_t need = records * kTileBytesPerRecord;

@@ -223,8 +223,8 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // Phase 1 at the cell the vertex sample gives for k times the target (or the target
   // itself without refinement), and for no fewer than kLeastIntermediate triangles:
   // coarser, clustering folds the sheets of steep or thin parts over one another
-  // (a fifth of the edges of the 200k terrain clustered to 5k are non-manifold), and
-  // the collapse gets stuck in the tangles. When it falls short of the target or gets
+  // (a coarsely clustered terrain has many non-manifold edges), and the collapse
+  // gets stuck in the tangles. When it falls short of the target or gets
   // stuck all the same, phase 1 runs again four times finer, twice at most, and then
   // the whole input collapses if it fits the budget (not for a closed surface one
   // triangle short: its count is even at any cell).

@@ -1,7 +1,9 @@
 // Distance between two surfaces: the one-sided and symmetric Hausdorff, mean and RMS
-// distances of the textbook's chapter 6 ("Polygonal Model Simplification (8)"), which
-// discretises them "by sampling a number of points on both surfaces" — as Metro
-// (Cignoni, Rocchini & Scopigno, 1998) does, but with A streamed instead of loaded.
+// distances of Theoharis et al. 2008, "Graphics & Visualization: Principles and
+// Algorithms", ch. 6 ("Model Representation and Simplification"), section "Polygonal
+// Model Simplification (8)", which discretises them "by sampling a number of points on
+// both surfaces" — as Metro (Cignoni, Rocchini & Scopigno, 1998) does, but with A
+// streamed instead of loaded.
 //
 // A is the big mesh: its positions stay in the mapping open_mesh_input made, its
 // triangles are only ever streamed, in fixed-size chunks through the ordered pipeline

@@ -21,9 +21,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // A face already below the needle guard may become at most this much thinner: with
-// "no thinner at all" the lat-long poles of the 2M generated sphere (needles of
-// compactness 0.017) froze, the collapse spent its count elsewhere and came out at
-// 7% of the diagonal RMS (to 20000; 1.7e-4 without the freeze).
+// "no thinner at all" the lat-long poles of the generated sphere (needles already
+// below the guard) froze, the collapse spent its count elsewhere and its error grew
+// by orders of magnitude over the result without the freeze.
 constexpr double kNeedleSlack = 0.5;
 
 // The lists around a vertex hold a dozen or so entries: insertion sort beats
@@ -352,9 +352,11 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CollapseState::edges() cons
   return out;
 }
 
-// The textbook's placement: the minimum of Q = Q_a + Q_b where A is invertible; where
-// it is not (flat and linear neighbourhoods), or the minimum lies far off the edge,
-// the best point of the edge; of those and the two ends, the one with the least cost.
+// The placement of Theoharis et al. 2008, "Graphics & Visualization: Principles and
+// Algorithms", ch. 6 ("Model Representation and Simplification"): the minimum of
+// Q = Q_a + Q_b where A is invertible; where it is not (flat and linear
+// neighbourhoods), or the minimum lies far off the edge, the best point of the edge;
+// of those and the two ends, the one with the least cost.
 // The outline keeps its own vertices: a boundary vertex does not move for an inner
 // one, and two boundary vertices merge into one of them, so the outline loses
 // vertices but never leaves its polyline.
@@ -1089,9 +1091,9 @@ QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, C
     state = CollapseState(std::move(tiled), round);
   }
   collapse_state(state, settings, &st, progress);
-  // Every collapse left would make a needle: on the 2M generated sphere to 20000 the
-  // collapse jammed at 40898 triangles, every one of its 61347 edges refused, most by
-  // the needle guard. The count asked wins over the guard: the rest go without it.
+  // Every collapse left would make a needle: on the generated sphere to a low target
+  // the collapse jammed well short of it, every edge refused, most by the needle
+  // guard. The count asked wins over the guard: the rest go without it.
   if (st.stuck && !st.stopped_by_error && !st.parity && settings.exact_count &&
       state.triangle_count() > settings.target_triangles && settings.min_compactness > 0) {
     st.stuck = false;

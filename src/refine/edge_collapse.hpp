@@ -1,6 +1,8 @@
-// Quadric edge collapse in core (Garland & Heckbert 1997; the textbook's chapter 6,
-// "Simplification using Iterative Edge Collapses" (2)-(6)): the second phase of
-// multiphase simplification (Garland & Shaffer 2002), and the whole of --method qem.
+// Quadric edge collapse in core (Garland & Heckbert 1997; Theoharis et al. 2008,
+// "Graphics & Visualization: Principles and Algorithms", ch. 6 ("Model Representation
+// and Simplification"), section "Simplification using Iterative Edge Collapses"
+// (2)-(6)): the second phase of multiphase simplification (Garland & Shaffer 2002),
+// and the whole of --method qem.
 //
 // The state of the mesh being collapsed (CollapseState) is separate from the order
 // the collapses are taken in, so that a test can drive the same state with a naive
@@ -37,8 +39,8 @@ struct QuadricMesh {
   std::vector<std::uint8_t> locked;
 };
 
-/// The area-weighted plane quadrics of the faces around each vertex (the textbook's
-/// Q_v = sum of w_T Q_T, w_T the area): the start of --method qem.
+/// The area-weighted plane quadrics of the faces around each vertex (Theoharis et al.
+/// 2008 ch. 6: Q_v = sum of w_T Q_T, w_T the area): the start of --method qem.
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
 
 struct CollapseSettings {

@@ -1,6 +1,7 @@
-// The run against its memory budget (issue 10, "the budget is the process's"): the tables a method
-// is about to build must fit next to the anonymous memory the run holds, or the run
-// stops with a UsageError (exit 2) rather than exceed the budget.
+// The run against its memory budget, which bounds the whole process and not only the
+// tables: the tables a method is about to build must fit next to the anonymous memory
+// the run holds, or the run stops with a UsageError (exit 2) rather than exceed the
+// budget.
 #pragma once
 
 #include <algorithm>

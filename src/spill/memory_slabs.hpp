@@ -11,8 +11,8 @@ namespace oocsimp {
 /// A bump allocator over anonymous mappings of at least kSlabBytes, freed all at
 /// once. Blocks held for a whole phase and then dropped together do not belong in
 /// malloc's arenas: there they lie between the run's other allocations, and
-/// malloc_trim gave back only part of them once freed (10M sphere, --mem 64M: 4-9
-/// MiB of 8 stayed resident into the assembly). A mapping goes back whole.
+/// malloc_trim gave back only part of them once freed (much of them stayed resident
+/// into the assembly). A mapping goes back whole.
 class MemorySlabs {
  public:
   static constexpr std::size_t kSlabBytes = std::size_t(8) << 20;

@@ -19,9 +19,10 @@ namespace oocsimp {
 
 namespace {
 
-// The output alone must fit in --mem (issue 10): the spills are done or hold their
-// allowance, so what is left of the budget is the output's; when `bytes` more do not
-// fit next to what the process holds, the run stops (exit 2) before allocating them.
+// The output alone must fit in --mem (the budget bounds the whole process, output
+// included): the spills are done or hold their allowance, so what is left of the
+// budget is the output's; when `bytes` more do not fit next to what the process holds,
+// the run stops (exit 2) before allocating them.
 void check_output_fits(const MemoryBudget& budget, std::uint64_t bytes, const std::string& what) {
   budget.check(budget.held(), bytes, "the output (" + what + ")",
                "the output alone cannot fit: give a larger options.memory_budget or a coarser grid "
