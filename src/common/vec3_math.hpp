@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/mesh_input.hpp"
+#include "oocsimp/geometry.hpp"
 
 namespace oocsimp {
 
