@@ -41,7 +41,7 @@ std::vector<std::uint64_t> indices(const std::vector<GradedVertex>& v) {
   return out;
 }
 
-// The rounds scheme of floating_cells_design.md on an in-memory split of the
+// The rounds scheme of docs/design.md on an in-memory split of the
 // vertices into slabs along x: each tile runs the greedy with the other tiles'
 // centres of the previous round as external input, until nothing changes.
 std::vector<std::uint64_t> tiled_centres(const std::vector<GradedVertex>& all, const FloatingCellShape& cell,

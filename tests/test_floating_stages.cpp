@@ -1,5 +1,5 @@
 // The stages of the floating path, each alone, against expectations computed
-// independently on the whole mesh (floating_cells_design.md, "Code:").
+// independently on the whole mesh (docs/design.md, "Code:").
 #include <catch2/catch.hpp>
 
 #include <algorithm>

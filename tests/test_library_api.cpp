@@ -277,3 +277,33 @@ TEST_CASE("library errors name option fields, the CLI shows its flags instead", 
   CHECK(cli.err.find("--attributes: ") != std::string::npos);
   CHECK(cli.err.find("options.") == std::string::npos);
 }
+
+TEST_CASE("a file simplified into memory is the mesh simplify_file writes, level by level too", "[api]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 50000);
+  for (ClusterMethod method : cluster_methods()) {
+    INFO(method_name(method));
+    SimplifyOptions o = small_run(method, tmp);
+    if (method == ClusterMethod::qem) o.sizing = CellSizing(), o.target.triangles = 5000;
+    simplify_file(in, d.file("file.ply"), false, o, nullptr);
+    SimplifyStats st;
+    const SimplifiedMesh m = simplify_file_to_mesh(in, o, &st);
+    CHECK(st.output_triangles == m.triangles.size() / 3);
+    write_mesh(d.file("memory.ply"), m.positions, m.triangles, MeshFormat::ply_binary, m.precision, &m.attributes);
+    CHECK(read_file(d.file("memory.ply")) == read_file(d.file("file.ply")));
+  }
+  SimplifyOptions o = small_run(ClusterMethod::floating, tmp);
+  LodOptions lods;
+  lods.levels = 2;
+  OutputOptions outputs;
+  outputs.mesh = d.file("lod.ply");
+  simplify_lods_file(in, outputs, o, lods, nullptr);
+  std::uint32_t heard = 0;
+  simplify_file_to_lods(in, o, lods, [&](std::uint32_t level, SimplifiedMesh& m, const SimplifyStats&) {
+    CHECK(level == heard++);
+    const std::string path = d.file("memory.lod" + std::to_string(level) + ".ply");
+    write_mesh(path, m.positions, m.triangles, MeshFormat::ply_binary, m.precision, &m.attributes);
+    CHECK(read_file(path) == read_file(lod_level_path(outputs.mesh, level)));
+  });
+  CHECK(heard == 2);
+}

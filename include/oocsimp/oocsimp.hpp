@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,20 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
 /// no file is written, and options.temp_dir is not touched. The result equals the one
 /// simplify_file gives for the same mesh stored in a file.
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
+
+/// Simplifies the file at `input_path` into memory: what simplify_file writes, as a
+/// SimplifiedMesh (input opened as simplify_file opens it; no normals added).
+SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,
+                                     SimplifyStats* stats = nullptr);
+
+/// Hears each level when it is done: its number, its mesh (which the sink may move
+/// from) and its stats.
+using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, const SimplifyStats& stats)>;
+
+/// simplify_lods_file into memory: each level of the file at `input_path`, finest
+/// first, handed to `sink` when it is done (the levels simplify_lods_file writes).
+void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options, const LodOptions& lods,
+                           const LodSink& sink);
 
 // --- Writing -------------------------------------------------------------------
 

@@ -417,6 +417,20 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
   for (auto& f : files) f->commit();
 }
 
+SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,
+                                     SimplifyStats* stats) {
+  auto threads = limit_threads(options.threads);
+  MeshInput input = open_input(input_path, options);
+  return simplify(input, options, stats);
+}
+
+void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options, const LodOptions& lods,
+                           const LodSink& sink) {
+  auto threads = limit_threads(options.threads);
+  MeshInput input = open_input(input_path, options);
+  simplify_lods(input, options, lods, sink);
+}
+
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats) {
   OutputOptions outputs;

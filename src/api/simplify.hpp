@@ -12,7 +12,7 @@
 namespace oocsimp {
 
 /// Clusters `input` by `options.method`: floating cells (the default; Low & Tan,
-/// see src/cluster/floating_cells_design.md: cells centred on the heaviest vertices,
+/// see docs/design.md: cells centred on the heaviest vertices,
 /// quadric representatives kept in their cell, tiles of the grid spilled to
 /// `options.temp_dir` and sized from `options.memory_budget`) or a uniform grid
 /// (OoCS: per cell the area-weighted plane quadrics of every triangle with a corner
@@ -22,10 +22,6 @@ namespace oocsimp {
 /// orientation of its first occurrence in file order, and the result is
 /// byte-identical for any thread count (and, for floating cells, any tiling).
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
-
-/// Hears each level when it is done: its number, its mesh (which the sink may move
-/// from) and its stats.
-using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, const SimplifyStats& stats)>;
 
 /// simplify() at K levels, finest first. Level 0 is what simplify() gives for
 /// `options`; level k clusters at cell C F^k (C the cell of level 0), and equals

@@ -1,5 +1,5 @@
 // Pass 2 of floating cells, second half: the border decisions between tiles, first
-// greedy and colour sweeps until no border changes. See floating_cells_design.md,
+// greedy and colour sweeps until no border changes. See docs/design.md,
 // "Tiles and rounds".
 #pragma once
 

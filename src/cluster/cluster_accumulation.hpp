@@ -1,6 +1,6 @@
 // Pass 3 of floating cells: per tile, vertices assigned to the decided centres,
 // vertex quadrics summed into partition-independent cluster shares, and the
-// triangles over three clusters kept. See floating_cells_design.md, "Sums that do not
+// triangles over three clusters kept. See docs/design.md, "Sums that do not
 // depend on the partition".
 #pragma once
 

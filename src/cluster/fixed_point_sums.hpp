@@ -1,5 +1,5 @@
 // Cluster sums that do not depend on how the input was cut into tiles or threads
-// (cluster/floating_cells_design.md, "Sums that do not depend on the partition").
+// (docs/design.md, "Sums that do not depend on the partition").
 #pragma once
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Floating-cell clustering, Low & Tan 1997 §3.2 and §4, on one tile.
-// See floating_cells_design.md for how tiles combine into the exact global result.
+// See docs/design.md for how tiles combine into the exact global result.
 #pragma once
 
 #include <algorithm>

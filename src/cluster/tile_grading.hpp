@@ -1,6 +1,6 @@
 // Pass 2 of floating cells, first half: each tile's owned vertices graded (Low & Tan
 // §3.1), sorted in visiting order (§3.2) and laid out in the tile's vertex block with
-// the decisions of the first greedy. See floating_cells_design.md.
+// the decisions of the first greedy. See docs/design.md.
 #pragma once
 
 #include <cstddef>

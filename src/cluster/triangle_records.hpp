@@ -1,7 +1,7 @@
 // What a tile's accumulation reports of the triangles it sees: the triangles over
 // three distinct clusters it decided itself, and the corners of the triangles that
 // cross tiles, for the stitch (stitch/kept_triangles.hpp) to join
-// (cluster/floating_cells_design.md, "Sums that do not depend on the partition",
+// (docs/design.md, "Sums that do not depend on the partition",
 // last paragraph).
 #pragma once
 

@@ -1,6 +1,6 @@
 // Pass 1 of floating cells: every triangle goes to the tile of each of its corners,
 // so a tile sees the complete fan of every vertex it owns. See
-// cluster/floating_cells_design.md, "Tiles and rounds".
+// docs/design.md, "Tiles and rounds".
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // The tiling of floating cells: cubes of side `side` anchored at the origin, of which
 // the occupied ones are numbered 0, 1, 2, ... in order of first use. See
-// cluster/floating_cells_design.md, "Tiles and rounds".
+// docs/design.md, "Tiles and rounds".
 #pragma once
 
 #include <tbb/parallel_for.h>

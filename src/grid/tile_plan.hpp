@@ -1,5 +1,5 @@
 // The side of the floating-cell tiles: from the memory budget, or as the user gave it.
-// See cluster/floating_cells_design.md, "Tiles and rounds" (tile size).
+// See docs/design.md, "Tiles and rounds" (tile size).
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // Floating-cell clustering out of core: tiles, sweeps of border decisions,
 // partition-independent sums and a stitch of the cross-tile triangles.
-// floating_cells_design.md explains why the result equals the sequential algorithm.
+// docs/design.md explains why the result equals the sequential algorithm.
 //
 // The stages hand each other typed results:
 //   plan + bin   grid/tile_plan, grid/tile_binning: every triangle goes to the tile of

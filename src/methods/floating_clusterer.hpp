@@ -1,5 +1,5 @@
 // Floating-cell clustering out of core; see floating_clusterer.cpp and
-// floating_cells_design.md.
+// docs/design.md.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // The output triangles of floating cells before assembly: the triangles over three
 // distinct clusters that tiles decided, joined with the cross-tile ones found by
-// joining their corners' clusters (cluster/floating_cells_design.md, "Sums that do not
+// joining their corners' clusters (docs/design.md, "Sums that do not
 // depend on the partition", last paragraph).
 #pragma once
 

@@ -1,7 +1,7 @@
 // The end of floating cells: the cross-tile triangles stitched to the ones decided
 // in tiles, the output vertices numbered by first use and the cluster
 // representatives solved from their merged shares. See
-// cluster/floating_cells_design.md, "Sums that do not depend on the partition".
+// docs/design.md, "Sums that do not depend on the partition".
 #pragma once
 
 #include <cstdint>
