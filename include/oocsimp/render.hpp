@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/enum_names.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
 
@@ -66,5 +67,8 @@ std::string encode_png(const Image& image);
 /// work). Throws UsageError (output = input), InputError, IoError.
 RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
                         const OpenOptions& open = {});
+
+/// The shadings as the command line spells them, the default first.
+const EnumNames<Shading>& shading_names();
 
 }  // namespace oocsimp

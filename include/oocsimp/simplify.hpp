@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/enum_names.hpp"
 #include "oocsimp/grid_spec.hpp"
 #include "oocsimp/mesh_input.hpp"
 #include "oocsimp/mesh_writer.hpp"
@@ -67,6 +68,10 @@ struct CellSizing {
   std::uint32_t grid = 0;  ///< cells along the bounding box's longest axis
   double ratio = 0;        ///< approximate fraction of input triangles to keep, in (0, 1]
 };
+
+/// The most cells a grid has along an axis (CellSizing::grid): cell coordinates are
+/// packed into 21 bits per axis.
+constexpr std::uint32_t kMaxGridDivisions = (1u << 21) - 1;
 
 /// The ratio when no size is given: "simplify this" keeps about a tenth of the triangles.
 constexpr double kDefaultRatio = 0.1;
@@ -329,6 +334,16 @@ const char* representative_name(RepresentativeRule r);
 const char* spill_compression_name(SpillCompression c);
 const char* refine_name(RefineMethod r);
 const char* precision_name(Precision p);
+
+/// The tables those names come from, one per enum, each in the order the command line
+/// lists the values (the default first).
+const EnumNames<ClusterMethod>& cluster_method_names();
+const EnumNames<CellShape>& cell_shape_names();
+const EnumNames<AssignRule>& assign_rule_names();
+const EnumNames<RepresentativeRule>& representative_rule_names();
+const EnumNames<SpillCompression>& spill_compression_names();
+const EnumNames<RefineMethod>& refine_method_names();
+const EnumNames<Precision>& precision_names();
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and
 /// ignored vertices in `stats`, with the first non-finite vertex; empty when the input
