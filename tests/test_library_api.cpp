@@ -340,3 +340,27 @@ TEST_CASE("each option value is spelled once, in the tables the *_name functions
   CHECK(m == ClusterMethod::floating);
   CHECK(std::string(precision_name(Precision::float64)) == "double");
 }
+
+TEST_CASE("describe_mesh gives what info prints: counts, carried attributes, thick edges and points", "[api]") {
+  ScratchDir d;
+  write_file(d.file("l.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nl 1 4 3\np 2\n");
+  const MeshSummary lines = describe_mesh(d.file("l.obj"), d.path());
+  CHECK(lines.info.format == "obj");
+  CHECK(lines.info.vertex_count == 4);
+  CHECK(lines.info.face_count == 1);
+  CHECK(lines.edges.count == 2);  // a polyline of three vertices is two edges
+  CHECK(lines.points.count == 1);
+  CHECK(lines.edges.most == 0);  // OBJ gives no thickness
+  CHECK(lines.attributes.empty());
+  GenerateOptions g;
+  g.triangles = 2000;
+  g.attributes = true;
+  generate_mesh(d.file("coloured.ply"), g);
+  const MeshSummary coloured = describe_mesh(d.file("coloured.ply"));
+  CHECK(coloured.info.face_count > 0);
+  CHECK(coloured.edges.count == 0);
+  CHECK(coloured.points.count == 0);
+  std::vector<std::string> names;
+  for (const VertexAttribute& a : coloured.attributes) names.push_back(a.name);
+  CHECK(names == std::vector<std::string>{"red", "green", "blue", "nx", "ny", "nz"});
+}

@@ -23,8 +23,11 @@
 // and oocsimp::progress_ui (oocsimp/progress_reporter.hpp, a terminal progress bar).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "oocsimp/attributes.hpp"   // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
 #include "oocsimp/error.hpp"        // UsageError, InputError, IoError, Cancelled
@@ -33,6 +36,10 @@
 #include "oocsimp/mesh_writer.hpp"  // write_mesh: PLY, OBJ, STL, OFF
 #include "oocsimp/progress.hpp"     // Progress, ProgressCallback
 #include "oocsimp/simplify.hpp"     // SimplifyOptions, FloatingOptions, simplify, simplify_file, SimplifiedMesh
+
+// Process-wide settings, for a program's main (the library sets none itself).
+#include "oocsimp/memory_tuning.hpp"  // tune_allocator_for_tiles, release_free_heap
+#include "oocsimp/signals.hpp"        // install_signal_cleanup: temporary files go on SIGINT, SIGTERM, ...
 
 namespace oocsimp {
 
@@ -64,5 +71,26 @@ MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selecti
 /// no file is written, and options.temp_dir is not touched. The result equals the one
 /// simplify_file gives for the same mesh stored in a file.
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
+
+/// The thick edges or the points of a mesh file (LinePrimitive): how many, and the
+/// least, the largest and the sum of their thicknesses (0 where the file gives none).
+struct PrimitiveTally {
+  std::uint64_t count = 0;
+  double least = HUGE_VAL, most = 0, sum = 0;
+};
+
+/// What `oocsimp info` prints about a mesh file.
+struct MeshSummary {
+  MeshInfo info;
+  /// The vertex attributes a run carries by default (all), with their ranges.
+  std::vector<VertexAttribute> attributes;
+  PrimitiveTally edges, points;
+};
+
+/// Opens the mesh file at `path` (temporary files in `temp_dir`; empty =
+/// default_temp_dir()) and summarises it. The tallies of thick edges and points need a
+/// pass over the faces, taken only when the file has some. Throws InputError for a
+/// malformed file, IoError when it cannot be read.
+MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string());
 
 }  // namespace oocsimp
