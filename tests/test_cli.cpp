@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;
@@ -863,4 +864,26 @@ TEST_CASE("help is grouped with plain value lists, mistyped flags get a suggesti
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("--output") != std::string::npos);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+}
+
+TEST_CASE("oocsimp --version prints oocsimp and the library's version, and exits 0", "[cli][report]") {
+  CliResult r = run_cli("--version");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out == std::string("oocsimp ") + oocsimp::version() + "\n");
+  CHECK(r.err.empty());
+}
+
+TEST_CASE("messages show the flag of each option field they name, and leave paths as they are", "[cli][options]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 1000 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  // The option at fault first, then advice naming another field.
+  CliResult r = run_cli("simplify --quiet --lods 2 --method qem " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")));
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "oocsimp: --lods needs a clustering method (--method floating or uniform)\n");
+  // A file whose name spells a field keeps its name.
+  const std::string odd = d.file("outputs.mesh.ply");
+  r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(odd) + " --stats " + q(odd));
+  CHECK(r.exit_code == 2);
+  CHECK(r.err == "oocsimp: --stats " + odd + " and output " + odd + " are the same file\n");
+  CHECK(d.entries() == std::vector<std::string>{"s.ply"});
 }

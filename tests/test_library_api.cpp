@@ -8,6 +8,8 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "oocsimp/generate.hpp"
@@ -306,4 +308,89 @@ TEST_CASE("a file simplified into memory is the mesh simplify_file writes, level
     CHECK(read_file(path) == read_file(lod_level_path(outputs.mesh, level)));
   });
   CHECK(heard == 2);
+}
+
+TEST_CASE("a usage error about one option carries its field, which its message starts with", "[api][errors]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 20000);
+  auto error = [&](const SimplifyOptions& o) {
+    try {
+      simplify_file(in, d.file("o.ply"), false, o, nullptr);
+    } catch (const UsageError& e) {
+      return std::make_pair(e.option(), std::string(e.what()));
+    }
+    return std::make_pair(std::string("no error"), std::string());
+  };
+  SimplifyOptions tiny = small_run(ClusterMethod::uniform, tmp);
+  tiny.memory_budget = 1 << 20;
+  auto [option, what] = error(tiny);
+  CHECK(option == "options.memory_budget");
+  CHECK(what.rfind("options.memory_budget 1 MiB", 0) == 0);
+  SimplifyOptions named = small_run(ClusterMethod::uniform, tmp);
+  named.attributes = parse_attribute_selection("nosuch");
+  std::tie(option, what) = error(named);
+  CHECK(option == "options.attributes");
+  CHECK(what.rfind("options.attributes: ", 0) == 0);
+  // About two options at once: no one field.
+  SimplifyOptions both = small_run(ClusterMethod::floating, tmp);
+  both.sizing.ratio = 0.5;
+  std::tie(option, what) = error(both);
+  CHECK(option.empty());
+  CHECK(what.rfind("give at most one of options.sizing.cell", 0) == 0);
+  CHECK(UsageError("plain").option().empty());
+}
+
+TEST_CASE("each option value is spelled once, in the tables the *_name functions read", "[api]") {
+  auto check = [](const auto& names, auto name, auto default_value) {
+    REQUIRE_FALSE(names.empty());
+    CHECK(names.front().value == default_value);  // the default first
+    for (const auto& n : names) {
+      CHECK(std::string(name(n.value)) == n.name);
+      auto back = names.back().value;
+      CHECK(value_named(names, n.name, &back));
+      CHECK(back == n.value);
+    }
+  };
+  const SimplifyOptions o;
+  check(cluster_method_names(), method_name, o.method);
+  check(cell_shape_names(), cell_shape_name, o.floating.cell_shape);
+  check(assign_rule_names(), assign_name, o.floating.assign);
+  check(representative_rule_names(), representative_name, o.floating.representative);
+  check(spill_compression_names(), spill_compression_name, o.floating.spill_compression);
+  check(refine_method_names(), refine_name, o.target.refine);
+  check(precision_names(), precision_name, o.precision);
+  check(
+      synthetic_shape_names(), [](SyntheticShape s) { return name_of(synthetic_shape_names(), s); },
+      GenerateOptions().shape);
+  std::vector<ClusterMethod> methods;
+  for (const auto& n : cluster_method_names()) methods.push_back(n.value);
+  CHECK(methods == cluster_methods());
+  ClusterMethod m = ClusterMethod::floating;
+  CHECK_FALSE(value_named(cluster_method_names(), "Uniform", &m));
+  CHECK(m == ClusterMethod::floating);
+  CHECK(std::string(precision_name(Precision::float64)) == "double");
+}
+
+TEST_CASE("describe_mesh gives what info prints: counts, carried attributes, thick edges and points", "[api]") {
+  ScratchDir d;
+  write_file(d.file("l.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nl 1 4 3\np 2\n");
+  const MeshSummary lines = describe_mesh(d.file("l.obj"), d.path());
+  CHECK(lines.info.format == "obj");
+  CHECK(lines.info.vertex_count == 4);
+  CHECK(lines.info.face_count == 1);
+  CHECK(lines.edges.count == 2);  // a polyline of three vertices is two edges
+  CHECK(lines.points.count == 1);
+  CHECK(lines.edges.most == 0);  // OBJ gives no thickness
+  CHECK(lines.attributes.empty());
+  GenerateOptions g;
+  g.triangles = 2000;
+  g.attributes = true;
+  generate_mesh(d.file("coloured.ply"), g);
+  const MeshSummary coloured = describe_mesh(d.file("coloured.ply"));
+  CHECK(coloured.info.face_count > 0);
+  CHECK(coloured.edges.count == 0);
+  CHECK(coloured.points.count == 0);
+  std::vector<std::string> names;
+  for (const VertexAttribute& a : coloured.attributes) names.push_back(a.name);
+  CHECK(names == std::vector<std::string>{"red", "green", "blue", "nx", "ny", "nz"});
 }

@@ -1,6 +1,8 @@
 // oocsimp command line: a thin layer over the library (include/oocsimp/).
 //
-// Exit codes: 0 ok, 2 usage, 3 bad input, 4 I/O or resource failure.
+// Each subcommand is an args struct that CLI11 fills, add_<name>_command declaring its
+// options and run_<name> doing the work; main parses, dispatches and maps failures to
+// exit codes: 0 ok, 2 usage, 3 bad input, 4 I/O or resource failure.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -11,22 +13,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <initializer_list>
 #include <new>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "oocsimp/error.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/lod.hpp"
-#include "grid/grid_spec.hpp"
-#include "oocsimp/oocsimp.hpp"
 #include "oocsimp/measure.hpp"
-#include "io/mesh_input.hpp"
 #include "oocsimp/progress_reporter.hpp"
 #include "oocsimp/render.hpp"
-#include "api/simplify.hpp"
-#include "oocsimp/oocsimp.hpp"
 
 using namespace oocsimp;
 
@@ -34,40 +34,81 @@ namespace {
 
 enum ExitCode { kOk = 0, kUsage = 2, kBadInput = 3, kIo = 4 };
 
-// The library names an option at fault by its field ("options.memory_budget"); the
-// command line shows the flag that sets it. Longer names first, so that no name is
-// replaced inside another.
-std::string with_flags(std::string message) {
-  static const std::pair<const char*, const char*> kFlags[] = {
-      {"options.floating.tile_side", "--tile"},
-      {"options.floating.keep_temp", "--keep-tmp"},
-      {"options.memory_budget", "--mem"},
-      {"options.sizing.cell", "--cell"},
-      {"options.sizing.grid", "--grid"},
-      {"options.sizing.ratio", "--ratio"},
-      {"options.attributes", "--attributes"},
-      {"options.temp_dir", "--tmp"},
-      {"options.target.triangles", "--target-tris"},
-      {"options.target.ratio", "--target-ratio"},
-      {"options.target.max_error", "--max-error"},
-      {"options.target.intermediate_factor", "--intermediate-factor"},
-      {"options.thick_edges", "--thick-edges"},
-      {"options.method", "--method"},
-      {"options.lods.levels", "--lods"},
-      {"options.lods.factor", "--lod-factor"},
-      {"options.lods", "--lods"},
-      {"options.triangles", "--tris"},
-      {"options.samples", "--samples"},
-      {"outputs.replace_input", "--force"},
-      {"outputs.stats", "--stats"},
-      {"outputs.mesh", "-o"},
-  };
-  for (const auto& f : kFlags) {
-    const std::string field = f.first;
-    for (std::size_t at = message.find(field); at != std::string::npos; at = message.find(field, at))
-      message.replace(at, field.size(), f.second);
+// --- Option fields shown as flags.
+
+// The library names an option by its field ("options.memory_budget"); the command
+// line shows the flag that sets it. The one table of that mapping, for errors and
+// warnings alike.
+constexpr std::pair<const char*, const char*> kFlagOfField[] = {
+    {"options.floating.tile_side", "--tile"},
+    {"options.floating.keep_temp", "--keep-tmp"},
+    {"options.memory_budget", "--mem"},
+    {"options.sizing.cell", "--cell"},
+    {"options.sizing.grid", "--grid"},
+    {"options.sizing.ratio", "--ratio"},
+    {"options.attributes", "--attributes"},
+    {"options.temp_dir", "--tmp"},
+    {"options.target.triangles", "--target-tris"},
+    {"options.target.ratio", "--target-ratio"},
+    {"options.target.max_error", "--max-error"},
+    {"options.target.intermediate_factor", "--intermediate-factor"},
+    {"options.thick_edges", "--thick-edges"},
+    {"options.method", "--method"},
+    {"options.lods.levels", "--lods"},
+    {"options.lods.factor", "--lod-factor"},
+    {"options.lods", "--lods"},
+    {"options.triangles", "--tris"},
+    {"options.samples", "--samples"},
+    {"outputs.replace_input", "--force"},
+    {"outputs.stats", "--stats"},
+    {"outputs.mesh", "-o"},
+};
+
+// A character that continues a name or a path.
+bool continues_name(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '/' || c == '.';
+}
+
+// Whether text[at, end) stands as a name of its own: not part of a path or of a
+// longer field ("options.lods" in "options.lods.levels"). A full stop after it ends
+// a sentence.
+bool stands_alone(const std::string& text, std::size_t at, std::size_t end) {
+  if (at > 0 && continues_name(text[at - 1])) return false;
+  if (end == text.size() || !continues_name(text[end])) return true;
+  return text[end] == '.' && (end + 1 == text.size() || !continues_name(text[end + 1]));
+}
+
+// The row of kFlagOfField whose field stands at text[at], or null.
+const std::pair<const char*, const char*>* field_at(const std::string& text, std::size_t at) {
+  for (const auto& row : kFlagOfField) {
+    const std::size_t end = at + std::strlen(row.first);
+    if (text.compare(at, end - at, row.first) == 0 && stands_alone(text, at, end)) return &row;
   }
-  return message;
+  return nullptr;
+}
+
+// `text` with each option field it names shown as its flag (advice names fields
+// anywhere: "give options.memory_budget 512 MiB or more, or a larger options.sizing.cell").
+std::string with_flags(const std::string& text) {
+  std::string shown;
+  for (std::size_t at = 0; at < text.size();) {
+    if (const auto* row = field_at(text, at)) {
+      shown += row->second;
+      at += std::strlen(row->first);
+    } else {
+      shown += text[at++];
+    }
+  }
+  return shown;
+}
+
+// An error about one option starts with its field (UsageError::option()): the flag
+// takes its place, and the rest may name further fields.
+std::string usage_message(const UsageError& e) {
+  const std::string text = e.what();
+  const auto* row = e.option().empty() ? nullptr : field_at(text, 0);
+  if (row && e.option() == row->first) return row->second + with_flags(text.substr(e.option().size()));
+  return with_flags(text);
 }
 
 // --- Checked option values: every size and count is refused (exit 2, naming the flag
@@ -97,14 +138,197 @@ std::uint64_t whole_number(const std::string& flag, const std::string& text, std
   return v;
 }
 
-// An option the user gave, with its text.
+constexpr std::uint64_t kMost = ~std::uint64_t(0);
+constexpr std::uint64_t kMaxThreads = 65536;
+
+// An option taken as text and checked after parsing: whether the user gave it, and what.
 struct Given {
   CLI::Option* option = nullptr;
   std::string text;
   bool given() const { return option && option->count() > 0; }
 };
 
-constexpr std::uint64_t kMaxThreads = 65536;
+CLI::Option* add_given(CLI::App* app, const std::string& flag, Given* g, const std::string& help) {
+  return g->option = app->add_option(flag, g->text, help);
+}
+
+// --- Enum options: their values are spelled by the library's tables (EnumNames).
+
+template <class E>
+std::vector<std::string> names_of(const EnumNames<E>& names) {
+  std::vector<std::string> spelled;
+  for (const EnumName<E>& n : names) spelled.push_back(n.name);
+  return spelled;
+}
+
+// An option taking one of the spellings in `names` into `value`: CLI11 checks the text
+// (its help and its error list the spellings, "{cube,sphere}"), the table converts it.
+template <class E>
+CLI::Option* add_enum_option(CLI::App* app, const std::string& flag, E* value, const EnumNames<E>& names,
+                             const std::string& help) {
+  return app
+      ->add_option_function<std::string>(
+          flag, [value, &names](const std::string& text) { value_named(names, text, value); }, help)
+      ->check(CLI::IsMember(names_of(names)));
+}
+
+// "a (note), b or c (note)": `values` in their order as `names` spells them, each with
+// its note when it has one.
+template <class E>
+std::string value_list(const EnumNames<E>& names, std::initializer_list<std::pair<E, const char*>> values) {
+  std::string list;
+  std::size_t k = 0;
+  for (const auto& [value, note] : values) {
+    if (k > 0) list += k + 1 == values.size() ? " or " : ", ";
+    list += name_of(names, value);
+    if (note) list += std::string(" (") + note + ")";
+    ++k;
+  }
+  return list;
+}
+
+// --- Options several subcommands take.
+
+void add_tmp_option(CLI::App* app, std::string* dir) {
+  app->add_option("--tmp", *dir, "Folder for temporary files (default $TMPDIR or /tmp)");
+}
+
+void add_threads_option(CLI::App* app, Given* threads) {
+  add_given(app, "--threads", threads, "Worker threads (default: all cores)");
+}
+
+unsigned threads_of(const Given& threads) { return unsigned(whole_number("--threads", threads.text, 1, kMaxThreads)); }
+
+void add_quiet_flag(CLI::App* app, bool* quiet, const std::string& help = "No progress") {
+  app->add_flag("--quiet", *quiet, help);
+}
+
+// --- simplify
+
+struct SimplifyArgs {
+  std::string in;
+  OutputOptions outputs;
+  // What CLI11 sets directly: the enums, the flags and --tmp. The numbers below are
+  // checked into a copy (check_simplify_args).
+  SimplifyOptions options;
+  std::string attributes = "all";
+  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
+  Given lods, lod_factor;
+  CLI::Option* refine = nullptr;
+  std::vector<CLI::Option*> floating_only;
+  bool measure = false;
+  bool quiet = false;
+};
+
+// The size of the output: cell, grid or ratio, or an exact target, and levels of detail.
+void add_size_options(CLI::App* cmd, SimplifyArgs& a) {
+  add_given(cmd, "--cell", &a.cell, "Cell side in model units");
+  add_given(cmd, "--grid", &a.grid,
+            "Cells along the longest bounding-box axis, 1 to " + std::to_string(kMaxGridDivisions));
+  add_given(cmd, "--ratio", &a.ratio, "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)");
+  a.cell.option->excludes(a.grid.option)->excludes(a.ratio.option);
+  a.grid.option->excludes(a.ratio.option);
+  add_given(cmd, "--target-tris", &a.target_tris,
+            "Exactly this many output triangles (at least 4): clustering to a few times that, then quadric edge "
+            "collapse");
+  add_given(cmd, "--target-ratio", &a.target_ratio, "Exactly this fraction of the input's triangles");
+  add_given(cmd, "--max-error", &a.max_error,
+            "Stop collapsing before an error above this, in model units (with or without a count)");
+  a.refine = add_enum_option(
+      cmd, "--refine", &a.options.target.refine, refine_method_names(),
+      "With a target: " +
+          value_list(refine_method_names(),
+                     {{RefineMethod::qem, "edge collapse to it exactly, the default"},
+                      {RefineMethod::none, "clustering alone, at a cell chosen for about the target"}}));
+  add_given(cmd, "--lods", &a.lods,
+            "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... and their description "
+            "OUT.lods.json (floating cells bin and grade once)");
+  add_given(cmd, "--lod-factor", &a.lod_factor, "With --lods: the cell grows F times a level (default 2)");
+  cmd->add_flag("--measure", a.measure,
+                "With --lods: measure each level's RMS and Hausdorff distance to the input (oocsimp measure's "
+                "symmetric figures) into OUT.lods.json");
+  add_given(cmd, "--intermediate-factor", &a.intermediate_factor,
+            "With a target: phase 1 clusters to about this many times the target, at least 1 (default 4; less when "
+            "--mem cannot hold that)");
+}
+
+// The floating method's own options: refused with another method.
+void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
+  FloatingOptions& f = a.options.floating;
+  a.floating_only = {
+      add_enum_option(cmd, "--cell-shape", &f.cell_shape, cell_shape_names(),
+                      std::string("Cell shape (default ") + cell_shape_name(CellShape::cube) + ")"),
+      add_enum_option(cmd, "--assign", &f.assign, assign_rule_names(),
+                      "Vertex in several cells: " +
+                          value_list(assign_rule_names(),
+                                     {{AssignRule::nearest, "centre, the default"}, {AssignRule::heaviest, nullptr}})),
+      add_enum_option(
+          cmd, "--rep", &f.representative, representative_rule_names(),
+          std::string("Representative vertex (default ") + representative_name(RepresentativeRule::quadric) + ")"),
+      add_given(cmd, "--tile", &a.tile,
+                "Tile side in model units (default: from --mem); refused when the tiles' buffers (9 KiB each) "
+                "exceed a quarter of --mem"),
+      cmd->add_flag("--keep-tmp", f.keep_temp,
+                    "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
+      add_enum_option(
+          cmd, "--spill-compress", &f.spill_compression, spill_compression_names(),
+          "zstd on the triangle, stitch and kept-triangle spills: " +
+              value_list(spill_compression_names(),
+                         {{SpillCompression::automatic,
+                           "when they would not fit in half the available memory, or with --keep-tmp, the default"},
+                          {SpillCompression::zstd, nullptr},
+                          {SpillCompression::none, nullptr}})),
+  };
+  for (CLI::Option* o : a.floating_only) o->group("Floating method only (--method floating, the default)");
+}
+
+CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
+  CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, optionally .zst)");
+  cmd->footer(
+      "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of the "
+      "triangles).\n");
+  cmd->add_option("input", a.in, "Input mesh")->required();
+  cmd->add_option("-o,--output", a.outputs.mesh,
+                  "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
+                  "binary PLY to stdout")
+      ->required();
+  add_size_options(cmd, a);
+  add_enum_option(cmd, "--method", &a.options.method, cluster_method_names(),
+                  value_list(cluster_method_names(),
+                             {{ClusterMethod::floating, "Low & Tan, the default"},
+                              {ClusterMethod::uniform, "OoCS grid"},
+                              {ClusterMethod::qem,
+                               "edge collapse of the whole input in memory; with a target or --ratio's default "
+                               "share, exactly"}}));
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  cmd->add_option("--stats", a.outputs.stats, "Write statistics as JSON to this file (- for stdout)");
+  cmd->add_flag("--force", a.outputs.replace_input,
+                "Allow the output to be the input (replaced only after a successful run)");
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
+  cmd->add_flag("--ascii", a.outputs.ascii, "Write ascii PLY or STL instead of binary");
+  cmd->add_flag(
+      "--normals", a.outputs.normals,
+      "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)");
+  cmd->add_flag("--thick-edges", a.options.thick_edges,
+                "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
+                "edge and point with a thickness, OBJ l and p lines)");
+  add_enum_option(
+      cmd, "--precision", &a.options.precision, precision_names(),
+      "Output coordinates: " +
+          value_list(precision_names(),
+                     {{Precision::float32, nullptr},
+                      {Precision::float64, nullptr},
+                      {Precision::automatic, "double when the input holds more than float precision, the default"}}));
+  add_given(cmd, "--mem", &a.mem,
+            "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G (default: a quarter "
+            "of physical memory)");
+  cmd->add_option("--attributes", a.attributes,
+                  "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)");
+  cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
+  add_floating_options(cmd, a);
+  return cmd;
+}
 
 // Given with another method, the floating-only options would do nothing.
 void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, ClusterMethod method) {
@@ -113,52 +337,21 @@ void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, Cluste
       throw UsageError(o->get_name() + " applies to --method floating only, not to --method " + method_name(method));
 }
 
-struct SimplifyArgs {
-  std::string in;
-  OutputOptions outputs;
+// What simplify runs with, checked.
+struct SimplifyPlan {
   SimplifyOptions options;
-  std::string method = "floating", cell_shape = "cube", assign = "nearest", rep = "quadric", spill = "auto",
-              precision = "auto", attributes = "all";
-  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
-  Given lods, lod_factor;
   LodOptions lod;
-  bool measure = false;
-  std::string refine = "qem";
-  CLI::Option* refine_option = nullptr;
-  std::vector<CLI::Option*> floating_only;
-  bool quiet = false;
 };
 
-template <class E>
-E enum_named(const std::string& text, std::initializer_list<E> values, const char* (*name)(E)) {
-  for (E e : values)
-    if (text == name(e)) return e;
-  throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
-}
-
-ClusterMethod method_named(const std::string& text) {
-  for (ClusterMethod m : cluster_methods())
-    if (text == method_name(m)) return m;
-  throw UsageError("unknown value \"" + text + "\"");  // IsMember checked it already
-}
-
-std::vector<std::string> method_names() {
-  std::vector<std::string> names;
-  for (ClusterMethod m : cluster_methods()) names.push_back(method_name(m));
-  return names;
-}
-
-// Turns the texts of the simplify options into SimplifyOptions, checking each.
-void resolve_simplify_args(SimplifyArgs& a) {
-  SimplifyOptions& o = a.options;
-  o.method = method_named(a.method);
+// Checks the options given as text into a SimplifyPlan, each refused with its flag.
+SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
+  SimplifyPlan p{a.options, {}};
+  SimplifyOptions& o = p.options;
   if (o.method != ClusterMethod::floating) refuse_floating_only(a.floating_only, o.method);
-  if (a.target_tris.given())
-    o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, ~std::uint64_t(0));
+  if (a.target_tris.given()) o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, kMost);
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
   if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
-  o.target.refine = enum_named(a.refine, {RefineMethod::qem, RefineMethod::none}, refine_name);
-  if (a.refine_option->count() > 0 && !o.target.given())
+  if (a.refine->count() > 0 && !o.target.given())
     throw UsageError("--refine applies with a target: give --target-tris, --target-ratio or --max-error");
   if (a.intermediate_factor.given()) {
     if (!o.target.given())
@@ -166,19 +359,12 @@ void resolve_simplify_args(SimplifyArgs& a) {
           "--intermediate-factor applies with a target: give --target-tris, --target-ratio or --max-error");
     o.target.intermediate_factor = positive_number("--intermediate-factor", a.intermediate_factor.text);
   }
-  o.floating.cell_shape = enum_named(a.cell_shape, {CellShape::cube, CellShape::sphere}, cell_shape_name);
-  o.floating.assign = enum_named(a.assign, {AssignRule::nearest, AssignRule::heaviest}, assign_name);
-  o.floating.representative = enum_named(
-      a.rep, {RepresentativeRule::quadric, RepresentativeRule::centre, RepresentativeRule::mean}, representative_name);
-  o.floating.spill_compression = enum_named(
-      a.spill, {SpillCompression::automatic, SpillCompression::zstd, SpillCompression::none}, spill_compression_name);
-  o.precision = enum_named(a.precision, {Precision::automatic, Precision::float32, Precision::float64}, precision_name);
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
-  if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, GridSpec::kMaxDim));
+  if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, kMaxGridDivisions));
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
   if (a.tile.given()) o.floating.tile_side = positive_number("--tile", a.tile.text);
-  if (a.threads.given()) o.threads = unsigned(whole_number("--threads", a.threads.text, 1, kMaxThreads));
+  if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) {
     try {
       o.memory_budget = parse_byte_size(a.mem.text);
@@ -186,13 +372,20 @@ void resolve_simplify_args(SimplifyArgs& a) {
       throw UsageError(std::string("--mem: ") + e.what());
     }
   }
-  if (a.lods.given()) a.lod.levels = std::uint32_t(whole_number("--lods", a.lods.text, 1, 16));
+  if (a.lods.given()) p.lod.levels = std::uint32_t(whole_number("--lods", a.lods.text, 1, 16));
   if (a.lod_factor.given()) {
     if (!a.lods.given()) throw UsageError("--lod-factor applies with --lods");
-    a.lod.factor = positive_number("--lod-factor", a.lod_factor.text);
-    if (!(a.lod.factor > 1)) bad_value("--lod-factor", a.lod_factor.text, "a number above 1");
+    p.lod.factor = positive_number("--lod-factor", a.lod_factor.text);
+    if (!(p.lod.factor > 1)) bad_value("--lod-factor", a.lod_factor.text, "a number above 1");
   }
   if (a.measure && !a.lods.given()) throw UsageError("--measure applies with --lods (use oocsimp measure otherwise)");
+  return p;
+}
+
+// What the run did differently from what was asked, and what the input lost: not
+// silenced by --quiet.
+void print_warnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
 }
 
 // The last part of a path: level files are named in their description relative to it.
@@ -201,32 +394,34 @@ std::string base_name(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-// The description OUT.lods.json of the levels just written (with --measure, each
-// measured against the input), and a line per level.
-void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& stats, const std::string& description) {
-  std::vector<LodLevel> levels;
-  for (std::uint32_t k = 0; k < stats.size(); ++k) {
-    const SimplifyStats& s = stats[k];
-    LodLevel l;
-    l.file = base_name(lod_level_path(a.outputs.mesh, k));
-    l.cell = s.lod_cell;
-    l.vertices = s.output_vertices;
-    l.triangles = s.output_triangles;
-    l.edges = s.output_edges;
-    l.points = s.output_points;
-    l.seconds = s.seconds_total;
-    for (const PhaseTime& p : s.phases) l.phases.push_back({p.name, p.seconds});
-    if (a.measure) {
-      MeasureOptions m;
-      m.threads = a.options.threads;
-      m.temp_dir = a.options.temp_dir;
-      m.progress = a.options.progress;
-      const DistanceReport r = measure_surface_distance(a.in, lod_level_path(a.outputs.mesh, k), m);
-      l.rms = r.symmetric.rms;
-      l.hausdorff = r.symmetric.max;
-    }
-    levels.push_back(l);
+// Level k as its description lists it (with --measure, measured against the input).
+LodLevel describe_level(const SimplifyArgs& a, const SimplifyOptions& o, const SimplifyStats& s, std::uint32_t k) {
+  LodLevel l;
+  l.file = base_name(lod_level_path(a.outputs.mesh, k));
+  l.cell = s.lod_cell;
+  l.vertices = s.output_vertices;
+  l.triangles = s.output_triangles;
+  l.edges = s.output_edges;
+  l.points = s.output_points;
+  l.seconds = s.seconds_total;
+  for (const PhaseTime& p : s.phases) l.phases.push_back({p.name, p.seconds});
+  if (a.measure) {
+    MeasureOptions m;
+    m.threads = o.threads;
+    m.temp_dir = o.temp_dir;
+    m.progress = o.progress;
+    const DistanceReport r = measure_surface_distance(a.in, lod_level_path(a.outputs.mesh, k), m);
+    l.rms = r.symmetric.rms;
+    l.hausdorff = r.symmetric.max;
   }
+  return l;
+}
+
+// The description OUT.lods.json of the levels just written, and a line per level.
+void describe_levels(const SimplifyArgs& a, const SimplifyOptions& o, const std::vector<SimplifyStats>& stats,
+                     const std::string& description) {
+  std::vector<LodLevel> levels;
+  for (std::uint32_t k = 0; k < stats.size(); ++k) levels.push_back(describe_level(a, o, stats[k], k));
   write_lod_levels(description, levels);
   if (!a.quiet) {
     double total = 0;
@@ -242,20 +437,19 @@ void describe_levels(const SimplifyArgs& a, const std::vector<SimplifyStats>& st
     }
     std::printf("levels  %zu in %.3f s, described in %s\n", levels.size(), total, description.c_str());
   }
-  for (const SimplifyStats& s : stats)
-    for (const std::string& w : s.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
+  for (const SimplifyStats& s : stats) print_warnings(s.warnings);
 }
 
 // simplify --lods: the levels, then (with --measure) each against the input, then the
 // description OUT.lods.json, and a line per level.
-int run_simplify_lods(SimplifyArgs& a) {
+int run_simplify_lods(const SimplifyArgs& a, const SimplifyPlan& p) {
   std::vector<SimplifyStats> stats;
-  simplify_lods_file(a.in, a.outputs, a.options, a.lod, &stats);
+  simplify_lods_file(a.in, a.outputs, p.options, p.lod, &stats);
   // The levels are in place now: a description of the ones they replaced must not
   // outlive a failure to describe them (measuring or writing).
   const std::string description = lod_description_path(a.outputs.mesh);
   try {
-    describe_levels(a, stats, description);
+    describe_levels(a, p.options, stats, description);
   } catch (...) {
     std::remove(description.c_str());
     throw;
@@ -263,98 +457,100 @@ int run_simplify_lods(SimplifyArgs& a) {
   return kOk;
 }
 
-int run_simplify(SimplifyArgs& a) {
-  resolve_simplify_args(a);
-  ProgressReporter progress(a.quiet);
-  a.options.progress = progress.callback();
-  a.options.release_memory = release_free_heap;
-  a.options.budget_counts_process = true;
-  if (a.lods.given()) return run_simplify_lods(a);
-  SimplifyStats stats;
-  simplify_file(a.in, a.outputs, a.options, &stats);
-  if (!a.quiet) {
-    // stdout may carry the mesh or the stats: then the summary goes to stderr.
-    std::FILE* to = a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout;
-    if (a.options.method == ClusterMethod::floating) {
-      // The spill's parts that exist: on disk, in memory or both.
-      char disk[96] = "", memory[64] = "";
-      if (stats.spill_bytes)
-        std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)",
-                      double(stats.spill_bytes) / 1048576.0, double(stats.spill_raw_bytes) / 1048576.0);
-      if (stats.spill_bytes_in_memory)
-        std::snprintf(memory, sizeof memory, ", %.1f MiB of spill held in memory",
-                      double(stats.spill_bytes_in_memory) / 1048576.0);
-      std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.tiles,
-                   stats.resumed ? " (kept by an earlier run)" : "", stats.rounds, disk, memory);
-    }
-    if (a.options.target.given() || a.options.method == ClusterMethod::qem)
-      std::fprintf(
-          to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
-          stats.intermediate_triangles, stats.collapses, stats.largest_collapse_error, stats.largest_collapse_cost,
-          stats.target_missed ? ", target missed" : "");
-    if (stats.phase1_peak_anon_bytes)
-      std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
-                   double(stats.phase1_peak_anon_bytes) / 1048576.0, double(stats.phase2_peak_anon_bytes) / 1048576.0);
-    std::string phases;
-    for (const PhaseTime& p : stats.phases) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%s%s %.3f", phases.empty() ? "" : ", ", p.name.c_str(), p.seconds);
-      phases += buf;
-    }
-    const std::string thick = a.options.thick_edges ? ", " + std::to_string(stats.output_edges) + " edges, " +
-                                                          std::to_string(stats.output_points) + " points"
-                                                    : std::string();
-    double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
-    std::fprintf(to,
-                 "input   %" PRIu64 " vertices, %" PRIu64
-                 " triangles\n"
-                 "output  %" PRIu64 " vertices, %" PRIu64
-                 " triangles%s (%s, grid %ux%ux%u, cell %.6g)\n"
-                 "time    %.3f s (%s): %.2f Mtri/s\n"
-                 "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
-                 stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-                 thick.c_str(), method_name(a.options.method), stats.grid_dims[0], stats.grid_dims[1],
-                 stats.grid_dims[2], stats.cell_size, stats.seconds_total, phases.c_str(), mtri,
-                 double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
+// "open 0.012, bin 0.100, ...": the seconds of each phase.
+std::string phase_times(const std::vector<PhaseTime>& phases) {
+  std::string list;
+  for (const PhaseTime& p : phases) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%s %.3f", list.empty() ? "" : ", ", p.name.c_str(), p.seconds);
+    list += buf;
   }
+  return list;
+}
+
+// The floating method's tiles and its spill's parts that exist: on disk, in memory or both.
+void print_tiles(std::FILE* to, const SimplifyStats& stats) {
+  char disk[96] = "", memory[64] = "";
+  if (stats.spill_bytes)
+    std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)", double(stats.spill_bytes) / 1048576.0,
+                  double(stats.spill_raw_bytes) / 1048576.0);
+  if (stats.spill_bytes_in_memory)
+    std::snprintf(memory, sizeof memory, ", %.1f MiB of spill held in memory",
+                  double(stats.spill_bytes_in_memory) / 1048576.0);
+  std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.tiles,
+               stats.resumed ? " (kept by an earlier run)" : "", stats.rounds, disk, memory);
+}
+
+void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const SimplifyStats& stats) {
+  if (o.method == ClusterMethod::floating) print_tiles(to, stats);
+  if (o.target.given() || o.method == ClusterMethod::qem)
+    std::fprintf(
+        to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
+        stats.intermediate_triangles, stats.collapses, stats.largest_collapse_error, stats.largest_collapse_cost,
+        stats.target_missed ? ", target missed" : "");
+  if (stats.phase1_peak_anon_bytes)
+    std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
+                 double(stats.phase1_peak_anon_bytes) / 1048576.0, double(stats.phase2_peak_anon_bytes) / 1048576.0);
+  const std::string thick = o.thick_edges ? ", " + std::to_string(stats.output_edges) + " edges, " +
+                                                std::to_string(stats.output_points) + " points"
+                                          : std::string();
+  const double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
+  std::fprintf(to,
+               "input   %" PRIu64 " vertices, %" PRIu64
+               " triangles\n"
+               "output  %" PRIu64 " vertices, %" PRIu64
+               " triangles%s (%s, grid %ux%ux%u, cell %.6g)\n"
+               "time    %.3f s (%s): %.2f Mtri/s\n"
+               "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
+               stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
+               thick.c_str(), method_name(o.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
+               stats.cell_size, stats.seconds_total, phase_times(stats.phases).c_str(), mtri,
+               double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
+}
+
+int run_simplify(const SimplifyArgs& a) {
+  SimplifyPlan p = check_simplify_args(a);
+  ProgressReporter progress(a.quiet);
+  p.options.progress = progress.callback();
+  p.options.release_memory = release_free_heap;
+  p.options.budget_counts_process = true;
+  if (a.lods.given()) return run_simplify_lods(a, p);
+  SimplifyStats stats;
+  simplify_file(a.in, a.outputs, p.options, &stats);
+  // stdout may carry the mesh or the stats: then the summary goes to stderr.
+  if (!a.quiet)
+    print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, p.options, stats);
   // Not silenced by --quiet: the output lacks part of the input.
-  std::string skipped = skipped_input_summary(a.in, stats);
+  const std::string skipped = skipped_input_summary(a.in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
-  for (const std::string& w : stats.warnings) std::fprintf(stderr, "oocsimp: warning: %s\n", with_flags(w).c_str());
+  print_warnings(stats.warnings);
   return kOk;
 }
 
-// The thick edges and points of `m` (read through its triangle stream): counts and
-// the range and mean of their thicknesses.
-void print_thick_primitives(MeshInput& m) {
-  struct Tally {
-    std::uint64_t count = 0;
-    double least = HUGE_VAL, most = 0, sum = 0;
-  } edges, points;
-  m.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) {
-    for (std::size_t k = 0; k < n; ++k) {
-      Tally& t = p[k].a == p[k].b ? points : edges;
-      ++t.count;
-      t.least = std::min(t.least, double(p[k].thickness));
-      t.most = std::max(t.most, double(p[k].thickness));
-      t.sum += p[k].thickness;
-    }
-  });
-  std::vector<std::uint64_t> chunk(3 * 65536);
-  while (m.triangles->read(chunk.data(), 65536) > 0) {
-  }
-  for (const auto& [name, t] : {std::pair<const char*, const Tally&>{"edges", edges}, {"points", points}})
-    if (t.count > 0 && t.most == 0)
-      std::printf("%-9s %" PRIu64 " (no thickness)\n", name, t.count);
-    else if (t.count > 0)
-      std::printf("%-9s %" PRIu64 " (thickness %.6g to %.6g, mean %.6g)\n", name, t.count, t.least, t.most,
-                  t.sum / double(t.count));
+// --- info
+
+struct InfoArgs {
+  std::string in, tmp;
+};
+
+CLI::App* add_info_command(CLI::App& app, InfoArgs& a) {
+  CLI::App* cmd = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
+  cmd->add_option("input", a.in, "Input mesh")->required();
+  add_tmp_option(cmd, &a.tmp);
+  return cmd;
 }
 
-int run_info(const std::string& in, const std::string& tmp) {
-  OpenOptions open;
-  open.temp_dir = tmp;
-  MeshInput m = open_mesh_input(in, open);
+// The thick edges or points: count and the range and mean of their thicknesses.
+void print_tally(const char* name, const PrimitiveTally& t) {
+  if (t.count > 0 && t.most == 0)
+    std::printf("%-9s %" PRIu64 " (no thickness)\n", name, t.count);
+  else if (t.count > 0)
+    std::printf("%-9s %" PRIu64 " (thickness %.6g to %.6g, mean %.6g)\n", name, t.count, t.least, t.most,
+                t.sum / double(t.count));
+}
+
+int run_info(const InfoArgs& a) {
+  const MeshSummary m = describe_mesh(a.in, a.tmp);
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
   std::printf("format    %s%s\n", i.format.c_str(), i.compressed ? " (zstd)" : "");
@@ -362,15 +558,16 @@ int run_info(const std::string& in, const std::string& tmp) {
   if (i.unwelded_vertex_count) std::printf(" (welded from %" PRIu64 " stored)", i.unwelded_vertex_count);
   std::printf("\n");
   std::printf("faces     %" PRIu64 "\n", i.face_count);
-  if (i.edge_count > 0 || i.point_count > 0) print_thick_primitives(m);
+  print_tally("edges", m.edges);
+  print_tally("points", m.points);
   for (const auto& e : i.elements) std::printf("element   %s\n", e.c_str());
   for (const auto& c : i.comments) std::printf("header    %s\n", c.c_str());
   std::printf("positions %s\n", i.positions_in_place ? "read in place (mmap)" : "converted to a temporary array");
   // What simplify carries by default (--attributes all), with the range of each.
   if (m.attributes.empty()) std::printf("attributes none carried\n");
-  for (const VertexAttribute& a : m.attributes.attributes)
-    std::printf("attribute %s %s, carried (values %.9g to %.9g)\n", a.name.c_str(), attribute_type_name(a.type), a.min,
-                a.max);
+  for (const VertexAttribute& v : m.attributes)
+    std::printf("attribute %s %s, carried (values %.9g to %.9g)\n", v.name.c_str(), attribute_type_name(v.type), v.min,
+                v.max);
   for (const std::string& n : i.not_carried) std::printf("not carried %s\n", n.c_str());
   if (i.bounds.empty()) {
     std::printf("bounds    empty\n");
@@ -386,6 +583,32 @@ int run_info(const std::string& in, const std::string& tmp) {
   return kOk;
 }
 
+// --- generate
+
+struct GenerateArgs {
+  Given tris, seed;
+  std::string out;
+  GenerateOptions options;  // CLI11 sets the shape and the flags
+  bool quiet = false;
+};
+
+CLI::App* add_generate_command(CLI::App& app, GenerateArgs& a) {
+  CLI::App* cmd = app.add_subcommand("generate", "Write a synthetic dense mesh, streamed in O(1) memory");
+  add_given(cmd, "--tris", &a.tris, "Number of triangles (approximately), at least 1")->required();
+  const EnumNames<SyntheticShape>& shapes = synthetic_shape_names();
+  add_enum_option(cmd, "--shape", &a.options.shape, shapes,
+                  std::string("Shape (default ") + name_of(shapes, SyntheticShape::sphere) + "; " +
+                      name_of(shapes, SyntheticShape::branches) + ": a leafless tree of thin tubes)");
+  add_given(cmd, "--seed", &a.seed, "Random seed (default 1)");
+  cmd->add_option("-o,--output", a.out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
+  cmd->add_flag("--ascii", a.options.ascii, "Write ascii PLY");
+  cmd->add_flag("--attributes", a.options.attributes,
+                "Also write uchar red, green, blue (linear in x, y, z over the bounding box) and float nx, ny, nz (the "
+                "unit surface normal) per vertex");
+  add_quiet_flag(cmd, &a.quiet);
+  return cmd;
+}
+
 // generate writes PLY only: another extension would get PLY bytes under a misleading name.
 void check_generate_output(const std::string& out) {
   std::string name = out;
@@ -397,31 +620,139 @@ void check_generate_output(const std::string& out) {
     throw UsageError(out + ": generate writes PLY only: give a name ending in .ply or .ply.zst (or - for stdout)");
 }
 
-int run_generate(const std::string& tris_text, const std::string& shape, const std::string& seed_text,
-                 const std::string& out, bool ascii, bool attributes, bool quiet) {
-  GenerateOptions o;
-  o.triangles = whole_number("--tris", tris_text, 1, ~std::uint64_t(0));
-  o.seed = whole_number("--seed", seed_text, 0, ~std::uint64_t(0));
-  o.ascii = ascii;
-  o.attributes = attributes;
-  if (shape == "sphere")
-    o.shape = SyntheticShape::sphere;
-  else if (shape == "terrain")
-    o.shape = SyntheticShape::terrain;
-  else if (shape == "parts")
-    o.shape = SyntheticShape::parts;
-  else if (shape == "branches")
-    o.shape = SyntheticShape::branches;
-  else
-    throw UsageError("unknown shape \"" + shape + "\" (sphere, terrain, parts or branches)");
-  check_generate_output(out);
-  ProgressReporter progress(quiet);
+int run_generate(const GenerateArgs& a) {
+  GenerateOptions o = a.options;
+  o.triangles = whole_number("--tris", a.tris.text, 1, kMost);
+  if (a.seed.given()) o.seed = whole_number("--seed", a.seed.text, 0, kMost);
+  check_generate_output(a.out);
+  ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
-  GenerateResult r = generate_mesh(out, o);
-  if (!quiet)
-    std::fprintf(out == "-" ? stderr : stdout, "%s: %" PRIu64 " vertices, %" PRIu64 " triangles\n", out.c_str(),
+  const GenerateResult r = generate_mesh(a.out, o);
+  if (!a.quiet)
+    std::fprintf(a.out == "-" ? stderr : stdout, "%s: %" PRIu64 " vertices, %" PRIu64 " triangles\n", a.out.c_str(),
                  r.vertices, r.triangles);
   return kOk;
+}
+
+// --- measure
+
+struct MeasureArgs {
+  std::string a, b;
+  Given samples, seed, threads;
+  MeasureOptions options;  // CLI11 sets --tmp
+  bool json = false;
+  bool quiet = false;
+};
+
+CLI::App* add_measure_command(CLI::App& app, MeasureArgs& a) {
+  CLI::App* cmd = app.add_subcommand("measure", "Hausdorff, mean and RMS distance between two surfaces");
+  cmd->add_option("a", a.a, "Mesh A, streamed (the original; any size)")->required();
+  cmd->add_option("b", a.b, "Mesh B, loaded into memory (e.g. the simplification)")->required();
+  add_given(cmd, "--samples", &a.samples, "Points sampled on each surface (default 1000000)");
+  add_given(cmd, "--seed", &a.seed, "Random seed of the samples (default 1)");
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  cmd->add_flag("--json", a.json, "Print the report as JSON");
+  add_quiet_flag(cmd, &a.quiet);
+  return cmd;
+}
+
+void print_distance_report(const MeasureArgs& a, const DistanceReport& r) {
+  std::printf("A  %s: %" PRIu64 " triangles, area %.6g, bounding-box diagonal %.6g\n", a.a.c_str(), r.a_triangles,
+              r.a_area, r.a_diagonal);
+  std::printf("B  %s: %" PRIu64 " triangles, area %.6g\n", a.b.c_str(), r.b_triangles, r.b_area);
+  std::printf("%-10s %9s %13s %13s %13s %11s %11s %11s\n", "", "samples", "hausdorff", "mean", "rms", "haus/diag",
+              "mean/diag", "rms/diag");
+  const std::pair<const char*, const DistanceStats*> rows[] = {
+      {"A -> B", &r.a_to_b}, {"B -> A", &r.b_to_a}, {"symmetric", &r.symmetric}};
+  for (const auto& row : rows) {
+    const DistanceStats& s = *row.second;
+    DistanceStats f = r.fraction_of_diagonal(s);
+    std::printf("%-10s %9" PRIu64 " %13.6e %13.6e %13.6e %11.4e %11.4e %11.4e\n", row.first, s.samples, s.max, s.mean,
+                s.rms, f.max, f.mean, f.rms);
+  }
+  std::printf("time %.3f s, peak RSS %.1f MiB, peak anonymous %.1f MiB\n", r.seconds,
+              double(r.peak_rss_bytes) / 1048576.0, double(r.peak_anon_bytes) / 1048576.0);
+}
+
+int run_measure(const MeasureArgs& a) {
+  MeasureOptions o = a.options;
+  if (a.samples.given()) o.samples = whole_number("--samples", a.samples.text, 1, kMost);
+  if (a.seed.given()) o.seed = whole_number("--seed", a.seed.text, 0, kMost);
+  if (a.threads.given()) o.threads = threads_of(a.threads);
+  ProgressReporter progress(a.quiet);
+  o.progress = progress.callback();
+  const DistanceReport r = measure_surface_distance(a.a, a.b, o);
+  if (a.json)
+    std::fputs(distance_report_to_json(r).c_str(), stdout);
+  else
+    print_distance_report(a, r);
+  return kOk;
+}
+
+// --- lod-select
+
+struct LodSelectArgs {
+  std::string lods, distance, fov, height, factor;
+  bool json = false;
+};
+
+CLI::App* add_lod_select_command(CLI::App& app, LodSelectArgs& a) {
+  CLI::App* cmd = app.add_subcommand("lod-select", "Pick the level of detail for a viewing distance (Low & Tan §4)");
+  cmd->add_option("lods", a.lods, "OUT.lods.json, written by simplify --lods")->required();
+  cmd->add_option("--distance", a.distance, "Distance from the camera, model units")->required();
+  cmd->add_option("--fov", a.fov, "Vertical field of view, degrees")->required();
+  cmd->add_option("--height", a.height, "Image height, pixels")->required();
+  cmd->add_option("--factor", a.factor, "Pixels a cell may span, at least 1 (default 5)");
+  cmd->add_flag("--json", a.json, "Print the choice as JSON");
+  return cmd;
+}
+
+// Low & Tan §4: the level for a viewing distance. X defaults to 5, the accurate end of
+// the paper's 5-10 (a higher X trades visual accuracy for speed).
+int run_lod_select(const LodSelectArgs& a) {
+  const std::vector<LodLevel> levels = read_lod_levels(a.lods);
+  const double r = pixel_size_at(positive_number("--distance", a.distance), positive_number("--fov", a.fov, 179.999),
+                                 double(whole_number("--height", a.height, 1, 1u << 20)));
+  const double x = a.factor.empty() ? 5.0 : positive_number("--factor", a.factor);
+  if (x < 1) bad_value("--factor", a.factor, "a number of at least 1");
+  const LodChoice c = choose_lod(levels, r, x);
+  const LodLevel& l = levels[c.level];
+  if (a.json) {
+    std::puts(lod_choice_json(levels, c, r, x).c_str());
+    return kOk;
+  }
+  std::printf("level      %zu: %s (cell %.6g)%s\n", c.level, l.file.c_str(), l.cell,
+              c.finest_too_coarse ? ", the finest there is: its cell spans more than the factor's pixels" : "");
+  std::printf("pixel      %.6g model units (R = 2 D tan(FOV/2) / H); cells up to %.6g (factor %g)\n", r, x * r, x);
+  std::printf("thick line T / R = T x %.6g pixels for an edge of thickness T\n", 1 / r);
+  return kOk;
+}
+
+// --- render
+
+struct RenderArgs {
+  std::string in, out, size, view, tmp;
+  RenderOptions options;  // CLI11 sets the shading and --thick-edges
+  bool quiet = false;
+};
+
+CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
+  CLI::App* cmd = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
+  cmd->add_option("input", a.in, "Mesh file (PLY, OBJ, STL, optionally .zst)")->required();
+  cmd->add_option("-o,--output", a.out, "PNG file")->required();
+  cmd->add_option("--size", a.size, "Image size WIDTHxHEIGHT (default 1024x768)");
+  cmd->add_option("--view", a.view,
+                  "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
+  add_enum_option(
+      cmd, "--shading", &a.options.shading, shading_names(),
+      value_list(shading_names(), {{Shading::flat, "default"}, {Shading::smooth, "the file's vertex normals"}}));
+  cmd->add_flag("--thick-edges", a.options.thick_edges,
+                "Draw edges T/R pixels wide and points as discs T/R across (T their thickness, R the pixel size; Low "
+                "& Tan 1997 sec. 3.3); one pixel wide without");
+  add_tmp_option(cmd, &a.tmp);
+  add_quiet_flag(cmd, &a.quiet, "No progress or summary");
+  return cmd;
 }
 
 // "WxH" and "AZ,EL" of render.
@@ -446,69 +777,23 @@ void parse_render_args(const std::string& size, const std::string& view, RenderO
   }
 }
 
-int run_render(const std::string& in, const std::string& out, RenderOptions options, const std::string& tmp,
-               bool quiet) {
-  ProgressReporter progress(quiet);
-  options.progress = progress.callback();
+int run_render(const RenderArgs& a) {
+  RenderOptions o = a.options;
+  parse_render_args(a.size, a.view, &o);
+  ProgressReporter progress(a.quiet);
+  o.progress = progress.callback();
   const auto t0 = std::chrono::steady_clock::now();
-  const RenderStats s = render_file(in, out, options, tmp);
+  const RenderStats s = render_file(a.in, a.out, o, a.tmp);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!quiet)
+  if (!a.quiet)
     std::fprintf(stderr,
                  "render  %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64 " points, %ux%u pixels (%" PRIu64
                  " covered, %.3g model units each), %.3f s\n",
-                 s.triangles, s.edges, s.points, options.width, options.height, s.covered_pixels, s.pixel_size,
-                 seconds);
+                 s.triangles, s.edges, s.points, o.width, o.height, s.covered_pixels, s.pixel_size, seconds);
   return kOk;
 }
 
-// Low & Tan §4: the level for a viewing distance. X defaults to 5, the accurate end of
-// the paper's 5-10 (a higher X trades visual accuracy for speed).
-int run_lod_select(const std::string& path, const std::string& distance, const std::string& fov,
-                   const std::string& height, const std::string& factor, bool json) {
-  const std::vector<LodLevel> levels = read_lod_levels(path);
-  const double r = pixel_size_at(positive_number("--distance", distance), positive_number("--fov", fov, 179.999),
-                                 double(whole_number("--height", height, 1, 1u << 20)));
-  const double x = factor.empty() ? 5.0 : positive_number("--factor", factor);
-  if (x < 1) bad_value("--factor", factor, "a number of at least 1");
-  const LodChoice c = choose_lod(levels, r, x);
-  const LodLevel& l = levels[c.level];
-  if (json) {
-    std::puts(lod_choice_json(levels, c, r, x).c_str());
-    return kOk;
-  }
-  std::printf("level      %zu: %s (cell %.6g)%s\n", c.level, l.file.c_str(), l.cell,
-              c.finest_too_coarse ? ", the finest there is: its cell spans more than the factor's pixels" : "");
-  std::printf("pixel      %.6g model units (R = 2 D tan(FOV/2) / H); cells up to %.6g (factor %g)\n", r, x * r, x);
-  std::printf("thick line T / R = T x %.6g pixels for an edge of thickness T\n", 1 / r);
-  return kOk;
-}
-
-int run_measure(const std::string& a, const std::string& b, MeasureOptions options, bool json, bool quiet) {
-  ProgressReporter progress(quiet);
-  options.progress = progress.callback();
-  DistanceReport r = measure_surface_distance(a, b, options);
-  if (json) {
-    std::fputs(distance_report_to_json(r).c_str(), stdout);
-    return kOk;
-  }
-  std::printf("A  %s: %" PRIu64 " triangles, area %.6g, bounding-box diagonal %.6g\n", a.c_str(), r.a_triangles,
-              r.a_area, r.a_diagonal);
-  std::printf("B  %s: %" PRIu64 " triangles, area %.6g\n", b.c_str(), r.b_triangles, r.b_area);
-  std::printf("%-10s %9s %13s %13s %13s %11s %11s %11s\n", "", "samples", "hausdorff", "mean", "rms", "haus/diag",
-              "mean/diag", "rms/diag");
-  const std::pair<const char*, const DistanceStats*> rows[] = {
-      {"A -> B", &r.a_to_b}, {"B -> A", &r.b_to_a}, {"symmetric", &r.symmetric}};
-  for (const auto& row : rows) {
-    const DistanceStats& s = *row.second;
-    DistanceStats f = r.fraction_of_diagonal(s);
-    std::printf("%-10s %9" PRIu64 " %13.6e %13.6e %13.6e %11.4e %11.4e %11.4e\n", row.first, s.samples, s.max, s.mean,
-                s.rms, f.max, f.mean, f.rms);
-  }
-  std::printf("time %.3f s, peak RSS %.1f MiB, peak anonymous %.1f MiB\n", r.seconds,
-              double(r.peak_rss_bytes) / 1048576.0, double(r.peak_anon_bytes) / 1048576.0);
-  return kOk;
-}
+// --- Parse errors and failures.
 
 // Levenshtein distance, for "did you mean".
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -564,6 +849,28 @@ std::string one_line(std::string text) {
   return text;
 }
 
+// The exception being handled, reported on stderr as its exit code (called in a catch block).
+int report_failure() {
+  try {
+    throw;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "oocsimp: %s\n", usage_message(e).c_str());
+    return kUsage;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "oocsimp: %s\n", e.what());
+    return kBadInput;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
+    return kIo;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "oocsimp: out of memory\n");
+    return kIo;
+  } catch (const std::exception& e) {  // Cancelled among them
+    std::fprintf(stderr, "oocsimp: %s\n", e.what());
+    return kIo;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -572,199 +879,20 @@ int main(int argc, char** argv) {
   CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("oocsimp ") + version());
-
-  const char* const common = "Options";
-  const char* const floating_group = "Floating method only (--method floating, the default)";
-
-  SimplifyArgs sa;
-  CLI::App* simplify = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, optionally .zst)");
-  simplify->footer(
-      "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of "
-      "the triangles).\n");
-  simplify->add_option("input", sa.in, "Input mesh")->required();
-  simplify
-      ->add_option("-o,--output", sa.outputs.mesh,
-                   "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
-                   "binary PLY to stdout")
-      ->required()
-      ->group(common);
-  sa.cell.option = simplify->add_option("--cell", sa.cell.text, "Cell side in model units")->group(common);
-  sa.grid.option =
-      simplify
-          ->add_option("--grid", sa.grid.text,
-                       "Cells along the longest bounding-box axis, 1 to " + std::to_string(GridSpec::kMaxDim))
-          ->group(common);
-  sa.ratio.option = simplify
-                        ->add_option("--ratio", sa.ratio.text,
-                                     "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)")
-                        ->group(common);
-  sa.cell.option->excludes(sa.grid.option)->excludes(sa.ratio.option);
-  sa.grid.option->excludes(sa.ratio.option);
-  sa.target_tris.option =
-      simplify
-          ->add_option("--target-tris", sa.target_tris.text,
-                       "Exactly this many output triangles (at least 4): clustering to a few times that, then quadric "
-                       "edge collapse")
-          ->group(common);
-  sa.target_ratio.option =
-      simplify->add_option("--target-ratio", sa.target_ratio.text, "Exactly this fraction of the input's triangles")
-          ->group(common);
-  sa.max_error.option =
-      simplify
-          ->add_option("--max-error", sa.max_error.text,
-                       "Stop collapsing before an error above this, in model units (with or without a count)")
-          ->group(common);
-  sa.refine_option = simplify
-                         ->add_option("--refine", sa.refine,
-                                      "With a target: qem (edge collapse to it exactly, the default) or none "
-                                      "(clustering alone, at a cell chosen for about the target)")
-                         ->check(CLI::IsMember({"qem", "none"}))
-                         ->group(common);
-  sa.lods.option = simplify
-                       ->add_option("--lods", sa.lods.text,
-                                    "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... "
-                                    "and their description OUT.lods.json (floating cells bin and grade once)")
-                       ->group(common);
-  sa.lod_factor.option =
-      simplify
-          ->add_option("--lod-factor", sa.lod_factor.text, "With --lods: the cell grows F times a level (default 2)")
-          ->group(common);
-  simplify
-      ->add_flag("--measure", sa.measure,
-                 "With --lods: measure each level's RMS and Hausdorff distance to the input (oocsimp measure's "
-                 "symmetric figures) into OUT.lods.json")
-      ->group(common);
-  sa.intermediate_factor.option =
-      simplify
-          ->add_option("--intermediate-factor", sa.intermediate_factor.text,
-                       "With a target: phase 1 clusters to about this many times the target, at least 1 (default 4; "
-                       "less when --mem cannot hold that)")
-          ->group(common);
-  simplify
-      ->add_option("--method", sa.method,
-                   "floating (Low & Tan, the default), uniform (OoCS grid) or qem (edge collapse of the whole "
-                   "input in memory; with a target or --ratio's default share, exactly)")
-      ->check(CLI::IsMember(method_names()))
-      ->group(common);
-  sa.threads.option =
-      simplify->add_option("--threads", sa.threads.text, "Worker threads (default: all cores)")->group(common);
-  simplify->add_option("--tmp", sa.options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)")
-      ->group(common);
-  simplify->add_option("--stats", sa.outputs.stats, "Write statistics as JSON to this file (- for stdout)")
-      ->group(common);
-  simplify
-      ->add_flag("--force", sa.outputs.replace_input,
-                 "Allow the output to be the input (replaced only after a successful run)")
-      ->group(common);
-  simplify->add_flag("--quiet", sa.quiet, "No progress and no summary")->group(common);
-  simplify->add_flag("--ascii", sa.outputs.ascii, "Write ascii PLY or STL instead of binary")->group(common);
-  simplify
-      ->add_flag(
-          "--normals", sa.outputs.normals,
-          "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)")
-      ->group(common);
-  simplify
-      ->add_flag("--thick-edges", sa.options.thick_edges,
-                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; "
-                 "PLY element edge and point with a thickness, OBJ l and p lines)")
-      ->group(common);
-  simplify
-      ->add_option("--precision", sa.precision,
-                   "Output coordinates: float, double or auto (double when the input holds more than float "
-                   "precision, the default)")
-      ->check(CLI::IsMember({"auto", "float", "double"}))
-      ->group(common);
-  sa.mem.option = simplify
-                      ->add_option("--mem", sa.mem.text,
-                                   "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G "
-                                   "(default: a quarter of physical memory)")
-                      ->group(common);
-  simplify
-      ->add_option("--attributes", sa.attributes,
-                   "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)")
-      ->group(common);
-  simplify->add_flag("--weld", sa.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)")
-      ->group(common);
-  sa.floating_only = {
-      simplify->add_option("--cell-shape", sa.cell_shape, "Cell shape (default cube)")
-          ->check(CLI::IsMember({"cube", "sphere"})),
-      simplify->add_option("--assign", sa.assign, "Vertex in several cells: nearest (centre, the default) or heaviest")
-          ->check(CLI::IsMember({"nearest", "heaviest"})),
-      simplify->add_option("--rep", sa.rep, "Representative vertex (default quadric)")
-          ->check(CLI::IsMember({"quadric", "centre", "mean"})),
-      sa.tile.option = simplify->add_option("--tile", sa.tile.text,
-                                            "Tile side in model units (default: from --mem); refused when the "
-                                            "tiles' buffers (9 KiB each) exceed a quarter of --mem"),
-      simplify->add_flag("--keep-tmp", sa.options.floating.keep_temp,
-                         "Keep the binned tiles in --tmp and reuse them on the next run of the same input"),
-      simplify
-          ->add_option("--spill-compress", sa.spill,
-                       "zstd on the triangle, stitch and kept-triangle spills: auto (when they would not fit in "
-                       "half the available memory, or with --keep-tmp, the default), zstd or none")
-          ->check(CLI::IsMember({"auto", "zstd", "none"})),
+  SimplifyArgs simplify;
+  InfoArgs info;
+  GenerateArgs generate;
+  MeasureArgs measure;
+  LodSelectArgs lod_select;
+  RenderArgs render;
+  const std::pair<CLI::App*, std::function<int()>> commands[] = {
+      {add_simplify_command(app, simplify), [&] { return run_simplify(simplify); }},
+      {add_info_command(app, info), [&] { return run_info(info); }},
+      {add_generate_command(app, generate), [&] { return run_generate(generate); }},
+      {add_measure_command(app, measure), [&] { return run_measure(measure); }},
+      {add_lod_select_command(app, lod_select), [&] { return run_lod_select(lod_select); }},
+      {add_render_command(app, render), [&] { return run_render(render); }},
   };
-  for (CLI::Option* o : sa.floating_only) o->group(floating_group);
-
-  std::string in, out, tmp, shape = "sphere";
-  bool quiet = false, ascii = false;
-  CLI::App* info = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
-  info->add_option("input", in, "Input mesh")->required();
-  info->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
-
-  std::string tris_text, seed_text = "1";
-  CLI::App* generate = app.add_subcommand("generate", "Write a synthetic dense mesh, streamed in O(1) memory");
-  generate->add_option("--tris", tris_text, "Number of triangles (approximately), at least 1")->required();
-  generate->add_option("--shape", shape, "Shape (default sphere; branches: a leafless tree of thin tubes)")
-      ->check(CLI::IsMember({"sphere", "terrain", "parts", "branches"}));
-  generate->add_option("--seed", seed_text, "Random seed (default 1)");
-  generate->add_option("-o,--output", out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
-  generate->add_flag("--ascii", ascii, "Write ascii PLY");
-  bool generate_attributes = false;
-  generate->add_flag("--attributes", generate_attributes,
-                     "Also write uchar red, green, blue (linear in x, y, z over the bounding box) and float nx, ny, "
-                     "nz (the unit surface normal) per vertex");
-  generate->add_flag("--quiet", quiet, "No progress");
-
-  std::string second, samples_text, measure_seed_text, measure_threads_text;
-  MeasureOptions measure_options;
-  bool json = false;
-  CLI::App* measure = app.add_subcommand("measure", "Hausdorff, mean and RMS distance between two surfaces");
-  measure->add_option("a", in, "Mesh A, streamed (the original; any size)")->required();
-  measure->add_option("b", second, "Mesh B, loaded into memory (e.g. the simplification)")->required();
-  auto* samples = measure->add_option("--samples", samples_text, "Points sampled on each surface (default 1000000)");
-  auto* measure_seed = measure->add_option("--seed", measure_seed_text, "Random seed of the samples (default 1)");
-  auto* measure_threads = measure->add_option("--threads", measure_threads_text, "Worker threads (default: all cores)");
-  measure->add_option("--tmp", measure_options.temp_dir, "Folder for temporary files (default $TMPDIR or /tmp)");
-  measure->add_flag("--json", json, "Print the report as JSON");
-  measure->add_flag("--quiet", quiet, "No progress");
-
-  std::string lod_distance, lod_fov, lod_height, lod_factor;
-  bool lod_json = false;
-  CLI::App* lod_select =
-      app.add_subcommand("lod-select", "Pick the level of detail for a viewing distance (Low & Tan §4)");
-  lod_select->add_option("lods", in, "OUT.lods.json, written by simplify --lods")->required();
-  lod_select->add_option("--distance", lod_distance, "Distance from the camera, model units")->required();
-  lod_select->add_option("--fov", lod_fov, "Vertical field of view, degrees")->required();
-  lod_select->add_option("--height", lod_height, "Image height, pixels")->required();
-  lod_select->add_option("--factor", lod_factor, "Pixels a cell may span, at least 1 (default 5)");
-  lod_select->add_flag("--json", lod_json, "Print the choice as JSON");
-
-  std::string render_size, render_view, render_shading = "flat";
-  CLI::App* render = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
-  render->add_option("input", in, "Mesh file (PLY, OBJ, STL, optionally .zst)")->required();
-  render->add_option("-o,--output", out, "PNG file")->required();
-  render->add_option("--size", render_size, "Image size WIDTHxHEIGHT (default 1024x768)");
-  render->add_option("--view", render_view,
-                     "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
-  render->add_option("--shading", render_shading, "flat (default) or smooth (the file's vertex normals)")
-      ->check(CLI::IsMember({"flat", "smooth"}));
-  bool render_thick = false;
-  render->add_flag("--thick-edges", render_thick,
-                   "Draw edges T/R pixels wide and points as discs T/R across (T their thickness, R the pixel size; "
-                   "Low & Tan 1997 sec. 3.3); one pixel wide without");
-  render->add_option("--tmp", tmp, "Folder for temporary files (default $TMPDIR or /tmp)");
-  render->add_flag("--quiet", quiet, "No progress or summary");
-
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -778,42 +906,11 @@ int main(int argc, char** argv) {
                  suggestion(app, argc, argv).c_str());
     return kUsage;
   }
-
   try {
-    if (*simplify) return run_simplify(sa);
-    if (*info) return run_info(in, tmp);
-    if (*lod_select) return run_lod_select(in, lod_distance, lod_fov, lod_height, lod_factor, lod_json);
-    if (*render) {
-      RenderOptions o;
-      parse_render_args(render_size, render_view, &o);
-      o.shading = render_shading == "smooth" ? Shading::smooth : Shading::flat;
-      o.thick_edges = render_thick;
-      return run_render(in, out, o, tmp, quiet);
-    }
-    if (*generate) return run_generate(tris_text, shape, seed_text, out, ascii, generate_attributes, quiet);
-    if (*measure) {
-      constexpr std::uint64_t kMost = ~std::uint64_t(0);
-      if (samples->count() > 0) measure_options.samples = whole_number("--samples", samples_text, 1, kMost);
-      if (measure_seed->count() > 0) measure_options.seed = whole_number("--seed", measure_seed_text, 0, kMost);
-      if (measure_threads->count() > 0)
-        measure_options.threads = unsigned(whole_number("--threads", measure_threads_text, 1, kMaxThreads));
-      return run_measure(in, second, measure_options, json, quiet);
-    }
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
-    return kUsage;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
-    return kBadInput;
-  } catch (const IoError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
-    return kIo;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "oocsimp: out of memory\n");
-    return kIo;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
-    return kIo;
+    for (const auto& [command, run] : commands)
+      if (*command) return run();
+  } catch (...) {
+    return report_failure();
   }
   return kUsage;
 }

@@ -6,11 +6,13 @@
 // line and name the file and the position (byte offset or line). An option at fault is
 // named by its field, as the caller set it: "options.memory_budget",
 // "options.sizing.grid", "options.floating.tile_side", "options.temp_dir" (the CLI
-// shows its own flags in their place).
+// shows its own flags in their place); a UsageError about one option also carries its
+// field (UsageError::option()).
 #pragma once
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace oocsimp {
 
@@ -18,6 +20,16 @@ namespace oocsimp {
 class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  /// An error about one option: `message` starts with its field, `option`
+  /// ("options.memory_budget 256 MiB cannot hold ..."), so that a program can show the
+  /// option its own way (the CLI shows the flag that sets it).
+  UsageError(std::string option, const std::string& message)
+      : std::runtime_error(message), option_(std::move(option)) {}
+  /// The field the message starts with; empty when the error is about no one option.
+  const std::string& option() const { return option_; }
+
+ private:
+  std::string option_;
 };
 
 /// The input file is malformed: truncated, wrong counts, bad indices, a malformed

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "oocsimp/enum_names.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -59,5 +60,8 @@ struct GenerateResult {
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
 /// complete). Throws UsageError for options.triangles 0, IoError when writing fails.
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options);
+
+/// The shapes as the command line spells them, the default first.
+const EnumNames<SyntheticShape>& synthetic_shape_names();
 
 }  // namespace oocsimp

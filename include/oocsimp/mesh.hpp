@@ -3,6 +3,7 @@
 // formats the library writes.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -48,6 +49,21 @@ struct MeshInfo {
   /// texture coordinates, per-face properties, vertex list properties, attributes left
   /// out by the selection (SimplifyOptions::attributes).
   std::vector<std::string> not_carried;
+};
+
+/// The thick edges or the points of a mesh file: how many, and the least, the largest
+/// and the sum of their thicknesses (0 where the file gives none).
+struct PrimitiveTally {
+  std::uint64_t count = 0;
+  double least = HUGE_VAL, most = 0, sum = 0;
+};
+
+/// What `oocsimp info` prints about a mesh file (describe_mesh).
+struct MeshSummary {
+  MeshInfo info;
+  /// The vertex attributes a run carries by default (all), with their ranges.
+  std::vector<VertexAttribute> attributes;
+  PrimitiveTally edges, points;
 };
 
 /// Faces that the input lost instead of failing, by reason. Polygons are fanned

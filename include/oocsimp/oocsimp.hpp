@@ -31,9 +31,10 @@
 #include <vector>
 
 #include "oocsimp/attributes.hpp"  // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
+#include "oocsimp/enum_names.hpp"  // EnumNames: each option value's spelling
 #include "oocsimp/error.hpp"       // UsageError, InputError, IoError, Cancelled
 #include "oocsimp/geometry.hpp"    // Vec3d, Box3d
-#include "oocsimp/mesh.hpp"        // MeshView, SimplifiedMesh, MeshInfo, MeshFormat
+#include "oocsimp/mesh.hpp"        // MeshView, SimplifiedMesh, MeshInfo, MeshSummary, MeshFormat
 #include "oocsimp/options.hpp"     // SimplifyOptions, TargetOptions, LodOptions, OutputOptions
 #include "oocsimp/progress.hpp"    // Progress, ProgressCallback
 #include "oocsimp/stats.hpp"       // SimplifyStats
@@ -81,6 +82,14 @@ using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, co
 /// first, handed to `sink` when it is done (the levels simplify_lods_file writes).
 void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options, const LodOptions& lods,
                            const LodSink& sink);
+
+// --- Reading -------------------------------------------------------------------
+
+/// Opens the mesh file at `path` (temporary files in `temp_dir`; empty =
+/// default_temp_dir()) and summarises it. The tallies of thick edges and points need a
+/// pass over the faces, taken only when the file has some. Throws InputError for a
+/// malformed file, IoError when it cannot be read.
+MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string());
 
 // --- Writing -------------------------------------------------------------------
 
@@ -172,6 +181,16 @@ const char* representative_name(RepresentativeRule r);
 const char* spill_compression_name(SpillCompression c);
 const char* refine_name(RefineMethod r);
 const char* precision_name(Precision p);
+
+/// The tables those names come from, one per enum, each in the order the command line
+/// lists the values (the default first).
+const EnumNames<ClusterMethod>& cluster_method_names();
+const EnumNames<CellShape>& cell_shape_names();
+const EnumNames<AssignRule>& assign_rule_names();
+const EnumNames<RepresentativeRule>& representative_rule_names();
+const EnumNames<SpillCompression>& spill_compression_names();
+const EnumNames<RefineMethod>& refine_method_names();
+const EnumNames<Precision>& precision_names();
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and
 /// ignored vertices in `stats`, with the first non-finite vertex; empty when the input

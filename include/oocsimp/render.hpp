@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/enum_names.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -62,5 +63,8 @@ std::string encode_png(const Image& image);
 /// fails before the work). Throws UsageError (output = input), InputError, IoError.
 RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
                         const std::string& temp_dir = {});
+
+/// The shadings as the command line spells them, the default first.
+const EnumNames<Shading>& shading_names();
 
 }  // namespace oocsimp

@@ -95,14 +95,15 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
   // buffers, the pipeline's chunks), whatever the input: say so before starting.
   constexpr std::uint64_t kMinimumBudget = 32u << 20;
   if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
-    throw UsageError("options.memory_budget " + std::to_string(options.memory_budget >> 20) +
-                     " MiB is below the minimum of " + std::to_string(kMinimumBudget >> 20) + " MiB");
+    throw UsageError("options.memory_budget", "options.memory_budget " + std::to_string(options.memory_budget >> 20) +
+                                                  " MiB is below the minimum of " +
+                                                  std::to_string(kMinimumBudget >> 20) + " MiB");
   // Thick edges come from clustering; a collapse to a target does not make them (yet),
   // and saying so beats dropping them.
   if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
-    throw UsageError(
-        "options.thick_edges needs a clustering method without a target (options.method floating or "
-        "uniform; exact targets do not make thick edges yet)");
+    throw UsageError("options.thick_edges",
+                     "options.thick_edges needs a clustering method without a target (options.method floating or "
+                     "uniform; exact targets do not make thick edges yet)");
   check_float_range(input);
   SimplifyStats st;
   st.input_vertices = input.positions.count;
@@ -171,13 +172,15 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, Simplify
 namespace {
 
 void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
-  if (lods.levels < 1 || lods.levels > 16) throw UsageError("options.lods.levels must be 1 to 16");
+  if (lods.levels < 1 || lods.levels > 16)
+    throw UsageError("options.lods.levels", "options.lods.levels must be 1 to 16");
   if (!(lods.factor > 1) || !std::isfinite(lods.factor))
-    throw UsageError("options.lods.factor must be a number above 1");
+    throw UsageError("options.lods.factor", "options.lods.factor must be a number above 1");
   if (options.method == ClusterMethod::qem)
-    throw UsageError("options.lods needs a clustering method (options.method floating or uniform)");
+    throw UsageError("options.lods", "options.lods needs a clustering method (options.method floating or uniform)");
   if (options.target.max_error > 0)
-    throw UsageError("options.lods halves a triangle target per level; it does not take options.target.max_error");
+    throw UsageError("options.lods",
+                     "options.lods halves a triangle target per level; it does not take options.target.max_error");
 }
 
 // sqrt(2 A / T) for the output's area A and triangle count T (SimplifyStats::lod_cell).
@@ -291,18 +294,19 @@ namespace {
 // Writing over the input (or one output over the other) would lose it: refused before
 // any work, naming both.
 void check_distinct_destinations(const std::string& input_path, const OutputOptions& outputs) {
-  auto refuse = [](const std::string& a, const std::string& b, const std::string& hint) {
-    throw UsageError(a + " and " + b + " are the same file" + hint);
+  auto refuse = [](const std::string& option, const std::string& a, const std::string& b, const std::string& hint) {
+    throw UsageError(option, a + " and " + b + " are the same file" + hint);
   };
   if (!outputs.replace_input && same_file(outputs.mesh, input_path))
-    refuse("output " + outputs.mesh, "input " + input_path,
+    refuse("", "output " + outputs.mesh, "input " + input_path,
            " (outputs.replace_input replaces the input after a successful run)");
   if (outputs.stats.empty()) return;
-  if (same_file(outputs.stats, input_path)) refuse("outputs.stats " + outputs.stats, "input " + input_path, "");
+  if (same_file(outputs.stats, input_path))
+    refuse("outputs.stats", "outputs.stats " + outputs.stats, "input " + input_path, "");
   if (outputs.stats == "-" && outputs.mesh == "-")
-    throw UsageError("outputs.mesh - and outputs.stats - cannot both write to stdout");
+    throw UsageError("outputs.mesh", "outputs.mesh - and outputs.stats - cannot both write to stdout");
   if (outputs.stats == outputs.mesh || same_file(outputs.stats, outputs.mesh))
-    refuse("outputs.stats " + outputs.stats, "output " + outputs.mesh, "");
+    refuse("outputs.stats", "outputs.stats " + outputs.stats, "output " + outputs.mesh, "");
 }
 
 // The warning for an output format that cannot hold the carried attributes.
@@ -383,10 +387,10 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
 
 void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
                         const LodOptions& lods, std::vector<SimplifyStats>* stats) {
-  if (outputs.mesh == "-") throw UsageError("options.lods writes a file per level, not to stdout");
+  if (outputs.mesh == "-") throw UsageError("options.lods", "options.lods writes a file per level, not to stdout");
   if (!outputs.stats.empty())
-    throw UsageError("outputs.stats and options.lods: the levels' figures go to their description (" +
-                     lod_description_path(outputs.mesh) + ")");
+    throw UsageError("outputs.stats", "outputs.stats and options.lods: the levels' figures go to their description (" +
+                                          lod_description_path(outputs.mesh) + ")");
   check_lods(options, lods);
   const MeshFormat format = output_format(outputs);
   // Every level's file is opened before the work, and committed when all are written.
@@ -493,5 +497,70 @@ std::uint64_t parse_byte_size(const std::string& text) {
     throw UsageError("size \"" + text + "\" must be at least 1 byte and below 16 EiB");
   return std::uint64_t(v * mult);
 }
+
+// --- The spellings of the option values: each written here once.
+
+const EnumNames<ClusterMethod>& cluster_method_names() {
+  static const EnumNames<ClusterMethod> names = {
+      {ClusterMethod::floating, "floating"}, {ClusterMethod::uniform, "uniform"}, {ClusterMethod::qem, "qem"}};
+  return names;
+}
+
+const EnumNames<CellShape>& cell_shape_names() {
+  static const EnumNames<CellShape> names = {{CellShape::cube, "cube"}, {CellShape::sphere, "sphere"}};
+  return names;
+}
+
+const EnumNames<AssignRule>& assign_rule_names() {
+  static const EnumNames<AssignRule> names = {{AssignRule::nearest, "nearest"}, {AssignRule::heaviest, "heaviest"}};
+  return names;
+}
+
+const EnumNames<RepresentativeRule>& representative_rule_names() {
+  static const EnumNames<RepresentativeRule> names = {{RepresentativeRule::quadric, "quadric"},
+                                                      {RepresentativeRule::centre, "centre"},
+                                                      {RepresentativeRule::mean, "mean"}};
+  return names;
+}
+
+const EnumNames<SpillCompression>& spill_compression_names() {
+  static const EnumNames<SpillCompression> names = {
+      {SpillCompression::automatic, "auto"}, {SpillCompression::zstd, "zstd"}, {SpillCompression::none, "none"}};
+  return names;
+}
+
+const EnumNames<RefineMethod>& refine_method_names() {
+  static const EnumNames<RefineMethod> names = {{RefineMethod::qem, "qem"}, {RefineMethod::none, "none"}};
+  return names;
+}
+
+const EnumNames<Precision>& precision_names() {
+  static const EnumNames<Precision> names = {
+      {Precision::automatic, "auto"}, {Precision::float32, "float"}, {Precision::float64, "double"}};
+  return names;
+}
+
+namespace {
+
+// A value outside its table (a cast) is spelled as the default, so that the stats
+// always have a name to write.
+template <class E>
+const char* name_or_default(const EnumNames<E>& names, E value) {
+  const char* name = name_of(names, value);
+  return name ? name : names.front().name;
+}
+
+}  // namespace
+
+const char* method_name(ClusterMethod m) {
+  if (const char* name = name_of(cluster_method_names(), m)) return name;
+  throw UsageError("unknown clustering method");
+}
+const char* cell_shape_name(CellShape s) { return name_or_default(cell_shape_names(), s); }
+const char* assign_name(AssignRule a) { return name_or_default(assign_rule_names(), a); }
+const char* representative_name(RepresentativeRule r) { return name_or_default(representative_rule_names(), r); }
+const char* spill_compression_name(SpillCompression c) { return name_or_default(spill_compression_names(), c); }
+const char* refine_name(RefineMethod r) { return name_or_default(refine_method_names(), r); }
+const char* precision_name(Precision p) { return name_or_default(precision_names(), p); }
 
 }  // namespace oocsimp

@@ -88,7 +88,8 @@ GridSpec choose_grid(const MeshInput& input, const CellSizing& sizing, unsigned)
   const Box3d& bounds = input.info.bounds;
   if (s.cell != 0) return GridSpec::with_cell(bounds, s.cell);
   if (s.grid != 0) return GridSpec::with_divisions(bounds, s.grid);
-  if (!(s.ratio > 0 && s.ratio <= 1)) throw UsageError("options.sizing.ratio must be in (0, 1]");
+  if (!(s.ratio > 0 && s.ratio <= 1))
+    throw UsageError("options.sizing.ratio", "options.sizing.ratio must be in (0, 1]");
   if (input.positions.count == 0 || input.info.face_count == 0) return GridSpec::with_divisions(bounds, 1);
   // A clustered surface keeps about two triangles per occupied cell (Euler: F ~ 2V),
   // so the target is ratio * F / 2 cells. Occupancy grows as resolution^k (k ~ 2 for

@@ -9,7 +9,8 @@
 namespace oocsimp {
 
 GridSpec GridSpec::with_cell(const Box3d& bounds, double cell) {
-  if (!(cell > 0) || !std::isfinite(cell)) throw UsageError("options.sizing.cell must be a positive number");
+  if (!(cell > 0) || !std::isfinite(cell))
+    throw UsageError("options.sizing.cell", "options.sizing.cell must be a positive number");
   GridSpec g;
   g.cell = cell;
   if (bounds.empty()) return g;
@@ -28,8 +29,9 @@ GridSpec GridSpec::with_cell(const Box3d& bounds, double cell) {
 }
 
 GridSpec GridSpec::with_divisions(const Box3d& bounds, std::uint32_t n) {
-  if (n == 0) throw UsageError("options.sizing.grid must be at least 1");
-  if (n > kMaxDim) throw UsageError("options.sizing.grid must be at most " + std::to_string(kMaxDim));
+  if (n == 0) throw UsageError("options.sizing.grid", "options.sizing.grid must be at least 1");
+  if (n > kMaxDim)
+    throw UsageError("options.sizing.grid", "options.sizing.grid must be at most " + std::to_string(kMaxDim));
   double longest = 0;
   if (!bounds.empty())
     longest = std::max({bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});

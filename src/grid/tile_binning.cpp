@@ -121,12 +121,13 @@ SpillSettings spill_settings(const MeshInput& input, const TileSettings& setting
   s.work_share = tile_work_share(budget, fullest_tile_records);
   const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
   if (fullest > budget / 4 * 3)
-    throw UsageError("options.memory_budget " + whole_mib(budget) + " MiB cannot hold the fullest tile of " +
-                     input.info.path + " (about " + std::to_string(fullest_tile_records) + " triangle records, " +
-                     whole_mib(fullest) +
-                     " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
-                     whole_mib(fullest / 3 * 4) +
-                     " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
+    throw UsageError(
+        "options.memory_budget",
+        "options.memory_budget " + whole_mib(budget) + " MiB cannot hold the fullest tile of " + input.info.path +
+            " (about " + std::to_string(fullest_tile_records) + " triangle records, " + whole_mib(fullest) +
+            " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
+            whole_mib(fullest / 3 * 4) +
+            " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
   s.allow = memory_for_spills(input, settings, vertex_record_bytes, s.work_share);
   s.compress = spill_compression(input, settings, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled

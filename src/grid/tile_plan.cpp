@@ -110,11 +110,12 @@ void check_tile_count_fits(const MeshInput& input, double tile_side, double user
   if (occupied.size() <= most) return;
   char side[64];
   std::snprintf(side, sizeof side, "%g", user_side);
-  throw UsageError("options.floating.tile_side " + std::string(side) + " makes more than " + std::to_string(most) +
-                   " tiles here, whose buffers (" + std::to_string(kTileFixedBytes >> 10) +
-                   " KiB each) need more than a quarter of options.memory_budget " + std::to_string(budget >> 20) +
-                   " MiB: give a larger options.floating.tile_side or options.memory_budget, or leave "
-                   "options.floating.tile_side unset to size tiles from options.memory_budget");
+  throw UsageError("options.floating.tile_side",
+                   "options.floating.tile_side " + std::string(side) + " makes more than " + std::to_string(most) +
+                       " tiles here, whose buffers (" + std::to_string(kTileFixedBytes >> 10) +
+                       " KiB each) need more than a quarter of options.memory_budget " + std::to_string(budget >> 20) +
+                       " MiB: give a larger options.floating.tile_side or options.memory_budget, or leave "
+                       "options.floating.tile_side unset to size tiles from options.memory_budget");
 }
 
 }  // namespace oocsimp

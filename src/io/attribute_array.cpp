@@ -57,7 +57,8 @@ AttributeSelection parse_attribute_selection(const std::string& text) {
     std::size_t comma = text.find(',', at);
     std::string name = text.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
     if (name.empty())
-      throw UsageError("options.attributes \"" + text + "\": an empty name (expected all, none or NAME,NAME...)");
+      throw UsageError("options.attributes",
+                       "options.attributes \"" + text + "\": an empty name (expected all, none or NAME,NAME...)");
     if (std::find(s.names.begin(), s.names.end(), name) == s.names.end()) s.names.push_back(name);
     if (comma == std::string::npos) break;
     at = comma + 1;
@@ -109,8 +110,8 @@ std::vector<std::size_t> carried_attributes(const std::vector<AttributeCandidate
         std::size_t i = 0;
         while (i < candidates.size() && candidates[i].name != name) ++i;
         if (i == candidates.size() || is_texture_coordinate(name))
-          throw UsageError("options.attributes: " + path + " has no vertex attribute \"" + name +
-                           "\" that can be carried (it has: " + names_of(candidates) + ")");
+          throw UsageError("options.attributes", "options.attributes: " + path + " has no vertex attribute \"" + name +
+                                                     "\" that can be carried (it has: " + names_of(candidates) + ")");
         carried.push_back(i);
       }
       return carried;

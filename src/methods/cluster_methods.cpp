@@ -8,9 +8,9 @@ namespace oocsimp {
 
 const std::vector<ClusterMethodEntry>& cluster_method_table() {
   static const std::vector<ClusterMethodEntry> methods = {
-      {ClusterMethod::floating, "floating", cluster_floating},
-      {ClusterMethod::uniform, "uniform", cluster_uniform},
-      {ClusterMethod::qem, "qem", nullptr},  // no clustering: methods/multiphase.cpp
+      {ClusterMethod::floating, cluster_floating},
+      {ClusterMethod::uniform, cluster_uniform},
+      {ClusterMethod::qem, nullptr},  // no clustering: methods/multiphase.cpp
   };
   return methods;
 }
@@ -26,7 +26,5 @@ std::vector<ClusterMethod> cluster_methods() {
   for (const ClusterMethodEntry& e : cluster_method_table()) methods.push_back(e.method);
   return methods;
 }
-
-const char* method_name(ClusterMethod m) { return cluster_method(m).name; }
 
 }  // namespace oocsimp

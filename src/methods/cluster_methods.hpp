@@ -20,9 +20,8 @@ namespace oocsimp {
 using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                       SimplifyStats* stats, std::vector<Quadric>* quadrics);
 struct ClusterMethodEntry {
-  ClusterMethod method;
-  const char* name;  ///< as the stats (and the CLI's --method) spell it
-  ClusterRun run;    ///< null for qem, which clusters nothing (simplify_to_target)
+  ClusterMethod method;  ///< spelled by cluster_method_names() (oocsimp/simplify.hpp)
+  ClusterRun run;        ///< null for qem, which clusters nothing (simplify_to_target)
 };
 /// Every method, the default first.
 const std::vector<ClusterMethodEntry>& cluster_method_table();

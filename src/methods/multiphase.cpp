@@ -197,14 +197,17 @@ void check_target_options(const SimplifyOptions& o) {
         "give no options.sizing.cell, options.sizing.grid or options.sizing.ratio with it");
   if (o.method == ClusterMethod::qem && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
     throw UsageError(
+        "options.sizing.cell",
         "options.sizing.cell, options.sizing.grid and options.sizing.ratio apply to the clustering methods; the qem "
         "method takes options.target.triangles, options.target.ratio or options.target.max_error");
-  if (t.triangles != 0 && t.triangles < 4) throw UsageError("options.target.triangles must be at least 4");
-  if (t.ratio != 0 && !(t.ratio > 0 && t.ratio <= 1)) throw UsageError("options.target.ratio must be in (0, 1]");
+  if (t.triangles != 0 && t.triangles < 4)
+    throw UsageError("options.target.triangles", "options.target.triangles must be at least 4");
+  if (t.ratio != 0 && !(t.ratio > 0 && t.ratio <= 1))
+    throw UsageError("options.target.ratio", "options.target.ratio must be in (0, 1]");
   if (t.max_error != 0 && !(t.max_error > 0 && std::isfinite(t.max_error)))
-    throw UsageError("options.target.max_error must be a positive number");
+    throw UsageError("options.target.max_error", "options.target.max_error must be a positive number");
   if (!(t.intermediate_factor >= 1 && std::isfinite(t.intermediate_factor)))
-    throw UsageError("options.target.intermediate_factor must be at least 1");
+    throw UsageError("options.target.intermediate_factor", "options.target.intermediate_factor must be at least 1");
 }
 
 SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {

@@ -465,7 +465,7 @@ DistanceStats DistanceReport::fraction_of_diagonal(const DistanceStats& stats) c
 DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
                                         const MeasureOptions& options) {
   if (options.samples == 0 || options.samples > std::numeric_limits<std::uint32_t>::max())
-    throw UsageError("options.samples must be between 1 and 2^32 - 1");
+    throw UsageError("options.samples", "options.samples must be between 1 and 2^32 - 1");
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);

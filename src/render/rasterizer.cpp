@@ -166,9 +166,10 @@ class Rasterizer {
 void check_size(const RenderOptions& o) {
   constexpr std::uint32_t kLargest = 16384;
   if (o.width < 1 || o.height < 1 || o.width > kLargest || o.height > kLargest)
-    throw UsageError("options.width and options.height must be 1 to " + std::to_string(kLargest) + " pixels");
+    throw UsageError("options.width",
+                     "options.width and options.height must be 1 to " + std::to_string(kLargest) + " pixels");
   if (!std::isfinite(o.azimuth_degrees) || !std::isfinite(o.elevation_degrees))
-    throw UsageError("options.azimuth_degrees and options.elevation_degrees must be finite");
+    throw UsageError("options.azimuth_degrees", "options.azimuth_degrees and options.elevation_degrees must be finite");
 }
 
 }  // namespace
@@ -232,6 +233,11 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
     phase.set(input.triangles->bytes_consumed());
   }
   return raster.image(&st.covered_pixels);
+}
+
+const EnumNames<Shading>& shading_names() {
+  static const EnumNames<Shading> names = {{Shading::flat, "flat"}, {Shading::smooth, "smooth"}};
+  return names;
 }
 
 }  // namespace oocsimp

@@ -1,4 +1,4 @@
-// The --stats JSON of a simplify run, and the names the options are spelled with.
+// The --stats JSON of a simplify run, and the version it records.
 #include <charconv>
 #include <cinttypes>
 #include <cstdio>
@@ -13,46 +13,6 @@
 namespace oocsimp {
 
 const char* version() { return OOCSIMP_VERSION; }
-
-const char* refine_name(RefineMethod r) { return r == RefineMethod::none ? "none" : "qem"; }
-const char* cell_shape_name(CellShape s) { return s == CellShape::sphere ? "sphere" : "cube"; }
-const char* assign_name(AssignRule a) { return a == AssignRule::heaviest ? "heaviest" : "nearest"; }
-
-const char* representative_name(RepresentativeRule r) {
-  switch (r) {
-    case RepresentativeRule::centre:
-      return "centre";
-    case RepresentativeRule::mean:
-      return "mean";
-    case RepresentativeRule::quadric:
-      break;
-  }
-  return "quadric";
-}
-
-const char* spill_compression_name(SpillCompression c) {
-  switch (c) {
-    case SpillCompression::zstd:
-      return "zstd";
-    case SpillCompression::none:
-      return "none";
-    case SpillCompression::automatic:
-      break;
-  }
-  return "auto";
-}
-
-const char* precision_name(Precision p) {
-  switch (p) {
-    case Precision::float32:
-      return "float";
-    case Precision::float64:
-      return "double";
-    case Precision::automatic:
-      break;
-  }
-  return "auto";
-}
 
 namespace {
 

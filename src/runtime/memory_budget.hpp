@@ -55,8 +55,9 @@ class MemoryBudget {
   /// B MiB cannot hold WHAT: N MiB or more next to the H MiB the run holds; ADVICE".
   void check(std::uint64_t held, std::uint64_t more, const std::string& what, const std::string& advice) const {
     if (fits(held, more)) return;
-    throw UsageError("options.memory_budget " + whole_mib(bytes_) + " MiB cannot hold " + what + ": " +
-                     whole_mib(more) + " MiB or more next to the " + whole_mib(held) + " MiB the run holds; " + advice);
+    throw UsageError("options.memory_budget", "options.memory_budget " + whole_mib(bytes_) + " MiB cannot hold " +
+                                                  what + ": " + whole_mib(more) + " MiB or more next to the " +
+                                                  whole_mib(held) + " MiB the run holds; " + advice);
   }
 
  private:

@@ -566,7 +566,7 @@ GenerateResult branches(ByteSink& sink, const GenerateOptions& o, FaceCounter& f
 }  // namespace
 
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options) {
-  if (options.triangles == 0) throw UsageError("options.triangles must be at least 1");
+  if (options.triangles == 0) throw UsageError("options.triangles", "options.triangles must be at least 1");
   OutputFile out(path);
   GenerateResult r;
   ProgressPhase phase(options.progress, "generate", options.triangles, "tri");
@@ -591,6 +591,14 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
   }
   out.commit();
   return r;
+}
+
+const EnumNames<SyntheticShape>& synthetic_shape_names() {
+  static const EnumNames<SyntheticShape> names = {{SyntheticShape::sphere, "sphere"},
+                                                  {SyntheticShape::terrain, "terrain"},
+                                                  {SyntheticShape::parts, "parts"},
+                                                  {SyntheticShape::branches, "branches"}};
+  return names;
 }
 
 }  // namespace oocsimp
