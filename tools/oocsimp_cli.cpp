@@ -321,8 +321,8 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                       {Precision::float64, nullptr},
                       {Precision::automatic, "double when the input holds more than float precision, the default"}}));
   add_given(cmd, "--mem", &a.mem,
-            "Working-set budget of the floating tiles and of vertex welding, e.g. 256M or 2G (default: a quarter "
-            "of physical memory)");
+            "Memory budget of the whole process (its anonymous memory, output tables included), e.g. 256M or 2G, "
+            "at least 32M (default: a quarter of physical memory)");
   cmd->add_option("--attributes", a.attributes,
                   "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)");
   cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
