@@ -32,6 +32,7 @@
 #include "cluster/triangle_set.hpp"
 #include "common/huge_pages.hpp"
 #include "common/memory_budget.hpp"
+#include "common/phase_timer.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/cell_map.hpp"
 #include "grid/occupancy.hpp"
@@ -575,13 +576,13 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   CellMap<CellRecord> cells(1 << 16);
   TriangleSet kept;
 
-  double t0 = now_seconds();
+  PhaseTimer clock;
   accumulate_vertices(input.positions, grid, cells, budget, progress);
   // The cells are known now, before the faces are read: with the fewest kept
   // triangles (none) and their output indices, do they fit?
   budget.check(cells.bytes() + 2 * sizeof(std::uint32_t) * cells.size(),
                std::to_string(cells.size()) + " occupied cells");
-  double t1 = now_seconds();
+  clock.end("vertices");
   std::uint64_t triangles = 0;
   const UniformAttributeSums attributes(input.attributes);
   std::vector<double> attribute_sums;  // width() per cell, in the cells' table order
@@ -597,7 +598,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     thick->collapsed.assign(cells.size(), 0);
   }
   accumulate_triangles(input, grid, cells, kept, attributes, attribute_sums, thick.get(), budget, &triangles, progress);
-  double t2 = now_seconds();
+  clock.end("faces");
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
   // The hash indexes are not needed any more; free them before the output arrays
@@ -679,7 +680,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                                             &mesh.attributes.values[attribute_count * i]);
                       }
                     });
-  double t3 = now_seconds();
+  clock.end("solve");
 
   if (stats) {
     stats->input_triangles = triangles;
@@ -689,9 +690,7 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
     stats->output_triangles = kept_count;
     stats->output_edges = mesh.primitives.edge_count();
     stats->output_points = mesh.primitives.point_count();
-    stats->phases.push_back({"vertices", t1 - t0});
-    stats->phases.push_back({"faces", t2 - t1});
-    stats->phases.push_back({"solve", t3 - t2});
+    clock.move_to(&stats->phases);
   }
   return mesh;
 }

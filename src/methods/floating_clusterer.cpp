@@ -20,7 +20,6 @@
 #include "methods/floating_clusterer.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <utility>
@@ -31,6 +30,7 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
+#include "common/phase_timer.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
@@ -98,7 +98,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   double coarsest = 0;
   for (const GridSpec& g : grids) coarsest = std::max(coarsest, g.cell);
   const FloatingCellShape first_cell{grids.front().cell, options.floating.cell_shape};
-  double t0 = now_seconds();
+  PhaseTimer clock;  // the first level's phases begin with the binning (or resumption) and grading
 
   // The tiled mesh: kept by an earlier run, or binned.
   std::vector<std::string> warnings;  // the kept tiles', reported with the first level
@@ -114,7 +114,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
       resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, coarsest));
   const SpillSettings spill = spill_settings(input, options, sizeof(GradedVertex), fullest);
   if (!resumed) tiles = bin_triangles(input, tile_side, options.memory_budget, spill, options.progress);
-  double t1 = now_seconds();
+  clock.end(resumed ? "resume" : "bin");
   release_memory(options);  // the binning chunks
   // The fullest tile is known now; it must fit in the budget next to what the run
   // holds, even alone (TileMemoryGate runs it alone).
@@ -136,12 +136,13 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     if (keeping) kept.keep(tiles, *graded);
   }
   release_memory(options);  // the tiles' grading buffers
-  double t2 = now_seconds();
+  clock.end("grade");
 
   for (std::size_t level = 0; level < grids.size(); ++level) {
     const FloatingCellShape cell{grids[level].cell, options.floating.cell_shape};
-    double level_start = now_seconds();
     if (level > 0) {
+      // Every later level re-runs its first greedy from the graded vertices.
+      clock.restart();
       // This level's first greedy over the graded vertices of the level before.
       decisions = std::make_unique<BorderDecisions>(tiles.grid, cell);
       // Both levels' blocks exist at once: the new ones get what the old ones leave
@@ -151,14 +152,14 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
       const std::uint64_t allowance = spill.allow.vertex_blocks > held ? spill.allow.vertex_blocks - held : 0;
       blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, allowance);
       before->discard();
+      clock.end("regrade");
     }
-    double t3 = now_seconds();
     SimplifyStats stats = base;
     {
       ProgressPhase phase(options.progress, "rounds", 0, "round");
       decisions->sweep(*blocks, &stats);
     }
-    double t4 = now_seconds();
+    clock.end("rounds");
     TileBorders borders = decisions->take_borders();
     release_memory(options);
 
@@ -177,7 +178,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
       blocks->discard();
     }
     release_memory(options);
-    double t5 = now_seconds();
+    clock.end("cluster");
 
     std::vector<KeptTriangle> kept_triangles;
     {
@@ -188,7 +189,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     }
     shares.corners->discard();  // read into kept_triangles
     shares.inside->discard();
-    double t6 = now_seconds();
+    clock.end("stitch");
     SimplifiedMesh m;
     AssemblyCounts counts;
     {
@@ -198,7 +199,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
                         budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grids[level].origin,
                         options.thick_edges ? &thick : nullptr);
     }
-    double t7 = now_seconds();
+    clock.end("assemble");
 
     const StreamSpill* spills[] = {tiles.triangles.get(),   graded.get(),        shares.corners.get(),
                                    shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
@@ -222,16 +223,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     stats.largest_tile_records = tiles.largest_tile_records();
     stats.resumed = resumed;
     if (level == 0) stats.warnings.insert(stats.warnings.end(), warnings.begin(), warnings.end());
-    // The first level bins (or resumes) and grades; every later one re-runs its first
-    // greedy from the graded vertices ("regrade").
-    if (level == 0) {
-      const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0}, {"grade", t2 - t1}};
-      stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
-    } else {
-      stats.phases.push_back({"regrade", t3 - level_start});
-    }
-    const PhaseTime phases[] = {{"rounds", t4 - t3}, {"cluster", t5 - t4}, {"stitch", t6 - t5}, {"assemble", t7 - t6}};
-    stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
+    clock.move_to(&stats.phases);
     sink(level, m, stats);
   }
 }

@@ -15,6 +15,7 @@
 #include "cluster/attribute_sums.hpp"
 #include "common/huge_pages.hpp"
 #include "common/memory_budget.hpp"
+#include "common/phase_timer.hpp"
 #include "common/vec3_math.hpp"
 #include "methods/cluster_methods.hpp"
 #include "oocsimp/error.hpp"
@@ -111,7 +112,7 @@ SimplifiedMesh to_output(const QuadricMesh& m, const Vec3d& origin, const std::v
 SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<VertexAttribute>& attributes,
                       std::uint64_t target, const SimplifyOptions& options, SimplifyStats* stats, bool last = true,
                       bool* finer_may_help = nullptr) {
-  const double t0 = now_seconds();
+  PhaseTimer clock;
   const PeakAnonSampler memory;
   stats->intermediate_triangles = m.triangles.size() / 3;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
@@ -145,7 +146,8 @@ SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<Vert
   SimplifiedMesh out = to_output(done, origin, attributes);
   stats->output_vertices = out.positions.size() / 3;
   stats->output_triangles = out.triangles.size() / 3;
-  stats->phases.push_back({"refine", now_seconds() - t0});
+  clock.end("refine");
+  clock.move_to(&stats->phases);
   stats->phase2_peak_anon_bytes = memory.peak();
   return out;
 }
@@ -172,11 +174,12 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
 // Phase 2 alone, on the whole input: --method qem, and a target so near the input's
 // count that phase 1 would keep nearly everything.
 SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats) {
-  const double t0 = now_seconds();
+  PhaseTimer clock;
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   QuadricMesh whole = load_whole(input, o, origin, "for quadric edge collapse", stats);
-  stats->phases.push_back({"load", now_seconds() - t0});
+  clock.end("load");
+  clock.move_to(&stats->phases);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
   return refine(std::move(whole), origin, input.attributes.attributes, target, o, stats);
