@@ -128,11 +128,12 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   };
   std::unique_ptr<BlockStore> blocks;
   if (resumed) {
-    blocks = blocks_from_kept(tiles.grid, *graded, first_cell.size, first, spill.dir, spill.allow.vertex_blocks);
+    blocks = blocks_from_kept(tiles.grid, *graded, first, {first_cell.size, spill.dir, spill.allow.vertex_blocks});
   } else {
     if (options.floating.keep_temp) graded = graded_vertex_spill(tiles, spill);
-    blocks = grade_tiles(tiles, input.positions, first_cell.size, first, graded.get(), spill.dir,
-                         spill.allow.vertex_blocks, options.progress, work_share);
+    const GradingSettings grading{
+        {first_cell.size, spill.dir, spill.allow.vertex_blocks}, graded.get(), &options.progress, work_share};
+    blocks = grade_tiles(tiles, input.positions, first, grading);
     if (keeping) kept.keep(tiles, *graded);
   }
   release_memory(options);  // the tiles' grading buffers
@@ -150,7 +151,7 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
       std::unique_ptr<BlockStore> before = std::move(blocks);
       const std::uint64_t held = before->bytes_in_memory();
       const std::uint64_t allowance = spill.allow.vertex_blocks > held ? spill.allow.vertex_blocks - held : 0;
-      blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, allowance);
+      blocks = blocks_from_blocks(tiles.grid, *before, first, {cell.size, spill.dir, allowance});
       before->discard();
       clock.end("regrade");
     }
@@ -195,9 +196,14 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     {
       ProgressPhase phase(options.progress, "assemble", 0, "cell");
       const ThickAssembly thick{shares.edge_shares.get(), &input.positions};
-      m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
-                        budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grids[level].origin,
-                        options.thick_edges ? &thick : nullptr);
+      const AssemblySettings assembly{cell,
+                                      options.floating.representative,
+                                      budget,
+                                      shares.attribute_shares.get(),
+                                      &shares.attributes,
+                                      options.thick_edges ? &thick : nullptr,
+                                      grids[level].origin};
+      m = assemble_mesh(std::move(kept_triangles), *shares.partials, assembly, &counts, quadrics);
     }
     clock.end("assemble");
 
