@@ -12,7 +12,7 @@
 // Then every surviving cell gets the point that minimises its quadric (see
 // minimize_quadric). Memory holds the occupied cells and the surviving triangles,
 // never the input, and stays within --mem (TableBudget) or the run stops.
-#include "cluster/uniform_clusterer.hpp"
+#include "methods/uniform_clusterer.hpp"
 
 #include <tbb/parallel_for.h>
 
