@@ -213,7 +213,7 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
         return decisions.choose_first(t, s);
       };
       std::unique_ptr<BlockStore> blocks =
-          grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), 0, nullptr);
+          grade_tiles(tiles, in.positions, first, GradingSettings{{f.cell, f.dir.path(), 0}});
       SimplifyStats st;
       decisions.sweep(*blocks, &st);
       TileBorders borders = decisions.take_borders();
@@ -300,7 +300,7 @@ TEST_CASE("cluster shares summed over tiles equal the whole mesh's vertex quadri
     };
     // Blocks in memory here, in a file in the test above.
     std::unique_ptr<BlockStore> blocks =
-        grade_tiles(tiles, in.positions, f.cell, first, nullptr, f.dir.path(), std::uint64_t(1) << 30, nullptr);
+        grade_tiles(tiles, in.positions, first, GradingSettings{{f.cell, f.dir.path(), std::uint64_t(1) << 30}});
     decisions.sweep(*blocks, nullptr);
     TileBorders borders = decisions.take_borders();
     AccumulationSettings settings{cell, AssignRule::nearest, 64u << 20, f.spill(), nullptr};
@@ -391,7 +391,7 @@ TEST_CASE("stitch and assembly on a hand-made case: first occurrences in input o
     std::vector<KeptTriangle> stitched = stitch_kept_triangles(inside, corners);
     CHECK(stitched.size() == 4);
     AssemblyCounts counts;
-    SimplifiedMesh m = assemble_mesh(stitched, partials, FloatingCellShape{2, CellShape::cube}, rule, &counts);
+    SimplifiedMesh m = assemble_mesh(stitched, partials, {FloatingCellShape{2, CellShape::cube}, rule}, &counts);
     CHECK(counts.clusters == 4);
     // Input order of first occurrence: 1 (30 40 10), 3 (10 20 30), 5 (20 30 40); 7 is 3 again.
     // Vertices by first use: 30 -> 0, 40 -> 1, 10 -> 2, 20 -> 3.

@@ -18,16 +18,18 @@ std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, co
   return graded;
 }
 
-std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
-                                        const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, const ProgressCallback& progress,
-                                        std::uint64_t work_share) {
+std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions,
+                                        const FirstChoice& choose, const GradingSettings& settings) {
+  const double cell_size = settings.blocks.cell_size;
+  StreamSpill* const keep = settings.keep;
   std::uint32_t n = tiles.count();
-  ProgressPhase phase(progress, "grade tiles", n, "tile");
+  const ProgressCallback none;
+  ProgressPhase phase(settings.progress ? *settings.progress : none, "grade tiles", n, "tile");
   // Round 1: grade, sort and spill every tile's vertices; the greedy with the
   // borders of the neighbours graded before.
-  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", n, memory_allowance);
-  TileMemoryGate gate(work_share);
+  auto blocks =
+      std::make_unique<BlockStore>(settings.blocks.temp_dir, "vertex-blocks", n, settings.blocks.memory_allowance);
+  TileMemoryGate gate(settings.work_share);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
@@ -42,10 +44,11 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
   return blocks;
 }
 
-std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier, double cell_size,
-                                               const FirstChoice& choose, const std::string& temp_dir,
-                                               std::uint64_t memory_allowance) {
-  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count(), memory_allowance);
+std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier,
+                                               const FirstChoice& choose, const BlockSettings& settings) {
+  const double cell_size = settings.cell_size;
+  auto blocks =
+      std::make_unique<BlockStore>(settings.temp_dir, "vertex-blocks", grid.count(), settings.memory_allowance);
   grid.for_each_by_colour([&](std::uint32_t tile) {
     const TileVertexBlock before(earlier.block(tile));
     const std::vector<GradedVertex> sorted(before.vertices(), before.vertices() + before.size());
@@ -56,10 +59,11 @@ std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const Block
   return blocks;
 }
 
-std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
-                                             const FirstChoice& choose, const std::string& temp_dir,
-                                             std::uint64_t memory_allowance) {
-  auto blocks = std::make_unique<BlockStore>(temp_dir, "vertex-blocks", grid.count(), memory_allowance);
+std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, const FirstChoice& choose,
+                                             const BlockSettings& settings) {
+  const double cell_size = settings.cell_size;
+  auto blocks =
+      std::make_unique<BlockStore>(settings.temp_dir, "vertex-blocks", grid.count(), settings.memory_allowance);
   grid.for_each_by_colour([&](std::uint32_t tile) {
     std::vector<GradedVertex> sorted;
     kept.read(tile, &sorted);

@@ -56,27 +56,38 @@ std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, co
 using FirstChoice =
     std::function<std::vector<GradedVertex>(std::uint32_t tile, const std::vector<GradedVertex>& sorted)>;
 
-/// Every tile's vertex block (TileVertexBlock, cells of side `cell_size`) in one
-/// mapped BlockStore under `temp_dir`: graded with grade_tile, the tiles by colour
-/// class (TileGrid::for_each_by_colour) so that `choose` sees the borders of the
-/// classes before. With `keep`, each tile's sorted vertices are also appended to its
-/// stream there (--keep-tmp). Up to `memory_allowance` bytes of blocks stay in memory.
-/// The tiles in work take at most `work_share` bytes together (TileMemoryGate; a tile
-/// larger than that runs alone).
-std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions, double cell_size,
-                                        const FirstChoice& choose, StreamSpill* keep, const std::string& temp_dir,
-                                        std::uint64_t memory_allowance, const ProgressCallback& progress,
-                                        std::uint64_t work_share = ~std::uint64_t(0));
+/// Where the vertex blocks of one cell go.
+struct BlockSettings {
+  double cell_size = 1;                ///< the cells of the blocks (TileVertexBlock::build)
+  std::string temp_dir;                ///< the BlockStore's folder
+  std::uint64_t memory_allowance = 0;  ///< bytes of blocks that stay in memory
+};
+
+/// What grade_tiles follows besides its blocks' settings.
+struct GradingSettings {
+  BlockSettings blocks;
+  /// With --keep-tmp, each tile's sorted vertices are also appended to its stream here.
+  StreamSpill* keep = nullptr;
+  const ProgressCallback* progress = nullptr;  ///< the caller's, or none
+  /// The tiles in work take at most this many bytes together (TileMemoryGate; a tile
+  /// larger than that runs alone).
+  std::uint64_t work_share = ~std::uint64_t(0);
+};
+
+/// Every tile's vertex block (TileVertexBlock) in one mapped BlockStore, as
+/// settings.blocks say: graded with grade_tile, the tiles by colour class
+/// (TileGrid::for_each_by_colour) so that `choose` sees the borders of the classes
+/// before.
+std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions,
+                                        const FirstChoice& choose, const GradingSettings& settings);
 
 /// The same from the graded vertices in `earlier`, the blocks of another cell (levels
 /// of detail: the sweeps change which vertices are centres, never their order).
-std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier, double cell_size,
-                                               const FirstChoice& choose, const std::string& temp_dir,
-                                               std::uint64_t memory_allowance);
+std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier,
+                                               const FirstChoice& choose, const BlockSettings& settings);
 
 /// The same from vertices graded by an earlier run (stream `tile` of `kept`).
-std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, double cell_size,
-                                             const FirstChoice& choose, const std::string& temp_dir,
-                                             std::uint64_t memory_allowance);
+std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, const FirstChoice& choose,
+                                             const BlockSettings& settings);
 
 }  // namespace oocsimp

@@ -1,6 +1,6 @@
 #include "methods/cluster_methods.hpp"
 
-#include "cluster/uniform_clusterer.hpp"
+#include "methods/uniform_clusterer.hpp"
 #include "methods/floating_clusterer.hpp"
 #include "oocsimp/error.hpp"
 

@@ -9,6 +9,8 @@
 //   grade        cluster/tile_grading: per tile, colour class by colour class, grade
 //                the owned vertices (Low & Tan §3.1), sort them (§3.2) and run the
 //                first greedy with the borders published so far, into a vertex block
+//   regrade      cluster/tile_grading: each later level's first greedy over the graded
+//                vertices of the level before (levels of detail)
 //   sweep        cluster/centre_sweeps: the neighbours' border centres until no
 //                border changes (the decided centres)
 //   accumulate   cluster/cluster_accumulation: per tile, assign vertices to centres,
@@ -20,7 +22,6 @@
 #include "methods/floating_clusterer.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <utility>
@@ -31,6 +32,7 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
+#include "runtime/phase_timer.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
@@ -49,7 +51,7 @@ void release_memory(const SimplifyOptions& options) {
 }
 
 // The graded vertices of every tile, kept for --keep-tmp. They barely compress
-// (positions and weights are noise to zstd), so they are not compressed.
+// (positions and weights are noise to zstd), so they are stored raw.
 std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const SpillSettings& spill) {
   auto graded = std::make_unique<StreamSpill>(spill.dir, "vertices", sizeof(GradedVertex), 4096, false);
   graded->set_expected_bytes(spill.expected_bytes);
@@ -57,10 +59,9 @@ std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const
   return graded;
 }
 
-// An uneven input can put many times the planned triangles into its fullest tile
-// (the generated parts mesh does, with its small dense parts), whose working set
-// then does not fit --mem even alone: the run stops (exit 2) before grading, naming
-// what it would take, rather than exceed the budget.
+// An uneven input can put many times the planned triangles into its fullest tile,
+// whose working set then does not fit --mem even alone: the run stops (exit 2) before
+// grading, naming what it would take, rather than exceed the budget.
 void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tiles, const std::string& path) {
   const std::uint64_t records = tiles.largest_tile_records();
   const std::uint64_t need = records * kTileBytesPerRecord;
@@ -70,6 +71,200 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
                    whole_mib(need) + " MiB to grade)",
                "a dense part of the mesh: give options.memory_budget " + whole_mib(held + need + need / 4) +
                    " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
+}
+
+// One floating run over the levels' grids: the stages of the file's header, each a
+// method, in the order cluster_floating_levels calls them. Binning and grading do not
+// depend on the cell (kept_tiles.hpp): the tiles fit the coarsest level, and every
+// level clusters the same graded tiles (Low & Tan 1997 §3.2.2 and §4, "sort once").
+class FloatingRun {
+ public:
+  FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+              std::vector<Quadric>* quadrics);
+  FloatingRun(const FloatingRun&) = delete;
+  FloatingRun& operator=(const FloatingRun&) = delete;
+
+  void tile_mesh();
+  bool resumed() const { return resumed_; }
+  void grade();
+  void regrade(std::size_t level);
+  void sweep(SimplifyStats* stats);
+  ClusterShares accumulate(std::size_t level);
+  std::vector<KeptTriangle> stitch(std::size_t level, ClusterShares& shares);
+  SimplifiedMesh assemble(std::size_t level, std::vector<KeptTriangle> kept, ClusterShares& shares,
+                          AssemblyCounts* counts);
+  void report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts, const SimplifiedMesh& m,
+              SimplifyStats* stats) const;
+
+ private:
+  FloatingCellShape cell(std::size_t level) const { return {grids_[level].cell, options_.floating.cell_shape}; }
+
+  MeshInput& input_;
+  const std::vector<GridSpec>& grids_;
+  std::vector<Quadric>* quadrics_;
+  SimplifyOptions options_;
+  const MemoryBudget budget_;  // the output's check, at the end
+  double coarsest_ = 0;
+  std::vector<std::string> warnings_;  // the kept tiles', reported with the first level
+  KeptTileStore kept_;
+  BinnedTiles tiles_;
+  std::unique_ptr<StreamSpill> graded_;  // --keep-tmp: every tile's graded vertices
+  bool resumed_ = false, keeping_ = false;
+  SpillSettings spill_;
+  std::unique_ptr<BorderDecisions> decisions_;  // the level's
+  FirstChoice first_;                           // the level's first greedy, by decisions_
+  std::unique_ptr<BlockStore> blocks_;          // the level's graded vertex blocks
+};
+
+FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+                         std::vector<Quadric>* quadrics)
+    : input_(input),
+      grids_(grids),
+      quadrics_(quadrics),
+      options_(given),
+      budget_(options_.memory_budget ? options_.memory_budget : default_memory_budget(), options_.budget_counts_process),
+      kept_(input, given.temp_dir.empty() ? default_temp_dir() : given.temp_dir, &warnings_),
+      first_([this](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
+        return decisions_->choose_first(tile, sorted);
+      }) {
+  if (options_.memory_budget == 0) options_.memory_budget = default_memory_budget();
+  for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
+}
+
+// The tiled mesh: kept by an earlier run (--keep-tmp), or binned.
+void FloatingRun::tile_mesh() {
+  resumed_ = options_.floating.keep_temp && kept_.resume(coarsest_, &tiles_, &graded_);
+  keeping_ = options_.floating.keep_temp && !resumed_ && kept_.start();
+  // The tiles' share of the budget holds the fullest tile as planned (known exactly
+  // when resumed); the spills' allowances come after it.
+  const TileSettings tiling{options_.memory_budget, options_.floating.tile_side, options_.floating.keep_temp,
+                            options_.floating.spill_compression, options_.temp_dir};
+  const double tile_side = resumed_ ? 0 : plan_tile_side(input_, tiling, coarsest_);
+  const std::uint64_t fullest =
+      resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
+  spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
+  if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
+}
+
+// Graded vertex blocks (Low & Tan 1997 §3.1, sorted as §3.2 visits them) with the
+// first level's first greedy; kept for a later run with --keep-tmp.
+void FloatingRun::grade() {
+  release_memory(options_);  // the binning chunks
+  // The fullest tile is known now; it must fit in the budget next to what the run
+  // holds, even alone (TileMemoryGate runs it alone).
+  check_fullest_tile_fits(budget_, tiles_, input_.info.path);
+  const FloatingCellShape first_cell = cell(0);
+  decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, first_cell);
+  if (resumed_) {
+    blocks_ =
+        blocks_from_kept(tiles_.grid, *graded_, first_, {first_cell.size, spill_.dir, spill_.allow.vertex_blocks});
+  } else {
+    if (options_.floating.keep_temp) graded_ = graded_vertex_spill(tiles_, spill_);
+    GradingSettings grading;
+    grading.blocks = {first_cell.size, spill_.dir, spill_.allow.vertex_blocks};
+    grading.keep = graded_.get();
+    grading.progress = &options_.progress;
+    grading.work_share = spill_.work_share;
+    blocks_ = grade_tiles(tiles_, input_.positions, first_, grading);
+    if (keeping_) kept_.keep(tiles_, *graded_);
+  }
+  release_memory(options_);  // the tiles' grading buffers
+}
+
+// A later level's first greedy over the graded vertices of the level before.
+void FloatingRun::regrade(std::size_t level) {
+  const FloatingCellShape c = cell(level);
+  decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, c);
+  // Both levels' blocks exist at once: the new ones get what the old ones leave
+  // of the blocks' allowance.
+  std::unique_ptr<BlockStore> before = std::move(blocks_);
+  const std::uint64_t held = before->bytes_in_memory();
+  const std::uint64_t allowance = spill_.allow.vertex_blocks > held ? spill_.allow.vertex_blocks - held : 0;
+  blocks_ = blocks_from_blocks(tiles_.grid, *before, first_, {c.size, spill_.dir, allowance});
+  before->discard();
+}
+
+// The sweeps of border decisions after the first greedy, until no border changes.
+void FloatingRun::sweep(SimplifyStats* stats) {
+  ProgressPhase phase(options_.progress, "rounds", 0, "round");
+  decisions_->sweep(*blocks_, stats);
+}
+
+// Cluster shares and kept triangles, per tile against the decided centres.
+ClusterShares FloatingRun::accumulate(std::size_t level) {
+  TileBorders borders = decisions_->take_borders();
+  release_memory(options_);
+  const AccumulationSettings settings{
+      cell(level),        options_.floating.assign, options_.memory_budget, spill_,
+      &options_.progress, &input_.attributes,       spill_.work_share,      options_.thick_edges};
+  ClusterShares shares =
+      accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
+  // Centres live on in the cluster records; the per-tile lists are done, and the
+  // memory of the triangles (after the last level) and vertex blocks goes to the
+  // output tables.
+  TileBorders().swap(borders);
+  if (level + 1 == grids_.size()) {  // a next level reads the triangles again and grades from the blocks
+    tiles_.triangles->discard();
+    blocks_->discard();
+  }
+  release_memory(options_);
+  return shares;
+}
+
+// The triangles that cross tiles joined by index to the ones decided in tiles.
+std::vector<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& shares) {
+  std::vector<KeptTriangle> kept;
+  {
+    ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
+    CrossTileEdges cross{&input_.positions, cell(level).size, shares.edge_shares.get(), shares.cluster_span};
+    kept = stitch_kept_triangles(*shares.inside, *shares.corners, budget_, options_.thick_edges ? &cross : nullptr);
+  }
+  shares.corners->discard();  // read into kept
+  shares.inside->discard();
+  return kept;
+}
+
+// Representatives, and the output triangles in input order of first occurrence.
+SimplifiedMesh FloatingRun::assemble(std::size_t level, std::vector<KeptTriangle> kept, ClusterShares& shares,
+                                     AssemblyCounts* counts) {
+  ProgressPhase phase(options_.progress, "assemble", 0, "cell");
+  const ThickAssembly thick{shares.edge_shares.get(), &input_.positions};
+  AssemblySettings settings;
+  settings.cell = cell(level);
+  settings.rule = options_.floating.representative;
+  settings.budget = budget_;
+  settings.attribute_shares = shares.attribute_shares.get();
+  settings.attributes = &shares.attributes;
+  settings.thick = options_.thick_edges ? &thick : nullptr;
+  settings.origin = grids_[level].origin;
+  return assemble_mesh(std::move(kept), *shares.partials, settings, counts, quadrics_);
+}
+
+// The level's counts, and the spills' bytes so far.
+void FloatingRun::report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts,
+                         const SimplifiedMesh& m, SimplifyStats* stats) const {
+  const StreamSpill* spills[] = {tiles_.triangles.get(),  graded_.get(),       shares.corners.get(),
+                                 shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
+                                 shares.edge_shares.get()};
+  stats->spill_bytes = stats->spill_raw_bytes = blocks_->bytes_on_disk();
+  stats->spill_bytes_in_memory = blocks_->bytes_in_memory();
+  for (const StreamSpill* sp : spills)
+    if (sp) {
+      stats->spill_bytes += sp->bytes_on_disk();
+      stats->spill_raw_bytes += sp->bytes_spilled();
+      stats->spill_bytes_in_memory += sp->bytes_kept_in_memory();
+    }
+  stats->input_triangles = tiles_.triangle_count;
+  stats->skipped = tiles_.skipped;
+  stats->occupied_cells = counts.clusters;
+  stats->output_vertices = m.positions.size() / 3;
+  stats->output_triangles = m.triangles.size() / 3;
+  stats->output_edges = m.primitives.edge_count();
+  stats->output_points = m.primitives.point_count();
+  stats->tiles = tiles_.count();
+  stats->largest_tile_records = tiles_.largest_tile_records();
+  stats->resumed = resumed_;
+  if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
 }
 
 }  // namespace
@@ -89,150 +284,30 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options
 
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
                              const FloatingLevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
-  SimplifyOptions options = given;
-  const MemoryBudget budget(options.memory_budget, options.budget_counts_process);  // the output's check, at the end
-  if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
-  // Binning and grading do not depend on the cell (kept_tiles.hpp): the tiles fit the
-  // coarsest level, and every level clusters the same graded tiles.
-  double coarsest = 0;
-  for (const GridSpec& g : grids) coarsest = std::max(coarsest, g.cell);
-  const FloatingCellShape first_cell{grids.front().cell, options.floating.cell_shape};
-  double t0 = now_seconds();
-
-  // The tiled mesh: kept by an earlier run, or binned.
-  std::vector<std::string> warnings;  // the kept tiles', reported with the first level
-  KeptTileStore kept(input, options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, &warnings);
-  BinnedTiles tiles;
-  std::unique_ptr<StreamSpill> graded;  // --keep-tmp: every tile's graded vertices
-  const bool resumed = options.floating.keep_temp && kept.resume(coarsest, &tiles, &graded);
-  const bool keeping = options.floating.keep_temp && !resumed && kept.start();
-  // The tiles' share of the budget holds the fullest tile as planned (known exactly
-  // when resumed); the spills' allowances come after it.
-  const TileSettings tiling{options.memory_budget, options.floating.tile_side, options.floating.keep_temp,
-                            options.floating.spill_compression, options.temp_dir};
-  const double tile_side = resumed ? 0 : plan_tile_side(input, tiling, coarsest);
-  const std::uint64_t fullest =
-      resumed ? tiles.largest_tile_records() : estimate_fullest_tile_records(input, std::max(tile_side, coarsest));
-  const SpillSettings spill = spill_settings(input, tiling, sizeof(GradedVertex), fullest);
-  if (!resumed) tiles = bin_triangles(input, tile_side, options.memory_budget, spill, options.progress);
-  double t1 = now_seconds();
-  release_memory(options);  // the binning chunks
-  // The fullest tile is known now; it must fit in the budget next to what the run
-  // holds, even alone (TileMemoryGate runs it alone).
-  const std::uint64_t work_share = spill.work_share;
-  check_fullest_tile_fits(budget, tiles, input.info.path);
-
-  // Graded vertex blocks with the first level's first greedy.
-  auto decisions = std::make_unique<BorderDecisions>(tiles.grid, first_cell);
-  FirstChoice first = [&](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
-    return decisions->choose_first(tile, sorted);
-  };
-  std::unique_ptr<BlockStore> blocks;
-  if (resumed) {
-    blocks = blocks_from_kept(tiles.grid, *graded, first_cell.size, first, spill.dir, spill.allow.vertex_blocks);
-  } else {
-    if (options.floating.keep_temp) graded = graded_vertex_spill(tiles, spill);
-    blocks = grade_tiles(tiles, input.positions, first_cell.size, first, graded.get(), spill.dir,
-                         spill.allow.vertex_blocks, options.progress, work_share);
-    if (keeping) kept.keep(tiles, *graded);
-  }
-  release_memory(options);  // the tiles' grading buffers
-  double t2 = now_seconds();
-
+  PhaseTimer clock;  // the first level's phases begin with the binning (or resumption) and grading
+  FloatingRun run(input, given, grids, quadrics);
+  run.tile_mesh();
+  clock.end(run.resumed() ? "resume" : "bin");
+  run.grade();
+  clock.end("grade");
   for (std::size_t level = 0; level < grids.size(); ++level) {
-    const FloatingCellShape cell{grids[level].cell, options.floating.cell_shape};
-    double level_start = now_seconds();
-    if (level > 0) {
-      // This level's first greedy over the graded vertices of the level before.
-      decisions = std::make_unique<BorderDecisions>(tiles.grid, cell);
-      // Both levels' blocks exist at once: the new ones get what the old ones leave
-      // of the blocks' allowance.
-      std::unique_ptr<BlockStore> before = std::move(blocks);
-      const std::uint64_t held = before->bytes_in_memory();
-      const std::uint64_t allowance = spill.allow.vertex_blocks > held ? spill.allow.vertex_blocks - held : 0;
-      blocks = blocks_from_blocks(tiles.grid, *before, cell.size, first, spill.dir, allowance);
-      before->discard();
+    if (level > 0) {  // every later level re-runs its first greedy from the graded vertices
+      clock.restart();
+      run.regrade(level);
+      clock.end("regrade");
     }
-    double t3 = now_seconds();
     SimplifyStats stats = base;
-    {
-      ProgressPhase phase(options.progress, "rounds", 0, "round");
-      decisions->sweep(*blocks, &stats);
-    }
-    double t4 = now_seconds();
-    TileBorders borders = decisions->take_borders();
-    release_memory(options);
-
-    // Cluster shares and kept triangles.
-    AccumulationSettings acc{cell,       options.floating.assign, options.memory_budget,
-                             spill,      &options.progress,       &input.attributes,
-                             work_share, options.thick_edges};
-    ClusterShares shares = accumulate_clusters(tiles, input.positions, *blocks, borders, input.positions.count, acc);
-    // Centres live on in the cluster records; the per-tile lists are done, and the
-    // memory of the triangles (after the last level) and vertex blocks goes to the
-    // output tables.
-    TileBorders().swap(borders);
-    const bool last = level + 1 == grids.size();
-    if (last) {  // a next level reads the triangles again and grades from the blocks
-      tiles.triangles->discard();
-      blocks->discard();
-    }
-    release_memory(options);
-    double t5 = now_seconds();
-
-    std::vector<KeptTriangle> kept_triangles;
-    {
-      ProgressPhase phase(options.progress, "stitch", 0, "bucket");
-      CrossTileEdges cross{&input.positions, cell.size, shares.edge_shares.get(), shares.cluster_span};
-      kept_triangles =
-          stitch_kept_triangles(*shares.inside, *shares.corners, budget, options.thick_edges ? &cross : nullptr);
-    }
-    shares.corners->discard();  // read into kept_triangles
-    shares.inside->discard();
-    double t6 = now_seconds();
-    SimplifiedMesh m;
+    run.sweep(&stats);
+    clock.end("rounds");
+    ClusterShares shares = run.accumulate(level);
+    clock.end("cluster");
+    std::vector<KeptTriangle> kept = run.stitch(level, shares);
+    clock.end("stitch");
     AssemblyCounts counts;
-    {
-      ProgressPhase phase(options.progress, "assemble", 0, "cell");
-      const ThickAssembly thick{shares.edge_shares.get(), &input.positions};
-      m = assemble_mesh(std::move(kept_triangles), *shares.partials, cell, options.floating.representative, &counts,
-                        budget, shares.attribute_shares.get(), &shares.attributes, quadrics, grids[level].origin,
-                        options.thick_edges ? &thick : nullptr);
-    }
-    double t7 = now_seconds();
-
-    const StreamSpill* spills[] = {tiles.triangles.get(),   graded.get(),        shares.corners.get(),
-                                   shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
-                                   shares.edge_shares.get()};
-    stats.spill_bytes = stats.spill_raw_bytes = blocks->bytes_on_disk();
-    stats.spill_bytes_in_memory = blocks->bytes_in_memory();
-    for (const StreamSpill* sp : spills)
-      if (sp) {
-        stats.spill_bytes += sp->bytes_on_disk();
-        stats.spill_raw_bytes += sp->bytes_spilled();
-        stats.spill_bytes_in_memory += sp->bytes_kept_in_memory();
-      }
-    stats.input_triangles = tiles.triangle_count;
-    stats.skipped = tiles.skipped;
-    stats.occupied_cells = counts.clusters;
-    stats.output_vertices = m.positions.size() / 3;
-    stats.output_triangles = m.triangles.size() / 3;
-    stats.output_edges = m.primitives.edge_count();
-    stats.output_points = m.primitives.point_count();
-    stats.tiles = tiles.count();
-    stats.largest_tile_records = tiles.largest_tile_records();
-    stats.resumed = resumed;
-    if (level == 0) stats.warnings.insert(stats.warnings.end(), warnings.begin(), warnings.end());
-    // The first level bins (or resumes) and grades; every later one re-runs its first
-    // greedy from the graded vertices ("regrade").
-    if (level == 0) {
-      const PhaseTime phases[] = {{resumed ? "resume" : "bin", t1 - t0}, {"grade", t2 - t1}};
-      stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
-    } else {
-      stats.phases.push_back({"regrade", t3 - level_start});
-    }
-    const PhaseTime phases[] = {{"rounds", t4 - t3}, {"cluster", t5 - t4}, {"stitch", t6 - t5}, {"assemble", t7 - t6}};
-    stats.phases.insert(stats.phases.end(), std::begin(phases), std::end(phases));
+    SimplifiedMesh m = run.assemble(level, std::move(kept), shares, &counts);
+    clock.end("assemble");
+    run.report(level, shares, counts, m, &stats);
+    clock.move_to(&stats.phases);
     sink(level, m, stats);
   }
 }

@@ -3,7 +3,6 @@
 // from those quadrics down to the target, so that no error information is lost
 // between the phases (Garland & Shaffer 2002). --method qem is phase 2 alone on the
 // whole input.
-#include "io/attribute_array.hpp"
 #include "methods/multiphase.hpp"
 
 #include <algorithm>
@@ -16,8 +15,10 @@
 #include "cluster/attribute_sums.hpp"
 #include "common/huge_pages.hpp"
 #include "runtime/memory_budget.hpp"
+#include "runtime/phase_timer.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/grid_choice.hpp"
+#include "io/attribute_array.hpp"
 #include "methods/cluster_methods.hpp"
 #include "oocsimp/error.hpp"
 #include "refine/edge_collapse.hpp"
@@ -28,6 +29,33 @@ namespace oocsimp {
 
 namespace {
 
+// The least target: the fewest triangles of a closed surface (a tetrahedron).
+constexpr std::uint64_t kLeastTarget = 4;
+
+// Garland & Shaffer 2002 §3 size phase 1's intermediate at a few times the target;
+// these bound it from below and by the budget, and say when to retry it finer.
+//
+// Phase 1 hands on no fewer triangles than this: coarser, clustering folds the sheets
+// of steep or thin parts over one another, and the collapse gets stuck in the tangles.
+constexpr double kLeastIntermediate = 65536;
+// --mem bounds phase 1; phase 2 holds the intermediate whole, on top. Phase 1's output
+// with its quadrics takes about 90 bytes per triangle it hands on, and floating hands
+// on up to 1.6x the triangles asked for: this many bytes per triangle asked keeps it
+// inside, so a smaller budget gets a smaller k, down to the target itself.
+constexpr double kPhase1BytesPerIntermediateTriangle = 192;
+// A phase 1 that falls short of the target, or whose collapse gets stuck, runs again
+// this many times finer (a grid twice as fine leaves about four times the triangles
+// on a surface)...
+constexpr double kFinerStep = 4;
+// ... this many times at most; after that the whole input collapses if it fits.
+constexpr int kFinerRetries = 2;
+// A phase 1 that would keep this share of the input or more saves phase 2 little and
+// costs a pass of its own: the whole input collapses instead, when it fits the budget.
+constexpr double kWholeInsteadShare = 0.75;
+
+// Triangles per read of the input when it is loaded whole.
+constexpr std::size_t kLoadChunkTriangles = 65536;
+
 // What holding a whole mesh for the collapse takes: per vertex its position, quadric,
 // flags and face list (3 entries per face); per face its corners, input normal and a
 // few queue entries.
@@ -35,13 +63,14 @@ constexpr std::uint64_t kCollapseBytesPerVertex = sizeof(Vec3d) + sizeof(Quadric
 constexpr std::uint64_t kCollapseBytesPerTriangle = 12 + sizeof(Vec3d) + 3 * 4 * 3 + 4 * 16;
 
 std::uint64_t collapse_bytes(std::uint64_t vertices, std::uint64_t triangles, std::size_t attributes) {
-  return vertices * (kCollapseBytesPerVertex + 8 * attributes) + triangles * kCollapseBytesPerTriangle;
+  return vertices * (kCollapseBytesPerVertex + sizeof(double) * attributes) + triangles * kCollapseBytesPerTriangle;
 }
 
 std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangles) {
   if (t.triangles) return t.triangles;
-  if (t.ratio) return std::max<std::uint64_t>(4, std::uint64_t(std::llround(t.ratio * double(input_triangles))));
-  return 4;  // max_error alone: as far as the error allows
+  if (t.ratio)
+    return std::max<std::uint64_t>(kLeastTarget, std::uint64_t(std::llround(t.ratio * double(input_triangles))));
+  return kLeastTarget;  // max_error alone: as far as the error allows
 }
 
 // Whether the whole input fits in the budget for the collapse, next to what the run holds.
@@ -72,9 +101,9 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
   for (std::uint64_t i = 0; i < v; ++i)
     for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = attribute_value(input.attributes, i, j);
   input.restart_triangles();
-  std::vector<std::uint64_t> chunk(3 * 65536);
+  std::vector<std::uint64_t> chunk(3 * kLoadChunkTriangles);
   reserve_huge(&m.triangles, 3 * f);
-  while (std::size_t n = input.triangles->read(chunk.data(), 65536)) {
+  while (std::size_t n = input.triangles->read(chunk.data(), kLoadChunkTriangles)) {
     for (std::size_t i = 0; i < 3 * n; ++i) m.triangles.push_back(std::uint32_t(chunk[i]));
     phase.set(input.triangles->bytes_consumed());
   }
@@ -106,48 +135,76 @@ SimplifiedMesh to_output(const QuadricMesh& m, const Vec3d& origin, const std::v
   return out;
 }
 
-// Phase 2 on `m` down to the target; fills the collapse's stats and, when `last` (no
-// finer phase 1 to try) or a finer one could not help, the warning of a missed target.
-// *finer_may_help says whether a finer phase 1 could meet a missed target: not when
-// the surface is closed and one triangle is left over, as it would be there too.
-SimplifiedMesh refine(QuadricMesh m, const Vec3d& origin, const std::vector<VertexAttribute>& attributes,
-                      std::uint64_t target, const SimplifyOptions& options, SimplifyStats* stats, bool last = true,
-                      bool* finer_may_help = nullptr) {
-  const double t0 = now_seconds();
+// A mesh for phase 2: positions relative to `origin`, and the attributes its vertices
+// carry (their values in the mesh).
+struct CollapseInput {
+  QuadricMesh mesh;
+  Vec3d origin;
+  const std::vector<VertexAttribute>* attributes = nullptr;
+};
+
+// What phase 2 is asked for.
+struct CollapseGoal {
+  std::uint64_t target = 0;
+  bool last = true;  // no finer phase 1 follows: a missed count is warned of
+};
+
+struct CollapseResult {
+  SimplifiedMesh mesh;
+  // A finer phase 1 could meet a missed target: not when the surface is closed and
+  // one triangle is left over, as it would be there too.
+  bool finer_may_help = false;
+};
+
+// The collapse's figures in `stats`, and whether it missed the target; the warning
+// of a missed count when no finer phase 1 follows or none could help. Returns
+// CollapseResult::finer_may_help.
+bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGoal& goal,
+                   const SimplifyOptions& options, SimplifyStats* stats) {
+  stats->collapses = cs.collapses;
+  stats->largest_collapse_cost = cs.largest_cost;
+  stats->largest_collapse_error = cs.largest_error;
+  // max_error alone asks for no count: stopping at it is the aim, not a miss.
+  const bool count_asked =
+      options.target.triangles != 0 || options.target.ratio != 0 || options.method == ClusterMethod::qem;
+  stats->target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
+  if (stats->target_missed && count_asked && (goal.last || cs.parity)) {
+    std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
+                      : cs.stopped_by_error
+                          ? "the next collapse's error was above the maximum error"
+                          : "no valid collapse was left (each would break the surface or flip a face)";
+    stats->warnings.push_back("the target of " + std::to_string(goal.target) +
+                              " triangles was not met: " + std::to_string(left) + " triangles (" + why + ")");
+  }
+  return stats->target_missed && !cs.parity;
+}
+
+// Phase 2 (Garland & Shaffer 2002 §3): quadric edge collapse of `in`, held whole, down
+// to the target; fills the collapse's stats and the phase "refine".
+CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const SimplifyOptions& options,
+                      SimplifyStats* stats) {
+  PhaseTimer clock;
   const PeakAnonSampler memory;
+  QuadricMesh& m = in.mesh;
   stats->intermediate_triangles = m.triangles.size() / 3;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
   CollapseSettings settings;
-  settings.target_triangles = target;
+  settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   CollapseStats cs;
   QuadricMesh done;
   {
     ProgressPhase phase(options.progress, "collapse",
-                        stats->intermediate_triangles - std::min(stats->intermediate_triangles, target), "tri");
+                        stats->intermediate_triangles - std::min(stats->intermediate_triangles, goal.target), "tri");
     done = collapse_edges(std::move(m), settings, &cs, &phase);
   }
-  stats->collapses = cs.collapses;
-  stats->largest_collapse_cost = cs.largest_cost;
-  stats->largest_collapse_error = cs.largest_error;
-  const std::uint64_t left = done.triangles.size() / 3;
-  // max_error alone asks for no count: stopping at it is the aim, not a miss.
-  const bool count_asked =
-      options.target.triangles != 0 || options.target.ratio != 0 || options.method == ClusterMethod::qem;
-  stats->target_missed = left != target && (count_asked || !cs.stopped_by_error);
-  if (finer_may_help) *finer_may_help = stats->target_missed && !cs.parity;
-  if (stats->target_missed && count_asked && (last || cs.parity)) {
-    std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
-                      : cs.stopped_by_error
-                          ? "the next collapse's error was above the maximum error"
-                          : "no valid collapse was left (each would break the surface or flip a face)";
-    stats->warnings.push_back("the target of " + std::to_string(target) +
-                              " triangles was not met: " + std::to_string(left) + " triangles (" + why + ")");
-  }
-  SimplifiedMesh out = to_output(done, origin, attributes);
-  stats->output_vertices = out.positions.size() / 3;
-  stats->output_triangles = out.triangles.size() / 3;
-  stats->phases.push_back({"refine", now_seconds() - t0});
+  CollapseResult out;
+  out.finer_may_help = note_collapse(cs, done.triangles.size() / 3, goal, options, stats);
+  out.mesh = to_output(done, in.origin, *in.attributes);
+  stats->output_vertices = out.mesh.positions.size() / 3;
+  stats->output_triangles = out.mesh.triangles.size() / 3;
+  clock.end("refine");
+  clock.move_to(&stats->phases);
   stats->phase2_peak_anon_bytes = memory.peak();
   return out;
 }
@@ -174,14 +231,124 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
 // Phase 2 alone, on the whole input: --method qem, and a target so near the input's
 // count that phase 1 would keep nearly everything.
 SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats) {
-  const double t0 = now_seconds();
+  PhaseTimer clock;
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   QuadricMesh whole = load_whole(input, o, origin, "for quadric edge collapse", stats);
-  stats->phases.push_back({"load", now_seconds() - t0});
+  clock.end("load");
+  clock.move_to(&stats->phases);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
-  return refine(std::move(whole), origin, input.attributes.attributes, target, o, stats);
+  return refine({std::move(whole), origin, &input.attributes.attributes}, {target, true}, o, stats).mesh;
+}
+
+// How large phase 1's intermediate is on each attempt, and when the whole input
+// collapses instead.
+class IntermediatePlan {
+ public:
+  IntermediatePlan(const MeshInput& input, const SimplifyOptions& o, std::uint64_t estimate)
+      : k_(o.target.intermediate_factor), estimate_(double(estimate)), faces_(double(input.info.face_count)) {
+    const MemoryBudget budget(o.memory_budget, o.budget_counts_process);
+    budget_intermediate_ = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
+                                          : std::numeric_limits<double>::infinity();
+    whole_possible_ = whole_fits(input, budget);
+  }
+  /// The triangles phase 1 aims at on attempt `attempt` (0 first): k times the target
+  /// as far as the budget allows, at least the target and kLeastIntermediate, and
+  /// kFinerStep times more on each retry.
+  double intermediate(int attempt) const {
+    const double finer = std::pow(kFinerStep, attempt);
+    return std::max({std::min(k_ * estimate_, budget_intermediate_), estimate_, kLeastIntermediate}) * finer;
+  }
+  /// Whether the whole input collapses instead of a phase 1 of `want` triangles: it
+  /// would keep the input, or most of it where the whole fits, or the finest phase 1
+  /// has missed the target.
+  bool whole_instead(double want, int attempt) const {
+    return want >= faces_ || (want >= kWholeInsteadShare * faces_ && whole_possible_) || attempt > kFinerRetries;
+  }
+  /// Whether attempt `attempt` is the last phase 1: its collapse is taken as it is.
+  bool finest(int attempt) const { return attempt == kFinerRetries && !whole_possible_; }
+
+ private:
+  double k_, estimate_, faces_;
+  double budget_intermediate_ = 0;
+  bool whole_possible_ = false;
+};
+
+// Phase 1's result: the clustered mesh at `grid` and, for phase 2, each output
+// vertex's summed cluster quadric, relative to grid.origin.
+struct Intermediate {
+  GridSpec grid;
+  SimplifiedMesh mesh;
+  std::vector<Quadric> quadrics;
+};
+
+// Phase 1 (Garland & Shaffer 2002 §3): the clustering method at the cell the vertex
+// sample gives for about `want` triangles (o->sizing is set to it); with
+// `with_quadrics`, handing on each cluster's quadric.
+Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bool with_quadrics,
+                           SimplifyStats* stats) {
+  const ClusterMethodEntry& method = cluster_method(o->method);
+  o->sizing = CellSizing();
+  o->sizing.ratio = want / double(std::max<std::uint64_t>(input.info.face_count, 1));
+  Intermediate out;
+  out.grid = choose_grid(input, o->sizing, o->threads);
+  stats->cell_size = out.grid.cell;
+  for (int a = 0; a < 3; ++a) stats->grid_dims[a] = out.grid.dims[a];
+  input.restart_triangles();
+  const PeakAnonSampler phase1_memory;
+  out.mesh = method.run(input, *o, out.grid, stats, with_quadrics ? &out.quadrics : nullptr);
+  stats->phase1_peak_anon_bytes = phase1_memory.peak();
+  return out;
+}
+
+// Phase 1's output as phase 2's input, relative to the grid's origin, with the
+// clusters' summed quadrics, so that no error information is lost between the phases
+// (Garland & Shaffer 2002 §3). The positions are copied (and freed), the rest moves;
+// the attributes' description stays in `p1`.
+CollapseInput collapse_input(Intermediate* p1) {
+  SimplifiedMesh& m = p1->mesh;
+  CollapseInput in;
+  QuadricMesh& q = in.mesh;
+  const std::uint64_t got = m.triangles.size() / 3;
+  q.positions.resize(got ? m.positions.size() / 3 : 0);
+  for (std::size_t i = 0; i < q.positions.size(); ++i)
+    q.positions[i] = Vec3d{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]} - p1->grid.origin;
+  std::vector<double>().swap(m.positions);  // copied: not held through phase 2
+  q.triangles = std::move(m.triangles);
+  q.quadrics = std::move(p1->quadrics);
+  q.attribute_count = m.attributes.attributes.size();
+  q.attributes = std::move(m.attributes.values);
+  in.origin = p1->grid.origin;
+  in.attributes = &m.attributes.attributes;
+  return in;
+}
+
+// Garland & Shaffer 2002 §3: phase 1 clusters out of core to an intermediate of about
+// k times the target, phase 2 collapses it in core to the target. When phase 1 falls
+// short of the target or the collapse gets stuck, phase 1 runs again finer (not for a
+// closed surface one triangle short: its count is even at any cell); only the last
+// attempt's phases and warnings stay in the stats.
+SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
+                          SimplifyStats* stats) {
+  const IntermediatePlan plan(input, *o, estimate);
+  const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
+  for (int attempt = 0;; ++attempt) {
+    const double want = plan.intermediate(attempt);
+    stats->phases.resize(phases_before);
+    stats->warnings.resize(warnings_before);
+    if (plan.whole_instead(want, attempt)) {
+      stats->phase1_peak_anon_bytes = 0;
+      return collapse_whole(input, *o, origin, stats);
+    }
+    const bool finest = plan.finest(attempt);
+    Intermediate p1 = cluster_phase(input, o, want, true, stats);
+    const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
+    if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
+    if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
+    CollapseResult out = refine(collapse_input(&p1), {target, finest}, *o, stats);
+    if (!out.finer_may_help || finest) return std::move(out.mesh);
+  }
 }
 
 }  // namespace
@@ -200,7 +367,7 @@ void check_target_options(const SimplifyOptions& o) {
         "options.sizing.cell",
         "options.sizing.cell, options.sizing.grid and options.sizing.ratio apply to the clustering methods; the qem "
         "method takes options.target.triangles, options.target.ratio or options.target.max_error");
-  if (t.triangles != 0 && t.triangles < 4)
+  if (t.triangles != 0 && t.triangles < kLeastTarget)
     throw UsageError("options.target.triangles", "options.target.triangles must be at least 4");
   if (t.ratio != 0 && !(t.ratio > 0 && t.ratio <= 1))
     throw UsageError("options.target.ratio", "options.target.ratio must be in (0, 1]");
@@ -219,80 +386,10 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   const Vec3d origin = input.info.bounds.empty() ? Vec3d{} : input.info.bounds.min;
   const std::uint64_t estimate = resolve_target(o.target, faces);
   if (o.target.max_error == 0 && estimate >= faces) return input_as_is(input, o, estimate, stats);
-
-  const double k = o.target.intermediate_factor;
   if (o.method == ClusterMethod::qem) return collapse_whole(input, o, origin, stats);
-
-  // Phase 1 at the cell the vertex sample gives for k times the target (or the target
-  // itself without refinement), and for no fewer than kLeastIntermediate triangles:
-  // coarser, clustering folds the sheets of steep or thin parts over one another
-  // (a coarsely clustered terrain has many non-manifold edges), and the collapse
-  // gets stuck in the tangles. When it falls short of the target or gets
-  // stuck all the same, phase 1 runs again four times finer, twice at most, and then
-  // the whole input collapses if it fits the budget (not for a closed surface one
-  // triangle short: its count is even at any cell).
-  constexpr double kLeastIntermediate = 65536;
-  // --mem bounds phase 1; phase 2 holds the intermediate whole, on top (about 180
-  // bytes a triangle, measured). Phase 1's output with its quadrics takes about 90
-  // bytes per triangle it hands on, and floating hands on up to 1.6x the triangles
-  // asked for: kPhase1BytesPerIntermediateTriangle per triangle asked keeps it inside,
-  // so a smaller budget gets a smaller k, down to the target itself.
-  constexpr double kPhase1BytesPerIntermediateTriangle = 192;
-  const MemoryBudget budget(o.memory_budget, o.budget_counts_process);
-  const double budget_intermediate = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
-                                                    : std::numeric_limits<double>::infinity();
-  const ClusterMethodEntry& method = cluster_method(o.method);
-  const std::size_t phases_before = stats->phases.size();
-  const std::size_t warnings_before = stats->warnings.size();
-  const bool whole_possible = whole_fits(input, budget);
-  for (int attempt = 0;; ++attempt) {
-    const bool refining = o.target.refine == RefineMethod::qem;
-    const double finer = std::pow(4.0, attempt);
-    const double want =
-        refining
-            ? std::max({std::min(k * double(estimate), budget_intermediate), double(estimate), kLeastIntermediate}) *
-                  finer
-            : double(estimate);
-    stats->phases.resize(phases_before);  // only the last attempt's phases
-    stats->warnings.resize(warnings_before);
-    // A phase 1 that would keep three quarters of the input or more saves phase 2
-    // little and costs a pass of its own; and when the finest phase 1 missed the
-    // target, the whole input is the last resort: it collapses whole, when it fits
-    // the budget.
-    if (refining && (want >= double(faces) || (4 * want >= 3 * double(faces) && whole_possible) || attempt == 3)) {
-      stats->phase1_peak_anon_bytes = 0;
-      return collapse_whole(input, o, origin, stats);
-    }
-    o.sizing = CellSizing();
-    o.sizing.ratio = want / double(std::max<std::uint64_t>(faces, 1));
-    const bool finest = attempt == 2 && !whole_possible;
-    const GridSpec grid = choose_grid(input, o.sizing, o.threads);
-    stats->cell_size = grid.cell;
-    for (int a = 0; a < 3; ++a) stats->grid_dims[a] = grid.dims[a];
-    input.restart_triangles();
-    std::vector<Quadric> quadrics;
-    const PeakAnonSampler phase1_memory;
-    SimplifiedMesh m = method.run(input, o, grid, stats, refining ? &quadrics : nullptr);
-    stats->phase1_peak_anon_bytes = phase1_memory.peak();
-    if (!refining) return m;
-    const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
-    if (o.target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, o, target, stats);
-    const std::uint64_t got = m.triangles.size() / 3;
-    if (got < target && !finest) continue;
-    QuadricMesh q;
-    q.positions.resize(got ? m.positions.size() / 3 : 0);
-    for (std::size_t i = 0; i < q.positions.size(); ++i)
-      q.positions[i] = Vec3d{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]} - grid.origin;
-    std::vector<double>().swap(m.positions);  // copied: not held through phase 2
-    q.triangles = std::move(m.triangles);
-    q.quadrics = std::move(quadrics);
-    q.attribute_count = m.attributes.attributes.size();
-    q.attributes = std::move(m.attributes.values);
-    bool finer_may_help = false;
-    SimplifiedMesh out =
-        refine(std::move(q), grid.origin, m.attributes.attributes, target, o, stats, finest, &finer_may_help);
-    if (!finer_may_help || finest) return out;
-  }
+  // --refine none: phase 1 alone, at the cell for about the target itself.
+  if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(estimate), false, stats).mesh;
+  return multiphase(input, &o, origin, estimate, stats);
 }
 
 }  // namespace oocsimp

@@ -200,10 +200,15 @@ Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell
   return out;
 }
 
-SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
-                             RepresentativeRule rule, AssemblyCounts* counts, const MemoryBudget& budget,
-                             StreamSpill* attribute_shares, const AttributeLayout* attributes,
-                             std::vector<Quadric>* quadrics, const Vec3d& origin, const ThickAssembly* thick) {
+SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
+                             AssemblyCounts* counts, std::vector<Quadric>* quadrics) {
+  const FloatingCellShape& cell = settings.cell;
+  const RepresentativeRule rule = settings.rule;
+  const MemoryBudget& budget = settings.budget;
+  StreamSpill* const attribute_shares = settings.attribute_shares;
+  const AttributeLayout* const attributes = settings.attributes;
+  const Vec3d& origin = settings.origin;
+  const ThickAssembly* const thick = settings.thick;
   std::vector<KeptTriangle>& tris = kept;
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {

@@ -39,29 +39,46 @@ struct AssemblyCounts {
   std::uint64_t clusters = 0;  ///< clusters with a share, used by a triangle or not
 };
 
-/// The output mesh: `kept` deduplicated and in input order of first occurrence
-/// (consumed), vertices numbered by first use, each placed at representative() of
-/// its cluster's shares merged from `partials` a bucket at a time. With a
-/// `budget`, throws UsageError before allocating the output tables
-/// when they (and the largest cluster bucket) would not fit next to what the process holds.
-/// With `attribute_shares` (in the streams of `partials`, see ClusterShares), each
-/// output vertex also gets its cluster's attribute values (AttributeLayout::finish).
-/// With `quadrics`, each output vertex also gets its cluster's summed quadric, in
-/// model units relative to `origin` (multiphase_quadric).
-/// With `thick` (thick edges, Low & Tan 1997 §3.3), the output also gets
-/// SimplifiedMesh::primitives: the edges of `thick->edge_shares` (summed per cluster
-/// pair) that no output triangle has as a side, sorted by cluster pair, and as points
-/// the clusters that some triangle collapsed into and no triangle or edge uses, by
-/// centre index; their vertices follow the triangles'. See select_thick_primitives.
+/// With thick edges (Low & Tan 1997 §3.3), where assemble_mesh finds the edges and
+/// points that clustering reduced below a triangle.
 struct ThickAssembly {
   StreamSpill* edge_shares = nullptr;        ///< EdgeShare records by first cluster / cluster span
   const PositionArray* positions = nullptr;  ///< the input's: a centre is an input vertex
 };
-SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const FloatingCellShape& cell,
-                             RepresentativeRule rule, AssemblyCounts* counts,
-                             const MemoryBudget& budget = MemoryBudget(), StreamSpill* attribute_shares = nullptr,
-                             const AttributeLayout* attributes = nullptr, std::vector<Quadric>* quadrics = nullptr,
-                             const Vec3d& origin = {}, const ThickAssembly* thick = nullptr);
+
+/// How assemble_mesh places the output vertices, and what it carries with them.
+struct AssemblySettings {
+  FloatingCellShape cell;
+  RepresentativeRule rule = RepresentativeRule::quadric;  ///< see representative()
+  /// Checked before the output tables are allocated (unbounded by default).
+  MemoryBudget budget;
+  /// With attributes: every tile's share of each cluster's attribute sums, in the
+  /// streams of `partials` (see ClusterShares), and their layout. Null without.
+  StreamSpill* attribute_shares = nullptr;
+  const AttributeLayout* attributes = nullptr;
+  /// With thick edges: see ThickAssembly. Null without.
+  const ThickAssembly* thick = nullptr;
+  /// What the handed-on quadrics are relative to (assemble_mesh's `quadrics`).
+  Vec3d origin;
+};
+
+/// The output mesh: `kept` deduplicated and in input order of first occurrence
+/// (consumed), vertices numbered by first use, each placed at representative() of
+/// its cluster's shares merged from `partials` a bucket at a time. Throws UsageError
+/// before allocating the output tables when they (and the largest cluster bucket)
+/// would not fit settings.budget next to what the process holds.
+/// With settings.attribute_shares, each output vertex also gets its cluster's
+/// attribute values (AttributeLayout::finish).
+/// With `quadrics`, each output vertex also gets its cluster's summed quadric, in
+/// model units relative to settings.origin (multiphase_quadric).
+/// With settings.thick, the output also gets SimplifiedMesh::primitives: the edges of
+/// `thick->edge_shares` (summed per cluster pair) that no output triangle has as a
+/// side, sorted by cluster pair, and as points the clusters that some triangle
+/// collapsed into and no triangle or edge uses, by centre index; their vertices follow
+/// the triangles'. See select_thick_primitives.
+/// `counts`, when given, gets what assembly counted.
+SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
+                             AssemblyCounts* counts = nullptr, std::vector<Quadric>* quadrics = nullptr);
 
 /// A cluster's summed quadric, kept in cell units about its centre, in model units
 /// about `origin`: with u = (y - t) / s (t the centre less origin, s the cell side)

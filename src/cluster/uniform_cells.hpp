@@ -1,0 +1,139 @@
+// The per-cell machinery of uniform-grid clustering (OoCS: Lindstrom, "Out-of-Core
+// Simplification of Large Polygonal Models", SIGGRAPH 2000): the table of occupied
+// cells, the two streaming passes that sum into it, the output vertices numbered by
+// first use and each cell's representative. methods/uniform_clusterer.cpp runs them
+// in order and checks the budget between them.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cluster/quadric.hpp"
+#include "cluster/triangle_set.hpp"
+#include "runtime/memory_budget.hpp"
+#include "grid/cell_map.hpp"
+#include "grid/occupancy.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
+
+namespace oocsimp {
+
+struct VertexSum {
+  Vec3d sum;
+  double squares = 0;  // sum of |p|^2, for the width of a thick point (point_width)
+  std::uint64_t n = 0;
+};
+
+/// What the two passes sum in an occupied cell.
+struct CellRecord {
+  Quadric q;
+  VertexSum vertices;
+};
+
+/// Cells along the longest axis of `g`.
+inline std::uint32_t grid_resolution(const GridSpec& g) { return std::max({g.dims[0], g.dims[1], g.dims[2]}); }
+
+/// Bytes an occupied cell takes at least in its table (key, record and the two slots
+/// of a half-full index).
+constexpr std::uint64_t kCellEntryBytes = sizeof(std::uint64_t) + sizeof(CellRecord) + 2 * sizeof(std::uint32_t);
+
+/// The uniform method's tables within --mem: the occupied cells and kept triangles in
+/// their hash tables, the pipeline's per-chunk tables and, at the end, the output
+/// arrays, on top of what the process held when the run began (its buffers, the
+/// libraries). A run that would need more stops with a UsageError (exit 2) naming
+/// --mem and what would fit, rather than exceed it.
+class TableBudget {
+ public:
+  TableBudget(const MemoryBudget& budget, const GridSpec& grid, const OccupancyGrowth& occupancy,
+              std::uint64_t vertices)
+      : budget_(budget),
+        held_(budget.held()),
+        resolution_(grid_resolution(grid)),
+        occupancy_(occupancy),
+        vertices_(vertices) {}
+
+  /// Throws UsageError unless tables of `bytes` fit next to what was held at the
+  /// start; `what` names what they hold ("about 3000000 occupied cells").
+  void check(std::uint64_t bytes, const std::string& what) const;
+
+ private:
+  std::uint32_t coarser_resolution(double cells) const;
+
+  MemoryBudget budget_;
+  std::uint64_t held_;  // when the run began: the tables come on top
+  std::uint32_t resolution_;
+  OccupancyGrowth occupancy_;
+  std::uint64_t vertices_;
+};
+
+class UniformAttributeSums;
+struct ThickSums;
+
+/// The occupied cells of a grid and what OoCS sums in them, in the order the driver
+/// calls the methods: add_vertices, start_face_sums, add_triangles, release_indexes,
+/// number_output_vertices, solve_representatives. Each pass cuts its input into
+/// fixed-size chunks that all threads process into private cell tables, merged in
+/// input order, so every sum is taken in the same order for any thread count.
+class UniformCells {
+ public:
+  /// No cells yet, on `grid`, carrying the vertex attributes of `attributes`.
+  UniformCells(const GridSpec& grid, const AttributeArray& attributes);
+  ~UniformCells();
+  UniformCells(const UniformCells&) = delete;
+  UniformCells& operator=(const UniformCells&) = delete;
+
+  /// Pass 1 over the vertices: per cell, the sum and count of the vertex positions in
+  /// it (the anchor of the quadric solve). Checks `budget` after each chunk's merge.
+  void add_vertices(const PositionArray& positions, const TableBudget& budget, const ProgressCallback& progress);
+  /// Between the passes, over the cells pass 1 found: the zeroed attribute sums and,
+  /// with `thick_edges`, the sums of what collapses below a triangle.
+  void start_face_sums(bool thick_edges);
+  /// Pass 2 over the triangle stream of `input` (at its start): per cell, the sum of
+  /// the area-weighted plane quadrics of every triangle with a corner in it (and the
+  /// weighted sums of the corners' attribute values); triangles whose corners fall in
+  /// three different cells survive, each unordered cell triple once; with thick edges
+  /// (Low & Tan 1997 §3.3) the others add to their edge or point. Returns the
+  /// triangles read.
+  std::uint64_t add_triangles(MeshInput& input, const TableBudget& budget, const ProgressCallback& progress);
+  /// Frees the hash indexes of the cells and the kept triangles: no lookups follow.
+  void release_indexes();
+  /// The surviving triangles into mesh->triangles (and with thick edges the surviving
+  /// edges and points into mesh->primitives) over output vertices: the cells they use,
+  /// numbered by first use. Returns the cell of each output vertex; the kept
+  /// triangles and thick sums are freed.
+  std::vector<std::uint32_t> number_output_vertices(SimplifiedMesh* mesh);
+  /// Each output vertex of `order` at the point that minimises its cell's quadric
+  /// (minimize_quadric, from the cell's vertex mean, kept in the cell), with its
+  /// attribute values; with `quadrics`, also its cell's quadric (relative to the
+  /// grid's origin).
+  void solve_representatives(const std::vector<std::uint32_t>& order, SimplifiedMesh* mesh,
+                             std::vector<Quadric>* quadrics);
+
+  /// Sizes, for the budget checks.
+  std::size_t cell_count() const { return cells_.size(); }
+  std::uint64_t cell_bytes() const { return cells_.bytes(); }
+  std::size_t kept_count() const { return kept_.size(); }
+  std::uint64_t kept_bytes() const { return kept_.bytes(); }
+  std::size_t attribute_count() const;  ///< values per vertex
+  std::size_t attribute_width() const;  ///< sums per cell
+  std::uint64_t attribute_sum_bytes() const { return attribute_sums_.capacity() * sizeof(double); }
+
+ private:
+  struct FaceChunk;  // pass 2's unit of work
+  void sum_face_chunk(const PositionArray& positions, FaceChunk& c) const;
+  void merge_face_chunk(const FaceChunk& c, std::vector<std::uint32_t>* to_global);
+
+  GridSpec grid_;
+  std::unique_ptr<const UniformAttributeSums> attributes_;
+  CellMap<CellRecord> cells_{1 << 16};
+  TriangleSet kept_;
+  std::vector<double> attribute_sums_;  // attribute_width() per cell, in the cells' table order
+  std::unique_ptr<ThickSums> thick_;    // with thick edges
+};
+
+}  // namespace oocsimp
