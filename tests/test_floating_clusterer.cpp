@@ -165,7 +165,7 @@ TEST_CASE("floating cells out of core equal the sequential algorithm in memory",
             SimplifiedMesh got =
                 run_floating(d.file(c.name), c.cell, shape, rule, RepresentativeRule::centre, tile, threads, &st);
             INFO(c.name << " shape " << int(shape) << " rule " << int(rule) << " tile " << tile << " threads "
-                        << threads << " tiles " << st.tiles << " rounds " << st.rounds);
+                        << threads << " tiles " << st.floating.tiles << " rounds " << st.floating.rounds);
             CHECK(got.triangles == want.triangles);
             CHECK(got.positions == want.positions);
           }
@@ -196,8 +196,9 @@ TEST_CASE("floating output is byte-identical for any tile size and thread count"
           SimplifyStats st;
           SimplifiedMesh got =
               run_floating(d.file(name), cell, CellShape::cube, AssignRule::nearest, rep, tile, threads, &st);
-          INFO(name << " rep " << int(rep) << " tile " << tile << " threads " << threads << " tiles " << st.tiles);
-          CHECK(st.tiles > 1);
+          INFO(name << " rep " << int(rep) << " tile " << tile << " threads " << threads << " tiles "
+                    << st.floating.tiles);
+          CHECK(st.floating.tiles > 1);
           CHECK(got.positions == ref.positions);
           CHECK(got.triangles == ref.triangles);
         }
@@ -234,14 +235,14 @@ TEST_CASE("the triangle spill is zstd-compressed or not as asked, with the same 
   // The same records on disk either way; zstd stores the triangle and stitch
   // records in well under what they take raw (the vertex blocks are never
   // compressed).
-  CHECK(none.spill_raw_bytes > 0);
-  CHECK(zstd.spill_raw_bytes == none.spill_raw_bytes);
-  CHECK(zstd.spill_bytes_in_memory == none.spill_bytes_in_memory);
-  CHECK(none.spill_bytes >= none.spill_raw_bytes);  // block headers on top
-  CHECK(double(none.spill_bytes) < 1.01 * double(none.spill_raw_bytes));
-  CHECK(double(zstd.spill_bytes) < 0.8 * double(none.spill_bytes));
+  CHECK(none.floating.spill_raw_bytes > 0);
+  CHECK(zstd.floating.spill_raw_bytes == none.floating.spill_raw_bytes);
+  CHECK(zstd.floating.spill_bytes_in_memory == none.floating.spill_bytes_in_memory);
+  CHECK(none.floating.spill_bytes >= none.floating.spill_raw_bytes);  // block headers on top
+  CHECK(double(none.floating.spill_bytes) < 1.01 * double(none.floating.spill_raw_bytes));
+  CHECK(double(zstd.floating.spill_bytes) < 0.8 * double(none.floating.spill_bytes));
   // A few MiB of spill fit in any machine's page cache: automatic leaves it raw.
-  CHECK(automatic.spill_bytes == none.spill_bytes);
+  CHECK(automatic.floating.spill_bytes == none.floating.spill_bytes);
 }
 
 TEST_CASE("quadric representatives stay in their floating cell and sharpen corners", "[floating][clusterer]") {
@@ -347,13 +348,13 @@ TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options re
   };
   SimplifyStats first, second;
   run(0.02, RepresentativeRule::quadric, kept, true, &first);
-  CHECK_FALSE(first.resumed);
+  CHECK_FALSE(first.floating.resumed);
   SimplifiedMesh resumed = run(0.03, RepresentativeRule::mean, kept, true, &second);
-  CHECK(second.resumed);
+  CHECK(second.floating.resumed);
   CHECK(second.input_triangles == first.input_triangles);
   SimplifyStats third;
   SimplifiedMesh plain = run(0.03, RepresentativeRule::mean, fresh, false, &third);
-  CHECK_FALSE(third.resumed);
+  CHECK_FALSE(third.floating.resumed);
   CHECK(resumed.triangles == plain.triangles);
   CHECK(resumed.positions == plain.positions);
   // The kept files stay (tiles, vertices, manifest); a run without --keep-tmp leaves nothing.
@@ -362,7 +363,7 @@ TEST_CASE("keep-tmp keeps the binned tiles and a later run with other options re
   // A cell wider than the kept tiles cannot reuse them: they are rebuilt.
   SimplifyStats wide;
   run(0.2, RepresentativeRule::quadric, kept, true, &wide);
-  CHECK_FALSE(wide.resumed);
+  CHECK_FALSE(wide.floating.resumed);
 }
 
 namespace {
@@ -388,7 +389,7 @@ struct KeptFolder {
   SimplifiedMesh fresh_run(const std::string& path) const {
     SimplifyStats st;
     SimplifiedMesh m = run(path, fresh, false, &st);
-    REQUIRE_FALSE(st.resumed);
+    REQUIRE_FALSE(st.floating.resumed);
     return m;
   }
   // The kept file with this extension (there is one set: one input).
@@ -440,7 +441,7 @@ TEST_CASE("keep-tmp does not resume from an input replaced by another of the sam
   REQUIRE(other != read_file(k.input));
   SimplifyStats first;
   k.kept_run(&first);
-  REQUIRE_FALSE(first.resumed);
+  REQUIRE_FALSE(first.floating.resumed);
   struct stat before;
   REQUIRE(stat(k.input.c_str(), &before) == 0);
 
@@ -455,7 +456,7 @@ TEST_CASE("keep-tmp does not resume from an input replaced by another of the sam
     REQUIRE(after.st_mtim.tv_nsec == before.st_mtim.tv_nsec);
     SimplifyStats second;
     SimplifiedMesh m = k.kept_run(&second);
-    CHECK_FALSE(second.resumed);
+    CHECK_FALSE(second.floating.resumed);
     CHECK(same_mesh(m, k.fresh_run(k.d.file("other.ply"))));
     INFO(joined(second.warnings));
     CHECK_THAT(joined(second.warnings), Catch::Contains(k.input + ": changed since its tiles were kept"));
@@ -473,7 +474,7 @@ TEST_CASE("keep-tmp does not resume from an input replaced by another of the sam
     write_file(k.kept_file(".manifest"), format_kept_manifest(m));
     SimplifyStats second;
     SimplifiedMesh out = k.kept_run(&second);
-    CHECK_FALSE(second.resumed);
+    CHECK_FALSE(second.floating.resumed);
     CHECK(same_mesh(out, k.fresh_run(k.d.file("other.ply"))));
     INFO(joined(second.warnings));
     CHECK_THAT(joined(second.warnings), Catch::Contains(k.input + ": content differs"));
@@ -487,7 +488,7 @@ TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a
   const SimplifiedMesh fresh = k.fresh_run(k.input);
   SimplifyStats first;
   CHECK(same_mesh(k.kept_run(&first), fresh));
-  REQUIRE_FALSE(first.resumed);
+  REQUIRE_FALSE(first.floating.resumed);
   CHECK(first.warnings.empty());
   const std::string tiles = k.kept_file(".tiles"), vertices = k.kept_file(".vertices"),
                     manifest = k.kept_file(".manifest");
@@ -517,7 +518,7 @@ TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a
   }
   SimplifyStats second;
   SimplifiedMesh again = k.kept_run(&second);
-  CHECK_FALSE(second.resumed);
+  CHECK_FALSE(second.floating.resumed);
   CHECK(same_mesh(again, fresh));
   REQUIRE(second.warnings.size() == 1);
   CHECK_THAT(second.warnings[0], Catch::StartsWith(damaged + ": "));
@@ -525,7 +526,7 @@ TEST_CASE("damaged or missing kept files are recomputed with a warning, giving a
   // The recomputed tiles were kept in their place: the next run resumes from them.
   SimplifyStats third;
   CHECK(same_mesh(k.kept_run(&third), fresh));
-  CHECK(third.resumed);
+  CHECK(third.floating.resumed);
   CHECK(third.warnings.empty());
 }
 

@@ -237,14 +237,14 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
       CHECK(got == expected);
       // At least the sweep that finds every tile's input unchanged; rounds are the
       // first greedy and the sweeps that re-ran a tile.
-      REQUIRE(st.sweeps.size() >= 1);
+      REQUIRE(st.floating.sweeps.size() >= 1);
       std::uint64_t rounds = 1;
-      for (const SimplifyStats::SweepCount& s : st.sweeps) {
+      for (const FloatingStats::SweepCount& s : st.floating.sweeps) {
         CHECK(s.rerun <= s.looked_at);
         CHECK(s.looked_at <= tiles.count());
         rounds += s.rerun > 0;
       }
-      CHECK(st.rounds == rounds);
+      CHECK(st.floating.rounds == rounds);
     }
   }
 }
@@ -468,16 +468,16 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
   o.floating.tile_side = 3 * f.cell;
   SimplifyStats st;
   simplify(in, o, &st);
-  CHECK(st.tiles > 8);
-  CHECK(st.largest_tile_records >= st.input_triangles / st.tiles);  // at least the average
-  CHECK(st.largest_tile_records <= st.input_triangles);             // a triangle is once per tile
-  REQUIRE(st.sweeps.size() >= 2);  // tiles this small share borders: something to re-decide
-  CHECK(st.sweeps[0].looked_at > 0);
-  for (const SimplifyStats::SweepCount& s : st.sweeps) {
+  CHECK(st.floating.tiles > 8);
+  CHECK(st.floating.largest_tile_records >= st.input_triangles / st.floating.tiles);  // at least the average
+  CHECK(st.floating.largest_tile_records <= st.input_triangles);                      // a triangle is once per tile
+  REQUIRE(st.floating.sweeps.size() >= 2);  // tiles this small share borders: something to re-decide
+  CHECK(st.floating.sweeps[0].looked_at > 0);
+  for (const FloatingStats::SweepCount& s : st.floating.sweeps) {
     CHECK(s.rerun <= s.looked_at);
-    CHECK(s.looked_at <= st.tiles);
+    CHECK(s.looked_at <= st.floating.tiles);
   }
-  CHECK(st.rounds <= 1 + st.sweeps.size());
+  CHECK(st.floating.rounds <= 1 + st.floating.sweeps.size());
 
   CliResult r = run_cli("simplify --quiet --cell " + std::to_string(f.cell) + " --tile " + std::to_string(3 * f.cell) +
                         " '" + f.path + "' -o '" + f.dir.file("o.ply") + "' --stats '" + f.dir.file("st.json") + "'");

@@ -471,14 +471,14 @@ std::string phase_times(const std::vector<PhaseTime>& phases) {
 // The floating method's tiles and its spill's parts that exist: on disk, in memory or both.
 void print_tiles(std::FILE* to, const SimplifyStats& stats) {
   char disk[96] = "", memory[64] = "";
-  if (stats.spill_bytes)
-    std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)", double(stats.spill_bytes) / 1048576.0,
-                  double(stats.spill_raw_bytes) / 1048576.0);
-  if (stats.spill_bytes_in_memory)
+  if (stats.floating.spill_bytes)
+    std::snprintf(disk, sizeof disk, ", spill %.1f MiB on disk (%.1f MiB raw)",
+                  double(stats.floating.spill_bytes) / 1048576.0, double(stats.floating.spill_raw_bytes) / 1048576.0);
+  if (stats.floating.spill_bytes_in_memory)
     std::snprintf(memory, sizeof memory, ", %.1f MiB of spill held in memory",
-                  double(stats.spill_bytes_in_memory) / 1048576.0);
-  std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.tiles,
-               stats.resumed ? " (kept by an earlier run)" : "", stats.rounds, disk, memory);
+                  double(stats.floating.spill_bytes_in_memory) / 1048576.0);
+  std::fprintf(to, "tiles   %" PRIu64 " tiles%s, %" PRIu64 " rounds%s%s\n", stats.floating.tiles,
+               stats.floating.resumed ? " (kept by an earlier run)" : "", stats.floating.rounds, disk, memory);
 }
 
 void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const SimplifyStats& stats) {
@@ -486,11 +486,12 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
   if (o.target.given() || o.method == ClusterMethod::qem)
     std::fprintf(
         to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
-        stats.intermediate_triangles, stats.collapses, stats.largest_collapse_error, stats.largest_collapse_cost,
-        stats.target_missed ? ", target missed" : "");
-  if (stats.phase1_peak_anon_bytes)
+        stats.refine.intermediate_triangles, stats.refine.collapses, stats.refine.largest_collapse_error,
+        stats.refine.largest_collapse_cost, stats.refine.target_missed ? ", target missed" : "");
+  if (stats.refine.phase1_peak_anon_bytes)
     std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
-                 double(stats.phase1_peak_anon_bytes) / 1048576.0, double(stats.phase2_peak_anon_bytes) / 1048576.0);
+                 double(stats.refine.phase1_peak_anon_bytes) / 1048576.0,
+                 double(stats.refine.phase2_peak_anon_bytes) / 1048576.0);
   const std::string thick = o.thick_edges ? ", " + std::to_string(stats.output_edges) + " edges, " +
                                                 std::to_string(stats.output_points) + " points"
                                           : std::string();

@@ -107,10 +107,10 @@ void BorderDecisions::sweep(BlockStore& blocks, SimplifyStats* stats) {
     }
     if (runs == 0) break;
     if (reran > 0) ++rounds;
-    if (stats) stats->sweeps.push_back({runs, reran.load()});
+    if (stats) stats->floating.sweeps.push_back({runs, reran.load()});
   }
   std::vector<std::vector<GradedVertex>>().swap(ext_);
-  if (stats) stats->rounds = rounds;
+  if (stats) stats->floating.rounds = rounds;
 }
 
 }  // namespace oocsimp

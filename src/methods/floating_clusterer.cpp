@@ -122,7 +122,8 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
       grids_(grids),
       quadrics_(quadrics),
       options_(given),
-      budget_(options_.memory_budget ? options_.memory_budget : default_memory_budget(), options_.budget_counts_process),
+      budget_(options_.memory_budget ? options_.memory_budget : default_memory_budget(),
+              options_.budget_counts_process),
       kept_(input, given.temp_dir.empty() ? default_temp_dir() : given.temp_dir, &warnings_),
       first_([this](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
         return decisions_->choose_first(tile, sorted);
@@ -246,13 +247,13 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   const StreamSpill* spills[] = {tiles_.triangles.get(),  graded_.get(),       shares.corners.get(),
                                  shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
                                  shares.edge_shares.get()};
-  stats->spill_bytes = stats->spill_raw_bytes = blocks_->bytes_on_disk();
-  stats->spill_bytes_in_memory = blocks_->bytes_in_memory();
+  stats->floating.spill_bytes = stats->floating.spill_raw_bytes = blocks_->bytes_on_disk();
+  stats->floating.spill_bytes_in_memory = blocks_->bytes_in_memory();
   for (const StreamSpill* sp : spills)
     if (sp) {
-      stats->spill_bytes += sp->bytes_on_disk();
-      stats->spill_raw_bytes += sp->bytes_spilled();
-      stats->spill_bytes_in_memory += sp->bytes_kept_in_memory();
+      stats->floating.spill_bytes += sp->bytes_on_disk();
+      stats->floating.spill_raw_bytes += sp->bytes_spilled();
+      stats->floating.spill_bytes_in_memory += sp->bytes_kept_in_memory();
     }
   stats->input_triangles = tiles_.triangle_count;
   stats->skipped = tiles_.skipped;
@@ -261,9 +262,9 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   stats->output_triangles = m.triangles.size() / 3;
   stats->output_edges = m.primitives.edge_count();
   stats->output_points = m.primitives.point_count();
-  stats->tiles = tiles_.count();
-  stats->largest_tile_records = tiles_.largest_tile_records();
-  stats->resumed = resumed_;
+  stats->floating.tiles = tiles_.count();
+  stats->floating.largest_tile_records = tiles_.largest_tile_records();
+  stats->floating.resumed = resumed_;
   if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
 }
 

@@ -161,14 +161,14 @@ struct CollapseResult {
 // CollapseResult::finer_may_help.
 bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGoal& goal,
                    const SimplifyOptions& options, SimplifyStats* stats) {
-  stats->collapses = cs.collapses;
-  stats->largest_collapse_cost = cs.largest_cost;
-  stats->largest_collapse_error = cs.largest_error;
+  stats->refine.collapses = cs.collapses;
+  stats->refine.largest_collapse_cost = cs.largest_cost;
+  stats->refine.largest_collapse_error = cs.largest_error;
   // max_error alone asks for no count: stopping at it is the aim, not a miss.
   const bool count_asked =
       options.target.triangles != 0 || options.target.ratio != 0 || options.method == ClusterMethod::qem;
-  stats->target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
-  if (stats->target_missed && count_asked && (goal.last || cs.parity)) {
+  stats->refine.target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
+  if (stats->refine.target_missed && count_asked && (goal.last || cs.parity)) {
     std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
                       : cs.stopped_by_error
                           ? "the next collapse's error was above the maximum error"
@@ -176,7 +176,7 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
     stats->warnings.push_back("the target of " + std::to_string(goal.target) +
                               " triangles was not met: " + std::to_string(left) + " triangles (" + why + ")");
   }
-  return stats->target_missed && !cs.parity;
+  return stats->refine.target_missed && !cs.parity;
 }
 
 // Phase 2 (Garland & Shaffer 2002 §3): quadric edge collapse of `in`, held whole, down
@@ -186,7 +186,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   PhaseTimer clock;
   const PeakAnonSampler memory;
   QuadricMesh& m = in.mesh;
-  stats->intermediate_triangles = m.triangles.size() / 3;
+  stats->refine.intermediate_triangles = m.triangles.size() / 3;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
   CollapseSettings settings;
   settings.target_triangles = goal.target;
@@ -194,8 +194,9 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   CollapseStats cs;
   QuadricMesh done;
   {
-    ProgressPhase phase(options.progress, "collapse",
-                        stats->intermediate_triangles - std::min(stats->intermediate_triangles, goal.target), "tri");
+    ProgressPhase phase(
+        options.progress, "collapse",
+        stats->refine.intermediate_triangles - std::min(stats->refine.intermediate_triangles, goal.target), "tri");
     done = collapse_edges(std::move(m), settings, &cs, &phase);
   }
   CollapseResult out;
@@ -205,7 +206,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   stats->output_triangles = out.mesh.triangles.size() / 3;
   clock.end("refine");
   clock.move_to(&stats->phases);
-  stats->phase2_peak_anon_bytes = memory.peak();
+  stats->refine.phase2_peak_anon_bytes = memory.peak();
   return out;
 }
 
@@ -218,7 +219,7 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
   CollapseSettings keep_all;
   keep_all.target_triangles = m.triangles.size() / 3;
   QuadricMesh used = collapse_edges(std::move(m), keep_all, nullptr);
-  stats->intermediate_triangles = stats->input_triangles;
+  stats->refine.intermediate_triangles = stats->input_triangles;
   stats->warnings.push_back(input.info.path + ": the target of " + std::to_string(target) +
                             " triangles is at or above the input's " + std::to_string(stats->input_triangles) +
                             ": its own triangles are given back");
@@ -298,7 +299,7 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
   input.restart_triangles();
   const PeakAnonSampler phase1_memory;
   out.mesh = method.run(input, *o, out.grid, stats, with_quadrics ? &out.quadrics : nullptr);
-  stats->phase1_peak_anon_bytes = phase1_memory.peak();
+  stats->refine.phase1_peak_anon_bytes = phase1_memory.peak();
   return out;
 }
 
@@ -338,7 +339,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     stats->phases.resize(phases_before);
     stats->warnings.resize(warnings_before);
     if (plan.whole_instead(want, attempt)) {
-      stats->phase1_peak_anon_bytes = 0;
+      stats->refine.phase1_peak_anon_bytes = 0;
       return collapse_whole(input, *o, origin, stats);
     }
     const bool finest = plan.finest(attempt);

@@ -127,7 +127,7 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   js += buf;
   if (options.method == ClusterMethod::floating) {
     std::string sweeps;
-    for (const SimplifyStats::SweepCount& c : s.sweeps) {
+    for (const FloatingStats::SweepCount& c : s.floating.sweeps) {
       std::snprintf(buf, sizeof buf, "%s{\"looked_at\": %" PRIu64 ", \"rerun\": %" PRIu64 "}",
                     sweeps.empty() ? "" : ", ", c.looked_at, c.rerun);
       sweeps += buf;
@@ -136,8 +136,8 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                   "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64 ", \"rounds\": %" PRIu64
                   ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
                   ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s, \"sweeps\": [",
-                  s.tiles, s.largest_tile_records, s.rounds, s.spill_bytes, s.spill_raw_bytes, s.spill_bytes_in_memory,
-                  s.resumed ? "true" : "false");
+                  s.floating.tiles, s.floating.largest_tile_records, s.floating.rounds, s.floating.spill_bytes,
+                  s.floating.spill_raw_bytes, s.floating.spill_bytes_in_memory, s.floating.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
   }
   if (options.target.given() || options.method == ClusterMethod::qem) {
@@ -145,8 +145,9 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                   "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"phase1_peak_anon_bytes\": %" PRIu64
                   ", \"phase2_peak_anon_bytes\": %" PRIu64 ", \"collapses\": %" PRIu64
                   ", \"largest_collapse_cost\": %.9g, \"largest_collapse_error\": %.9g, \"target_missed\": %s},\n",
-                  s.intermediate_triangles, s.phase1_peak_anon_bytes, s.phase2_peak_anon_bytes, s.collapses,
-                  s.largest_collapse_cost, s.largest_collapse_error, s.target_missed ? "true" : "false");
+                  s.refine.intermediate_triangles, s.refine.phase1_peak_anon_bytes, s.refine.phase2_peak_anon_bytes,
+                  s.refine.collapses, s.refine.largest_collapse_cost, s.refine.largest_collapse_error,
+                  s.refine.target_missed ? "true" : "false");
     js += buf;
   }
   std::string attributes, warnings;
