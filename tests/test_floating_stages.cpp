@@ -214,7 +214,7 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
       };
       std::unique_ptr<BlockStore> blocks =
           grade_tiles(tiles, in.positions, first, GradingSettings{{f.cell, f.dir.path(), 0}});
-      SimplifyStats st;
+      FloatingStats st;
       decisions.sweep(*blocks, &st);
       TileBorders borders = decisions.take_borders();
       std::set<std::uint64_t> got;
@@ -237,14 +237,14 @@ TEST_CASE("decided centres equal the sequential greedy for several tilings, with
       CHECK(got == expected);
       // At least the sweep that finds every tile's input unchanged; rounds are the
       // first greedy and the sweeps that re-ran a tile.
-      REQUIRE(st.floating.sweeps.size() >= 1);
+      REQUIRE(st.sweeps.size() >= 1);
       std::uint64_t rounds = 1;
-      for (const FloatingStats::SweepCount& s : st.floating.sweeps) {
+      for (const FloatingStats::SweepCount& s : st.sweeps) {
         CHECK(s.rerun <= s.looked_at);
         CHECK(s.looked_at <= tiles.count());
         rounds += s.rerun > 0;
       }
-      CHECK(st.floating.rounds == rounds);
+      CHECK(st.rounds == rounds);
     }
   }
 }

@@ -58,7 +58,7 @@ std::vector<GradedVertex> BorderDecisions::choose_first(std::uint32_t tile, cons
   return centres;
 }
 
-void BorderDecisions::sweep(BlockStore& blocks, SimplifyStats* stats) {
+void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
   std::uint32_t n = grid_.count();
   // A tile runs again when the external centres it sees (its neighbours' border
   // centres near it) changed since its last run; rechoose_centres re-decides only
@@ -107,10 +107,10 @@ void BorderDecisions::sweep(BlockStore& blocks, SimplifyStats* stats) {
     }
     if (runs == 0) break;
     if (reran > 0) ++rounds;
-    if (stats) stats->floating.sweeps.push_back({runs, reran.load()});
+    if (stats) stats->sweeps.push_back({runs, reran.load()});
   }
   std::vector<std::vector<GradedVertex>>().swap(ext_);
-  if (stats) stats->floating.rounds = rounds;
+  if (stats) stats->rounds = rounds;
 }
 
 }  // namespace oocsimp

@@ -44,9 +44,9 @@ class BorderDecisions {
   std::vector<GradedVertex> choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted);
 
   /// Sweeps by colour class until no tile's external input changes; updates the
-  /// decisions in the vertex blocks of `blocks` in place. `stats` gets `rounds` and
-  /// the per-sweep counts.
-  void sweep(BlockStore& blocks, SimplifyStats* stats);
+  /// decisions in the vertex blocks of `blocks` in place. `stats` (may be null) gets
+  /// `rounds` and the per-sweep counts.
+  void sweep(BlockStore& blocks, FloatingStats* stats);
 
   /// The settled borders (after sweep()), for the assignment; the state is spent.
   TileBorders take_borders() { return std::move(border_); }

@@ -188,7 +188,7 @@ void FloatingRun::regrade(std::size_t level) {
 // The sweeps of border decisions after the first greedy, until no border changes.
 void FloatingRun::sweep(SimplifyStats* stats) {
   ProgressPhase phase(options_.progress, "rounds", 0, "round");
-  decisions_->sweep(*blocks_, stats);
+  decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr);
 }
 
 // Cluster shares and kept triangles, per tile against the decided centres.
