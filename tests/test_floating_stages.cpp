@@ -384,7 +384,7 @@ TEST_CASE("stitch and assembly on a hand-made case: first occurrences in input o
     KeptTriangle kept[] = {KeptTriangle::of(5, 20, 30, 40), KeptTriangle::of(3, 10, 20, 30),
                            KeptTriangle::of(7, 30, 20, 10)};  // 7: the same clusters as 3, later
     inside.append(0, kept, 3);
-    CornerRecord cr[] = {{1 << 2 | 1, 40}, {1 << 2 | 0, 30}, {1 << 2 | 2, 10}};
+    CornerRecord cr[] = {{1 << 2 | 1, 40, 0}, {1 << 2 | 0, 30, 0}, {1 << 2 | 2, 10, 0}};
     corners.append(0, cr, 3);
     inside.flush();
     corners.flush();
