@@ -384,14 +384,17 @@ TEST_CASE("stitch and assembly on a hand-made case: first occurrences in input o
     KeptTriangle kept[] = {KeptTriangle::of(5, 20, 30, 40), KeptTriangle::of(3, 10, 20, 30),
                            KeptTriangle::of(7, 30, 20, 10)};  // 7: the same clusters as 3, later
     inside.append(0, kept, 3);
-    CornerRecord cr[] = {{1 << 2 | 1, 40}, {1 << 2 | 0, 30}, {1 << 2 | 2, 10}};
+    CornerRecord cr[] = {{1 << 2 | 1, 40, 0}, {1 << 2 | 0, 30, 0}, {1 << 2 | 2, 10, 0}};
     corners.append(0, cr, 3);
     inside.flush();
     corners.flush();
     std::vector<KeptTriangle> stitched = stitch_kept_triangles(inside, corners);
     CHECK(stitched.size() == 4);
     AssemblyCounts counts;
-    SimplifiedMesh m = assemble_mesh(stitched, partials, {FloatingCellShape{2, CellShape::cube}, rule}, &counts);
+    AssemblySettings assembly;
+    assembly.cell = FloatingCellShape{2, CellShape::cube};
+    assembly.rule = rule;
+    SimplifiedMesh m = assemble_mesh(stitched, partials, assembly, &counts);
     CHECK(counts.clusters == 4);
     // Input order of first occurrence: 1 (30 40 10), 3 (10 20 30), 5 (20 30 40); 7 is 3 again.
     // Vertices by first use: 30 -> 0, 40 -> 1, 10 -> 2, 20 -> 3.

@@ -43,12 +43,13 @@ TEST_CASE("the stitch joins corners reported by different tiles into triangles",
   corners.add_stream();
   // Triangle 10 over clusters 7, 8, 9 (corner 1 reported first, from another tile);
   // triangle 11 collapses (two corners in cluster 7); triangle 20 in bucket 1.
-  std::vector<CornerRecord> a = {{10 << 2 | 1, 8}, {11 << 2 | 0, 7}}, b = {{10 << 2 | 0, 7}, {10 << 2 | 2, 9}},
-                            c = {{11 << 2 | 1, 7}, {11 << 2 | 2, 3}};
+  std::vector<CornerRecord> a = {{10 << 2 | 1, 8, 0}, {11 << 2 | 0, 7, 0}},
+                            b = {{10 << 2 | 0, 7, 0}, {10 << 2 | 2, 9, 0}},
+                            c = {{11 << 2 | 1, 7, 0}, {11 << 2 | 2, 3, 0}};
   corners.append(0, a.data(), a.size());
   corners.append(0, b.data(), b.size());
   corners.append(0, c.data(), c.size());
-  std::vector<CornerRecord> e = {{20 << 2 | 2, 1}, {20 << 2 | 0, 3}, {20 << 2 | 1, 2}};
+  std::vector<CornerRecord> e = {{20 << 2 | 2, 1, 0}, {20 << 2 | 0, 3, 0}, {20 << 2 | 1, 2, 0}};
   corners.append(1, e.data(), e.size());
   corners.flush();
   std::vector<KeptTriangle> kept;
@@ -66,7 +67,8 @@ TEST_CASE("the stitch refuses a triangle that lacks a corner", "[stitch]") {
   ScratchDir d;
   StreamSpill corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
   corners.add_stream();
-  std::vector<CornerRecord> a = {{5 << 2 | 0, 1}, {5 << 2 | 1, 2}, {6 << 2 | 0, 1}, {6 << 2 | 1, 2}, {6 << 2 | 2, 3}};
+  std::vector<CornerRecord> a = {
+      {5 << 2 | 0, 1, 0}, {5 << 2 | 1, 2, 0}, {6 << 2 | 0, 1, 0}, {6 << 2 | 1, 2, 0}, {6 << 2 | 2, 3, 0}};
   corners.append(0, a.data(), a.size());
   corners.flush();
   std::vector<KeptTriangle> kept;

@@ -10,12 +10,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
 #include "io/byte_sink.hpp"
 
 namespace oocsimp_test {
+
+void skip_test(const std::string& reason) { std::cout << "SKIPPED: " << reason << std::endl; }
 
 ScratchDir::ScratchDir() {
   std::string base = oocsimp::default_temp_dir() + "/oocsimp-test-XXXXXX";

@@ -129,12 +129,13 @@ inline void check_no_leftovers(const std::vector<std::string>& keep) {
 // Checks what an opened MeshInput promises about its positions: they lie inside the
 // mapping behind them, the finite ones inside info.bounds, and the others are counted
 // in info.non_finite_vertices, the first of them named.
-inline void check_positions(const oocsimp::MeshInput& in) {
+inline void check_positions(oocsimp::MeshInput& in) {
   const oocsimp::PositionArray& pa = in.positions;
   if (pa.count == 0) return;
-  if (!in.impl || !in.impl->position_map) finding("positions without a mapping");
-  const unsigned char* data = in.impl->position_map->data();
-  std::uint64_t size = in.impl->position_map->size();
+  const auto& state = oocsimp::reader_state(in);  // MeshInput::Impl: an opened input has one
+  if (!state.position_map) finding("positions without a mapping");
+  const unsigned char* data = state.position_map->data();
+  std::uint64_t size = state.position_map->size();
   std::size_t scalar = pa.type == oocsimp::ScalarType::f32 ? 4 : 8;
   std::size_t record_end = 0;
   for (std::size_t off : pa.offset) record_end = std::max(record_end, off + scalar);
