@@ -467,7 +467,8 @@ TEST_CASE("simplify writes area-weighted unit normals per vertex with normals as
     std::vector<std::array<double, 6>> out;  // position, normal
     for (std::uint64_t v = 0; v < m.positions.count; ++v) {
       const oocsimp::Vec3d p = m.positions.get(v);
-      out.push_back({p.x, p.y, p.z, attribute_value(m.attributes, v, std::size_t(at[0])), attribute_value(m.attributes, v, std::size_t(at[1])),
+      out.push_back({p.x, p.y, p.z, attribute_value(m.attributes, v, std::size_t(at[0])),
+                     attribute_value(m.attributes, v, std::size_t(at[1])),
                      attribute_value(m.attributes, v, std::size_t(at[2]))});
     }
     return out;

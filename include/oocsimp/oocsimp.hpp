@@ -63,10 +63,10 @@ void simplify_file(const std::string& input_path, const std::string& output_path
 void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
                         const LodOptions& lods, std::vector<SimplifyStats>* stats);
 
-/// Simplifies a mesh in memory: the mesh is read in place (with options.attributes), then simplified as a file would be. With a budget the
-/// spills fit in (the default, a quarter of memory, for any mesh that fits in memory),
-/// no file is written, and options.temp_dir is not touched. The result equals the one
-/// simplify_file gives for the same mesh stored in a file.
+/// Simplifies a mesh in memory: the mesh is read in place (with options.attributes), then simplified as a file would
+/// be. With a budget the spills fit in (the default, a quarter of memory, for any mesh that fits in memory), no file is
+/// written, and options.temp_dir is not touched. The result equals the one simplify_file gives for the same mesh stored
+/// in a file.
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
 
 /// Simplifies the file at `input_path` into memory: what simplify_file writes, as a

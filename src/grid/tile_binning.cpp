@@ -90,8 +90,7 @@ static std::uint64_t triangle_spill_bytes(const MeshInput& input) {
 static SpillAllowances memory_for_spills(const MeshInput& input, const TileSettings& settings,
                                          std::size_t vertex_record_bytes, std::uint64_t tiles) {
   const std::uint64_t budget = settings.memory_budget;
-  return spill_allowances(budget, tiles + budget / 4 + budget / 8,
-                          settings.keep_temp ? 0 : triangle_spill_bytes(input),
+  return spill_allowances(budget, tiles + budget / 4 + budget / 8, settings.keep_temp ? 0 : triangle_spill_bytes(input),
                           input.positions.count * vertex_record_bytes * 3 / 2);
 }
 

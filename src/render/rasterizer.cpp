@@ -60,7 +60,8 @@ struct VertexNormals {
         if (a.attributes[i].name == names[k]) index[k] = int(i);
   }
   Vec3d get(const AttributeArray& a, std::uint64_t v) const {
-    return {attribute_value(a, v, std::size_t(index[0])), attribute_value(a, v, std::size_t(index[1])), attribute_value(a, v, std::size_t(index[2]))};
+    return {attribute_value(a, v, std::size_t(index[0])), attribute_value(a, v, std::size_t(index[1])),
+            attribute_value(a, v, std::size_t(index[2]))};
   }
 };
 
