@@ -200,107 +200,151 @@ Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell
   return out;
 }
 
-SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
-                             AssemblyCounts* counts, std::vector<Quadric>* quadrics) {
-  const FloatingCellShape& cell = settings.cell;
-  const RepresentativeRule rule = settings.rule;
-  const MemoryBudget& budget = settings.budget;
-  StreamSpill* const attribute_shares = settings.attribute_shares;
-  const AttributeLayout* const attributes = settings.attributes;
-  const Vec3d& origin = settings.origin;
-  const ThickAssembly* const thick = settings.thick;
-  std::vector<KeptTriangle>& tris = kept;
+namespace {
+
+// The kept triangles once each, in input order of first occurrence.
+void order_kept_triangles(std::vector<KeptTriangle>& tris) {
   dedupe_kept_triangles(tris);
   tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
     return a.index() < b.index();  // input order of first occurrence
   });
-  // The index of output vertices and the triangle array, next to the kept list; a
-  // closed surface has about half as many vertices as triangles (Euler).
-  const std::string output = std::to_string(tris.size()) + " output triangles";
+}
+
+// The triangles' corners as output vertices: the clusters in order of first use. The
+// set numbers its keys in insertion order, which is exactly that. Checked first: the
+// index and the triangle array, next to the kept list (a closed surface has about half
+// as many vertices as triangles, Euler).
+FlatHashSet<std::uint64_t> number_triangle_vertices(const std::vector<KeptTriangle>& tris, const MemoryBudget& budget,
+                                                    const std::string& output, SimplifiedMesh* mesh) {
   const std::uint64_t slots = 2 * tris.size() + 16;
   check_output_fits(budget,
                     slots * 2 * sizeof(std::uint32_t) + tris.size() / 2 * (sizeof(std::uint64_t) + 1) +
                         3 * sizeof(std::uint32_t) * tris.size(),
                     output);
-  // Output vertices are the clusters in order of first use; the set numbers its
-  // keys in insertion order, which is exactly that.
   FlatHashSet<std::uint64_t> index(2 * tris.size() + 16);
-  SimplifiedMesh mesh;
-  mesh.triangles.reserve(3 * tris.size());
+  mesh->triangles.reserve(3 * tris.size());
   for (const KeptTriangle& t : tris)
-    for (std::uint64_t c : t.corners()) mesh.triangles.push_back(index.insert(c));
-  // Thick edges: their clusters numbered after the triangles'.
-  FlatHashSet<std::uint64_t> stitched_points;
-  if (thick) {
-    std::vector<ClusterPair> pairs;
-    std::vector<EdgeCandidate> edges = surviving_edges(tris, *thick, cell, budget, &stitched_points, &pairs);
-    ThickPrimitives& p = mesh.primitives;
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-      p.edges.push_back(index.insert(pairs[e].first));
-      p.edges.push_back(index.insert(pairs[e].second));
-      p.edge_thickness.push_back(edges[e].thickness);
-    }
+    for (std::uint64_t c : t.corners()) mesh->triangles.push_back(index.insert(c));
+  return index;
+}
+
+// Thick edges (Low & Tan 1997 §3.3): their clusters numbered after the triangles';
+// `stitched_points` gets the clusters a triangle collapsed into.
+void number_thick_edges(const std::vector<KeptTriangle>& tris, const ThickAssembly& thick,
+                        const AssemblySettings& settings, FlatHashSet<std::uint64_t>* stitched_points,
+                        FlatHashSet<std::uint64_t>* index, ThickPrimitives* p) {
+  std::vector<ClusterPair> pairs;
+  std::vector<EdgeCandidate> edges =
+      surviving_edges(tris, thick, settings.cell, settings.budget, stitched_points, &pairs);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    p->edges.push_back(index->insert(pairs[e].first));
+    p->edges.push_back(index->insert(pairs[e].second));
+    p->edge_thickness.push_back(edges[e].thickness);
   }
-  std::vector<KeptTriangle>().swap(kept);
-  // The positions and the largest cluster bucket with its centre starts.
+}
+
+// The positions, and the largest cluster bucket with its centre starts, must fit.
+void check_positions_fit(const StreamSpill& partials, const AssemblySettings& settings, std::size_t vertices,
+                         const std::string& output) {
   const std::uint64_t bucket = largest_bucket(partials);
-  const std::size_t attribute_count = attributes && attribute_shares ? attributes->count() : 0;
+  const AttributeLayout* const attributes = settings.attributes;
+  const std::size_t attribute_count = attributes && settings.attribute_shares ? attributes->count() : 0;
   const std::uint64_t attribute_bucket =
-      attribute_count ? largest_bucket(*attribute_shares) * (attribute_record_bytes(*attributes) + 4) : 0;
-  check_output_fits(budget,
-                    (3 + attribute_count) * sizeof(double) * index.size() +
+      attribute_count ? largest_bucket(*settings.attribute_shares) * (attribute_record_bytes(*attributes) + 4) : 0;
+  check_output_fits(settings.budget,
+                    (3 + attribute_count) * sizeof(double) * vertices +
                         bucket * (sizeof(PartialCluster) + sizeof(std::size_t)) + attribute_bucket,
-                    output + " and " + std::to_string(index.size()) + " vertices");
-  // Representatives, a cluster bucket at a time: merge each centre's shares (in
-  // fixed point, so in any order) and solve for the clusters some triangle uses.
-  mesh.positions.assign(3 * index.size(), 0.0);
-  if (quadrics) quadrics->assign(index.size(), Quadric());
-  std::uint64_t clusters = 0;
-  std::vector<PointCluster> points;
-  std::mutex points_lock;
-  for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
-    std::vector<PartialCluster> shares;
-    partials.read(b, &shares);
-    // Shares of one centre in any order: they are summed in fixed point.
-    tbb::parallel_sort(shares.begin(), shares.end(),
-                       [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });
-    std::vector<std::size_t> starts;  // first share of each centre
-    for (std::size_t i = 0; i < shares.size(); ++i)
-      if (i == 0 || shares[i].centre != shares[i - 1].centre) starts.push_back(i);
-    clusters += starts.size();
-    starts.push_back(shares.size());
-    tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t k) {
-      const std::uint64_t centre = shares[starts[k]].centre;
-      const std::int64_t id = index.find(centre);
-      if (id < 0 && !thick) return;  // a cluster no output triangle uses
-      ClusterRecord sum = shares[starts[k]].sums;
-      for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
-      // No triangle or edge uses it: a thick point when a triangle collapsed into it.
-      if (id < 0 && sum.collapsed == 0 && stitched_points.find(centre) < 0) return;
-      Vec3d p = representative(sum, cell, rule);
-      if (id < 0) {
-        const double width =
-            point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
-        std::lock_guard<std::mutex> hold(points_lock);
-        points.push_back({centre, p, float(width)});
-        return;
-      }
-      if (quadrics) (*quadrics)[std::size_t(id)] = multiphase_quadric(sum, cell, origin);
-      mesh.positions[3 * std::size_t(id)] = p.x;
-      mesh.positions[3 * std::size_t(id) + 1] = p.y;
-      mesh.positions[3 * std::size_t(id) + 2] = p.z;
-    });
-  }
-  // The points in centre order, numbered after everything else.
+                    output + " and " + std::to_string(vertices) + " vertices");
+}
+
+// Where the representatives go: the output's positions (and quadrics) by vertex
+// number, and the thick points found among the clusters no triangle or edge uses.
+struct Representatives {
+  const FlatHashSet<std::uint64_t>& index;
+  const FlatHashSet<std::uint64_t>& stitched_points;
+  SimplifiedMesh* mesh;
+  std::vector<Quadric>* quadrics;
+  std::vector<PointCluster>* points;
+  std::mutex* points_lock;
+};
+
+// One cluster bucket: each centre's shares merged (in fixed point, so in any order)
+// and solved for, where some triangle uses the cluster or a triangle collapsed into it
+// (a thick point). Returns the clusters the bucket holds.
+std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySettings& settings,
+                           const Representatives& out) {
+  const FloatingCellShape& cell = settings.cell;
+  // Shares of one centre in any order: they are summed in fixed point.
+  tbb::parallel_sort(shares.begin(), shares.end(),
+                     [](const PartialCluster& a, const PartialCluster& c) { return a.centre < c.centre; });
+  std::vector<std::size_t> starts;  // first share of each centre
+  for (std::size_t i = 0; i < shares.size(); ++i)
+    if (i == 0 || shares[i].centre != shares[i - 1].centre) starts.push_back(i);
+  const std::uint64_t clusters = starts.size();
+  starts.push_back(shares.size());
+  tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t k) {
+    const std::uint64_t centre = shares[starts[k]].centre;
+    const std::int64_t id = out.index.find(centre);
+    if (id < 0 && !settings.thick) return;  // a cluster no output triangle uses
+    ClusterRecord sum = shares[starts[k]].sums;
+    for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
+    // No triangle or edge uses it: a thick point when a triangle collapsed into it.
+    if (id < 0 && sum.collapsed == 0 && out.stitched_points.find(centre) < 0) return;
+    Vec3d p = representative(sum, cell, settings.rule);
+    if (id < 0) {
+      const double width =
+          point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
+      std::lock_guard<std::mutex> hold(*out.points_lock);
+      out.points->push_back({centre, p, float(width)});
+      return;
+    }
+    if (out.quadrics) (*out.quadrics)[std::size_t(id)] = multiphase_quadric(sum, cell, settings.origin);
+    std::vector<double>& positions = out.mesh->positions;
+    positions[3 * std::size_t(id)] = p.x;
+    positions[3 * std::size_t(id) + 1] = p.y;
+    positions[3 * std::size_t(id) + 2] = p.z;
+  });
+  return clusters;
+}
+
+// The thick points in centre order, numbered after everything else.
+void append_points(std::vector<PointCluster>& points, FlatHashSet<std::uint64_t>* index, SimplifiedMesh* mesh) {
   std::sort(points.begin(), points.end(),
             [](const PointCluster& a, const PointCluster& b) { return a.centre < b.centre; });
   for (const PointCluster& pc : points) {
-    mesh.primitives.points.push_back(index.insert(pc.centre));
-    mesh.primitives.point_thickness.push_back(pc.width);
-    mesh.positions.insert(mesh.positions.end(), {pc.position.x, pc.position.y, pc.position.z});
+    mesh->primitives.points.push_back(index->insert(pc.centre));
+    mesh->primitives.point_thickness.push_back(pc.width);
+    mesh->positions.insert(mesh->positions.end(), {pc.position.x, pc.position.y, pc.position.z});
   }
-  if (attribute_shares && attributes && !attributes->empty())
-    assemble_attributes(*attribute_shares, *attributes, index, &mesh.attributes);
+}
+
+}  // namespace
+
+SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
+                             AssemblyCounts* counts, std::vector<Quadric>* quadrics) {
+  order_kept_triangles(kept);
+  const std::string output = std::to_string(kept.size()) + " output triangles";
+  SimplifiedMesh mesh;
+  FlatHashSet<std::uint64_t> index = number_triangle_vertices(kept, settings.budget, output, &mesh);
+  FlatHashSet<std::uint64_t> stitched_points;
+  if (settings.thick) number_thick_edges(kept, *settings.thick, settings, &stitched_points, &index, &mesh.primitives);
+  std::vector<KeptTriangle>().swap(kept);
+  check_positions_fit(partials, settings, index.size(), output);
+  mesh.positions.assign(3 * index.size(), 0.0);
+  if (quadrics) quadrics->assign(index.size(), Quadric());
+  // Representatives, a cluster bucket at a time.
+  std::vector<PointCluster> points;
+  std::mutex points_lock;
+  const Representatives out{index, stitched_points, &mesh, quadrics, &points, &points_lock};
+  std::uint64_t clusters = 0;
+  for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
+    std::vector<PartialCluster> shares;
+    partials.read(b, &shares);
+    clusters += place_bucket(shares, settings, out);
+  }
+  append_points(points, &index, &mesh);
+  if (settings.attribute_shares && settings.attributes && !settings.attributes->empty())
+    assemble_attributes(*settings.attribute_shares, *settings.attributes, index, &mesh.attributes);
   if (counts) counts->clusters = clusters;
   return mesh;
 }
