@@ -102,15 +102,6 @@ std::string with_flags(const std::string& text) {
   return shown;
 }
 
-// An error about one option starts with its field (UsageError::option()): the flag
-// takes its place, and the rest may name further fields.
-std::string usage_message(const UsageError& e) {
-  const std::string text = e.what();
-  const auto* row = e.option().empty() ? nullptr : field_at(text, 0);
-  if (row && e.option() == row->first) return row->second + with_flags(text.substr(e.option().size()));
-  return with_flags(text);
-}
-
 // --- Checked option values: every size and count is refused (exit 2, naming the flag
 // and the value) rather than replaced by a default. CLI11 reads "-5" into an unsigned
 // without complaint, so numbers are taken as text and parsed here.
@@ -855,7 +846,7 @@ int report_failure() {
   try {
     throw;
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", usage_message(e).c_str());
+    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
     return kUsage;
   } catch (const InputError& e) {
     std::fprintf(stderr, "oocsimp: %s\n", e.what());

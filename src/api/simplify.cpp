@@ -22,6 +22,7 @@
 #include "methods/floating_clusterer.hpp"
 #include "methods/multiphase.hpp"
 #include "oocsimp/error.hpp"
+#include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
 
@@ -68,12 +69,6 @@ void round_to_float(const MeshInput& input, SimplifiedMesh& m) {
 }
 
 }  // namespace
-
-std::uint64_t default_memory_budget() {
-  long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
-  return std::uint64_t(pages) * std::uint64_t(page) / 4;
-}
 
 ScalarType output_precision(const MeshInput& input, Precision precision) {
   switch (precision) {
@@ -132,16 +127,7 @@ void record_grid(const GridSpec& grid, SimplifyStats* st) {
 
 }  // namespace
 
-// The options with their defaults resolved, as the stages take them: the budget in
-// bytes (0 asks for default_memory_budget()).
-static SimplifyOptions resolved(const SimplifyOptions& given) {
-  SimplifyOptions options = given;
-  if (options.memory_budget == 0) options.memory_budget = default_memory_budget();
-  return options;
-}
-
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
-  const SimplifyOptions options = resolved(given);
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   SimplifyStats local;
@@ -197,8 +183,7 @@ double equivalent_cell(const SimplifiedMesh& m) {
 
 }  // namespace
 
-void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods, const LodSink& sink) {
-  const SimplifyOptions options = resolved(given);
+void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink) {
   check_lods(options, lods);
   auto threads = limit_threads(options.threads);
   if (options.target.given()) {
@@ -327,7 +312,7 @@ MeshInput open_input(const std::string& input_path, const SimplifyOptions& optio
   open.temp_dir = options.temp_dir;
   open.weld = options.weld;
   open.attributes = options.attributes;
-  open.memory_budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  open.memory_budget = budget_bytes(options.memory_budget);
   open.progress = options.progress;
   return open_mesh_input(input_path, open);
 }

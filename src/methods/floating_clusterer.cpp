@@ -122,13 +122,12 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
       grids_(grids),
       quadrics_(quadrics),
       options_(given),
-      budget_(options_.memory_budget ? options_.memory_budget : default_memory_budget(),
-              options_.budget_counts_process),
+      budget_(budget_bytes(given.memory_budget), given.budget_counts_process),
       kept_(input, given.temp_dir.empty() ? default_temp_dir() : given.temp_dir, &warnings_),
       first_([this](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
         return decisions_->choose_first(tile, sorted);
       }) {
-  if (options_.memory_budget == 0) options_.memory_budget = default_memory_budget();
+  options_.memory_budget = budget_.bytes();  // the stages take the bytes, never 0
   for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
 }
 

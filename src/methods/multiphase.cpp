@@ -84,7 +84,7 @@ bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
 QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, const char* why,
                        SimplifyStats* stats) {
   const std::size_t k = input.attributes.size();
-  const MemoryBudget budget(options.memory_budget, options.budget_counts_process);
+  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
   const std::uint64_t v = input.positions.count, f = input.info.face_count;
   budget.check(budget.held(), collapse_bytes(v, f, k),
                "the whole mesh of " + input.info.path + " (" + std::to_string(v) + " vertices, " + std::to_string(f) +
@@ -249,7 +249,7 @@ class IntermediatePlan {
  public:
   IntermediatePlan(const MeshInput& input, const SimplifyOptions& o, std::uint64_t estimate)
       : k_(o.target.intermediate_factor), estimate_(double(estimate)), faces_(double(input.info.face_count)) {
-    const MemoryBudget budget(o.memory_budget, o.budget_counts_process);
+    const MemoryBudget budget(budget_bytes(o.memory_budget), o.budget_counts_process);
     budget_intermediate_ = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
                                           : std::numeric_limits<double>::infinity();
     whole_possible_ = whole_fits(input, budget);

@@ -93,8 +93,8 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
                                SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   const ProgressCallback& progress = options.progress;
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
-  const TableBudget budget(MemoryBudget(options.memory_budget, options.budget_counts_process), grid, occupancy,
-                           input.positions.count);
+  const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
+                           occupancy, input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
   UniformCells cells(grid, input.attributes);
 

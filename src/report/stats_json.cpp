@@ -5,6 +5,7 @@
 #include <string>
 
 #include "oocsimp/oocsimp.hpp"
+#include "runtime/memory_budget.hpp"
 
 #ifndef OOCSIMP_VERSION
 #error "OOCSIMP_VERSION comes from the CMake project version"
@@ -76,7 +77,7 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
     s += ", \"keep_tmp\": " + std::string(o.floating.keep_temp ? "true" : "false");
     s += ", \"spill_compress\": " + quoted(spill_compression_name(o.floating.spill_compression));
   }
-  s += ", \"mem_bytes\": " + number(o.memory_budget ? o.memory_budget : default_memory_budget());
+  s += ", \"mem_bytes\": " + number(budget_bytes(o.memory_budget));
   s += ", \"threads\": " + number(std::uint64_t(o.threads));
   s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
   s += ", \"weld\": " + std::string(o.weld ? "true" : "false");

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "oocsimp/error.hpp"
+#include "oocsimp/oocsimp.hpp"  // default_memory_budget
 #include "runtime/memory_usage.hpp"
 
 // Under AddressSanitizer the process's anonymous memory is mostly shadow memory and
@@ -30,6 +31,10 @@ namespace oocsimp {
 /// `bytes` in whole MiB, rounded up, as text without a unit (io/temp_file.hpp's
 /// mib_text writes "12.3 MiB").
 inline std::string whole_mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
+
+/// The bytes a budget option asks for: itself, or default_memory_budget() for 0 (the
+/// options' "0 = a quarter of physical memory"). The one place that default applies.
+inline std::uint64_t budget_bytes(std::uint64_t option) { return option ? option : default_memory_budget(); }
 
 /// The budget of a run and the process's anonymous memory it does not cover.
 class MemoryBudget {

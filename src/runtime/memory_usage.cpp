@@ -7,6 +7,8 @@
 
 #include "runtime/memory_usage.hpp"
 
+#include "oocsimp/oocsimp.hpp"  // default_memory_budget
+
 namespace oocsimp {
 
 namespace {
@@ -72,6 +74,12 @@ std::uint64_t PeakAnonSampler::peak() const {
   const std::uint64_t now = current_anon_bytes();
   const std::uint64_t p = peak_.load();
   return now > p ? now : p;
+}
+
+std::uint64_t default_memory_budget() {
+  long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return std::uint64_t(1) << 30;
+  return std::uint64_t(pages) * std::uint64_t(page) / 4;
 }
 
 }  // namespace oocsimp
