@@ -479,6 +479,8 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
         to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
         stats.refine.intermediate_triangles, stats.refine.collapses, stats.refine.largest_collapse_error,
         stats.refine.largest_collapse_cost, stats.refine.target_missed ? ", target missed" : "");
+  if (stats.refine.passes)
+    std::fprintf(to, "passes  %u out-of-core passes of the collapse before the last\n", unsigned(stats.refine.passes));
   if (stats.refine.phase1_peak_anon_bytes)
     std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
                  double(stats.refine.phase1_peak_anon_bytes) / 1048576.0,

@@ -39,6 +39,9 @@ struct FloatingStats {
 struct RefineStats {
   /// The triangles phase 1 handed on (the input's for qem).
   std::uint64_t intermediate_triangles = 0;
+  /// The out-of-core passes of the collapse before the last, in-core one (0: the mesh
+  /// collapsed whole at once).
+  std::uint32_t passes = 0;
   /// Peak anonymous memory of phase 1 (the clustering, which --mem bounds) and of
   /// phase 2 (the collapse, which holds the intermediate whole), in bytes; 0 for a
   /// phase that did not run.

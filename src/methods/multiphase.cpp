@@ -20,6 +20,7 @@
 #include "grid/grid_choice.hpp"
 #include "io/attribute_array.hpp"
 #include "methods/cluster_methods.hpp"
+#include "methods/qem_passes.hpp"
 #include "oocsimp/error.hpp"
 #include "refine/edge_collapse.hpp"
 #include "runtime/memory_usage.hpp"
@@ -56,16 +57,6 @@ constexpr double kWholeInsteadShare = 0.75;
 // Triangles per read of the input when it is loaded whole.
 constexpr std::size_t kLoadChunkTriangles = 65536;
 
-// What holding a whole mesh for the collapse takes: per vertex its position, quadric,
-// flags and face list (3 entries per face); per face its corners, input normal and a
-// few queue entries.
-constexpr std::uint64_t kCollapseBytesPerVertex = sizeof(Vec3d) + sizeof(Quadric) + 16;
-constexpr std::uint64_t kCollapseBytesPerTriangle = 12 + sizeof(Vec3d) + 3 * 4 * 3 + 4 * 16;
-
-std::uint64_t collapse_bytes(std::uint64_t vertices, std::uint64_t triangles, std::size_t attributes) {
-  return vertices * (kCollapseBytesPerVertex + sizeof(double) * attributes) + triangles * kCollapseBytesPerTriangle;
-}
-
 std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangles) {
   if (t.triangles) return t.triangles;
   if (t.ratio)
@@ -76,7 +67,7 @@ std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangl
 // Whether the whole input fits in the budget for the collapse, next to what the run holds.
 bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
   return budget.fits(budget.held(),
-                     collapse_bytes(input.positions.count, input.info.face_count, input.attributes.size()));
+                     collapse_memory_bytes(input.positions.count, input.info.face_count, input.attributes.size()));
 }
 
 // The whole input, relative to `origin`, with its carried attributes, after a check
@@ -86,10 +77,10 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
   const std::size_t k = input.attributes.size();
   const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
   const std::uint64_t v = input.positions.count, f = input.info.face_count;
-  budget.check(budget.held(), collapse_bytes(v, f, k),
+  budget.check(budget.held(), collapse_memory_bytes(v, f, k),
                "the whole mesh of " + input.info.path + " (" + std::to_string(v) + " vertices, " + std::to_string(f) +
                    " faces) " + why,
-               "give options.memory_budget " + whole_mib(budget.held() + collapse_bytes(v, f, k)) +
+               "give options.memory_budget " + whole_mib(budget.held() + collapse_memory_bytes(v, f, k)) +
                    " MiB or more, or a clustering method with the target");
   ProgressPhase phase(options.progress, "load mesh", input.file_size, "B");
   QuadricMesh m;
@@ -141,6 +132,8 @@ struct CollapseInput {
   QuadricMesh mesh;
   Vec3d origin;
   const std::vector<VertexAttribute>* attributes = nullptr;
+  /// The quadrics hold the boundary planes already (the out-of-core passes added them).
+  bool boundary_planes_in_quadrics = false;
 };
 
 // What phase 2 is asked for.
@@ -191,6 +184,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   CollapseSettings settings;
   settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
+  if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
   CollapseStats cs;
   QuadricMesh done;
   {
@@ -241,6 +235,31 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
   return refine({std::move(whole), origin, &input.attributes.attributes}, {target, true}, o, stats).mesh;
+}
+
+// --method qem: the collapse whole, or out of core in passes (methods/qem_passes)
+// down to a few times the target, then whole.
+SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t estimate,
+                            SimplifyStats* stats) {
+  if (!collapses_in_passes(input.info.face_count, estimate)) return collapse_whole(input, o, origin, stats);
+  stats->cell_size = 0;  // no grid
+  for (std::uint32_t& d : stats->grid_dims) d = 0;
+  CollapseInput rest;
+  {
+    const PeakAnonSampler memory;
+    rest.mesh = reduce_in_passes(input, o, origin, estimate, stats);
+    stats->refine.phase1_peak_anon_bytes = memory.peak();
+  }
+  const std::uint64_t pass_collapses = stats->refine.collapses;
+  const double pass_error = stats->refine.largest_collapse_error;
+  rest.origin = origin;
+  rest.attributes = &input.attributes.attributes;
+  rest.boundary_planes_in_quadrics = true;
+  const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
+  SimplifiedMesh out = refine(std::move(rest), {target, true}, o, stats).mesh;
+  stats->refine.collapses += pass_collapses;
+  stats->refine.largest_collapse_error = std::max(stats->refine.largest_collapse_error, pass_error);
+  return out;
 }
 
 // How large phase 1's intermediate is on each attempt, and when the whole input
@@ -387,7 +406,7 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   const Vec3d origin = input.info.bounds.empty() ? Vec3d{} : input.info.bounds.min;
   const std::uint64_t estimate = resolve_target(o.target, faces);
   if (o.target.max_error == 0 && estimate >= faces) return input_as_is(input, o, estimate, stats);
-  if (o.method == ClusterMethod::qem) return collapse_whole(input, o, origin, stats);
+  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, origin, estimate, stats);
   // --refine none: phase 1 alone, at the cell for about the target itself.
   if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(estimate), false, stats).mesh;
   return multiphase(input, &o, origin, estimate, stats);

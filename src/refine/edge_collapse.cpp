@@ -578,7 +578,11 @@ bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32
 bool CollapseState::split_longest_edge(int faces) {
   std::pair<std::uint32_t, std::uint32_t> edge;
   if (!longest_edge(faces, &edge)) return false;
-  const std::uint32_t u = edge.first, w = edge.second;
+  split_edge(edge.first, edge.second, faces);
+  return true;
+}
+
+void CollapseState::split_edge(std::uint32_t u, std::uint32_t w, int faces) {
   std::vector<std::uint32_t> around;  // the faces on (u, w)
   for_each_face(u, [&](std::uint32_t f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
@@ -628,17 +632,61 @@ bool CollapseState::split_longest_edge(int faces) {
     replace_list(m, kNoFace, f, true);
     replace_list(m, kNoFace, added, true);
   }
-  return true;
 }
 
 bool CollapseState::split_up_to(std::uint64_t target) {
+  // The live edges of one and of two faces in heaps, longest first (ties: the lowest
+  // vertices), so that each split takes the edge split_longest_edge() would find,
+  // without a search of the whole mesh. Lengths never change; an entry whose edge has
+  // been split since (it has no face left) is passed over.
+  struct Edge {
+    double length;
+    std::uint32_t u, w;
+  };
+  auto shorter = [](const Edge& x, const Edge& y) {
+    return x.length < y.length || (x.length == y.length && (x.u > y.u || (x.u == y.u && x.w > y.w)));
+  };
+  std::vector<Edge> heaps[2];
+  auto push = [&](std::uint32_t u, std::uint32_t w, int faces) {
+    if (faces != 1 && faces != 2) return;
+    if (u > w) std::swap(u, w);
+    heaps[faces - 1].push_back({squared_distance(mesh_.positions[u], mesh_.positions[w]), u, w});
+    std::push_heap(heaps[faces - 1].begin(), heaps[faces - 1].end(), shorter);
+  };
+  if (live_faces_ < target)
+    for (std::uint32_t f = 0; f < face_dead_.size(); ++f) {
+      if (face_dead_[f]) continue;
+      const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+      for (std::uint32_t k = 0; k < 3; ++k) push(t[k], t[(k + 1) % 3], faces_on_edge(t[k], t[(k + 1) % 3]));
+    }
+  auto split_longest = [&](int faces) {
+    std::vector<Edge>& heap = heaps[faces - 1];
+    while (!heap.empty()) {
+      const Edge e = heap.front();
+      std::pop_heap(heap.begin(), heap.end(), shorter);
+      heap.pop_back();
+      if (faces_on_edge(e.u, e.w) != faces) continue;
+      split_edge(e.u, e.w, faces);
+      const std::uint32_t m = std::uint32_t(mesh_.positions.size() - 1);
+      push(e.u, m, faces);
+      push(m, e.w, faces);
+      for_each_face(m, [&](std::uint32_t f) {
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t r = mesh_.triangles[3 * f + std::size_t(k)];
+          if (r != m && r != e.u && r != e.w) push(m, r, 2);
+        }
+      });
+      return true;
+    }
+    return false;
+  };
   while (live_faces_ < target) {
     const std::uint64_t missing = target - live_faces_;
-    if (missing % 2 == 1 && split_longest_edge(1)) continue;
+    if (missing % 2 == 1 && split_longest(1)) continue;
     // Without an edge of one face an odd count stays one short: edges of two faces
     // take it there.
-    if (missing >= 2 && split_longest_edge(2)) continue;
-    if (!split_longest_edge(1)) return false;
+    if (missing >= 2 && split_longest(2)) continue;
+    if (!split_longest(1)) return false;
   }
   return live_faces_ == target;
 }
@@ -835,7 +883,7 @@ class LazyQueue {
 
   bool take(const CollapseState::Candidate& c) {
     const double error = state_.error(c);
-    if (error > settings_.max_error) {
+    if (error > settings_.max_error || c.cost > settings_.max_cost) {
       stats_->stuck = stats_->stopped_by_error = true;
       return false;
     }
@@ -843,6 +891,7 @@ class LazyQueue {
     if ((++stats_->collapses & 0xFFF) == 0 && progress_) progress_->set(2 * stats_->collapses);
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
     stats_->largest_error = std::max(stats_->largest_error, error);
+    if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
     requeue_around(c.a);
     // An anchored vertex does not move: the costs of all its edges changed, and their
     // entries are stale.
@@ -1020,7 +1069,7 @@ class PassDriver {
       // Skipped edges may be cheaper than this one now: whether the collapse stops at
       // max_error is for the lazy queue to say, in strict order of cost.
       const double error = state_.error(c);
-      if (error > settings_.max_error) {
+      if (error > settings_.max_error || c.cost > settings_.max_cost) {
         at_max_error_ = true;
         break;
       }
@@ -1028,6 +1077,7 @@ class PassDriver {
       ++taken;
       stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
       stats_->largest_error = std::max(stats_->largest_error, error);
+      if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
       touched_[e->a] = touched_[e->b] = stamp;
       for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
     }
@@ -1090,6 +1140,11 @@ QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, C
     round.boundary_weight = 0;
     state = CollapseState(std::move(tiled), round);
   }
+  // A mesh already below an exact target (the out-of-core passes took the free
+  // collapses of a flat mesh past it): edges split up to it, the surface unchanged.
+  if (settings.exact_count && state.triangle_count() < settings.target_triangles &&
+      !state.split_up_to(settings.target_triangles))
+    st.parity = st.stuck = state.triangle_count() + 1 == settings.target_triangles;
   collapse_state(state, settings, &st, progress);
   // Every collapse left would make a needle: on the generated sphere to a low target
   // the collapse jammed well short of it, every edge refused, most by the needle

@@ -39,6 +39,16 @@ struct QuadricMesh {
   std::vector<std::uint8_t> locked;
 };
 
+/// What holding a mesh for the collapse takes, in bytes: per vertex its position,
+/// quadric, flags, face list and attributes; per face its corners, input normal, face
+/// list entries and a few queue entries.
+inline std::uint64_t collapse_memory_bytes(std::uint64_t vertices, std::uint64_t triangles,
+                                           std::size_t attributes) {
+  constexpr std::uint64_t kPerVertex = sizeof(Vec3d) + sizeof(Quadric) + 16;
+  constexpr std::uint64_t kPerTriangle = 12 + sizeof(Vec3d) + 3 * 4 * 3 + 4 * 16;
+  return vertices * (kPerVertex + sizeof(double) * attributes) + triangles * kPerTriangle;
+}
+
 /// The area-weighted plane quadrics of the faces around each vertex (Theoharis et al.
 /// 2008 ch. 6: Q_v = sum of w_T Q_T, w_T the area): the start of --method qem.
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
@@ -49,6 +59,10 @@ struct CollapseSettings {
   /// Stop before a collapse whose error, the placement's root-mean-square distance
   /// to the planes of its quadric (sqrt(cost / area weight)), exceeds this (model units).
   double max_error = std::numeric_limits<double>::infinity();
+  /// Stop before a collapse whose quadric cost exceeds this: the threshold of a pass
+  /// of the out-of-core collapse, which thus takes in each tile what the strict order
+  /// of cost would take in the whole mesh.
+  double max_cost = std::numeric_limits<double>::infinity();
   /// A face around the collapse whose normal would turn by more than this is a flip.
   double max_normal_turn_degrees = 90;
   /// Velho's compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2) (1 for an equilateral
@@ -95,6 +109,9 @@ struct CollapseStats {
   bool stuck = false;
   bool stopped_by_error = false;
   bool parity = false;
+  /// When given, the cost of each collapse taken is appended, in the order taken:
+  /// what a sample of the mesh says of the cost a count is reached at.
+  std::vector<double>* cost_log = nullptr;
 };
 
 /// The mesh being collapsed: faces around each vertex, quadrics, locks.
@@ -190,6 +207,9 @@ class CollapseState {
   // The longest live edge of `faces` faces (ties: the lowest vertices) into *edge (if
   // given); false when there is none.
   bool longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const;
+  // Splits edge (u, w) of `faces` faces at its midpoint (see split_longest_edge); the
+  // new vertex is the last.
+  void split_edge(std::uint32_t u, std::uint32_t w, int faces);
   bool on_boundary(std::uint32_t v, VertexScratch* scratch) const;
   void classify_vertices();
   // The other ends of v's face edges, ascending, each as often as faces share it.

@@ -1,0 +1,449 @@
+// The passes of the out-of-core collapse. Each pass:
+//  1. cuts space into tiles (the first from the input's bounds, each later one coarser
+//     as the mesh thins, every other one shifted by half a tile, so that a border of
+//     one pass lies inside a tile of the next);
+//  2. takes the error threshold for the whole pass from a sample of its tiles: the
+//     error at which the sample, collapsed in order of cost, is left with the share
+//     of its faces that the pass aims at (a global threshold, so that error stays even
+//     across tiles, where a count per tile would spend it unevenly);
+//  3. collapses every tile up to that threshold, its border held (refine/pass_tile),
+//     as many at once as the budget holds;
+//  4. bins what comes out into the next pass's tiles.
+// The passes stop when at most kFinalShare times the target is left: the last
+// collapse, in core and in strict order of cost, takes that to the exact count.
+//
+// Everything the passes decide follows from the input and the target: the tiles, the
+// sample, the thresholds. Tiles run in any order on any thread, and each tile sorts
+// what it reads (faces by input index, vertices by id), so the result is the same
+// for any thread count and any budget that runs.
+#include "methods/qem_passes.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/vec3_math.hpp"
+#include "grid/grid_coord.hpp"
+#include "grid/occupancy.hpp"
+#include "grid/tile_binning.hpp"
+#include "grid/tile_memory_gate.hpp"
+#include "grid/tile_plan.hpp"
+#include "io/attribute_array.hpp"
+#include "io/temp_file.hpp"
+#include "oocsimp/error.hpp"
+#include "refine/pass_tile.hpp"
+#include "runtime/memory_budget.hpp"
+#include "runtime/phase_timer.hpp"
+#include "runtime/progress_phase.hpp"
+#include "spill/stream_spill.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// Faces per occupied tile of the first pass, on average: a tile's working set stays
+// in the processor caches' reach, and its border (held still) is a small share of it.
+constexpr double kTileFaces = 65536;
+// A tile's working set per face: its face records, its mesh for the collapse and
+// the collapse's state, and what it gives out (measured peak over faces, rounded up).
+constexpr std::uint64_t kTileBytesPerFace = 640;
+// Inputs of fewer faces collapse whole, in core: one tile would hold them.
+constexpr std::uint64_t kPassesFrom = std::uint64_t(1) << 20;
+// The passes stop at this many times the target; the last collapse, in strict order
+// of cost, takes the rest. Each pass aims a little below it, as the sample's
+// threshold is an estimate and the borders held add to what is left.
+constexpr double kFinalShare = 1.5;
+constexpr double kAimShare = 1.2;
+// A pass that removes less than this share of its faces makes way too slowly: the
+// next raises the threshold further.
+constexpr double kSlowPass = 0.05;
+constexpr int kMaxPasses = 12;
+// Tiles collapsed in full to choose a pass's threshold, spread over the pass's tiles.
+constexpr std::size_t kSampleTiles = 16;
+// Records per buffer of the next pass's bins.
+constexpr std::size_t kBinRecords = 512;
+
+std::size_t vertex_record_bytes(std::size_t attributes) { return sizeof(PassVertex) + attributes * sizeof(double); }
+
+// A pass's tiles: cubes of side `side` over the run's frame, moved by `shift`.
+struct PassTiling {
+  double side = 1;
+  double shift = 0;
+  GridCoord of(const Vec3d& p) const { return GridCoord::of(p + Vec3d{shift, shift, shift}, side); }
+};
+
+// The faces and vertices handed to a pass, by tile: a face in each tile holding one
+// of its corners, a vertex in the tile holding its position. Tiles add from any
+// thread; a tile reads its records back sorted, so their order does not matter.
+class PassBins {
+ public:
+  PassBins(const std::string& dir, const PassTiling& tiling, std::size_t attributes, std::uint64_t allowance)
+      : tiling_(tiling),
+        attributes_(attributes),
+        faces_(dir, "qem-faces", sizeof(PassFace), kBinRecords, false, allowance / 2),
+        vertices_(dir, "qem-vertices", vertex_record_bytes(attributes), kBinRecords, false, allowance / 2) {}
+
+  const PassTiling& tiling() const { return tiling_; }
+
+  void add(const TileOutput& out) {
+    std::map<GridCoord, std::vector<PassFace>> faces;
+    for (const PassFace& f : out.faces) {
+      const GridCoord c[3] = {tiling_.of(f.p[0]), tiling_.of(f.p[1]), tiling_.of(f.p[2])};
+      faces[c[0]].push_back(f);
+      if (c[1] != c[0]) faces[c[1]].push_back(f);
+      if (c[2] != c[0] && c[2] != c[1]) faces[c[2]].push_back(f);
+    }
+    const std::size_t record = vertex_record_bytes(attributes_);
+    std::map<GridCoord, std::vector<unsigned char>> vertices;
+    for (std::size_t i = 0; i < out.owned.size(); ++i) {
+      std::vector<unsigned char>& bytes = vertices[tiling_.of(out.owned[i].position)];
+      const std::size_t at = bytes.size();
+      bytes.resize(at + record);
+      std::memcpy(&bytes[at], &out.owned[i], sizeof(PassVertex));
+      if (attributes_)
+        std::memcpy(&bytes[at + sizeof(PassVertex)], &out.attributes[i * attributes_], attributes_ * sizeof(double));
+    }
+    for (const auto& g : faces) faces_.append(stream_of(g.first), g.second.data(), g.second.size());
+    for (const auto& g : vertices) vertices_.append(stream_of(g.first), g.second.data(), g.second.size() / record);
+    std::lock_guard<std::mutex> lock(mutex_);
+    face_count_ += out.faces.size();
+  }
+
+  /// The tiles, ordered by their coordinates.
+  std::vector<std::uint32_t> tiles() const {
+    std::vector<std::uint32_t> out;
+    for (const auto& t : streams_) out.push_back(t.second);
+    return out;
+  }
+  std::uint32_t tile_count() const { return std::uint32_t(streams_.size()); }
+  std::uint64_t faces_in(std::uint32_t tile) const { return faces_.record_count(tile); }
+  std::uint64_t largest_tile_faces() const {
+    std::uint64_t most = 0;
+    for (const auto& t : streams_) most = std::max(most, faces_.record_count(t.second));
+    return most;
+  }
+  /// The distinct faces handed on.
+  std::uint64_t face_count() const { return face_count_; }
+
+  TileMesh load(std::uint32_t tile) const {
+    TileMesh m;
+    m.attribute_count = attributes_;
+    faces_.read(tile, &m.faces);
+    std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+    std::vector<unsigned char> bytes;
+    if (vertices_.stream_count() > tile) vertices_.read(tile, &bytes);
+    const std::size_t record = vertex_record_bytes(attributes_), n = bytes.size() / record;
+    std::vector<PassVertex> owned(n);
+    for (std::size_t i = 0; i < n; ++i) std::memcpy(&owned[i], &bytes[i * record], sizeof(PassVertex));
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return owned[a].id < owned[b].id; });
+    m.owned.resize(n);
+    m.attributes.resize(n * attributes_);
+    for (std::size_t i = 0; i < n; ++i) {
+      m.owned[i] = owned[order[i]];
+      if (attributes_)
+        std::memcpy(&m.attributes[i * attributes_], &bytes[order[i] * record + sizeof(PassVertex)],
+                    attributes_ * sizeof(double));
+    }
+    return m;
+  }
+
+ private:
+  std::uint32_t stream_of(const GridCoord& c) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = streams_.find(c);
+    if (it != streams_.end()) return it->second;
+    const std::uint32_t id = faces_.add_stream();
+    vertices_.add_stream();
+    streams_.emplace(c, id);
+    return id;
+  }
+
+  PassTiling tiling_;
+  std::size_t attributes_;
+  StreamSpill faces_, vertices_;
+  std::map<GridCoord, std::uint32_t> streams_;  // guarded by mutex_ while tiles add
+  std::uint64_t face_count_ = 0;
+  std::mutex mutex_;
+};
+
+// The first pass's tile `t` from the binned input: positions and attributes from the
+// input, quadrics still to sum.
+TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input, const Vec3d& origin) {
+  const std::vector<TriangleRecord> records = bins.load(t);
+  TileMesh m;
+  m.first_pass = true;
+  const std::size_t k = input.attributes.size();
+  m.attribute_count = k;
+  m.faces.resize(records.size());
+  std::vector<std::uint64_t> owned;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const TriangleRecord& r = records[i];
+    PassFace& f = m.faces[i];
+    f.index = r.index();
+    for (int c = 0; c < 3; ++c) {
+      f.v[c] = r.v[c];
+      f.p[c] = input.positions.get(r.v[c]) - origin;
+      if (r.owned(c)) owned.push_back(r.v[c]);
+    }
+    f.normal = cross(f.p[1] - f.p[0], f.p[2] - f.p[0]);
+  }
+  std::sort(owned.begin(), owned.end());
+  owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+  m.owned.resize(owned.size());
+  m.attributes.resize(owned.size() * k);
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    m.owned[i].id = owned[i];
+    m.owned[i].position = input.positions.get(owned[i]) - origin;
+    for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = attribute_value(input.attributes, owned[i], j);
+  }
+  return m;
+}
+
+// The faces a tile gives out: those whose first corner it owns.
+std::uint64_t faces_given(const TileMesh& tile) {
+  std::uint64_t n = 0;
+  for (const PassFace& f : tile.faces) {
+    auto it = std::lower_bound(tile.owned.begin(), tile.owned.end(), f.v[0],
+                               [](const PassVertex& v, std::uint64_t id) { return v.id < id; });
+    n += it != tile.owned.end() && it->id == f.v[0];
+  }
+  return n;
+}
+
+// A pass's tiles as it reads them: the binned input or the previous pass's bins.
+struct PassSource {
+  std::vector<std::uint32_t> order;  // the tiles, in an order that follows from the input
+  std::function<TileMesh(std::uint32_t)> load;
+  std::function<std::uint64_t(std::uint32_t)> faces;  // a tile's face records
+};
+
+// Step 2: the pass's threshold, a quadric cost. A sample of its tiles, spread over
+// them, collapses in order of cost (borders free, as if the tiles had none) to below
+// `keep` of its faces, and the costs of its collapses are pooled: the threshold is
+// the cost at which the sample keeps `keep` of its faces, each collapse removing two.
+// Every tile of the pass then takes what the strict order of cost would take in the
+// whole mesh up to that cost. The share the threshold keeps of the sample goes to *kept.
+double sample_threshold(const PassSource& source, const CollapseSettings& settings, double keep, TileMemoryGate& gate,
+                        double* kept) {
+  const std::size_t n = source.order.size(), m = std::min(kSampleTiles, n);
+  std::vector<std::vector<double>> logs(m);
+  std::vector<std::uint64_t> given(m, 0);
+  tbb::parallel_for(std::size_t(0), m, [&](std::size_t i) {
+    const std::uint32_t t = source.order[(2 * i + 1) * n / (2 * m)];
+    gate.run(source.faces(t) * kTileBytesPerFace, [&] {
+      TileMesh tile = source.load(t);
+      tile.hold_border = false;
+      given[i] = faces_given(tile);
+      CollapseSettings sample = settings;
+      sample.max_cost = std::numeric_limits<double>::infinity();
+      sample.target_triangles = std::max<std::uint64_t>(4, std::uint64_t(0.5 * keep * double(tile.faces.size())));
+      collapse_pass_tile(tile, sample, &logs[i]);
+    });
+  });
+  std::vector<double> pooled;
+  for (const std::vector<double>& log : logs) pooled.insert(pooled.end(), log.begin(), log.end());
+  std::sort(pooled.begin(), pooled.end());
+  const double total = double(std::accumulate(given.begin(), given.end(), std::uint64_t(0)));
+  const std::size_t wanted = std::size_t(std::ceil(std::max(0.0, total * (1 - keep)) / 2));
+  const std::size_t taken = std::min(wanted, pooled.size());
+  *kept = total > 0 ? std::max(0.0, 1 - 2 * double(taken) / total) : 1;
+  return taken ? pooled[taken - 1] : 0.0;
+}
+
+// Steps 3 and 4: every tile collapsed up to settings.max_error and binned for the
+// next pass.
+void run_pass(const PassSource& source, const CollapseSettings& settings, TileMemoryGate& gate, PassBins* next,
+              CollapseStats* stats, ProgressPhase* progress) {
+  std::mutex mutex;
+  tbb::parallel_for(std::size_t(0), source.order.size(), [&](std::size_t i) {
+    const std::uint32_t t = source.order[i];
+    const std::uint64_t faces = source.faces(t);
+    gate.run(faces * kTileBytesPerFace, [&] {
+      TileOutput out = collapse_pass_tile(source.load(t), settings);
+      next->add(out);
+      std::lock_guard<std::mutex> lock(mutex);
+      stats->collapses += out.stats.collapses;
+      stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
+      stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
+    });
+    progress->advance(faces);
+  });
+}
+
+// The remainder whole, for the last collapse: vertices numbered by id, faces in input
+// order (a face sits in the bins of each tile holding a corner: once here).
+QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
+  std::vector<PassFace> faces;
+  std::vector<PassVertex> vertices;
+  std::vector<double> values;
+  for (std::uint32_t t : bins.tiles()) {
+    TileMesh tile = bins.load(t);
+    faces.insert(faces.end(), tile.faces.begin(), tile.faces.end());
+    vertices.insert(vertices.end(), tile.owned.begin(), tile.owned.end());
+    values.insert(values.end(), tile.attributes.begin(), tile.attributes.end());
+  }
+  std::sort(faces.begin(), faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+  faces.erase(std::unique(faces.begin(), faces.end(),
+                          [](const PassFace& a, const PassFace& b) { return a.index == b.index; }),
+              faces.end());
+  std::vector<std::uint32_t> order(vertices.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return vertices[a].id < vertices[b].id; });
+  QuadricMesh m;
+  m.attribute_count = attributes;
+  std::vector<std::uint64_t> ids(order.size());
+  m.positions.resize(order.size());
+  m.quadrics.resize(order.size());
+  m.attributes.resize(order.size() * attributes);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const PassVertex& v = vertices[order[i]];
+    ids[i] = v.id;
+    m.positions[i] = v.position;
+    m.quadrics[i] = v.quadric;
+    std::copy(values.begin() + std::ptrdiff_t(order[i] * attributes),
+              values.begin() + std::ptrdiff_t((order[i] + 1) * attributes),
+              m.attributes.begin() + std::ptrdiff_t(i * attributes));
+  }
+  m.triangles.resize(3 * faces.size());
+  m.face_normals.resize(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c)
+      m.triangles[3 * f + std::size_t(c)] =
+          std::uint32_t(std::lower_bound(ids.begin(), ids.end(), faces[f].v[c]) - ids.begin());
+    m.face_normals[f] = faces[f].normal;
+  }
+  return m;
+}
+
+// The first pass's tile side: about kTileFaces faces per occupied tile, from a sample
+// of the vertices.
+double first_tile_side(const MeshInput& input) {
+  const Box3d& b = input.info.bounds;
+  const Vec3d size = b.max - b.min;
+  const double longest = std::max({size.x, size.y, size.z});
+  if (!(longest > 0)) return 1;
+  const OccupancyGrowth growth = sampled_occupancy_growth(input.positions, b);
+  const double tiles = std::max(1.0, double(input.info.face_count) / kTileFaces);
+  return longest / std::max(1.0, growth.resolution_for(tiles));
+}
+
+// Pass p's tiling (p >= 1): tiles of about kTileFaces faces for the `expected` faces
+// the previous pass leaves, never smaller than its tiles, shifted by an irrational
+// share of a tile so that no border of one pass stays a border in the next.
+PassTiling pass_tiling(int p, double previous_side, double first_side, double input_faces, double expected) {
+  PassTiling t;
+  t.side = std::max(previous_side, first_side * std::sqrt(input_faces / std::max(expected, 1.0)));
+  const double golden = 0.6180339887498949;
+  t.shift = t.side * (double(p) * golden - std::floor(double(p) * golden));
+  return t;
+}
+
+}  // namespace
+
+bool collapses_in_passes(std::uint64_t faces, std::uint64_t target) {
+  return faces >= kPassesFrom && double(faces) > kFinalShare * double(target);
+}
+
+QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t target,
+                             SimplifyStats* stats) {
+  const std::uint64_t budget = budget_bytes(o.memory_budget);
+  const MemoryBudget memory(budget, o.budget_counts_process);
+  const std::size_t k = input.attributes.size();
+  const double final_faces = kFinalShare * double(target);
+  // The last collapse holds the remainder whole: refused up front when it cannot.
+  const std::uint64_t last = collapse_memory_bytes(std::uint64_t(final_faces / 2), std::uint64_t(final_faces), k) +
+                             std::uint64_t(final_faces) * sizeof(PassFace);
+  memory.check(memory.held(), last,
+               "the last collapse of about " + std::to_string(std::uint64_t(final_faces)) + " triangles",
+               "give options.memory_budget " + whole_mib(memory.held() + last) + " MiB or more, or a smaller target");
+
+  // The first pass's tiles: the input binned (each face in the tile of each corner).
+  PhaseTimer clock;
+  const double first_side = first_tile_side(input);
+  const TileSettings tiling{budget, first_side, false, o.floating.spill_compression, o.temp_dir};
+  const SpillSettings spill =
+      spill_settings(input, tiling, sizeof(PassVertex), estimate_fullest_tile_records(input, first_side));
+  input.restart_triangles();
+  BinnedTiles binned = bin_triangles(input, first_side, budget, spill, o.progress);
+  stats->input_triangles = binned.triangle_count;
+  stats->skipped = binned.skipped;
+  clock.end("bin");
+
+  TileMemoryGate gate(spill.work_share);
+  CollapseSettings settings;
+  settings.target_triangles = 4;
+  settings.exact_count = false;
+  if (o.target.max_error > 0) settings.max_error = o.target.max_error;
+  CollapseStats collapse_stats;
+  ProgressPhase progress(o.progress, "collapse passes", binned.triangle_count, "tri");
+
+  PassSource source;
+  for (std::uint32_t t = 0; t < binned.count(); ++t) source.order.push_back(t);
+  std::sort(source.order.begin(), source.order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return binned.grid.coord(a) < binned.grid.coord(b); });
+  source.load = [&](std::uint32_t t) { return first_pass_tile(binned, t, input, origin); };
+  source.faces = [&](std::uint32_t t) { return binned.triangles->record_count(t); };
+
+  const std::string dir = spill.dir;
+  const std::uint64_t allowance = spill.allow.buckets * 3;
+  double faces = double(binned.triangle_count), threshold = 0, side = first_side;
+  std::unique_ptr<PassBins> bins;
+  int passes = 0;
+  bool slow_before = false;
+  while (faces > final_faces && passes < kMaxPasses) {
+    double kept = 1;
+    const double aim = std::min(1.0, kAimShare * double(target) / faces);
+    threshold = std::max(threshold, sample_threshold(source, settings, aim, gate, &kept));
+    settings.max_cost = threshold;
+    const PassTiling next_tiling = pass_tiling(passes + 1, side, first_side, double(binned.triangle_count),
+                                               std::max(aim, kept) * faces);
+    auto next = std::make_unique<PassBins>(dir, next_tiling, k, allowance);
+    run_pass(source, settings, gate, next.get(), &collapse_stats, &progress);
+    ++passes;
+    const double left = double(next->face_count());
+    if (std::getenv("OOCSIMP_DEBUG_PASSES"))
+      std::fprintf(stderr, "pass %d: %zu tiles, side %g, faces %.0f -> %.0f, aim %.4f kept %.4f threshold %g\n", passes,
+                   source.order.size(), side, faces, left, aim, kept, threshold);
+    // Done with the binned input (its spill) or the previous pass's bins.
+    if (passes == 1) binned.triangles.reset();
+    bins = std::move(next);
+    source.order = bins->tiles();
+    source.load = [b = bins.get()](std::uint32_t t) { return b->load(t); };
+    source.faces = [b = bins.get()](std::uint32_t t) { return b->faces_in(t); };
+    side = next_tiling.side;
+    const bool slow = left > (1 - kSlowPass) * faces;
+    faces = left;
+    // Two slow passes in a row: held by the maximum error, or by the topology. The
+    // last collapse says which.
+    if (slow && slow_before) break;
+    slow_before = slow;
+    // A slow pass found less below the threshold than its sample did: the next one
+    // raises it.
+    if (slow) threshold = threshold > 0 ? 2 * threshold : std::numeric_limits<double>::min();
+  }
+  clock.end("passes");
+  clock.move_to(&stats->phases);
+  stats->refine.passes = std::uint32_t(passes);
+  stats->refine.collapses = collapse_stats.collapses;
+  stats->refine.largest_collapse_error = collapse_stats.largest_error;
+  if (!bins) throw std::logic_error("reduce_in_passes: no pass ran");
+  return gather(*bins, k);
+}
+
+}  // namespace oocsimp
