@@ -65,14 +65,16 @@ constexpr std::uint64_t kPassesFrom = std::uint64_t(1) << 20;
 // The passes stop at this many times the target; the last collapse, in strict order
 // of cost, takes the rest. Each pass aims a little below it, as the sample's
 // threshold is an estimate and the borders held add to what is left.
-constexpr double kFinalShare = 1.5;
-constexpr double kAimShare = 1.2;
+constexpr double kFinalShare = 1.25;
+constexpr double kAimShare = 1.1;
 // A pass that removes less than this share of its faces makes way too slowly: the
 // next raises the threshold further.
 constexpr double kSlowPass = 0.05;
 constexpr int kMaxPasses = 12;
 // Tiles collapsed in full to choose a pass's threshold, spread over the pass's tiles.
 constexpr std::size_t kSampleTiles = 16;
+constexpr std::size_t kLeastSampleTiles = 4;
+constexpr std::size_t kSampleEvery = 8;  // a sample tile per this many tiles, between the two
 // Records per buffer of the next pass's bins.
 constexpr std::size_t kBinRecords = 512;
 
@@ -138,13 +140,22 @@ class PassBins {
   /// The distinct faces handed on.
   std::uint64_t face_count() const { return face_count_; }
 
-  TileMesh load(std::uint32_t tile) const {
+  /// Whether `tile` holds position p.
+  bool holds(std::uint32_t tile, const Vec3d& p) const { return tiling_.of(p) == coords_[tile]; }
+
+  /// The tile's faces (sorted by index) and owned vertices (sorted by id), or only
+  /// the one or the other.
+  TileMesh load(std::uint32_t tile, bool with_faces = true, bool with_vertices = true) const {
     TileMesh m;
     m.attribute_count = attributes_;
-    faces_.read(tile, &m.faces);
-    std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+    if (with_faces) {
+      faces_.read(tile, &m.faces);
+      std::sort(m.faces.begin(), m.faces.end(),
+                [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+    }
+    if (!with_vertices) return m;
     std::vector<unsigned char> bytes;
-    if (vertices_.stream_count() > tile) vertices_.read(tile, &bytes);
+    vertices_.read(tile, &bytes);
     const std::size_t record = vertex_record_bytes(attributes_), n = bytes.size() / record;
     std::vector<PassVertex> owned(n);
     for (std::size_t i = 0; i < n; ++i) std::memcpy(&owned[i], &bytes[i * record], sizeof(PassVertex));
@@ -170,6 +181,7 @@ class PassBins {
     const std::uint32_t id = faces_.add_stream();
     vertices_.add_stream();
     streams_.emplace(c, id);
+    coords_.push_back(c);
     return id;
   }
 
@@ -177,6 +189,7 @@ class PassBins {
   std::size_t attributes_;
   StreamSpill faces_, vertices_;
   std::map<GridCoord, std::uint32_t> streams_;  // guarded by mutex_ while tiles add
+  std::vector<GridCoord> coords_;               // each stream's tile
   std::uint64_t face_count_ = 0;
   std::mutex mutex_;
 };
@@ -225,6 +238,12 @@ std::uint64_t faces_given(const TileMesh& tile) {
   return n;
 }
 
+// The faces a tile keeps at least: those it does not give out (another tile's, held),
+// and `share` of those it does (see run_pass).
+std::uint64_t tile_floor(const TileMesh& tile, std::uint64_t given, double share) {
+  return std::max<std::uint64_t>(4, (tile.faces.size() - given) + std::uint64_t(std::ceil(share * double(given))));
+}
+
 // A pass's tiles as it reads them: the binned input or the previous pass's bins.
 struct PassSource {
   std::vector<std::uint32_t> order;  // the tiles, in an order that follows from the input
@@ -233,14 +252,15 @@ struct PassSource {
 };
 
 // Step 2: the pass's threshold, a quadric cost. A sample of its tiles, spread over
-// them, collapses in order of cost (borders free, as if the tiles had none) to below
+// them, collapses in order of cost (every vertex free, as an open patch) to below
 // `keep` of its faces, and the costs of its collapses are pooled: the threshold is
 // the cost at which the sample keeps `keep` of its faces, each collapse removing two.
 // Every tile of the pass then takes what the strict order of cost would take in the
 // whole mesh up to that cost. The share the threshold keeps of the sample goes to *kept.
-double sample_threshold(const PassSource& source, const CollapseSettings& settings, double keep, TileMemoryGate& gate,
-                        double* kept) {
-  const std::size_t n = source.order.size(), m = std::min(kSampleTiles, n);
+double sample_threshold(const PassSource& source, const CollapseSettings& settings, double keep, double share,
+                        TileMemoryGate& gate, double* kept) {
+  const std::size_t n = source.order.size();
+  const std::size_t m = std::min(n, std::clamp(n / kSampleEvery, kLeastSampleTiles, kSampleTiles));
   std::vector<std::vector<double>> logs(m);
   std::vector<std::uint64_t> given(m, 0);
   tbb::parallel_for(std::size_t(0), m, [&](std::size_t i) {
@@ -251,12 +271,21 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
       given[i] = faces_given(tile);
       CollapseSettings sample = settings;
       sample.max_cost = std::numeric_limits<double>::infinity();
-      sample.target_triangles = std::max<std::uint64_t>(4, std::uint64_t(0.5 * keep * double(tile.faces.size())));
+      // Down to the same count as the pass's tile (run_pass): the collapses then come
+      // in the same batches (PassDriver) until the threshold stops the tile.
+      sample.target_triangles = tile_floor(tile, given[i], share);
       collapse_pass_tile(tile, sample, &logs[i]);
     });
   });
+  // A tile of the pass stops at its first collapse above the threshold, but costs do
+  // not rise steadily along a collapse (an edge the collapses make may cost less than
+  // one before): the threshold that lets a sample tile take k collapses is the
+  // largest cost among its first k.
   std::vector<double> pooled;
-  for (const std::vector<double>& log : logs) pooled.insert(pooled.end(), log.begin(), log.end());
+  for (std::vector<double>& log : logs) {
+    for (std::size_t j = 1; j < log.size(); ++j) log[j] = std::max(log[j], log[j - 1]);
+    pooled.insert(pooled.end(), log.begin(), log.end());
+  }
   std::sort(pooled.begin(), pooled.end());
   const double total = double(std::accumulate(given.begin(), given.end(), std::uint64_t(0)));
   const std::size_t wanted = std::size_t(std::ceil(std::max(0.0, total * (1 - keep)) / 2));
@@ -267,14 +296,23 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
 
 // Steps 3 and 4: every tile collapsed up to settings.max_error and binned for the
 // next pass.
-void run_pass(const PassSource& source, const CollapseSettings& settings, TileMemoryGate& gate, PassBins* next,
-              CollapseStats* stats, ProgressPhase* progress) {
+//
+// A tile keeps at least its share of the target, in proportion to the faces it
+// gives out of the `faces` of the pass: where the threshold would take a flat part
+// past the target (costs near zero, ties everywhere), which of its collapses go is
+// for the last collapse, in strict order, to say. The shares sum to the target, so
+// no pass takes the mesh below it.
+void run_pass(const PassSource& source, const CollapseSettings& settings, double share, TileMemoryGate& gate,
+              PassBins* next, CollapseStats* stats, ProgressPhase* progress) {
   std::mutex mutex;
   tbb::parallel_for(std::size_t(0), source.order.size(), [&](std::size_t i) {
     const std::uint32_t t = source.order[i];
     const std::uint64_t faces = source.faces(t);
     gate.run(faces * kTileBytesPerFace, [&] {
-      TileOutput out = collapse_pass_tile(source.load(t), settings);
+      const TileMesh tile = source.load(t);
+      CollapseSettings s = settings;
+      s.target_triangles = tile_floor(tile, faces_given(tile), share);
+      TileOutput out = collapse_pass_tile(tile, s);
       next->add(out);
       std::lock_guard<std::mutex> lock(mutex);
       stats->collapses += out.stats.collapses;
@@ -286,46 +324,61 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, TileMe
 }
 
 // The remainder whole, for the last collapse: vertices numbered by id, faces in input
-// order (a face sits in the bins of each tile holding a corner: once here).
+// order, each face once (from the tile owning its first corner). Built tile by tile,
+// so that no more than one tile's records is held beside the mesh.
 QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
-  std::vector<PassFace> faces;
-  std::vector<PassVertex> vertices;
-  std::vector<double> values;
-  for (std::uint32_t t : bins.tiles()) {
-    TileMesh tile = bins.load(t);
-    faces.insert(faces.end(), tile.faces.begin(), tile.faces.end());
-    vertices.insert(vertices.end(), tile.owned.begin(), tile.owned.end());
-    values.insert(values.end(), tile.attributes.begin(), tile.attributes.end());
-  }
-  std::sort(faces.begin(), faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
-  faces.erase(std::unique(faces.begin(), faces.end(),
-                          [](const PassFace& a, const PassFace& b) { return a.index == b.index; }),
-              faces.end());
-  std::vector<std::uint32_t> order(vertices.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return vertices[a].id < vertices[b].id; });
   QuadricMesh m;
   m.attribute_count = attributes;
-  std::vector<std::uint64_t> ids(order.size());
-  m.positions.resize(order.size());
-  m.quadrics.resize(order.size());
-  m.attributes.resize(order.size() * attributes);
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const PassVertex& v = vertices[order[i]];
-    ids[i] = v.id;
-    m.positions[i] = v.position;
-    m.quadrics[i] = v.quadric;
-    std::copy(values.begin() + std::ptrdiff_t(order[i] * attributes),
-              values.begin() + std::ptrdiff_t((order[i] + 1) * attributes),
-              m.attributes.begin() + std::ptrdiff_t(i * attributes));
+  std::vector<std::uint64_t> ids;
+  for (std::uint32_t t : bins.tiles()) {
+    const TileMesh tile = bins.load(t, false, true);
+    for (std::size_t i = 0; i < tile.owned.size(); ++i) {
+      ids.push_back(tile.owned[i].id);
+      m.positions.push_back(tile.owned[i].position);
+      m.quadrics.push_back(tile.owned[i].quadric);
+    }
+    m.attributes.insert(m.attributes.end(), tile.attributes.begin(), tile.attributes.end());
   }
+  // In order of id: the order of the vertices whatever the tiles.
+  std::vector<std::uint32_t> order(ids.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return ids[a] < ids[b]; });
+  {
+    std::vector<std::uint64_t> sorted_ids(ids.size());
+    std::vector<Vec3d> positions(ids.size());
+    std::vector<Quadric> quadrics(ids.size());
+    std::vector<double> values(m.attributes.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      sorted_ids[i] = ids[order[i]];
+      positions[i] = m.positions[order[i]];
+      quadrics[i] = m.quadrics[order[i]];
+      std::copy(m.attributes.begin() + std::ptrdiff_t(order[i] * attributes),
+                m.attributes.begin() + std::ptrdiff_t((order[i] + 1) * attributes),
+                values.begin() + std::ptrdiff_t(i * attributes));
+    }
+    ids = std::move(sorted_ids);
+    m.positions = std::move(positions);
+    m.quadrics = std::move(quadrics);
+    m.attributes = std::move(values);
+  }
+  std::vector<std::uint32_t>().swap(order);
+  struct Face {
+    std::uint64_t index;
+    std::uint32_t v[3];
+    Vec3d normal;
+  };
+  std::vector<Face> faces;
+  auto local = [&](std::uint64_t id) { return std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin()); };
+  for (std::uint32_t t : bins.tiles()) {
+    const TileMesh tile = bins.load(t, true, false);
+    for (const PassFace& f : tile.faces)
+      if (bins.holds(t, f.p[0])) faces.push_back({f.index, {local(f.v[0]), local(f.v[1]), local(f.v[2])}, f.normal});
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.index < b.index; });
   m.triangles.resize(3 * faces.size());
   m.face_normals.resize(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
-    for (int c = 0; c < 3; ++c)
-      m.triangles[3 * f + std::size_t(c)] =
-          std::uint32_t(std::lower_bound(ids.begin(), ids.end(), faces[f].v[c]) - ids.begin());
+    std::copy(faces[f].v, faces[f].v + 3, m.triangles.begin() + std::ptrdiff_t(3 * f));
     m.face_normals[f] = faces[f].normal;
   }
   return m;
@@ -357,6 +410,7 @@ PassTiling pass_tiling(int p, double previous_side, double first_side, double in
 }  // namespace
 
 bool collapses_in_passes(std::uint64_t faces, std::uint64_t target) {
+  if (std::getenv("OOCSIMP_DEBUG_WHOLE")) return false;
   return faces >= kPassesFrom && double(faces) > kFinalShare * double(target);
 }
 
@@ -367,8 +421,7 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
   const std::size_t k = input.attributes.size();
   const double final_faces = kFinalShare * double(target);
   // The last collapse holds the remainder whole: refused up front when it cannot.
-  const std::uint64_t last = collapse_memory_bytes(std::uint64_t(final_faces / 2), std::uint64_t(final_faces), k) +
-                             std::uint64_t(final_faces) * sizeof(PassFace);
+  const std::uint64_t last = collapse_memory_bytes(std::uint64_t(final_faces / 2), std::uint64_t(final_faces), k);
   memory.check(memory.held(), last,
                "the last collapse of about " + std::to_string(std::uint64_t(final_faces)) + " triangles",
                "give options.memory_budget " + whole_mib(memory.held() + last) + " MiB or more, or a smaller target");
@@ -409,12 +462,12 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
   while (faces > final_faces && passes < kMaxPasses) {
     double kept = 1;
     const double aim = std::min(1.0, kAimShare * double(target) / faces);
-    threshold = std::max(threshold, sample_threshold(source, settings, aim, gate, &kept));
+    threshold = std::max(threshold, sample_threshold(source, settings, aim, double(target) / faces, gate, &kept));
     settings.max_cost = threshold;
     const PassTiling next_tiling = pass_tiling(passes + 1, side, first_side, double(binned.triangle_count),
                                                std::max(aim, kept) * faces);
     auto next = std::make_unique<PassBins>(dir, next_tiling, k, allowance);
-    run_pass(source, settings, gate, next.get(), &collapse_stats, &progress);
+    run_pass(source, settings, double(target) / faces, gate, next.get(), &collapse_stats, &progress);
     ++passes;
     const double left = double(next->face_count());
     if (std::getenv("OOCSIMP_DEBUG_PASSES"))

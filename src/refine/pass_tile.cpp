@@ -32,6 +32,7 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
   m.attributes.assign(n * k, 0.0);
   m.locked.assign(n, 1);
   owned->assign(n, 0);
+  if (!tile.hold_border) m.locked.assign(n, 0);
   for (std::size_t i = 0; i < tile.owned.size(); ++i) {
     const std::uint32_t l = local_of(ids, tile.owned[i].id);
     (*owned)[l] = 1;
@@ -72,7 +73,7 @@ TileOutput collapse_pass_tile(const TileMesh& tile, const CollapseSettings& sett
   s.tile_faces = 0;
   // Boundary planes join the quadrics once, in the first pass: a boundary edge of an
   // owned vertex has all its faces here, so its count of faces is the mesh's.
-  if (!tile.first_pass) s.boundary_weight = 0;
+  if (!tile.first_pass || !tile.hold_border) s.boundary_weight = 0;
   CollapseState state(local_mesh(tile, ids, &owned), s);
   TileOutput out;
   out.stats.cost_log = cost_log;

@@ -47,8 +47,9 @@ struct TileMesh {
   /// The first pass: the owned vertices' quadrics are still to be summed from their
   /// faces, with the boundary planes of their edges (CollapseSettings::boundary_weight).
   bool first_pass = false;
-  /// False for a sample of the pass (which only measures errors): owned vertices are
-  /// free even where their faces reach another tile.
+  /// False for a sample of the pass, which only measures costs: every vertex is free,
+  /// the other tiles' too, as if the tile were an open patch of the mesh (and without
+  /// boundary planes, which would hold its cut edge).
   bool hold_border = true;
 };
 
