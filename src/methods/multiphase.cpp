@@ -6,7 +6,6 @@
 #include "methods/multiphase.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -186,7 +185,6 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
-  if (std::getenv("OOCSIMP_DEBUG_MAXCOST")) settings.max_cost = std::atof(std::getenv("OOCSIMP_DEBUG_MAXCOST")), settings.exact_count = false;
   CollapseStats cs;
   QuadricMesh done;
   {

@@ -54,14 +54,9 @@ namespace oocsimp {
 
 namespace {
 
-// Faces per occupied tile of the first pass, on average: a tile's working set stays
-// in the processor caches' reach, and its border (held still) is a small share of it.
-constexpr double kTileFaces = 65536;
 // A tile's working set per face: its face records, its mesh for the collapse and
 // the collapse's state, and what it gives out (measured peak over faces, rounded up).
 constexpr std::uint64_t kTileBytesPerFace = 640;
-// Inputs of fewer faces collapse whole, in core: one tile would hold them.
-constexpr std::uint64_t kPassesFrom = std::uint64_t(1) << 20;
 // The passes stop at this many times the target; the last collapse, in strict order
 // of cost, takes the rest. Each pass aims a little below it, as the sample's
 // threshold is an estimate and the borders held add to what is left.
@@ -384,19 +379,19 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
   return m;
 }
 
-// The first pass's tile side: about kTileFaces faces per occupied tile, from a sample
+// The first pass's tile side: about `tile_faces` faces per occupied tile, from a sample
 // of the vertices.
-double first_tile_side(const MeshInput& input) {
+double first_tile_side(const MeshInput& input, double tile_faces) {
   const Box3d& b = input.info.bounds;
   const Vec3d size = b.max - b.min;
   const double longest = std::max({size.x, size.y, size.z});
   if (!(longest > 0)) return 1;
   const OccupancyGrowth growth = sampled_occupancy_growth(input.positions, b);
-  const double tiles = std::max(1.0, double(input.info.face_count) / kTileFaces);
+  const double tiles = std::max(1.0, double(input.info.face_count) / tile_faces);
   return longest / std::max(1.0, growth.resolution_for(tiles));
 }
 
-// Pass p's tiling (p >= 1): tiles of about kTileFaces faces for the `expected` faces
+// Pass p's tiling (p >= 1): tiles of about as many faces as the first pass's for the `expected` faces
 // the previous pass leaves, never smaller than its tiles, shifted by an irrational
 // share of a tile so that no border of one pass stays a border in the next.
 PassTiling pass_tiling(int p, double previous_side, double first_side, double input_faces, double expected) {
@@ -409,13 +404,12 @@ PassTiling pass_tiling(int p, double previous_side, double first_side, double in
 
 }  // namespace
 
-bool collapses_in_passes(std::uint64_t faces, std::uint64_t target) {
-  if (std::getenv("OOCSIMP_DEBUG_WHOLE")) return false;
-  return faces >= kPassesFrom && double(faces) > kFinalShare * double(target);
+bool collapses_in_passes(std::uint64_t faces, std::uint64_t target, const PassSizes& sizes) {
+  return faces >= sizes.from_faces && double(faces) > kFinalShare * double(target);
 }
 
 QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t target,
-                             SimplifyStats* stats) {
+                             SimplifyStats* stats, const PassSizes& sizes) {
   const std::uint64_t budget = budget_bytes(o.memory_budget);
   const MemoryBudget memory(budget, o.budget_counts_process);
   const std::size_t k = input.attributes.size();
@@ -428,7 +422,7 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
 
   // The first pass's tiles: the input binned (each face in the tile of each corner).
   PhaseTimer clock;
-  const double first_side = first_tile_side(input);
+  const double first_side = first_tile_side(input, sizes.tile_faces);
   const TileSettings tiling{budget, first_side, false, o.floating.spill_compression, o.temp_dir};
   const SpillSettings spill =
       spill_settings(input, tiling, sizeof(PassVertex), estimate_fullest_tile_records(input, first_side));

@@ -13,10 +13,21 @@
 
 namespace oocsimp {
 
+/// The sizes the passes work at. Tests make them small, to cut small meshes into many
+/// tiles; a run takes the defaults, so that its tiles follow from the input alone.
+struct PassSizes {
+  /// Faces per occupied tile of the first pass, on average: a tile's working set
+  /// stays within the processor caches' reach, and its border, held still, is a small
+  /// share of it.
+  double tile_faces = 65536;
+  /// Inputs of fewer faces collapse whole, in core: a tile would hold most of them.
+  std::uint64_t from_faces = std::uint64_t(1) << 20;
+};
+
 /// Whether an input of `faces` faces goes through the passes on its way to `target`:
 /// meshes of fewer faces, or too near the target, collapse whole at once. The choice
 /// depends on the counts alone, never on the budget or the threads.
-bool collapses_in_passes(std::uint64_t faces, std::uint64_t target);
+bool collapses_in_passes(std::uint64_t faces, std::uint64_t target, const PassSizes& sizes = {});
 
 /// The passes over `input` (triangle stream at its start) towards `target`: each pass
 /// collapses every tile up to one error threshold for the whole mesh, taken from a
@@ -26,6 +37,6 @@ bool collapses_in_passes(std::uint64_t faces, std::uint64_t target);
 /// counts and refine.passes. Throws UsageError (exit 2) up front when the budget
 /// cannot hold a tile or the last collapse.
 QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                             std::uint64_t target, SimplifyStats* stats);
+                             std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes = {});
 
 }  // namespace oocsimp

@@ -1,0 +1,156 @@
+// The out-of-core passes of the quadric edge collapse (methods/qem_passes,
+// refine/pass_tile), on small meshes cut into many small tiles: the surface stays
+// closed and manifold across the tiles' borders, the geometry stays on the shape, the
+// attributes follow the positions, and the result is the same for any thread count
+// and budget.
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/vec3_math.hpp"
+#include "io/mesh_input.hpp"
+#include "methods/qem_passes.hpp"
+#include "oocsimp/generate.hpp"
+#include "refine/edge_collapse.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+// Tiles of about 2000 faces: a mesh of tens of thousands of faces has dozens.
+PassSizes small_tiles() {
+  PassSizes s;
+  s.tile_faces = 2000;
+  s.from_faces = 0;
+  return s;
+}
+
+std::string generated(const ScratchDir& d, SyntheticShape shape, std::uint64_t triangles, bool attributes) {
+  GenerateOptions g;
+  g.shape = shape;
+  g.triangles = triangles;
+  g.attributes = attributes;
+  const std::string path = d.file("in.ply");
+  generate_mesh(path, g);
+  return path;
+}
+
+struct Reduced {
+  QuadricMesh mesh;  // the exact count, positions in model units
+  SimplifyStats stats;
+};
+
+// The passes, then the last collapse to `target` exactly, as --method qem runs them.
+Reduced reduce(const std::string& path, std::uint64_t target, std::uint64_t budget = 0, bool attributes = false) {
+  OpenOptions open;
+  if (!attributes) open.attributes.mode = AttributeSelection::Mode::none;
+  MeshInput input = open_mesh_input(path, open);
+  SimplifyOptions options;
+  options.memory_budget = budget;
+  const Vec3d origin = input.info.bounds.min;
+  Reduced r;
+  QuadricMesh rest = reduce_in_passes(input, options, origin, target, &r.stats, small_tiles());
+  CollapseSettings last;
+  last.target_triangles = target;
+  last.boundary_weight = 0;  // in the quadrics already
+  r.mesh = collapse_edges(std::move(rest), last, nullptr);
+  for (Vec3d& p : r.mesh.positions) p = p + origin;
+  return r;
+}
+
+struct EdgeCounts {
+  std::uint64_t edges = 0, boundary = 0, non_manifold = 0;
+};
+EdgeCounts count_edges(const QuadricMesh& m) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> faces;
+  for (std::size_t f = 0; f < m.triangles.size() / 3; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = m.triangles[3 * f + std::size_t(k)], w = m.triangles[3 * f + std::size_t(k + 1) % 3];
+      ++faces[{std::min(u, w), std::max(u, w)}];
+    }
+  EdgeCounts c;
+  c.edges = faces.size();
+  for (const auto& e : faces) {
+    c.boundary += e.second == 1;
+    c.non_manifold += e.second > 2;
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("the passes keep a closed sphere closed, manifold and of genus 0, on the sphere", "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::sphere, 60000, false);
+  for (std::uint64_t target : {6000u, 1000u}) {
+    const Reduced r = reduce(in, target);
+    CHECK(r.stats.refine.passes >= 1);
+    const QuadricMesh& m = r.mesh;
+    REQUIRE(m.triangles.size() / 3 == target);
+    const EdgeCounts e = count_edges(m);
+    CHECK(e.boundary == 0);
+    CHECK(e.non_manifold == 0);
+    // Euler's formula for a closed surface of genus 0: V - E + F = 2.
+    CHECK(std::int64_t(m.positions.size()) - std::int64_t(e.edges) + std::int64_t(target) == 2);
+    // The generated sphere is the unit sphere displaced by eight sinusoids of
+    // amplitudes 0.04 / (1 + i) (generator.cpp), less than 0.11 in all: every vertex
+    // stays near that shell.
+    for (const Vec3d& p : m.positions) {
+      const double r2 = length(p);
+      REQUIRE(r2 > 0.85);
+      REQUIRE(r2 < 1.15);
+    }
+  }
+}
+
+TEST_CASE("the passes give the same mesh for any thread count and budget", "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::parts, 40000, false);
+  Reduced one, two, small;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = reduce(in, 3000, std::uint64_t(1) << 30);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = reduce(in, 3000, std::uint64_t(1) << 30);
+    small = reduce(in, 3000, std::uint64_t(48) << 20);
+  }
+  REQUIRE(one.mesh.triangles.size() / 3 == 3000);
+  CHECK(one.mesh.triangles == two.mesh.triangles);
+  CHECK(one.mesh.triangles == small.mesh.triangles);
+  REQUIRE(one.mesh.positions.size() == two.mesh.positions.size());
+  REQUIRE(one.mesh.positions.size() == small.mesh.positions.size());
+  for (std::size_t i = 0; i < one.mesh.positions.size(); ++i) {
+    const Vec3d &a = one.mesh.positions[i], &b = two.mesh.positions[i], &c = small.mesh.positions[i];
+    REQUIRE((a.x == b.x && a.y == b.y && a.z == b.z));
+    REQUIRE((a.x == c.x && a.y == c.y && a.z == c.z));
+  }
+}
+
+TEST_CASE("the passes carry the attributes along the collapses", "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::sphere, 40000, true);
+  const Reduced r = reduce(in, 4000, 0, true);
+  const QuadricMesh& m = r.mesh;
+  REQUIRE(m.attribute_count >= 3);
+  // The generator's red is 255 (x - lo) / (hi - lo) over the input's box: linear in
+  // position, so interpolating it along an edge keeps it near the function of the
+  // vertex's new position (placements lie near the edge they collapse).
+  const LoadedMesh input = load_mesh(in);
+  const double lo = input.info.bounds.min.x, hi = input.info.bounds.max.x;
+  double worst = 0;
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    const double red = m.attributes[v * m.attribute_count];
+    worst = std::max(worst, std::fabs(red - 255 * (m.positions[v].x - lo) / (hi - lo)));
+  }
+  CHECK(worst < 12);
+}
