@@ -853,7 +853,7 @@ TEST_CASE("help is grouped with plain value lists, mistyped flags get a suggesti
   CliResult r = run_cli("simplify --help");
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("Floating method only") != std::string::npos);
-  CHECK(r.out.find("{floating,uniform,qem}") != std::string::npos);
+  CHECK(r.out.find("{auto,floating,uniform,qem}") != std::string::npos);
   CHECK(r.out.find("->") == std::string::npos);  // no enum internals
   CHECK(r.out.find(" OR ") == std::string::npos);
   r = run_cli("--version");

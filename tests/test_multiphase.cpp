@@ -203,6 +203,28 @@ TEST_CASE("phase 1's size follows --intermediate-factor, and a small --mem lower
   }
 }
 
+TEST_CASE("a target without --method is --method qem; with floating or uniform it clusters first",
+          "[multiphase][cli]") {
+  ScratchDir d;
+  const std::string in = generated(d, "parts", 60000);
+  REQUIRE(simplify(in, d.file("default.ply"), "--target-tris 3000 --stats " + q(d.file("default.json"))).exit_code ==
+          0);
+  REQUIRE(simplify(in, d.file("qem.ply"), "--method qem --target-tris 3000").exit_code == 0);
+  CHECK(read_file(d.file("default.ply")) == read_file(d.file("qem.ply")));
+  CHECK(read_file(d.file("default.json")).find("\"method\": \"qem\"") != std::string::npos);
+  REQUIRE(simplify(in, d.file("floating.ply"), "--method floating --target-tris 3000 --stats " +
+                                                   q(d.file("floating.json")))
+              .exit_code == 0);
+  const std::string json = read_file(d.file("floating.json"));
+  CHECK(json.find("\"method\": \"floating\"") != std::string::npos);
+  CHECK(json.find("\"phase1_peak_anon_bytes\": 0,") == std::string::npos);  // phase 1 ran
+  CHECK(load_mesh(d.file("floating.ply")).triangle_count() == 3000);
+  // Told which method refused a flag, and that the default chose it.
+  const CliResult r = simplify(in, d.file("x.ply"), "--target-tris 3000 --tile 0.5");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("not to --method qem (the default with a target)") != std::string::npos);
+}
+
 TEST_CASE("bad targets exit 2 with one line, a target at or above the input gives it back", "[multiphase][cli]") {
   ScratchDir d;
   const std::string in = generated(d, "sphere", 20000);
@@ -211,7 +233,9 @@ TEST_CASE("bad targets exit 2 with one line, a target at or above the input give
        {"--target-tris 3", "--target-tris 0", "--target-ratio 0", "--target-ratio 1.5", "--target-ratio -1",
         "--target-tris 1000 --grid 64", "--target-tris 1000 --ratio 0.1", "--target-tris 1000 --cell 0.1",
         "--target-tris 1000 --target-ratio 0.5", "--method qem --grid 64", "--refine qem", "--max-error 0",
-        "--max-error nan", "--target-tris 1000 --intermediate-factor 0.5", "--intermediate-factor 2"}) {
+        "--max-error nan", "--target-tris 1000 --method floating --intermediate-factor 0.5",
+        "--intermediate-factor 2", "--target-tris 1000 --intermediate-factor 2", "--target-tris 1000 --refine none",
+        "--target-tris 1000 --tile 0.5", "--method qem --target-tris 1000 --intermediate-factor 2"}) {
     INFO(args);
     CliResult r = simplify(in, out, args);
     CHECK(r.exit_code == 2);

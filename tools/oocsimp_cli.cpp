@@ -270,7 +270,7 @@ void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
                           {SpillCompression::zstd, nullptr},
                           {SpillCompression::none, nullptr}})),
   };
-  for (CLI::Option* o : a.floating_only) o->group("Floating method only (--method floating, the default)");
+  for (CLI::Option* o : a.floating_only) o->group("Floating method only (--method floating, the default without a target)");
 }
 
 CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
@@ -286,11 +286,12 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   add_size_options(cmd, a);
   add_enum_option(cmd, "--method", &a.options.method, cluster_method_names(),
                   value_list(cluster_method_names(),
-                             {{ClusterMethod::floating, "Low & Tan, the default"},
-                              {ClusterMethod::uniform, "OoCS grid"},
+                             {{ClusterMethod::automatic, "the default: qem with a target, floating without"},
+                              {ClusterMethod::floating, "Low & Tan; with a target, clustering then collapse"},
+                              {ClusterMethod::uniform, "OoCS grid; the same"},
                               {ClusterMethod::qem,
-                               "edge collapse of the whole input in memory; with a target or --ratio's default "
-                               "share, exactly"}}));
+                               "edge collapse, out of core in tiles on a large input; with a target or --ratio's "
+                               "default share, exactly"}}));
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_option("--stats", a.outputs.stats, "Write statistics as JSON to this file (- for stdout)");
@@ -322,10 +323,12 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
 }
 
 // Given with another method, the floating-only options would do nothing.
-void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, ClusterMethod method) {
+void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, const SimplifyOptions& options) {
+  const std::string method = method_name(resolved_method(options));
+  const std::string why = options.method == ClusterMethod::automatic ? " (the default with a target)" : "";
   for (const CLI::Option* o : floating_only)
     if (o->count() > 0)
-      throw UsageError(o->get_name() + " applies to --method floating only, not to --method " + method_name(method));
+      throw UsageError(o->get_name() + " applies to --method floating only, not to --method " + method + why);
 }
 
 // What simplify runs with, checked.
@@ -338,10 +341,10 @@ struct SimplifyPlan {
 SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   SimplifyPlan p{a.options, {}};
   SimplifyOptions& o = p.options;
-  if (o.method != ClusterMethod::floating) refuse_floating_only(a.floating_only, o.method);
   if (a.target_tris.given()) o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, kMost);
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
   if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
+  if (resolved_method(o) != ClusterMethod::floating) refuse_floating_only(a.floating_only, o);
   if (a.refine->count() > 0 && !o.target.given())
     throw UsageError("--refine applies with a target: give --target-tris, --target-ratio or --max-error");
   if (a.intermediate_factor.given()) {
@@ -350,6 +353,12 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
           "--intermediate-factor applies with a target: give --target-tris, --target-ratio or --max-error");
     o.target.intermediate_factor = positive_number("--intermediate-factor", a.intermediate_factor.text);
   }
+  // Both shape a clustering phase 1, which qem does not run.
+  if (resolved_method(o) == ClusterMethod::qem && (a.refine->count() > 0 || a.intermediate_factor.given()))
+    throw UsageError(std::string(a.refine->count() > 0 ? "--refine" : "--intermediate-factor") +
+                     " applies to a clustering method with a target (--method floating or uniform), not to --method "
+                     "qem" +
+                     (o.method == ClusterMethod::automatic ? " (the default with a target)" : ""));
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, kMaxGridDivisions));
@@ -473,8 +482,9 @@ void print_tiles(std::FILE* to, const SimplifyStats& stats) {
 }
 
 void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const SimplifyStats& stats) {
-  if (o.method == ClusterMethod::floating) print_tiles(to, stats);
-  if (o.target.given() || o.method == ClusterMethod::qem)
+  const ClusterMethod method = resolved_method(o);
+  if (method == ClusterMethod::floating) print_tiles(to, stats);
+  if (o.target.given() || method == ClusterMethod::qem)
     std::fprintf(
         to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
         stats.refine.intermediate_triangles, stats.refine.collapses, stats.refine.largest_collapse_error,
@@ -482,7 +492,8 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
   if (stats.refine.passes)
     std::fprintf(to, "passes  %u out-of-core passes of the collapse before the last\n", unsigned(stats.refine.passes));
   if (stats.refine.phase1_peak_anon_bytes)
-    std::fprintf(to, "phases  peak anonymous: phase 1 (clustering) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
+    std::fprintf(to, "phases  peak anonymous: phase 1 (%s) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
+                 stats.refine.passes ? "out-of-core passes" : "clustering",
                  double(stats.refine.phase1_peak_anon_bytes) / 1048576.0,
                  double(stats.refine.phase2_peak_anon_bytes) / 1048576.0);
   const std::string thick = o.thick_edges ? ", " + std::to_string(stats.output_edges) + " edges, " +
@@ -497,7 +508,7 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
                "time    %.3f s (%s): %.2f Mtri/s\n"
                "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-               thick.c_str(), method_name(o.method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
+               thick.c_str(), method_name(method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
                stats.cell_size, stats.seconds_total, phase_times(stats.phases).c_str(), mtri,
                double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
 }

@@ -15,9 +15,12 @@ namespace oocsimp {
 constexpr std::uint32_t kMaxGridDivisions = (1u << 21) - 1;
 
 enum class ClusterMethod {
-  uniform,   ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
-  floating,  ///< Low & Tan's floating cells on a tiled out-of-core grid
-  qem,       ///< no clustering: quadric edge collapse of the whole input in memory (the quality reference)
+  automatic,  ///< qem with a target (TargetOptions), floating without one: see resolved_method()
+  uniform,    ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
+  floating,   ///< Low & Tan's floating cells on a tiled out-of-core grid
+  /// No clustering: quadric edge collapse, in tiles out of core on a large input, then
+  /// whole (the quality reference)
+  qem,
 };
 
 /// What refines the clustering's result down to an exact target (TargetOptions).
@@ -103,7 +106,7 @@ struct TargetOptions {
 struct SimplifyOptions {
   CellSizing sizing;
   TargetOptions target;
-  ClusterMethod method = ClusterMethod::floating;
+  ClusterMethod method = ClusterMethod::automatic;
   FloatingOptions floating;         ///< read by the floating method only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   /// Whether memory_budget bounds the whole process's anonymous memory, what it held
@@ -129,6 +132,13 @@ struct SimplifyOptions {
   /// Process-wide allocator settings are the program's business, not the library's.
   void (*release_memory)() = nullptr;
 };
+
+/// The method a run takes: options.method, or for ClusterMethod::automatic, qem when a
+/// target is given (the exact count at the collapse's quality) and floating otherwise.
+inline ClusterMethod resolved_method(const SimplifyOptions& options) {
+  if (options.method != ClusterMethod::automatic) return options.method;
+  return options.target.given() ? ClusterMethod::qem : ClusterMethod::floating;
+}
 
 /// Levels of detail from one run (Low & Tan 1997 §3.2.2 and §4).
 struct LodOptions {

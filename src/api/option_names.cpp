@@ -6,7 +6,10 @@ namespace oocsimp {
 
 const EnumNames<ClusterMethod>& cluster_method_names() {
   static const EnumNames<ClusterMethod> names = {
-      {ClusterMethod::floating, "floating"}, {ClusterMethod::uniform, "uniform"}, {ClusterMethod::qem, "qem"}};
+      {ClusterMethod::automatic, "auto"},
+      {ClusterMethod::floating, "floating"},
+      {ClusterMethod::uniform, "uniform"},
+      {ClusterMethod::qem, "qem"}};
   return names;
 }
 

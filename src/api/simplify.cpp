@@ -127,7 +127,9 @@ void record_grid(const GridSpec& grid, SimplifyStats* st) {
 
 }  // namespace
 
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
+  SimplifyOptions options = given;
+  options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   SimplifyStats local;
@@ -183,8 +185,10 @@ double equivalent_cell(const SimplifiedMesh& m) {
 
 }  // namespace
 
-void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink) {
-  check_lods(options, lods);
+void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods, const LodSink& sink) {
+  check_lods(given, lods);
+  SimplifyOptions options = given;  // with a target each level resolves the method itself (simplify())
+  if (!options.target.given()) options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
   if (options.target.given()) {
     // Each level a run of its own, at half the previous level's target.

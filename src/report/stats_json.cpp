@@ -52,12 +52,13 @@ std::string seconds(double v) {
 }
 
 std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs) {
-  const bool floating = o.method == ClusterMethod::floating;
-  std::string s = "{\"method\": " + quoted(method_name(o.method));
+  const ClusterMethod method = resolved_method(o);
+  const bool floating = method == ClusterMethod::floating;
+  std::string s = "{\"method\": " + quoted(method_name(method));
   if (o.sizing.cell != 0) s += ", \"cell\": " + number(o.sizing.cell);
   if (o.sizing.grid != 0) s += ", \"grid\": " + number(std::uint64_t(o.sizing.grid));
   if (o.sizing.ratio != 0) s += ", \"ratio\": " + number(o.sizing.ratio);
-  const bool target = o.target.given() || o.method == ClusterMethod::qem;
+  const bool target = o.target.given() || method == ClusterMethod::qem;
   if (!target && o.sizing.cell == 0 && o.sizing.grid == 0 && o.sizing.ratio == 0)
     s += ", \"ratio\": " + number(kDefaultRatio);
   if (target) {
@@ -126,7 +127,7 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
         ", \"stats\": " + quoted(outputs.stats) + "},\n";
   js += "  \"options\": " + options_json(options, outputs) + ",\n";
   js += buf;
-  if (options.method == ClusterMethod::floating) {
+  if (resolved_method(options) == ClusterMethod::floating) {
     std::string sweeps;
     for (const FloatingStats::SweepCount& c : s.floating.sweeps) {
       std::snprintf(buf, sizeof buf, "%s{\"looked_at\": %" PRIu64 ", \"rerun\": %" PRIu64 "}",
@@ -141,7 +142,7 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
                   s.floating.spill_raw_bytes, s.floating.spill_bytes_in_memory, s.floating.resumed ? "true" : "false");
     js += buf + sweeps + "]},\n";
   }
-  if (options.target.given() || options.method == ClusterMethod::qem) {
+  if (options.target.given() || resolved_method(options) == ClusterMethod::qem) {
     std::snprintf(buf, sizeof buf,
                   "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"passes\": %u, \"phase1_peak_anon_bytes\": %" PRIu64
                   ", \"phase2_peak_anon_bytes\": %" PRIu64 ", \"collapses\": %" PRIu64
