@@ -185,6 +185,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
+  settings.result_quadrics = false;  // the output's
   CollapseStats cs;
   QuadricMesh done;
   {

@@ -712,7 +712,7 @@ QuadricMesh CollapseState::release_vertices() {
   return out;
 }
 
-QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
+QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources, bool geometry_only) const {
   constexpr std::uint32_t kUnused = ~std::uint32_t(0);
   std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
   // The vertices numbered by first use, counted first so that every array is
@@ -728,7 +728,7 @@ QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
   const std::size_t k = mesh_.attribute_count;
   out.attribute_count = k;
   out.positions.resize(used);
-  out.quadrics.resize(used);
+  if (!geometry_only) out.quadrics.resize(used);
   out.attributes.resize(std::size_t(used) * k);
   if (sources) sources->assign(used, 0);
   for (std::size_t v = 0; v < index.size(); ++v) {
@@ -736,16 +736,16 @@ QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources) const {
     if (i == kUnused) continue;
     if (sources) (*sources)[i] = std::uint32_t(v);
     out.positions[i] = mesh_.positions[v];
-    out.quadrics[i] = mesh_.quadrics[v];
+    if (!geometry_only) out.quadrics[i] = mesh_.quadrics[v];
     std::copy(mesh_.attributes.begin() + std::ptrdiff_t(v * k), mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k),
               out.attributes.begin() + std::ptrdiff_t(i * k));
   }
   out.triangles.reserve(3 * live_faces_);
-  out.face_normals.reserve(live_faces_);
+  if (!geometry_only) out.face_normals.reserve(live_faces_);
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
     if (face_dead_[f]) continue;
     for (int j = 0; j < 3; ++j) out.triangles.push_back(index[mesh_.triangles[3 * f + std::size_t(j)]]);
-    out.face_normals.push_back(first_normal_[f]);
+    if (!geometry_only) out.face_normals.push_back(first_normal_[f]);
   }
   return out;
 }
@@ -867,17 +867,19 @@ class LazyQueue {
 
  private:
   // Every edge, its cost computed in parallel (each independent of the others).
+  // Room is kept for the pushes of the collapses to come (about a dozen each, the
+  // edges around the moved vertex), so the heap seldom regrows.
   void fill() {
     const auto edges = state_.edges();
-    std::vector<QueueEntry> entries(edges.size());
+    const std::uint64_t collapses = (state_.triangle_count() - std::min(state_.triangle_count(),
+                                                                        settings_.target_triangles)) / 2;
+    std::vector<QueueEntry> entries;
+    reserve_huge(&entries, std::size_t(std::min<std::uint64_t>(4 * edges.size(), edges.size() + 12 * collapses)));
+    entries.resize(edges.size());
     tbb::parallel_for(std::size_t(0), edges.size(), [&](std::size_t i) {
       const CollapseState::Candidate c = state_.evaluate(edges[i].first, edges[i].second);
       entries[i] = {c.cost, c.a, c.b};
     });
-    std::vector<QueueEntry> room;  // the pushes of the collapses to come, without regrowing
-    reserve_huge(&room, 4 * edges.size());
-    room.insert(room.end(), entries.begin(), entries.end());
-    entries.swap(room);
     heap_.assign(std::move(entries));
   }
 
@@ -1155,7 +1157,7 @@ QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, C
     state.drop_needle_guard();
     collapse_in_order(state, settings, &st, progress);
   }
-  return state.result();
+  return state.result(nullptr, !settings.result_quadrics);
 }
 
 }  // namespace oocsimp

@@ -95,6 +95,9 @@ struct CollapseSettings {
   /// The passes stop at this many times target_triangles; the lazy queue, in strict
   /// order of cost, takes the rest.
   double pass_share = 1.1;
+  /// collapse_edges() returns the quadrics and input normals with the mesh (false: only
+  /// its geometry and attributes, for an output).
+  bool result_quadrics = true;
 };
 
 struct CollapseStats {
@@ -187,7 +190,9 @@ class CollapseState {
   const std::vector<Vec3d>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
   /// input normals; `sources` (if given) gets each result vertex's index here.
-  QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr) const;
+  /// With `geometry_only`, without the quadrics and input normals (an output's
+  /// result, whose quadrics nobody reads).
+  QuadricMesh result(std::vector<std::uint32_t>* sources = nullptr, bool geometry_only = false) const;
   /// The vertices, moved out (the state is spent): positions, quadrics and attributes
   /// of every vertex in its place; no faces.
   QuadricMesh release_vertices();
