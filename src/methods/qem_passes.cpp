@@ -68,6 +68,11 @@ constexpr double kSlowPass = 0.05;
 constexpr int kMaxPasses = 12;
 // Tiles collapsed in full to choose a pass's threshold, spread over the pass's tiles.
 constexpr std::size_t kSampleTiles = 16;
+// The first pass's fullest tile holds at most this many times the average asked for
+// (its face records: a face in each tile holding a corner); tiles shrink by this
+// factor until it does.
+constexpr double kFullestTileShare = 6;
+constexpr double kTileShrink = 1.25;
 constexpr std::size_t kLeastSampleTiles = 4;
 constexpr std::size_t kSampleEvery = 8;  // a sample tile per this many tiles, between the two
 // Records per buffer of the next pass's bins.
@@ -388,7 +393,13 @@ double first_tile_side(const MeshInput& input, double tile_faces) {
   if (!(longest > 0)) return 1;
   const OccupancyGrowth growth = sampled_occupancy_growth(input.positions, b);
   const double tiles = std::max(1.0, double(input.info.face_count) / tile_faces);
-  return longest / std::max(1.0, growth.resolution_for(tiles));
+  double side = longest / std::max(1.0, growth.resolution_for(tiles));
+  // Occupancy counts the tiles a surface touches, many of them barely: the fullest
+  // tile may hold many times the average. Smaller tiles until it holds at most
+  // kFullestTileShare times the average asked for, by a sample of the vertices.
+  for (int i = 0; i < 16 && double(estimate_fullest_tile_records(input, side)) > kFullestTileShare * tile_faces; ++i)
+    side /= kTileShrink;
+  return side;
 }
 
 // Pass p's tiling (p >= 1): tiles of about as many faces as the first pass's for the `expected` faces
