@@ -18,16 +18,18 @@
 #   sloppy     meshopt_simplifySloppy
 #   floating   oocsimp simplify --ratio TARGET/input (an estimate: the count is not TARGET)
 #   uniform    the same with --method uniform
-#   target     oocsimp simplify --target-tris TARGET (when simplify --help lists it):
-#              floating cells, then quadric edge collapse
-#   target-uniform  the same with --method uniform as phase 1
-#   qem        oocsimp simplify --method qem --target-tris TARGET (when --method qem exists)
+#   qem        oocsimp simplify --target-tris TARGET, the default: quadric edge collapse,
+#              out of core in tiles on an input of 2^20 faces or more
+#   target-floating  --method floating --target-tris TARGET: floating cells, then the
+#              collapse (multiphase)
+#   target-uniform   the same with --method uniform as phase 1
 # A peer whose program is not built is skipped with a note.
 #
 # Rows: wall seconds file to file, input Mtri/s, output triangles, peak anonymous and
 # total RSS, then RMS and Hausdorff distances (symmetric, as fractions of the input's
-# bounding-box diagonal), and the ratios of this invocation: RMS over OpenMesh's, and
-# seconds over meshopt_simplify's. Each peer's load / simplify / write seconds follow.
+# bounding-box diagonal), the output's boundary and non-manifold edges
+# (scripts/mesh_topology.py), and the ratios of this invocation: RMS over OpenMesh's,
+# and seconds over meshopt_simplify's. Each peer's load / simplify / write seconds follow.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 openmesh_bin="${OPENMESH_BENCH_BIN:-$root/build/openmesh_decimate_bench}"
@@ -36,7 +38,7 @@ target="${TARGET:-100000}"
 samples="${SAMPLES:-1000000}"
 threads="${THREADS:-2}"
 size="${SIZE:-2000000}"
-runs=(${RUNS:-openmesh simplify sloppy floating uniform target target-uniform qem})
+runs=(${RUNS:-openmesh simplify sloppy floating uniform qem target-floating target-uniform})
 out="$dir/quality"
 mkdir -p "$out"
 
@@ -70,16 +72,16 @@ measured() {  # measured MEASURE.json -> "rms/diag hausdorff/diag" of the symmet
 b_triangles() { grep -o '"b": {"triangles": [0-9]*' "$1" | awk '{print $NF}'; }
 a_triangles() { grep -o '"a": {"triangles": [0-9]*' "$1" | awk '{print $NF}'; }
 
-head_fmt='%-14s %9s %8s %9s %9s %9s %11s %11s %10s %10s\n'
-row_fmt='%-14s %9.3f %8.2f %9s %9s %9s %11.3e %11.3e %10s %10s\n'
+head_fmt='%-16s %9s %8s %9s %9s %9s %11s %11s %11s %10s %10s\n'
+row_fmt='%-16s %9.3f %8.2f %9s %9s %9s %11.3e %11.3e %11s %10s %10s\n'
 
 for mesh in "${inputs[@]}"; do
   cat "$mesh" >/dev/null  # a warm page cache for every run
   echo "input $mesh, target $target triangles, measure --samples $samples, oocsimp --threads $threads${OPENMESH_ARGS:+, OpenMesh $OPENMESH_ARGS}"
-  [ $has_target = 0 ] && echo "  (oocsimp simplify has no --target-tris yet: rows target and qem skipped)"
+  [ $has_target = 0 ] && echo "  (oocsimp simplify has no --target-tris yet: rows qem and target-* skipped)"
   [ $has_target = 1 ] && [ $has_qem = 0 ] && echo "  (oocsimp simplify has no --method qem yet: row qem skipped)"
   faces=$("$bin" info "$mesh" | awk '$1 == "faces" {print $2}')  # as stored: the ratio's estimate
-  declare -A secs=() tris=() anon=() rss=() rms=() haus=() phases=()
+  declare -A secs=() tris=() anon=() rss=() rms=() haus=() topo=() phases=()
   done_runs=()
   for r in "${runs[@]}"; do
     result="$out/$r.ply"
@@ -108,14 +110,14 @@ for mesh in "${inputs[@]}"; do
         [ "$r" = openmesh ] &&
           phases[$r]+=", $(field "$line" collapses) collapses, $(field "$line" rejected_faces) input faces rejected"
         ;;
-      floating | uniform | target | target-uniform | qem)
+      floating | uniform | qem | target-floating | target-uniform)
         case "$r" in
           floating | uniform)
             args=(--method "$r" --ratio "$(calc "$target / $faces")")
             ;;
-          target)
+          target-floating)
             [ $has_target = 1 ] || continue
-            args=(--target-tris "$target")
+            args=(--method floating --target-tris "$target")
             ;;
           target-uniform)
             [ $has_target = 1 ] || continue
@@ -123,7 +125,7 @@ for mesh in "${inputs[@]}"; do
             ;;
           qem)
             [ $has_qem = 1 ] || continue
-            args=(--method qem --target-tris "$target")
+            args=(--target-tris "$target")
             ;;
         esac
         t0=$(now)
@@ -141,6 +143,8 @@ for mesh in "${inputs[@]}"; do
     secs[$r]=$(calc "$t1 - $t0")
     "$bin" measure "$mesh" "$result" --samples "$samples" --json --quiet >"$out/measure.json"
     read -r rms[$r] haus[$r] <<<"$(measured "$out/measure.json")"
+    topo[$r]=$(python3 "$root/scripts/mesh_topology.py" "$result" |
+      sed -E 's/.* ([0-9]+) boundary .* ([0-9]+) non-manifold .*/\1\/\2/')
     in_tris=$(a_triangles "$out/measure.json")  # the triangles every method reads
     measured_tris=$(b_triangles "$out/measure.json")
     [ "$measured_tris" = "${tris[$r]}" ] ||
@@ -148,19 +152,19 @@ for mesh in "${inputs[@]}"; do
     done_runs+=("$r")
   done
 
-  printf "$head_fmt" method seconds Mtri/s out_tris anon_MiB rss_MiB rms/diag haus/diag rms/openm t/simplify
+  printf "$head_fmt" method seconds Mtri/s out_tris anon_MiB rss_MiB rms/diag haus/diag open/nm rms/openm t/simplify
   for r in "${done_runs[@]}"; do
     rms_ratio=-
     [ -n "${rms[openmesh]:-}" ] && rms_ratio=$(ratio "${rms[$r]}" "${rms[openmesh]}")
     time_ratio=-
     [ -n "${secs[simplify]:-}" ] && time_ratio=$(ratio "${secs[$r]}" "${secs[simplify]}")
     printf "$row_fmt" "$r" "${secs[$r]}" "$(calc "$in_tris / ${secs[$r]} / 1000000")" "${tris[$r]}" "${anon[$r]}" \
-      "${rss[$r]}" "${rms[$r]}" "${haus[$r]}" "$rms_ratio" "$time_ratio"
+      "${rss[$r]}" "${rms[$r]}" "${haus[$r]}" "${topo[$r]}" "$rms_ratio" "$time_ratio"
   done
   for r in "${done_runs[@]}"; do
     [ -n "${phases[$r]:-}" ] && echo "  $r seconds: ${phases[$r]}"
   done
   echo
-  unset secs tris anon rss rms haus phases
+  unset secs tris anon rss rms haus topo phases
 done
 [ -n "${KEEP:-}" ] || rm -rf "$out"

@@ -489,8 +489,12 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
         to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
         stats.refine.intermediate_triangles, stats.refine.collapses, stats.refine.largest_collapse_error,
         stats.refine.largest_collapse_cost, stats.refine.target_missed ? ", target missed" : "");
-  if (stats.refine.passes)
-    std::fprintf(to, "passes  %u out-of-core passes of the collapse before the last\n", unsigned(stats.refine.passes));
+  if (stats.refine.passes) {
+    std::string counts = std::to_string(stats.input_triangles);
+    for (std::uint64_t n : stats.refine.pass_triangles) counts += " -> " + std::to_string(n);
+    std::fprintf(to, "passes  %u out-of-core passes of the collapse before the last: %s triangles\n",
+                 unsigned(stats.refine.passes), counts.c_str());
+  }
   if (stats.refine.phase1_peak_anon_bytes)
     std::fprintf(to, "phases  peak anonymous: phase 1 (%s) %.1f MiB, phase 2 (collapse) %.1f MiB\n",
                  stats.refine.passes ? "out-of-core passes" : "clustering",

@@ -40,8 +40,9 @@ struct RefineStats {
   /// The triangles phase 1 handed on (the input's for qem).
   std::uint64_t intermediate_triangles = 0;
   /// The out-of-core passes of the collapse before the last, in-core one (0: the mesh
-  /// collapsed whole at once).
+  /// collapsed whole at once), and the triangles left after each.
   std::uint32_t passes = 0;
+  std::vector<std::uint64_t> pass_triangles;
   /// Peak anonymous memory of phase 1 (the clustering, which --mem bounds) and of
   /// phase 2 (the collapse, which holds the intermediate whole), in bytes; 0 for a
   /// phase that did not run.

@@ -22,8 +22,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -475,9 +473,7 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
     run_pass(source, settings, double(target) / faces, gate, next.get(), &collapse_stats, &progress);
     ++passes;
     const double left = double(next->face_count());
-    if (std::getenv("OOCSIMP_DEBUG_PASSES"))
-      std::fprintf(stderr, "pass %d: %zu tiles, side %g, faces %.0f -> %.0f, aim %.4f kept %.4f threshold %g\n", passes,
-                   source.order.size(), side, faces, left, aim, kept, threshold);
+    stats->refine.pass_triangles.push_back(next->face_count());
     // Done with the binned input (its spill) or the previous pass's bins.
     if (passes == 1) binned.triangles.reset();
     bins = std::move(next);

@@ -144,13 +144,16 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
   }
   if (options.target.given() || resolved_method(options) == ClusterMethod::qem) {
     std::snprintf(buf, sizeof buf,
-                  "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"passes\": %u, \"phase1_peak_anon_bytes\": %" PRIu64
+                  "  \"refine\": {\"intermediate_triangles\": %" PRIu64 ", \"phase1_peak_anon_bytes\": %" PRIu64
                   ", \"phase2_peak_anon_bytes\": %" PRIu64 ", \"collapses\": %" PRIu64
-                  ", \"largest_collapse_cost\": %.9g, \"largest_collapse_error\": %.9g, \"target_missed\": %s},\n",
-                  s.refine.intermediate_triangles, unsigned(s.refine.passes), s.refine.phase1_peak_anon_bytes, s.refine.phase2_peak_anon_bytes,
+                  ", \"largest_collapse_cost\": %.9g, \"largest_collapse_error\": %.9g, \"target_missed\": %s, ",
+                  s.refine.intermediate_triangles, s.refine.phase1_peak_anon_bytes, s.refine.phase2_peak_anon_bytes,
                   s.refine.collapses, s.refine.largest_collapse_cost, s.refine.largest_collapse_error,
                   s.refine.target_missed ? "true" : "false");
     js += buf;
+    std::string counts;
+    for (std::uint64_t n : s.refine.pass_triangles) counts += (counts.empty() ? "" : ", ") + std::to_string(n);
+    js += "\"passes\": " + std::to_string(s.refine.passes) + ", \"pass_triangles\": [" + counts + "]},\n";
   }
   std::string attributes, warnings;
   for (const VertexAttribute& a : s.attributes)
