@@ -111,6 +111,34 @@ TEST_CASE("the passes keep a closed sphere closed, manifold and of genus 0, on t
   }
 }
 
+TEST_CASE("the passes keep the parts' and the terrain's topology: no edge of three faces, the same Euler number",
+          "[qem_passes]") {
+  ScratchDir d;
+  for (SyntheticShape shape : {SyntheticShape::parts, SyntheticShape::terrain}) {
+    INFO(name_of(synthetic_shape_names(), shape));
+    const std::string in = generated(d, shape, 40000, false);
+    const LoadedMesh input = load_mesh(in);
+    QuadricMesh before;
+    before.positions.resize(input.vertex_count());
+    for (std::uint64_t t : input.triangles) before.triangles.push_back(std::uint32_t(t));
+    const EdgeCounts e0 = count_edges(before);
+    REQUIRE(e0.non_manifold == 0);
+    std::vector<char> used(input.vertex_count(), 0);
+    for (std::uint64_t t : input.triangles) used[t] = 1;
+    const std::int64_t v0 = std::count(used.begin(), used.end(), 1);
+    const std::int64_t euler = v0 - std::int64_t(e0.edges) + std::int64_t(input.triangle_count());
+    for (std::uint64_t target : {8000u, 3000u}) {
+      INFO(target);
+      const Reduced r = reduce(in, target);
+      REQUIRE(r.mesh.triangles.size() / 3 == target);
+      const EdgeCounts e = count_edges(r.mesh);
+      CHECK(e.non_manifold == 0);
+      CHECK(e.boundary <= e0.boundary);
+      CHECK(std::int64_t(r.mesh.positions.size()) - std::int64_t(e.edges) + std::int64_t(target) == euler);
+    }
+  }
+}
+
 TEST_CASE("the passes give the same mesh for any thread count and budget", "[qem_passes]") {
   ScratchDir d;
   const std::string in = generated(d, SyntheticShape::parts, 40000, false);
