@@ -447,7 +447,8 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
   settings.exact_count = false;
   if (o.target.max_error > 0) settings.max_error = o.target.max_error;
   CollapseStats collapse_stats;
-  ProgressPhase progress(o.progress, "collapse passes", binned.triangle_count, "tri");
+  std::uint64_t progress_total = 0;
+  ProgressPhase progress(o.progress, "collapse passes", 0, "tri");
 
   PassSource source;
   for (std::uint32_t t = 0; t < binned.count(); ++t) source.order.push_back(t);
@@ -464,6 +465,10 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
   bool slow_before = false;
   while (faces > final_faces && passes < kMaxPasses) {
     double kept = 1;
+    // Progress counts the face records the tiles read (a face in each tile holding a
+    // corner), pass after pass.
+    for (std::uint32_t t : source.order) progress_total += source.faces(t);
+    progress.set_total(progress_total);
     const double aim = std::min(1.0, kAimShare * double(target) / faces);
     threshold = std::max(threshold, sample_threshold(source, settings, aim, double(target) / faces, gate, &kept));
     settings.max_cost = threshold;
