@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -121,7 +122,7 @@ double worst_against_mesh_normals(const AttributedMesh& a) {
 
 TEST_CASE("generated triangle counts are within 2% of the request", "[generator]") {
   ScratchDir d;
-  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts, SyntheticShape::boxes}) {
     for (std::uint64_t n : {20000ull, 123457ull}) {
       GenerateOptions o;
       o.shape = shape;
@@ -168,9 +169,123 @@ TEST_CASE("parts are closed outward solids", "[generator]") {
   CHECK(m.triangle_count() > 190000);
 }
 
+TEST_CASE("the boxes are apart, closed, manifold, outward, of long thin triangles and zero-area slivers",
+          "[generator]") {
+  ScratchDir d;
+  for (std::uint64_t tris : {40000ull, 200000ull}) {
+    if (OOCSIMP_TEST_UNDER_ASAN && tris > 40000) continue;
+    INFO(tris << " triangles asked");
+    const LoadedMesh m = generate(d, "b.ply", SyntheticShape::boxes, tris, 3);
+    const std::uint64_t boxes = std::min(kBoxesMostCount, tris / kBoxesTrianglesEach);
+    CHECK(std::fabs(double(m.triangle_count()) - double(tris)) <= 0.02 * double(tris));
+    // Closed and consistently oriented: each directed edge once, its reverse once.
+    const auto e = directed_edges(m);
+    std::size_t unpaired = 0;
+    for (const auto& kv : e) unpaired += kv.second != 1 || e.count({kv.first.second, kv.first.first}) != 1;
+    CHECK(unpaired == 0);
+    // Manifold at every vertex: the far edges of its triangles form one cycle (one fan).
+    std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> link(m.vertex_count());
+    for (std::size_t t = 0; t < m.triangles.size(); t += 3)
+      for (int k = 0; k < 3; ++k)
+        link[m.triangles[t + std::size_t(k)]].push_back(
+            {m.triangles[t + std::size_t(k + 1) % 3], m.triangles[t + std::size_t(k + 2) % 3]});
+    std::size_t fans_apart = 0;
+    for (const auto& l : link) {
+      std::map<std::uint64_t, std::uint64_t> next(l.begin(), l.end());
+      std::size_t steps = 0;
+      for (std::uint64_t at = l.front().first; steps < l.size(); ++steps) {
+        at = next[at];
+        if (at == l.front().first) break;
+      }
+      fans_apart += next.size() != l.size() || steps + 1 != l.size();
+    }
+    CHECK(fans_apart == 0);
+    // The pieces: union-find over the triangles' corners.
+    std::vector<std::uint64_t> parent(m.vertex_count());
+    for (std::uint64_t v = 0; v < parent.size(); ++v) parent[v] = v;
+    auto root = [&](std::uint64_t v) {
+      while (parent[v] != v) v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    for (std::size_t t = 0; t < m.triangles.size(); t += 3)
+      for (int k = 1; k < 3; ++k) parent[root(m.triangles[t + std::size_t(k)])] = root(m.triangles[t]);
+    struct Piece {
+      double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+      double volume = 0;
+      long long vertices = 0, triangles = 0, slivers = 0;
+      std::set<std::pair<std::uint64_t, std::uint64_t>> edges;
+    };
+    std::map<std::uint64_t, Piece> pieces;
+    for (std::uint64_t v = 0; v < m.vertex_count(); ++v) {
+      Piece& p = pieces[root(v)];
+      ++p.vertices;
+      for (int a = 0; a < 3; ++a) {
+        p.lo[a] = std::min(p.lo[a], m.positions[3 * v + std::size_t(a)]);
+        p.hi[a] = std::max(p.hi[a], m.positions[3 * v + std::size_t(a)]);
+      }
+    }
+    std::vector<double> ratios;  // longest edge over shortest, of the triangles with area
+    for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+      Piece& p = pieces[root(m.triangles[t])];
+      const double* c[3];
+      for (int k = 0; k < 3; ++k) c[k] = &m.positions[3 * m.triangles[t + std::size_t(k)]];
+      const double u[3] = {c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]};
+      const double w[3] = {c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]};
+      const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+      ++p.triangles;
+      p.volume += (c[0][0] * n[0] + c[0][1] * n[1] + c[0][2] * n[2]) / 6;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint64_t a = m.triangles[t + std::size_t(k)], b = m.triangles[t + std::size_t(k + 1) % 3];
+        p.edges.insert({std::min(a, b), std::max(a, b)});
+      }
+      if (n[0] == 0 && n[1] == 0 && n[2] == 0) {
+        ++p.slivers;  // three collinear corners, exactly
+        continue;
+      }
+      double shortest = HUGE_VAL, longest = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double* a = c[k];
+        const double* b = c[(k + 1) % 3];
+        const double l = std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+        shortest = std::min(shortest, l), longest = std::max(longest, l);
+      }
+      ratios.push_back(longest / shortest);
+    }
+    REQUIRE(pieces.size() == boxes);
+    std::vector<const Piece*> list;
+    for (const auto& kv : pieces) {
+      const Piece& p = kv.second;
+      list.push_back(&p);
+      // A sphere's topology (V - E + F = 2), enclosing its bounding box's volume
+      // outwards: the surface of an axis-aligned box, standing on z = 0.
+      CHECK(p.vertices - (long long)p.edges.size() + p.triangles == 2);
+      const double box = (p.hi[0] - p.lo[0]) * (p.hi[1] - p.lo[1]) * (p.hi[2] - p.lo[2]);
+      CHECK(box > 0);
+      CHECK(std::fabs(p.volume - box) <= 1e-6 * box);
+      CHECK(p.lo[2] == 0);
+      CHECK(p.slivers > 0);
+    }
+    // Apart: no two bounding boxes meet.
+    std::size_t meeting = 0;
+    for (std::size_t i = 0; i < list.size(); ++i)
+      for (std::size_t j = i + 1; j < list.size(); ++j) {
+        bool apart = false;
+        for (int a = 0; a < 2; ++a) apart = apart || list[i]->hi[a] < list[j]->lo[a] || list[j]->hi[a] < list[i]->lo[a];
+        meeting += !apart;
+      }
+    CHECK(meeting == 0);
+    // Long thin triangles: the top and bottom cells, most of the triangles, are about 4
+    // times longer than wide (their counts rounded), the walls' thinner still, so the
+    // median triangle's longest edge is about sqrt(17) = 4.12 times its shortest (a
+    // 1 x 4 cell's diagonal against its short side); an equilateral one's is 1.
+    std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
+    CHECK(ratios[ratios.size() / 2] > 3.5);
+  }
+}
+
 TEST_CASE("generation is deterministic by seed", "[generator]") {
   ScratchDir d;
-  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts, SyntheticShape::boxes}) {
     GenerateOptions o;
     o.shape = shape;
     o.triangles = 30000;
@@ -231,7 +346,7 @@ TEST_CASE("the plain output is the bytes it always was", "[generator]") {
 
 TEST_CASE("with attributes every vertex gets uchar red, green, blue and float nx, ny, nz", "[generator][attributes]") {
   ScratchDir d;
-  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts, SyntheticShape::boxes}) {
     INFO("shape " << int(shape));
     const AttributedMesh a = generate_attributed(d, "a.ply", shape, 40000, 7);
     const char* names[] = {"red", "green", "blue", "nx", "ny", "nz"};
@@ -309,7 +424,7 @@ TEST_CASE("the sphere's normals are those of the displaced surface", "[generator
 TEST_CASE("with attributes the output is deterministic, the CLI's, and the same in ascii and compressed",
           "[generator][attributes]") {
   ScratchDir d;
-  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+  for (auto shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts, SyntheticShape::boxes}) {
     GenerateOptions o;
     o.shape = shape;
     o.triangles = 20000;
@@ -318,9 +433,8 @@ TEST_CASE("with attributes the output is deterministic, the CLI's, and the same 
     generate_mesh(d.file("a.ply"), o);
     generate_mesh(d.file("b.ply"), o);
     CHECK(read_file(d.file("a.ply")) == read_file(d.file("b.ply")));
-    const char* names[] = {"sphere", "terrain", "parts"};
-    REQUIRE(run_cli(std::string("generate --attributes --quiet --tris 20000 --seed 5 --shape ") + names[int(shape)] +
-                    " -o " + d.file("cli.ply"))
+    const std::string name = name_of(synthetic_shape_names(), shape);
+    REQUIRE(run_cli("generate --attributes --quiet --tris 20000 --seed 5 --shape " + name + " -o " + d.file("cli.ply"))
                 .exit_code == 0);
     CHECK(read_file(d.file("a.ply")) == read_file(d.file("cli.ply")));
     const AttributedMesh a = generate_attributed(d, "a.ply", shape, 20000, 5);

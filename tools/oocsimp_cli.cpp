@@ -607,7 +607,9 @@ CLI::App* add_generate_command(CLI::App& app, GenerateArgs& a) {
   const EnumNames<SyntheticShape>& shapes = synthetic_shape_names();
   add_enum_option(cmd, "--shape", &a.options.shape, shapes,
                   std::string("Shape (default ") + name_of(shapes, SyntheticShape::sphere) + "; " +
-                      name_of(shapes, SyntheticShape::branches) + ": a leafless tree of thin tubes)");
+                      name_of(shapes, SyntheticShape::branches) + ": a leafless tree of thin tubes; " +
+                      name_of(shapes, SyntheticShape::boxes) +
+                      ": a city block of closed boxes, long thin triangles and zero-area slivers)");
   add_given(cmd, "--seed", &a.seed, "Random seed (default 1)");
   cmd->add_option("-o,--output", a.out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
   cmd->add_flag("--ascii", a.options.ascii, "Write ascii PLY");

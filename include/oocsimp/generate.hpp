@@ -10,7 +10,7 @@
 
 namespace oocsimp {
 
-enum class SyntheticShape { sphere, terrain, parts, branches };
+enum class SyntheticShape { sphere, terrain, parts, branches, boxes };
 
 /// The branches shape's dimensions (model units): the trunk's radius, the thin
 /// branches' radius and count, the buds' radius.
@@ -18,6 +18,10 @@ constexpr double kBranchTrunkRadius = 0.035;
 constexpr double kBranchRadius = 0.005;
 constexpr int kBranchCount = 24;
 constexpr double kBudRadius = 0.004;
+
+/// The boxes shape: one box per this many triangles asked, at most kBoxesMostCount.
+constexpr std::uint64_t kBoxesTrianglesEach = 6500;
+constexpr std::uint64_t kBoxesMostCount = 26;
 
 struct GenerateOptions {
   std::uint64_t triangles = 1000000;  ///< target; the result is within 2% for 10^4 and more
@@ -47,7 +51,14 @@ struct GenerateResult {
 ///    0.45), kBranchCount closed cylinders of radius kBranchRadius and length 0.25 to
 ///    0.4 leaving its axis upwards, and past every other tip, 0.02 beyond it, a closed
 ///    ball of radius kBudRadius: thin parts that vertex clustering reduces to edges and
-///    points. At least 2000 triangles' worth, however few are asked.
+///    points. At least 2000 triangles' worth, however few are asked;
+///  - boxes: a city block in the unit square: min(kBoxesMostCount, triangles /
+///    kBoxesTrianglesEach) (at least 1) closed axis-aligned boxes of random sizes on
+///    z = 0, apart from one another, each one closed 2-manifold facing outwards whose
+///    flat faces are tessellated into long thin triangles (4 cells up the walls, top
+///    cells 4 times longer one way than the other), with about 12 zero-area slivers a
+///    box (three collinear corners: an edge split at its midpoint on one side, the
+///    T-junction closed by the sliver), as CAD exports leave them.
 /// With `attributes`, each vertex follows x, y, z with
 ///  - uchar red, green, blue: a linear function of position over the bounding box
 ///    [lo, hi] of the written (float) positions: red = floor(255 (x - lo_x) /
@@ -55,7 +66,8 @@ struct GenerateResult {
 ///  - float nx, ny, nz: the unit outward normal of the surface, analytic from the
 ///    parametrisation: on the sphere the gradient of |p| - 1 - f(p / |p|) (f the
 ///    displacement), on the terrain (-h_x, -h_y, 1) normalised, on the parts the
-///    normal of the box face, cylinder side or cap the vertex belongs to.
+///    normal of the box face, cylinder side or cap the vertex belongs to, on the
+///    boxes the normalised sum of the outward normals of the faces through the vertex.
 /// The vertices are then computed twice (the box first), still in O(1) memory.
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
 /// complete). Throws UsageError for options.triangles 0, IoError when writing fails.

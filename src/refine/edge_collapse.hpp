@@ -89,8 +89,9 @@ struct CollapseSettings {
   double tile_share = 1.5;
   /// Meshes of at least this many faces collapse in passes first (0: never): every
   /// edge costed at once, in parallel, and the cheapest valid collapses taken, each
-  /// vertex in at most one a pass. The passes follow from the mesh alone, so the
-  /// result is the same for any thread count.
+  /// vertex in at most one a pass and none much dearer than the edge at which the
+  /// passes would end. The passes follow from the mesh alone, so the result is the
+  /// same for any thread count.
   std::uint64_t pass_faces = 16384;
   /// The passes stop at this many times target_triangles; the lazy queue, in strict
   /// order of cost, takes the rest.

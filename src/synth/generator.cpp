@@ -563,6 +563,251 @@ GenerateResult branches(ByteSink& sink, const GenerateOptions& o, FaceCounter& f
   return {nv, nf};
 }
 
+// --- boxes: a city block of closed axis-aligned boxes, CAD-style tessellation ---
+//
+// Each box's surface is the outer layer of an nx x ny x nz lattice: the bottom and top
+// are full (nx + 1) x (ny + 1) grids, the nz - 1 layers between them rings of
+// P = 2 (nx + ny) points, so faces meeting at a crease share its vertices and the box
+// is one closed 2-manifold. The walls are one band of P x nz quads around the box; nz
+// is small, so the wall quads are tall and thin, and the top's quads are four times
+// longer one way than the other (alternately along x and y): long thin triangles, as
+// CAD exports tessellate flat faces.
+//
+// Slivers: an edge u -> w of triangle (u, w, p) on a wall, the top's rim or inside the
+// top is split at its midpoint m, the triangle into (u, m, p) and (m, w, p), and the
+// zero-area triangle (m, u, w) closes the T-junction this leaves against the edge's
+// other triangle (w, u, q): every edge still has two faces, consistently oriented, and
+// every vertex one fan. The edges split are axis-aligned, so the three corners are
+// collinear in float as well.
+struct Box {
+  double lo[3], hi[3];
+  std::uint64_t n[3];                  // cells along x, y, z
+  std::vector<std::uint64_t> slivers;  // split edges, as sliver_key()s, ascending
+  std::uint64_t first_vertex;
+  std::uint64_t ring() const { return 2 * (n[0] + n[1]); }
+  std::uint64_t full() const { return (n[0] + 1) * (n[1] + 1); }
+  std::uint64_t lattice_vertices() const { return 2 * full() + (n[2] - 1) * ring(); }
+  std::uint64_t vertices() const { return lattice_vertices() + slivers.size(); }
+  std::uint64_t faces() const { return 4 * (n[0] * n[1] + n[2] * (n[0] + n[1])) + 2 * slivers.size(); }
+  // Ring position r (0 at the corner (0, 0), counter-clockwise seen from +z) as (i, j).
+  void ring_ij(std::uint64_t r, std::uint64_t* i, std::uint64_t* j) const {
+    const std::uint64_t nx = n[0], ny = n[1];
+    r %= ring();
+    if (r < nx) {
+      *i = r, *j = 0;
+    } else if (r < nx + ny) {
+      *i = nx, *j = r - nx;
+    } else if (r < 2 * nx + ny) {
+      *i = 2 * nx + ny - r, *j = ny;
+    } else {
+      *i = 0, *j = 2 * (nx + ny) - r;
+    }
+  }
+  // The lattice vertex (i, j) of layer 0 or nz.
+  std::uint64_t cap(std::uint64_t i, std::uint64_t j, bool top) const {
+    return first_vertex + (top ? full() + (n[2] - 1) * ring() : 0) + j * (n[0] + 1) + i;
+  }
+  // The lattice vertex at ring position r of layer k.
+  std::uint64_t band(std::uint64_t r, std::uint64_t k) const {
+    if (k > 0 && k < n[2]) return first_vertex + full() + (k - 1) * ring() + r % ring();
+    std::uint64_t i, j;
+    ring_ij(r, &i, &j);
+    return cap(i, j, k == n[2]);
+  }
+  // The edges split, each in the one triangle that runs it in the direction given:
+  //  - kWall: the wall's vertical edge at ring position x from layer y up;
+  //  - kRim: the rim's edge from ring position x + 1 back to x (y = nz - 1);
+  //  - kTop: the top's edge from (x, y) to (x + 1, y), 0 < y < ny.
+  enum SliverKind : std::uint64_t { kWall = 0, kRim = 1, kTop = 2 };
+  static std::uint64_t sliver_key(SliverKind kind, std::uint64_t x, std::uint64_t y) {
+    return std::uint64_t(kind) << 62 | x << 31 | y;
+  }
+  // The midpoint vertex of split edge `key`, or 0 when it is not split.
+  std::uint64_t midpoint(std::uint64_t key) const {
+    const auto it = std::lower_bound(slivers.begin(), slivers.end(), key);
+    if (it == slivers.end() || *it != key) return 0;
+    return first_vertex + lattice_vertices() + std::uint64_t(it - slivers.begin());
+  }
+  // The point at lattice coordinates (i, j, k) halved (2i, 2j, 2k), and there the
+  // normalised sum of the outward normals of the box faces through it.
+  void point(std::uint64_t i2, std::uint64_t j2, std::uint64_t k2, double p[3], double normal[3]) const {
+    const std::uint64_t c[3] = {i2, j2, k2};
+    for (int a = 0; a < 3; ++a) {
+      p[a] = c[a] == 2 * n[a] ? hi[a] : lo[a] + (hi[a] - lo[a]) * double(c[a]) / double(2 * n[a]);
+      normal[a] = c[a] == 0 ? -1.0 : c[a] == 2 * n[a] ? 1.0 : 0.0;
+    }
+    normalise(normal);
+  }
+};
+
+// Cells per axis for about `want` faces (slivers apart): nz = 4, and nx / ny such that
+// a top cell is 4 times longer along y than along x (`along_y`) or the other way.
+void size_box(Box* b, double want, bool along_y) {
+  const double ex = b->hi[0] - b->lo[0], ey = b->hi[1] - b->lo[1];
+  const double rho = (along_y ? 4.0 : 0.25) * ex / ey;  // nx / ny
+  const double ax = std::sqrt(rho), ay = 1 / ax, nz = 4;
+  // 4 (s^2 + nz s (ax + ay)) faces at nx = s ax, ny = s ay.
+  const double s = 0.5 * (-nz * (ax + ay) + std::sqrt(nz * nz * (ax + ay) * (ax + ay) + std::max(want, 0.0)));
+  const auto cells = [](double x) { return std::max<std::uint64_t>(1, std::uint64_t(std::llround(x))); };
+  b->n[2] = 4;
+  const std::uint64_t nx = cells(s * ax), ny = cells(s * ay);
+  double best = HUGE_VAL;
+  for (std::uint64_t x : {nx - 1, nx, nx + 1})
+    for (std::uint64_t y : {ny - 1, ny, ny + 1}) {
+      if (x < 1 || y < 1) continue;
+      Box alt = *b;
+      alt.n[0] = x, alt.n[1] = y;
+      const double miss = std::fabs(double(alt.faces()) - want);
+      if (miss < best) best = miss, b->n[0] = x, b->n[1] = y;
+    }
+}
+
+GenerateResult boxes(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) {
+  constexpr std::uint64_t kSlivers = 12;
+  SplitMix64 rng{o.seed};
+  const std::uint64_t count =
+      std::max<std::uint64_t>(1, std::min<std::uint64_t>(kBoxesMostCount, o.triangles / kBoxesTrianglesEach));
+  // Lots of a 6 x 5 block in the unit square, count of them drawn (a partial
+  // Fisher-Yates shuffle); each box stands on z = 0 inside its lot, apart from the
+  // others by the lots' margins.
+  constexpr std::uint64_t kLotsX = 6, kLotsY = 5;
+  std::vector<std::uint64_t> lots(kLotsX * kLotsY);
+  for (std::uint64_t i = 0; i < lots.size(); ++i) lots[i] = i;
+  std::vector<Box> bs(count);
+  std::uint64_t nv = 0, nf = 0;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    std::swap(lots[i], lots[i + rng.next() % (lots.size() - i)]);
+    Box& b = bs[i];
+    const double lot_lo[2] = {double(lots[i] % kLotsX) / kLotsX, double(lots[i] / kLotsX) / kLotsY};
+    const double lot_size[2] = {1.0 / kLotsX, 1.0 / kLotsY};
+    for (int a = 0; a < 2; ++a) {
+      const double side = rng.uniform(0.45, 0.8) * lot_size[a];
+      b.lo[a] = lot_lo[a] + rng.uniform(0.1 * lot_size[a], 0.9 * lot_size[a] - side);
+      b.hi[a] = b.lo[a] + side;
+    }
+    b.lo[2] = 0;
+    b.hi[2] = rng.uniform(0.05, 0.4);
+    // About 12 slivers a box, a quarter each on the walls' vertical creases, inside the
+    // walls, on the top's rim and inside the top, as many as the box's edges allow.
+    // The running face count tracks the target, as for the parts.
+    const double want = double(o.triangles) * double(i + 1) / double(count) - double(nf);
+    size_box(&b, want - 2 * kSlivers, i % 2 == 0);
+    const std::uint64_t P = b.ring(), nx = b.n[0], ny = b.n[1], nz = b.n[2];
+    const std::uint64_t corners[4] = {0, nx, nx + ny, 2 * nx + ny};
+    const std::uint64_t wanted = std::min<std::uint64_t>(kSlivers, P * nz / 4);
+    for (std::uint64_t s = 0; s < wanted; ++s) {
+      std::uint64_t key;
+      do {
+        // A small top may have too few inner edges: the walls take its share.
+        const std::uint64_t kind = s % 4 == 3 && nx * (ny - 1) <= s / 4 ? 1 : s % 4;
+        if (kind == 0)
+          key = Box::sliver_key(Box::kWall, corners[rng.next() % 4], rng.next() % nz);
+        else if (kind == 1)
+          key = Box::sliver_key(Box::kWall, rng.next() % P, rng.next() % nz);
+        else if (kind == 2)
+          key = Box::sliver_key(Box::kRim, rng.next() % P, nz - 1);
+        else
+          key = Box::sliver_key(Box::kTop, rng.next() % nx, 1 + rng.next() % (ny - 1));
+      } while (std::find(b.slivers.begin(), b.slivers.end(), key) != b.slivers.end());
+      b.slivers.push_back(key);
+    }
+    std::sort(b.slivers.begin(), b.slivers.end());
+    b.first_vertex = nv;
+    nv += b.vertices();
+    nf += b.faces();
+  }
+  PlyEmitter out(sink, o.ascii, o.attributes, nv, nf);
+  fc.total = nf;
+  emit_vertices(out, [&](const auto& visit) {
+    for (const Box& b : bs) {
+      auto emit = [&](std::uint64_t i2, std::uint64_t j2, std::uint64_t k2) {
+        double p[3], normal[3];
+        b.point(i2, j2, k2, p, normal);
+        visit(p[0], p[1], p[2], [&](double m[3]) { m[0] = normal[0], m[1] = normal[1], m[2] = normal[2]; });
+      };
+      const std::uint64_t nx = b.n[0], ny = b.n[1], nz = b.n[2];
+      for (std::uint64_t j = 0; j <= ny; ++j)
+        for (std::uint64_t i = 0; i <= nx; ++i) emit(2 * i, 2 * j, 0);
+      for (std::uint64_t k = 1; k < nz; ++k)
+        for (std::uint64_t r = 0; r < b.ring(); ++r) {
+          std::uint64_t i, j;
+          b.ring_ij(r, &i, &j);
+          emit(2 * i, 2 * j, 2 * k);
+        }
+      for (std::uint64_t j = 0; j <= ny; ++j)
+        for (std::uint64_t i = 0; i <= nx; ++i) emit(2 * i, 2 * j, 2 * nz);
+      for (std::uint64_t key : b.slivers) {
+        const std::uint64_t x = (key >> 31) & 0x7FFFFFFF, y = key & 0x7FFFFFFF;
+        std::uint64_t i, j, i1, j1;
+        switch (key >> 62) {
+          case Box::kWall:
+            b.ring_ij(x, &i, &j);
+            emit(2 * i, 2 * j, 2 * y + 1);
+            break;
+          case Box::kRim:
+            b.ring_ij(x, &i, &j);
+            b.ring_ij(x + 1, &i1, &j1);
+            emit(i + i1, j + j1, 2 * nz);
+            break;
+          default:
+            emit(2 * x + 1, 2 * y, 2 * nz);
+            break;
+        }
+      }
+    }
+  });
+  for (const Box& b : bs) {
+    const std::uint64_t nx = b.n[0], ny = b.n[1], nz = b.n[2];
+    auto face = [&](std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+      out.face(x, y, z);
+      fc.tick();
+    };
+    // Triangle (u, w, p) whose edge u -> w is split at m: (u, m, p), (m, w, p) and the
+    // sliver (m, u, w).
+    auto split = [&](std::uint64_t u, std::uint64_t w, std::uint64_t p, std::uint64_t m) {
+      face(u, m, p);
+      face(m, w, p);
+      face(m, u, w);
+    };
+    // Bottom (facing -z) and top (+z): quads (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1).
+    for (int top = 0; top < 2; ++top)
+      for (std::uint64_t j = 0; j < ny; ++j)
+        for (std::uint64_t i = 0; i < nx; ++i) {
+          const std::uint64_t v00 = b.cap(i, j, top), v10 = b.cap(i + 1, j, top), v11 = b.cap(i + 1, j + 1, top),
+                              v01 = b.cap(i, j + 1, top);
+          if (top) {
+            const std::uint64_t m = j > 0 ? b.midpoint(Box::sliver_key(Box::kTop, i, j)) : 0;
+            if (m)
+              split(v00, v10, v11, m);
+            else
+              face(v00, v10, v11);
+            face(v00, v11, v01);
+          } else {
+            face(v00, v11, v10);
+            face(v00, v01, v11);
+          }
+        }
+    // The walls, facing outwards: the band's quad (r, k), (r + 1, k), (r + 1, k + 1),
+    // (r, k + 1) as (A, B, C) and (A, C, D); the first runs the vertical edge at r + 1
+    // upwards, the second the rim edge from r + 1 to r on the top layer.
+    for (std::uint64_t k = 0; k < nz; ++k)
+      for (std::uint64_t r = 0; r < b.ring(); ++r) {
+        const std::uint64_t A = b.band(r, k), B = b.band(r + 1, k), C = b.band(r + 1, k + 1), D = b.band(r, k + 1);
+        const std::uint64_t up = b.midpoint(Box::sliver_key(Box::kWall, (r + 1) % b.ring(), k));
+        if (up)
+          split(B, C, A, up);
+        else
+          face(A, B, C);
+        const std::uint64_t rim = k + 1 == nz ? b.midpoint(Box::sliver_key(Box::kRim, r, k)) : 0;
+        if (rim)
+          split(C, D, A, rim);
+        else
+          face(A, C, D);
+      }
+  }
+  return {nv, nf};
+}
+
 }  // namespace
 
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options) {
@@ -586,6 +831,9 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
       case SyntheticShape::branches:
         r = branches(sink, options, fc);
         break;
+      case SyntheticShape::boxes:
+        r = boxes(sink, options, fc);
+        break;
     }
     sink.finish();
   }
@@ -597,7 +845,8 @@ const EnumNames<SyntheticShape>& synthetic_shape_names() {
   static const EnumNames<SyntheticShape> names = {{SyntheticShape::sphere, "sphere"},
                                                   {SyntheticShape::terrain, "terrain"},
                                                   {SyntheticShape::parts, "parts"},
-                                                  {SyntheticShape::branches, "branches"}};
+                                                  {SyntheticShape::branches, "branches"},
+                                                  {SyntheticShape::boxes, "boxes"}};
   return names;
 }
 
