@@ -71,6 +71,8 @@ constexpr std::size_t kSampleTiles = 16;
 // factor until it does.
 constexpr double kFullestTileShare = 6;
 constexpr double kTileShrink = 1.25;
+// Later passes work on blocks of at most this many binned tiles a side.
+constexpr std::int64_t kLargestBlock = 64;
 constexpr std::size_t kLeastSampleTiles = 4;
 constexpr std::size_t kSampleEvery = 8;  // a sample tile per this many tiles, between the two
 // Records per buffer of the next pass's bins.
@@ -137,6 +139,51 @@ class PassBins {
   }
   /// The distinct faces handed on.
   std::uint64_t face_count() const { return face_count_; }
+
+  /// The pass's tiles: blocks of `k` x `k` x `k` of these tiles (the next pass's
+  /// tiling is chosen once its faces are counted), each as its tiles' streams, the
+  /// blocks in order of their coordinates.
+  std::vector<std::vector<std::uint32_t>> blocks(std::int64_t k) const {
+    std::map<GridCoord, std::vector<std::uint32_t>> by_block;
+    auto down = [k](std::int64_t x) { return x >= 0 ? x / k : -((-x + k - 1) / k); };
+    for (const auto& t : streams_) by_block[{down(t.first.x), down(t.first.y), down(t.first.z)}].push_back(t.second);
+    std::vector<std::vector<std::uint32_t>> out;
+    for (auto& b : by_block) out.push_back(std::move(b.second));
+    return out;
+  }
+
+  /// The faces of a block of tiles (each once, by ascending index) and its owned
+  /// vertices (by id).
+  TileMesh load_block(const std::vector<std::uint32_t>& tiles) const {
+    if (tiles.size() == 1) return load(tiles[0]);
+    TileMesh m;
+    m.attribute_count = attributes_;
+    std::vector<std::uint32_t> order;
+    for (std::uint32_t t : tiles) {
+      TileMesh part = load(t);
+      m.faces.insert(m.faces.end(), part.faces.begin(), part.faces.end());
+      m.owned.insert(m.owned.end(), part.owned.begin(), part.owned.end());
+      m.attributes.insert(m.attributes.end(), part.attributes.begin(), part.attributes.end());
+    }
+    std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+    m.faces.erase(std::unique(m.faces.begin(), m.faces.end(),
+                              [](const PassFace& a, const PassFace& b) { return a.index == b.index; }),
+                  m.faces.end());
+    order.resize(m.owned.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return m.owned[a].id < m.owned[b].id; });
+    std::vector<PassVertex> owned(order.size());
+    std::vector<double> values(m.attributes.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      owned[i] = m.owned[order[i]];
+      std::copy(m.attributes.begin() + std::ptrdiff_t(order[i] * attributes_),
+                m.attributes.begin() + std::ptrdiff_t((order[i] + 1) * attributes_),
+                values.begin() + std::ptrdiff_t(i * attributes_));
+    }
+    m.owned = std::move(owned);
+    m.attributes = std::move(values);
+    return m;
+  }
 
   /// Whether `tile` holds position p.
   bool holds(std::uint32_t tile, const Vec3d& p) const { return tiling_.of(p) == coords_[tile]; }
@@ -254,9 +301,9 @@ struct PassSource {
 // `keep` of its faces, and the costs of its collapses are pooled: the threshold is
 // the cost at which the sample keeps `keep` of its faces, each collapse removing two.
 // Every tile of the pass then takes what the strict order of cost would take in the
-// whole mesh up to that cost. The share the threshold keeps of the sample goes to *kept.
+// whole mesh up to that cost.
 double sample_threshold(const PassSource& source, const CollapseSettings& settings, double keep, double share,
-                        TileMemoryGate& gate, double* kept) {
+                        TileMemoryGate& gate) {
   const std::size_t n = source.order.size();
   const std::size_t m = std::min(n, std::clamp(n / kSampleEvery, kLeastSampleTiles, kSampleTiles));
   std::vector<std::vector<double>> logs(m);
@@ -288,7 +335,6 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
   const double total = double(std::accumulate(given.begin(), given.end(), std::uint64_t(0)));
   const std::size_t wanted = std::size_t(std::ceil(std::max(0.0, total * (1 - keep)) / 2));
   const std::size_t taken = std::min(wanted, pooled.size());
-  *kept = total > 0 ? std::max(0.0, 1 - 2 * double(taken) / total) : 1;
   return taken ? pooled[taken - 1] : 0.0;
 }
 
@@ -400,15 +446,38 @@ double first_tile_side(const MeshInput& input, double tile_faces) {
   return side;
 }
 
-// Pass p's tiling (p >= 1): tiles of about as many faces as the first pass's for the `expected` faces
-// the previous pass leaves, never smaller than its tiles, shifted by an irrational
-// share of a tile so that no border of one pass stays a border in the next.
-PassTiling pass_tiling(int p, double previous_side, double first_side, double input_faces, double expected) {
+// The tiles pass p (p >= 1) bins into: as large as the previous pass's, so that none
+// holds more faces than one of the previous pass's (a pass never adds faces), shifted
+// by an irrational share of a tile so that no border of one pass stays a border in
+// the next. The pass then works on blocks of them (choose_block).
+PassTiling pass_tiling(int p, double previous_side) {
   PassTiling t;
-  t.side = std::max(previous_side, first_side * std::sqrt(input_faces / std::max(expected, 1.0)));
+  t.side = previous_side;
   const double golden = 0.6180339887498949;
   t.shift = t.side * (double(p) * golden - std::floor(double(p) * golden));
   return t;
+}
+
+// The side, in binned tiles, of the blocks a pass works on: the largest whose blocks
+// hold about `tile_faces` face records on average and at most kFullestTileShare times
+// that, counted from the bins (the faces are known by then: the tiling follows from
+// the input and the target alone).
+std::int64_t choose_block(const PassBins& bins, double tile_faces) {
+  std::int64_t best = 1;
+  for (std::int64_t k = 2; k <= kLargestBlock; ++k) {
+    const std::vector<std::vector<std::uint32_t>> blocks = bins.blocks(k);
+    std::uint64_t total = 0, fullest = 0;
+    for (const std::vector<std::uint32_t>& b : blocks) {
+      std::uint64_t records = 0;
+      for (std::uint32_t t : b) records += bins.faces_in(t);
+      total += records;
+      fullest = std::max(fullest, records);
+    }
+    if (double(total) / double(blocks.size()) > tile_faces || double(fullest) > kFullestTileShare * tile_faces) break;
+    best = k;
+    if (blocks.size() == 1) break;
+  }
+  return best;
 }
 
 }  // namespace
@@ -464,28 +533,36 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const V
   int passes = 0;
   bool slow_before = false;
   while (faces > final_faces && passes < kMaxPasses) {
-    double kept = 1;
     // Progress counts the face records the tiles read (a face in each tile holding a
     // corner), pass after pass.
     for (std::uint32_t t : source.order) progress_total += source.faces(t);
     progress.set_total(progress_total);
     const double aim = std::min(1.0, kAimShare * double(target) / faces);
-    threshold = std::max(threshold, sample_threshold(source, settings, aim, double(target) / faces, gate, &kept));
+    threshold = std::max(threshold, sample_threshold(source, settings, aim, double(target) / faces, gate));
     settings.max_cost = threshold;
-    const PassTiling next_tiling = pass_tiling(passes + 1, side, first_side, double(binned.triangle_count),
-                                               std::max(aim, kept) * faces);
+    const PassTiling next_tiling = pass_tiling(passes + 1, side);
     auto next = std::make_unique<PassBins>(dir, next_tiling, k, allowance);
     run_pass(source, settings, double(target) / faces, gate, next.get(), &collapse_stats, &progress);
     ++passes;
+    // The tiles' buffers were freed on several threads: give them back (see
+    // SimplifyOptions::release_memory).
+    if (o.release_memory) o.release_memory();
     const double left = double(next->face_count());
     stats->refine.pass_triangles.push_back(next->face_count());
     // Done with the binned input (its spill) or the previous pass's bins.
     if (passes == 1) binned.triangles.reset();
     bins = std::move(next);
-    source.order = bins->tiles();
-    source.load = [b = bins.get()](std::uint32_t t) { return b->load(t); };
-    source.faces = [b = bins.get()](std::uint32_t t) { return b->faces_in(t); };
-    side = next_tiling.side;
+    const std::int64_t block = choose_block(*bins, sizes.tile_faces);
+    auto blocks = std::make_shared<std::vector<std::vector<std::uint32_t>>>(bins->blocks(block));
+    source.order.resize(blocks->size());
+    std::iota(source.order.begin(), source.order.end(), 0u);
+    source.load = [b = bins.get(), blocks](std::uint32_t t) { return b->load_block((*blocks)[t]); };
+    source.faces = [b = bins.get(), blocks](std::uint32_t t) {
+      std::uint64_t records = 0;
+      for (std::uint32_t tile : (*blocks)[t]) records += b->faces_in(tile);
+      return records;
+    };
+    side = next_tiling.side * double(block);
     const bool slow = left > (1 - kSlowPass) * faces;
     faces = left;
     // Two slow passes in a row: held by the maximum error, or by the topology. The
