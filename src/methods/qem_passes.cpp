@@ -171,7 +171,8 @@ class PassBins {
                   m.faces.end());
     order.resize(m.owned.size());
     std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return m.owned[a].id < m.owned[b].id; });
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return m.owned[a].id < m.owned[b].id; });
     std::vector<PassVertex> owned(order.size());
     std::vector<double> values(m.attributes.size());
     for (std::size_t i = 0; i < order.size(); ++i) {
@@ -195,8 +196,7 @@ class PassBins {
     m.attribute_count = attributes_;
     if (with_faces) {
       faces_.read(tile, &m.faces);
-      std::sort(m.faces.begin(), m.faces.end(),
-                [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+      std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
     }
     if (!with_vertices) return m;
     std::vector<unsigned char> bytes;
@@ -412,7 +412,9 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
     Vec3d normal;
   };
   std::vector<Face> faces;
-  auto local = [&](std::uint64_t id) { return std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin()); };
+  auto local = [&](std::uint64_t id) {
+    return std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+  };
   for (std::uint32_t t : bins.tiles()) {
     const TileMesh tile = bins.load(t, true, false);
     for (const PassFace& f : tile.faces)
@@ -486,100 +488,156 @@ bool collapses_in_passes(std::uint64_t faces, std::uint64_t target, const PassSi
   return faces >= sizes.from_faces && double(faces) > kFinalShare * double(target);
 }
 
-QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t target,
-                             SimplifyStats* stats, const PassSizes& sizes) {
-  const std::uint64_t budget = budget_bytes(o.memory_budget);
-  const MemoryBudget memory(budget, o.budget_counts_process);
-  const std::size_t k = input.attributes.size();
-  const double final_faces = kFinalShare * double(target);
+namespace {
+
+// The passes of one run, as the file comment lists their steps.
+class PassRun {
+ public:
+  PassRun(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, std::uint64_t target,
+          const PassSizes& sizes, SimplifyStats* stats)
+      : input_(input),
+        options_(options),
+        origin_(origin),
+        target_(target),
+        sizes_(sizes),
+        stats_(stats),
+        budget_(budget_bytes(options.memory_budget)),
+        attributes_(input.attributes.size()),
+        final_faces_(kFinalShare * double(target)),
+        progress_(options.progress, "collapse passes", 0, "tri") {
+    settings_.target_triangles = 4;
+    settings_.exact_count = false;
+    if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
+  }
+
+  QuadricMesh run() {
+    check_last_collapse_fits();
+    bin_input();
+    while (faces_ > final_faces_ && passes_ < kMaxPasses && !held_) {
+      choose_threshold();
+      collapse_tiles();
+      take_next_tiles();
+    }
+    clock_.end("passes");
+    clock_.move_to(&stats_->phases);
+    stats_->refine.passes = std::uint32_t(passes_);
+    stats_->refine.collapses = collapse_stats_.collapses;
+    stats_->refine.largest_collapse_error = collapse_stats_.largest_error;
+    if (!bins_) throw std::logic_error("reduce_in_passes: no pass ran");
+    return gather(*bins_, attributes_);
+  }
+
+ private:
   // The last collapse holds the remainder whole: refused up front when it cannot.
-  const std::uint64_t last = collapse_memory_bytes(std::uint64_t(final_faces / 2), std::uint64_t(final_faces), k);
-  memory.check(memory.held(), last,
-               "the last collapse of about " + std::to_string(std::uint64_t(final_faces)) + " triangles",
-               "give options.memory_budget " + whole_mib(memory.held() + last) + " MiB or more, or a smaller target");
+  void check_last_collapse_fits() const {
+    const MemoryBudget memory(budget_, options_.budget_counts_process);
+    const std::uint64_t last =
+        collapse_memory_bytes(std::uint64_t(final_faces_ / 2), std::uint64_t(final_faces_), attributes_);
+    memory.check(memory.held(), last,
+                 "the last collapse of about " + std::to_string(std::uint64_t(final_faces_)) + " triangles",
+                 "give options.memory_budget " + whole_mib(memory.held() + last) + " MiB or more, or a smaller target");
+  }
 
-  // The first pass's tiles: the input binned (each face in the tile of each corner).
-  PhaseTimer clock;
-  const double first_side = first_tile_side(input, sizes.tile_faces);
-  const TileSettings tiling{budget, first_side, false, o.floating.spill_compression, o.temp_dir};
-  const SpillSettings spill =
-      spill_settings(input, tiling, sizeof(PassVertex), estimate_fullest_tile_records(input, first_side));
-  input.restart_triangles();
-  BinnedTiles binned = bin_triangles(input, first_side, budget, spill, o.progress);
-  stats->input_triangles = binned.triangle_count;
-  stats->skipped = binned.skipped;
-  clock.end("bin");
+  // The first pass's tiles: the input binned, each face in the tile of each corner.
+  void bin_input() {
+    side_ = first_tile_side(input_, sizes_.tile_faces);
+    const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
+    spill_ = spill_settings(input_, tiling, sizeof(PassVertex), estimate_fullest_tile_records(input_, side_));
+    input_.restart_triangles();
+    binned_ = bin_triangles(input_, side_, budget_, spill_, options_.progress);
+    stats_->input_triangles = binned_.triangle_count;
+    stats_->skipped = binned_.skipped;
+    faces_ = double(binned_.triangle_count);
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share);
+    for (std::uint32_t t = 0; t < binned_.count(); ++t) source_.order.push_back(t);
+    std::sort(source_.order.begin(), source_.order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return binned_.grid.coord(a) < binned_.grid.coord(b); });
+    source_.load = [this](std::uint32_t t) { return first_pass_tile(binned_, t, input_, origin_); };
+    source_.faces = [this](std::uint32_t t) { return binned_.triangles->record_count(t); };
+    clock_.end("bin");
+  }
 
-  TileMemoryGate gate(spill.work_share);
-  CollapseSettings settings;
-  settings.target_triangles = 4;
-  settings.exact_count = false;
-  if (o.target.max_error > 0) settings.max_error = o.target.max_error;
-  CollapseStats collapse_stats;
-  std::uint64_t progress_total = 0;
-  ProgressPhase progress(o.progress, "collapse passes", 0, "tri");
+  // Step 2: the pass's threshold, from a sample of its tiles; never lower than the last.
+  void choose_threshold() {
+    const double aim = std::min(1.0, kAimShare * double(target_) / faces_);
+    threshold_ = std::max(threshold_, sample_threshold(source_, settings_, aim, share(), *gate_));
+    settings_.max_cost = threshold_;
+  }
 
-  PassSource source;
-  for (std::uint32_t t = 0; t < binned.count(); ++t) source.order.push_back(t);
-  std::sort(source.order.begin(), source.order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return binned.grid.coord(a) < binned.grid.coord(b); });
-  source.load = [&](std::uint32_t t) { return first_pass_tile(binned, t, input, origin); };
-  source.faces = [&](std::uint32_t t) { return binned.triangles->record_count(t); };
-
-  const std::string dir = spill.dir;
-  const std::uint64_t allowance = spill.allow.buckets * 3;
-  double faces = double(binned.triangle_count), threshold = 0, side = first_side;
-  std::unique_ptr<PassBins> bins;
-  int passes = 0;
-  bool slow_before = false;
-  while (faces > final_faces && passes < kMaxPasses) {
-    // Progress counts the face records the tiles read (a face in each tile holding a
-    // corner), pass after pass.
-    for (std::uint32_t t : source.order) progress_total += source.faces(t);
-    progress.set_total(progress_total);
-    const double aim = std::min(1.0, kAimShare * double(target) / faces);
-    threshold = std::max(threshold, sample_threshold(source, settings, aim, double(target) / faces, gate));
-    settings.max_cost = threshold;
-    const PassTiling next_tiling = pass_tiling(passes + 1, side);
-    auto next = std::make_unique<PassBins>(dir, next_tiling, k, allowance);
-    run_pass(source, settings, double(target) / faces, gate, next.get(), &collapse_stats, &progress);
-    ++passes;
+  // Steps 3 and 4: every tile collapsed and binned into the next pass's tiles.
+  void collapse_tiles() {
+    // Progress counts the face records the tiles read, pass after pass.
+    for (std::uint32_t t : source_.order) progress_total_ += source_.faces(t);
+    progress_.set_total(progress_total_);
+    next_tiling_ = pass_tiling(passes_ + 1, side_);
+    next_ = std::make_unique<PassBins>(spill_.dir, next_tiling_, attributes_, spill_.allow.buckets * 3);
+    run_pass(source_, settings_, share(), *gate_, next_.get(), &collapse_stats_, &progress_);
+    ++passes_;
     // The tiles' buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
-    if (o.release_memory) o.release_memory();
-    const double left = double(next->face_count());
-    stats->refine.pass_triangles.push_back(next->face_count());
-    // Done with the binned input (its spill) or the previous pass's bins.
-    if (passes == 1) binned.triangles.reset();
-    bins = std::move(next);
-    const std::int64_t block = choose_block(*bins, sizes.tile_faces);
-    auto blocks = std::make_shared<std::vector<std::vector<std::uint32_t>>>(bins->blocks(block));
-    source.order.resize(blocks->size());
-    std::iota(source.order.begin(), source.order.end(), 0u);
-    source.load = [b = bins.get(), blocks](std::uint32_t t) { return b->load_block((*blocks)[t]); };
-    source.faces = [b = bins.get(), blocks](std::uint32_t t) {
+    if (options_.release_memory) options_.release_memory();
+  }
+
+  // The next pass reads what this one binned, in blocks of tiles chosen from its counts.
+  void take_next_tiles() {
+    const double left = double(next_->face_count());
+    stats_->refine.pass_triangles.push_back(next_->face_count());
+    if (passes_ == 1) binned_.triangles.reset();  // the input's spill is done with
+    bins_ = std::move(next_);
+    const std::int64_t block = choose_block(*bins_, sizes_.tile_faces);
+    auto blocks = std::make_shared<std::vector<std::vector<std::uint32_t>>>(bins_->blocks(block));
+    source_.order.resize(blocks->size());
+    std::iota(source_.order.begin(), source_.order.end(), 0u);
+    source_.load = [b = bins_.get(), blocks](std::uint32_t t) { return b->load_block((*blocks)[t]); };
+    source_.faces = [b = bins_.get(), blocks](std::uint32_t t) {
       std::uint64_t records = 0;
       for (std::uint32_t tile : (*blocks)[t]) records += b->faces_in(tile);
       return records;
     };
-    side = next_tiling.side * double(block);
-    const bool slow = left > (1 - kSlowPass) * faces;
-    faces = left;
-    // Two slow passes in a row: held by the maximum error, or by the topology. The
-    // last collapse says which.
-    if (slow && slow_before) break;
-    slow_before = slow;
-    // A slow pass found less below the threshold than its sample did: the next one
-    // raises it.
-    if (slow) threshold = threshold > 0 ? 2 * threshold : std::numeric_limits<double>::min();
+    side_ = next_tiling_.side * double(block);
+    const bool slow = left > (1 - kSlowPass) * faces_;
+    faces_ = left;
+    // Two slow passes in a row: held by the maximum error or by the topology; the
+    // last collapse says which. One: the sample found more below the threshold than
+    // the tiles did, and the next pass raises it.
+    held_ = slow && slow_before_;
+    slow_before_ = slow;
+    if (slow) threshold_ = threshold_ > 0 ? 2 * threshold_ : std::numeric_limits<double>::min();
   }
-  clock.end("passes");
-  clock.move_to(&stats->phases);
-  stats->refine.passes = std::uint32_t(passes);
-  stats->refine.collapses = collapse_stats.collapses;
-  stats->refine.largest_collapse_error = collapse_stats.largest_error;
-  if (!bins) throw std::logic_error("reduce_in_passes: no pass ran");
-  return gather(*bins, k);
+
+  // The share of the target a tile keeps at least (run_pass).
+  double share() const { return double(target_) / faces_; }
+
+  MeshInput& input_;
+  const SimplifyOptions& options_;
+  const Vec3d origin_;
+  const std::uint64_t target_;
+  const PassSizes sizes_;
+  SimplifyStats* stats_;
+  const std::uint64_t budget_;
+  const std::size_t attributes_;
+  const double final_faces_;
+  PhaseTimer clock_;
+  ProgressPhase progress_;
+  std::uint64_t progress_total_ = 0;
+  CollapseSettings settings_;
+  CollapseStats collapse_stats_;
+  SpillSettings spill_;
+  BinnedTiles binned_;
+  std::unique_ptr<TileMemoryGate> gate_;
+  PassSource source_;
+  PassTiling next_tiling_;
+  std::unique_ptr<PassBins> next_, bins_;
+  double faces_ = 0, threshold_ = 0, side_ = 0;
+  int passes_ = 0;
+  bool slow_before_ = false, held_ = false;
+};
+
+}  // namespace
+
+QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
+                             std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes) {
+  return PassRun(input, options, origin, target, sizes, stats).run();
 }
 
 }  // namespace oocsimp
