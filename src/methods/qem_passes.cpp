@@ -75,8 +75,14 @@ constexpr double kTileShrink = 1.25;
 constexpr std::int64_t kLargestBlock = 64;
 constexpr std::size_t kLeastSampleTiles = 4;
 constexpr std::size_t kSampleEvery = 8;  // a sample tile per this many tiles, between the two
-// Records per buffer of the next pass's bins.
-constexpr std::size_t kBinRecords = 512;
+// Records per buffer of the next pass's bins: at most the first, at least the second,
+// as the budget's share for the buffers (a sixteenth) allows for the tiles expected.
+constexpr std::size_t kMostBinRecords = 512;
+constexpr std::size_t kLeastBinRecords = 16;
+// The next pass's tiles are sized for this many times the faces the pass aims at (the
+// borders held add to them), never more than the pass's own: smaller tiles only make
+// more of them to join into blocks (choose_block), larger ones could overfill.
+constexpr double kExpectedShare = 16;
 
 std::size_t vertex_record_bytes(std::size_t attributes) { return sizeof(PassVertex) + attributes * sizeof(double); }
 
@@ -92,11 +98,13 @@ struct PassTiling {
 // thread; a tile reads its records back sorted, so their order does not matter.
 class PassBins {
  public:
-  PassBins(const std::string& dir, const PassTiling& tiling, std::size_t attributes, std::uint64_t allowance)
+  /// `buffer_records`: records each tile buffers before they become a block.
+  PassBins(const std::string& dir, const PassTiling& tiling, std::size_t attributes, std::uint64_t allowance,
+           std::size_t buffer_records)
       : tiling_(tiling),
         attributes_(attributes),
-        faces_(dir, "qem-faces", sizeof(PassFace), kBinRecords, false, allowance / 2),
-        vertices_(dir, "qem-vertices", vertex_record_bytes(attributes), kBinRecords, false, allowance / 2) {}
+        faces_(dir, "qem-faces", sizeof(PassFace), buffer_records, false, allowance / 2),
+        vertices_(dir, "qem-vertices", vertex_record_bytes(attributes), buffer_records, false, allowance / 2) {}
 
   const PassTiling& tiling() const { return tiling_; }
 
@@ -448,13 +456,14 @@ double first_tile_side(const MeshInput& input, double tile_faces) {
   return side;
 }
 
-// The tiles pass p (p >= 1) bins into: as large as the previous pass's, so that none
-// holds more faces than one of the previous pass's (a pass never adds faces), shifted
-// by an irrational share of a tile so that no border of one pass stays a border in
-// the next. The pass then works on blocks of them (choose_block).
-PassTiling pass_tiling(int p, double previous_side) {
+// The tiles pass p (p >= 1) bins into, for `expected` of the previous pass's `faces`
+// on a surface: as large as the previous pass's scaled by sqrt(faces / expected) (a
+// tile of the same share of the surface then holds as many faces), shifted by an
+// irrational share of a tile so that no border of one pass stays a border in the
+// next. The pass then works on blocks of them (choose_block).
+PassTiling pass_tiling(int p, double previous_side, double faces, double expected) {
   PassTiling t;
-  t.side = previous_side;
+  t.side = previous_side * std::sqrt(std::max(1.0, faces / std::max(expected, 1.0)));
   const double golden = 0.6180339887498949;
   t.shift = t.side * (double(p) * golden - std::floor(double(p) * golden));
   return t;
@@ -569,8 +578,15 @@ class PassRun {
     // Progress counts the face records the tiles read, pass after pass.
     for (std::uint32_t t : source_.order) progress_total_ += source_.faces(t);
     progress_.set_total(progress_total_);
-    next_tiling_ = pass_tiling(passes_ + 1, side_);
-    next_ = std::make_unique<PassBins>(spill_.dir, next_tiling_, attributes_, spill_.allow.buckets * 3);
+    const double aim = std::min(1.0, kAimShare * double(target_) / faces_);
+    next_tiling_ = pass_tiling(passes_ + 1, side_, faces_, kExpectedShare * aim * faces_);
+    // About as many tiles as this pass's, fewer by the square of the sides' ratio.
+    const double ratio = side_ / next_tiling_.side;
+    const double tiles = std::max(1.0, double(source_.order.size()) * ratio * ratio);
+    const std::size_t record = sizeof(PassFace) + vertex_record_bytes(attributes_);
+    const std::size_t buffer =
+        std::clamp(std::size_t(double(budget_ / 16) / (tiles * double(record))), kLeastBinRecords, kMostBinRecords);
+    next_ = std::make_unique<PassBins>(spill_.dir, next_tiling_, attributes_, spill_.allow.buckets * 3, buffer);
     run_pass(source_, settings_, share(), *gate_, next_.get(), &collapse_stats_, &progress_);
     ++passes_;
     // The tiles' buffers were freed on several threads: give them back (see
