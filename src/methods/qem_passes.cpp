@@ -71,6 +71,7 @@ constexpr std::size_t kSampleTiles = 16;
 // factor until it does.
 constexpr double kFullestTileShare = 6;
 constexpr double kTileShrink = 1.25;
+constexpr double kMostTilesShare = 4;
 // Later passes work on blocks of at most this many binned tiles a side.
 constexpr std::int64_t kLargestBlock = 64;
 constexpr std::size_t kLeastSampleTiles = 4;
@@ -451,7 +452,13 @@ double first_tile_side(const MeshInput& input, double tile_faces) {
   // Occupancy counts the tiles a surface touches, many of them barely: the fullest
   // tile may hold many times the average. Smaller tiles until it holds at most
   // kFullestTileShare times the average asked for, by a sample of the vertices.
-  for (int i = 0; i < 16 && double(estimate_fullest_tile_records(input, side)) > kFullestTileShare * tile_faces; ++i)
+  // Not past kMostTilesShare times the tiles planned, whose binning buffers would
+  // outgrow the budget: a dense spot (a generated sphere's poles) keeps a full tile,
+  // which runs alone (TileMemoryGate).
+  const double most_tiles = kMostTilesShare * tiles;
+  for (int i = 0; i < 16 && double(estimate_fullest_tile_records(input, side)) > kFullestTileShare * tile_faces &&
+                  growth.cells_at(longest / (side / kTileShrink)) <= most_tiles;
+       ++i)
     side /= kTileShrink;
   return side;
 }
