@@ -49,7 +49,8 @@ struct Reduced {
 };
 
 // The passes, then the last collapse to `target` exactly, as --method qem runs them.
-Reduced reduce(const std::string& path, std::uint64_t target, std::uint64_t budget = 0, bool attributes = false) {
+Reduced reduce(const std::string& path, std::uint64_t target, std::uint64_t budget = 0, bool attributes = false,
+               std::uint64_t part_above = 0) {
   OpenOptions open;
   if (!attributes) open.attributes.mode = AttributeSelection::Mode::none;
   MeshInput input = open_mesh_input(path, open);
@@ -57,7 +58,9 @@ Reduced reduce(const std::string& path, std::uint64_t target, std::uint64_t budg
   options.memory_budget = budget;
   const Vec3d origin = input.info.bounds.min;
   Reduced r;
-  QuadricMesh rest = reduce_in_passes(input, options, origin, target, &r.stats, small_tiles());
+  PassSizes sizes = small_tiles();
+  sizes.part_above = part_above;
+  QuadricMesh rest = reduce_in_passes(input, options, origin, target, &r.stats, sizes);
   CollapseSettings last;
   last.target_triangles = target;
   last.boundary_weight = 0;  // in the quadrics already
@@ -136,6 +139,33 @@ TEST_CASE("the passes keep the parts' and the terrain's topology: no edge of thr
       CHECK(e.boundary <= e0.boundary);
       CHECK(std::int64_t(r.mesh.positions.size()) - std::int64_t(e.edges) + std::int64_t(target) == euler);
     }
+  }
+}
+
+TEST_CASE("tiles worked on in parts keep the sphere closed and give the same mesh on any thread count",
+          "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::sphere, 60000, false);
+  Reduced one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = reduce(in, 3000, 0, false, 300);  // every tile in 8 or 64 parts
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = reduce(in, 3000, 0, false, 300);
+  }
+  const QuadricMesh& m = one.mesh;
+  REQUIRE(m.triangles.size() / 3 == 3000);
+  const EdgeCounts e = count_edges(m);
+  CHECK(e.boundary == 0);
+  CHECK(e.non_manifold == 0);
+  CHECK(std::int64_t(m.positions.size()) - std::int64_t(e.edges) + 3000 == 2);
+  CHECK(one.mesh.triangles == two.mesh.triangles);
+  REQUIRE(one.mesh.positions.size() == two.mesh.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const Vec3d &a = one.mesh.positions[i], &b = two.mesh.positions[i];
+    REQUIRE((a.x == b.x && a.y == b.y && a.z == b.z));
   }
 }
 

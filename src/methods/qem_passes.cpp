@@ -72,6 +72,9 @@ constexpr std::size_t kSampleTiles = 16;
 constexpr double kFullestTileShare = 6;
 constexpr double kTileShrink = 1.25;
 constexpr double kMostTilesShare = 4;
+// A tile fuller than that still (a dense spot) is worked on in parts, at most this
+// many a side (first_pass_tile).
+constexpr std::int64_t kMostPartsPerSide = 16;
 // Later passes work on blocks of at most this many binned tiles a side.
 constexpr std::int64_t kLargestBlock = 64;
 constexpr std::size_t kLeastSampleTiles = 4;
@@ -248,26 +251,54 @@ class PassBins {
   std::mutex mutex_;
 };
 
+// The parts a side of a tile of `records` face records is cut into: the least power
+// of two that brings the records per part to `most` on average.
+std::int64_t parts_per_side(std::uint64_t records, std::uint64_t most) {
+  std::int64_t n = 1;
+  while (n<kMostPartsPerSide&& double(records)> double(most) * double(n * n * n)) n *= 2;
+  return n;
+}
+
 // The first pass's tile `t` from the binned input: positions and attributes from the
 // input, quadrics still to sum.
-TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input, const Vec3d& origin) {
+//
+// A tile that holds more than `most` face records is worked on in parts: the cubes of
+// an n x n x n split of it (n a power of two, the least that brings the records per
+// part to `most` on average), each owning the tile's vertices that fall in it, with
+// the faces around them; `part` says which (0 to n^3 - 1), n is returned in *split.
+// The parts follow from the tile's records alone.
+TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input, const Vec3d& origin,
+                         std::uint64_t most, std::uint32_t part) {
   const std::vector<TriangleRecord> records = bins.load(t);
+  const std::int64_t n = parts_per_side(records.size(), most);
+  const Box3d box = bins.grid.box(t);
+  auto part_of = [&](const Vec3d& p) {
+    const double side = bins.grid.side / double(n);
+    auto axis = [&](double x, double lo) { return std::clamp<std::int64_t>(GridCoord::axis(x - lo, side), 0, n - 1); };
+    return std::uint32_t(axis(p.x, box.min.x) + n * (axis(p.y, box.min.y) + n * axis(p.z, box.min.z)));
+  };
   TileMesh m;
   m.first_pass = true;
   const std::size_t k = input.attributes.size();
   m.attribute_count = k;
-  m.faces.resize(records.size());
   std::vector<std::uint64_t> owned;
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    const TriangleRecord& r = records[i];
-    PassFace& f = m.faces[i];
+  for (const TriangleRecord& r : records) {
+    bool in_part = false;
+    Vec3d absolute[3];
+    for (int c = 0; c < 3; ++c) {
+      absolute[c] = input.positions.get(r.v[c]);
+      in_part |= r.owned(c) && (n == 1 || part_of(absolute[c]) == part);
+    }
+    if (!in_part) continue;
+    PassFace f;
     f.index = r.index();
     for (int c = 0; c < 3; ++c) {
       f.v[c] = r.v[c];
-      f.p[c] = input.positions.get(r.v[c]) - origin;
-      if (r.owned(c)) owned.push_back(r.v[c]);
+      f.p[c] = absolute[c] - origin;
+      if (r.owned(c) && (n == 1 || part_of(absolute[c]) == part)) owned.push_back(r.v[c]);
     }
     f.normal = cross(f.p[1] - f.p[0], f.p[2] - f.p[0]);
+    m.faces.push_back(f);
   }
   std::sort(owned.begin(), owned.end());
   owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
@@ -300,9 +331,10 @@ std::uint64_t tile_floor(const TileMesh& tile, std::uint64_t given, double share
 
 // A pass's tiles as it reads them: the binned input or the previous pass's bins.
 struct PassSource {
-  std::vector<std::uint32_t> order;  // the tiles, in an order that follows from the input
-  std::function<TileMesh(std::uint32_t)> load;
-  std::function<std::uint64_t(std::uint32_t)> faces;  // a tile's face records
+  std::vector<std::uint32_t> order;                            // the tiles, in an order that follows from the input
+  std::function<TileMesh(std::uint32_t, std::uint32_t)> load;  // tile, part
+  std::function<std::uint64_t(std::uint32_t)> faces;           // a tile's face records
+  std::function<std::uint32_t(std::uint32_t)> parts;           // the parts it is worked on in
 };
 
 // Step 2: the pass's threshold, a quadric cost. A sample of its tiles, spread over
@@ -319,8 +351,8 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
   std::vector<std::uint64_t> given(m, 0);
   tbb::parallel_for(std::size_t(0), m, [&](std::size_t i) {
     const std::uint32_t t = source.order[(2 * i + 1) * n / (2 * m)];
-    gate.run(source.faces(t) * kTileBytesPerFace, [&] {
-      TileMesh tile = source.load(t);
+    gate.run(source.faces(t) / source.parts(t) * kTileBytesPerFace, [&] {
+      TileMesh tile = source.load(t, 0);
       tile.hold_border = false;
       given[i] = faces_given(tile);
       CollapseSettings sample = settings;
@@ -361,17 +393,19 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
   tbb::parallel_for(std::size_t(0), source.order.size(), [&](std::size_t i) {
     const std::uint32_t t = source.order[i];
     const std::uint64_t faces = source.faces(t);
-    gate.run(faces * kTileBytesPerFace, [&] {
-      const TileMesh tile = source.load(t);
-      CollapseSettings s = settings;
-      s.target_triangles = tile_floor(tile, faces_given(tile), share);
-      TileOutput out = collapse_pass_tile(tile, s);
-      next->add(out);
-      std::lock_guard<std::mutex> lock(mutex);
-      stats->collapses += out.stats.collapses;
-      stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
-      stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
-    });
+    const std::uint32_t parts = source.parts(t);
+    for (std::uint32_t part = 0; part < parts; ++part)
+      gate.run(faces / parts * kTileBytesPerFace, [&] {
+        const TileMesh tile = source.load(t, part);
+        CollapseSettings s = settings;
+        s.target_triangles = tile_floor(tile, faces_given(tile), share);
+        TileOutput out = collapse_pass_tile(tile, s);
+        next->add(out);
+        std::lock_guard<std::mutex> lock(mutex);
+        stats->collapses += out.stats.collapses;
+        stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
+        stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
+      });
     progress->advance(faces);
   });
 }
@@ -568,8 +602,16 @@ class PassRun {
     for (std::uint32_t t = 0; t < binned_.count(); ++t) source_.order.push_back(t);
     std::sort(source_.order.begin(), source_.order.end(),
               [&](std::uint32_t a, std::uint32_t b) { return binned_.grid.coord(a) < binned_.grid.coord(b); });
-    source_.load = [this](std::uint32_t t) { return first_pass_tile(binned_, t, input_, origin_); };
+    const std::uint64_t most =
+        sizes_.part_above ? sizes_.part_above : std::uint64_t(kFullestTileShare * sizes_.tile_faces);
+    source_.load = [this, most](std::uint32_t t, std::uint32_t part) {
+      return first_pass_tile(binned_, t, input_, origin_, most, part);
+    };
     source_.faces = [this](std::uint32_t t) { return binned_.triangles->record_count(t); };
+    source_.parts = [this, most](std::uint32_t t) {
+      const std::int64_t n = parts_per_side(binned_.triangles->record_count(t), most);
+      return std::uint32_t(n * n * n);
+    };
     clock_.end("bin");
   }
 
@@ -611,7 +653,8 @@ class PassRun {
     auto blocks = std::make_shared<std::vector<std::vector<std::uint32_t>>>(bins_->blocks(block));
     source_.order.resize(blocks->size());
     std::iota(source_.order.begin(), source_.order.end(), 0u);
-    source_.load = [b = bins_.get(), blocks](std::uint32_t t) { return b->load_block((*blocks)[t]); };
+    source_.load = [b = bins_.get(), blocks](std::uint32_t t, std::uint32_t) { return b->load_block((*blocks)[t]); };
+    source_.parts = [](std::uint32_t) { return std::uint32_t(1); };
     source_.faces = [b = bins_.get(), blocks](std::uint32_t t) {
       std::uint64_t records = 0;
       for (std::uint32_t tile : (*blocks)[t]) records += b->faces_in(tile);

@@ -22,6 +22,9 @@ struct PassSizes {
   double tile_faces = 65536;
   /// Inputs of fewer faces collapse whole, in core: a tile would hold most of them.
   std::uint64_t from_faces = std::uint64_t(1) << 20;
+  /// A first-pass tile of more face records than this is worked on in parts (cubes
+  /// of it; 0: six times tile_faces).
+  std::uint64_t part_above = 0;
 };
 
 /// Whether an input of `faces` faces goes through the passes on its way to `target`:
