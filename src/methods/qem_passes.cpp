@@ -90,6 +90,33 @@ constexpr double kExpectedShare = 16;
 
 std::size_t vertex_record_bytes(std::size_t attributes) { return sizeof(PassVertex) + attributes * sizeof(double); }
 
+// Faces by ascending input index, each once: the order a tile takes them in,
+// whichever tiles and threads binned them.
+void sort_faces(std::vector<PassFace>* faces) {
+  auto by_index = [](const PassFace& a, const PassFace& b) { return a.index < b.index; };
+  std::sort(faces->begin(), faces->end(), by_index);
+  faces->erase(std::unique(faces->begin(), faces->end(),
+                           [](const PassFace& a, const PassFace& b) { return a.index == b.index; }),
+               faces->end());
+}
+
+// Vertices by ascending id, their `k` attribute values each moved with them.
+void sort_vertices(std::vector<PassVertex>* owned, std::vector<double>* attributes, std::size_t k) {
+  std::vector<std::uint32_t> order(owned->size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return (*owned)[a].id < (*owned)[b].id; });
+  std::vector<PassVertex> sorted(order.size());
+  std::vector<double> values(attributes->size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    sorted[i] = (*owned)[order[i]];
+    std::copy(attributes->begin() + std::ptrdiff_t(order[i] * k),
+              attributes->begin() + std::ptrdiff_t((order[i] + 1) * k), values.begin() + std::ptrdiff_t(i * k));
+  }
+  *owned = std::move(sorted);
+  *attributes = std::move(values);
+}
+
 // A pass's tiles: cubes of side `side` over the run's frame, moved by `shift`.
 struct PassTiling {
   double side = 1;
@@ -109,8 +136,6 @@ class PassBins {
         attributes_(attributes),
         faces_(dir, "qem-faces", sizeof(PassFace), buffer_records, false, allowance / 2),
         vertices_(dir, "qem-vertices", vertex_record_bytes(attributes), buffer_records, false, allowance / 2) {}
-
-  const PassTiling& tiling() const { return tiling_; }
 
   void add(const TileOutput& out) {
     std::map<GridCoord, std::vector<PassFace>> faces;
@@ -142,13 +167,7 @@ class PassBins {
     for (const auto& t : streams_) out.push_back(t.second);
     return out;
   }
-  std::uint32_t tile_count() const { return std::uint32_t(streams_.size()); }
   std::uint64_t faces_in(std::uint32_t tile) const { return faces_.record_count(tile); }
-  std::uint64_t largest_tile_faces() const {
-    std::uint64_t most = 0;
-    for (const auto& t : streams_) most = std::max(most, faces_.record_count(t.second));
-    return most;
-  }
   /// The distinct faces handed on.
   std::uint64_t face_count() const { return face_count_; }
 
@@ -170,31 +189,14 @@ class PassBins {
     if (tiles.size() == 1) return load(tiles[0]);
     TileMesh m;
     m.attribute_count = attributes_;
-    std::vector<std::uint32_t> order;
     for (std::uint32_t t : tiles) {
       TileMesh part = load(t);
       m.faces.insert(m.faces.end(), part.faces.begin(), part.faces.end());
       m.owned.insert(m.owned.end(), part.owned.begin(), part.owned.end());
       m.attributes.insert(m.attributes.end(), part.attributes.begin(), part.attributes.end());
     }
-    std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
-    m.faces.erase(std::unique(m.faces.begin(), m.faces.end(),
-                              [](const PassFace& a, const PassFace& b) { return a.index == b.index; }),
-                  m.faces.end());
-    order.resize(m.owned.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return m.owned[a].id < m.owned[b].id; });
-    std::vector<PassVertex> owned(order.size());
-    std::vector<double> values(m.attributes.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      owned[i] = m.owned[order[i]];
-      std::copy(m.attributes.begin() + std::ptrdiff_t(order[i] * attributes_),
-                m.attributes.begin() + std::ptrdiff_t((order[i] + 1) * attributes_),
-                values.begin() + std::ptrdiff_t(i * attributes_));
-    }
-    m.owned = std::move(owned);
-    m.attributes = std::move(values);
+    sort_faces(&m.faces);  // a face reaching two of the block's tiles is in both
+    sort_vertices(&m.owned, &m.attributes, attributes_);
     return m;
   }
 
@@ -208,25 +210,21 @@ class PassBins {
     m.attribute_count = attributes_;
     if (with_faces) {
       faces_.read(tile, &m.faces);
-      std::sort(m.faces.begin(), m.faces.end(), [](const PassFace& a, const PassFace& b) { return a.index < b.index; });
+      sort_faces(&m.faces);
     }
     if (!with_vertices) return m;
     std::vector<unsigned char> bytes;
     vertices_.read(tile, &bytes);
     const std::size_t record = vertex_record_bytes(attributes_), n = bytes.size() / record;
-    std::vector<PassVertex> owned(n);
-    for (std::size_t i = 0; i < n; ++i) std::memcpy(&owned[i], &bytes[i * record], sizeof(PassVertex));
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return owned[a].id < owned[b].id; });
     m.owned.resize(n);
     m.attributes.resize(n * attributes_);
     for (std::size_t i = 0; i < n; ++i) {
-      m.owned[i] = owned[order[i]];
+      std::memcpy(&m.owned[i], &bytes[i * record], sizeof(PassVertex));
       if (attributes_)
-        std::memcpy(&m.attributes[i * attributes_], &bytes[order[i] * record + sizeof(PassVertex)],
+        std::memcpy(&m.attributes[i * attributes_], &bytes[i * record + sizeof(PassVertex)],
                     attributes_ * sizeof(double));
     }
+    sort_vertices(&m.owned, &m.attributes, attributes_);
     return m;
   }
 
@@ -414,41 +412,27 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
 // order, each face once (from the tile owning its first corner). Built tile by tile,
 // so that no more than one tile's records is held beside the mesh.
 QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
-  QuadricMesh m;
-  m.attribute_count = attributes;
-  std::vector<std::uint64_t> ids;
+  // In order of id: the order of the vertices whatever the tiles.
+  std::vector<PassVertex> owned;
+  std::vector<double> values;
   for (std::uint32_t t : bins.tiles()) {
     const TileMesh tile = bins.load(t, false, true);
-    for (std::size_t i = 0; i < tile.owned.size(); ++i) {
-      ids.push_back(tile.owned[i].id);
-      m.positions.push_back(tile.owned[i].position);
-      m.quadrics.push_back(tile.owned[i].quadric);
-    }
-    m.attributes.insert(m.attributes.end(), tile.attributes.begin(), tile.attributes.end());
+    owned.insert(owned.end(), tile.owned.begin(), tile.owned.end());
+    values.insert(values.end(), tile.attributes.begin(), tile.attributes.end());
   }
-  // In order of id: the order of the vertices whatever the tiles.
-  std::vector<std::uint32_t> order(ids.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return ids[a] < ids[b]; });
-  {
-    std::vector<std::uint64_t> sorted_ids(ids.size());
-    std::vector<Vec3d> positions(ids.size());
-    std::vector<Quadric> quadrics(ids.size());
-    std::vector<double> values(m.attributes.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      sorted_ids[i] = ids[order[i]];
-      positions[i] = m.positions[order[i]];
-      quadrics[i] = m.quadrics[order[i]];
-      std::copy(m.attributes.begin() + std::ptrdiff_t(order[i] * attributes),
-                m.attributes.begin() + std::ptrdiff_t((order[i] + 1) * attributes),
-                values.begin() + std::ptrdiff_t(i * attributes));
-    }
-    ids = std::move(sorted_ids);
-    m.positions = std::move(positions);
-    m.quadrics = std::move(quadrics);
-    m.attributes = std::move(values);
+  sort_vertices(&owned, &values, attributes);
+  QuadricMesh m;
+  m.attribute_count = attributes;
+  m.attributes = std::move(values);
+  std::vector<std::uint64_t> ids(owned.size());
+  m.positions.resize(owned.size());
+  m.quadrics.resize(owned.size());
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    ids[i] = owned[i].id;
+    m.positions[i] = owned[i].position;
+    m.quadrics[i] = owned[i].quadric;
   }
-  std::vector<std::uint32_t>().swap(order);
+  std::vector<PassVertex>().swap(owned);
   struct Face {
     std::uint64_t index;
     std::uint32_t v[3];
