@@ -16,6 +16,7 @@
 #include "common/vec3_math.hpp"
 #include "io/mesh_input.hpp"
 #include "methods/qem_passes.hpp"
+#include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
 #include "refine/edge_collapse.hpp"
 #include "test_support.hpp"
@@ -211,4 +212,30 @@ TEST_CASE("the passes carry the attributes along the collapses", "[qem_passes]")
     worst = std::max(worst, std::fabs(red - 255 * (m.positions[v].x - lo) / (hi - lo)));
   }
   CHECK(worst < 12);
+}
+
+TEST_CASE("a budget that cannot hold a tile of the passes is refused up front, naming the one that can",
+          "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::sphere, 20000, false);
+  OpenOptions open;
+  open.attributes.mode = AttributeSelection::Mode::none;
+  MeshInput input = open_mesh_input(in, open);
+  SimplifyOptions options;
+  // The default pieces: 1.5 x 65536 face records at 640 bytes each, two of which the
+  // tiles' half of the budget must hold: 2 x 1.5 x 65536 x 640 bytes = 120 MiB.
+  options.memory_budget = std::uint64_t(100) << 20;
+  SimplifyStats stats;
+  try {
+    reduce_in_passes(input, options, input.info.bounds.min, 2000, &stats);
+    FAIL("a 100 MiB budget was accepted");
+  } catch (const UsageError& e) {
+    const std::string message = e.what();
+    CHECK(message.find("cannot hold a tile of the collapse in passes") != std::string::npos);
+    CHECK(message.find("give options.memory_budget 120 MiB or more") != std::string::npos);
+  }
+  CHECK(stats.input_triangles == 0);  // refused before the input was binned
+  options.memory_budget = std::uint64_t(120) << 20;
+  MeshInput again = open_mesh_input(in, open);
+  CHECK(reduce_in_passes(again, options, again.info.bounds.min, 2000, &stats).triangles.size() > 0);
 }

@@ -113,11 +113,11 @@ static bool spill_compression(const MeshInput& input, const TileSettings& settin
 }
 
 SpillSettings spill_settings(const MeshInput& input, const TileSettings& settings, std::size_t vertex_record_bytes,
-                             std::uint64_t fullest_tile_records) {
+                             std::uint64_t fullest_tile_records, std::uint64_t work_share) {
   SpillSettings s;
   s.dir = settings.temp_dir.empty() ? default_temp_dir() : settings.temp_dir;
   const std::uint64_t budget = settings.memory_budget;
-  s.work_share = tile_work_share(budget, fullest_tile_records);
+  s.work_share = work_share ? work_share : tile_work_share(budget, fullest_tile_records);
   const std::uint64_t fullest = fullest_tile_records * kTileBytesPerRecord;
   if (fullest > budget / 4 * 3)
     throw UsageError(

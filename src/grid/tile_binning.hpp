@@ -77,8 +77,10 @@ struct SpillSettings {
 /// `fullest_tile_records`: the fullest tile's records as planned (0: unknown), whose
 /// working set the tiles' share must hold. Throws UsageError (exit 2, before any
 /// binning) when that tile alone would take more than three quarters of the budget.
+/// `work_share` (if not 0): the tiles' share, from a caller that sizes its own pieces
+/// of work (the collapse in passes).
 SpillSettings spill_settings(const MeshInput& input, const TileSettings& settings, std::size_t vertex_record_bytes,
-                             std::uint64_t fullest_tile_records = 0);
+                             std::uint64_t fullest_tile_records = 0, std::uint64_t work_share = 0);
 
 /// Bins the triangle stream of `input` (at its start) into tiles of side
 /// `tile_side`, with buffers from a quarter of `memory_budget`. Throws IoError when

@@ -19,8 +19,10 @@
 #include "methods/qem_passes.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -72,9 +74,14 @@ constexpr std::size_t kSampleTiles = 16;
 constexpr double kFullestTileShare = 6;
 constexpr double kTileShrink = 1.25;
 constexpr double kMostTilesShare = 4;
-// A tile fuller than that still (a dense spot) is worked on in parts, at most this
-// many a side (first_pass_tile).
-constexpr std::int64_t kMostPartsPerSide = 16;
+// What a tile holds in work at most, on average, in times the average asked for: a
+// first-pass tile fuller than that (a dense spot) is worked on in parts, at most
+// kMostParts (first_pass_tile), and a later pass's blocks of tiles (choose_block) stay
+// below it. Two such pieces fit the tiles' share of the budget (half of it) from
+// 2 * 2 * 1.5 * tile_faces * kTileBytesPerFace on (240 MiB by default), so that two
+// threads work at once; one from half that.
+constexpr double kPieceShare = 1.5;
+constexpr std::uint32_t kMostParts = 64;
 // Later passes work on blocks of at most this many binned tiles a side.
 constexpr std::int64_t kLargestBlock = 64;
 constexpr std::size_t kLeastSampleTiles = 4;
@@ -249,31 +256,28 @@ class PassBins {
   std::mutex mutex_;
 };
 
-// The parts a side of a tile of `records` face records is cut into: the least power
-// of two that brings the records per part to `most` on average.
-std::int64_t parts_per_side(std::uint64_t records, std::uint64_t most) {
-  std::int64_t n = 1;
-  while (n<kMostPartsPerSide&& double(records)> double(most) * double(n * n * n)) n *= 2;
-  return n;
+// The parts a tile of `records` face records is cut into: the fewest that bring the
+// records per part to `most` on average.
+std::uint32_t parts_of(std::uint64_t records, std::uint64_t most) {
+  return std::uint32_t(std::clamp<std::uint64_t>((records + most - 1) / most, 1, kMostParts));
 }
 
 // The first pass's tile `t` from the binned input: positions and attributes from the
 // input, quadrics still to sum.
 //
-// A tile that holds more than `most` face records is worked on in parts: the cubes of
-// an n x n x n split of it (n a power of two, the least that brings the records per
-// part to `most` on average), each owning the tile's vertices that fall in it, with
-// the faces around them; `part` says which (0 to n^3 - 1), n is returned in *split.
-// The parts follow from the tile's records alone.
+// A tile that holds more than `most` face records is worked on in parts: n slabs of
+// it along x (n the fewest that bring the records per part to `most` on average),
+// each owning the tile's vertices that fall in it, with the faces around them; `part`
+// says which (0 to n - 1). Slabs, not cubes: the fewest parts, each of which reads
+// the whole tile. The parts follow from the tile's records alone.
 TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input, const Vec3d& origin,
                          std::uint64_t most, std::uint32_t part) {
   const std::vector<TriangleRecord> records = bins.load(t);
-  const std::int64_t n = parts_per_side(records.size(), most);
+  const std::uint32_t n = parts_of(records.size(), most);
   const Box3d box = bins.grid.box(t);
   auto part_of = [&](const Vec3d& p) {
     const double side = bins.grid.side / double(n);
-    auto axis = [&](double x, double lo) { return std::clamp<std::int64_t>(GridCoord::axis(x - lo, side), 0, n - 1); };
-    return std::uint32_t(axis(p.x, box.min.x) + n * (axis(p.y, box.min.y) + n * axis(p.z, box.min.z)));
+    return std::uint32_t(std::clamp<std::int64_t>(GridCoord::axis(p.x - box.min.x, side), 0, std::int64_t(n) - 1));
   };
   TileMesh m;
   m.first_pass = true;
@@ -295,7 +299,7 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
       f.p[c] = absolute[c] - origin;
       if (r.owned(c) && (n == 1 || part_of(absolute[c]) == part)) owned.push_back(r.v[c]);
     }
-    f.normal = cross(f.p[1] - f.p[0], f.p[2] - f.p[0]);
+    f.normal = unit_normal(cross(f.p[1] - f.p[0], f.p[2] - f.p[0]));
     m.faces.push_back(f);
   }
   std::sort(owned.begin(), owned.end());
@@ -335,6 +339,29 @@ struct PassSource {
   std::function<std::uint32_t(std::uint32_t)> parts;           // the parts it is worked on in
 };
 
+// A tile, or a part of one, to collapse, with its face records.
+struct TileWork {
+  std::uint32_t tile = 0, part = 0;
+  std::uint64_t faces = 0;
+  std::size_t slot = 0;  // its place in the caller's list
+};
+
+// f(w) for each w of `work` on every thread, the fullest first (ties in the list's
+// order), each taken by the next thread free: a dense tile (a sphere's pole) started
+// last would run alone at the end. Which thread takes which changes no output.
+template <class F>
+void for_each_largest_first(std::vector<TileWork> work, const F& f) {
+  std::stable_sort(work.begin(), work.end(), [](const TileWork& a, const TileWork& b) { return a.faces > b.faces; });
+  std::atomic<std::size_t> next{0};
+  const int threads = std::max(1, tbb::this_task_arena::max_concurrency());
+  tbb::parallel_for(
+      0, threads,
+      [&](int) {
+        for (std::size_t i = next++; i < work.size(); i = next++) f(work[i]);
+      },
+      tbb::simple_partitioner());
+}
+
 // Step 2: the pass's threshold, a quadric cost. A sample of its tiles, spread over
 // them, collapses in order of cost (every vertex free, as an open patch) to below
 // `keep` of its faces, and the costs of its collapses are pooled: the threshold is
@@ -347,18 +374,22 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
   const std::size_t m = std::min(n, std::clamp(n / kSampleEvery, kLeastSampleTiles, kSampleTiles));
   std::vector<std::vector<double>> logs(m);
   std::vector<std::uint64_t> given(m, 0);
-  tbb::parallel_for(std::size_t(0), m, [&](std::size_t i) {
+  std::vector<TileWork> work;
+  for (std::size_t i = 0; i < m; ++i) {
     const std::uint32_t t = source.order[(2 * i + 1) * n / (2 * m)];
-    gate.run(source.faces(t) / source.parts(t) * kTileBytesPerFace, [&] {
-      TileMesh tile = source.load(t, 0);
+    work.push_back({t, 0, source.faces(t) / source.parts(t), i});
+  }
+  for_each_largest_first(work, [&](const TileWork& w) {
+    gate.run(w.faces * kTileBytesPerFace, [&] {
+      TileMesh tile = source.load(w.tile, 0);
       tile.hold_border = false;
-      given[i] = faces_given(tile);
+      given[w.slot] = faces_given(tile);
       CollapseSettings sample = settings;
       sample.max_cost = std::numeric_limits<double>::infinity();
       // Down to the same count as the pass's tile (run_pass): the collapses then come
       // in the same batches (PassDriver) until the threshold stops the tile.
-      sample.target_triangles = tile_floor(tile, given[i], share);
-      collapse_pass_tile(tile, sample, &logs[i]);
+      sample.target_triangles = tile_floor(tile, given[w.slot], share);
+      collapse_pass_tile(tile, sample, &logs[w.slot]);
     });
   });
   // A tile of the pass stops at its first collapse above the threshold, but costs do
@@ -387,24 +418,25 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
 // no pass takes the mesh below it.
 void run_pass(const PassSource& source, const CollapseSettings& settings, double share, TileMemoryGate& gate,
               PassBins* next, CollapseStats* stats, ProgressPhase* progress) {
-  std::mutex mutex;
-  tbb::parallel_for(std::size_t(0), source.order.size(), [&](std::size_t i) {
-    const std::uint32_t t = source.order[i];
-    const std::uint64_t faces = source.faces(t);
+  std::vector<TileWork> work;
+  for (std::uint32_t t : source.order) {
     const std::uint32_t parts = source.parts(t);
-    for (std::uint32_t part = 0; part < parts; ++part)
-      gate.run(faces / parts * kTileBytesPerFace, [&] {
-        const TileMesh tile = source.load(t, part);
-        CollapseSettings s = settings;
-        s.target_triangles = tile_floor(tile, faces_given(tile), share);
-        TileOutput out = collapse_pass_tile(tile, s);
-        next->add(out);
-        std::lock_guard<std::mutex> lock(mutex);
-        stats->collapses += out.stats.collapses;
-        stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
-        stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
-      });
-    progress->advance(faces);
+    for (std::uint32_t part = 0; part < parts; ++part) work.push_back({t, part, source.faces(t) / parts, work.size()});
+  }
+  std::mutex mutex;
+  for_each_largest_first(work, [&](const TileWork& w) {
+    gate.run(w.faces * kTileBytesPerFace, [&] {
+      const TileMesh tile = source.load(w.tile, w.part);
+      CollapseSettings s = settings;
+      s.target_triangles = tile_floor(tile, faces_given(tile), share);
+      TileOutput out = collapse_pass_tile(tile, s);
+      next->add(out);
+      std::lock_guard<std::mutex> lock(mutex);
+      stats->collapses += out.stats.collapses;
+      stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
+      stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
+    });
+    progress->advance(w.faces);
   });
 }
 
@@ -436,7 +468,7 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
   struct Face {
     std::uint64_t index;
     std::uint32_t v[3];
-    Vec3d normal;
+    UnitNormal normal;
   };
   std::vector<Face> faces;
   auto local = [&](std::uint64_t id) {
@@ -509,7 +541,7 @@ std::int64_t choose_block(const PassBins& bins, double tile_faces) {
       total += records;
       fullest = std::max(fullest, records);
     }
-    if (double(total) / double(blocks.size()) > tile_faces || double(fullest) > kFullestTileShare * tile_faces) break;
+    if (double(total) / double(blocks.size()) > tile_faces || double(fullest) > kPieceShare * tile_faces) break;
     best = k;
     if (blocks.size() == 1) break;
   }
@@ -572,11 +604,30 @@ class PassRun {
                  "give options.memory_budget " + whole_mib(memory.held() + last) + " MiB or more, or a smaller target");
   }
 
+  // The face records of a piece of work (a tile, a part of one, a block of tiles) on
+  // average: what the budget must hold.
+  std::uint64_t piece_faces() const {
+    return sizes_.part_above ? sizes_.part_above : std::uint64_t(kPieceShare * sizes_.tile_faces);
+  }
+
+  // The tiles' share of the budget (TileMemoryGate): half of it, which holds one piece
+  // at least, or the run is refused up front.
+  std::uint64_t work_share() const {
+    const std::uint64_t piece = piece_faces() * kTileBytesPerFace;
+    if (piece > budget_ / 2)
+      throw UsageError("options.memory_budget", "options.memory_budget " + whole_mib(budget_) +
+                                                    " MiB cannot hold a tile of the collapse in passes (about " +
+                                                    std::to_string(piece_faces()) + " face records, " +
+                                                    whole_mib(piece) + " MiB); give options.memory_budget " +
+                                                    whole_mib(2 * piece) + " MiB or more");
+    return budget_ / 2;
+  }
+
   // The first pass's tiles: the input binned, each face in the tile of each corner.
   void bin_input() {
     side_ = first_tile_side(input_, sizes_.tile_faces);
     const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
-    spill_ = spill_settings(input_, tiling, sizeof(PassVertex), estimate_fullest_tile_records(input_, side_));
+    spill_ = spill_settings(input_, tiling, sizeof(PassVertex), 0, work_share());
     input_.restart_triangles();
     binned_ = bin_triangles(input_, side_, budget_, spill_, options_.progress);
     stats_->input_triangles = binned_.triangle_count;
@@ -586,16 +637,12 @@ class PassRun {
     for (std::uint32_t t = 0; t < binned_.count(); ++t) source_.order.push_back(t);
     std::sort(source_.order.begin(), source_.order.end(),
               [&](std::uint32_t a, std::uint32_t b) { return binned_.grid.coord(a) < binned_.grid.coord(b); });
-    const std::uint64_t most =
-        sizes_.part_above ? sizes_.part_above : std::uint64_t(kFullestTileShare * sizes_.tile_faces);
+    const std::uint64_t most = piece_faces();
     source_.load = [this, most](std::uint32_t t, std::uint32_t part) {
       return first_pass_tile(binned_, t, input_, origin_, most, part);
     };
     source_.faces = [this](std::uint32_t t) { return binned_.triangles->record_count(t); };
-    source_.parts = [this, most](std::uint32_t t) {
-      const std::int64_t n = parts_per_side(binned_.triangles->record_count(t), most);
-      return std::uint32_t(n * n * n);
-    };
+    source_.parts = [this, most](std::uint32_t t) { return parts_of(binned_.triangles->record_count(t), most); };
     clock_.end("bin");
   }
 

@@ -51,10 +51,19 @@ void sort_small(std::vector<T>* v) {
   }
 }
 
-// Velho 1999 eq. 4: 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a.
-double compactness(const Vec3d& p, const Vec3d& q, const Vec3d& r, double normal_length) {
-  const double sum = squared_distance(p, q) + squared_distance(q, r) + squared_distance(r, p);
-  return sum > 0 ? 2 * std::sqrt(3.0) * normal_length / sum : 0;
+// Velho 1999 eq. 4: compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a, is
+// 2 sqrt(3) |n| / s for s the sum of the squared sides. The checks compare it without
+// a square root: 12 |n|^2 / s^2 is its square.
+double sum_of_squared_sides(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
+  return squared_distance(p, q) + squared_distance(q, r) + squared_distance(r, p);
+}
+
+// Whether normal n turned to m by more than the angle whose cosine is `cos_max`:
+// dot(n, m) <= cos_max |n| |m|, from the squared lengths, without a square root.
+bool turned_too_far(const Vec3d& n, double nn, const Vec3d& m, double mm, double cos_max) {
+  const double d = dot(n, m);
+  const double bound = cos_max * cos_max * nn * mm;  // (cos_max |n| |m|)^2
+  return cos_max >= 0 ? d <= 0 || d * d <= bound : d < 0 && d * d >= bound;
 }
 
 Quadric sum(const Quadric& x, const Quadric& y) {
@@ -98,6 +107,12 @@ Vec3d times(const Quadric& q, const Vec3d& v) {
 
 }  // namespace
 
+UnitNormal unit_normal(const Vec3d& normal) {
+  const double l = length(normal);
+  if (!(l > 0)) return {};
+  return {float(normal.x / l), float(normal.y / l), float(normal.z / l)};
+}
+
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
   std::vector<Quadric> q;
   reserve_huge(&q, positions.size());
@@ -133,7 +148,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
     for (std::size_t f = 0; f < face_dead_.size(); ++f) {
       const std::uint32_t* t = &mesh_.triangles[3 * f];
       const Vec3d& p = mesh_.positions[t[0]];
-      first_normal_[f] = cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p);
+      first_normal_[f] = unit_normal(cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p));
     }
   }
   locked_ = std::move(mesh_.locked);
@@ -169,7 +184,7 @@ void CollapseState::build_adjacency() {
       const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(k)];
       faces_[face_start_[v] + fill[v]++] = std::uint32_t(f);
     }
-  compact_at_ = 3 * std::size_t(at) + 1024;
+  compact_at_ = 2 * std::size_t(at) + 1024;
   // A vertex used by no face takes no part (and is not in the result).
   for (std::size_t v = 0; v < n; ++v)
     if (face_count_[v] == 0) alive_[v] = 0;
@@ -485,14 +500,19 @@ bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
   if (same_point(after[moved], before[moved])) return true;  // it passed when it last changed
   const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
   const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
-  const double l0 = length(n0), l1 = length(n1);
+  const double nn0 = squared_length(n0), nn1 = squared_length(n1);
   // Against the face as it is and as it was in the input: many small turns of one
   // face, each allowed, must not add up to a flip of the surface it stands for.
-  const Vec3d& first = first_normal_[f];
-  if (!(l1 > 0) || dot(n0, n1) <= cos_max_turn_ * l0 * l1 || dot(first, n1) <= cos_max_turn_ * length(first) * l1)
+  const Vec3d first = first_normal_[f].vec();
+  if (!(nn1 > 0) || turned_too_far(n0, nn0, n1, nn1, cos_max_turn_) ||
+      turned_too_far(first, squared_length(first), n1, nn1, cos_max_turn_))
     return false;
-  const double c1 = compactness(after[0], after[1], after[2], l1);
-  return !(c1 < min_compactness_ && c1 < kNeedleSlack * compactness(before[0], before[1], before[2], l0));
+  // A needle: compactness c1 below the guard and below kNeedleSlack times c0, the
+  // face's before (c = 2 sqrt(3) |n| / s, compared squared).
+  const double s1 = sum_of_squared_sides(after[0], after[1], after[2]);
+  if (!(12 * nn1 < min_compactness_ * min_compactness_ * s1 * s1)) return true;
+  const double s0 = sum_of_squared_sides(before[0], before[1], before[2]);
+  return !(nn1 * s0 * s0 < kNeedleSlack * kNeedleSlack * nn0 * s1 * s1);
 }
 
 // The faces that stay: none may flip or become a needle. Only the faces of an end
@@ -698,8 +718,8 @@ bool CollapseState::split_up_to(std::uint64_t target) {
   return live_faces_ == target;
 }
 
-// The merged lists are appended; once they take three times the start, the live
-// ones are copied down.
+// The merged lists are appended; once they take twice the start, the live ones are
+// copied down.
 void CollapseState::compact_adjacency() {
   std::vector<std::uint32_t> packed;
   reserve_huge(&packed, faces_.size() / 2);
@@ -710,7 +730,7 @@ void CollapseState::compact_adjacency() {
     face_count_[v] = std::uint32_t(packed.size() - start);
   }
   faces_ = std::move(packed);
-  compact_at_ = 3 * faces_.size() + 1024;
+  compact_at_ = 2 * faces_.size() + 1024;
 }
 
 QuadricMesh CollapseState::release_vertices() {
@@ -878,8 +898,8 @@ class LazyQueue {
   // edges around the moved vertex), so the heap seldom regrows.
   void fill() {
     const auto edges = state_.edges();
-    const std::uint64_t collapses = (state_.triangle_count() - std::min(state_.triangle_count(),
-                                                                        settings_.target_triangles)) / 2;
+    const std::uint64_t collapses =
+        (state_.triangle_count() - std::min(state_.triangle_count(), settings_.target_triangles)) / 2;
     std::vector<QueueEntry> entries;
     reserve_huge(&entries, std::size_t(std::min<std::uint64_t>(4 * edges.size(), edges.size() + 12 * collapses)));
     entries.resize(edges.size());

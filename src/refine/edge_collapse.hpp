@@ -24,6 +24,14 @@ namespace oocsimp {
 
 class ProgressPhase;
 
+/// A face's unit normal in single precision (zero for a face of no area): the flip
+/// check compares only its direction, and every face keeps one for the whole collapse.
+struct UnitNormal {
+  float x = 0, y = 0, z = 0;
+  Vec3d vec() const { return {x, y, z}; }
+};
+UnitNormal unit_normal(const Vec3d& normal);
+
 /// An indexed triangle mesh with a quadric per vertex: what phase 1 hands on (its
 /// clusters' summed quadrics) or what face_quadrics() computes for a whole input.
 /// Positions and quadrics are in one frame (phase 1's: relative to its grid origin).
@@ -34,7 +42,7 @@ struct QuadricMesh {
   std::size_t attribute_count = 0;       ///< values per vertex in `attributes`
   std::vector<double> attributes;        ///< attribute_count per vertex (interpolated along collapses)
   /// Each face's normal in the input, for the flip check (empty: from the positions).
-  std::vector<Vec3d> face_normals;
+  std::vector<UnitNormal> face_normals;
   /// Vertices that may neither move nor go (empty: none): a tile's border.
   std::vector<std::uint8_t> locked;
 };
@@ -42,10 +50,9 @@ struct QuadricMesh {
 /// What holding a mesh for the collapse takes, in bytes: per vertex its position,
 /// quadric, flags, face list and attributes; per face its corners, input normal, face
 /// list entries and a few queue entries.
-inline std::uint64_t collapse_memory_bytes(std::uint64_t vertices, std::uint64_t triangles,
-                                           std::size_t attributes) {
+inline std::uint64_t collapse_memory_bytes(std::uint64_t vertices, std::uint64_t triangles, std::size_t attributes) {
   constexpr std::uint64_t kPerVertex = sizeof(Vec3d) + sizeof(Quadric) + 16;
-  constexpr std::uint64_t kPerTriangle = 12 + sizeof(Vec3d) + 3 * 4 * 3 + 4 * 16;
+  constexpr std::uint64_t kPerTriangle = 12 + sizeof(UnitNormal) + 3 * 4 * 3 + 4 * 16;
   return vertices * (kPerVertex + sizeof(double) * attributes) + triangles * kPerTriangle;
 }
 
@@ -188,7 +195,7 @@ class CollapseState {
   /// faces, or ascending when there are many). Any thread.
   void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// Each face's normal in the input.
-  const std::vector<Vec3d>& first_normals() const { return first_normal_; }
+  const std::vector<UnitNormal>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
   /// input normals; `sources` (if given) gets each result vertex's index here.
   /// With `geometry_only`, without the quadrics and input normals (an output's
@@ -226,7 +233,7 @@ class CollapseState {
   double cos_max_turn_;
   double min_compactness_;
   std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_, locked_;
-  std::vector<Vec3d> first_normal_;                             // each face's normal in the input
+  std::vector<UnitNormal> first_normal_;                        // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
   std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;

@@ -27,7 +27,7 @@ struct PassFace {
   std::uint64_t index = 0;         ///< the face's index in the input: the order faces are taken in
   std::uint64_t v[3] = {0, 0, 0};  ///< its corners' vertex ids (their indices in the input)
   Vec3d p[3];                      ///< its corners' positions, in the run's frame
-  Vec3d normal;                    ///< its normal in the input (not unit), for the flip check
+  UnitNormal normal;               ///< its normal in the input, for the flip check
 };
 
 /// A vertex between the passes: its quadric holds every face that ever met at it, and
