@@ -643,6 +643,9 @@ class PassRun {
     };
     source_.faces = [this](std::uint32_t t) { return binned_.triangles->record_count(t); };
     source_.parts = [this, most](std::uint32_t t) { return parts_of(binned_.triangles->record_count(t), most); };
+    // The binning buffers were freed on several threads: give them back (see
+    // SimplifyOptions::release_memory).
+    if (options_.release_memory) options_.release_memory();
     clock_.end("bin");
   }
 
@@ -734,7 +737,11 @@ class PassRun {
 
 QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
                              std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes) {
-  return PassRun(input, options, origin, target, sizes, stats).run();
+  QuadricMesh rest = PassRun(input, options, origin, target, sizes, stats).run();
+  // The passes' bins and buffers, freed on several threads, go back before the last
+  // collapse.
+  if (options.release_memory) options.release_memory();
+  return rest;
 }
 
 }  // namespace oocsimp
