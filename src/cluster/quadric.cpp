@@ -13,26 +13,6 @@ void Quadric::add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
   add_plane_quadric(this, plane, dot(plane.m, p));
 }
 
-void Quadric::add(const Quadric& o) {
-  a00 += o.a00;
-  a01 += o.a01;
-  a02 += o.a02;
-  a11 += o.a11;
-  a12 += o.a12;
-  a22 += o.a22;
-  b0 += o.b0;
-  b1 += o.b1;
-  b2 += o.b2;
-  c += o.c;
-}
-
-double Quadric::error(const Vec3d& x) const {
-  double ax = a00 * x.x + a01 * x.y + a02 * x.z;
-  double ay = a01 * x.x + a11 * x.y + a12 * x.z;
-  double az = a02 * x.x + a12 * x.y + a22 * x.z;
-  return x.x * ax + x.y * ay + x.z * az - 2 * (b0 * x.x + b1 * x.y + b2 * x.z) + c;
-}
-
 namespace {
 
 // Cyclic Jacobi eigen-decomposition of a symmetric 3x3 matrix: on return m's

@@ -36,9 +36,26 @@ struct Quadric {
     b2 += w * d * m.z;
     c += w * d * d;
   }
-  void add(const Quadric& o);
+  // Inline: the edge collapse costs every edge with these, several times a pass.
+  void add(const Quadric& o) {
+    a00 += o.a00;
+    a01 += o.a01;
+    a02 += o.a02;
+    a11 += o.a11;
+    a12 += o.a12;
+    a22 += o.a22;
+    b0 += o.b0;
+    b1 += o.b1;
+    b2 += o.b2;
+    c += o.c;
+  }
   /// E(x): the area-weighted sum of squared distances from x to the planes.
-  double error(const Vec3d& x) const;
+  double error(const Vec3d& x) const {
+    const double ax = a00 * x.x + a01 * x.y + a02 * x.z;
+    const double ay = a01 * x.x + a11 * x.y + a12 * x.z;
+    const double az = a02 * x.x + a12 * x.y + a22 * x.z;
+    return x.x * ax + x.y * ay + x.z * az - 2 * (b0 * x.x + b1 * x.y + b2 * x.z) + c;
+  }
 };
 
 /// The point that minimises `q`, found robustly: A is eigen-decomposed and directions

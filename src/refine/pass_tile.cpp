@@ -7,23 +7,30 @@ namespace oocsimp {
 
 namespace {
 
-// The tile's vertices, numbered in ascending id: every corner of its faces.
-std::vector<std::uint64_t> tile_vertex_ids(const TileMesh& tile) {
-  std::vector<std::uint64_t> ids;
-  ids.reserve(3 * tile.faces.size());
-  for (const PassFace& f : tile.faces) ids.insert(ids.end(), f.v, f.v + 3);
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  return ids;
-}
-
-std::uint32_t local_of(const std::vector<std::uint64_t>& ids, std::uint64_t id) {
-  return std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+// The tile's vertices, numbered in ascending id: every corner of its faces. `ids`
+// gets each local vertex's id, `corners` the local vertex at each face's corners (3
+// a face), from one sort of the corners by id.
+void number_vertices(const TileMesh& tile, std::vector<std::uint64_t>* ids, std::vector<std::uint32_t>* corners) {
+  struct Corner {
+    std::uint64_t id;
+    std::uint32_t slot;
+  };
+  std::vector<Corner> sorted(3 * tile.faces.size());
+  for (std::size_t f = 0; f < tile.faces.size(); ++f)
+    for (std::size_t c = 0; c < 3; ++c) sorted[3 * f + c] = {tile.faces[f].v[c], std::uint32_t(3 * f + c)};
+  std::sort(sorted.begin(), sorted.end(), [](const Corner& a, const Corner& b) { return a.id < b.id; });
+  ids->clear();
+  corners->resize(sorted.size());
+  for (const Corner& c : sorted) {
+    if (ids->empty() || ids->back() != c.id) ids->push_back(c.id);
+    (*corners)[c.slot] = std::uint32_t(ids->size() - 1);
+  }
 }
 
 // The tile as a mesh for the collapse: owned vertices free unless a face of theirs
 // reaches another tile, every other vertex locked.
-QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& ids, std::vector<std::uint8_t>* owned) {
+QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& ids,
+                       const std::vector<std::uint32_t>& corners, std::vector<std::uint8_t>* owned) {
   const std::size_t n = ids.size(), k = tile.attribute_count;
   QuadricMesh m;
   m.positions.resize(n);
@@ -33,8 +40,12 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
   m.locked.assign(n, 1);
   owned->assign(n, 0);
   if (!tile.hold_border) m.locked.assign(n, 0);
+  // Both lists ascend by id: one walk finds each owned vertex's number (a vertex of
+  // no face, were there one, takes no part).
+  std::size_t l = 0;
   for (std::size_t i = 0; i < tile.owned.size(); ++i) {
-    const std::uint32_t l = local_of(ids, tile.owned[i].id);
+    while (l < n && ids[l] < tile.owned[i].id) ++l;
+    if (l == n || ids[l] != tile.owned[i].id) continue;
     (*owned)[l] = 1;
     m.locked[l] = 0;
     m.positions[l] = tile.owned[i].position;
@@ -46,16 +57,15 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
   m.face_normals.resize(tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f) {
     const PassFace& face = tile.faces[f];
-    std::uint32_t l[3];
+    const std::uint32_t* v = &corners[3 * f];
     for (int c = 0; c < 3; ++c) {
-      l[c] = local_of(ids, face.v[c]);
-      m.triangles[3 * f + std::size_t(c)] = l[c];
-      if (!(*owned)[l[c]]) m.positions[l[c]] = face.p[c];
+      m.triangles[3 * f + std::size_t(c)] = v[c];
+      if (!(*owned)[v[c]]) m.positions[v[c]] = face.p[c];
     }
     m.face_normals[f] = face.normal;
     // A face reaching another tile: its owned corners stay where they are.
-    if (tile.hold_border && (!(*owned)[l[0]] || !(*owned)[l[1]] || !(*owned)[l[2]]))
-      for (std::uint32_t c : l) m.locked[c] = 1;
+    if (tile.hold_border && (!(*owned)[v[0]] || !(*owned)[v[1]] || !(*owned)[v[2]]))
+      for (int c = 0; c < 3; ++c) m.locked[v[c]] = 1;
   }
   // The first pass sums the quadrics from the faces: every face around an owned vertex
   // is here, so its quadric is whole (the others' are partial, and never used).
@@ -66,7 +76,9 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
 }  // namespace
 
 TileOutput collapse_pass_tile(const TileMesh& tile, const CollapseSettings& settings, std::vector<double>* cost_log) {
-  const std::vector<std::uint64_t> ids = tile_vertex_ids(tile);
+  std::vector<std::uint64_t> ids;
+  std::vector<std::uint32_t> corners;
+  number_vertices(tile, &ids, &corners);
   std::vector<std::uint8_t> owned;
   CollapseSettings s = settings;
   s.exact_count = false;
@@ -74,7 +86,8 @@ TileOutput collapse_pass_tile(const TileMesh& tile, const CollapseSettings& sett
   // Boundary planes join the quadrics once, in the first pass: a boundary edge of an
   // owned vertex has all its faces here, so its count of faces is the mesh's.
   if (!tile.first_pass || !tile.hold_border) s.boundary_weight = 0;
-  CollapseState state(local_mesh(tile, ids, &owned), s);
+  CollapseState state(local_mesh(tile, ids, corners, &owned), s);
+  std::vector<std::uint32_t>().swap(corners);
   TileOutput out;
   out.stats.cost_log = cost_log;
   collapse_state(state, s, &out.stats, nullptr);
