@@ -1056,19 +1056,19 @@ class PassDriver {
     const std::uint32_t n = std::uint32_t(state_.vertex_count());
     const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
-    auto for_each_edge = [&](std::uint32_t block, const auto& f) {
+    // Each block's edges are listed once (the neighbour lists are the dearer part),
+    // then costed into their place.
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> listed(blocks);
+    tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       std::vector<std::uint32_t>& ring = rings_.local();
+      std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges = listed[block];
       for (std::uint32_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
         if (!state_.alive(a) || state_.locked(a)) continue;
         state_.neighbours_above(a, &ring);
         for (std::uint32_t b : ring)
-          if (!state_.locked(b)) f(a, b);
+          if (!state_.locked(b)) edges.emplace_back(a, b);
       }
-    };
-    tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
-      std::size_t count = 0;
-      for_each_edge(block, [&](std::uint32_t, std::uint32_t) { ++count; });
-      start[block + 1] = count;
+      start[block + 1] = edges.size();
     });
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
     // entries_ only grows (the first pass has the most edges), so that it is not
@@ -1080,7 +1080,8 @@ class PassDriver {
     }
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       QueueEntry* out = entries_.data() + start[block];
-      for_each_edge(block, [&](std::uint32_t a, std::uint32_t b) { *out++ = {state_.evaluate(a, b).cost, a, b}; });
+      for (const auto& [a, b] : listed[block]) *out++ = {state_.evaluate(a, b).cost, a, b};
+      std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(listed[block]);
     });
     return start[blocks];
   }
