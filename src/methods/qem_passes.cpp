@@ -35,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/huge_pages.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
@@ -216,6 +217,7 @@ class PassBins {
     TileMesh m;
     m.attribute_count = attributes_;
     if (with_faces) {
+      reserve_huge(&m.faces, std::size_t(faces_.record_count(tile)));
       faces_.read(tile, &m.faces);
       sort_faces(&m.faces);
     }
@@ -281,6 +283,7 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   };
   TileMesh m;
   m.first_pass = true;
+  reserve_huge(&m.faces, records.size());
   const std::size_t k = input.attributes.size();
   m.attribute_count = k;
   std::vector<std::uint64_t> owned;

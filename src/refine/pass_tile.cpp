@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "common/huge_pages.hpp"
+
 namespace oocsimp {
 
 namespace {
@@ -15,7 +17,9 @@ void number_vertices(const TileMesh& tile, std::vector<std::uint64_t>* ids, std:
     std::uint64_t id;
     std::uint32_t slot;
   };
-  std::vector<Corner> sorted(3 * tile.faces.size());
+  std::vector<Corner> sorted;
+  reserve_huge(&sorted, 3 * tile.faces.size());
+  sorted.resize(3 * tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f)
     for (std::size_t c = 0; c < 3; ++c) sorted[3 * f + c] = {tile.faces[f].v[c], std::uint32_t(3 * f + c)};
   std::sort(sorted.begin(), sorted.end(), [](const Corner& a, const Corner& b) { return a.id < b.id; });
@@ -33,6 +37,7 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
                        const std::vector<std::uint32_t>& corners, std::vector<std::uint8_t>* owned) {
   const std::size_t n = ids.size(), k = tile.attribute_count;
   QuadricMesh m;
+  reserve_huge(&m.positions, n);
   m.positions.resize(n);
   m.quadrics.resize(n);
   m.attribute_count = k;
@@ -53,7 +58,9 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
     std::copy(tile.attributes.begin() + std::ptrdiff_t(i * k), tile.attributes.begin() + std::ptrdiff_t((i + 1) * k),
               m.attributes.begin() + std::ptrdiff_t(l * k));
   }
+  reserve_huge(&m.triangles, 3 * tile.faces.size());
   m.triangles.resize(3 * tile.faces.size());
+  reserve_huge(&m.face_normals, tile.faces.size());
   m.face_normals.resize(tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f) {
     const PassFace& face = tile.faces[f];
