@@ -14,6 +14,9 @@
 # ModNormalFlippingT, --lock-boundary keeps every boundary vertex); RUNS which rows
 # run, in this order, default all of:
 #   openmesh   OpenMesh's Decimater with ModQuadricT, decimate_to_faces(0, TARGET)
+#   open3d     Open3D's simplify_quadric_decimation(TARGET) (scripts/open3d_decimate.py,
+#              Debian python3-open3d under /usr/bin/python3); its anon_MiB is sampled
+#              right after the collapse, not a peak
 #   simplify   meshopt_simplify, target_error FLT_MAX so the count is the only stop
 #   sloppy     meshopt_simplifySloppy
 #   floating   oocsimp simplify --ratio TARGET/input (an estimate: the count is not TARGET)
@@ -38,7 +41,7 @@ target="${TARGET:-100000}"
 samples="${SAMPLES:-1000000}"
 threads="${THREADS:-2}"
 size="${SIZE:-2000000}"
-runs=(${RUNS:-openmesh simplify sloppy floating uniform qem target-floating target-uniform})
+runs=(${RUNS:-openmesh open3d simplify sloppy floating uniform qem target-floating target-uniform})
 out="$dir/quality"
 mkdir -p "$out"
 
@@ -87,10 +90,17 @@ for mesh in "${inputs[@]}"; do
     result="$out/$r.ply"
     echo "  $r ..." >&2
     case "$r" in
-      openmesh | simplify | sloppy)
+      openmesh | open3d | simplify | sloppy)
         if [ "$r" = openmesh ]; then
           prog="$openmesh_bin"
           args=("$mesh" "$result" "$target" ${OPENMESH_ARGS:-})
+        elif [ "$r" = open3d ]; then
+          prog=/usr/bin/python3
+          args=("$root/scripts/open3d_decimate.py" "$mesh" "$result" "$target")
+          if ! "$prog" -c "import open3d" 2>/dev/null; then
+            echo "  $r: skipped, python3-open3d is not installed"
+            continue
+          fi
         else
           prog="$meshopt_bin"
           args=("$r" "$mesh" "$result" "$target")
@@ -106,7 +116,7 @@ for mesh in "${inputs[@]}"; do
         anon[$r]=$(field "$line" peak_anon_mib)
         rss[$r]=$(field "$line" peak_rss_mib)
         phases[$r]="load $(field "$line" load) simplify $(field "$line" simplify) write $(field "$line" write)"
-        [ "$r" != openmesh ] && phases[$r]+=", meshoptimizer's result_error $(field "$line" result_error)"
+        case "$r" in simplify | sloppy) phases[$r]+=", meshoptimizer's result_error $(field "$line" result_error)" ;; esac
         [ "$r" = openmesh ] &&
           phases[$r]+=", $(field "$line" collapses) collapses, $(field "$line" rejected_faces) input faces rejected"
         ;;
