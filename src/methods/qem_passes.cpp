@@ -288,19 +288,20 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   m.attribute_count = k;
   std::vector<std::uint64_t> owned;
   for (const TriangleRecord& r : records) {
-    bool in_part = false;
+    // The corners this part owns: the tile's, and in the part's slab.
+    bool mine[3];
     Vec3d absolute[3];
     for (int c = 0; c < 3; ++c) {
       absolute[c] = input.positions.get(r.v[c]);
-      in_part |= r.owned(c) && (n == 1 || part_of(absolute[c]) == part);
+      mine[c] = r.owned(c) && (n == 1 || part_of(absolute[c]) == part);
     }
-    if (!in_part) continue;
+    if (!mine[0] && !mine[1] && !mine[2]) continue;
     PassFace f;
     f.index = r.index();
     for (int c = 0; c < 3; ++c) {
       f.v[c] = r.v[c];
       f.p[c] = absolute[c] - origin;
-      if (r.owned(c) && (n == 1 || part_of(absolute[c]) == part)) owned.push_back(r.v[c]);
+      if (mine[c]) owned.push_back(r.v[c]);
     }
     f.normal = unit_normal(cross(f.p[1] - f.p[0], f.p[2] - f.p[0]));
     m.faces.push_back(f);
