@@ -258,17 +258,21 @@ void CollapseState::edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) 
   sort_small(out);
 }
 
-bool CollapseState::on_boundary(std::uint32_t v, VertexScratch* scratch) const {
-  edge_ends(v, &scratch->ends);
-  const std::vector<std::uint32_t>& e = scratch->ends;
-  for (std::size_t i = 0; i < e.size();) {
+namespace {
+
+// Whether a vertex's sorted edge ends (edge_ends) hold an edge of one face: the
+// vertex is on the outline.
+bool has_single_edge(const std::vector<std::uint32_t>& ends) {
+  for (std::size_t i = 0; i < ends.size();) {
     std::size_t j = i;
-    while (j < e.size() && e[j] == e[i]) ++j;
-    if (j - i == 1) return true;  // an edge of one face
+    while (j < ends.size() && ends[j] == ends[i]) ++j;
+    if (j - i == 1) return true;
     i = j;
   }
   return false;
 }
+
+}  // namespace
 
 // A vertex on an edge of three or more faces, or whose faces form more than one fan
 // (two cones meeting at their apex), has no disk around it for the link condition to
@@ -286,17 +290,22 @@ void CollapseState::classify_vertices() {
                       VertexScratch& s = scratch.local();
                       for (std::uint32_t v = r.begin(); v != r.end(); ++v) {
                         if (!alive_[v]) continue;
-                        complex_[v] = !manifold_at(v, &s);
-                        boundary_[v] = on_boundary(v, &s);
+                        edge_ends(v, &s.ends);
+                        complex_[v] = !manifold_given_ends(v, &s);
+                        boundary_[v] = has_single_edge(s.ends);
                       }
                     });
 }
 
 bool CollapseState::manifold_at(std::uint32_t v, VertexScratch* scratch) const {
-  std::vector<std::uint32_t>& ends = scratch->ends;
+  edge_ends(v, &scratch->ends);
+  return manifold_given_ends(v, scratch);
+}
+
+bool CollapseState::manifold_given_ends(std::uint32_t v, VertexScratch* scratch) const {
+  const std::vector<std::uint32_t>& ends = scratch->ends;
   std::vector<std::uint32_t>& ring = scratch->ring;
   std::vector<std::uint32_t>& parent = scratch->parent;
-  edge_ends(v, &ends);
   bool manifold = true;
   for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
   // One fan: the neighbours, joined where a face joins them, form one piece (a
@@ -332,6 +341,8 @@ void CollapseState::add_boundary_planes(double weight) {
   if (!(weight > 0)) return;
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
+    // Most faces have no two corners on the outline: nothing to add.
+    if (int(boundary_[t[0]]) + boundary_[t[1]] + boundary_[t[2]] < 2) continue;
     const Vec3d& p0 = mesh_.positions[t[0]];
     const Vec3d normal = cross(mesh_.positions[t[1]] - p0, mesh_.positions[t[2]] - p0);
     const double normal_length = length(normal);
