@@ -59,6 +59,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.lods", "--lods"},
     {"options.triangles", "--tris"},
     {"options.samples", "--samples"},
+    {"options.radius", "--radius"},
     {"outputs.replace_input", "--force"},
     {"outputs.stats", "--stats"},
     {"outputs.mesh", "-o"},
@@ -701,6 +702,59 @@ int run_measure(const MeasureArgs& a) {
   return kOk;
 }
 
+// --- curvature
+
+struct CurvatureArgs {
+  std::string in, out;
+  Given radius, threads, mem;
+  std::string neighbourhood = "ball";
+  CurvatureOptions options;
+  bool ascii = false, quiet = false;
+};
+
+CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
+  CLI::App* cmd = app.add_subcommand(
+      "curvature", "Principal curvatures k1, k2 of every vertex by integral invariants (Hua et al. §3.4), to PLY");
+  cmd->add_option("input", a.in, "Input mesh")->required();
+  cmd->add_option("-o,--output", a.out, "Output PLY: the mesh with float vertex properties k1 and k2")->required();
+  add_given(cmd, "--radius", &a.radius, "Radius of the ball or sphere (default 3 mean edge lengths)");
+  cmd->add_option("--neighbourhood", a.neighbourhood,
+                  "ball: the ball cut by the solid (Hua et al. eq. 13-14); sphere: the sphere cut by it (eq. 17-18)")
+      ->check(CLI::IsMember({"ball", "sphere"}));
+  add_given(cmd, "--mem", &a.mem, "Heap budget; the mesh is held in memory (default: a quarter of memory)");
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
+  add_quiet_flag(cmd, &a.quiet);
+  return cmd;
+}
+
+int run_curvature(CurvatureArgs& a) {
+  CurvatureOptions o = a.options;
+  if (a.radius.given()) o.radius = positive_number("--radius", a.radius.text);
+  if (a.threads.given()) o.threads = threads_of(a.threads);
+  if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
+  o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
+  ProgressReporter progress(a.quiet);
+  o.progress = progress.callback();
+  CurvatureStats st;
+  curvature_file(a.in, a.out, a.ascii, o, &st);
+  if (st.fitted + st.none > 0 && !a.quiet)
+    std::fprintf(stderr,
+                 "oocsimp: warning: %" PRIu64 " vertices where the surface does not cover the disk of radius %g (an "
+                 "outline, a hole or a soup) were fitted with a quadric instead, and %" PRIu64
+                 " with no face, area or neighbours within it got 0\n",
+                 st.fitted, st.radius, st.none);
+  std::printf("curvature %" PRIu64 " vertices, %" PRIu64 " triangles, radius %g (mean edge %g), %s\n", st.vertices,
+              st.triangles, st.radius, st.mean_edge_length, a.neighbourhood.c_str());
+  std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all\n", st.invariant,
+              st.fitted, st.none);
+  std::printf("time %.3f s: %.2f M vertices/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
+              st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0, double(st.peak_rss_bytes) / 1048576.0,
+              double(st.peak_anon_bytes) / 1048576.0);
+  return kOk;
+}
+
 // --- lod-select
 
 struct LodSelectArgs {
@@ -894,6 +948,7 @@ int main(int argc, char** argv) {
   InfoArgs info;
   GenerateArgs generate;
   MeasureArgs measure;
+  CurvatureArgs curvature;
   LodSelectArgs lod_select;
   RenderArgs render;
   const std::pair<CLI::App*, std::function<int()>> commands[] = {
@@ -901,6 +956,7 @@ int main(int argc, char** argv) {
       {add_info_command(app, info), [&] { return run_info(info); }},
       {add_generate_command(app, generate), [&] { return run_generate(generate); }},
       {add_measure_command(app, measure), [&] { return run_measure(measure); }},
+      {add_curvature_command(app, curvature), [&] { return run_curvature(curvature); }},
       {add_lod_select_command(app, lod_select), [&] { return run_lod_select(lod_select); }},
       {add_render_command(app, render), [&] { return run_render(render); }},
   };

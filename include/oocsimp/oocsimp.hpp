@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "oocsimp/attributes.hpp"  // VertexAttribute, AttributeArray, AttributeValues, AttributeSelection
+#include "oocsimp/curvature.hpp"   // estimate_curvatures, curvature_file
 #include "oocsimp/enum_names.hpp"  // EnumNames: each option value's spelling
 #include "oocsimp/error.hpp"       // UsageError, InputError, IoError, Cancelled
 #include "oocsimp/geometry.hpp"    // Vec3d, Box3d

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cluster/plane_quadric.hpp"
+#include "common/symmetric_eigen.hpp"
 
 namespace oocsimp {
 
@@ -12,47 +13,6 @@ void Quadric::add_triangle(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
   if (plane.degenerate()) return;
   add_plane_quadric(this, plane, dot(plane.m, p));
 }
-
-namespace {
-
-// Cyclic Jacobi eigen-decomposition of a symmetric 3x3 matrix: on return m's
-// diagonal holds the eigenvalues and the columns of v the eigenvectors.
-void jacobi3(double m[3][3], double v[3][3]) {
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) v[i][j] = i == j ? 1 : 0;
-  // Jacobi converges quadratically: a handful of sweeps reach the point where the
-  // off-diagonal part is below rounding of the diagonal.
-  for (int sweep = 0; sweep < 16; ++sweep) {
-    double off = std::fabs(m[0][1]) + std::fabs(m[0][2]) + std::fabs(m[1][2]);
-    double scale = std::fabs(m[0][0]) + std::fabs(m[1][1]) + std::fabs(m[2][2]);
-    if (off <= 1e-12 * scale) return;
-    for (int p = 0; p < 2; ++p) {
-      for (int q = p + 1; q < 3; ++q) {
-        if (m[p][q] == 0) continue;
-        double theta = (m[q][q] - m[p][p]) / (2 * m[p][q]);
-        double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
-        double c = 1 / std::sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < 3; ++k) {  // m = J^T m J
-          double mkp = m[k][p], mkq = m[k][q];
-          m[k][p] = c * mkp - s * mkq;
-          m[k][q] = s * mkp + c * mkq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          double mpk = m[p][k], mqk = m[q][k];
-          m[p][k] = c * mpk - s * mqk;
-          m[q][k] = s * mpk + c * mqk;
-        }
-        for (int k = 0; k < 3; ++k) {
-          double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
-      }
-    }
-  }
-}
-
-}  // namespace
 
 Vec3d minimize_quadric(const Quadric& q, const Vec3d& anchor, const Vec3d& lo, const Vec3d& hi, double rel_threshold) {
   // Lindstrom (2000), after Garland: x = x0 + A^+ (b - A x0) with the pseudo-inverse

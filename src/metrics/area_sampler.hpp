@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "metrics/triangle_geometry.hpp"
+#include "common/triangle_geometry.hpp"
 
 namespace oocsimp {
 namespace metrics {

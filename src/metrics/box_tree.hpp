@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "metrics/triangle_geometry.hpp"
+#include "common/triangle_geometry.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {

@@ -27,7 +27,7 @@
 //        current value. The triangle nearest to a sample is within u of it, so every
 //        sample ends with its exact distance to A.
 //     Triangle distances are clamped from below by the distance to the triangle's box
-//     (metrics/triangle_geometry.hpp), so skipping a pair whose box distance is not
+//     (common/triangle_geometry.hpp), so skipping a pair whose box distance is not
 //     below the current value never discards a smaller computed value: each final
 //     value is the minimum over a fixed set of pairs, whatever order the threads
 //     visit them in.
@@ -54,7 +54,7 @@
 #include "runtime/ordered_pipeline.hpp"
 #include "metrics/area_sampler.hpp"
 #include "metrics/box_tree.hpp"
-#include "metrics/triangle_geometry.hpp"
+#include "common/triangle_geometry.hpp"
 #include "oocsimp/error.hpp"
 #include "io/mesh_input.hpp"
 #include "runtime/memory_usage.hpp"

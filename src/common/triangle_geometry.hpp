@@ -1,4 +1,5 @@
-// Point, box and triangle geometry for the surface distance (metrics/).
+// Point, box and triangle geometry: the surface distance (metrics/) and the curvature
+// estimator (curvature/) read these.
 //
 // Everything is inline and allocation-free: these run once per (sample, triangle)
 // pair in the hot loops of surface_distance.cpp.

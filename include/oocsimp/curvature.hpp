@@ -1,0 +1,70 @@
+// oocsimp — principal curvatures by integral invariants (Hua et al. §3.4, after
+// Pottmann et al. 2007): for each vertex p, the covariance of the ball B_r(p) cut by
+// the solid the surface bounds (or of the sphere S_r(p) cut by it), whose tangential
+// eigenvalues give k1 and k2. The choices the paper leaves open are in
+// docs/curvature.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oocsimp/mesh.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+/// Which neighbourhood of p the invariants measure: the ball B_r(p) cut by the solid
+/// (Hua et al. eq. 8-14) or the sphere S_r(p) cut by it (eq. 15-18).
+enum class CurvatureNeighbourhood : std::uint8_t { ball, sphere };
+
+/// The default radius, in mean edge lengths of the mesh.
+constexpr double kDefaultCurvatureRadiusEdges = 3;
+
+struct CurvatureOptions {
+  /// Of the ball or sphere, in model units; 0 = kDefaultCurvatureRadiusEdges times the
+  /// mean edge length. Must be positive, finite and no longer than the bounding box's
+  /// diagonal.
+  double radius = 0;
+  CurvatureNeighbourhood neighbourhood = CurvatureNeighbourhood::ball;
+  unsigned threads = 0;               ///< 0 = all cores; the values are the same for any count
+  std::uint64_t memory_budget = 0;    ///< heap bytes; 0 = default_memory_budget()
+  std::string temp_dir;               ///< for converted position arrays; empty = default_temp_dir()
+  ProgressCallback progress;          ///< hears "read positions"; may cancel
+};
+
+struct CurvatureStats {
+  std::uint64_t vertices = 0, triangles = 0;
+  double mean_edge_length = 0;
+  double radius = 0;  ///< the radius used
+  /// How the vertices' values were found: by the integral invariants; by the fallback,
+  /// a quadratic fit to the vertices within the radius, where the surface does not
+  /// cover the disk around the vertex (an outline, a hole, a soup); neither (no face,
+  /// no area, a non-finite position or too few neighbours), written as 0 and 0.
+  std::uint64_t invariant = 0, fitted = 0, none = 0;
+  double seconds = 0;
+  std::uint64_t peak_rss_bytes = 0, peak_anon_bytes = 0;
+};
+
+/// Each vertex's principal curvatures, k1 >= k2, positive where the surface is convex
+/// seen along its outward normal (triangles wound counter-clockwise seen from outside).
+struct VertexCurvatures {
+  std::vector<float> k1, k2;
+  CurvatureStats stats;
+};
+
+/// The curvatures of every vertex of `mesh` (positions and indices; attributes are not
+/// read). The mesh is held in memory: UsageError when that takes more than the
+/// budget, or for a bad radius.
+VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options);
+
+/// Reads the mesh at `input_path` (any format open_mesh_input reads), estimates its
+/// curvatures and writes `output_path`, a PLY file (ascii when `ascii`, ".zst"
+/// compresses): the vertices with float properties k1 and k2 after x, y, z, and the
+/// faces. Renamed into place only when complete. Fills `stats` when given. Throws
+/// UsageError (options, a non-PLY output, a mesh larger than the budget), InputError
+/// and IoError.
+void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                    const CurvatureOptions& options, CurvatureStats* stats = nullptr);
+
+}  // namespace oocsimp

@@ -1,0 +1,234 @@
+#include "curvature/vertex_curvatures.hpp"
+
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/vec3_math.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// The faces around each vertex, as one array in vertex order.
+struct VertexFaces {
+  std::vector<std::uint32_t> start;  // per vertex, then one past the last
+  std::vector<std::uint32_t> faces;
+
+  VertexFaces(std::size_t vertices, const std::vector<std::uint32_t>& triangles) : start(vertices + 1, 0) {
+    for (std::uint32_t v : triangles) ++start[v + 1];
+    for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
+    faces.resize(triangles.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < triangles.size(); ++i) faces[fill[triangles[i]]++] = std::uint32_t(i / 3);
+  }
+};
+
+// p's tangent frame: unit vectors t1, t2 and the normal n, right-handed.
+struct TangentFrame {
+  Vec3d origin, t1, t2, n;
+  Vec3d local(const Vec3d& q) const {
+    const Vec3d d = q - origin;
+    return {dot(d, t1), dot(d, t2), dot(d, n)};
+  }
+};
+
+TangentFrame frame_at(const Vec3d& origin, const Vec3d& unit_normal) {
+  // t1 along the coordinate axis least aligned with n, made perpendicular.
+  const Vec3d& n = unit_normal;
+  const Vec3d axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3d{1, 0, 0}
+                     : std::fabs(n.y) <= std::fabs(n.z)                                  ? Vec3d{0, 1, 0}
+                                                                                          : Vec3d{0, 0, 1};
+  const Vec3d t1 = axis - n * dot(axis, n);
+  const Vec3d u1 = t1 / length(t1);
+  return {origin, u1, cross(n, u1), n};
+}
+
+// What one thread works in: marks of the faces and vertices reached, by stamp.
+struct Scratch {
+  std::vector<std::uint32_t> face_mark, vertex_mark;
+  std::uint32_t stamp = 0;
+  std::vector<std::uint32_t> queue, faces;
+  std::vector<Vec3d> points;
+  LocalHeightField heights;
+
+  std::uint32_t next_stamp(std::size_t faces, std::size_t vertices) {
+    if (face_mark.size() < faces) face_mark.assign(faces, 0);
+    if (vertex_mark.size() < vertices) vertex_mark.assign(vertices, 0);
+    if (++stamp == 0) {
+      std::fill(face_mark.begin(), face_mark.end(), 0);
+      std::fill(vertex_mark.begin(), vertex_mark.end(), 0);
+      stamp = 1;
+    }
+    return stamp;
+  }
+};
+
+class VertexEstimator {
+ public:
+  VertexEstimator(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+                  const VertexCurvatureSettings& settings)
+      : positions_(positions), triangles_(triangles), settings_(settings), around_(positions.size(), triangles) {
+    find_outline();
+  }
+
+  enum class Outcome { invariant, fitted, none };
+
+  Outcome estimate(std::uint32_t v, Scratch* s, PrincipalCurvatures* out) const {
+    *out = {};
+    gather(v, s);
+    // The normal of the surface within the radius (the faces' normals weighted by
+    // area), not of v's own faces alone: on a rough scan a vertex's faces tilt at
+    // random, and faces around it would face away from their normal.
+    const Vec3d& p = positions_[v];
+    const double r2 = settings_.radius * settings_.radius;
+    Vec3d normal{0, 0, 0};
+    for (const std::uint32_t f : s->faces) {
+      const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+      if (squared_distance((a + b + c) / 3.0, p) <= r2) normal += cross(b - a, c - a);
+    }
+    const double normal_length = length(normal);
+    if (!(normal_length > 0)) return Outcome::none;
+    const TangentFrame frame = frame_at(p, normal / normal_length);
+    s->heights.reset(settings_.radius);
+    s->points.clear();
+    for (const std::uint32_t f : s->faces)
+      s->heights.add_triangle(frame.local(corner(f, 0)), frame.local(corner(f, 1)), frame.local(corner(f, 2)));
+    for (const std::uint32_t w : s->queue) {
+      if (w == v) continue;
+      const Vec3d q = frame.local(positions_[w]);
+      if (squared_length(q) <= r2) s->points.push_back(q);
+    }
+    bool closed = true;
+    for (const std::uint32_t w : s->queue) closed = closed && !on_outline_[w];
+    const bool found = settings_.neighbourhood == CurvatureNeighbourhood::ball
+                           ? ball_curvatures(s->heights, closed, out)
+                           : sphere_curvatures(s->heights, out);
+    if (found) return Outcome::invariant;
+    if (quadratic_fit_curvatures(s->points, out)) return Outcome::fitted;
+    *out = {};
+    return Outcome::none;
+  }
+
+ private:
+  Vec3d corner(std::uint32_t f, int k) const { return positions_[triangles_[3 * std::size_t(f) + std::size_t(k)]]; }
+  Vec3d face_normal(std::uint32_t f) const {
+    const Vec3d a = corner(f, 0);
+    return cross(corner(f, 1) - a, corner(f, 2) - a);
+  }
+
+  // The faces reached from v through shared vertices whose bounding spheres (about
+  // the centroid) meet the ball of the height field's reach, into s->faces; the
+  // vertices reached, v first, into s->queue.
+  void gather(std::uint32_t v, Scratch* s) const {
+    const Vec3d& p = positions_[v];
+    const double reach_of_field = LocalHeightField::kHeightFieldReach * settings_.radius;
+    const std::uint32_t stamp = s->next_stamp(triangles_.size() / 3, positions_.size());
+    s->faces.clear();
+    s->queue.clear();
+    s->queue.push_back(v);
+    s->vertex_mark[v] = stamp;
+    for (std::size_t next = 0; next < s->queue.size(); ++next) {
+      const std::uint32_t u = s->queue[next];
+      for (std::uint32_t i = around_.start[u]; i < around_.start[u + 1]; ++i) {
+        const std::uint32_t f = around_.faces[i];
+        if (s->face_mark[f] == stamp) continue;
+        s->face_mark[f] = stamp;
+        const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+        const Vec3d centroid = (a + b + c) / 3.0;
+        const double reach =
+            std::sqrt(std::max({squared_distance(a, centroid), squared_distance(b, centroid), squared_distance(c, centroid)}));
+        // (Written so that a face with a non-finite corner is left out.)
+        if (!(distance(centroid, p) <= reach_of_field + reach)) continue;
+        s->faces.push_back(f);
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t w = triangles_[3 * std::size_t(f) + std::size_t(k)];
+          if (s->vertex_mark[w] == stamp) continue;
+          s->vertex_mark[w] = stamp;
+          s->queue.push_back(w);
+        }
+      }
+    }
+  }
+
+  // Each vertex on an edge of one face: where the surface has an outline, a line of
+  // the height field that meets no triangle may be past it.
+  void find_outline() {
+    on_outline_.assign(positions_.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(positions_.size()), 4096),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                        std::vector<std::uint32_t> ends;
+                        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                          ends.clear();
+                          for (std::uint32_t i = around_.start[v]; i < around_.start[v + 1]; ++i)
+                            for (int k = 0; k < 3; ++k) {
+                              const std::uint32_t w = triangles_[3 * std::size_t(around_.faces[i]) + std::size_t(k)];
+                              if (w != v) ends.push_back(w);
+                            }
+                          std::sort(ends.begin(), ends.end());
+                          for (std::size_t i = 0; i < ends.size();) {
+                            std::size_t j = i;
+                            while (j < ends.size() && ends[j] == ends[i]) ++j;
+                            if (j - i == 1) on_outline_[v] = 1;
+                            i = j;
+                          }
+                        }
+                      });
+  }
+
+  const std::vector<Vec3d>& positions_;
+  const std::vector<std::uint32_t>& triangles_;
+  const VertexCurvatureSettings& settings_;
+  VertexFaces around_;
+  std::vector<std::uint8_t> on_outline_;
+};
+
+}  // namespace
+
+double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
+  double sum = 0;
+  std::uint64_t count = 0;
+  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3)
+    for (int k = 0; k < 3; ++k) {
+      const double l = distance(positions[triangles[f + std::size_t(k)]], positions[triangles[f + std::size_t(k + 1) % 3]]);
+      if (std::isfinite(l)) sum += l, ++count;
+    }
+  return count ? sum / double(count) : 0;
+}
+
+VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+                                        const VertexCurvatureSettings& settings, std::vector<float>* k1,
+                                        std::vector<float>* k2) {
+  const VertexEstimator estimator(positions, triangles, settings);
+  k1->assign(positions.size(), 0);
+  k2->assign(positions.size(), 0);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::combinable<VertexCurvatureCounts> counts;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(positions.size()), 1024),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      Scratch& s = scratch.local();
+                      VertexCurvatureCounts& c = counts.local();
+                      for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                        PrincipalCurvatures k;
+                        switch (estimator.estimate(v, &s, &k)) {
+                          case VertexEstimator::Outcome::invariant: ++c.invariant; break;
+                          case VertexEstimator::Outcome::fitted: ++c.fitted; break;
+                          case VertexEstimator::Outcome::none: ++c.none; break;
+                        }
+                        (*k1)[v] = float(k.k1);
+                        (*k2)[v] = float(k.k2);
+                      }
+                    });
+  VertexCurvatureCounts total;
+  counts.combine_each([&](const VertexCurvatureCounts& c) {
+    total.invariant += c.invariant;
+    total.fitted += c.fitted;
+    total.none += c.none;
+  });
+  return total;
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,38 @@
+// The principal curvatures of every vertex of a mesh in memory, by integral invariants
+// (curvature/integral_invariants.hpp) over the surface within the radius.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "curvature/integral_invariants.hpp"
+#include "oocsimp/geometry.hpp"
+
+namespace oocsimp {
+
+struct VertexCurvatureSettings {
+  double radius = 0;  ///< of the ball or sphere (model units, > 0)
+  CurvatureNeighbourhood neighbourhood = CurvatureNeighbourhood::ball;
+};
+
+/// How each vertex's curvatures were found.
+struct VertexCurvatureCounts {
+  std::uint64_t invariant = 0;  ///< by the integral invariants
+  std::uint64_t fitted = 0;     ///< by the quadratic fit: the surface did not cover the disk
+  std::uint64_t none = 0;       ///< neither (no face, no area, or too few neighbours): 0 and 0
+};
+
+/// The mean length of the mesh's edges (each face's three sides; shared sides count
+/// once per face): the scale of the default radius.
+double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
+
+/// k1 and k2 (k1 >= k2) of each vertex of the mesh (3 indices per triangle, wound
+/// counter-clockwise seen from outside), in parallel; the same for any thread count.
+/// The surface around a vertex is the faces reached from it through shared vertices
+/// whose bounding spheres meet the ball: sheets that pass near it without joining
+/// it (the other side of a thin plate) are not part of it.
+VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+                                        const VertexCurvatureSettings& settings, std::vector<float>* k1,
+                                        std::vector<float>* k2);
+
+}  // namespace oocsimp
