@@ -15,7 +15,7 @@ floors=(
   "src/runtime"
   "src/io"
   "src/spill"
-  "src/grid"
+  "src/grid src/curvature"
   "src/cluster"
   "src/stitch src/refine"
   "src/methods"

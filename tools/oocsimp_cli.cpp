@@ -271,7 +271,8 @@ void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
                           {SpillCompression::zstd, nullptr},
                           {SpillCompression::none, nullptr}})),
   };
-  for (CLI::Option* o : a.floating_only) o->group("Floating method only (--method floating, the default without a target)");
+  for (CLI::Option* o : a.floating_only)
+    o->group("Floating method only (--method floating, the default without a target)");
 }
 
 CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
@@ -717,7 +718,7 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
       "curvature", "Principal curvatures k1, k2 of every vertex by integral invariants (Hua et al. §3.4), to PLY");
   cmd->add_option("input", a.in, "Input mesh")->required();
   cmd->add_option("-o,--output", a.out, "Output PLY: the mesh with float vertex properties k1 and k2")->required();
-  add_given(cmd, "--radius", &a.radius, "Radius of the ball or sphere (default 3 mean edge lengths)");
+  add_given(cmd, "--radius", &a.radius, "Radius of the ball or sphere (default 5 mean edge lengths)");
   cmd->add_option("--neighbourhood", a.neighbourhood,
                   "ball: the ball cut by the solid (Hua et al. eq. 13-14); sphere: the sphere cut by it (eq. 17-18)")
       ->check(CLI::IsMember({"ball", "sphere"}));
@@ -741,7 +742,8 @@ int run_curvature(CurvatureArgs& a) {
   curvature_file(a.in, a.out, a.ascii, o, &st);
   if (st.fitted + st.none > 0 && !a.quiet)
     std::fprintf(stderr,
-                 "oocsimp: warning: %" PRIu64 " vertices where the surface does not cover the disk of radius %g (an "
+                 "oocsimp: warning: %" PRIu64
+                 " vertices where the surface does not cover the disk of radius %g (an "
                  "outline, a hole or a soup) were fitted with a quadric instead, and %" PRIu64
                  " with no face, area or neighbours within it got 0\n",
                  st.fitted, st.radius, st.none);

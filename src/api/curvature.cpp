@@ -43,9 +43,9 @@ void check_budget(const MeshInput& input, const CurvatureOptions& options, unsig
   if (input.info.vertex_count >= std::uint64_t(1) << 32)
     throw UsageError(input.info.path + ": curvature holds the mesh in memory, and it has 2^32 vertices or more");
   if (needed > budget)
-    throw UsageError("options.memory_budget",
-                     "options.memory_budget " + mib(budget) + " cannot hold " + input.info.path +
-                         ": curvature holds the whole mesh in memory, " + mib(needed) + " for this one");
+    throw UsageError("options.memory_budget", "options.memory_budget " + mib(budget) + " cannot hold " +
+                                                  input.info.path + ": curvature holds the whole mesh in memory, " +
+                                                  mib(needed) + " for this one");
 }
 
 LoadedMesh load(MeshInput& input) {
@@ -146,7 +146,8 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
   }
   std::vector<Vec3d>().swap(positions);
   AttributeValues values;
-  values.attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0}, VertexAttribute{"k2", AttributeType::f32, 0, 0}};
+  values.attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0},
+                       VertexAttribute{"k2", AttributeType::f32, 0, 0}};
   values.values.resize(2 * k.k1.size());
   for (std::size_t v = 0; v < k.k1.size(); ++v) {
     values.values[2 * v] = k.k1[v];

@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "common/vec3_math.hpp"
-#include "io/mesh_input.hpp"
+#include "oocsimp/geometry.hpp"
 
 namespace oocsimp {
 namespace metrics {

@@ -14,10 +14,11 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // The ball's quadrature: Gauss-Legendre nodes in the radius, even ones in the angle.
-// On the analytic sphere, cylinder and saddle of the tests the curvatures move by
-// less than 0.1% from 8 x 32 nodes to 24 x 64.
-constexpr int kRadialNodes = 8;
-constexpr int kAngularNodes = 32;
+// On the icosphere of the tests (edges 0.23 r) the worst error is 2.48% with 8 x 32
+// nodes, 2.53% with 6 x 24 and 2.54% with 4 x 16: the mesh's facets, not the rule,
+// set it.
+constexpr int kRadialNodes = 6;
+constexpr int kAngularNodes = 24;
 // The sphere's azimuths, and the fixed-point steps that find where the surface meets
 // the sphere along each (the height moves the meeting point inwards by z^2 / 2r).
 constexpr int kAzimuths = 64;

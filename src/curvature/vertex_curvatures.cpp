@@ -40,7 +40,7 @@ TangentFrame frame_at(const Vec3d& origin, const Vec3d& unit_normal) {
   // t1 along the coordinate axis least aligned with n, made perpendicular.
   const Vec3d& n = unit_normal;
   const Vec3d axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z) ? Vec3d{1, 0, 0}
-                     : std::fabs(n.y) <= std::fabs(n.z)                                  ? Vec3d{0, 1, 0}
+                     : std::fabs(n.y) <= std::fabs(n.z)                                   ? Vec3d{0, 1, 0}
                                                                                           : Vec3d{0, 0, 1};
   const Vec3d t1 = axis - n * dot(axis, n);
   const Vec3d u1 = t1 / length(t1);
@@ -88,7 +88,7 @@ class VertexEstimator {
     Vec3d normal{0, 0, 0};
     for (const std::uint32_t f : s->faces) {
       const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
-      if (squared_distance((a + b + c) / 3.0, p) <= r2) normal += cross(b - a, c - a);
+      if (squared_distance((a + b + c) * (1.0 / 3), p) <= r2) normal += cross(b - a, c - a);
     }
     const double normal_length = length(normal);
     if (!(normal_length > 0)) return Outcome::none;
@@ -138,9 +138,9 @@ class VertexEstimator {
         if (s->face_mark[f] == stamp) continue;
         s->face_mark[f] = stamp;
         const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
-        const Vec3d centroid = (a + b + c) / 3.0;
-        const double reach =
-            std::sqrt(std::max({squared_distance(a, centroid), squared_distance(b, centroid), squared_distance(c, centroid)}));
+        const Vec3d centroid = (a + b + c) * (1.0 / 3);
+        const double reach = std::sqrt(
+            std::max({squared_distance(a, centroid), squared_distance(b, centroid), squared_distance(c, centroid)}));
         // (Written so that a face with a non-finite corner is left out.)
         if (!(distance(centroid, p) <= reach_of_field + reach)) continue;
         s->faces.push_back(f);
@@ -193,13 +193,15 @@ double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<s
   std::uint64_t count = 0;
   for (std::size_t f = 0; f + 2 < triangles.size(); f += 3)
     for (int k = 0; k < 3; ++k) {
-      const double l = distance(positions[triangles[f + std::size_t(k)]], positions[triangles[f + std::size_t(k + 1) % 3]]);
+      const double l =
+          distance(positions[triangles[f + std::size_t(k)]], positions[triangles[f + std::size_t(k + 1) % 3]]);
       if (std::isfinite(l)) sum += l, ++count;
     }
   return count ? sum / double(count) : 0;
 }
 
-VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
+                                        const std::vector<std::uint32_t>& triangles,
                                         const VertexCurvatureSettings& settings, std::vector<float>* k1,
                                         std::vector<float>* k2) {
   const VertexEstimator estimator(positions, triangles, settings);
@@ -214,9 +216,15 @@ VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions, con
                       for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
                         PrincipalCurvatures k;
                         switch (estimator.estimate(v, &s, &k)) {
-                          case VertexEstimator::Outcome::invariant: ++c.invariant; break;
-                          case VertexEstimator::Outcome::fitted: ++c.fitted; break;
-                          case VertexEstimator::Outcome::none: ++c.none; break;
+                          case VertexEstimator::Outcome::invariant:
+                            ++c.invariant;
+                            break;
+                          case VertexEstimator::Outcome::fitted:
+                            ++c.fitted;
+                            break;
+                          case VertexEstimator::Outcome::none:
+                            ++c.none;
+                            break;
                         }
                         (*k1)[v] = float(k.k1);
                         (*k2)[v] = float(k.k2);

@@ -31,7 +31,8 @@ double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<s
 /// The surface around a vertex is the faces reached from it through shared vertices
 /// whose bounding spheres meet the ball: sheets that pass near it without joining
 /// it (the other side of a thin plate) are not part of it.
-VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
+                                        const std::vector<std::uint32_t>& triangles,
                                         const VertexCurvatureSettings& settings, std::vector<float>* k1,
                                         std::vector<float>* k2);
 
