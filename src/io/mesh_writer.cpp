@@ -225,63 +225,15 @@ void write_off(ByteSink& sink, const MeshArrays& m) {
 }
 
 void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
-  const char* type = m.precision == ScalarType::f32 ? "float" : "double";
-  std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
-                       " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(m.vertices()) + "\nproperty " + type +
-                       " x\nproperty " + type + " y\nproperty " + type + " z\n";
-  // The carried attributes under their names and types, after x, y, z.
-  for (std::size_t k = 0; k < m.attribute_count(); ++k)
-    header += std::string("property ") + attribute_type_name(m.attributes->attributes[k].type) + " " +
-              m.attributes->attributes[k].name + "\n";
-  header += "element face " + std::to_string(m.triangles()) + "\nproperty list uchar uint vertex_indices\n";
-  if (m.edges() > 0)
-    header += "element edge " + std::to_string(m.edges()) +
-              "\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\n";
-  if (m.points() > 0)
-    header += "element point " + std::to_string(m.points()) + "\nproperty int vertex\nproperty float thickness\n";
-  header += "end_header\n";
-  sink.write(header);
-  if (!ascii) {
-    static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE float and double");
-    // x86 and ARM are little-endian: values are written as they are.
-    if (m.attribute_count() > 0) {
-      // Vertex records: x, y, z, then the attributes packed in their types.
-      std::vector<std::size_t> offset;
-      std::size_t stride = m.precision == ScalarType::f64 ? 24 : 12;
-      for (const VertexAttribute& a : m.attributes->attributes) {
-        offset.push_back(stride);
-        stride += attribute_type_size(a.type);
-      }
-      std::vector<unsigned char> rec(stride);
-      for (std::size_t i = 0; i < m.vertices(); ++i) {
-        for (int c = 0; c < 3; ++c)
-          store_attribute(m.pos[3 * i + std::size_t(c)],
-                          m.precision == ScalarType::f64 ? AttributeType::f64 : AttributeType::f32,
-                          &rec[std::size_t(c) * (m.precision == ScalarType::f64 ? 8 : 4)]);
-        for (std::size_t k = 0; k < offset.size(); ++k)
-          store_attribute(m.attribute(i, k), m.attributes->attributes[k].type, &rec[offset[k]]);
-        sink.write(rec.data(), stride);
-      }
-    } else if (m.precision == ScalarType::f64) {
-      if (!m.pos.empty()) sink.write(m.pos.data(), m.pos.size() * sizeof(double));  // data() may be null when empty
-    } else {
-      for (double v : m.pos) {
-        float f = float(v);
-        sink.write(&f, sizeof f);
-      }
-    }
-    for (std::size_t t = 0; t < m.triangles(); ++t) {
-      unsigned char rec[13];
-      rec[0] = 3;
-      std::memcpy(rec + 1, &m.tri[3 * t], 12);
-      sink.write(rec, 13);
-    }
-    write_ply_primitives(sink, m, false);
-    return;
-  }
-  TextOut out(sink);
-  write_vertex_and_face_lines(out, m, true);
-  write_ply_primitives(sink, m, true);
+  const std::vector<VertexAttribute> none;
+  PlyStreamWriter out(sink, ascii, m.precision, m.vertices(), m.triangles(),
+                      m.attribute_count() ? m.attributes->attributes : none, m.edges(), m.points());
+  for (std::size_t i = 0; i < m.vertices(); ++i)
+    out.vertex(Vec3d{m.pos[3 * i], m.pos[3 * i + 1], m.pos[3 * i + 2]},
+               m.attribute_count() ? &m.attributes->values[m.attribute_count() * i] : nullptr);
+  for (std::size_t t = 0; t < m.triangles(); ++t) out.triangle(&m.tri[3 * t]);
+  out.finish();
+  write_ply_primitives(sink, m, ascii);
 }
 
 // The unit normal of triangle t by the right-hand rule over its corner order; 0 when
@@ -368,6 +320,105 @@ void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const st
 }
 
 }  // namespace
+
+PlyStreamWriter::PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precision, std::uint64_t vertices,
+                                 std::uint64_t triangles, const std::vector<VertexAttribute>& attributes,
+                                 std::uint64_t edges, std::uint64_t points)
+    : sink_(sink),
+      ascii_(ascii),
+      precision_(precision),
+      vertices_(vertices),
+      triangles_(triangles),
+      attributes_(attributes) {
+  const char* type = precision == ScalarType::f32 ? "float" : "double";
+  std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
+                       " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(vertices) + "\nproperty " + type +
+                       " x\nproperty " + type + " y\nproperty " + type + " z\n";
+  // The attributes under their names and types, after x, y, z.
+  for (const VertexAttribute& a : attributes)
+    header += std::string("property ") + attribute_type_name(a.type) + " " + a.name + "\n";
+  header += "element face " + std::to_string(triangles) + "\nproperty list uchar uint vertex_indices\n";
+  if (edges > 0)
+    header += "element edge " + std::to_string(edges) +
+              "\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\n";
+  if (points > 0)
+    header += "element point " + std::to_string(points) + "\nproperty int vertex\nproperty float thickness\n";
+  header += "end_header\n";
+  sink_.write(header);
+  record_.resize(precision == ScalarType::f64 ? 24 : 12);
+  for (const VertexAttribute& a : attributes) {
+    offsets_.push_back(record_.size());
+    record_.resize(record_.size() + attribute_type_size(a.type));
+  }
+}
+
+void PlyStreamWriter::vertex(const Vec3d& p, const double* attributes) {
+  ++vertices_written_;
+  if (ascii_) {
+    append_coord(text_, p.x, precision_);
+    text_ += ' ';
+    append_coord(text_, p.y, precision_);
+    text_ += ' ';
+    append_coord(text_, p.z, precision_);
+    for (std::size_t k = 0; k < attributes_.size(); ++k) {
+      text_ += ' ';
+      const AttributeType t = attributes_[k].type;
+      if (is_integer_type(t)) {
+        char buf[24];
+        auto r = std::to_chars(buf, buf + sizeof buf, std::int64_t(attributes[k]));
+        text_.append(buf, r.ptr);
+      } else {
+        append_coord(text_, attributes[k], t == AttributeType::f64 ? ScalarType::f64 : ScalarType::f32);
+      }
+    }
+    text_ += '\n';
+    flush_text_past(1 << 16);
+    return;
+  }
+  // x86 and ARM are little-endian: values are stored as they are.
+  const AttributeType coordinate = precision_ == ScalarType::f64 ? AttributeType::f64 : AttributeType::f32;
+  const std::size_t size = precision_ == ScalarType::f64 ? 8 : 4;
+  store_attribute(p.x, coordinate, &record_[0]);
+  store_attribute(p.y, coordinate, &record_[size]);
+  store_attribute(p.z, coordinate, &record_[2 * size]);
+  for (std::size_t k = 0; k < offsets_.size(); ++k)
+    store_attribute(attributes[k], attributes_[k].type, &record_[offsets_[k]]);
+  sink_.write(record_.data(), record_.size());
+}
+
+void PlyStreamWriter::triangle(const std::uint32_t corners[3]) {
+  ++triangles_written_;
+  if (ascii_) {
+    text_ += "3 ";
+    append_uint(text_, corners[0]);
+    text_ += ' ';
+    append_uint(text_, corners[1]);
+    text_ += ' ';
+    append_uint(text_, corners[2]);
+    text_ += '\n';
+    flush_text_past(1 << 16);
+    return;
+  }
+  unsigned char rec[13];
+  rec[0] = 3;
+  std::memcpy(rec + 1, corners, 12);
+  sink_.write(rec, 13);
+}
+
+void PlyStreamWriter::finish() {
+  flush_text_past(0);
+  if (vertices_written_ != vertices_ || triangles_written_ != triangles_)
+    throw IoError("internal error: a PLY stream wrote " + std::to_string(vertices_written_) + " vertices and " +
+                  std::to_string(triangles_written_) + " faces where its header says " + std::to_string(vertices_) +
+                  " and " + std::to_string(triangles_));
+}
+
+void PlyStreamWriter::flush_text_past(std::size_t bytes) {
+  if (text_.size() > bytes || (bytes == 0 && !text_.empty())) {
+    sink_.write(text_);
+    text_.clear();
+  }
+}
 
 MeshFormat format_for_path(const std::string& path, bool ascii) {
   std::string p = path;
