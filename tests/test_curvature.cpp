@@ -297,3 +297,60 @@ TEST_CASE("curvature library: estimate_curvatures on a MeshView gives what the c
   o.radius = -1;
   CHECK_THROWS_AS(estimate_curvatures(view, o), UsageError);
 }
+
+TEST_CASE("curvature in tiles: the values in memory, for any tile side and thread count, outlines included") {
+  // An open tube: its ends are outlines, and tiles cut it across and along.
+  const double R = 1;
+  const int around = 64, along = 40;
+  TestMesh m = grid(around, along, [&](int i, int j) {
+    const double a = 2 * kPi * (i % around) / around;
+    return Vec3d{R * std::cos(a), R * std::sin(a), 2.0 * j / along - 1};
+  });
+  for (std::uint32_t& v : m.triangles)
+    if (v % (around + 1) == std::uint32_t(around)) v -= std::uint32_t(around);
+  std::vector<double> xyz;
+  for (const Vec3d& p : m.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+  MeshView view;
+  view.positions = xyz.data();
+  view.position_type = ScalarType::f64;
+  view.vertex_count = m.positions.size();
+  view.indices = m.triangles.data();
+  view.triangle_count = m.triangles.size() / 3;
+  CurvatureOptions o;
+  o.radius = 0.35;
+  const VertexCurvatures whole = estimate_curvatures(view, o);
+  REQUIRE(whole.stats.tile_side == 0);
+  CHECK(whole.stats.fitted > 0);
+  for (double side : {0.45, 0.8, 1.7}) {
+    for (unsigned threads : {1u, 2u}) {
+      o.tile_side = side;
+      o.threads = threads;
+      const VertexCurvatures tiled = estimate_curvatures(view, o);
+      INFO("tile side " << side << ", " << threads << " threads");
+      CHECK(tiled.stats.tile_side == side);
+      CHECK(tiled.k1 == whole.k1);
+      CHECK(tiled.k2 == whole.k2);
+      CHECK(tiled.stats.invariant == whole.stats.invariant);
+      CHECK(tiled.stats.fitted == whole.stats.fitted);
+      CHECK(tiled.stats.none == whole.stats.none);
+    }
+  }
+}
+
+TEST_CASE("curvature CLI in tiles: the same bytes as in memory; a budget too small for a tile exits 2") {
+  oocsimp_test::ScratchDir dir;
+  write_mesh_ply(dir.file("sphere.ply"), icosphere(1, 3));
+  const std::string in = dir.file("sphere.ply");
+  REQUIRE(oocsimp_test::run_cli("curvature " + in + " -o " + dir.file("whole.ply") + " --radius 0.4").exit_code == 0);
+  const oocsimp_test::CliResult tiled = oocsimp_test::run_cli("curvature " + in + " -o " + dir.file("tiled.ply") +
+                                                              " --radius 0.4 --tile 0.6 --threads 1");
+  REQUIRE(tiled.exit_code == 0);
+  CHECK(tiled.out.find("in tiles of side 0.6") != std::string::npos);
+  CHECK(oocsimp_test::read_file(dir.file("tiled.ply")) == oocsimp_test::read_file(dir.file("whole.ply")));
+  const oocsimp_test::CliResult small =
+      oocsimp_test::run_cli("curvature " + in + " -o " + dir.file("x.ply") + " --radius 0.4 --mem 20k");
+  CHECK(small.exit_code == 2);
+  CHECK(small.err.find("--mem") != std::string::npos);
+  CHECK(small.err.find("give at least") != std::string::npos);
+  CHECK(dir.entries() == std::vector<std::string>{"sphere.ply", "tiled.ply", "whole.ply"});
+}

@@ -60,6 +60,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.triangles", "--tris"},
     {"options.samples", "--samples"},
     {"options.radius", "--radius"},
+    {"options.tile_side", "--tile"},
     {"outputs.replace_input", "--force"},
     {"outputs.stats", "--stats"},
     {"outputs.mesh", "-o"},
@@ -707,7 +708,7 @@ int run_measure(const MeasureArgs& a) {
 
 struct CurvatureArgs {
   std::string in, out;
-  Given radius, threads, mem;
+  Given radius, threads, mem, tile;
   std::string neighbourhood = "ball";
   CurvatureOptions options;
   bool ascii = false, quiet = false;
@@ -722,7 +723,9 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   cmd->add_option("--neighbourhood", a.neighbourhood,
                   "ball: the ball cut by the solid (Hua et al. eq. 13-14); sphere: the sphere cut by it (eq. 17-18)")
       ->check(CLI::IsMember({"ball", "sphere"}));
-  add_given(cmd, "--mem", &a.mem, "Heap budget; the mesh is held in memory (default: a quarter of memory)");
+  add_given(cmd, "--mem", &a.mem,
+            "Heap budget; a mesh larger than it is estimated in tiles with a halo (default: a quarter of memory)");
+  add_given(cmd, "--tile", &a.tile, "Side of the tiles, model units (default: in memory when it fits --mem)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
@@ -735,6 +738,7 @@ int run_curvature(CurvatureArgs& a) {
   if (a.radius.given()) o.radius = positive_number("--radius", a.radius.text);
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
+  if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
   o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
@@ -749,8 +753,9 @@ int run_curvature(CurvatureArgs& a) {
                  st.fitted, st.radius, st.none);
   std::printf("curvature %" PRIu64 " vertices, %" PRIu64 " triangles, radius %g (mean edge %g), %s\n", st.vertices,
               st.triangles, st.radius, st.mean_edge_length, a.neighbourhood.c_str());
-  std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all\n", st.invariant,
-              st.fitted, st.none);
+  std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
+              st.invariant, st.fitted, st.none,
+              st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
   std::printf("time %.3f s: %.2f M vertices/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
               st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0, double(st.peak_rss_bytes) / 1048576.0,
               double(st.peak_anon_bytes) / 1048576.0);

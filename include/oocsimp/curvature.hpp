@@ -29,6 +29,9 @@ struct CurvatureOptions {
   /// diagonal.
   double radius = 0;
   CurvatureNeighbourhood neighbourhood = CurvatureNeighbourhood::ball;
+  /// Side of the cubic tiles the mesh is estimated in, model units; 0 = in memory when
+  /// it fits the budget, else tiles sized to it. The values are the same either way.
+  double tile_side = 0;
   unsigned threads = 0;             ///< 0 = all cores; the values are the same for any count
   std::uint64_t memory_budget = 0;  ///< heap bytes; 0 = default_memory_budget()
   std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
@@ -38,7 +41,8 @@ struct CurvatureOptions {
 struct CurvatureStats {
   std::uint64_t vertices = 0, triangles = 0;
   double mean_edge_length = 0;
-  double radius = 0;  ///< the radius used
+  double radius = 0;     ///< the radius used
+  double tile_side = 0;  ///< the tiles' side; 0 when the mesh was held in memory whole
   /// How the vertices' values were found: by the integral invariants; by the fallback,
   /// a quadratic fit to the vertices within the radius, where the surface does not
   /// cover the disk around the vertex (an outline, a hole, a soup); neither (no face,
@@ -56,16 +60,18 @@ struct VertexCurvatures {
 };
 
 /// The curvatures of every vertex of `mesh` (positions and indices; attributes are not
-/// read). The mesh is held in memory: UsageError when that takes more than the
-/// budget, or for a bad radius.
+/// read). A mesh larger than the budget is estimated tile by tile, each tile with a
+/// halo of the radius: the same values. UsageError for a bad radius, or a budget that
+/// cannot hold one tile and its halo (naming the smallest that can).
 VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options);
 
 /// Reads the mesh at `input_path` (any format open_mesh_input reads), estimates its
 /// curvatures and writes `output_path`, a PLY file (ascii when `ascii`, ".zst"
 /// compresses): the vertices with float properties k1 and k2 after x, y, z, and the
-/// faces. Renamed into place only when complete. Fills `stats` when given. Throws
-/// UsageError (options, a non-PLY output, a mesh larger than the budget), InputError
-/// and IoError.
+/// faces. The output is written as a stream and the values kept in a mapped temporary
+/// file, so heap memory stays within the budget for any size. Renamed into place only
+/// when complete. Fills `stats` when given. Throws UsageError (options, a non-PLY
+/// output, a budget too small for one tile), InputError and IoError.
 void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
                     const CurvatureOptions& options, CurvatureStats* stats = nullptr);
 

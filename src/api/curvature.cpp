@@ -2,14 +2,22 @@
 // budget, estimate (curvature/vertex_curvatures.hpp), write the PLY.
 #include <tbb/global_control.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "api/simplify.hpp"
 #include "common/vec3_math.hpp"
-#include "curvature/vertex_curvatures.hpp"
+#include "curvature/tiled_curvatures.hpp"
+#include "io/byte_sink.hpp"
+#include "io/mapped_file.hpp"
 #include "io/mesh_input.hpp"
+#include "io/mesh_writer_output.hpp"
+#include "io/temp_file.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "runtime/memory_usage.hpp"
 
@@ -17,47 +25,30 @@ namespace oocsimp {
 
 namespace {
 
-struct LoadedMesh {
-  std::vector<Vec3d> positions;
-  std::vector<std::uint32_t> triangles;
-};
+constexpr std::size_t kChunkTriangles = 65536;
 
-// Heap bytes the estimate holds per vertex and per triangle: positions, the faces
-// around each vertex, k1 and k2, the flat copy and the attribute values for the
-// writer, and each thread's marks.
-std::uint64_t estimate_bytes(std::uint64_t vertices, std::uint64_t triangles, unsigned threads) {
-  const std::uint64_t per_vertex = 24 + 8 + 8 + 24 + 16 + 4 * threads;
+// Heap bytes the estimate in memory holds per vertex and per triangle: positions,
+// the faces around each vertex, the outline flags, k1 and k2, and each thread's marks.
+std::uint64_t in_memory_bytes(std::uint64_t vertices, std::uint64_t triangles, unsigned threads) {
+  const std::uint64_t per_vertex = 24 + 4 + 1 + 8 + 4 * threads;
   const std::uint64_t per_triangle = 12 + 12 + 4 * threads;
   return vertices * per_vertex + triangles * per_triangle;
 }
 
-std::string mib(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.0f MiB", std::ceil(double(bytes) / 1048576.0));
-  return text;
+std::vector<Vec3d> load_positions(const MeshInput& input) {
+  std::vector<Vec3d> positions(input.positions.count);
+  for (std::uint64_t i = 0; i < input.positions.count; ++i) positions[i] = input.positions.get(i);
+  return positions;
 }
 
-void check_budget(const MeshInput& input, const CurvatureOptions& options, unsigned threads) {
-  const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
-  const std::uint64_t needed = estimate_bytes(input.info.vertex_count, input.info.face_count, threads);
-  if (input.info.vertex_count >= std::uint64_t(1) << 32)
-    throw UsageError(input.info.path + ": curvature holds the mesh in memory, and it has 2^32 vertices or more");
-  if (needed > budget)
-    throw UsageError("options.memory_budget", "options.memory_budget " + mib(budget) + " cannot hold " +
-                                                  input.info.path + ": curvature holds the whole mesh in memory, " +
-                                                  mib(needed) + " for this one");
-}
-
-LoadedMesh load(MeshInput& input) {
-  LoadedMesh mesh;
-  mesh.positions.resize(input.positions.count);
-  for (std::uint64_t i = 0; i < input.positions.count; ++i) mesh.positions[i] = input.positions.get(i);
-  mesh.triangles.reserve(3 * input.info.face_count);  // a hint: polygons fan into more
-  constexpr std::size_t kChunk = 65536;
-  std::vector<std::uint64_t> buffer(3 * kChunk);
-  while (const std::size_t n = input.triangles->read(buffer.data(), kChunk))
-    for (std::size_t i = 0; i < 3 * n; ++i) mesh.triangles.push_back(std::uint32_t(buffer[i]));
-  return mesh;
+std::vector<std::uint32_t> load_triangles(MeshInput& input, std::uint64_t count) {
+  std::vector<std::uint32_t> triangles;
+  triangles.reserve(3 * count);
+  std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
+  while (const std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles))
+    for (std::size_t i = 0; i < 3 * n; ++i) triangles.push_back(std::uint32_t(buffer[i]));
+  input.restart_triangles();
+  return triangles;
 }
 
 // The radius asked, or the default; UsageError for one that is not a positive finite
@@ -78,42 +69,98 @@ double radius_for(const CurvatureOptions& options, const Box3d& bounds, double m
   return options.radius;
 }
 
-VertexCurvatures estimate(MeshInput& input, const CurvatureOptions& options, std::vector<Vec3d>* positions_out,
-                          std::vector<std::uint32_t>* triangles_out) {
+// Every vertex's k1 and k2 into k (2 a vertex): in memory when the mesh fits the
+// budget (and no tile side is asked), else tile by tile. Both give the same values.
+CurvatureStats estimate_into(MeshInput& input, const CurvatureOptions& options, float* k) {
   const double start = now_seconds();
   PeakAnonSampler peak_anon;
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
   const unsigned threads = unsigned(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-  check_budget(input, options, threads);
-  LoadedMesh mesh = load(input);
-  VertexCurvatures out;
-  CurvatureStats& st = out.stats;
-  st.vertices = mesh.positions.size();
-  st.triangles = mesh.triangles.size() / 3;
-  st.mean_edge_length = mean_edge_length(mesh.positions, mesh.triangles);
+  if (input.info.vertex_count >= std::uint64_t(1) << 32)
+    throw UsageError(input.info.path + ": curvature names vertices by 32-bit indices, and the mesh has 2^32 or more");
+  const MeshSurvey survey = survey_mesh(input);
+  CurvatureStats st;
+  st.vertices = input.positions.count;
+  st.triangles = survey.triangles;
+  st.mean_edge_length = survey.mean_edge_length;
   VertexCurvatureSettings settings;
-  settings.radius = radius_for(options, input.info.bounds, st.mean_edge_length);
+  settings.radius = radius_for(options, input.info.bounds, survey.mean_edge_length);
   settings.neighbourhood = options.neighbourhood;
   st.radius = settings.radius;
-  if (settings.radius > 0) {
-    const VertexCurvatureCounts counts = vertex_curvatures(mesh.positions, mesh.triangles, settings, &out.k1, &out.k2);
+  if (!(settings.radius > 0)) {  // no side of any length: nothing to measure
+    st.none = st.vertices;
+  } else {
+    const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+    VertexCurvatureCounts counts;
+    if (options.tile_side == 0 && in_memory_bytes(st.vertices, st.triangles, threads) <= budget) {
+      const std::vector<Vec3d> positions = load_positions(input);
+      const std::vector<std::uint32_t> triangles = load_triangles(input, survey.triangles);
+      std::vector<float> k1, k2;
+      counts = vertex_curvatures(positions, triangles, settings, &k1, &k2);
+      for (std::size_t v = 0; v < k1.size(); ++v) k[2 * v] = k1[v], k[2 * v + 1] = k2[v];
+    } else {
+      TiledCurvatureSettings tiled;
+      tiled.vertex = settings;
+      tiled.longest_edge = survey.longest_edge;
+      tiled.tile_side = options.tile_side;
+      tiled.memory_budget = budget;
+      tiled.temp_dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
+      const double side = curvature_tile_side(input, tiled, threads);
+      counts = tiled_vertex_curvatures(input, tiled, side, k);
+      st.tile_side = side;
+    }
     st.invariant = counts.invariant;
     st.fitted = counts.fitted;
     st.none = counts.none;
-  } else {  // no edge of any length: nothing to measure
-    out.k1.assign(st.vertices, 0);
-    out.k2.assign(st.vertices, 0);
-    st.none = st.vertices;
   }
-  if (positions_out) *positions_out = std::move(mesh.positions);
-  if (triangles_out) *triangles_out = std::move(mesh.triangles);
   st.seconds = now_seconds() - start;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = peak_anon.peak();
-  return out;
+  return st;
 }
+
+// The mesh with k1 and k2 as PLY, streamed: positions from the input, the values from
+// k, the faces read again.
+void write_curvature_ply(OutputFile& out, MeshInput& input, const float* k, std::uint64_t triangles, bool ascii) {
+  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  const std::vector<VertexAttribute> attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0},
+                                                   VertexAttribute{"k2", AttributeType::f32, 0, 0}};
+  PlyStreamWriter ply(sink, ascii, input.info.double_precision ? ScalarType::f64 : ScalarType::f32,
+                      input.positions.count, triangles, attributes);
+  for (std::uint64_t v = 0; v < input.positions.count; ++v) {
+    const double values[2] = {k[2 * v], k[2 * v + 1]};
+    ply.vertex(input.positions.get(v), values);
+  }
+  std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
+  while (const std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles))
+    for (std::size_t t = 0; t < n; ++t) {
+      const std::uint32_t corners[3] = {std::uint32_t(buffer[3 * t]), std::uint32_t(buffer[3 * t + 1]),
+                                        std::uint32_t(buffer[3 * t + 2])};
+      ply.triangle(corners);
+    }
+  ply.finish();
+  sink.finish();
+}
+
+// k1 and k2 of every vertex in a temporary file, mapped: out of the heap, for inputs
+// larger than memory.
+class MappedValues {
+ public:
+  MappedValues(const std::string& dir, std::uint64_t vertices) : file_(dir, "curvature-values") {
+    const std::uint64_t bytes = std::max<std::uint64_t>(8 * vertices, 8);
+    if (::ftruncate(file_.fd(), off_t(bytes)) != 0)
+      throw IoError(file_.path() + ": cannot make room for the curvature values (" + std::to_string(bytes) +
+                    " bytes): " + std::strerror(errno));
+    map_ = std::make_unique<MappedFile>(file_.path(), MapAccess::read_write);
+  }
+  float* data() { return reinterpret_cast<float*>(map_->writable_data()); }
+
+ private:
+  TempFile file_;
+  std::unique_ptr<MappedFile> map_;
+};
 
 }  // namespace
 
@@ -121,7 +168,13 @@ VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOption
   AttributeSelection none;
   none.mode = AttributeSelection::Mode::none;
   MeshInput input = open_mesh_view(mesh, none);
-  return estimate(input, options, nullptr, nullptr);
+  std::vector<float> k(2 * input.positions.count, 0);
+  VertexCurvatures out;
+  out.stats = estimate_into(input, options, k.data());
+  out.k1.resize(input.positions.count);
+  out.k2.resize(input.positions.count);
+  for (std::size_t v = 0; v < out.k1.size(); ++v) out.k1[v] = k[2 * v], out.k2[v] = k[2 * v + 1];
+  return out;
 }
 
 void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
@@ -135,27 +188,12 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
   open.progress = options.progress;
   open.attributes.mode = AttributeSelection::Mode::none;
   MeshInput input = open_mesh_input(input_path, open);
-  std::vector<Vec3d> positions;
-  std::vector<std::uint32_t> triangles;
-  VertexCurvatures k = estimate(input, options, &positions, &triangles);
-  std::vector<double> flat(3 * positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    flat[3 * v] = positions[v].x;
-    flat[3 * v + 1] = positions[v].y;
-    flat[3 * v + 2] = positions[v].z;
-  }
-  std::vector<Vec3d>().swap(positions);
-  AttributeValues values;
-  values.attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0},
-                       VertexAttribute{"k2", AttributeType::f32, 0, 0}};
-  values.values.resize(2 * k.k1.size());
-  for (std::size_t v = 0; v < k.k1.size(); ++v) {
-    values.values[2 * v] = k.k1[v];
-    values.values[2 * v + 1] = k.k2[v];
-  }
-  write_mesh(output_path, flat, triangles, format, input.info.double_precision ? ScalarType::f64 : ScalarType::f32,
-             &values);
-  if (stats) *stats = k.stats;
+  OutputFile out(output_path);
+  MappedValues k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
+  const CurvatureStats st = estimate_into(input, options, k.data());
+  write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);
+  out.commit();
+  if (stats) *stats = st;
 }
 
 }  // namespace oocsimp

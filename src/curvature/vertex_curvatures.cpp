@@ -188,17 +188,44 @@ class VertexEstimator {
 
 }  // namespace
 
-double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
-  double sum = 0;
-  std::uint64_t count = 0;
-  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3)
-    for (int k = 0; k < 3; ++k) {
-      const double l =
-          distance(positions[triangles[f + std::size_t(k)]], positions[triangles[f + std::size_t(k + 1) % 3]]);
-      if (std::isfinite(l)) sum += l, ++count;
+namespace {
+
+// Estimates vertex vertex_of(i) for i in [0, count), handing each result to
+// store(i, k); counts the outcomes.
+template <class VertexOf, class Store>
+VertexCurvatureCounts estimate_each(const VertexEstimator& estimator, std::size_t count, const VertexOf& vertex_of,
+                                    const Store& store) {
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::combinable<VertexCurvatureCounts> counts;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    Scratch& s = scratch.local();
+    VertexCurvatureCounts& c = counts.local();
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      PrincipalCurvatures k;
+      switch (estimator.estimate(vertex_of(i), &s, &k)) {
+        case VertexEstimator::Outcome::invariant:
+          ++c.invariant;
+          break;
+        case VertexEstimator::Outcome::fitted:
+          ++c.fitted;
+          break;
+        case VertexEstimator::Outcome::none:
+          ++c.none;
+          break;
+      }
+      store(i, k);
     }
-  return count ? sum / double(count) : 0;
+  });
+  VertexCurvatureCounts total;
+  counts.combine_each([&](const VertexCurvatureCounts& c) {
+    total.invariant += c.invariant;
+    total.fitted += c.fitted;
+    total.none += c.none;
+  });
+  return total;
 }
+
+}  // namespace
 
 VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
                                         const std::vector<std::uint32_t>& triangles,
@@ -207,36 +234,28 @@ VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
   const VertexEstimator estimator(positions, triangles, settings);
   k1->assign(positions.size(), 0);
   k2->assign(positions.size(), 0);
-  tbb::enumerable_thread_specific<Scratch> scratch;
-  tbb::combinable<VertexCurvatureCounts> counts;
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(positions.size()), 1024),
-                    [&](const tbb::blocked_range<std::uint32_t>& range) {
-                      Scratch& s = scratch.local();
-                      VertexCurvatureCounts& c = counts.local();
-                      for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
-                        PrincipalCurvatures k;
-                        switch (estimator.estimate(v, &s, &k)) {
-                          case VertexEstimator::Outcome::invariant:
-                            ++c.invariant;
-                            break;
-                          case VertexEstimator::Outcome::fitted:
-                            ++c.fitted;
-                            break;
-                          case VertexEstimator::Outcome::none:
-                            ++c.none;
-                            break;
-                        }
-                        (*k1)[v] = float(k.k1);
-                        (*k2)[v] = float(k.k2);
-                      }
-                    });
-  VertexCurvatureCounts total;
-  counts.combine_each([&](const VertexCurvatureCounts& c) {
-    total.invariant += c.invariant;
-    total.fitted += c.fitted;
-    total.none += c.none;
-  });
-  return total;
+  return estimate_each(
+      estimator, positions.size(), [](std::size_t i) { return std::uint32_t(i); },
+      [&](std::size_t i, const PrincipalCurvatures& k) {
+        (*k1)[i] = float(k.k1);
+        (*k2)[i] = float(k.k2);
+      });
+}
+
+VertexCurvatureCounts vertex_curvatures_of(const std::vector<Vec3d>& positions,
+                                           const std::vector<std::uint32_t>& triangles,
+                                           const VertexCurvatureSettings& settings,
+                                           const std::vector<std::uint32_t>& which, std::vector<float>* k1,
+                                           std::vector<float>* k2) {
+  const VertexEstimator estimator(positions, triangles, settings);
+  k1->assign(which.size(), 0);
+  k2->assign(which.size(), 0);
+  return estimate_each(
+      estimator, which.size(), [&](std::size_t i) { return which[i]; },
+      [&](std::size_t i, const PrincipalCurvatures& k) {
+        (*k1)[i] = float(k.k1);
+        (*k2)[i] = float(k.k2);
+      });
 }
 
 }  // namespace oocsimp

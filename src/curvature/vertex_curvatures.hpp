@@ -22,10 +22,6 @@ struct VertexCurvatureCounts {
   std::uint64_t none = 0;       ///< neither (no face, no area, or too few neighbours): 0 and 0
 };
 
-/// The mean length of the mesh's edges (each face's three sides; shared sides count
-/// once per face): the scale of the default radius.
-double mean_edge_length(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
-
 /// k1 and k2 (k1 >= k2) of each vertex of the mesh (3 indices per triangle, wound
 /// counter-clockwise seen from outside), in parallel; the same for any thread count.
 /// The surface around a vertex is the faces reached from it through shared vertices
@@ -35,5 +31,15 @@ VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
                                         const std::vector<std::uint32_t>& triangles,
                                         const VertexCurvatureSettings& settings, std::vector<float>* k1,
                                         std::vector<float>* k2);
+
+/// The same for the vertices in `which` only: k1[i] and k2[i] (resized to
+/// which.size()) for vertex which[i]. A vertex's values depend only on the faces
+/// within the radius (and on the faces around their corners): a tile of the mesh that
+/// holds them gives the values the whole mesh gives.
+VertexCurvatureCounts vertex_curvatures_of(const std::vector<Vec3d>& positions,
+                                           const std::vector<std::uint32_t>& triangles,
+                                           const VertexCurvatureSettings& settings,
+                                           const std::vector<std::uint32_t>& which, std::vector<float>* k1,
+                                           std::vector<float>* k2);
 
 }  // namespace oocsimp
