@@ -321,6 +321,17 @@ TEST_CASE("curvature in tiles: the values in memory, for any tile side and threa
   const VertexCurvatures whole = estimate_curvatures(view, o);
   REQUIRE(whole.stats.tile_side == 0);
   CHECK(whole.stats.fitted > 0);
+  o.neighbourhood = CurvatureNeighbourhood::sphere;
+  const VertexCurvatures whole_sphere = estimate_curvatures(view, o);
+  for (double side : {0.45, 0.8, 1.7}) {
+    o.tile_side = side;
+    o.threads = 1;
+    const VertexCurvatures tiled = estimate_curvatures(view, o);
+    INFO("the sphere's neighbourhood, tile side " << side);
+    CHECK(tiled.k1 == whole_sphere.k1);
+    CHECK(tiled.k2 == whole_sphere.k2);
+  }
+  o.neighbourhood = CurvatureNeighbourhood::ball;
   for (double side : {0.45, 0.8, 1.7}) {
     for (unsigned threads : {1u, 2u}) {
       o.tile_side = side;
