@@ -113,7 +113,7 @@ TEST_CASE("curvature: the sign follows the outward normal: a sphere wound inside
   }
 }
 
-TEST_CASE("curvature: a cylinder's side has 1/R and 0 within 5%; its open ends fall back to the fit") {
+TEST_CASE("curvature: a cylinder's side has 1/R and 0 within 5%, and its open ends fall back to the fit") {
   const double R = 1.5, length = 2.4;
   const int around = 256, along = 96;
   // Vertices around the circle at angle 2 pi i / around, the seam joined by mapping
@@ -348,7 +348,7 @@ TEST_CASE("curvature in tiles: the values in memory, for any tile side and threa
   }
 }
 
-TEST_CASE("curvature CLI in tiles: the same bytes as in memory; a budget too small for a tile exits 2") {
+TEST_CASE("curvature CLI in tiles: the same bytes as in memory, and a budget too small for a tile exits 2") {
   oocsimp_test::ScratchDir dir;
   write_mesh_ply(dir.file("sphere.ply"), icosphere(1, 3));
   const std::string in = dir.file("sphere.ply");

@@ -203,10 +203,13 @@ TEST_CASE("phase 1's size follows --intermediate-factor, and a small --mem lower
   }
 }
 
-TEST_CASE("a target without --method is --method qem; with floating or uniform it clusters first",
+TEST_CASE("a target without --method is --method qem, and with floating or uniform it clusters first",
           "[multiphase][cli]") {
   ScratchDir d;
-  const std::string in = generated(d, "parts", 60000);
+  // Above the least intermediate (65536 triangles), and smooth, so that floating's
+  // phase 1 runs and is kept (on the parts mesh its collapse gets stuck in the
+  // tangles, and the retries end in the whole input collapsing instead).
+  const std::string in = generated(d, "sphere", 200000);
   REQUIRE(simplify(in, d.file("default.ply"), "--target-tris 3000 --stats " + q(d.file("default.json"))).exit_code ==
           0);
   REQUIRE(simplify(in, d.file("qem.ply"), "--method qem --target-tris 3000").exit_code == 0);
