@@ -71,6 +71,33 @@ TestMesh grid(int nu, int nv, const Point& point) {
   return m;
 }
 
+// An open tube of radius R along z over [-length/2, length/2]: `around` vertices on
+// each circle (at angle 2 pi i / around), `along` rings of faces, the seam joined by
+// mapping the grid's last column onto its first.
+TestMesh tube(double R, double length, int around, int along) {
+  TestMesh m = grid(around, along, [&](int i, int j) {
+    const double a = 2 * kPi * (i % around) / around;
+    return Vec3d{R * std::cos(a), R * std::sin(a), length * j / along - length / 2};
+  });
+  for (std::uint32_t& v : m.triangles)
+    if (v % (around + 1) == std::uint32_t(around)) v -= std::uint32_t(around);
+  return m;
+}
+
+// A MeshView of a test mesh, over its positions as packed doubles.
+struct ViewOf {
+  std::vector<double> xyz;
+  MeshView view;
+  explicit ViewOf(const TestMesh& m) {
+    for (const Vec3d& p : m.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+    view.positions = xyz.data();
+    view.position_type = ScalarType::f64;
+    view.vertex_count = m.positions.size();
+    view.indices = m.triangles.data();
+    view.triangle_count = m.triangles.size() / 3;
+  }
+};
+
 struct Curvatures {
   std::vector<float> k1, k2;
   VertexCurvatureCounts counts;
@@ -116,14 +143,7 @@ TEST_CASE("curvature: the sign follows the outward normal: a sphere wound inside
 TEST_CASE("curvature: a cylinder's side has 1/R and 0 within 5%, and its open ends fall back to the fit") {
   const double R = 1.5, length = 2.4;
   const int around = 256, along = 96;
-  // Vertices around the circle at angle 2 pi i / around, the seam joined by mapping
-  // the last column onto the first.
-  TestMesh m = grid(around, along, [&](int i, int j) {
-    const double a = 2 * kPi * (i % around) / around;
-    return Vec3d{R * std::cos(a), R * std::sin(a), length * j / along - length / 2};
-  });
-  for (std::uint32_t& v : m.triangles)
-    if (v % (around + 1) == std::uint32_t(around)) v -= std::uint32_t(around);
+  const TestMesh m = tube(R, length, around, along);
   const double radius = 0.3;
   const Curvatures c = estimate(m, radius);
   CHECK(c.counts.fitted > 0);  // the ends
@@ -277,14 +297,8 @@ TEST_CASE("curvature CLI: a sphere's PLY gets k1 and k2 of 1/R, and bad radii an
 
 TEST_CASE("curvature library: estimate_curvatures on a MeshView gives what the command writes, with its counts") {
   const TestMesh m = icosphere(1, 3);
-  std::vector<double> xyz;
-  for (const Vec3d& p : m.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
-  MeshView view;
-  view.positions = xyz.data();
-  view.position_type = ScalarType::f64;
-  view.vertex_count = m.positions.size();
-  view.indices = m.triangles.data();
-  view.triangle_count = m.triangles.size() / 3;
+  const ViewOf of(m);
+  const MeshView& view = of.view;
   CurvatureOptions o;
   o.radius = 0.4;
   const VertexCurvatures k = estimate_curvatures(view, o);
@@ -302,20 +316,9 @@ TEST_CASE("curvature in tiles: the values in memory, for any tile side and threa
   // An open tube: its ends are outlines, and tiles cut it across and along.
   const double R = 1;
   const int around = 64, along = 40;
-  TestMesh m = grid(around, along, [&](int i, int j) {
-    const double a = 2 * kPi * (i % around) / around;
-    return Vec3d{R * std::cos(a), R * std::sin(a), 2.0 * j / along - 1};
-  });
-  for (std::uint32_t& v : m.triangles)
-    if (v % (around + 1) == std::uint32_t(around)) v -= std::uint32_t(around);
-  std::vector<double> xyz;
-  for (const Vec3d& p : m.positions) xyz.insert(xyz.end(), {p.x, p.y, p.z});
-  MeshView view;
-  view.positions = xyz.data();
-  view.position_type = ScalarType::f64;
-  view.vertex_count = m.positions.size();
-  view.indices = m.triangles.data();
-  view.triangle_count = m.triangles.size() / 3;
+  const TestMesh m = tube(R, 2, around, along);
+  const ViewOf of(m);
+  const MeshView& view = of.view;
   CurvatureOptions o;
   o.radius = 0.35;
   const VertexCurvatures whole = estimate_curvatures(view, o);
