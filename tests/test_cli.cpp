@@ -853,7 +853,7 @@ TEST_CASE("help is grouped with plain value lists, mistyped flags get a suggesti
   CliResult r = run_cli("simplify --help");
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("Floating method only") != std::string::npos);
-  CHECK(r.out.find("{auto,floating,uniform,qem}") != std::string::npos);
+  CHECK(r.out.find("{auto,floating,uniform,curvature,qem}") != std::string::npos);
   CHECK(r.out.find("->") == std::string::npos);  // no enum internals
   CHECK(r.out.find(" OR ") == std::string::npos);
   r = run_cli("--version");
@@ -893,7 +893,7 @@ TEST_CASE("messages show the flag of each option field they name, and leave path
   // The option at fault first, then advice naming another field.
   CliResult r = run_cli("simplify --quiet --lods 2 --method qem " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")));
   CHECK(r.exit_code == 2);
-  CHECK(r.err == "oocsimp: --lods needs a clustering method (--method floating or uniform)\n");
+  CHECK(r.err == "oocsimp: --lods needs a clustering method (--method floating, uniform or curvature)\n");
   // A file whose name spells a field keeps its name.
   const std::string odd = d.file("outputs.mesh.ply");
   r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(odd) + " --stats " + q(odd));

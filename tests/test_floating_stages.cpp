@@ -492,18 +492,18 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
   CHECK(js.find("\"rerun\": ") != std::string::npos);
 }
 
-TEST_CASE("both methods are rows of one table that simplify() and the CLI use", "[stages][methods]") {
+TEST_CASE("the methods are rows of one table that simplify() and the CLI use", "[stages][methods]") {
   const std::vector<ClusterMethodEntry>& m = cluster_method_table();
-  REQUIRE(m.size() == 3);
+  REQUIRE(m.size() == 4);
   CHECK(m[0].method == ClusterMethod::floating);  // the default first
-  CHECK(cluster_methods() ==
-        std::vector<ClusterMethod>{ClusterMethod::floating, ClusterMethod::uniform, ClusterMethod::qem});
+  CHECK(cluster_methods() == std::vector<ClusterMethod>{ClusterMethod::floating, ClusterMethod::uniform,
+                                                        ClusterMethod::curvature, ClusterMethod::qem});
   std::set<std::string> names;
   for (const ClusterMethodEntry& e : m) {
     CHECK((e.run != nullptr) == (e.method != ClusterMethod::qem));  // qem clusters nothing
     CHECK(names.insert(method_name(e.method)).second);
     CHECK(&cluster_method(e.method) == &e);
   }
-  CHECK(names == std::set<std::string>{"floating", "uniform", "qem"});
+  CHECK(names == std::set<std::string>{"floating", "uniform", "curvature", "qem"});
   CHECK(run_cli("simplify --method nosuch in.ply -o out.ply").exit_code == 2);
 }

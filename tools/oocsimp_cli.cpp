@@ -60,6 +60,11 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.triangles", "--tris"},
     {"options.samples", "--samples"},
     {"options.radius", "--radius"},
+    {"options.curvature.radius", "--radius"},
+    {"options.curvature.tolerance", "--curvature-tolerance"},
+    {"options.curvature.max_depth", "--max-depth"},
+    {"options.curvature.representative", "--rep"},
+    {"options.floating.representative", "--rep"},
     {"options.tile_side", "--tile"},
     {"outputs.replace_input", "--force"},
     {"outputs.stats", "--stats"},
@@ -209,6 +214,11 @@ struct SimplifyArgs {
   Given lods, lod_factor;
   CLI::Option* refine = nullptr;
   std::vector<CLI::Option*> floating_only;
+  RepresentativeRule representative = RepresentativeRule::quadric;
+  CLI::Option* rep = nullptr;
+  Given radius, curvature_tolerance, max_depth;
+  std::string neighbourhood = "ball";
+  std::vector<CLI::Option*> curvature_only;
   bool measure = false;
   bool quiet = false;
 };
@@ -255,9 +265,6 @@ void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
                       "Vertex in several cells: " +
                           value_list(assign_rule_names(),
                                      {{AssignRule::nearest, "centre, the default"}, {AssignRule::heaviest, nullptr}})),
-      add_enum_option(
-          cmd, "--rep", &f.representative, representative_rule_names(),
-          std::string("Representative vertex (default ") + representative_name(RepresentativeRule::quadric) + ")"),
       add_given(cmd, "--tile", &a.tile,
                 "Tile side in model units (default: from --mem); refused when the tiles' buffers (9 KiB each) "
                 "exceed a quarter of --mem"),
@@ -274,6 +281,27 @@ void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
   };
   for (CLI::Option* o : a.floating_only)
     o->group("Floating method only (--method floating, the default without a target)");
+  a.rep = add_enum_option(cmd, "--rep", &a.representative, representative_rule_names(),
+                          "Where a cluster's vertex goes: floating takes quadric (its default), centre or mean; "
+                          "curvature takes vertex (its default: the matching input vertex of least quadric error) or "
+                          "quadric");
+  a.rep->group("Floating and curvature methods");
+}
+
+// The curvature method's own options: refused with another method.
+void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
+  a.curvature_only = {
+      add_given(cmd, "--radius", &a.radius,
+                "Radius of the integral invariants' ball or sphere, model units (default 5 mean edge lengths)"),
+      cmd->add_option("--neighbourhood", a.neighbourhood,
+                      "ball (the default: the ball cut by the solid) or sphere (the sphere cut by it)")
+          ->check(CLI::IsMember({"ball", "sphere"})),
+      add_given(cmd, "--curvature-tolerance", &a.curvature_tolerance,
+                "A cell of side s is split where a vertex's curvature differs from the cell's mean by more than "
+                "this / s (default 0.25)"),
+      add_given(cmd, "--max-depth", &a.max_depth, "Splits of a grid cell, 0 to 6 (default 3)"),
+  };
+  for (CLI::Option* o : a.curvature_only) o->group("Curvature method only (--method curvature)");
 }
 
 CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
@@ -292,6 +320,9 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                              {{ClusterMethod::automatic, "the default: qem with a target, floating without"},
                               {ClusterMethod::floating, "Low & Tan; with a target, clustering then collapse"},
                               {ClusterMethod::uniform, "OoCS grid; the same"},
+                              {ClusterMethod::curvature,
+                               "Hua et al.: grid cells split where principal curvatures differ, one cluster per "
+                               "connected part of a cell; the same"},
                               {ClusterMethod::qem,
                                "edge collapse, out of core in tiles on a large input; with a target or --ratio's "
                                "default share, exactly"}}));
@@ -322,6 +353,7 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                   "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)");
   cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
   add_floating_options(cmd, a);
+  add_curvature_options(cmd, a);
   return cmd;
 }
 
@@ -332,6 +364,31 @@ void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, const 
   for (const CLI::Option* o : floating_only)
     if (o->count() > 0)
       throw UsageError(o->get_name() + " applies to --method floating only, not to --method " + method + why);
+}
+
+void refuse_curvature_only(const std::vector<CLI::Option*>& curvature_only, const SimplifyOptions& options) {
+  const std::string method = method_name(resolved_method(options));
+  for (const CLI::Option* o : curvature_only)
+    if (o->count() > 0) throw UsageError(o->get_name() + " applies to --method curvature only, not to --method " + method);
+}
+
+// --rep for the method that takes it: floating's rules or curvature's.
+void set_representative(const SimplifyArgs& a, SimplifyOptions* o) {
+  if (a.rep->count() == 0) return;
+  const ClusterMethod m = resolved_method(*o);
+  const RepresentativeRule r = a.representative;
+  const std::string name = representative_name(r);
+  if (m == ClusterMethod::floating) {
+    if (r == RepresentativeRule::vertex)
+      throw UsageError("--rep vertex applies to --method curvature; floating takes quadric, centre or mean");
+    o->floating.representative = r;
+  } else if (m == ClusterMethod::curvature) {
+    if (r != RepresentativeRule::vertex && r != RepresentativeRule::quadric)
+      throw UsageError("--rep " + name + " applies to --method floating; curvature takes vertex or quadric");
+    o->curvature.representative = r;
+  } else {
+    throw UsageError(std::string("--rep applies to --method floating or curvature, not to --method ") + method_name(m));
+  }
 }
 
 // What simplify runs with, checked.
@@ -348,6 +405,13 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
   if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
   if (resolved_method(o) != ClusterMethod::floating) refuse_floating_only(a.floating_only, o);
+  if (resolved_method(o) != ClusterMethod::curvature) refuse_curvature_only(a.curvature_only, o);
+  set_representative(a, &o);
+  if (a.radius.given()) o.curvature.radius = positive_number("--radius", a.radius.text);
+  o.curvature.sphere_neighbourhood = a.neighbourhood == "sphere";
+  if (a.curvature_tolerance.given())
+    o.curvature.tolerance = positive_number("--curvature-tolerance", a.curvature_tolerance.text);
+  if (a.max_depth.given()) o.curvature.max_depth = std::uint32_t(whole_number("--max-depth", a.max_depth.text, 0, 6));
   if (a.refine->count() > 0 && !o.target.given())
     throw UsageError("--refine applies with a target: give --target-tris, --target-ratio or --max-error");
   if (a.intermediate_factor.given()) {

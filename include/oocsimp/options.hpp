@@ -18,6 +18,9 @@ enum class ClusterMethod {
   automatic,  ///< qem with a target (TargetOptions), floating without one: see resolved_method()
   uniform,    ///< Lindstrom's OoCS: uniform grid cells, quadric representatives
   floating,   ///< Low & Tan's floating cells on a tiled out-of-core grid
+  /// Hua et al.: uniform cells split as an octree where the vertices' principal
+  /// curvatures disagree, clusters the connected parts of each cell
+  curvature,
   /// No clustering: quadric edge collapse, in tiles out of core on a large input, then
   /// whole (the quality reference)
   qem,
@@ -38,11 +41,15 @@ enum class AssignRule {
   heaviest,  ///< Low & Tan §3.2: the heaviest centre (the first cell that took it)
 };
 
-/// Floating cells: where a cluster's output vertex goes.
+/// Where a cluster's output vertex goes. Floating takes quadric, centre and mean;
+/// curvature takes vertex and quadric.
 enum class RepresentativeRule {
   quadric,  ///< minimiser of the cluster's summed vertex quadrics, kept in the cell
   centre,   ///< the centre vertex (Low & Tan)
   mean,     ///< the mean of the cluster's vertices
+  /// the cluster's vertex whose curvatures match its cell's, with the least quadric
+  /// error (Hua et al. §3.3 step 3 and §3.4)
+  vertex,
 };
 
 /// Floating: whether the triangle, stitch and kept-triangle spills under temp_dir are
@@ -86,6 +93,22 @@ struct FloatingOptions {
   SpillCompression spill_compression = SpillCompression::automatic;
 };
 
+/// The curvature method's own options (SimplifyOptions::curvature): Hua et al. §3.4,
+/// with the choices the paper leaves open in docs/curvature.md.
+struct CurvatureClusterOptions {
+  /// Of the integral invariants' ball or sphere, model units; 0 = 5 mean edge lengths
+  /// (CurvatureOptions::radius).
+  double radius = 0;
+  bool sphere_neighbourhood = false;  ///< the sphere variant (eq. 15-18) instead of the ball (eq. 8-14)
+  /// A vertex matches a cell of side s when each principal curvature differs from the
+  /// cell's mean by at most tolerance / s (radians of turn across the cell); a cell
+  /// where one does not is split into eight, down to max_depth.
+  double tolerance = 0.25;
+  std::uint32_t max_depth = 3;  ///< splits of a grid cell, 0 to 6
+  /// Where a cluster's output vertex goes: vertex (the paper's) or quadric.
+  RepresentativeRule representative = RepresentativeRule::vertex;
+};
+
 /// An exact size for the output: clustering (the method) down to about
 /// intermediate_factor times the target, then quadric edge collapse down to it, from
 /// the clusters' summed quadrics. Give at most one of triangles and ratio, and no
@@ -108,6 +131,7 @@ struct SimplifyOptions {
   TargetOptions target;
   ClusterMethod method = ClusterMethod::automatic;
   FloatingOptions floating;         ///< read by the floating method only
+  CurvatureClusterOptions curvature;  ///< read by the curvature method only
   std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
   /// Whether memory_budget bounds the whole process's anonymous memory, what it held
   /// before the run included (the CLI: the process is the run), or only what the run

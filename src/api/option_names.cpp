@@ -9,6 +9,7 @@ const EnumNames<ClusterMethod>& cluster_method_names() {
       {ClusterMethod::automatic, "auto"},
       {ClusterMethod::floating, "floating"},
       {ClusterMethod::uniform, "uniform"},
+      {ClusterMethod::curvature, "curvature"},
       {ClusterMethod::qem, "qem"}};
   return names;
 }
@@ -26,7 +27,8 @@ const EnumNames<AssignRule>& assign_rule_names() {
 const EnumNames<RepresentativeRule>& representative_rule_names() {
   static const EnumNames<RepresentativeRule> names = {{RepresentativeRule::quadric, "quadric"},
                                                       {RepresentativeRule::centre, "centre"},
-                                                      {RepresentativeRule::mean, "mean"}};
+                                                      {RepresentativeRule::mean, "mean"},
+                                                      {RepresentativeRule::vertex, "vertex"}};
   return names;
 }
 

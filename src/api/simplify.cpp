@@ -83,6 +83,33 @@ ScalarType output_precision(const MeshInput& input, Precision precision) {
 
 namespace {
 
+// The representative rules and the curvature method's numbers, each refused naming
+// its option.
+void check_method_options(const MeshInput& input, const SimplifyOptions& options) {
+  const ClusterMethod m = resolved_method(options);
+  if (m == ClusterMethod::floating && options.floating.representative == RepresentativeRule::vertex)
+    throw UsageError("options.floating.representative",
+                     "options.floating.representative vertex applies to the curvature method; floating takes "
+                     "quadric, centre or mean");
+  if (m != ClusterMethod::curvature) return;
+  const CurvatureClusterOptions& c = options.curvature;
+  if (c.representative != RepresentativeRule::vertex && c.representative != RepresentativeRule::quadric)
+    throw UsageError("options.curvature.representative",
+                     std::string("options.curvature.representative ") + representative_name(c.representative) +
+                         ": the curvature method takes vertex or quadric");
+  if (!(c.tolerance > 0) || !std::isfinite(c.tolerance))
+    throw UsageError("options.curvature.tolerance", "options.curvature.tolerance must be a positive finite number");
+  if (c.max_depth > 6) throw UsageError("options.curvature.max_depth", "options.curvature.max_depth must be 0 to 6");
+  const Box3d& b = input.info.bounds;
+  const double diagonal = b.empty() ? 0 : length(b.max - b.min);
+  if (!(c.radius >= 0) || !std::isfinite(c.radius) || c.radius > diagonal) {
+    std::ostringstream msg;
+    msg << "options.curvature.radius " << c.radius
+        << ": expected a positive finite length no longer than the bounding box's diagonal (" << diagonal << ")";
+    throw UsageError("options.curvature.radius", msg.str());
+  }
+}
+
 // What every run checks and records before its work: the budget's minimum, thick
 // edges' methods, the float range, the input's counts and notes.
 SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) {
@@ -99,6 +126,7 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
     throw UsageError("options.thick_edges",
                      "options.thick_edges needs a clustering method without a target (options.method floating or "
                      "uniform; exact targets do not make thick edges yet)");
+  check_method_options(input, options);
   check_float_range(input);
   SimplifyStats st;
   st.input_vertices = input.positions.count;
@@ -165,7 +193,8 @@ void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
   if (!(lods.factor > 1) || !std::isfinite(lods.factor))
     throw UsageError("options.lods.factor", "options.lods.factor must be a number above 1");
   if (options.method == ClusterMethod::qem)
-    throw UsageError("options.lods", "options.lods needs a clustering method (options.method floating or uniform)");
+    throw UsageError("options.lods",
+                     "options.lods needs a clustering method (options.method floating, uniform or curvature)");
   if (options.target.max_error > 0)
     throw UsageError("options.lods",
                      "options.lods halves a triangle target per level; it does not take options.target.max_error");

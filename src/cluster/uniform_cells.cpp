@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cluster/attribute_sums.hpp"
+#include "cluster/curvature_cells.hpp"
 #include "cluster/plane_quadric.hpp"
 #include "cluster/thick_primitives.hpp"
 #include "common/huge_pages.hpp"
@@ -293,7 +294,7 @@ void merge_thick_sums(const ThickSums& chunk, const std::vector<std::uint32_t>& 
 // cells' numbers: thicknesses from the edges' corner moments (relative to each cell's
 // corner) and the points' widths from their cells' vertex sums.
 ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept, const CellMap<CellRecord>& cells,
-                                 const GridSpec& grid) {
+                                 const CellKeys& keys) {
   std::vector<std::uint32_t> triangles(3 * kept.size());
   for (std::size_t t = 0; t < kept.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k) triangles[3 * t + k] = kept[t][k];
@@ -305,7 +306,7 @@ ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept
     e.b = std::uint32_t(key & 0xFFFFFFFFu);
     const EdgeMoments& m = thick.edges.value(i);
     e.thickness =
-        float(edge_thickness(m.a, grid.cell_min_relative(cells.key(e.a)), m.b, grid.cell_min_relative(cells.key(e.b))));
+        float(edge_thickness(m.a, keys.cell_min(cells.key(e.a)), m.b, keys.cell_min(cells.key(e.b))));
   }
   std::vector<std::pair<std::uint32_t, float>> points;
   for (std::size_t c = 0; c < thick.collapsed.size() && c < cells.size(); ++c)
@@ -343,8 +344,34 @@ std::uint32_t TableBudget::coarser_resolution(double cells) const {
   return std::uint32_t(lo);
 }
 
-UniformCells::UniformCells(const GridSpec& grid, const AttributeArray& attributes)
-    : grid_(grid), attributes_(std::make_unique<const UniformAttributeSums>(attributes)) {}
+Vec3d CellKeys::cell_min(std::uint64_t key) const {
+  return clusters_ ? clusters_->cell_min_relative(std::uint32_t(key)) : grid_.cell_min_relative(key);
+}
+
+double CellKeys::cell_side(std::uint64_t key) const {
+  return clusters_ ? clusters_->cell_side(std::uint32_t(key)) : grid_.cell;
+}
+
+std::uint64_t CellKeys::cluster_of(std::uint64_t vertex) const { return clusters_->cluster(vertex); }
+
+// The vertex choose_vertices keeps for a cell: matching ones before the others, then
+// the least error, then the lowest index (a total order: the same choice for any
+// order of the vertices).
+struct UniformCells::ChosenVertex {
+  Vec3d position;
+  double error = std::numeric_limits<double>::infinity();
+  std::uint64_t vertex = std::numeric_limits<std::uint64_t>::max();
+  bool matching = false;
+
+  bool better(bool m, double e, std::uint64_t v) const {
+    if (m != matching) return m;
+    if (e != error) return e < error;
+    return v < vertex;
+  }
+};
+
+UniformCells::UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters)
+    : grid_(grid), keys_(grid, clusters), attributes_(std::make_unique<const UniformAttributeSums>(attributes)) {}
 
 UniformCells::~UniformCells() = default;
 
@@ -354,6 +381,7 @@ std::size_t UniformCells::attribute_width() const { return attributes_->width();
 void UniformCells::add_vertices(const PositionArray& positions, const TableBudget& budget,
                                 const ProgressCallback& progress) {
   const GridSpec& grid = grid_;
+  const CellKeys& keys = keys_;
   CellMap<CellRecord>& cells = cells_;
   std::uint64_t next = 0;
   ChunkTables chunks(pipeline_tokens());
@@ -374,7 +402,7 @@ void UniformCells::add_vertices(const PositionArray& positions, const TableBudge
           Vec3d q = positions.get(i);
           if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
           Vec3d p = grid.relative(q);
-          VertexSum& s = c.cells.value(index(grid.key_relative(p)));
+          VertexSum& s = c.cells.value(index(keys.key(i, p)));
           s.sum += p;
           s.squares += dot(p, p);
           ++s.n;
@@ -409,6 +437,7 @@ void UniformCells::start_face_sums(bool thick_edges) {
 // attributes the corners' weighted values.
 void UniformCells::sum_face_chunk(const PositionArray& positions, FaceChunk& c) const {
   const GridSpec& grid = grid_;
+  const CellKeys& keys = keys_;
   const UniformAttributeSums& attributes = *attributes_;
   const bool with_attributes = !attributes.empty();
   c.cells.clear();
@@ -431,7 +460,7 @@ void UniformCells::sum_face_chunk(const PositionArray& positions, FaceChunk& c) 
     Vec3d p0 = grid.relative(positions.get(v[0]));
     Vec3d p1 = grid.relative(positions.get(v[1]));
     Vec3d p2 = grid.relative(positions.get(v[2]));
-    std::uint64_t k0 = grid.key_relative(p0), k1 = grid.key_relative(p1), k2 = grid.key_relative(p2);
+    std::uint64_t k0 = keys.key(v[0], p0), k1 = keys.key(v[1], p1), k2 = keys.key(v[2], p2);
     // Quadric::add_triangle, with the plane kept for the attributes' weight.
     const TrianglePlane plane = triangle_plane(p1 - p0, p2 - p0);
     Quadric q;
@@ -456,8 +485,7 @@ void UniformCells::sum_face_chunk(const PositionArray& positions, FaceChunk& c) 
         c.thick.mark_point(i0);
       } else {
         const std::uint32_t cell_of[3] = {i0, i1, k2 == k0 ? i0 : k2 == k1 ? i1 : i2};
-        const Vec3d u[3] = {p0 - grid.cell_min_relative(k0), p1 - grid.cell_min_relative(k1),
-                            p2 - grid.cell_min_relative(k2)};
+        const Vec3d u[3] = {p0 - keys.cell_min(k0), p1 - keys.cell_min(k1), p2 - keys.cell_min(k2)};
         c.thick.add_edge(cell_of, u);
       }
     }
@@ -545,6 +573,42 @@ std::uint64_t UniformCells::add_triangles(MeshInput& input, const TableBudget& b
   return total;
 }
 
+void UniformCells::choose_vertices(const PositionArray& positions, VertexMatch matches, const void* context,
+                                   const ProgressCallback& progress) {
+  chosen_.assign(cells_.size(), ChosenVertex());
+  ProgressPhase phase(progress, "cell vertices", positions.count, "vtx");
+  // In parallel over ranges of vertices, each range into its own choices, merged by
+  // the total order of ChosenVertex::better: the same for any split.
+  const std::size_t ranges = std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency());
+  std::vector<std::vector<std::pair<std::uint32_t, ChosenVertex>>> found(ranges);
+  const std::uint64_t per = (positions.count + ranges - 1) / ranges;
+  tbb::parallel_for(std::size_t(0), ranges, [&](std::size_t r) {
+    const std::uint64_t begin = std::min<std::uint64_t>(positions.count, r * per);
+    const std::uint64_t end = std::min<std::uint64_t>(positions.count, begin + per);
+    FlatHashMap<std::uint64_t, ChosenVertex> best(1024);
+    for (std::uint64_t v = begin; v < end; ++v) {
+      const Vec3d q = positions.get(v);
+      if (!is_finite(q)) continue;
+      const Vec3d p = grid_.relative(q);
+      const std::uint64_t key = keys_.key(v, p);
+      const std::int64_t cell = cells_.find(key);
+      if (cell < 0) continue;
+      const bool m = matches(context, v, key);
+      const double e = cells_.value(std::size_t(cell)).q.error(p);
+      ChosenVertex& c = best.value(best.insert(std::uint64_t(cell)));
+      if (c.better(m, e, v)) c = ChosenVertex{p, e, v, m};
+    }
+    found[r].reserve(best.size());
+    for (std::size_t i = 0; i < best.size(); ++i) found[r].push_back({std::uint32_t(best.key(i)), best.value(i)});
+  });
+  for (const auto& list : found)
+    for (const auto& [cell, c] : list)
+      if (chosen_[cell].better(c.matching, c.error, c.vertex)) chosen_[cell] = c;
+  phase.set(positions.count);
+}
+
+std::uint64_t UniformCells::chosen_bytes() const { return chosen_.capacity() * sizeof(ChosenVertex); }
+
 void UniformCells::release_indexes() {
   cells_.release_index();
   kept_.release_index();
@@ -552,7 +616,6 @@ void UniformCells::release_indexes() {
 
 // Output vertices are the cells the kept triangles use, numbered by first use.
 std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* out) {
-  const GridSpec& grid = grid_;
   const CellMap<CellRecord>& cells = cells_;
   TriangleSet& kept = kept_;
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
@@ -572,7 +635,7 @@ std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* 
     }
   if (thick_) {
     // Their clusters not yet numbered follow the triangles'.
-    mesh.primitives = thick_primitives(*thick_, kept, cells, grid);
+    mesh.primitives = thick_primitives(*thick_, kept, cells, keys_);
     thick_.reset();
     auto number = [&](std::uint32_t& c) {
       if (out_index[c] == kUnused) {
@@ -592,6 +655,8 @@ std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* 
 void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order, SimplifiedMesh* out,
                                          std::vector<Quadric>* quadrics) {
   const GridSpec& grid = grid_;
+  const CellKeys& keys = keys_;
+  const std::vector<ChosenVertex>& chosen = chosen_;
   const CellMap<CellRecord>& cells = cells_;
   const UniformAttributeSums& attributes = *attributes_;
   std::vector<double>& attribute_sums = attribute_sums_;
@@ -607,12 +672,15 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i) {
                         const CellRecord& rec = cells.value(order[i]);
-                        Vec3d lo = grid.cell_min_relative(cells.key(order[i]));
-                        Vec3d hi = lo + Vec3d{grid.cell, grid.cell, grid.cell};
+                        const std::uint64_t key = cells.key(order[i]);
+                        Vec3d lo = keys.cell_min(key);
+                        const double side = keys.cell_side(key);
+                        Vec3d hi = lo + Vec3d{side, side, side};
                         const VertexSum& s = rec.vertices;
-                        const double half = 0.5 * grid.cell;
+                        const double half = 0.5 * side;
                         Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
-                        Vec3d x = minimize_quadric(rec.q, mean, lo, hi) + grid.origin;
+                        Vec3d x = (chosen.empty() ? minimize_quadric(rec.q, mean, lo, hi) : chosen[order[i]].position) +
+                                  grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         mesh.positions[3 * i] = x.x;
                         mesh.positions[3 * i + 1] = x.y;

@@ -71,6 +71,28 @@ class TableBudget {
   std::uint64_t vertices_;
 };
 
+class VertexClusters;
+
+/// Where a vertex's cell is: the grid cell its position falls in (OoCS), or the
+/// cluster VertexClusters gave it (the curvature method, cluster/curvature_cells.hpp),
+/// whose cell is an octree leaf. The cell's box bounds the quadric solve and is the
+/// frame of the thick edges' moments.
+class CellKeys {
+ public:
+  CellKeys(const GridSpec& grid, const VertexClusters* clusters) : grid_(grid), clusters_(clusters) {}
+  std::uint64_t key(std::uint64_t vertex, const Vec3d& relative) const {
+    return clusters_ ? cluster_of(vertex) : grid_.key_relative(relative);
+  }
+  /// The lower corner of cell `key`, relative to the grid's origin, and its side.
+  Vec3d cell_min(std::uint64_t key) const;
+  double cell_side(std::uint64_t key) const;
+
+ private:
+  std::uint64_t cluster_of(std::uint64_t vertex) const;
+  GridSpec grid_;
+  const VertexClusters* clusters_;
+};
+
 class UniformAttributeSums;
 struct ThickSums;
 
@@ -81,8 +103,9 @@ struct ThickSums;
 /// input order, so every sum is taken in the same order for any thread count.
 class UniformCells {
  public:
-  /// No cells yet, on `grid`, carrying the vertex attributes of `attributes`.
-  UniformCells(const GridSpec& grid, const AttributeArray& attributes);
+  /// No cells yet, on `grid`, carrying the vertex attributes of `attributes`; with
+  /// `clusters`, a vertex's cell is its cluster there rather than its grid cell.
+  UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters = nullptr);
   ~UniformCells();
   UniformCells(const UniformCells&) = delete;
   UniformCells& operator=(const UniformCells&) = delete;
@@ -100,6 +123,17 @@ class UniformCells {
   /// (Low & Tan 1997 §3.3) the others add to their edge or point. Returns the
   /// triangles read.
   std::uint64_t add_triangles(MeshInput& input, const TableBudget& budget, const ProgressCallback& progress);
+  /// The curvature method's representatives (RepresentativeRule::vertex), after
+  /// add_triangles: one more pass over the vertices finds, per cell, the vertex that
+  /// `matches` it with the least error under the cell's quadric (Hua et al. §3.3 step
+  /// 3: of two vertices the one with the smaller error stays), ties to the lower index;
+  /// a cell without a matching vertex takes its least-error vertex.
+  /// solve_representatives then puts the output vertices there.
+  using VertexMatch = bool (*)(const void* context, std::uint64_t vertex, std::uint64_t cell_key);
+  void choose_vertices(const PositionArray& positions, VertexMatch matches, const void* context,
+                       const ProgressCallback& progress);
+  /// Bytes choose_vertices holds until the solve.
+  std::uint64_t chosen_bytes() const;
   /// Frees the hash indexes of the cells and the kept triangles: no lookups follow.
   void release_indexes();
   /// The surviving triangles into mesh->triangles (and with thick edges the surviving
@@ -108,7 +142,8 @@ class UniformCells {
   /// triangles and thick sums are freed.
   std::vector<std::uint32_t> number_output_vertices(SimplifiedMesh* mesh);
   /// Each output vertex of `order` at the point that minimises its cell's quadric
-  /// (minimize_quadric, from the cell's vertex mean, kept in the cell), with its
+  /// (minimize_quadric, from the cell's vertex mean, kept in the cell), or at its cell's
+  /// chosen vertex after choose_vertices, with its
   /// attribute values; with `quadrics`, also its cell's quadric (relative to the
   /// grid's origin).
   void solve_representatives(const std::vector<std::uint32_t>& order, SimplifiedMesh* mesh,
@@ -128,12 +163,16 @@ class UniformCells {
   void sum_face_chunk(const PositionArray& positions, FaceChunk& c) const;
   void merge_face_chunk(const FaceChunk& c, std::vector<std::uint32_t>* to_global);
 
+  struct ChosenVertex;
+
   GridSpec grid_;
+  CellKeys keys_;
   std::unique_ptr<const UniformAttributeSums> attributes_;
   CellMap<CellRecord> cells_{1 << 16};
   TriangleSet kept_;
   std::vector<double> attribute_sums_;  // attribute_width() per cell, in the cells' table order
   std::unique_ptr<ThickSums> thick_;    // with thick edges
+  std::vector<ChosenVertex> chosen_;    // per cell, after choose_vertices
 };
 
 }  // namespace oocsimp

@@ -5,7 +5,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <string>
 
 #include "io/signal_cleanup.hpp"
 #include "io/error_text.hpp"
@@ -49,6 +51,14 @@ void MappedFile::map(int fd, const std::string& name, MapAccess access) {
 MappedFile::~MappedFile() {
   unregister_mapping(slot_);
   if (data_) ::munmap(data_, size_);
+}
+
+MappedScratch::MappedScratch(const std::string& dir, const std::string& prefix, std::uint64_t bytes)
+    : file_(dir, prefix) {
+  bytes = std::max<std::uint64_t>(bytes, 8);  // an empty file would map to nothing
+  if (::ftruncate(file_.fd(), off_t(bytes)) != 0)
+    throw IoError(system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", errno));
+  map_ = std::make_unique<MappedFile>(file_.path(), MapAccess::read_write);
 }
 
 }  // namespace oocsimp

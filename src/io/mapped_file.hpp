@@ -3,7 +3,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
+
+#include "io/temp_file.hpp"
 
 namespace oocsimp {
 
@@ -34,6 +37,20 @@ class MappedFile {
   unsigned char* data_ = nullptr;
   std::uint64_t size_ = 0;
   int slot_ = -1;  // in the mapping table of the SIGBUS handler (signal_cleanup.hpp)
+};
+
+/// A temporary file of `bytes` zeros in `dir`, mapped for reading and writing: an array
+/// per input vertex that stays out of the heap. Removed with the object; throws IoError
+/// naming the file when the room cannot be made.
+class MappedScratch {
+ public:
+  MappedScratch(const std::string& dir, const std::string& prefix, std::uint64_t bytes);
+  unsigned char* data() { return map_->writable_data(); }
+  const unsigned char* data() const { return map_->data(); }
+
+ private:
+  TempFile file_;
+  std::unique_ptr<MappedFile> map_;
 };
 
 }  // namespace oocsimp

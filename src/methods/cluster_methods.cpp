@@ -1,7 +1,8 @@
 #include "methods/cluster_methods.hpp"
 
-#include "methods/uniform_clusterer.hpp"
+#include "methods/curvature_clusterer.hpp"
 #include "methods/floating_clusterer.hpp"
+#include "methods/uniform_clusterer.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -10,6 +11,7 @@ const std::vector<ClusterMethodEntry>& cluster_method_table() {
   static const std::vector<ClusterMethodEntry> methods = {
       {ClusterMethod::floating, cluster_floating},
       {ClusterMethod::uniform, cluster_uniform},
+      {ClusterMethod::curvature, cluster_curvature},
       {ClusterMethod::qem, nullptr},  // no clustering: methods/multiphase.cpp
   };
   return methods;

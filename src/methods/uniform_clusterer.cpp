@@ -59,7 +59,7 @@ std::string output_tables(std::size_t cells, std::size_t triangles) {
 // The output tables next to the cells: first the numbering and the triangles...
 void check_numbering_fits(const TableBudget& budget, const UniformCells& cells) {
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * cells.kept_count();
-  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.kept_bytes() +
+  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() + cells.kept_bytes() +
                    2 * sizeof(std::uint32_t) * cells.cell_count() + triangle_bytes,
                output_tables(cells.cell_count(), cells.kept_count()));
 }
@@ -70,7 +70,7 @@ void check_positions_fit(const TableBudget& budget, const UniformCells& cells, c
                          const SimplifiedMesh& mesh) {
   const std::size_t triangles = mesh.triangles.size() / 3;
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * triangles;
-  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + sizeof(std::uint32_t) * order.capacity() +
+  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() + sizeof(std::uint32_t) * order.capacity() +
                    triangle_bytes + (3 + cells.attribute_count()) * sizeof(double) * order.size(),
                output_tables(cells.cell_count(), triangles));
 }
@@ -91,12 +91,17 @@ void fill_stats(const MeshInput& input, std::uint64_t triangles, const UniformCe
 
 SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  return cluster_cells(input, options, grid, ClusterCellSource(), stats, quadrics);
+}
+
+SimplifiedMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                             const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   const ProgressCallback& progress = options.progress;
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
   const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
                            occupancy, input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
-  UniformCells cells(grid, input.attributes);
+  UniformCells cells(grid, input.attributes, source.clusters);
 
   PhaseTimer clock;
   cells.add_vertices(input.positions, budget, progress);
@@ -107,6 +112,10 @@ SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options,
   cells.start_face_sums(options.thick_edges);
   const std::uint64_t triangles = cells.add_triangles(input, budget, progress);
   clock.end("faces");
+  if (source.matches) {
+    cells.choose_vertices(input.positions, source.matches, source.context, progress);
+    clock.end("vertices chosen");
+  }
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
   // The hash indexes are not needed any more; free them before the output arrays

@@ -162,6 +162,7 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
   Vec3d x;
   switch (rule) {
     case RepresentativeRule::centre:
+    case RepresentativeRule::vertex:  // refused for floating (api/simplify.cpp): the centre is its vertex
       return c;
     case RepresentativeRule::mean:
       x = mean;

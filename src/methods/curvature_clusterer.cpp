@@ -1,0 +1,99 @@
+// Vertex clustering by principal curvature: Hua, Huang & Li, "Mesh Simplification
+// Using Vertex Clustering Based on Principal Curvature". The steps:
+//   1. curvatures: every vertex's k1 and k2 by integral invariants (§3.4 eq. 8-18),
+//      out of core (curvature/mesh_curvatures.hpp);
+//   2. octree: the grid's N cells (§3.3 step 1), each split where its vertices'
+//      curvatures do not match the cell's (§3.4: "go on subdividing the bounding box");
+//   3. parts: each leaf cut into the connected parts of the surface in it, so two
+//      sheets through one cell stay apart (our rule; the paper merges them);
+//   4. clusters: OoCS's passes over them (methods/uniform_clusterer.cpp): quadrics
+//      summed, triangles over three clusters kept (§3.3 steps 2-4), and each
+//      cluster's representative the matching vertex of least quadric error (§3.3
+//      step 3, §3.4), or the quadric's minimiser in the leaf.
+// The choices are in docs/curvature.md.
+#include "methods/curvature_clusterer.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "cluster/curvature_cells.hpp"
+#include "curvature/mesh_curvatures.hpp"
+#include "methods/uniform_clusterer.hpp"
+#include "runtime/memory_budget.hpp"
+#include "runtime/phase_timer.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// What the estimator may hold: the budget less what the process holds now.
+CurvatureOptions curvature_options(const SimplifyOptions& options, const MemoryBudget& budget) {
+  constexpr std::uint64_t kLeast = 1 << 20;  // 0 would mean "the default budget"
+  CurvatureOptions o;
+  o.radius = options.curvature.radius;
+  o.neighbourhood = options.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere
+                                                           : CurvatureNeighbourhood::ball;
+  o.threads = options.threads;
+  const std::uint64_t held = budget.held();
+  o.memory_budget = std::max(kLeast, budget.bytes() > held ? budget.bytes() - held : 0);
+  o.temp_dir = options.temp_dir;
+  o.progress = options.progress;
+  return o;
+}
+
+// A vertex against its cluster's cell, for UniformCells::choose_vertices.
+struct MatchContext {
+  const VertexClusters* clusters;
+  const float* k;
+};
+
+bool vertex_matches(const void* context, std::uint64_t v, std::uint64_t cluster) {
+  const MatchContext& c = *static_cast<const MatchContext*>(context);
+  return c.clusters->matches(std::uint32_t(cluster), c.k[2 * v], c.k[2 * v + 1]);
+}
+
+void note_estimates(const CurvatureStats& c, SimplifyStats* stats) {
+  if (c.none > 0)
+    stats->warnings.push_back(std::to_string(c.none) +
+                              " vertices have no curvature estimate (no face, no area or too few neighbours within "
+                              "the radius): they count as flat");
+}
+
+}  // namespace
+
+SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+  const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
+  PhaseTimer clock;
+
+  MappedCurvatures k(temp, input.positions.count);
+  const CurvatureStats estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
+  clock.end("curvatures");
+
+  CurvatureCellSettings settings;
+  settings.tolerance = options.curvature.tolerance;
+  settings.max_depth = options.curvature.max_depth;
+  VertexClusters clusters(grid, settings, input.positions.count, temp);
+  clusters.find_leaves(input.positions, k.data(), budget, options.progress);
+  clock.end("octree");
+
+  clusters.join_components(input, options.progress);
+  clock.end("parts");
+
+  const MatchContext context{&clusters, k.data()};
+  ClusterCellSource source;
+  source.clusters = &clusters;
+  if (options.curvature.representative == RepresentativeRule::vertex) {
+    source.matches = vertex_matches;
+    source.context = &context;
+  }
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  clock.move_to(&st.phases);  // the uniform passes' phases follow
+  SimplifiedMesh mesh = cluster_cells(input, options, grid, source, &st, quadrics);
+  note_estimates(estimated, &st);
+  return mesh;
+}
+
+}  // namespace oocsimp
