@@ -107,6 +107,9 @@ struct CurvatureClusterOptions {
   std::uint32_t max_depth = 3;  ///< splits of a grid cell, 0 to 6
   /// Where a cluster's output vertex goes: vertex (the paper's) or quadric.
   RepresentativeRule representative = RepresentativeRule::vertex;
+  /// Side of the tiles the curvatures are estimated in (CurvatureOptions::tile_side);
+  /// 0 = in memory when the mesh fits the budget. The output is the same either way.
+  double tile_side = 0;
 };
 
 /// An exact size for the output: clustering (the method) down to about

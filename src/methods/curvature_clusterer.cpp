@@ -33,6 +33,7 @@ CurvatureOptions curvature_options(const SimplifyOptions& options, const MemoryB
   o.radius = options.curvature.radius;
   o.neighbourhood = options.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere
                                                            : CurvatureNeighbourhood::ball;
+  o.tile_side = options.curvature.tile_side;
   o.threads = options.threads;
   const std::uint64_t held = budget.held();
   o.memory_budget = std::max(kLeast, budget.bytes() > held ? budget.bytes() - held : 0);
