@@ -63,7 +63,7 @@ TEST_CASE("on a plane no cell splits: the clusters are the uniform cells", "[cur
   write_plane_ply(d.file("plane.ply"), 100, 0.3, -0.2, 0.1);
   SimplifyOptions u = clustering(ClusterMethod::uniform, 8, tmp);
   SimplifyOptions c = clustering(ClusterMethod::curvature, 8, tmp);
-  c.curvature.representative = RepresentativeRule::quadric;  // uniform's solve, in the same (unsplit) cell
+  // The default representative, quadric: uniform's solve, in the same (unsplit) cell.
   const SimplifiedMesh a = run(d.file("plane.ply"), u), b = run(d.file("plane.ply"), c);
   REQUIRE(a.triangles.size() > 0);
   CHECK(b.triangles == a.triangles);
@@ -93,7 +93,9 @@ TEST_CASE("cells split where a cube's faces meet, and only there", "[curvature][
 TEST_CASE("the vertex representative is an input vertex of its cluster", "[curvature][method]") {
   ScratchDir d, tmp;
   write_cube_ply(d.file("cube.ply"), 30);
-  const SimplifiedMesh m = run(d.file("cube.ply"), clustering(ClusterMethod::curvature, 5, tmp));
+  SimplifyOptions o = clustering(ClusterMethod::curvature, 5, tmp);
+  o.curvature.representative = RepresentativeRule::vertex;
+  const SimplifiedMesh m = run(d.file("cube.ply"), o);
   const LoadedMesh in = load_mesh(d.file("cube.ply"));
   const auto inputs = position_set(in.positions);
   REQUIRE(m.positions.size() > 0);
@@ -124,18 +126,21 @@ TEST_CASE("curvature clustering gives the same bytes for any thread count and cu
           "[curvature][method][determinism]") {
   ScratchDir d, tmp;
   write_cube_ply(d.file("cube.ply"), 30);
-  std::string first;
-  for (unsigned threads : {1u, 2u, 3u})
-    for (double tile : {0.0, 0.3}) {
-      INFO("threads " << threads << ", curvature tiles " << tile);
-      SimplifyOptions o = clustering(ClusterMethod::curvature, 6, tmp);
-      o.threads = threads;
-      o.curvature.tile_side = tile;
-      simplify_file(d.file("cube.ply"), d.file("out.ply"), false, o, nullptr);
-      const std::string bytes = read_file(d.file("out.ply"));
-      if (first.empty()) first = bytes;
-      CHECK(bytes == first);
-    }
+  for (RepresentativeRule rep : {RepresentativeRule::quadric, RepresentativeRule::vertex}) {
+    std::string first;
+    for (unsigned threads : {1u, 2u, 3u})
+      for (double tile : {0.0, 0.3}) {
+        INFO(representative_name(rep) << ", threads " << threads << ", curvature tiles " << tile);
+        SimplifyOptions o = clustering(ClusterMethod::curvature, 6, tmp);
+        o.curvature.representative = rep;
+        o.threads = threads;
+        o.curvature.tile_side = tile;
+        simplify_file(d.file("cube.ply"), d.file("out.ply"), false, o, nullptr);
+        const std::string bytes = read_file(d.file("out.ply"));
+        if (first.empty()) first = bytes;
+        CHECK(bytes == first);
+      }
+  }
 }
 
 TEST_CASE("curvature clustering as phase 1 reaches an exact target", "[curvature][method][target]") {

@@ -282,9 +282,9 @@ void add_floating_options(CLI::App* cmd, SimplifyArgs& a) {
   for (CLI::Option* o : a.floating_only)
     o->group("Floating method only (--method floating, the default without a target)");
   a.rep = add_enum_option(cmd, "--rep", &a.representative, representative_rule_names(),
-                          "Where a cluster's vertex goes: floating takes quadric (its default), centre or mean; "
-                          "curvature takes vertex (its default: the matching input vertex of least quadric error) or "
-                          "quadric");
+                          "Where a cluster's vertex goes: floating takes quadric (the default), centre or mean; "
+                          "curvature takes quadric (the default) or vertex (the paper's: the input vertex that matches "
+                          "its cell's curvature with the least quadric error)");
   a.rep->group("Floating and curvature methods");
 }
 
@@ -298,7 +298,7 @@ void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
           ->check(CLI::IsMember({"ball", "sphere"})),
       add_given(cmd, "--curvature-tolerance", &a.curvature_tolerance,
                 "A cell of side s is split where a vertex's curvature differs from the cell's mean by more than "
-                "this / s (default 0.25)"),
+                "this / s (default 0.5)"),
       add_given(cmd, "--max-depth", &a.max_depth, "Splits of a grid cell, 0 to 6 (default 3)"),
   };
   for (CLI::Option* o : a.curvature_only) o->group("Curvature method only (--method curvature)");

@@ -103,10 +103,12 @@ struct CurvatureClusterOptions {
   /// A vertex matches a cell of side s when each principal curvature differs from the
   /// cell's mean by at most tolerance / s (radians of turn across the cell); a cell
   /// where one does not is split into eight, down to max_depth.
-  double tolerance = 0.25;
+  double tolerance = 0.5;
   std::uint32_t max_depth = 3;  ///< splits of a grid cell, 0 to 6
-  /// Where a cluster's output vertex goes: vertex (the paper's) or quadric.
-  RepresentativeRule representative = RepresentativeRule::vertex;
+  /// Where a cluster's output vertex goes: quadric, the minimiser of its quadric in its
+  /// cell (the default: 0.5-0.7x the RMS of vertex, docs/curvature.md), or vertex, the
+  /// paper's matching input vertex.
+  RepresentativeRule representative = RepresentativeRule::quadric;
   /// Side of the tiles the curvatures are estimated in (CurvatureOptions::tile_side);
   /// 0 = in memory when the mesh fits the budget. The output is the same either way.
   double tile_side = 0;

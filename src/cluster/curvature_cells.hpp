@@ -25,7 +25,7 @@ namespace oocsimp {
 struct CurvatureCellSettings {
   /// A vertex matches a cell of side s when both its principal curvatures lie within
   /// tolerance / s of the cell's means.
-  double tolerance = 0.25;
+  double tolerance = 0.5;
   std::uint32_t max_depth = 3;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
 };
 
