@@ -2,12 +2,12 @@
 # Curvature clustering against the other clusterings at equal output counts, every
 # run in one invocation, errors from `oocsimp measure`.
 #
-#   scripts/bench-curvature.sh                     generated parts, terrain and boxes of 200k triangles
+#   scripts/bench-curvature.sh                     generated parts and terrain of 200k triangles
 #   scripts/bench-curvature.sh $(scripts/fetch-scans.sh)    the bunny and the armadillo
 #   SIZE=2000000 SHAPES=parts GRID=120 scripts/bench-curvature.sh
 #
 # For each input, `--method curvature --grid GRID` (default 60) gives N triangles (and
-# the same with --rep quadric); uniform and floating are then run at the grid whose
+# the same with --rep vertex, the paper's representative); uniform and floating are then run at the grid whose
 # count is nearest N (a bisection on --grid), meshopt_simplifySloppy is given N.
 # Environment: SHAPES, SIZE (generated inputs, cached under build/bench/), GRID,
 # SAMPLES (points `oocsimp measure` samples, default 1000000), THREADS (oocsimp's,
@@ -30,7 +30,7 @@ mkdir -p "$out"
 
 inputs=("$@")
 if [ ${#inputs[@]} -eq 0 ]; then
-  for shape in ${SHAPES:-parts terrain boxes}; do
+  for shape in ${SHAPES:-parts terrain}; do
     mesh="$dir/$shape-$size.ply"
     [ -f "$mesh" ] || "$bin" generate --tris "$size" --shape "$shape" --seed 1 --quiet -o "$mesh"
     inputs+=("$mesh")
@@ -73,13 +73,13 @@ for mesh in "${inputs[@]}"; do
   echo "input $mesh ($(topology "$mesh") boundary/non-manifold edges), curvature --grid $grid, measure --samples $samples, oocsimp --threads $threads"
   declare -A secs=() tris=() rms=() haus=() topo=() note=()
   runs=()
-  for r in curvature curvature-quadric uniform floating sloppy; do
+  for r in curvature curvature-vertex uniform floating sloppy; do
     result="$out/$r.ply"
     echo "  $r ..." >&2
     case "$r" in
-      curvature | curvature-quadric)
+      curvature | curvature-vertex)
         args=(--method curvature --grid "$grid")
-        [ "$r" = curvature-quadric ] && args+=(--rep quadric)
+        [ "$r" = curvature-vertex ] && args+=(--rep vertex)
         t0=$(now)
         "$bin" simplify "$mesh" -o "$result" "${args[@]}" --threads "$threads" --quiet --stats "$out/stats.json"
         t1=$(now)

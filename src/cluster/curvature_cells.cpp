@@ -16,6 +16,7 @@ namespace oocsimp {
 namespace {
 
 constexpr std::uint32_t kNoLeaf = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kUndecided = kNoLeaf - 1;
 constexpr std::uint64_t kCheckEvery = 1 << 20;  // vertices between budget checks
 constexpr std::size_t kTriangleChunk = 65536;
 
@@ -76,7 +77,7 @@ VertexClusters::VertexClusters(const GridSpec& grid, const CurvatureCellSettings
                                const std::string& temp_dir)
     : grid_(grid), settings_(settings), vertices_(vertices), temp_dir_(temp_dir) {
   settings_.max_depth = usable_depth(grid, settings.max_depth);
-  if (vertices >= std::uint64_t(kNoLeaf))
+  if (vertices >= std::uint64_t(kUndecided))
     throw UsageError("curvature clustering names vertices by 32-bit indices, and the mesh has 2^32 or more");
 }
 
@@ -85,54 +86,50 @@ VertexClusters::~VertexClusters() = default;
 void VertexClusters::find_leaves(const PositionArray& positions, const float* k, const MemoryBudget& budget,
                                  const ProgressCallback& progress) {
   const std::uint32_t depths = settings_.max_depth + 1;
-  std::vector<CellMap<CellCurvatures>> cells(depths);
   const std::uint64_t held = budget.held();
-  auto check = [&](std::uint64_t done) {
-    std::uint64_t bytes = 0;
-    std::size_t count = 0;
-    for (const auto& c : cells) bytes += c.bytes(), count += c.size();
-    budget.check(held, bytes, std::to_string(count) + " octree cells after " + std::to_string(done) + " vertices",
-                 "give more memory, a coarser grid or a smaller options.curvature.max_depth");
-  };
-  {
-    // The sums, at every depth at once.
-    ProgressPhase phase(progress, "curvature cells", positions.count, "vtx");
-    for (std::uint64_t v = 0; v < positions.count; ++v) {
-      const Vec3d q = positions.get(v);
-      if (!is_finite(q)) continue;
-      const Vec3d p = grid_.relative(q);
-      for (std::uint32_t d = 0; d < depths; ++d)
-        cells[d].value(cells[d].insert(octree_key(grid_, p, d))).add(k[2 * v], k[2 * v + 1]);
-      if ((v + 1) % kCheckEvery == 0) {
-        check(v + 1);
-        phase.set(v + 1);
-      }
-    }
-    check(positions.count);
-  }
-  // Each vertex descends from its grid cell to the first cell that matches (or the
-  // deepest); the leaves are numbered by their first vertex.
   leaf_of_ = std::make_unique<MappedScratch>(temp_dir_, "curvature-leaves", 4 * vertices_);
   std::uint32_t* leaf_of = reinterpret_cast<std::uint32_t*>(leaf_of_->data());
-  ProgressPhase phase(progress, "curvature leaves", positions.count, "vtx");
-  for (std::uint64_t v = 0; v < positions.count; ++v) {
-    const Vec3d q = positions.get(v);
-    leaf_of[v] = kNoLeaf;
-    if (!is_finite(q)) continue;
-    const Vec3d p = grid_.relative(q);
-    for (std::uint32_t d = 0; d < depths; ++d) {
-      const std::uint64_t key = octree_key(grid_, p, d);
-      CellCurvatures& c = cells[d].value(std::size_t(cells[d].find(key)));
-      const double side = std::ldexp(grid_.cell, -int(d));
-      if (d + 1 < depths && !c.all_match(settings_.tolerance / side)) continue;
+  std::fill(leaf_of, leaf_of + vertices_, kUndecided);
+  // Depth by depth, over the vertices not yet in a leaf: the sums of the cells at this
+  // depth that hold them, then each such vertex's cell becomes its leaf when all its
+  // vertices match (or at the deepest), and the rest go one depth down. One depth's
+  // sums are held at a time, of the cells that split above it only.
+  std::uint64_t undecided = positions.count;
+  ProgressPhase phase(progress, "curvature cells", depths * positions.count, "vtx");
+  for (std::uint32_t d = 0; d < depths && undecided > 0; ++d) {
+    const double side = std::ldexp(grid_.cell, -int(d));
+    CellMap<CellCurvatures> cells(1 << 12);
+    for (std::uint64_t v = 0; v < positions.count; ++v) {
+      if (leaf_of[v] != kUndecided) continue;
+      const Vec3d q = positions.get(v);
+      if (!is_finite(q)) {
+        leaf_of[v] = kNoLeaf;
+        continue;
+      }
+      cells.value(cells.insert(octree_key(grid_, grid_.relative(q), d))).add(k[2 * v], k[2 * v + 1]);
+      if ((v + 1) % kCheckEvery == 0) {
+        budget.check(held, cells.bytes(),
+                     std::to_string(cells.size()) + " curvature cells at depth " + std::to_string(d),
+                     "give more memory, a coarser grid or a smaller options.curvature.max_depth");
+        phase.set(d * positions.count + v + 1);
+      }
+    }
+    undecided = 0;
+    for (std::uint64_t v = 0; v < positions.count; ++v) {
+      if (leaf_of[v] != kUndecided) continue;
+      const std::uint64_t key = octree_key(grid_, grid_.relative(positions.get(v)), d);
+      CellCurvatures& c = cells.value(std::size_t(cells.find(key)));
+      if (d + 1 < depths && !c.all_match(settings_.tolerance / side)) {
+        ++undecided;
+        continue;
+      }
       if (c.leaf == kNoLeaf) {
         c.leaf = std::uint32_t(leaves_.size());
         leaves_.push_back(LeafCell{key, d, c.mean1(), c.mean2()});
       }
       leaf_of[v] = c.leaf;
-      break;
     }
-    if ((v + 1) % kCheckEvery == 0) phase.set(v + 1);
+    phase.set((d + 1) * positions.count);
   }
 }
 

@@ -51,11 +51,12 @@ class VertexClusters {
   VertexClusters(const VertexClusters&) = delete;
   VertexClusters& operator=(const VertexClusters&) = delete;
 
-  /// Hua et al. §3.4: the octree. One pass over the vertices sums each cell's
-  /// curvatures at every depth; a cell whose vertices all match its means is a leaf,
-  /// one that does not is split, down to the settings' depth; every vertex is given
-  /// its leaf. `k` holds k1, k2 of each vertex (mesh_curvatures.hpp). The sums stay
-  /// within `budget` or the run stops with a UsageError.
+  /// Hua et al. §3.4: the octree. Depth by depth, two passes over the vertices not yet
+  /// in a leaf sum the curvatures of the cells that hold them, then make each cell
+  /// whose vertices all match its means a leaf; the others split, down to the
+  /// settings' depth. `k` holds k1, k2 of each vertex (mesh_curvatures.hpp). One
+  /// depth's sums stay within `budget` or the run stops with a UsageError. Leaves are
+  /// numbered by depth, then by their first vertex.
   void find_leaves(const PositionArray& positions, const float* k, const MemoryBudget& budget,
                    const ProgressCallback& progress);
   /// The connected parts of each leaf: one pass over the triangle stream of `input`
