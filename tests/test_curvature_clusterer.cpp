@@ -157,7 +157,7 @@ TEST_CASE("curvature clustering as phase 1 reaches an exact target", "[curvature
   CHECK(std::any_of(st.phases.begin(), st.phases.end(), [](const PhaseTime& p) { return p.name == "curvatures"; }));
 }
 
-TEST_CASE("curvature clustering keeps thin parts as thick edges and makes levels", "[curvature][method]") {
+TEST_CASE("curvature clustering keeps thin parts as thick edges, and its levels share one estimate", "[curvature][method]") {
   ScratchDir d, tmp;
   REQUIRE(run_cli("generate --shape branches --tris 20000 --quiet -o " + d.file("tree.ply")).exit_code == 0);
   SimplifyOptions o = clustering(ClusterMethod::curvature, 24, tmp);
@@ -165,11 +165,18 @@ TEST_CASE("curvature clustering keeps thin parts as thick edges and makes levels
   SimplifyStats st;
   run(d.file("tree.ply"), o, &st);
   CHECK(st.output_edges > 0);
-  const CliResult r = run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("l.ply") +
-                              " --method curvature --grid 24 --lods 2 --quiet --tmp " + tmp.path());
+  // Levels share one estimate: the first equals a run of its own at its grid, and
+  // only the first level's phases hold the estimate.
+  const std::string common = " --method curvature --quiet --tmp " + tmp.path();
+  const CliResult r = run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("l.ply") + " --grid 24 --lods 2" + common);
   CHECK(r.exit_code == 0);
-  CHECK(file_exists(d.file("l.lod0.ply")));
-  CHECK(file_exists(d.file("l.lod1.ply")));
+  REQUIRE(file_exists(d.file("l.lod1.ply")));
+  REQUIRE(run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("one.ply") + " --grid 24" + common).exit_code == 0);
+  CHECK(read_file(d.file("l.lod0.ply")) == read_file(d.file("one.ply")));
+  const std::string json = read_file(d.file("l.lods.json"));
+  const std::size_t first = json.find("\"curvatures\"");
+  CHECK(first != std::string::npos);
+  CHECK(json.find("\"curvatures\"", first + 1) == std::string::npos);
 }
 
 TEST_CASE("curvature's options are checked and named", "[curvature][method][cli]") {
@@ -201,4 +208,36 @@ TEST_CASE("curvature's options are checked and named", "[curvature][method][cli]
                                " --method curvature --grid 4 --rep quadric --max-depth 1 --weld");
   CHECK(ok.exit_code == 0);
   CHECK(ok.out.find("(curvature, grid") != std::string::npos);
+}
+
+TEST_CASE("curvature clustering carries colours as the area-weighted mean of a cluster's vertices",
+          "[curvature][method][attributes]") {
+  ScratchDir d, tmp;
+  // red, green, blue = 255 (p - lo) / (hi - lo) over the bounding box, rounded.
+  REQUIRE(run_cli("generate --shape sphere --tris 20000 --attributes --quiet -o " + d.file("s.ply")).exit_code == 0);
+  const LoadedMesh in = load_mesh(d.file("s.ply"));
+  SimplifyStats st;
+  const SimplifiedMesh m = run(d.file("s.ply"), clustering(ClusterMethod::curvature, 12, tmp), &st);
+  const std::vector<VertexAttribute>& a = m.attributes.attributes;
+  const std::size_t width = a.size();
+  REQUIRE(m.positions.size() > 3 * 100);
+  const char* names[3] = {"red", "green", "blue"};
+  const double lo[3] = {in.info.bounds.min.x, in.info.bounds.min.y, in.info.bounds.min.z};
+  const double hi[3] = {in.info.bounds.max.x, in.info.bounds.max.y, in.info.bounds.max.z};
+  for (int c = 0; c < 3; ++c) {
+    INFO(names[c]);
+    std::size_t k = 0;
+    while (k < width && a[k].name != names[c]) ++k;
+    REQUIRE(k < width);
+    // A cluster's vertices and its representative share a leaf no larger than the
+    // grid's cell: the mean lies within the function's change across its diagonal,
+    // plus the rounding to whole units.
+    const double bound = 1.0 + 255 * st.cell_size * std::sqrt(3.0) / (hi[c] - lo[c]);
+    double worst = 0;
+    for (std::size_t v = 0; v < m.positions.size() / 3; ++v) {
+      const double expected = 255 * (m.positions[3 * v + std::size_t(c)] - lo[c]) / (hi[c] - lo[c]);
+      worst = std::max(worst, std::fabs(m.attributes.values[width * v + k] - expected));
+    }
+    CHECK(worst <= bound);
+  }
 }

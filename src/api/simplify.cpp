@@ -19,7 +19,6 @@
 #include "io/mesh_writer_output.hpp"
 #include "io/temp_file.hpp"
 #include "methods/cluster_methods.hpp"
-#include "methods/floating_clusterer.hpp"
 #include "methods/multiphase.hpp"
 #include "oocsimp/error.hpp"
 #include "runtime/memory_budget.hpp"
@@ -237,10 +236,11 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
   std::vector<GridSpec> grids = {first};
   for (std::uint32_t k = 1; k < lods.levels; ++k)
     grids.push_back(GridSpec::with_cell(input.info.bounds, first.cell * std::pow(lods.factor, double(k))));
-  if (options.method == ClusterMethod::floating) {
+  const ClusterMethodEntry& method = cluster_method(options.method);
+  if (method.levels) {  // the work that does not depend on the grid, once
     const PeakAnonSampler memory;
     input.restart_triangles();
-    cluster_floating_levels(
+    method.levels(
         input, options, grids,
         [&](std::size_t k, SimplifiedMesh& m, SimplifyStats& st) {
           record_grid(grids[k], &st);
@@ -257,7 +257,7 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
     record_grid(grids[k], &st);
     st.lod_cell = grids[k].cell;
     input.restart_triangles();
-    SimplifiedMesh m = cluster_method(options.method).run(input, options, grids[k], &st, nullptr);
+    SimplifiedMesh m = method.run(input, options, grids[k], &st, nullptr);
     finish_run(input, options, memory, m, st);
     sink(k, m, st);
   }

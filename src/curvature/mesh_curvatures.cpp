@@ -13,6 +13,7 @@
 #include "oocsimp/error.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -85,6 +86,8 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
   if (!(settings.radius > 0)) {  // no side of any length: nothing to measure
     st.none = st.vertices;
   } else {
+    ProgressPhase phase(options.progress, "curvatures", st.vertices, "vtx");
+    settings.progress = &phase;
     const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
     VertexCurvatureCounts counts;
     if (options.tile_side == 0 && in_memory_bytes(st.vertices, st.triangles, threads) <= budget) {

@@ -83,10 +83,12 @@ MeshSurvey survey_mesh(MeshInput& input) {
 }
 
 std::uint64_t tile_bytes_per_vertex(unsigned threads) {
-  // Position 24, global index 8, adjacency start 4, outline flag 1, owned index 4,
-  // results 8; two faces a vertex: record 32, corners 12, adjacency 4; and each
-  // thread's marks of vertices and faces (4 + 2 x 4).
-  return 24 + 8 + 4 + 1 + 4 + 8 + 2 * (32 + 12 + 4) + std::uint64_t(threads) * 12;
+  // At two faces a vertex: the records (2 x 32) and, while they are sorted into
+  // the tile's vertices, their corners' global indices (2 x 3 x 8); the position 24,
+  // the own list 4, the corners (2 x 12), the faces around each vertex (start 4, 6
+  // faces x 4), the outline flag 1, the results 8; and each thread's marks of
+  // vertices and faces (4 + 2 x 4).
+  return 2 * 32 + 2 * 3 * 8 + 24 + 4 + 2 * 12 + (4 + 6 * 4) + 1 + 8 + std::uint64_t(threads) * 12;
 }
 
 double curvature_tile_side(const MeshInput& input, const TiledCurvatureSettings& settings, unsigned threads) {

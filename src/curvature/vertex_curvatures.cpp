@@ -191,10 +191,10 @@ class VertexEstimator {
 namespace {
 
 // Estimates vertex vertex_of(i) for i in [0, count), handing each result to
-// store(i, k); counts the outcomes.
+// store(i, k); counts the outcomes and advances `progress` (when given) by each.
 template <class VertexOf, class Store>
 VertexCurvatureCounts estimate_each(const VertexEstimator& estimator, std::size_t count, const VertexOf& vertex_of,
-                                    const Store& store) {
+                                    const Store& store, ProgressPhase* progress) {
   tbb::enumerable_thread_specific<Scratch> scratch;
   tbb::combinable<VertexCurvatureCounts> counts;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -215,6 +215,7 @@ VertexCurvatureCounts estimate_each(const VertexEstimator& estimator, std::size_
       }
       store(i, k);
     }
+    if (progress) progress->advance(range.size());
   });
   VertexCurvatureCounts total;
   counts.combine_each([&](const VertexCurvatureCounts& c) {
@@ -239,7 +240,8 @@ VertexCurvatureCounts vertex_curvatures(const std::vector<Vec3d>& positions,
       [&](std::size_t i, const PrincipalCurvatures& k) {
         (*k1)[i] = float(k.k1);
         (*k2)[i] = float(k.k2);
-      });
+      },
+      settings.progress);
 }
 
 VertexCurvatureCounts vertex_curvatures_of(const std::vector<Vec3d>& positions,
@@ -255,7 +257,8 @@ VertexCurvatureCounts vertex_curvatures_of(const std::vector<Vec3d>& positions,
       [&](std::size_t i, const PrincipalCurvatures& k) {
         (*k1)[i] = float(k.k1);
         (*k2)[i] = float(k.k2);
-      });
+      },
+      settings.progress);
 }
 
 }  // namespace oocsimp

@@ -7,12 +7,14 @@
 
 #include "curvature/integral_invariants.hpp"
 #include "oocsimp/geometry.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
 struct VertexCurvatureSettings {
   double radius = 0;  ///< of the ball or sphere (model units, > 0)
   CurvatureNeighbourhood neighbourhood = CurvatureNeighbourhood::ball;
+  ProgressPhase* progress = nullptr;  ///< advanced by the vertices estimated (any thread), when given
 };
 
 /// How each vertex's curvatures were found.

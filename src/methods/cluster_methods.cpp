@@ -7,12 +7,26 @@
 
 namespace oocsimp {
 
+namespace {
+
+void floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                     const LevelSink& sink, const SimplifyStats& base) {
+  cluster_floating_levels(input, options, grids, sink, base);
+}
+
+void curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                      const LevelSink& sink, const SimplifyStats& base) {
+  cluster_curvature_levels(input, options, grids, sink, base);
+}
+
+}  // namespace
+
 const std::vector<ClusterMethodEntry>& cluster_method_table() {
   static const std::vector<ClusterMethodEntry> methods = {
-      {ClusterMethod::floating, cluster_floating},
-      {ClusterMethod::uniform, cluster_uniform},
-      {ClusterMethod::curvature, cluster_curvature},
-      {ClusterMethod::qem, nullptr},  // no clustering: methods/multiphase.cpp
+      {ClusterMethod::floating, cluster_floating, floating_levels},
+      {ClusterMethod::uniform, cluster_uniform, nullptr},
+      {ClusterMethod::curvature, cluster_curvature, curvature_levels},
+      {ClusterMethod::qem, nullptr, nullptr},  // no clustering: methods/multiphase.cpp
   };
   return methods;
 }

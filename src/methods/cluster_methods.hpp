@@ -2,6 +2,8 @@
 // file and a row in cluster_methods.cpp.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "cluster/quadric.hpp"
@@ -19,9 +21,19 @@ namespace oocsimp {
 /// grid.origin (multiphase simplification's phase 1, Garland & Shaffer 2002).
 using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                       SimplifyStats* stats, std::vector<Quadric>* quadrics);
+/// Hears each level of a ClusterLevels run when it is done: its number, its mesh
+/// (which the sink may move from) and its stats.
+using LevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, SimplifyStats& stats)>;
+/// A method's levels of detail at each of `grids` from one run: what does not depend
+/// on the grid (floating: binning and grading; curvature: the estimate) is done once.
+/// Each level equals `run` at its grid; its stats start as a copy of `base`, and the
+/// first level's phases include the shared work.
+using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                               const LevelSink& sink, const SimplifyStats& base);
 struct ClusterMethodEntry {
   ClusterMethod method;  ///< spelled by cluster_method_names() (oocsimp/simplify.hpp)
   ClusterRun run;        ///< null for qem, which clusters nothing (simplify_to_target)
+  ClusterLevels levels;  ///< null where each level is a run of its own
 };
 /// Every method, the default first.
 const std::vector<ClusterMethodEntry>& cluster_method_table();

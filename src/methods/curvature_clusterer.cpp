@@ -62,39 +62,65 @@ void note_estimates(const CurvatureStats& c, SimplifyStats* stats) {
 
 }  // namespace
 
-SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+namespace {
+
+// Steps 2-4 at one grid, from the curvatures `k`; the phases go to `clock`'s stages
+// and then to `stats`.
+SimplifiedMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, const float* k,
+                          const MemoryBudget& budget, PhaseTimer* clock, SimplifyStats* stats,
+                          std::vector<Quadric>* quadrics) {
   const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
-  PhaseTimer clock;
-
-  MappedCurvatures k(temp, input.positions.count);
-  const CurvatureStats estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
-  clock.end("curvatures");
-
   CurvatureCellSettings settings;
   settings.tolerance = options.curvature.tolerance;
   settings.max_depth = options.curvature.max_depth;
   VertexClusters clusters(grid, settings, input.positions.count, temp);
-  clusters.find_leaves(input.positions, k.data(), budget, options.progress);
-  clock.end("octree");
+  clusters.find_leaves(input.positions, k, budget, options.progress);
+  clock->end("octree");
 
   clusters.join_components(input, options.progress);
-  clock.end("parts");
+  clock->end("parts");
 
-  const MatchContext context{&clusters, k.data()};
+  const MatchContext context{&clusters, k};
   ClusterCellSource source;
   source.clusters = &clusters;
   if (options.curvature.representative == RepresentativeRule::vertex) {
     source.matches = vertex_matches;
     source.context = &context;
   }
-  SimplifyStats local;
-  SimplifyStats& st = stats ? *stats : local;
-  clock.move_to(&st.phases);  // the uniform passes' phases follow
-  SimplifiedMesh mesh = cluster_cells(input, options, grid, source, &st, quadrics);
-  note_estimates(estimated, &st);
-  return mesh;
+  clock->move_to(&stats->phases);  // the uniform passes' phases follow
+  return cluster_cells(input, options, grid, source, stats, quadrics);
+}
+
+}  // namespace
+
+SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  SimplifiedMesh out;
+  cluster_curvature_levels(
+      input, options, {grid},
+      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
+        out = std::move(m);
+        if (stats) *stats = std::move(s);
+      },
+      stats ? *stats : SimplifyStats(), quadrics);
+  return out;
+}
+
+void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                              const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
+  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+  PhaseTimer clock;
+  MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
+  const CurvatureStats estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
+  clock.end("curvatures");
+  for (std::size_t level = 0; level < grids.size(); ++level) {
+    if (level > 0) clock.restart();
+    input.restart_triangles();
+    SimplifyStats stats = base;
+    SimplifiedMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, &clock, &stats, quadrics);
+    if (level == 0) note_estimates(estimated, &stats);
+    sink(level, mesh, stats);
+  }
 }
 
 }  // namespace oocsimp

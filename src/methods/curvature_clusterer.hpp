@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cluster/quadric.hpp"
+#include "methods/cluster_methods.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
@@ -16,5 +17,13 @@ namespace oocsimp {
 /// fields of `stats` like cluster_uniform, with the method's phases first.
 SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                  SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+
+/// cluster_curvature at each of `grids` (levels of detail): the curvatures are
+/// estimated once, then each level builds its octree, parts and clusters. Each level
+/// equals cluster_curvature with its grid; the first level's phases include the
+/// estimate.
+void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                              const LevelSink& sink, const SimplifyStats& base,
+                              std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

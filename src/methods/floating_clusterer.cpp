@@ -283,7 +283,7 @@ SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options
 }
 
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
-                             const FloatingLevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
+                             const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
   PhaseTimer clock;  // the first level's phases begin with the binning (or resumption) and grading
   FloatingRun run(input, given, grids, quadrics);
   run.tile_mesh();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cluster/quadric.hpp"
+#include "methods/cluster_methods.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
@@ -22,9 +23,6 @@ namespace oocsimp {
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                 SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
-/// Hears each level of cluster_floating_levels when it is done: its number, its mesh
-/// (which the sink may move from) and its stats.
-using FloatingLevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, SimplifyStats& stats)>;
 
 /// cluster_floating at each of `grids` (levels of detail, Low & Tan 1997 §3.2.2 and
 /// §4: "sort once"): the input is binned and graded once, with tiles that fit the
@@ -34,7 +32,7 @@ using FloatingLevelSink = std::function<void(std::size_t level, SimplifiedMesh& 
 /// grid, since the result does not depend on the tiling. Each level's stats start as
 /// a copy of `base`; the first level's phases include the binning and grading.
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                             const FloatingLevelSink& sink, const SimplifyStats& base,
+                             const LevelSink& sink, const SimplifyStats& base,
                              std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp
