@@ -157,7 +157,8 @@ TEST_CASE("curvature clustering as phase 1 reaches an exact target", "[curvature
   CHECK(std::any_of(st.phases.begin(), st.phases.end(), [](const PhaseTime& p) { return p.name == "curvatures"; }));
 }
 
-TEST_CASE("curvature clustering keeps thin parts as thick edges, and its levels share one estimate", "[curvature][method]") {
+TEST_CASE("curvature clustering keeps thin parts as thick edges, and its levels share one estimate",
+          "[curvature][method]") {
   ScratchDir d, tmp;
   REQUIRE(run_cli("generate --shape branches --tris 20000 --quiet -o " + d.file("tree.ply")).exit_code == 0);
   SimplifyOptions o = clustering(ClusterMethod::curvature, 24, tmp);
@@ -168,10 +169,12 @@ TEST_CASE("curvature clustering keeps thin parts as thick edges, and its levels 
   // Levels share one estimate: the first equals a run of its own at its grid, and
   // only the first level's phases hold the estimate.
   const std::string common = " --method curvature --quiet --tmp " + tmp.path();
-  const CliResult r = run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("l.ply") + " --grid 24 --lods 2" + common);
+  const CliResult r =
+      run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("l.ply") + " --grid 24 --lods 2" + common);
   CHECK(r.exit_code == 0);
   REQUIRE(file_exists(d.file("l.lod1.ply")));
-  REQUIRE(run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("one.ply") + " --grid 24" + common).exit_code == 0);
+  REQUIRE(run_cli("simplify " + d.file("tree.ply") + " -o " + d.file("one.ply") + " --grid 24" + common).exit_code ==
+          0);
   CHECK(read_file(d.file("l.lod0.ply")) == read_file(d.file("one.ply")));
   const std::string json = read_file(d.file("l.lods.json"));
   const std::size_t first = json.find("\"curvatures\"");

@@ -369,7 +369,8 @@ void refuse_floating_only(const std::vector<CLI::Option*>& floating_only, const 
 void refuse_curvature_only(const std::vector<CLI::Option*>& curvature_only, const SimplifyOptions& options) {
   const std::string method = method_name(resolved_method(options));
   for (const CLI::Option* o : curvature_only)
-    if (o->count() > 0) throw UsageError(o->get_name() + " applies to --method curvature only, not to --method " + method);
+    if (o->count() > 0)
+      throw UsageError(o->get_name() + " applies to --method curvature only, not to --method " + method);
 }
 
 // --rep for the method that takes it: floating's rules or curvature's.

@@ -135,9 +135,9 @@ struct SimplifyOptions {
   CellSizing sizing;
   TargetOptions target;
   ClusterMethod method = ClusterMethod::automatic;
-  FloatingOptions floating;         ///< read by the floating method only
+  FloatingOptions floating;           ///< read by the floating method only
   CurvatureClusterOptions curvature;  ///< read by the curvature method only
-  std::uint64_t memory_budget = 0;  ///< bytes for the working set; 0 = a quarter of physical memory
+  std::uint64_t memory_budget = 0;    ///< bytes for the working set; 0 = a quarter of physical memory
   /// Whether memory_budget bounds the whole process's anonymous memory, what it held
   /// before the run included (the CLI: the process is the run), or only what the run
   /// adds to it (a program that holds memory of its own).

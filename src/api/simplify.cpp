@@ -93,9 +93,9 @@ void check_method_options(const MeshInput& input, const SimplifyOptions& options
   if (m != ClusterMethod::curvature) return;
   const CurvatureClusterOptions& c = options.curvature;
   if (c.representative != RepresentativeRule::vertex && c.representative != RepresentativeRule::quadric)
-    throw UsageError("options.curvature.representative",
-                     std::string("options.curvature.representative ") + representative_name(c.representative) +
-                         ": the curvature method takes vertex or quadric");
+    throw UsageError("options.curvature.representative", std::string("options.curvature.representative ") +
+                                                             representative_name(c.representative) +
+                                                             ": the curvature method takes vertex or quadric");
   if (!(c.tolerance > 0) || !std::isfinite(c.tolerance))
     throw UsageError("options.curvature.tolerance", "options.curvature.tolerance must be a positive finite number");
   if (c.max_depth > 6) throw UsageError("options.curvature.max_depth", "options.curvature.max_depth must be 0 to 6");

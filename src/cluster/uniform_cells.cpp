@@ -305,8 +305,7 @@ ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept
     e.a = std::uint32_t(key >> 32);
     e.b = std::uint32_t(key & 0xFFFFFFFFu);
     const EdgeMoments& m = thick.edges.value(i);
-    e.thickness =
-        float(edge_thickness(m.a, keys.cell_min(cells.key(e.a)), m.b, keys.cell_min(cells.key(e.b))));
+    e.thickness = float(edge_thickness(m.a, keys.cell_min(cells.key(e.a)), m.b, keys.cell_min(cells.key(e.b))));
   }
   std::vector<std::pair<std::uint32_t, float>> points;
   for (std::size_t c = 0; c < thick.collapsed.size() && c < cells.size(); ++c)
@@ -679,8 +678,9 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                         const VertexSum& s = rec.vertices;
                         const double half = 0.5 * side;
                         Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
-                        Vec3d x = (chosen.empty() ? minimize_quadric(rec.q, mean, lo, hi) : chosen[order[i]].position) +
-                                  grid.origin;
+                        const Vec3d at = chosen.empty() ? minimize_quadric(rec.q, mean, lo, hi)  //
+                                                        : chosen[order[i]].position;
+                        Vec3d x = at + grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         mesh.positions[3 * i] = x.x;
                         mesh.positions[3 * i + 1] = x.y;

@@ -23,8 +23,7 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
 /// heap, for inputs larger than memory.
 class MappedCurvatures {
  public:
-  MappedCurvatures(const std::string& dir, std::uint64_t vertices)
-      : scratch_(dir, "curvature-values", 8 * vertices) {}
+  MappedCurvatures(const std::string& dir, std::uint64_t vertices) : scratch_(dir, "curvature-values", 8 * vertices) {}
   float* data() { return reinterpret_cast<float*>(scratch_.data()); }
   const float* data() const { return reinterpret_cast<const float*>(scratch_.data()); }
 

@@ -126,7 +126,7 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
   // Each triangle into every tile its box, widened by the halo, meets.
   const std::uint64_t spill_memory = settings.memory_budget / 4;
   const std::size_t buffer_records = std::clamp<std::size_t>(
-      std::size_t(spill_memory / 2 / std::max<std::uint64_t>(1, grid.count()) / sizeof(TileTriangle)), 64, 4096);
+      std::size_t(spill_memory / 2 / std::max<std::uint64_t>(1, grid.count()) / sizeof(TileTriangle)), 16, 4096);
   StreamSpill spill(settings.temp_dir, "curvature", sizeof(TileTriangle), buffer_records, true, spill_memory / 2);
   for (std::uint32_t t = 0; t < grid.count(); ++t) spill.add_stream();
   std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
@@ -159,6 +159,7 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
     }
   }
   input.restart_triangles();
+  spill.flush();  // the streams' buffers go before the tiles' work comes
   // Each tile: its faces as a mesh of their own, its own vertices estimated.
   VertexCurvatureCounts total;
   std::vector<TileTriangle> records;

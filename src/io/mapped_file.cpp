@@ -57,7 +57,8 @@ MappedScratch::MappedScratch(const std::string& dir, const std::string& prefix, 
     : file_(dir, prefix) {
   bytes = std::max<std::uint64_t>(bytes, 8);  // an empty file would map to nothing
   if (::ftruncate(file_.fd(), off_t(bytes)) != 0)
-    throw IoError(system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", errno));
+    throw IoError(
+        system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", errno));
   map_ = std::make_unique<MappedFile>(file_.path(), MapAccess::read_write);
 }
 

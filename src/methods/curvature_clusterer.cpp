@@ -31,8 +31,8 @@ CurvatureOptions curvature_options(const SimplifyOptions& options, const MemoryB
   constexpr std::uint64_t kLeast = 1 << 20;  // 0 would mean "the default budget"
   CurvatureOptions o;
   o.radius = options.curvature.radius;
-  o.neighbourhood = options.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere
-                                                           : CurvatureNeighbourhood::ball;
+  o.neighbourhood =
+      options.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
   o.tile_side = options.curvature.tile_side;
   o.threads = options.threads;
   const std::uint64_t held = budget.held();
@@ -112,6 +112,9 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
   PhaseTimer clock;
   MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
   const CurvatureStats estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
+  // The tiles' buffers were freed on several threads: let the allocator give them
+  // back before the tables come (see SimplifyOptions::release_memory).
+  if (options.release_memory) options.release_memory();
   clock.end("curvatures");
   for (std::size_t level = 0; level < grids.size(); ++level) {
     if (level > 0) clock.restart();

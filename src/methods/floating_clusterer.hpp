@@ -23,7 +23,6 @@ namespace oocsimp {
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                 SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
-
 /// cluster_floating at each of `grids` (levels of detail, Low & Tan 1997 §3.2.2 and
 /// §4: "sort once"): the input is binned and graded once, with tiles that fit the
 /// coarsest cell (binning and grading do not depend on the cell, see kept_tiles.hpp),

@@ -70,8 +70,9 @@ void check_positions_fit(const TableBudget& budget, const UniformCells& cells, c
                          const SimplifiedMesh& mesh) {
   const std::size_t triangles = mesh.triangles.size() / 3;
   const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * triangles;
-  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() + sizeof(std::uint32_t) * order.capacity() +
-                   triangle_bytes + (3 + cells.attribute_count()) * sizeof(double) * order.size(),
+  budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() +
+                   sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
+                   (3 + cells.attribute_count()) * sizeof(double) * order.size(),
                output_tables(cells.cell_count(), triangles));
 }
 
