@@ -248,7 +248,7 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
           finish_run(input, options, memory, m, st);
           sink(std::uint32_t(k), m, st);
         },
-        base);
+        base, nullptr);
     return;
   }
   for (std::uint32_t k = 0; k < lods.levels; ++k) {

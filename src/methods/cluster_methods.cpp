@@ -1,5 +1,7 @@
 #include "methods/cluster_methods.hpp"
 
+#include <utility>
+
 #include "methods/curvature_clusterer.hpp"
 #include "methods/floating_clusterer.hpp"
 #include "methods/uniform_clusterer.hpp"
@@ -7,25 +9,24 @@
 
 namespace oocsimp {
 
-namespace {
-
-void floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                     const LevelSink& sink, const SimplifyStats& base) {
-  cluster_floating_levels(input, options, grids, sink, base);
+SimplifiedMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options,
+                            const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  SimplifiedMesh out;
+  levels(
+      input, options, {grid},
+      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
+        out = std::move(m);
+        if (stats) *stats = std::move(s);
+      },
+      stats ? *stats : SimplifyStats(), quadrics);
+  return out;
 }
-
-void curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                      const LevelSink& sink, const SimplifyStats& base) {
-  cluster_curvature_levels(input, options, grids, sink, base);
-}
-
-}  // namespace
 
 const std::vector<ClusterMethodEntry>& cluster_method_table() {
   static const std::vector<ClusterMethodEntry> methods = {
-      {ClusterMethod::floating, cluster_floating, floating_levels},
+      {ClusterMethod::floating, cluster_floating, cluster_floating_levels},
       {ClusterMethod::uniform, cluster_uniform, nullptr},
-      {ClusterMethod::curvature, cluster_curvature, curvature_levels},
+      {ClusterMethod::curvature, cluster_curvature, cluster_curvature_levels},
       {ClusterMethod::qem, nullptr, nullptr},  // no clustering: methods/multiphase.cpp
   };
   return methods;

@@ -27,9 +27,12 @@ using LevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, Si
 /// A method's levels of detail at each of `grids` from one run: what does not depend
 /// on the grid (floating: binning and grading; curvature: the estimate) is done once.
 /// Each level equals `run` at its grid; its stats start as a copy of `base`, and the
-/// first level's phases include the shared work.
+/// first level's phases include the shared work. With `quadrics`, as for ClusterRun.
 using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                               const LevelSink& sink, const SimplifyStats& base);
+                               const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics);
+/// A ClusterRun from a method's ClusterLevels: `levels` at the one grid `grid`.
+SimplifiedMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options,
+                            const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics);
 struct ClusterMethodEntry {
   ClusterMethod method;  ///< spelled by cluster_method_names() (oocsimp/simplify.hpp)
   ClusterRun run;        ///< null for qem, which clusters nothing (simplify_to_target)

@@ -95,15 +95,7 @@ SimplifiedMesh cluster_at(MeshInput& input, const SimplifyOptions& options, cons
 
 SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                  SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  SimplifiedMesh out;
-  cluster_curvature_levels(
-      input, options, {grid},
-      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
-        out = std::move(m);
-        if (stats) *stats = std::move(s);
-      },
-      stats ? *stats : SimplifyStats(), quadrics);
-  return out;
+  return single_level(cluster_curvature_levels, input, options, grid, stats, quadrics);
 }
 
 void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,

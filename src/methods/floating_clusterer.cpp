@@ -271,15 +271,7 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
 
 SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  SimplifiedMesh out;
-  cluster_floating_levels(
-      input, options, {grid},
-      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
-        out = std::move(m);
-        if (stats) *stats = std::move(s);
-      },
-      stats ? *stats : SimplifyStats(), quadrics);
-  return out;
+  return single_level(cluster_floating_levels, input, options, grid, stats, quadrics);
 }
 
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
