@@ -31,16 +31,25 @@ double halo_of(const TiledCurvatureSettings& s) {
   return LocalHeightField::kHeightFieldReach * s.vertex.radius + 2 * s.longest_edge;
 }
 
-// The most vertices any tile and its halo hold at side `side` (bounded by the tiles
-// within the halo's reach around it), or 0 when there are none.
-std::uint64_t fullest_tile_vertices(const MeshInput& input, double side, double halo) {
+// Bytes of the spill's bookkeeping per occupied tile while the faces are binned: the
+// stream's buffer (at least 16 records of 32 bytes), its state and the tile's entry.
+constexpr std::uint64_t kSpillBytesPerTile = 768;
+
+// At side `side`: the most vertices any tile and its halo hold (bounded by the tiles
+// within the halo's reach around it; 0 when there are none), and the occupied tiles.
+struct TileFill {
+  std::uint64_t fullest = 0;
+  std::uint64_t tiles = 0;
+};
+TileFill tile_fill(const MeshInput& input, double side, double halo) {
   std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> count;
   for (std::uint64_t v = 0; v < input.positions.count; ++v) {
     const Vec3d p = input.positions.get(v);
     if (finite(p)) ++count[GridCoord::of(p, side)];
   }
   const std::int64_t reach = std::int64_t(std::ceil(halo / side));
-  std::uint64_t fullest = 0;
+  TileFill fill;
+  fill.tiles = count.size();
   for (const auto& [c, own] : count) {
     std::uint64_t sum = 0;
     for (std::int64_t dz = -reach; dz <= reach; ++dz)
@@ -49,9 +58,9 @@ std::uint64_t fullest_tile_vertices(const MeshInput& input, double side, double 
           auto it = count.find(GridCoord{c.x + dx, c.y + dy, c.z + dz});
           if (it != count.end()) sum += it->second;
         }
-    fullest = std::max(fullest, sum);
+    fill.fullest = std::max(fill.fullest, sum);
   }
-  return fullest;
+  return fill;
 }
 
 std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
@@ -96,19 +105,25 @@ double curvature_tile_side(const MeshInput& input, const TiledCurvatureSettings&
   const double halo = halo_of(settings);
   const Box3d& b = input.info.bounds;
   const double extent = b.empty() ? 0 : std::max({b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z});
-  // Half the budget for the tile in work; a quarter for the spill's memory.
-  const std::uint64_t share = settings.memory_budget / 2;
+  // Half the budget for the tile in work; a quarter for the spill, of which half for
+  // the tiles' buffers while binning.
+  const std::uint64_t share = settings.memory_budget / 2, bookkeeping = settings.memory_budget / 8;
   double side = std::max(extent, halo);
   if (!(side > 0)) return 1;
   for (;;) {
-    const std::uint64_t bytes = fullest_tile_vertices(input, side, halo) * tile_bytes_per_vertex(threads);
-    if (bytes <= share) return side;
-    // Tiles smaller than their halo hold mostly halo: the budget is too small.
-    if (side / 2 < halo)
+    const TileFill fill = tile_fill(input, side, halo);
+    const std::uint64_t bytes = fill.fullest * tile_bytes_per_vertex(threads);
+    const std::uint64_t tile_bytes = fill.tiles * kSpillBytesPerTile;
+    if (bytes <= share && tile_bytes <= bookkeeping) return side;
+    // Tiles smaller than their halo hold mostly halo, and ever more tiles cost more
+    // bookkeeping than they save: the budget is too small. This side would do with
+    // the budget named.
+    if (side / 2 < halo || tile_bytes > bookkeeping)
       throw UsageError("options.memory_budget",
                        "options.memory_budget " + mib(settings.memory_budget) +
                            " cannot hold a tile of the curvature estimate and its halo (radius " +
-                           std::to_string(settings.vertex.radius) + "): give at least " + mib(2 * bytes));
+                           std::to_string(settings.vertex.radius) + ") next to the " + std::to_string(fill.tiles) +
+                           " tiles' bookkeeping: give at least " + mib(std::max(2 * bytes, 8 * tile_bytes)));
     side /= 2;
   }
 }
