@@ -423,10 +423,11 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   }
   // Both shape a clustering phase 1, which qem does not run.
   if (resolved_method(o) == ClusterMethod::qem && (a.refine->count() > 0 || a.intermediate_factor.given()))
-    throw UsageError(std::string(a.refine->count() > 0 ? "--refine" : "--intermediate-factor") +
-                     " applies to a clustering method with a target (--method floating or uniform), not to --method "
-                     "qem" +
-                     (o.method == ClusterMethod::automatic ? " (the default with a target)" : ""));
+    throw UsageError(
+        std::string(a.refine->count() > 0 ? "--refine" : "--intermediate-factor") +
+        " applies to a clustering method with a target (--method floating, uniform or curvature), not to --method "
+        "qem" +
+        (o.method == ClusterMethod::automatic ? " (the default with a target)" : ""));
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.cell.given()) o.sizing.cell = positive_number("--cell", a.cell.text);
   if (a.grid.given()) o.sizing.grid = std::uint32_t(whole_number("--grid", a.grid.text, 1, kMaxGridDivisions));
