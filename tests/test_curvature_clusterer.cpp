@@ -86,6 +86,13 @@ TEST_CASE("cells split where a cube's faces meet, and only there", "[curvature][
   // cells. With them the cells along the edges are finer, the faces' are not: more
   // clusters than the grid's, fewer than a grid 2^2 times finer everywhere.
   CHECK(unsplit.output_vertices == uniform.output_vertices);
+  // Without splits (and with quadric representatives) no curvature is read: none is
+  // estimated.
+  auto estimated = [](const SimplifyStats& s) {
+    return std::any_of(s.phases.begin(), s.phases.end(), [](const PhaseTime& p) { return p.name == "curvatures"; });
+  };
+  CHECK_FALSE(estimated(unsplit));
+  CHECK(estimated(split));
   CHECK(split.output_vertices > uniform.output_vertices);
   CHECK(split.output_vertices < fine.output_vertices / 2);
 }

@@ -103,11 +103,17 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
   const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
   PhaseTimer clock;
   MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
-  const CurvatureStats estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
-  // The tiles' buffers were freed on several threads: let the allocator give them
-  // back before the tables come (see SimplifyOptions::release_memory).
-  if (options.release_memory) options.release_memory();
-  clock.end("curvatures");
+  // Without splits and with quadric representatives nothing reads the curvatures:
+  // the grid cells' parts alone, at the uniform grid's pace.
+  const bool read = options.curvature.max_depth > 0 || options.curvature.representative == RepresentativeRule::vertex;
+  CurvatureStats estimated;
+  if (read) {
+    estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
+    // The tiles' buffers were freed on several threads: let the allocator give them
+    // back before the tables come (see SimplifyOptions::release_memory).
+    if (options.release_memory) options.release_memory();
+    clock.end("curvatures");
+  }
   for (std::size_t level = 0; level < grids.size(); ++level) {
     if (level > 0) clock.restart();
     input.restart_triangles();
