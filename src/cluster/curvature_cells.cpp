@@ -64,14 +64,19 @@ std::uint64_t octree_key(const GridSpec& grid, const Vec3d& p, std::uint32_t dep
 
 constexpr std::uint64_t kAxisMask = (std::uint64_t(1) << 21) - 1;
 
-}  // namespace
+// The side of a cell `depth` splits below the grid's.
+double side_at(const GridSpec& grid, std::uint32_t depth) { return std::ldexp(grid.cell, -int(depth)); }
 
+// The deepest split of `grid` whose cells still pack into a key (21 bits an axis), at
+// most `wanted`.
 std::uint32_t usable_depth(const GridSpec& grid, std::uint32_t wanted) {
   const std::uint64_t widest = std::max({grid.dims[0], grid.dims[1], grid.dims[2]});
   std::uint32_t depth = 0;
   while (depth < wanted && (widest << (depth + 1)) <= kAxisMask) ++depth;
   return depth;
 }
+
+}  // namespace
 
 VertexClusters::VertexClusters(const GridSpec& grid, const CurvatureCellSettings& settings, std::uint64_t vertices,
                                const std::string& temp_dir)
@@ -97,7 +102,7 @@ void VertexClusters::find_leaves(const PositionArray& positions, const float* k,
   std::uint64_t undecided = positions.count;
   ProgressPhase phase(progress, "curvature cells", depths * positions.count, "vtx");
   for (std::uint32_t d = 0; d < depths && undecided > 0; ++d) {
-    const double side = std::ldexp(grid_.cell, -int(d));
+    const double side = side_at(grid_, d);
     CellMap<CellCurvatures> cells(1 << 12);
     for (std::uint64_t v = 0; v < positions.count; ++v) {
       if (leaf_of[v] != kUndecided) continue;
@@ -189,26 +194,22 @@ Vec3d VertexClusters::cell_min_relative(std::uint32_t c) const {
   const std::uint32_t leaf = cluster_leaf_[c];
   if (leaf == kNoLeaf) return Vec3d{};
   const LeafCell& l = leaves_[leaf];
-  const double side = std::ldexp(grid_.cell, -int(l.depth));
+  const double side = side_at(grid_, l.depth);
   return {side * double(l.key & kAxisMask), side * double((l.key >> 21) & kAxisMask),
           side * double((l.key >> 42) & kAxisMask)};
 }
 
 double VertexClusters::cell_side(std::uint32_t c) const {
   const std::uint32_t leaf = cluster_leaf_[c];
-  return leaf == kNoLeaf ? grid_.cell : std::ldexp(grid_.cell, -int(leaves_[leaf].depth));
+  return leaf == kNoLeaf ? grid_.cell : side_at(grid_, leaves_[leaf].depth);
 }
 
 bool VertexClusters::matches(std::uint32_t c, float k1, float k2) const {
   const std::uint32_t leaf = cluster_leaf_[c];
   if (leaf == kNoLeaf) return false;
   const LeafCell& l = leaves_[leaf];
-  const double within = settings_.tolerance / std::ldexp(grid_.cell, -int(l.depth));
+  const double within = settings_.tolerance / side_at(grid_, l.depth);
   return std::abs(double(k1) - l.k1) <= within && std::abs(double(k2) - l.k2) <= within;
-}
-
-std::uint64_t VertexClusters::bytes() const {
-  return leaves_.capacity() * sizeof(LeafCell) + cluster_leaf_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace oocsimp

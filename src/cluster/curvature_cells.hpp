@@ -29,10 +29,6 @@ struct CurvatureCellSettings {
   std::uint32_t max_depth = 3;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
 };
 
-/// The deepest split of `grid` whose cells still pack into a key (21 bits an axis),
-/// at most `wanted`.
-std::uint32_t usable_depth(const GridSpec& grid, std::uint32_t wanted);
-
 /// A leaf of the octree: a cell of side grid.cell / 2^depth and its vertices' mean
 /// curvatures.
 struct LeafCell {
@@ -67,15 +63,11 @@ class VertexClusters {
 
   /// The cluster of vertex v (after join_components).
   std::uint32_t cluster(std::uint64_t v) const { return labels_[v]; }
-  std::size_t cluster_count() const { return cluster_leaf_.size(); }
-  std::size_t leaf_count() const { return leaves_.size(); }
   /// The cell of cluster c: its lower corner relative to the grid's origin, and side.
   Vec3d cell_min_relative(std::uint32_t c) const;
   double cell_side(std::uint32_t c) const;
   /// Whether vertex v, with curvatures k1 and k2, matches the cell of its cluster c.
   bool matches(std::uint32_t c, float k1, float k2) const;
-  /// Heap bytes of the leaves and clusters.
-  std::uint64_t bytes() const;
 
  private:
   GridSpec grid_;

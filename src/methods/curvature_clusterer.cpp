@@ -60,16 +60,11 @@ void note_estimates(const CurvatureStats& c, SimplifyStats* stats) {
                               "the radius): they count as flat");
 }
 
-}  // namespace
-
-namespace {
-
 // Steps 2-4 at one grid, from the curvatures `k`; the phases go to `clock`'s stages
 // and then to `stats`.
 SimplifiedMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, const float* k,
-                          const MemoryBudget& budget, PhaseTimer* clock, SimplifyStats* stats,
+                          const MemoryBudget& budget, const std::string& temp, PhaseTimer* clock, SimplifyStats* stats,
                           std::vector<Quadric>* quadrics) {
-  const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
   CurvatureCellSettings settings;
   settings.tolerance = options.curvature.tolerance;
   settings.max_depth = options.curvature.max_depth;
@@ -102,7 +97,8 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
                               const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
   const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
   PhaseTimer clock;
-  MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
+  const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
+  MappedCurvatures k(temp, input.positions.count);
   // Without splits and with quadric representatives nothing reads the curvatures:
   // the grid cells' parts alone, at the uniform grid's pace.
   const bool read = options.curvature.max_depth > 0 || options.curvature.representative == RepresentativeRule::vertex;
@@ -118,7 +114,7 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
     if (level > 0) clock.restart();
     input.restart_triangles();
     SimplifyStats stats = base;
-    SimplifiedMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, &clock, &stats, quadrics);
+    SimplifiedMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, temp, &clock, &stats, quadrics);
     if (level == 0) note_estimates(estimated, &stats);
     sink(level, mesh, stats);
   }
