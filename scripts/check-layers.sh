@@ -17,7 +17,7 @@ floors=(
   "src/spill"
   "src/grid"
   "src/cluster src/curvature"
-  "src/stitch src/refine"
+  "src/stitch src/refine src/hierarchy"
   "src/methods"
   "src/report src/metrics src/synth src/render src/lod"
   "src/api"

@@ -69,6 +69,13 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"outputs.replace_input", "--force"},
     {"outputs.stats", "--stats"},
     {"outputs.mesh", "-o"},
+    {"query.level", "--level"},
+    {"query.triangles", "--tris"},
+    {"query.error", "--error"},
+    {"query.radius", "--sphere"},
+    {"query.box", "--box"},
+    {"query.region", "the region"},
+    {"query", "extract"},
 };
 
 // A character that continues a name or a path.
@@ -605,6 +612,118 @@ int run_simplify(const SimplifyArgs& a) {
   return kOk;
 }
 
+// --- hierarchy, extract
+
+struct HierarchyArgs {
+  std::string in, out;
+  Given levels, threads, mem;
+  HierarchyOptions options;
+  bool quiet = false;
+};
+
+CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
+  CLI::App* cmd = app.add_subcommand(
+      "hierarchy", "Build Velho's 4-k hierarchy (four-face clusters) of a manifold mesh into a .4k file");
+  cmd->add_option("input", a.in, "Input mesh")->required();
+  cmd->add_option("-o,--output", a.out, "Output .4k file")->required();
+  add_given(cmd, "--levels", &a.levels, "Levels to build (default: until a level removes nothing)");
+  add_given(cmd, "--mem", &a.mem,
+            "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  add_quiet_flag(cmd, &a.quiet);
+  return cmd;
+}
+
+int run_hierarchy(HierarchyArgs& a) {
+  HierarchyOptions o = a.options;
+  if (a.levels.given()) o.levels = std::uint32_t(whole_number("--levels", a.levels.text, 1, 1000));
+  if (a.threads.given()) o.threads = threads_of(a.threads);
+  if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
+  ProgressReporter progress(a.quiet);
+  o.progress = progress.callback();
+  HierarchyStats st;
+  build_hierarchy_file(a.in, a.out, o, &st);
+  std::printf("hierarchy %" PRIu64 " vertices, %" PRIu64 " triangles", st.input_vertices, st.input_triangles);
+  if (st.reduced_triangles) std::printf(" (simplified out of core to %" PRIu64 " first)", st.reduced_triangles);
+  std::printf("\n");
+  if (st.split_vertices) std::printf("split %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
+  std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), file %.1f MiB\n", st.records, st.swaps,
+              st.records - st.swaps, double(st.file_bytes) / 1048576.0);
+  std::printf("time %.3f s: %.2f Mtri/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
+              st.seconds > 0 ? double(st.input_triangles) / st.seconds / 1e6 : 0.0,
+              double(st.peak_rss_bytes) / 1048576.0, double(st.peak_anon_bytes) / 1048576.0);
+  return kOk;
+}
+
+struct ExtractArgs {
+  std::string in, out;
+  Given level, tris, error, box, sphere;
+  bool ascii = false;
+};
+
+CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
+  CLI::App* cmd = app.add_subcommand("extract", "Extract a conforming mesh from a .4k hierarchy");
+  cmd->add_option("input", a.in, "Input .4k file (written by oocsimp hierarchy)")->required();
+  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF; .zst compresses)")->required();
+  add_given(cmd, "--level", &a.level, "Level J: 0 is the finest, higher is coarser");
+  add_given(cmd, "--tris", &a.tris, "The finest state with at most this many triangles");
+  add_given(cmd, "--error", &a.error, "The coarsest state whose removals all cost at most this (see info)");
+  add_given(cmd, "--box", &a.box, "x0,y0,z0,x1,y1,z1: keep the faces meeting this box at the finest level");
+  add_given(cmd, "--sphere", &a.sphere, "x,y,z,r: keep the faces meeting this ball at the finest level");
+  cmd->add_flag("--ascii", a.ascii, "Write ascii PLY or STL");
+  return cmd;
+}
+
+// `count` finite numbers separated by commas, for `flag`.
+std::vector<double> number_list(const std::string& flag, const std::string& text, std::size_t count) {
+  std::vector<double> values;
+  std::size_t at = 0;
+  while (at <= text.size() && values.size() < count + 1) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, comma - at);
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(v))
+      bad_value(flag, text, std::to_string(count) + " finite numbers separated by commas");
+    values.push_back(v);
+    at = comma + 1;
+  }
+  if (values.size() != count) bad_value(flag, text, std::to_string(count) + " finite numbers separated by commas");
+  return values;
+}
+
+int run_extract(const ExtractArgs& a) {
+  HierarchyQuery q;
+  const int asked = int(a.level.given()) + int(a.tris.given()) + int(a.error.given());
+  if (asked != 1) throw UsageError("extract: give exactly one of --level, --tris and --error");
+  if (a.level.given()) q.level = std::uint32_t(whole_number("--level", a.level.text, 0, 1000000));
+  if (a.tris.given()) q.triangles = whole_number("--tris", a.tris.text, 1, kMost);
+  if (a.error.given()) {
+    char* end = nullptr;
+    q.error = std::strtod(a.error.text.c_str(), &end);
+    if (a.error.text.empty() || *end != '\0' || !std::isfinite(q.error) || q.error < 0)
+      bad_value("--error", a.error.text, "a finite number of 0 or more");
+  }
+  if (a.box.given() && a.sphere.given()) throw UsageError("extract: give --box or --sphere, not both");
+  if (a.box.given()) {
+    const std::vector<double> b = number_list("--box", a.box.text, 6);
+    if (b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) bad_value("--box", a.box.text, "a minimum corner below the maximum");
+    q.region = HierarchyQuery::Region::box;
+    q.box.min = {b[0], b[1], b[2]};
+    q.box.max = {b[3], b[4], b[5]};
+  }
+  if (a.sphere.given()) {
+    const std::vector<double> s = number_list("--sphere", a.sphere.text, 4);
+    if (!(s[3] > 0)) bad_value("--sphere", a.sphere.text, "a positive radius");
+    q.region = HierarchyQuery::Region::sphere;
+    q.centre = {s[0], s[1], s[2]};
+    q.radius = s[3];
+  }
+  extract_file(a.in, a.out, a.ascii, q);
+  return kOk;
+}
+
 // --- info
 
 struct InfoArgs {
@@ -613,7 +732,7 @@ struct InfoArgs {
 
 CLI::App* add_info_command(CLI::App& app, InfoArgs& a) {
   CLI::App* cmd = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
-  cmd->add_option("input", a.in, "Input mesh")->required();
+  cmd->add_option("input", a.in, "Input mesh, or a .4k hierarchy")->required();
   add_tmp_option(cmd, &a.tmp);
   return cmd;
 }
@@ -627,7 +746,29 @@ void print_tally(const char* name, const PrimitiveTally& t) {
                 t.sum / double(t.count));
 }
 
+// A .4k hierarchy: its counts and levels.
+int run_hierarchy_info(const InfoArgs& a) {
+  const MeshHierarchy h = read_hierarchy(a.in);
+  std::printf("file      %s\n", a.in.c_str());
+  std::printf("format    oocsimp 4-k hierarchy, version 1, positions %s\n",
+              h.precision == ScalarType::f64 ? "double" : "float");
+  std::printf("vertices  %zu\n", h.positions.size() / 3);
+  std::printf("faces     %zu\n", h.triangles.size() / 3);
+  std::size_t swaps = 0;
+  for (const HierarchyRecord& r : h.records) swaps += r.swap;
+  std::printf("records   %zu (%zu swaps, %zu removals)\n", h.records.size(), swaps, h.records.size() - swaps);
+  std::printf("level  triangles   vertices  ratio  largest error\n");
+  for (std::size_t j = 0; j < h.levels.size(); ++j) {
+    const HierarchyLevel& l = h.levels[j];
+    const double ratio = j > 0 ? double(l.triangles) / double(h.levels[j - 1].triangles) : 1.0;
+    std::printf("%5zu %10" PRIu64 " %10" PRIu64 "  %.3f  %.6g\n", j, l.triangles, l.vertices, ratio,
+                double(l.largest_error));
+  }
+  return kOk;
+}
+
 int run_info(const InfoArgs& a) {
+  if (is_hierarchy_file(a.in)) return run_hierarchy_info(a);
   const MeshSummary m = describe_mesh(a.in, a.tmp);
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
@@ -1024,6 +1165,8 @@ int main(int argc, char** argv) {
   CurvatureArgs curvature;
   LodSelectArgs lod_select;
   RenderArgs render;
+  HierarchyArgs hierarchy;
+  ExtractArgs extract;
   const std::pair<CLI::App*, std::function<int()>> commands[] = {
       {add_simplify_command(app, simplify), [&] { return run_simplify(simplify); }},
       {add_info_command(app, info), [&] { return run_info(info); }},
@@ -1032,6 +1175,8 @@ int main(int argc, char** argv) {
       {add_curvature_command(app, curvature), [&] { return run_curvature(curvature); }},
       {add_lod_select_command(app, lod_select), [&] { return run_lod_select(lod_select); }},
       {add_render_command(app, render), [&] { return run_render(render); }},
+      {add_hierarchy_command(app, hierarchy), [&] { return run_hierarchy(hierarchy); }},
+      {add_extract_command(app, extract), [&] { return run_extract(extract); }},
   };
   try {
     app.parse(argc, argv);

@@ -35,6 +35,7 @@
 #include "oocsimp/enum_names.hpp"  // EnumNames: each option value's spelling
 #include "oocsimp/error.hpp"       // UsageError, InputError, IoError, Cancelled
 #include "oocsimp/geometry.hpp"    // Vec3d, Box3d
+#include "oocsimp/hierarchy.hpp"   // build_hierarchy, extract_mesh: Velho's 4-k hierarchy
 #include "oocsimp/mesh.hpp"        // MeshView, SimplifiedMesh, MeshInfo, MeshSummary, MeshFormat
 #include "oocsimp/options.hpp"     // SimplifyOptions, TargetOptions, LodOptions, OutputOptions
 #include "oocsimp/progress.hpp"    // Progress, ProgressCallback

@@ -31,4 +31,22 @@ inline void add_plane_quadric(Quadric* q, const TrianglePlane& plane, double d) 
   q->add_plane(plane.m, 0.5 / plane.len, d);
 }
 
+/// Garland & Heckbert 1997 §6.1: what a boundary edge u -> w of a face with unit
+/// normal `face` adds to both its ends: the plane through the edge perpendicular to
+/// the face, so that moving off the outline costs as moving off the surface does, and
+/// the face's own plane, so that the two measure the distance to the edge's line (an
+/// outline keeps its relief as well as its course). Each is weighted by `weight` times
+/// the squared edge length. Empty for an edge of no length.
+inline Quadric boundary_edge_quadric(const Vec3d& u, const Vec3d& w, const Vec3d& face, double weight) {
+  Quadric line;
+  const Vec3d e = w - u;
+  const Vec3d m = cross(e, face);
+  const double m_length = length(m);  // |e|: the normal is a unit vector perpendicular to e
+  if (!(m_length > 0)) return line;
+  const Vec3d unit = m / m_length;
+  line.add_plane(unit, weight * squared_length(e), dot(unit, u));
+  line.add_plane(face, weight * squared_length(e), dot(face, u));
+  return line;
+}
+
 }  // namespace oocsimp

@@ -86,5 +86,13 @@ inline double point_triangle_distance2(const Vec3d& p, const Vec3d& a, const Vec
   return std::max(squared_distance(p, closest_point_on_triangle(p, a, b, c)), point_box_distance2(p, box));
 }
 
+/// Velho 1999 eq. 4: the compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2) of triangle
+/// (a, b, c), 1 for an equilateral triangle and 0 for one of no area (or no size).
+inline double compactness(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+  const double sides = squared_distance(a, b) + squared_distance(b, c) + squared_distance(c, a);
+  if (!(sides > 0)) return 0;
+  return 2 * std::sqrt(3.0) * length(cross(b - a, c - a)) / sides;
+}
+
 }  // namespace metrics
 }  // namespace oocsimp

@@ -333,10 +333,8 @@ bool CollapseState::manifold_given_ends(std::uint32_t v, VertexScratch* scratch)
   return manifold && pieces == 1;
 }
 
-// Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the quadric
-// of the plane through it perpendicular to its face, so that moving off the outline
-// costs as moving off the surface does; and that of its face's plane, so that the two
-// measure the distance to the edge's line.
+// Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the
+// quadric of its line (boundary_edge_quadric).
 void CollapseState::add_boundary_planes(double weight) {
   if (!(weight > 0)) return;
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
@@ -350,17 +348,8 @@ void CollapseState::add_boundary_planes(double weight) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
       if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
-      const Vec3d e = mesh_.positions[w] - mesh_.positions[u];
-      const Vec3d m = cross(e, normal / normal_length);
-      const double m_length = length(m);  // |e|: the normal is a unit vector perpendicular to e
-      if (!(m_length > 0)) continue;
-      const Vec3d unit = m / m_length;
-      const Vec3d face = normal / normal_length;
-      // With the face's own plane, the distance to the edge's line: the outline keeps
-      // its relief (a terrain's edge profile) as well as its course.
-      Quadric line;
-      line.add_plane(unit, weight * squared_length(e), dot(unit, mesh_.positions[u]));
-      line.add_plane(face, weight * squared_length(e), dot(face, mesh_.positions[u]));
+      const Quadric line =
+          boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length, weight);
       mesh_.quadrics[u].add(line);
       mesh_.quadrics[w].add(line);
     }

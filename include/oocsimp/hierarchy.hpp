@@ -1,0 +1,137 @@
+// oocsimp — Velho's hierarchical 4-k mesh (Velho 1999, "Mesh Simplification using
+// Four-Face Clusters"): one structure from which any level, any error bound or a
+// region refined to the finest level can be extracted, conforming and without cracks.
+//
+//   oocsimp::MeshHierarchy h = oocsimp::build_hierarchy(view, {});
+//   oocsimp::HierarchyQuery q;  q.level = 3;
+//   oocsimp::SimplifiedMesh m = oocsimp::extract_mesh(h, q);
+//
+// The hierarchy is the finest mesh and the list of local modifications that simplify
+// it, in the order they were made: edge swaps and removals of vertices of valence 4
+// (3 inside, or 3 neighbours on the boundary). Each record replaces faces by faces
+// with the same outline; a record depends on the records that made the faces it
+// replaces. Any set of records that holds the dependencies of each of its records
+// gives a conforming mesh (a multi-triangulation): extraction picks such a set.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "oocsimp/geometry.hpp"
+#include "oocsimp/mesh.hpp"
+#include "oocsimp/progress.hpp"
+
+namespace oocsimp {
+
+/// One local modification. Faces are numbered in the order they appear: the finest
+/// mesh's first, then two (or one) per record, in record order.
+struct HierarchyRecord {
+  static constexpr std::uint32_t kNoFace = 0xffffffffu;
+  /// The faces it replaces. A swap: two faces sharing an edge. A removal: the faces
+  /// around `vertex` in counter-clockwise order (2 for a boundary vertex, 3 or 4
+  /// inside), the first starting at the neighbour the new faces fan from.
+  std::uint32_t faces[4] = {kNoFace, kNoFace, kNoFace, kNoFace};
+  /// The vertex removed; for a swap, the vertex whose removal the swap prepares.
+  std::uint32_t vertex = 0;
+  std::uint8_t face_count = 0;
+  bool swap = false;
+  /// The cost of the removal (Velho eq. 6, E(v) = 0.75 C(v) + 0.25 S(v), in area times
+  /// squared distance); a swap carries that of the removal it prepares.
+  float error = 0;
+};
+
+/// What a level holds once every record up to it is applied.
+struct HierarchyLevel {
+  std::uint64_t end_record = 0;  ///< records [0, end_record) make this level
+  std::uint64_t triangles = 0, vertices = 0;
+  float largest_error = 0;  ///< the largest record error up to this level
+};
+
+struct MeshHierarchy {
+  /// The finest mesh (level 0): 3 coordinates per vertex, 3 indices per face.
+  std::vector<double> positions;
+  std::vector<std::uint32_t> triangles;
+  ScalarType precision = ScalarType::f32;  ///< how the file stores the positions
+  std::vector<HierarchyRecord> records;
+  std::vector<HierarchyLevel> levels;  ///< level 0 (no record) first
+  /// Derived from the above (filled by build_hierarchy and read_hierarchy): the
+  /// corners of every face, 3 per face number, and the number of each record's first
+  /// new face.
+  std::vector<std::uint32_t> face_corners;
+  std::vector<std::uint32_t> first_new_face;
+};
+
+struct HierarchyOptions {
+  /// Levels to build; 0 = until a level removes nothing.
+  std::uint32_t levels = 0;
+  /// Velho eq. 6's weights of the removal cost C(v) and the swap cost S(v).
+  double removal_weight = 0.75, swap_weight = 0.25;
+  /// Weight of the plane through each boundary edge (Garland & Heckbert §6.1), per
+  /// squared edge length, as in the edge collapse: it keeps the outline.
+  double boundary_weight = 1000;
+  /// Heap bytes for a file input (build_hierarchy_file); 0 = default_memory_budget().
+  /// A mesh whose hierarchy does not fit is first simplified out of core to the count
+  /// that fits, and the hierarchy built on that.
+  std::uint64_t memory_budget = 0;
+  std::string temp_dir;  ///< empty = default_temp_dir()
+  unsigned threads = 0;  ///< for the out-of-core phase; the hierarchy is the same for any
+  ProgressCallback progress;
+};
+
+/// What to extract: one of `level`, `triangles` or `error` (the first set), and
+/// optionally a region kept at the finest level.
+struct HierarchyQuery {
+  static constexpr std::uint32_t kNoLevel = 0xffffffffu;
+  std::uint32_t level = kNoLevel;  ///< 0 = finest
+  std::uint64_t triangles = 0;     ///< > 0: the finest state with at most this many
+  double error = -1;               ///< >= 0: the coarsest state whose records all cost at most this
+  enum class Region { none, box, sphere } region = Region::none;
+  Box3d box;          ///< Region::box
+  Vec3d centre;       ///< Region::sphere
+  double radius = 0;  ///< Region::sphere
+};
+
+/// Builds the hierarchy of a manifold triangle mesh, wound consistently (Velho §4,
+/// Algorithm 1). A vertex whose faces form several fans is split into one vertex per
+/// fan; an edge of three or more faces, or two faces that wind it the same way, is
+/// refused (InputError naming the edge). The result is the same for any thread count.
+MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options);
+
+/// The mesh of the records `query` selects, vertices numbered in their order in the
+/// finest mesh, faces in the order they appear. UsageError (naming what is
+/// available) for a level beyond the last, a triangle count below the coarsest, a
+/// negative error, or a region that meets no face.
+SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery& query);
+
+/// Writes `hierarchy` to a .4k file (docs/hierarchy.md: the format, version 1), under
+/// a temporary name renamed into place when complete. IoError.
+void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path);
+/// Reads a .4k file. InputError naming the byte for a damaged, truncated or foreign
+/// file, and both versions for another version; IoError when it cannot be read.
+MeshHierarchy read_hierarchy(const std::string& path);
+
+struct HierarchyStats {
+  std::uint64_t input_vertices = 0, input_triangles = 0;
+  /// The triangles the out-of-core phase left (0 when the input fitted the budget).
+  std::uint64_t reduced_triangles = 0;
+  std::uint64_t split_vertices = 0;  ///< vertices added where fans met
+  std::uint64_t records = 0, swaps = 0;
+  std::uint64_t file_bytes = 0;
+  double seconds = 0;
+  std::uint64_t peak_rss_bytes = 0, peak_anon_bytes = 0;
+};
+
+/// Reads the mesh at `input_path`, builds its hierarchy and writes `output_path`.
+void build_hierarchy_file(const std::string& input_path, const std::string& output_path,
+                          const HierarchyOptions& options, HierarchyStats* stats = nullptr);
+
+/// Reads the .4k file at `hierarchy_path`, extracts `query` and writes the mesh to
+/// `output_path` (any format write_mesh writes).
+void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
+                  const HierarchyQuery& query);
+
+/// Whether the file at `path` starts like a .4k file (its magic bytes).
+bool is_hierarchy_file(const std::string& path);
+
+}  // namespace oocsimp

@@ -1,0 +1,177 @@
+// The facade's 4-k hierarchy (oocsimp/hierarchy.hpp): reading the input, the
+// out-of-core phase for an input whose hierarchy does not fit the budget, and the
+// .4k files.
+#include "oocsimp/hierarchy.hpp"
+
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "api/simplify.hpp"
+#include "hierarchy/hierarchy_file.hpp"
+#include "hierarchy/hierarchy_steps.hpp"
+#include "hierarchy/manifold_input.hpp"
+#include "io/temp_file.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "runtime/memory_usage.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// Heap bytes building takes per input triangle (about two vertices' position,
+// quadric and face list, the faces made and the records, and the hierarchy handed
+// back), measured as peak anonymous memory over triangles on the generated sphere
+// (docs/hierarchy.md).
+constexpr std::uint64_t kBuildBytesPerTriangle = 400;
+
+std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
+  if (threads == 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+}
+
+struct LoadedMesh {
+  std::vector<Vec3d> positions;
+  std::vector<std::uint32_t> triangles;
+};
+
+LoadedMesh load(MeshInput& input) {
+  LoadedMesh m;
+  m.positions.resize(std::size_t(input.positions.count));
+  for (std::uint64_t v = 0; v < input.positions.count; ++v) m.positions[v] = input.positions.get(v);
+  std::vector<std::uint64_t> chunk(3 * 65536);
+  while (const std::size_t n = input.triangles->read(chunk.data(), 65536))
+    for (std::size_t i = 0; i < 3 * n; ++i) m.triangles.push_back(std::uint32_t(chunk[i]));
+  return m;
+}
+
+LoadedMesh from_simplified(const SimplifiedMesh& s) {
+  LoadedMesh m;
+  m.positions.resize(s.positions.size() / 3);
+  for (std::size_t v = 0; v < m.positions.size(); ++v)
+    m.positions[v] = {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
+  m.triangles = s.triangles;
+  return m;
+}
+
+MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOptions& options, ScalarType precision,
+                    HierarchyStats* stats) {
+  ManifoldMesh manifold = make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
+  MeshHierarchy h = build_four_k_hierarchy(manifold.positions, manifold.triangles, options);
+  h.precision = precision;
+  if (stats) {
+    stats->split_vertices = manifold.split_vertices;
+    stats->records = h.records.size();
+    stats->swaps = 0;
+    for (const HierarchyRecord& r : h.records) stats->swaps += r.swap;
+  }
+  return h;
+}
+
+void check_options(const HierarchyOptions& options) {
+  if (!(options.removal_weight >= 0) || !(options.swap_weight >= 0) ||
+      !(options.removal_weight + options.swap_weight > 0))
+    throw UsageError("options.removal_weight",
+                     "options.removal_weight and options.swap_weight must be 0 or more, and not both 0");
+  if (!(options.boundary_weight >= 0))
+    throw UsageError("options.boundary_weight", "options.boundary_weight must be 0 or more");
+}
+
+std::string read_whole_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open for reading");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": cannot read");
+  return bytes.str();
+}
+
+}  // namespace
+
+MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options) {
+  check_options(options);
+  const auto threads = limit_threads(options.threads);
+  AttributeSelection none;
+  none.mode = AttributeSelection::Mode::none;
+  MeshInput input = open_mesh_view(mesh, none);
+  return build(load(input), input.info.path, options, mesh.position_type, nullptr);
+}
+
+SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery& query) {
+  return extract_from_hierarchy(hierarchy, query);
+}
+
+void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path) {
+  write_file_atomically(path, hierarchy_file_bytes(hierarchy));
+}
+
+MeshHierarchy read_hierarchy(const std::string& path) { return parse_hierarchy_file(read_whole_file(path), path); }
+
+bool is_hierarchy_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  in.read(head, sizeof head);
+  return in.gcount() == sizeof head && has_hierarchy_magic(std::string(head, sizeof head));
+}
+
+void build_hierarchy_file(const std::string& input_path, const std::string& output_path,
+                          const HierarchyOptions& options, HierarchyStats* stats) {
+  check_options(options);
+  const double start = now_seconds();
+  PeakAnonSampler peak_anon;
+  const auto threads = limit_threads(options.threads);
+  OutputFile out(output_path);
+  OpenOptions open;
+  open.temp_dir = options.temp_dir;
+  open.progress = options.progress;
+  open.attributes.mode = AttributeSelection::Mode::none;
+  MeshInput input = open_mesh_input(input_path, open);
+  const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  const std::uint64_t fits = budget / kBuildBytesPerTriangle;
+  HierarchyStats st;
+  st.input_vertices = input.info.vertex_count;
+  st.input_triangles = input.info.face_count;
+  const ScalarType precision = input.info.double_precision ? ScalarType::f64 : ScalarType::f32;
+  MeshHierarchy h;
+  if (input.info.face_count > fits) {
+    // Too large to hold: the out-of-core simplification to the count that fits first.
+    if (fits < 4)
+      throw UsageError("options.memory_budget", "options.memory_budget " + std::to_string(budget) +
+                                                    " bytes cannot hold a hierarchy of 4 triangles; give at least " +
+                                                    std::to_string(4 * kBuildBytesPerTriangle));
+    SimplifyOptions reduce;
+    reduce.target.triangles = fits;
+    reduce.memory_budget = budget;
+    reduce.threads = options.threads;
+    reduce.temp_dir = options.temp_dir;
+    reduce.progress = options.progress;
+    reduce.attributes.mode = AttributeSelection::Mode::none;
+    const SimplifiedMesh reduced = simplify(input, reduce, nullptr);
+    st.reduced_triangles = reduced.triangles.size() / 3;
+    h = build(from_simplified(reduced), input_path, options, precision, &st);
+  } else {
+    h = build(load(input), input_path, options, precision, &st);
+  }
+  const std::string bytes = hierarchy_file_bytes(h);
+  out.write_all(bytes);
+  out.commit();
+  st.file_bytes = bytes.size();
+  st.seconds = now_seconds() - start;
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = peak_anon.peak();
+  if (stats) *stats = st;
+}
+
+void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
+                  const HierarchyQuery& query) {
+  const MeshFormat format = format_for_path(output_path, ascii);
+  const MeshHierarchy h = read_hierarchy(hierarchy_path);
+  const SimplifiedMesh m = extract_mesh(h, query);
+  write_mesh(output_path, m.positions, m.triangles, format, m.precision);
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,67 @@
+#include <algorithm>
+
+#include "hierarchy/four_face_simplifier.hpp"
+#include "hierarchy/four_k_mesh.hpp"
+#include "hierarchy/hierarchy_steps.hpp"
+#include "hierarchy/record_faces.hpp"
+
+namespace oocsimp {
+
+MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
+                                     const HierarchyOptions& options) {
+  MeshHierarchy h;
+  h.positions.reserve(3 * positions.size());
+  for (const Vec3d& p : positions) h.positions.insert(h.positions.end(), {p.x, p.y, p.z});
+  h.triangles = triangles;
+
+  FourKMesh mesh(positions, triangles);
+  FourFaceSimplifier simplifier(&mesh, options);
+  simplifier.assign_quadrics();
+  h.levels.push_back({0, mesh.live_faces(), mesh.live_vertices(), 0});
+  float largest = 0;
+  for (std::uint32_t level = 1; options.levels == 0 || level <= options.levels; ++level) {
+    const std::size_t first = h.records.size();
+    if (simplifier.simplify_level(&h.records) == 0) break;
+    for (std::size_t r = first; r < h.records.size(); ++r) largest = std::max(largest, h.records[r].error);
+    h.levels.push_back({h.records.size(), mesh.live_faces(), mesh.live_vertices(), largest});
+  }
+  h.face_corners = mesh.face_corners();
+  h.first_new_face.resize(h.records.size());
+  std::uint32_t next = std::uint32_t(triangles.size() / 3);
+  for (std::size_t r = 0; r < h.records.size(); ++r) {
+    h.first_new_face[r] = next;
+    next += h.records[r].swap || h.records[r].face_count == 4 ? 2 : 1;
+  }
+  return h;
+}
+
+std::size_t derive_faces(MeshHierarchy* h) {
+  const std::size_t finest = h->triangles.size() / 3;
+  h->face_corners = h->triangles;
+  h->face_corners.reserve(h->triangles.size() + 6 * h->records.size());
+  h->first_new_face.assign(h->records.size(), 0);
+  std::vector<std::uint8_t> replaced(finest, 0);
+  replaced.reserve(finest + 2 * h->records.size());
+  const std::uint64_t vertices = h->positions.size() / 3;
+  for (std::size_t r = 0; r < h->records.size(); ++r) {
+    const HierarchyRecord& record = h->records[r];
+    if (record.face_count > 4 || record.vertex >= vertices) return r;
+    for (int i = 0; i < record.face_count; ++i) {
+      const std::uint32_t f = record.faces[i];
+      if (f >= replaced.size() || replaced[f]) return r;
+      for (int j = 0; j < i; ++j)
+        if (record.faces[j] == f) return r;
+    }
+    std::uint32_t made[3 * kMostNewFaces];
+    const int count = record_new_faces(
+        record, [h](std::uint32_t f) { return &h->face_corners[3 * std::size_t(f)]; }, made);
+    if (count == 0) return r;
+    for (int i = 0; i < record.face_count; ++i) replaced[record.faces[i]] = 1;
+    h->first_new_face[r] = std::uint32_t(replaced.size());
+    h->face_corners.insert(h->face_corners.end(), made, made + 3 * count);
+    replaced.resize(replaced.size() + std::size_t(count), 0);
+  }
+  return h->records.size();
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,296 @@
+#include "hierarchy/four_face_simplifier.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cluster/plane_quadric.hpp"
+#include "common/triangle_geometry.hpp"
+#include "common/vec3_math.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr double kNoCost = std::numeric_limits<double>::infinity();
+
+Vec3d face_normal(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
+
+}  // namespace
+
+FourFaceSimplifier::FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options)
+    : mesh_(*mesh), options_(options) {}
+
+void FourFaceSimplifier::assign_quadrics() {
+  const std::size_t n = mesh_.vertex_count();
+  quadrics_.assign(n, Quadric{});
+  const std::vector<std::uint32_t>& corners = mesh_.face_corners();
+  const std::size_t faces = corners.size() / 3;
+  // Eq. 5: each face's plane, weighted by its area, to its three corners.
+  for (std::size_t f = 0; f < faces; ++f) {
+    const std::uint32_t* t = &corners[3 * f];
+    Quadric q;
+    q.add_triangle(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
+    for (int k = 0; k < 3; ++k) quadrics_[t[k]].add(q);
+  }
+  // The boundary edges' lines: an edge u->w whose reverse no face has.
+  if (!(options_.boundary_weight > 0)) return;
+  for (std::size_t f = 0; f < faces; ++f) {
+    const std::uint32_t* t = &corners[3 * f];
+    const Vec3d normal = face_normal(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
+    const double normal_length = length(normal);
+    if (!(normal_length > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
+      if (mesh_.face_with_edge(w, u) != HierarchyRecord::kNoFace) continue;
+      const Quadric line =
+          boundary_edge_quadric(mesh_.position(u), mesh_.position(w), normal / normal_length, options_.boundary_weight);
+      quadrics_[u].add(line);
+      quadrics_[w].add(line);
+    }
+  }
+}
+
+// Eq. 8, read symmetrically: the quadric error of each end of the new edge at the other.
+double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
+  return 0.5 * (quadrics_[s].error(mesh_.position(t)) + quadrics_[t].error(mesh_.position(s)));
+}
+
+bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
+                                   int new_count, double* least_compactness) const {
+  Vec3d old_normal[kMostNeighbours];
+  double old_least = 1;
+  for (int i = 0; i < old_count; ++i) {
+    const Vec3d &a = mesh_.position(old_faces[3 * i]), &b = mesh_.position(old_faces[3 * i + 1]),
+                &c = mesh_.position(old_faces[3 * i + 2]);
+    old_normal[i] = face_normal(a, b, c);
+    old_least = std::min(old_least, metrics::compactness(a, b, c));
+  }
+  double least = 1;
+  for (int j = 0; j < new_count; ++j) {
+    const Vec3d &a = mesh_.position(new_faces[3 * j]), &b = mesh_.position(new_faces[3 * j + 1]),
+                &c = mesh_.position(new_faces[3 * j + 2]);
+    const Vec3d normal = face_normal(a, b, c);
+    if (!(squared_length(normal) > 0)) return false;
+    for (int i = 0; i < old_count; ++i)
+      if (squared_length(old_normal[i]) > 0 && !(dot(normal, old_normal[i]) > 0)) return false;
+    least = std::min(least, metrics::compactness(a, b, c));
+  }
+  if (least < kMinCompactness && least < old_least) return false;
+  *least_compactness = least;
+  return true;
+}
+
+bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
+  thread_local FourKMesh::Fan fan;
+  if (!mesh_.fan(v, &fan)) return false;
+  int n = int(fan.ring.size());
+  if (n > kMostNeighbours) return false;
+  const bool closed = fan.closed;
+  if (n < 3) return false;  // a boundary corner (one face) stays
+  std::uint32_t ring[kMostNeighbours];
+  std::copy(fan.ring.begin(), fan.ring.end(), ring);
+  const int keep = closed ? std::min(n, 4) : 3;
+
+  // The edges the planned swaps make: the mesh has not got them yet.
+  std::uint32_t made[2 * kMostNeighbours];
+  int made_count = 0;
+  auto edge_exists = [&](std::uint32_t a, std::uint32_t b) {
+    for (int i = 0; i < made_count; i += 2)
+      if ((made[i] == a && made[i + 1] == b) || (made[i] == b && made[i + 1] == a)) return true;
+    return mesh_.has_edge(a, b);
+  };
+
+  // Swaps, the cheapest first, until v has `keep` neighbours.
+  plan->swap_count = 0;
+  plan->swaps = 0;
+  while (n > keep) {
+    int best = -1;
+    double best_key = kNoCost, best_cost = 0;
+    const int lo = closed ? 0 : 1, hi = closed ? n : n - 1;
+    for (int i = lo; i < hi; ++i) {
+      const std::uint32_t prev = ring[(i + n - 1) % n], mid = ring[i], next = ring[(i + 1) % n];
+      if (prev == next || edge_exists(prev, next)) continue;
+      const std::uint32_t old_faces[6] = {v, prev, mid, v, mid, next};
+      const std::uint32_t new_faces[6] = {v, prev, next, prev, mid, next};
+      double least = 0;
+      if (!faces_fit(old_faces, 2, new_faces, 2, &least)) continue;
+      const double cost = swap_cost(prev, next);
+      const double key = cost * (2 - least);
+      if (best < 0 || key < best_key || (key == best_key && mid < ring[best])) {
+        best = i;
+        best_key = key;
+        best_cost = cost;
+      }
+    }
+    if (best < 0) return false;
+    made[made_count++] = ring[(best + n - 1) % n];
+    made[made_count++] = ring[(best + 1) % n];
+    plan->swapped[plan->swap_count++] = ring[best];
+    plan->swaps += best_cost;
+    for (int i = best; i + 1 < n; ++i) ring[i] = ring[i + 1];
+    --n;
+  }
+
+  // The removal: the fan from ring[start] of lower C_a + C_b.
+  double ring_cost[4];
+  Quadric qv = quadrics_[v];
+  for (int i = 0; i < n; ++i) {
+    Quadric q = qv;
+    q.add(quadrics_[ring[i]]);
+    ring_cost[i] = q.error(mesh_.position(ring[i]));
+  }
+  const int faces = closed ? n : n - 1;
+  std::uint32_t old_faces[12];
+  for (int i = 0; i < faces; ++i) {
+    old_faces[3 * i] = v;
+    old_faces[3 * i + 1] = ring[i];
+    old_faces[3 * i + 2] = ring[(i + 1) % n];
+  }
+  int chosen = -1;
+  double chosen_cost = kNoCost;
+  const int starts = closed && n == 4 ? 2 : 1;
+  for (int start = 0; start < starts; ++start) {
+    const std::uint32_t r0 = ring[start], r1 = ring[(start + 1) % n], r2 = ring[(start + 2) % n];
+    if (closed && n == 3 ? mesh_.has_face(r0, r1, r2) : edge_exists(r0, r2)) continue;
+    std::uint32_t new_faces[6] = {r0, r1, r2, r0, r2, ring[(start + 3) % n]};
+    double least = 0;
+    if (!faces_fit(old_faces, faces, new_faces, n - 2, &least)) continue;
+    const double cost = ring_cost[start] + ring_cost[(start + 2) % n];
+    if (chosen < 0 || cost < chosen_cost) {
+      chosen = start;
+      chosen_cost = cost;
+    }
+  }
+  if (chosen < 0) return false;
+  plan->closed = closed;
+  plan->ring_count = n;
+  plan->removal = kNoCost;
+  for (int i = 0; i < n; ++i) {
+    plan->ring[i] = ring[(chosen + i) % n];
+    plan->ring_cost[i] = ring_cost[(chosen + i) % n];
+    plan->removal = std::min(plan->removal, ring_cost[i]);
+  }
+  plan->cost = options_.removal_weight * plan->removal + options_.swap_weight * plan->swaps;
+  return std::isfinite(plan->cost);
+}
+
+// Eq. 9: Q_i += delta_i Q_v for the ends of the new edge (all three corners of the new
+// face after a valence-3 removal), delta_i = (sum C - C_i) / ((n - 1) sum C), which is
+// 1 - C_i / (C_a + C_b) for two.
+void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
+  int ends[3] = {0, 2, 0};
+  int count = 2;
+  if (plan.closed && plan.ring_count == 3) {
+    ends[1] = 1;
+    ends[2] = 2;
+    count = 3;
+  }
+  double total = 0;
+  for (int i = 0; i < count; ++i) total += plan.ring_cost[ends[i]];
+  for (int i = 0; i < count; ++i) {
+    const double share = total > 0 ? (total - plan.ring_cost[ends[i]]) / ((count - 1) * total) : 1.0 / count;
+    const Quadric& q = quadrics_[v];
+    Quadric part;
+    part.a00 = share * q.a00;
+    part.a01 = share * q.a01;
+    part.a02 = share * q.a02;
+    part.a11 = share * q.a11;
+    part.a12 = share * q.a12;
+    part.a22 = share * q.a22;
+    part.b0 = share * q.b0;
+    part.b1 = share * q.b1;
+    part.b2 = share * q.b2;
+    part.c = share * q.c;
+    quadrics_[plan.ring[ends[i]]].add(part);
+  }
+}
+
+void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records) {
+  const float error = float(plan.cost);
+  // The vertices whose cost the removal changes: v's ring before the swaps (their
+  // fans change), and below the neighbours of the ends that take a share of Q_v.
+  FourKMesh::Fan before;
+  mesh_.fan(v, &before);
+  std::vector<std::uint32_t>& touched = touched_;
+  touched.assign(before.ring.begin(), before.ring.end());
+
+  for (int i = 0; i < plan.swap_count; ++i) {
+    const std::uint32_t mid = plan.swapped[i];
+    HierarchyRecord swap;
+    swap.swap = true;
+    swap.vertex = v;
+    swap.error = error;
+    swap.face_count = 2;
+    swap.faces[0] = mesh_.face_with_edge(mid, v);  // (v, prev, mid)
+    swap.faces[1] = mesh_.face_with_edge(v, mid);  // (v, mid, next)
+    mesh_.apply(swap);
+    records->push_back(swap);
+  }
+  HierarchyRecord removal;
+  removal.vertex = v;
+  removal.error = error;
+  removal.face_count = std::uint8_t(plan.closed ? plan.ring_count : 2);
+  for (int i = 0; i < removal.face_count; ++i) removal.faces[i] = mesh_.face_with_edge(v, plan.ring[i]);
+  mesh_.apply(removal);
+  records->push_back(removal);
+
+  share_quadric(v, plan);
+  for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
+  for (int i = 0; i < plan.ring_count; ++i)
+    for (std::uint32_t f : mesh_.faces_of(plan.ring[i])) {
+      const std::uint32_t* c = mesh_.corners(f);
+      touched.insert(touched.end(), c, c + 3);
+    }
+  for (std::uint32_t w : touched) {
+    if (marked_[w] || !mesh_.vertex_alive(w)) continue;
+    ++stamp_[w];
+    queue_.push_back({cost_[w], w, stamp_[w]});
+    std::push_heap(queue_.begin(), queue_.end(), Entry::later);
+  }
+}
+
+std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* records) {
+  const std::size_t n = mesh_.vertex_count();
+  marked_.assign(n, 0);
+  stamp_.resize(n, 0);
+  cost_.assign(n, kNoCost);
+  // Step 1: every vertex's cost, in parallel (each reads the mesh only).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    Plan plan;
+    for (std::size_t v = range.begin(); v != range.end(); ++v)
+      if (mesh_.vertex_alive(std::uint32_t(v)) && plan_removal(std::uint32_t(v), &plan)) cost_[v] = plan.cost;
+  });
+  queue_.clear();
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (cost_[v] < kNoCost) queue_.push_back({cost_[v], v, stamp_[v]});
+  std::make_heap(queue_.begin(), queue_.end(), Entry::later);
+
+  // Steps 2-3: the cheapest unmarked vertex first; a cost that rose since it was
+  // queued goes back in line (lazy updates).
+  std::uint64_t removed = 0;
+  Plan plan;
+  while (!queue_.empty()) {
+    std::pop_heap(queue_.begin(), queue_.end(), Entry::later);
+    const Entry e = queue_.back();
+    queue_.pop_back();
+    if (marked_[e.vertex] || e.stamp != stamp_[e.vertex] || !mesh_.vertex_alive(e.vertex)) continue;
+    if (!plan_removal(e.vertex, &plan)) {
+      cost_[e.vertex] = kNoCost;
+      continue;
+    }
+    cost_[e.vertex] = plan.cost;
+    if (plan.cost > e.cost && !queue_.empty() && Entry::later({plan.cost, e.vertex, e.stamp}, queue_.front())) {
+      queue_.push_back({plan.cost, e.vertex, e.stamp});
+      std::push_heap(queue_.begin(), queue_.end(), Entry::later);
+      continue;
+    }
+    remove(e.vertex, plan, records);
+    ++removed;
+  }
+  return removed;
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,93 @@
+// Velho 1999 §4, Algorithm 1: simplification by four-face clusters. Each level ranks
+// the vertices by the cost of removing them (eq. 6-8), then, cheapest first, brings
+// each unmarked vertex to valence 4 by edge swaps, removes it by the diagonal of
+// lower cost, passes its quadric on (eq. 9) and marks the four vertices around it, so
+// that a level's clusters are independent and cover most of the mesh.
+//
+// What the paper leaves open, and what is chosen here:
+// - C(v) (eq. 7) is taken over the ring after the swaps: the vertices the removal's
+//   faces keep, one of which takes v's place.
+// - S(v) (eq. 8) sums the swaps' costs, each the mean of Q_s(t) and Q_t(s) for the new
+//   edge s-t. The swaps are chosen one at a time, the cheapest first by S times
+//   (2 - c), c the least compactness (eq. 4) of the two faces the swap makes: on a
+//   flat patch, where every S is 0, the swap that makes the rounder faces.
+// - The diagonal of lower C_a + C_b is kept; eq. 9 gives each of its ends a share
+//   1 - C_i / (C_a + C_b) of Q_v.
+// - A vertex of valence 3 inside is removed as it is, its three faces becoming one
+//   (its quadric shared by the three, eq. 9 for three ends). A vertex on the boundary
+//   is brought to two faces by swaps and removed, the two faces becoming one along
+//   a new boundary edge (its two ends share Q_v); the boundary edges' planes in the
+//   quadrics make that cost as leaving the outline does. A boundary vertex of one
+//   face (a corner) stays.
+// - No record may make an edge that exists, a face of no area, a face whose normal
+//   points away from a face it replaces, or a face less compact than both
+//   kMinCompactness and the faces it replaces.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cluster/quadric.hpp"
+#include "hierarchy/four_k_mesh.hpp"
+#include "oocsimp/hierarchy.hpp"
+
+namespace oocsimp {
+
+class FourFaceSimplifier {
+ public:
+  /// A new face may not be less compact than this unless a face it replaces was.
+  static constexpr double kMinCompactness = 0.05;
+  /// Vertices with more neighbours than this are not removed.
+  static constexpr int kMostNeighbours = 32;
+
+  FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options);
+
+  /// Q_v = sum of the area-weighted plane quadrics of v's faces (eq. 5), plus the
+  /// boundary edges' planes.
+  void assign_quadrics();
+  /// One level: rank, select and simplify (steps 1-3). Appends its records to
+  /// `records`; returns how many vertices it removed.
+  std::uint64_t simplify_level(std::vector<HierarchyRecord>* records);
+
+ private:
+  struct Plan {
+    double cost = 0;                         // E(v), eq. 6
+    double removal = 0;                      // C(v), eq. 7
+    double swaps = 0;                        // S(v)
+    std::uint32_t swapped[kMostNeighbours];  // ring vertices swapped out, in order
+    int swap_count = 0;
+    std::uint32_t ring[4];  // the ring left, from the vertex the new faces fan from
+    int ring_count = 0;
+    bool closed = false;
+    double ring_cost[4];  // C_i = (Q_v + Q_i)(p_i) for each
+  };
+
+  bool plan_removal(std::uint32_t v, Plan* plan) const;
+  double swap_cost(std::uint32_t s, std::uint32_t t) const;
+  bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
+                 double* least_compactness) const;
+  void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
+  void share_quadric(std::uint32_t v, const Plan& plan);
+
+  // A queued vertex; `stamp` is its stamp when queued: a later stamp makes it stale.
+  struct Entry {
+    double cost;
+    std::uint32_t vertex, stamp;
+    /// The heap's order: the cheapest (then the least vertex) on top.
+    static bool later(const Entry& a, const Entry& b) {
+      return a.cost > b.cost || (a.cost == b.cost && a.vertex > b.vertex);
+    }
+  };
+
+  FourKMesh& mesh_;
+  const HierarchyOptions& options_;
+  std::vector<Quadric> quadrics_;
+  // Per level: marked vertices, each vertex's last cost and stamp, the queue.
+  std::vector<std::uint8_t> marked_;
+  std::vector<double> cost_;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<Entry> queue_;
+  std::vector<std::uint32_t> touched_;
+};
+
+}  // namespace oocsimp

@@ -1,0 +1,136 @@
+#include "hierarchy/four_k_mesh.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "hierarchy/record_faces.hpp"
+
+namespace oocsimp {
+
+FourKMesh::FourKMesh(std::vector<Vec3d> positions, std::vector<std::uint32_t> triangles)
+    : positions_(std::move(positions)), corners_(std::move(triangles)), faces_of_(positions_.size()) {
+  live_faces_ = corners_.size() / 3;
+  for (std::size_t i = 0; i < corners_.size(); ++i) faces_of_[corners_[i]].push_back(std::uint32_t(i / 3));
+  for (const std::vector<std::uint32_t>& faces : faces_of_) live_vertices_ += !faces.empty();
+}
+
+bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
+  const std::vector<std::uint32_t>& faces = faces_of_[v];
+  const std::size_t n = faces.size();
+  out->ring.clear();
+  out->faces.clear();
+  if (n == 0) return false;
+  // Each face as (v, from, to).
+  auto from_to = [&](std::uint32_t f, std::uint32_t* from, std::uint32_t* to) {
+    const std::uint32_t* c = corners(f);
+    const int at = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+    *from = c[(at + 1) % 3];
+    *to = c[(at + 2) % 3];
+  };
+  // The start: the face whose `from` is no face's `to` (the boundary), else the face
+  // with the least `from`, so that the ring is the same however the list is ordered.
+  std::size_t start = n;
+  std::uint32_t least = ~std::uint32_t(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t from, to, other_from, other_to;
+    from_to(faces[i], &from, &to);
+    bool entered = false;
+    for (std::size_t j = 0; j < n && !entered; ++j) {
+      from_to(faces[j], &other_from, &other_to);
+      entered = j != i && other_to == from;
+    }
+    if (!entered) {
+      if (start != n) return false;  // two boundary starts: two fans
+      start = i;
+    }
+    if (from < least) least = from;
+  }
+  out->closed = start == n;
+  std::uint32_t from, to;
+  if (out->closed)
+    for (std::size_t i = 0; i < n; ++i) {
+      from_to(faces[i], &from, &to);
+      if (from == least) start = i;
+    }
+  from_to(faces[start], &from, &to);
+  out->ring.push_back(from);
+  std::uint32_t face = faces[start];
+  for (std::size_t step = 0; step < n; ++step) {
+    out->faces.push_back(face);
+    from_to(face, &from, &to);
+    out->ring.push_back(to);
+    if (step + 1 == n) break;
+    face = HierarchyRecord::kNoFace;
+    for (std::uint32_t g : faces) {
+      std::uint32_t f2, t2;
+      from_to(g, &f2, &t2);
+      if (f2 == to) face = g;
+    }
+    if (face == HierarchyRecord::kNoFace) return false;
+  }
+  if (out->closed) {
+    if (out->ring.back() != out->ring.front()) return false;
+    out->ring.pop_back();
+  }
+  // One fan: every face once, every neighbour once.
+  std::vector<std::uint32_t> seen = out->ring;
+  std::sort(seen.begin(), seen.end());
+  if (std::adjacent_find(seen.begin(), seen.end()) != seen.end()) return false;
+  seen = out->faces;
+  std::sort(seen.begin(), seen.end());
+  return std::adjacent_find(seen.begin(), seen.end()) == seen.end();
+}
+
+bool FourKMesh::has_edge(std::uint32_t a, std::uint32_t b) const {
+  for (std::uint32_t f : faces_of_[a]) {
+    const std::uint32_t* c = corners(f);
+    if (c[0] == b || c[1] == b || c[2] == b) return true;
+  }
+  return false;
+}
+
+bool FourKMesh::has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+  for (std::uint32_t f : faces_of_[a]) {
+    const std::uint32_t* k = corners(f);
+    const bool with_b = k[0] == b || k[1] == b || k[2] == b;
+    const bool with_c = k[0] == c || k[1] == c || k[2] == c;
+    if (with_b && with_c) return true;
+  }
+  return false;
+}
+
+std::uint32_t FourKMesh::face_with_edge(std::uint32_t a, std::uint32_t b) const {
+  for (std::uint32_t f : faces_of_[a]) {
+    const std::uint32_t* c = corners(f);
+    for (int k = 0; k < 3; ++k)
+      if (c[k] == a && c[(k + 1) % 3] == b) return f;
+  }
+  return HierarchyRecord::kNoFace;
+}
+
+std::uint32_t FourKMesh::apply(const HierarchyRecord& record) {
+  std::uint32_t made[3 * kMostNewFaces];
+  const int count = record_new_faces(
+      record, [this](std::uint32_t f) { return corners(f); }, made);
+  if (count == 0) throw std::logic_error("FourKMesh::apply: a record that does not fit the mesh");
+  for (int i = 0; i < record.face_count; ++i) {
+    const std::uint32_t f = record.faces[i];
+    for (int k = 0; k < 3; ++k) {
+      std::vector<std::uint32_t>& list = faces_of_[corners(f)[k]];
+      list.erase(std::find(list.begin(), list.end(), f));
+      if (list.empty()) --live_vertices_;
+    }
+  }
+  const std::uint32_t first = std::uint32_t(corners_.size() / 3);
+  for (int i = 0; i < count; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = made[3 * i + k];
+      corners_.push_back(v);
+      if (faces_of_[v].empty()) ++live_vertices_;
+      faces_of_[v].push_back(first + std::uint32_t(i));
+    }
+  live_faces_ = live_faces_ - record.face_count + std::uint64_t(count);
+  return first;
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,58 @@
+// The mesh a 4-k hierarchy is built on (Velho 1999 §3): faces are never changed in
+// place; a record kills the faces it replaces and appends the ones it makes, so that
+// every face keeps its number for the hierarchy's dependencies.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oocsimp/geometry.hpp"
+#include "oocsimp/hierarchy.hpp"
+
+namespace oocsimp {
+
+class FourKMesh {
+ public:
+  /// The faces around a vertex in counter-clockwise order: face i is (v, ring[i],
+  /// ring[i + 1]); closed (inside) the ring has as many vertices as faces and wraps,
+  /// open (on the boundary) one more.
+  struct Fan {
+    std::vector<std::uint32_t> ring, faces;
+    bool closed = false;
+  };
+
+  /// The finest mesh: 3 indices per face, every edge of at most two faces wound
+  /// oppositely, every vertex's faces one fan (manifold_input.hpp makes it so).
+  FourKMesh(std::vector<Vec3d> positions, std::vector<std::uint32_t> triangles);
+
+  std::size_t vertex_count() const { return positions_.size(); }
+  const Vec3d& position(std::uint32_t v) const { return positions_[v]; }
+  /// Every face made so far, alive or not: 3 corners each.
+  const std::vector<std::uint32_t>& face_corners() const { return corners_; }
+  const std::uint32_t* corners(std::uint32_t f) const { return &corners_[3 * std::size_t(f)]; }
+  std::uint64_t live_faces() const { return live_faces_; }
+  std::uint64_t live_vertices() const { return live_vertices_; }
+  bool vertex_alive(std::uint32_t v) const { return !faces_of_[v].empty(); }
+  const std::vector<std::uint32_t>& faces_of(std::uint32_t v) const { return faces_of_[v]; }
+
+  /// v's fan into `out`; false when its faces are not one fan.
+  bool fan(std::uint32_t v, Fan* out) const;
+  /// Whether a live face has the edge a-b (either way).
+  bool has_edge(std::uint32_t a, std::uint32_t b) const;
+  /// Whether a live face has the corners a, b and c (in any order).
+  bool has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  /// The live face with directed edge a->b; kNoFace when none.
+  std::uint32_t face_with_edge(std::uint32_t a, std::uint32_t b) const;
+
+  /// Replaces the record's faces by those it makes (record_new_faces); returns the
+  /// number of the first new face. The record must fit (the builder plans it so).
+  std::uint32_t apply(const HierarchyRecord& record);
+
+ private:
+  std::vector<Vec3d> positions_;
+  std::vector<std::uint32_t> corners_;
+  std::vector<std::vector<std::uint32_t>> faces_of_;  // live faces around each vertex
+  std::uint64_t live_faces_ = 0, live_vertices_ = 0;
+};
+
+}  // namespace oocsimp

@@ -1,0 +1,183 @@
+#include "hierarchy/hierarchy_file.hpp"
+
+#include <cstring>
+
+#include "hierarchy/hierarchy_steps.hpp"
+#include "io/content_hash.hpp"
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr char kMagic[8] = {'o', 'o', 'c', 's', '-', '4', 'k', '\n'};
+constexpr std::size_t kHeaderBytes = 64, kHashedHeaderBytes = 56;
+constexpr std::size_t kLevelBytes = 32;
+constexpr std::size_t kBlockBytes = std::size_t(1) << 20;  // one checksum per block of the body
+constexpr std::uint8_t kSwapHead = 0x80;
+
+template <class T>
+void put(std::string* out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out->append(bytes, sizeof(T));
+}
+
+// Reads the body front to back, naming the byte of any shortfall.
+class Reader {
+ public:
+  Reader(const std::string& bytes, std::size_t at, const std::string& name) : bytes_(bytes), at_(at), name_(name) {}
+  template <class T>
+  T get() {
+    if (bytes_.size() - at_ < sizeof(T)) fail(at_, "truncated");
+    T value;
+    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return value;
+  }
+  std::size_t at() const { return at_; }
+  [[noreturn]] void fail(std::size_t byte, const std::string& what) const {
+    throw InputError(name_ + ": byte " + std::to_string(byte) + ": " + what);
+  }
+
+ private:
+  const std::string& bytes_;
+  std::size_t at_;
+  const std::string& name_;
+};
+
+}  // namespace
+
+bool has_hierarchy_magic(const std::string& bytes) {
+  return bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0;
+}
+
+std::string hierarchy_file_bytes(const MeshHierarchy& h) {
+  std::string body;
+  for (const HierarchyLevel& level : h.levels) {
+    put<std::uint64_t>(&body, level.end_record);
+    put<std::uint64_t>(&body, level.triangles);
+    put<std::uint64_t>(&body, level.vertices);
+    put<float>(&body, level.largest_error);
+    put<std::uint32_t>(&body, 0);
+  }
+  for (double x : h.positions)
+    if (h.precision == ScalarType::f64)
+      put<double>(&body, x);
+    else
+      put<float>(&body, float(x));
+  for (std::uint32_t v : h.triangles) put<std::uint32_t>(&body, v);
+  for (const HierarchyRecord& r : h.records) {
+    put<std::uint8_t>(&body, r.swap ? kSwapHead : r.face_count);
+    put<float>(&body, r.error);
+    put<std::uint32_t>(&body, r.vertex);
+    for (int i = 0; i < r.face_count; ++i) put<std::uint32_t>(&body, r.faces[i]);
+  }
+  std::string out(kMagic, sizeof kMagic);
+  put<std::uint32_t>(&out, kHierarchyFileVersion);
+  put<std::uint32_t>(&out, h.precision == ScalarType::f64 ? 1 : 0);
+  put<std::uint64_t>(&out, h.positions.size() / 3);
+  put<std::uint64_t>(&out, h.triangles.size() / 3);
+  put<std::uint64_t>(&out, h.records.size());
+  put<std::uint64_t>(&out, h.levels.size());
+  put<std::uint64_t>(&out, body.size());
+  put<std::uint64_t>(&out, content_hash(out.data(), out.size()));
+  out += body;
+  for (std::size_t at = 0; at < body.size(); at += kBlockBytes)
+    put<std::uint64_t>(&out, content_hash(body.data() + at, std::min(kBlockBytes, body.size() - at)));
+  return out;
+}
+
+MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& name) {
+  if (!has_hierarchy_magic(bytes))
+    throw InputError(name + ": byte 0: not an oocsimp hierarchy (.4k) file: it does not start with \"oocs-4k\"");
+  Reader header(bytes, sizeof kMagic, name);
+  const std::uint32_t version = header.get<std::uint32_t>();
+  if (version != kHierarchyFileVersion)
+    header.fail(8, ".4k version " + std::to_string(version) + ", but this oocsimp reads version " +
+                       std::to_string(kHierarchyFileVersion));
+  const std::uint32_t precision = header.get<std::uint32_t>();
+  const std::uint64_t vertices = header.get<std::uint64_t>(), triangles = header.get<std::uint64_t>();
+  const std::uint64_t records = header.get<std::uint64_t>(), levels = header.get<std::uint64_t>();
+  const std::uint64_t body_bytes = header.get<std::uint64_t>();
+  const std::uint64_t header_hash = header.get<std::uint64_t>();
+  if (content_hash(bytes.data(), kHashedHeaderBytes) != header_hash)
+    header.fail(kHashedHeaderBytes, "the header does not match its checksum: the file is damaged");
+  if (precision > 1) header.fail(12, "precision " + std::to_string(precision) + " is neither 0 (float) nor 1 (double)");
+  const std::uint64_t blocks = (body_bytes + kBlockBytes - 1) / kBlockBytes;
+  if (body_bytes > bytes.size() || blocks * 8 > bytes.size() ||
+      bytes.size() != kHeaderBytes + body_bytes + blocks * 8) {
+    const std::uint64_t expected = kHeaderBytes + body_bytes + blocks * 8;
+    header.fail(std::min<std::uint64_t>(bytes.size(), expected),
+                bytes.size() < expected
+                    ? "truncated: the header says the file has " + std::to_string(expected) + " bytes"
+                    : "the file goes on past its end, " + std::to_string(expected) + " bytes");
+  }
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::size_t at = kHeaderBytes + std::size_t(b) * kBlockBytes;
+    const std::size_t size = std::min<std::size_t>(kBlockBytes, std::size_t(body_bytes) - std::size_t(b) * kBlockBytes);
+    std::uint64_t stored;
+    std::memcpy(&stored, bytes.data() + kHeaderBytes + body_bytes + 8 * b, 8);
+    if (content_hash(bytes.data() + at, size) != stored)
+      header.fail(at, "damaged: bytes " + std::to_string(at) + " to " + std::to_string(at + size - 1) +
+                          " do not match their checksum");
+  }
+
+  MeshHierarchy h;
+  h.precision = precision == 1 ? ScalarType::f64 : ScalarType::f32;
+  const std::size_t scalar = precision == 1 ? 8 : 4;
+  // The counts must fit the body before anything is sized by them.
+  if (levels == 0 || levels > body_bytes / kLevelBytes || vertices > body_bytes / (3 * scalar) ||
+      triangles > body_bytes / 12 || records > body_bytes / 13)
+    header.fail(16, "counts that the file's " + std::to_string(body_bytes) + " bytes of body cannot hold");
+  Reader in(bytes, kHeaderBytes, name);
+  h.levels.resize(std::size_t(levels));
+  for (std::size_t j = 0; j < levels; ++j) {
+    const std::size_t at = in.at();
+    HierarchyLevel& level = h.levels[j];
+    level.end_record = in.get<std::uint64_t>();
+    level.triangles = in.get<std::uint64_t>();
+    level.vertices = in.get<std::uint64_t>();
+    level.largest_error = in.get<float>();
+    in.get<std::uint32_t>();
+    if (level.end_record > records || (j > 0 && level.end_record < h.levels[j - 1].end_record) ||
+        (j == 0 && level.end_record != 0) || (j + 1 == levels && level.end_record != records))
+      in.fail(at, "level " + std::to_string(j) + " ends at record " + std::to_string(level.end_record) +
+                      ", out of order with the levels around it and the " + std::to_string(records) + " records");
+  }
+  h.positions.resize(std::size_t(3 * vertices));
+  for (double& x : h.positions) x = precision == 1 ? in.get<double>() : double(in.get<float>());
+  h.triangles.resize(std::size_t(3 * triangles));
+  for (std::size_t i = 0; i < h.triangles.size(); ++i) {
+    const std::size_t at = in.at();
+    h.triangles[i] = in.get<std::uint32_t>();
+    if (h.triangles[i] >= vertices)
+      in.fail(at, "triangle " + std::to_string(i / 3) + " names vertex " + std::to_string(h.triangles[i]) + " of " +
+                      std::to_string(vertices));
+  }
+  std::vector<std::size_t> record_at(static_cast<std::size_t>(records));
+  h.records.resize(std::size_t(records));
+  for (std::size_t r = 0; r < records; ++r) {
+    record_at[r] = in.at();
+    HierarchyRecord& record = h.records[r];
+    const std::uint8_t head = in.get<std::uint8_t>();
+    record.swap = head == kSwapHead;
+    record.face_count = record.swap ? 2 : head;
+    if (!record.swap && (head < 2 || head > 4))
+      in.fail(record_at[r], "record " + std::to_string(r) + " is of no known kind (" + std::to_string(head) + ")");
+    record.error = in.get<float>();
+    record.vertex = in.get<std::uint32_t>();
+    for (int i = 0; i < record.face_count; ++i) record.faces[i] = in.get<std::uint32_t>();
+  }
+  if (in.at() != kHeaderBytes + body_bytes)
+    in.fail(in.at(),
+            "the records end " + std::to_string(kHeaderBytes + body_bytes - in.at()) + " bytes before the body does");
+  const std::size_t bad = derive_faces(&h);
+  if (bad < h.records.size())
+    in.fail(record_at[bad],
+            "record " + std::to_string(bad) +
+                " replaces faces that do not exist yet, are already replaced, or do not make its shape");
+  return h;
+}
+
+}  // namespace oocsimp

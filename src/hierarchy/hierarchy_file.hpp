@@ -1,0 +1,22 @@
+// The .4k file (docs/hierarchy.md, "The .4k file"): a 64-byte header, the levels, the
+// finest mesh, the records (only the faces each replaces: the faces it makes follow
+// from them, record_faces.hpp), and an XXH64 per MiB of all that.
+#pragma once
+
+#include <string>
+
+#include "oocsimp/hierarchy.hpp"
+
+namespace oocsimp {
+
+constexpr std::uint32_t kHierarchyFileVersion = 1;
+
+/// The file's bytes.
+std::string hierarchy_file_bytes(const MeshHierarchy& hierarchy);
+/// A hierarchy from a file's bytes; `name` for the messages. InputError naming the
+/// byte where the bytes are not a version-1 .4k file or are damaged.
+MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& name);
+/// Whether `bytes` start with the .4k magic.
+bool has_hierarchy_magic(const std::string& bytes);
+
+}  // namespace oocsimp
