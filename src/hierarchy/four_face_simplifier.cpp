@@ -18,6 +18,19 @@ constexpr double kNoCost = std::numeric_limits<double>::infinity();
 
 Vec3d face_normal(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
 
+Vec3d unit_or_zero(const Vec3d& n) {
+  const double l = length(n);
+  return l > 0 ? n / l : Vec3d{0, 0, 0};
+}
+
+// The face of `faces` (3 corners each) with directed edge a->b, or -1.
+int face_with(const std::uint32_t* faces, int count, std::uint32_t a, std::uint32_t b) {
+  for (int i = 0; i < count; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (faces[3 * i + k] == a && faces[3 * i + (k + 1) % 3] == b) return i;
+  return -1;
+}
+
 }  // namespace
 
 FourFaceSimplifier::FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options)
@@ -58,26 +71,44 @@ double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
   return 0.5 * (quadrics_[s].error(mesh_.position(t)) + quadrics_[t].error(mesh_.position(s)));
 }
 
+// The new faces cover the outline the old ones did. Along each outline edge the new
+// face may not turn by 90 degrees or more from the old face it meets there (a flip);
+// across an edge between two new faces the crease may not be sharper than the
+// sharpest between two old faces, or than a right angle.
 bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
                                    int new_count, double* least_compactness) const {
-  Vec3d old_normal[kMostNeighbours];
-  double old_least = 1;
+  Vec3d old_normal[kMostNeighbours], new_normal[2];
+  double old_least = 1, old_crease = 0;
   for (int i = 0; i < old_count; ++i) {
     const Vec3d &a = mesh_.position(old_faces[3 * i]), &b = mesh_.position(old_faces[3 * i + 1]),
                 &c = mesh_.position(old_faces[3 * i + 2]);
-    old_normal[i] = face_normal(a, b, c);
+    old_normal[i] = unit_or_zero(face_normal(a, b, c));
     old_least = std::min(old_least, metrics::compactness(a, b, c));
   }
+  for (int i = 0; i < old_count; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int j = face_with(old_faces, old_count, old_faces[3 * i + (k + 1) % 3], old_faces[3 * i + k]);
+      if (j > i) old_crease = std::min(old_crease, dot(old_normal[i], old_normal[j]));
+    }
   double least = 1;
   for (int j = 0; j < new_count; ++j) {
     const Vec3d &a = mesh_.position(new_faces[3 * j]), &b = mesh_.position(new_faces[3 * j + 1]),
                 &c = mesh_.position(new_faces[3 * j + 2]);
-    const Vec3d normal = face_normal(a, b, c);
-    if (!(squared_length(normal) > 0)) return false;
-    for (int i = 0; i < old_count; ++i)
-      if (squared_length(old_normal[i]) > 0 && !(dot(normal, old_normal[i]) > 0)) return false;
+    new_normal[j] = unit_or_zero(face_normal(a, b, c));
+    if (!(squared_length(new_normal[j]) > 0)) return false;
     least = std::min(least, metrics::compactness(a, b, c));
   }
+  for (int j = 0; j < new_count; ++j)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = new_faces[3 * j + k], b = new_faces[3 * j + (k + 1) % 3];
+      const int old = face_with(old_faces, old_count, a, b);
+      if (old >= 0) {
+        if (squared_length(old_normal[old]) > 0 && !(dot(new_normal[j], old_normal[old]) > 0)) return false;
+      } else {
+        const int other = face_with(new_faces, new_count, b, a);
+        if (other > j && !(dot(new_normal[j], new_normal[other]) >= old_crease)) return false;
+      }
+    }
   if (least < kMinCompactness && least < old_least) return false;
   *least_compactness = least;
   return true;
@@ -272,7 +303,8 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   // queued goes back in line (lazy updates).
   std::uint64_t removed = 0;
   Plan plan;
-  while (!queue_.empty()) {
+  const std::uint64_t enough = std::uint64_t(options_.level_ratio * double(mesh_.live_faces()));
+  while (!queue_.empty() && mesh_.live_faces() > enough) {
     std::pop_heap(queue_.begin(), queue_.end(), Entry::later);
     const Entry e = queue_.back();
     queue_.pop_back();
