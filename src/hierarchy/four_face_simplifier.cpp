@@ -77,7 +77,7 @@ double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
 // sharpest between two old faces, or than a right angle.
 bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
                                    int new_count, double* least_compactness) const {
-  Vec3d old_normal[kMostNeighbours], new_normal[2];
+  Vec3d old_normal[4], new_normal[2];
   double old_least = 1, old_crease = 0;
   for (int i = 0; i < old_count; ++i) {
     const Vec3d &a = mesh_.position(old_faces[3 * i]), &b = mesh_.position(old_faces[3 * i + 1]),
@@ -109,7 +109,7 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
         if (other > j && !(dot(new_normal[j], new_normal[other]) >= old_crease)) return false;
       }
     }
-  if (least < kMinCompactness && least < old_least) return false;
+  if (least < kMinCompactness && least < kNeedleSlack * old_least) return false;
   *least_compactness = least;
   return true;
 }
@@ -118,24 +118,17 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   thread_local FourKMesh::Fan fan;
   if (!mesh_.fan(v, &fan)) return false;
   int n = int(fan.ring.size());
-  if (n > kMostNeighbours) return false;
   const bool closed = fan.closed;
   if (n < 3) return false;  // a boundary corner (one face) stays
-  std::uint32_t ring[kMostNeighbours];
-  std::copy(fan.ring.begin(), fan.ring.end(), ring);
+  std::vector<std::uint32_t>& ring = fan.ring;
   const int keep = closed ? std::min(n, 4) : 3;
-
-  // The edges the planned swaps make: the mesh has not got them yet.
-  std::uint32_t made[2 * kMostNeighbours];
-  int made_count = 0;
-  auto edge_exists = [&](std::uint32_t a, std::uint32_t b) {
-    for (int i = 0; i < made_count; i += 2)
-      if ((made[i] == a && made[i + 1] == b) || (made[i] == b && made[i + 1] == a)) return true;
-    return mesh_.has_edge(a, b);
-  };
+  // An edge a planned swap makes joins two vertices next to each other on the ring
+  // from then on, and no later swap or diagonal joins such a pair again: the mesh's
+  // edges are all a check needs.
+  auto edge_exists = [&](std::uint32_t a, std::uint32_t b) { return mesh_.has_edge(a, b); };
 
   // Swaps, the cheapest first, until v has `keep` neighbours.
-  plan->swap_count = 0;
+  plan->swapped.clear();
   plan->swaps = 0;
   while (n > keep) {
     int best = -1;
@@ -157,11 +150,9 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
       }
     }
     if (best < 0) return false;
-    made[made_count++] = ring[(best + n - 1) % n];
-    made[made_count++] = ring[(best + 1) % n];
-    plan->swapped[plan->swap_count++] = ring[best];
+    plan->swapped.push_back(ring[std::size_t(best)]);
     plan->swaps += best_cost;
-    for (int i = best; i + 1 < n; ++i) ring[i] = ring[i + 1];
+    ring.erase(ring.begin() + best);
     --n;
   }
 
@@ -248,8 +239,7 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
   std::vector<std::uint32_t>& touched = touched_;
   touched.assign(before.ring.begin(), before.ring.end());
 
-  for (int i = 0; i < plan.swap_count; ++i) {
-    const std::uint32_t mid = plan.swapped[i];
+  for (const std::uint32_t mid : plan.swapped) {
     HierarchyRecord swap;
     swap.swap = true;
     swap.vertex = v;
