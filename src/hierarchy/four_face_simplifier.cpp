@@ -127,33 +127,53 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   // edges are all a check needs.
   auto edge_exists = [&](std::uint32_t a, std::uint32_t b) { return mesh_.has_edge(a, b); };
 
-  // Swaps, the cheapest first, until v has `keep` neighbours.
+  // Swaps, the cheapest first, until v has `keep` neighbours. Each ring position's
+  // swap is costed once; taking one changes only the two beside it.
+  struct Swap {
+    bool valid = false;
+    double key = 0, cost = 0;
+  };
+  thread_local std::vector<Swap> swaps;
+  auto cost_swap = [&](int i) {
+    Swap s;
+    if (!closed && (i == 0 || i == n - 1)) return s;  // the chain's ends stay
+    const std::uint32_t prev = ring[std::size_t((i + n - 1) % n)], mid = ring[std::size_t(i)],
+                        next = ring[std::size_t((i + 1) % n)];
+    if (prev == next || edge_exists(prev, next)) return s;
+    const std::uint32_t old_faces[6] = {v, prev, mid, v, mid, next};
+    const std::uint32_t new_faces[6] = {v, prev, next, prev, mid, next};
+    double least = 0;
+    if (!faces_fit(old_faces, 2, new_faces, 2, &least)) return s;
+    s.valid = true;
+    s.cost = swap_cost(prev, next);
+    s.key = s.cost * (2 - least);
+    return s;
+  };
   plan->swapped.clear();
   plan->swaps = 0;
+  if (n > keep) {
+    swaps.resize(std::size_t(n));
+    for (int i = 0; i < n; ++i) swaps[std::size_t(i)] = cost_swap(i);
+  }
   while (n > keep) {
     int best = -1;
-    double best_key = kNoCost, best_cost = 0;
-    const int lo = closed ? 0 : 1, hi = closed ? n : n - 1;
-    for (int i = lo; i < hi; ++i) {
-      const std::uint32_t prev = ring[(i + n - 1) % n], mid = ring[i], next = ring[(i + 1) % n];
-      if (prev == next || edge_exists(prev, next)) continue;
-      const std::uint32_t old_faces[6] = {v, prev, mid, v, mid, next};
-      const std::uint32_t new_faces[6] = {v, prev, next, prev, mid, next};
-      double least = 0;
-      if (!faces_fit(old_faces, 2, new_faces, 2, &least)) continue;
-      const double cost = swap_cost(prev, next);
-      const double key = cost * (2 - least);
-      if (best < 0 || key < best_key || (key == best_key && mid < ring[best])) {
-        best = i;
-        best_key = key;
-        best_cost = cost;
-      }
+    for (int i = 0; i < n; ++i) {
+      const Swap& s = swaps[std::size_t(i)];
+      if (!s.valid) continue;
+      const Swap* b = best < 0 ? nullptr : &swaps[std::size_t(best)];
+      if (!b || s.key < b->key || (s.key == b->key && ring[std::size_t(i)] < ring[std::size_t(best)])) best = i;
     }
     if (best < 0) return false;
     plan->swapped.push_back(ring[std::size_t(best)]);
-    plan->swaps += best_cost;
+    plan->swaps += swaps[std::size_t(best)].cost;
     ring.erase(ring.begin() + best);
+    swaps.erase(swaps.begin() + best);
     --n;
+    if (n <= keep) break;
+    // The neighbours of the one taken, now at best - 1 and best.
+    const int before = (best + n - 1) % n, after = best % n;
+    swaps[std::size_t(before)] = cost_swap(before);
+    swaps[std::size_t(after)] = cost_swap(after);
   }
 
   // The removal: the fan from ring[start] of lower C_a + C_b.
@@ -232,13 +252,6 @@ void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
 
 void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records) {
   const float error = float(plan.cost);
-  // The vertices whose cost the removal changes: v's ring before the swaps (their
-  // fans change), and below the neighbours of the ends that take a share of Q_v.
-  FourKMesh::Fan before;
-  mesh_.fan(v, &before);
-  std::vector<std::uint32_t>& touched = touched_;
-  touched.assign(before.ring.begin(), before.ring.end());
-
   for (const std::uint32_t mid : plan.swapped) {
     HierarchyRecord swap;
     swap.swap = true;
@@ -260,23 +273,11 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
 
   share_quadric(v, plan);
   for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
-  for (int i = 0; i < plan.ring_count; ++i)
-    for (std::uint32_t f : mesh_.faces_of(plan.ring[i])) {
-      const std::uint32_t* c = mesh_.corners(f);
-      touched.insert(touched.end(), c, c + 3);
-    }
-  for (std::uint32_t w : touched) {
-    if (marked_[w] || !mesh_.vertex_alive(w)) continue;
-    ++stamp_[w];
-    queue_.push_back({cost_[w], w, stamp_[w]});
-    std::push_heap(queue_.begin(), queue_.end(), Entry::later);
-  }
 }
 
 std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* records) {
   const std::size_t n = mesh_.vertex_count();
   marked_.assign(n, 0);
-  stamp_.resize(n, 0);
   cost_.assign(n, kNoCost);
   // Step 1: every vertex's cost, in parallel (each reads the mesh only).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -286,27 +287,24 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   });
   queue_.clear();
   for (std::uint32_t v = 0; v < n; ++v)
-    if (cost_[v] < kNoCost) queue_.push_back({cost_[v], v, stamp_[v]});
-  std::make_heap(queue_.begin(), queue_.end(), Entry::later);
+    if (cost_[v] < kNoCost) queue_.push_back({cost_[v], v});
+  const Entry::Later later;
+  std::make_heap(queue_.begin(), queue_.end(), later);
 
-  // Steps 2-3: the cheapest unmarked vertex first; a cost that rose since it was
-  // queued goes back in line (lazy updates).
+  // Steps 2-3: the cheapest unmarked vertex first. Each vertex is in the queue once;
+  // its plan is made again when it comes out (the removals around it since may have
+  // changed it), and a cost that rose past the next in line goes back (lazy updates).
   std::uint64_t removed = 0;
   Plan plan;
   const std::uint64_t enough = std::uint64_t(options_.level_ratio * double(mesh_.live_faces()));
   while (!queue_.empty() && mesh_.live_faces() > enough) {
-    std::pop_heap(queue_.begin(), queue_.end(), Entry::later);
+    std::pop_heap(queue_.begin(), queue_.end(), later);
     const Entry e = queue_.back();
     queue_.pop_back();
-    if (marked_[e.vertex] || e.stamp != stamp_[e.vertex] || !mesh_.vertex_alive(e.vertex)) continue;
-    if (!plan_removal(e.vertex, &plan)) {
-      cost_[e.vertex] = kNoCost;
-      continue;
-    }
-    cost_[e.vertex] = plan.cost;
-    if (plan.cost > e.cost && !queue_.empty() && Entry::later({plan.cost, e.vertex, e.stamp}, queue_.front())) {
-      queue_.push_back({plan.cost, e.vertex, e.stamp});
-      std::push_heap(queue_.begin(), queue_.end(), Entry::later);
+    if (marked_[e.vertex] || !mesh_.vertex_alive(e.vertex) || !plan_removal(e.vertex, &plan)) continue;
+    if (plan.cost > e.cost && !queue_.empty() && later({plan.cost, e.vertex}, queue_.front())) {
+      queue_.push_back({plan.cost, e.vertex});
+      std::push_heap(queue_.begin(), queue_.end(), later);
       continue;
     }
     remove(e.vertex, plan, records);

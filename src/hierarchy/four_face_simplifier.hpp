@@ -70,25 +70,24 @@ class FourFaceSimplifier {
   void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
   void share_quadric(std::uint32_t v, const Plan& plan);
 
-  // A queued vertex; `stamp` is its stamp when queued: a later stamp makes it stale.
   struct Entry {
     double cost;
-    std::uint32_t vertex, stamp;
+    std::uint32_t vertex;
     /// The heap's order: the cheapest (then the least vertex) on top.
-    static bool later(const Entry& a, const Entry& b) {
-      return a.cost > b.cost || (a.cost == b.cost && a.vertex > b.vertex);
-    }
+    struct Later {
+      bool operator()(const Entry& a, const Entry& b) const {
+        return a.cost > b.cost || (a.cost == b.cost && a.vertex > b.vertex);
+      }
+    };
   };
 
   FourKMesh& mesh_;
   const HierarchyOptions& options_;
   std::vector<Quadric> quadrics_;
-  // Per level: marked vertices, each vertex's last cost and stamp, the queue.
+  // Per level: marked vertices, each vertex's cost at the start, the queue.
   std::vector<std::uint8_t> marked_;
   std::vector<double> cost_;
-  std::vector<std::uint32_t> stamp_;
   std::vector<Entry> queue_;
-  std::vector<std::uint32_t> touched_;
 };
 
 }  // namespace oocsimp

@@ -21,64 +21,50 @@ bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
   out->faces.clear();
   if (n == 0) return false;
   // Each face as (v, from, to).
-  auto from_to = [&](std::uint32_t f, std::uint32_t* from, std::uint32_t* to) {
-    const std::uint32_t* c = corners(f);
+  thread_local std::vector<std::uint32_t> from, to;
+  from.resize(n);
+  to.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t* c = corners(faces[i]);
     const int at = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-    *from = c[(at + 1) % 3];
-    *to = c[(at + 2) % 3];
-  };
+    from[i] = c[(at + 1) % 3];
+    to[i] = c[(at + 2) % 3];
+  }
   // The start: the face whose `from` is no face's `to` (the boundary), else the face
   // with the least `from`, so that the ring is the same however the list is ordered.
-  std::size_t start = n;
-  std::uint32_t least = ~std::uint32_t(0);
+  std::size_t start = n, least = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t from, to, other_from, other_to;
-    from_to(faces[i], &from, &to);
     bool entered = false;
-    for (std::size_t j = 0; j < n && !entered; ++j) {
-      from_to(faces[j], &other_from, &other_to);
-      entered = j != i && other_to == from;
-    }
+    for (std::size_t j = 0; j < n && !entered; ++j) entered = j != i && to[j] == from[i];
     if (!entered) {
       if (start != n) return false;  // two boundary starts: two fans
       start = i;
     }
-    if (from < least) least = from;
+    if (from[i] < from[least]) least = i;
   }
   out->closed = start == n;
-  std::uint32_t from, to;
-  if (out->closed)
-    for (std::size_t i = 0; i < n; ++i) {
-      from_to(faces[i], &from, &to);
-      if (from == least) start = i;
-    }
-  from_to(faces[start], &from, &to);
-  out->ring.push_back(from);
-  std::uint32_t face = faces[start];
+  if (out->closed) start = least;
+  out->ring.push_back(from[start]);
+  std::size_t face = start;
   for (std::size_t step = 0; step < n; ++step) {
-    out->faces.push_back(face);
-    from_to(face, &from, &to);
-    out->ring.push_back(to);
+    out->faces.push_back(faces[face]);
+    out->ring.push_back(to[face]);
     if (step + 1 == n) break;
-    face = HierarchyRecord::kNoFace;
-    for (std::uint32_t g : faces) {
-      std::uint32_t f2, t2;
-      from_to(g, &f2, &t2);
-      if (f2 == to) face = g;
-    }
-    if (face == HierarchyRecord::kNoFace) return false;
+    std::size_t next = n;
+    for (std::size_t j = 0; j < n; ++j)
+      if (from[j] == to[face]) next = j;
+    if (next == n) return false;
+    face = next;
   }
   if (out->closed) {
     if (out->ring.back() != out->ring.front()) return false;
     out->ring.pop_back();
   }
   // One fan: every face once, every neighbour once.
-  std::vector<std::uint32_t> seen = out->ring;
-  std::sort(seen.begin(), seen.end());
-  if (std::adjacent_find(seen.begin(), seen.end()) != seen.end()) return false;
-  seen = out->faces;
-  std::sort(seen.begin(), seen.end());
-  return std::adjacent_find(seen.begin(), seen.end()) == seen.end();
+  for (std::size_t i = 0; i < out->ring.size(); ++i)
+    for (std::size_t j = i + 1; j < out->ring.size(); ++j)
+      if (out->ring[i] == out->ring[j]) return false;
+  return true;
 }
 
 bool FourKMesh::has_edge(std::uint32_t a, std::uint32_t b) const {
