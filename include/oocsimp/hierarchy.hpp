@@ -8,7 +8,7 @@
 //
 // The hierarchy is the finest mesh and the list of local modifications that simplify
 // it, in the order they were made: edge swaps and removals of vertices of valence 4
-// (3 inside, or 3 neighbours on the boundary). Each record replaces faces by faces
+// (3 inside; on the boundary, of 3 neighbours, or of 2: an ear, whose face goes). Each record replaces faces by faces
 // with the same outline; a record depends on the records that made the faces it
 // replaces. Any set of records that holds the dependencies of each of its records
 // gives a conforming mesh (a multi-triangulation): extraction picks such a set.
@@ -29,8 +29,9 @@ namespace oocsimp {
 struct HierarchyRecord {
   static constexpr std::uint32_t kNoFace = 0xffffffffu;
   /// The faces it replaces. A swap: two faces sharing an edge. A removal: the faces
-  /// around `vertex` in counter-clockwise order (2 for a boundary vertex, 3 or 4
-  /// inside), the first starting at the neighbour the new faces fan from.
+  /// around `vertex` in counter-clockwise order (3 or 4
+  /// inside; 1 or 2 on the boundary), the first starting at the neighbour the new
+  /// faces fan from.
   std::uint32_t faces[4] = {kNoFace, kNoFace, kNoFace, kNoFace};
   /// The vertex removed; for a swap, the vertex whose removal the swap prepares.
   std::uint32_t vertex = 0;

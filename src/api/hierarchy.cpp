@@ -49,12 +49,14 @@ LoadedMesh load(MeshInput& input) {
   return m;
 }
 
-LoadedMesh from_simplified(const SimplifiedMesh& s) {
+// The simplified mesh as the builder takes it, freeing it on the way.
+LoadedMesh from_simplified(SimplifiedMesh s) {
   LoadedMesh m;
   m.positions.resize(s.positions.size() / 3);
   for (std::size_t v = 0; v < m.positions.size(); ++v)
     m.positions[v] = {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
-  m.triangles = s.triangles;
+  std::vector<double>().swap(s.positions);
+  m.triangles = std::move(s.triangles);
   return m;
 }
 
@@ -152,9 +154,9 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
     reduce.temp_dir = options.temp_dir;
     reduce.progress = options.progress;
     reduce.attributes.mode = AttributeSelection::Mode::none;
-    const SimplifiedMesh reduced = simplify(input, reduce, nullptr);
+    SimplifiedMesh reduced = simplify(input, reduce, nullptr);
     st.reduced_triangles = reduced.triangles.size() / 3;
-    h = build(from_simplified(reduced), input_path, options, precision, &st);
+    h = build(from_simplified(std::move(reduced)), input_path, options, precision, &st);
   } else {
     h = build(load(input), input_path, options, precision, &st);
   }

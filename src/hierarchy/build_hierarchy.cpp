@@ -30,7 +30,7 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
   std::uint32_t next = std::uint32_t(triangles.size() / 3);
   for (std::size_t r = 0; r < h.records.size(); ++r) {
     h.first_new_face[r] = next;
-    next += h.records[r].swap || h.records[r].face_count == 4 ? 2 : 1;
+    next += std::uint32_t(record_new_face_count(h.records[r]));
   }
   return h;
 }
@@ -55,7 +55,7 @@ std::size_t derive_faces(MeshHierarchy* h) {
     std::uint32_t made[3 * kMostNewFaces];
     const int count = record_new_faces(
         record, [h](std::uint32_t f) { return &h->face_corners[3 * std::size_t(f)]; }, made);
-    if (count == 0) return r;
+    if (count < 0) return r;
     for (int i = 0; i < record.face_count; ++i) replaced[record.faces[i]] = 1;
     h->first_new_face[r] = std::uint32_t(replaced.size());
     h->face_corners.insert(h->face_corners.end(), made, made + 3 * count);

@@ -11,6 +11,7 @@
 #include "common/triangle_geometry.hpp"
 #include "common/vec3_math.hpp"
 #include "hierarchy/hierarchy_steps.hpp"
+#include "hierarchy/record_faces.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -91,7 +92,7 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
   // Which record made each face.
   std::vector<std::uint32_t> made_by(faces, kFinest);
   for (std::size_t r = 0; r < records; ++r) {
-    const int count = h.records[r].swap || h.records[r].face_count == 4 ? 2 : 1;
+    const int count = record_new_face_count(h.records[r]);
     for (int i = 0; i < count; ++i) made_by[h.first_new_face[r] + std::size_t(i)] = std::uint32_t(r);
   }
   const std::size_t end = q.level != HierarchyQuery::kNoLevel ? h.levels[q.level].end_record : records;
@@ -109,7 +110,7 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
     if (!take) continue;
     applied[r] = 1;
     for (int i = 0; i < record.face_count; ++i) replaced[record.faces[i]] = 1;
-    const int count = record.swap || record.face_count == 4 ? 2 : 1;
+    const int count = record_new_face_count(record);
     triangles = triangles + std::uint64_t(count) - record.face_count;
   }
   if (q.triangles > 0 && triangles > q.triangles)

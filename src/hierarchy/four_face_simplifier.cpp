@@ -119,9 +119,12 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   if (!mesh_.fan(v, &fan)) return false;
   int n = int(fan.ring.size());
   const bool closed = fan.closed;
-  if (n < 3) return false;  // a boundary corner (one face) stays
+  // Inside, 3 neighbours at least; on the boundary, an ear (one face) goes only where
+  // its inner edge has a face beyond, so that no vertex is left without faces.
+  if (closed ? n < 3 : n < 2) return false;
+  if (!closed && n == 2 && mesh_.face_with_edge(fan.ring[1], fan.ring[0]) == HierarchyRecord::kNoFace) return false;
   std::vector<std::uint32_t>& ring = fan.ring;
-  const int keep = closed ? std::min(n, 4) : 3;
+  const int keep = closed ? std::min(n, 4) : std::min(n, 3);
   // An edge a planned swap makes joins two vertices next to each other on the ring
   // from then on, and no later swap or diagonal joins such a pair again: the mesh's
   // edges are all a check needs.
@@ -196,7 +199,8 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   const int starts = closed && n == 4 ? 2 : 1;
   for (int start = 0; start < starts; ++start) {
     const std::uint32_t r0 = ring[start], r1 = ring[(start + 1) % n], r2 = ring[(start + 2) % n];
-    if (closed && n == 3 ? mesh_.has_face(r0, r1, r2) : edge_exists(r0, r2)) continue;
+    // The diagonal (or the face after a valence-3 removal) must be new.
+    if (n >= 3 && (closed && n == 3 ? mesh_.has_face(r0, r1, r2) : edge_exists(r0, r2))) continue;
     std::uint32_t new_faces[6] = {r0, r1, r2, r0, r2, ring[(start + 3) % n]};
     double least = 0;
     if (!faces_fit(old_faces, faces, new_faces, n - 2, &least)) continue;
@@ -223,7 +227,7 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
 // face after a valence-3 removal), delta_i = (sum C - C_i) / ((n - 1) sum C), which is
 // 1 - C_i / (C_a + C_b) for two.
 void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
-  int ends[3] = {0, 2, 0};
+  int ends[3] = {0, plan.ring_count == 2 ? 1 : 2, 0};
   int count = 2;
   if (plan.closed && plan.ring_count == 3) {
     ends[1] = 1;
@@ -266,7 +270,7 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
   HierarchyRecord removal;
   removal.vertex = v;
   removal.error = error;
-  removal.face_count = std::uint8_t(plan.closed ? plan.ring_count : 2);
+  removal.face_count = std::uint8_t(plan.closed ? plan.ring_count : plan.ring_count - 1);
   for (int i = 0; i < removal.face_count; ++i) removal.faces[i] = mesh_.face_with_edge(v, plan.ring[i]);
   mesh_.apply(removal);
   records->push_back(removal);

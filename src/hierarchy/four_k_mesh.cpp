@@ -98,7 +98,7 @@ std::uint32_t FourKMesh::apply(const HierarchyRecord& record) {
   std::uint32_t made[3 * kMostNewFaces];
   const int count = record_new_faces(
       record, [this](std::uint32_t f) { return corners(f); }, made);
-  if (count == 0) throw std::logic_error("FourKMesh::apply: a record that does not fit the mesh");
+  if (count < 0) throw std::logic_error("FourKMesh::apply: a record that does not fit the mesh");
   for (int i = 0; i < record.face_count; ++i) {
     const std::uint32_t f = record.faces[i];
     for (int k = 0; k < 3; ++k) {

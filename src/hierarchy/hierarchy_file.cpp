@@ -163,7 +163,7 @@ MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& 
     const std::uint8_t head = in.get<std::uint8_t>();
     record.swap = head == kSwapHead;
     record.face_count = record.swap ? 2 : head;
-    if (!record.swap && (head < 2 || head > 4))
+    if (!record.swap && (head < 1 || head > 4))
       in.fail(record_at[r], "record " + std::to_string(r) + " is of no known kind (" + std::to_string(head) + ")");
     record.error = in.get<float>();
     record.vertex = in.get<std::uint32_t>();
