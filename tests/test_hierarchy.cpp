@@ -1,0 +1,433 @@
+// The 4-k hierarchy (Velho 1999): level ratios, topology at every level and for
+// regions (manifold, Euler characteristic, boundary loops, no face of no area, none
+// turned over), crack-free region extraction checked edge by edge, the queries, the
+// .4k file's round trip and its damage handling, and the same bytes for any thread
+// count. Expected values come from the shapes (a sphere's Euler characteristic is 2,
+// its faces face away from its centre; a height field's faces face up) and from the
+// input mesh measured by the same independent counting.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "oocsimp/generate.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Mesh {
+  std::vector<double> positions;
+  std::vector<std::uint32_t> triangles;
+};
+
+MeshView view_of(const Mesh& m) {
+  MeshView v;
+  v.positions = m.positions.data();
+  v.position_type = ScalarType::f64;
+  v.vertex_count = m.positions.size() / 3;
+  v.indices = m.triangles.data();
+  v.triangle_count = m.triangles.size() / 3;
+  return v;
+}
+
+// A unit sphere as latitude rings (a triangle fan at each pole), rings x segments.
+Mesh uv_sphere(int rings, int segments) {
+  Mesh m;
+  m.positions = {0, 0, 1};
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = kPi * i / rings, phi = 2 * kPi * j / segments;
+      m.positions.insert(m.positions.end(),
+                         {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
+    }
+  m.positions.insert(m.positions.end(), {0, 0, -1});
+  const std::uint32_t south = std::uint32_t(m.positions.size() / 3 - 1);
+  auto at = [&](int ring, int j) { return std::uint32_t(1 + (ring - 1) * segments + (j % segments)); };
+  for (int j = 0; j < segments; ++j) m.triangles.insert(m.triangles.end(), {0, at(1, j), at(1, j + 1)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const std::uint32_t a = at(i, j), b = at(i, j + 1), c = at(i + 1, j), d = at(i + 1, j + 1);
+      m.triangles.insert(m.triangles.end(), {a, c, d});
+      m.triangles.insert(m.triangles.end(), {a, d, b});
+    }
+  for (int j = 0; j < segments; ++j)
+    m.triangles.insert(m.triangles.end(), {at(rings - 1, j + 1), at(rings - 1, j), south});
+  return m;
+}
+
+// z = 0.1 sin(3x) cos(2y) over a grid of n x n squares on the unit square.
+Mesh height_field(int n) {
+  Mesh m;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(j) / n, y = double(i) / n;
+      m.positions.insert(m.positions.end(), {x, y, 0.1 * std::sin(3 * x) * std::cos(2 * y)});
+    }
+  auto at = [&](int i, int j) { return std::uint32_t(i * (n + 1) + j); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      m.triangles.insert(m.triangles.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+  return m;
+}
+
+Mesh generated(SyntheticShape shape, std::uint64_t triangles, const ScratchDir& tmp) {
+  GenerateOptions g;
+  g.shape = shape;
+  g.triangles = triangles;
+  const std::string path = tmp.file("generated.ply");
+  generate_mesh(path, g);
+  const LoadedMesh loaded = load_mesh(path);
+  Mesh m;
+  m.positions = loaded.positions;
+  for (std::uint64_t v : loaded.triangles) m.triangles.push_back(std::uint32_t(v));
+  return m;
+}
+
+// What a mesh's faces say of its surface, counted here from the faces alone.
+struct Topology {
+  bool manifold = true;  // every directed edge once; every vertex one fan
+  std::size_t vertices = 0, edges = 0, faces = 0, boundary_edges = 0, boundary_loops = 0;
+  std::size_t zero_area = 0;
+  long euler() const { return long(vertices) - long(edges) + long(faces); }
+};
+
+Topology topology(const std::vector<double>& p, const std::vector<std::uint32_t>& t) {
+  Topology out;
+  out.faces = t.size() / 3;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> directed;
+  std::set<std::uint32_t> used;
+  for (std::size_t f = 0; f < t.size(); f += 3) {
+    for (int k = 0; k < 3; ++k) {
+      used.insert(t[f + std::size_t(k)]);
+      if (!directed.insert({t[f + std::size_t(k)], t[f + std::size_t((k + 1) % 3)]}).second) out.manifold = false;
+    }
+    const double* a = &p[3 * t[f]];
+    const double* b = &p[3 * t[f + 1]];
+    const double* c = &p[3 * t[f + 2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0)) ++out.zero_area;
+  }
+  out.vertices = used.size();
+  std::map<std::uint32_t, std::uint32_t> boundary_next;
+  for (const auto& [a, b] : directed) {
+    if (!directed.count({b, a})) {
+      ++out.boundary_edges;
+      ++out.edges;
+      if (!boundary_next.insert({a, b}).second) out.manifold = false;  // two outlines through a
+    } else if (a < b) {
+      ++out.edges;
+    }
+  }
+  std::set<std::uint32_t> seen;
+  for (const auto& [start, next] : boundary_next) {
+    if (seen.count(start)) continue;
+    ++out.boundary_loops;
+    for (std::uint32_t v = start; !seen.count(v);) {
+      seen.insert(v);
+      const auto it = boundary_next.find(v);
+      if (it == boundary_next.end()) {
+        out.manifold = false;
+        break;
+      }
+      v = it->second;
+    }
+  }
+  return out;
+}
+
+// Every face's normal along `outward(centroid)` (positive dot product).
+template <class Outward>
+std::size_t turned_faces(const SimplifiedMesh& m, const Outward& outward) {
+  std::size_t turned = 0;
+  for (std::size_t f = 0; f < m.triangles.size(); f += 3) {
+    const double* a = &m.positions[3 * m.triangles[f]];
+    const double* b = &m.positions[3 * m.triangles[f + 1]];
+    const double* c = &m.positions[3 * m.triangles[f + 2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double centre[3] = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
+    const std::array<double, 3> out = outward(centre);
+    if (!(n[0] * out[0] + n[1] * out[1] + n[2] * out[2] > 0)) ++turned;
+  }
+  return turned;
+}
+
+SimplifiedMesh level(const MeshHierarchy& h, std::uint32_t j) {
+  HierarchyQuery q;
+  q.level = j;
+  return extract_mesh(h, q);
+}
+
+}  // namespace
+
+TEST_CASE("each level of a sphere keeps it closed, manifold, of Euler characteristic 2 and facing out", "[hierarchy]") {
+  const Mesh sphere = uv_sphere(60, 80);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  REQUIRE(h.levels.size() > 10);
+  CHECK(h.levels.back().triangles <= 8);
+  for (std::uint32_t j = 0; j < h.levels.size(); ++j) {
+    const SimplifiedMesh m = level(h, j);
+    const Topology t = topology(m.positions, m.triangles);
+    INFO("level " << j << ", " << t.faces << " faces");
+    CHECK(t.faces == h.levels[j].triangles);
+    CHECK(t.vertices == h.levels[j].vertices);
+    CHECK(t.manifold);
+    CHECK(t.boundary_edges == 0);
+    CHECK(t.euler() == 2);
+    CHECK(t.zero_area == 0);
+    CHECK(turned_faces(m, [](const double* c) { return std::array<double, 3>{c[0], c[1], c[2]}; }) == 0);
+  }
+}
+
+TEST_CASE("each level of a height field keeps one outline, Euler characteristic 1 and every face up", "[hierarchy]") {
+  const Mesh field = height_field(60);
+  const MeshHierarchy h = build_hierarchy(view_of(field), {});
+  REQUIRE(h.levels.size() > 5);
+  for (std::uint32_t j = 0; j < h.levels.size(); ++j) {
+    const SimplifiedMesh m = level(h, j);
+    const Topology t = topology(m.positions, m.triangles);
+    INFO("level " << j << ", " << t.faces << " faces");
+    CHECK(t.manifold);
+    CHECK(t.boundary_loops == 1);
+    CHECK(t.euler() == 1);
+    CHECK(t.zero_area == 0);
+    CHECK(turned_faces(m, [](const double*) { return std::array<double, 3>{0, 0, 1}; }) == 0);
+  }
+}
+
+TEST_CASE("levels take at most 0.75 of the triangles before while more than 10% are left", "[hierarchy]") {
+  ScratchDir tmp;
+  for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
+    const Mesh m = generated(shape, 20000, tmp);
+    const MeshHierarchy h = build_hierarchy(view_of(m), {});
+    const double input = double(h.levels[0].triangles);
+    for (std::size_t j = 1; j < h.levels.size(); ++j) {
+      if (double(h.levels[j - 1].triangles) <= 0.1 * input) break;
+      INFO("shape " << int(shape) << ", level " << j);
+      CHECK(double(h.levels[j].triangles) <= 0.75 * double(h.levels[j - 1].triangles));
+    }
+    // The parts keep their topology at every level, whatever it is.
+    const Topology finest = topology(m.positions, m.triangles);
+    for (std::uint32_t j = 0; j < h.levels.size(); j += 3) {
+      const SimplifiedMesh l = level(h, j);
+      const Topology t = topology(l.positions, l.triangles);
+      INFO("shape " << int(shape) << ", level " << j);
+      CHECK(t.manifold);
+      CHECK(t.euler() == finest.euler());
+      CHECK(t.boundary_loops == finest.boundary_loops);
+      CHECK(t.zero_area == 0);
+    }
+  }
+}
+
+TEST_CASE("a region keeps every finest face that meets it, and the mesh around it has no crack", "[hierarchy]") {
+  const Mesh sphere = uv_sphere(60, 80);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  const std::uint32_t coarse = std::uint32_t(h.levels.size() / 2);
+  for (const bool ball : {false, true}) {
+    HierarchyQuery q;
+    q.level = coarse;
+    if (ball) {
+      q.region = HierarchyQuery::Region::sphere;
+      q.centre = {1, 0, 0};
+      q.radius = 0.3;
+    } else {
+      q.region = HierarchyQuery::Region::box;
+      q.box.min = {-0.2, -0.2, 0.8};
+      q.box.max = {0.2, 0.2, 1.2};
+    }
+    const SimplifiedMesh m = extract_mesh(h, q);
+    // Edge by edge: each directed edge once, and its reverse there too.
+    const Topology t = topology(m.positions, m.triangles);
+    CHECK(t.manifold);
+    CHECK(t.boundary_edges == 0);
+    CHECK(t.euler() == 2);
+    CHECK(m.triangles.size() / 3 > h.levels[coarse].triangles);
+    // Every finest face meeting the region is there, by its corners' positions.
+    std::set<std::array<double, 9>> faces;
+    for (std::size_t f = 0; f < m.triangles.size(); f += 3) {
+      std::array<double, 9> key{};
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 3; ++d)
+          key[std::size_t(3 * k + d)] = m.positions[3 * m.triangles[f + std::size_t(k)] + std::size_t(d)];
+      faces.insert(key);
+    }
+    std::size_t meeting = 0, kept = 0;
+    for (std::size_t f = 0; f < sphere.triangles.size(); f += 3) {
+      std::array<double, 9> key{};
+      bool in = false;
+      for (int k = 0; k < 3; ++k) {
+        const double* p = &sphere.positions[3 * sphere.triangles[f + std::size_t(k)]];
+        for (int d = 0; d < 3; ++d) key[std::size_t(3 * k + d)] = p[d];
+        // A corner inside is enough for the face to meet the region.
+        in = in || (ball ? std::hypot(p[0] - 1, p[1], p[2]) <= 0.3
+                         : std::fabs(p[0]) <= 0.2 && std::fabs(p[1]) <= 0.2 && p[2] >= 0.8);
+      }
+      if (!in) continue;
+      ++meeting;
+      kept += faces.count(key);
+    }
+    CHECK(meeting > 20);
+    CHECK(kept == meeting);
+  }
+}
+
+TEST_CASE("a triangle count gives the finest state at or below it, an error bound the records within it",
+          "[hierarchy]") {
+  const Mesh sphere = uv_sphere(40, 60);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  for (const std::uint64_t n : {std::uint64_t(3000), std::uint64_t(1001), std::uint64_t(100)}) {
+    HierarchyQuery q;
+    q.triangles = n;
+    const SimplifiedMesh m = extract_mesh(h, q);
+    // A removal inside takes two faces: the first state at or below n.
+    CHECK(m.triangles.size() / 3 <= n);
+    CHECK(m.triangles.size() / 3 + 2 > n);
+    CHECK(topology(m.positions, m.triangles).euler() == 2);
+  }
+  // The bound of a level's largest record error takes that level at least.
+  for (std::uint32_t j = 1; j < h.levels.size(); j += 4) {
+    HierarchyQuery q;
+    q.error = h.levels[j].largest_error;
+    const SimplifiedMesh m = extract_mesh(h, q);
+    INFO("level " << j);
+    CHECK(m.triangles.size() / 3 <= h.levels[j].triangles);
+    const Topology t = topology(m.positions, m.triangles);
+    CHECK(t.manifold);
+    CHECK(t.euler() == 2);
+  }
+  HierarchyQuery none;
+  none.error = 0;
+  CHECK(extract_mesh(h, none).triangles.size() == sphere.triangles.size());
+}
+
+TEST_CASE("queries beyond the hierarchy are refused, saying what there is", "[hierarchy]") {
+  const Mesh sphere = uv_sphere(20, 30);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  HierarchyQuery q;
+  q.level = std::uint32_t(h.levels.size());
+  CHECK_THROWS_WITH(extract_mesh(h, q), Catch::Contains("levels 0 to " + std::to_string(h.levels.size() - 1)));
+  q = {};
+  q.triangles = 2;
+  CHECK_THROWS_WITH(extract_mesh(h, q), Catch::Contains(std::to_string(h.levels.back().triangles) + " triangles"));
+  q = {};
+  q.level = 1;
+  q.region = HierarchyQuery::Region::sphere;
+  q.centre = {5, 5, 5};
+  q.radius = 0.5;
+  CHECK_THROWS_WITH(extract_mesh(h, q), Catch::Contains("meets no face") && Catch::Contains("bounds"));
+  q = {};
+  CHECK_THROWS_AS(extract_mesh(h, q), UsageError);
+}
+
+TEST_CASE("a vertex where two fans meet is split, an edge of three faces refused", "[hierarchy]") {
+  // Two tetrahedra sharing vertex 0.
+  Mesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1};
+  m.triangles = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 0, 5, 4, 0, 4, 6, 0, 6, 5, 4, 5, 6};
+  const MeshHierarchy h = build_hierarchy(view_of(m), {});
+  CHECK(h.positions.size() / 3 == 8);  // one copy of vertex 0
+  const SimplifiedMesh finest = level(h, 0);
+  CHECK(topology(finest.positions, finest.triangles).manifold);
+  // Three faces on edge 0-1.
+  Mesh fin;
+  fin.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  fin.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  CHECK_THROWS_WITH(build_hierarchy(view_of(fin), {}), Catch::Contains("edge from vertex"));
+}
+
+TEST_CASE("the .4k file reads back as written, and the same bytes come for any thread count", "[hierarchy][file]") {
+  ScratchDir tmp;
+  const Mesh sphere = uv_sphere(30, 40);
+  HierarchyOptions one;
+  one.threads = 1;
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), one);
+  HierarchyOptions two;
+  two.threads = 2;
+  const std::string a = tmp.file("a.4k"), b = tmp.file("b.4k");
+  write_hierarchy(h, a);
+  write_hierarchy(build_hierarchy(view_of(sphere), two), b);
+  CHECK(read_file(a) == read_file(b));
+  CHECK(is_hierarchy_file(a));
+  const MeshHierarchy back = read_hierarchy(a);
+  CHECK(back.face_corners == h.face_corners);
+  CHECK(back.first_new_face == h.first_new_face);
+  REQUIRE(back.levels.size() == h.levels.size());
+  for (std::uint32_t j = 0; j < h.levels.size(); j += 2) {
+    const SimplifiedMesh x = level(h, j), y = level(back, j);
+    CHECK(x.triangles == y.triangles);
+    // The view's positions are double, and the file keeps them so.
+    CHECK(x.positions == y.positions);
+  }
+}
+
+TEST_CASE("a damaged, truncated, foreign or other-version .4k file is refused naming the byte", "[hierarchy][file]") {
+  ScratchDir tmp;
+  const Mesh sphere = uv_sphere(30, 40);
+  const std::string path = tmp.file("h.4k");
+  write_hierarchy(build_hierarchy(view_of(sphere), {}), path);
+  const std::string bytes = read_file(path);
+  auto refused = [&](const std::string& damaged) {
+    write_file(path, damaged);
+    try {
+      read_hierarchy(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] = char(flipped[bytes.size() / 2] ^ 0x10);
+  CHECK_THAT(refused(flipped), Catch::Contains("h.4k: byte ") && Catch::Contains("do not match their checksum"));
+  CHECK_THAT(refused(bytes.substr(0, bytes.size() - 5)), Catch::Contains("truncated"));
+  CHECK_THAT(refused(bytes.substr(0, 30)), Catch::Contains("byte"));
+  CHECK_THAT(refused("ply\nformat binary_little_endian 1.0\n"), Catch::Contains("byte 0: not an oocsimp hierarchy"));
+  std::string version = bytes;
+  version[8] = 2;
+  CHECK_THAT(refused(version), Catch::Contains("version 2") && Catch::Contains("reads version 1"));
+  std::string header = bytes;
+  header[20] = char(header[20] ^ 1);
+  CHECK_THAT(refused(header), Catch::Contains("byte 56") && Catch::Contains("header"));
+}
+
+TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[hierarchy][cli]") {
+  ScratchDir tmp;
+  const std::string in = tmp.file("s.ply"), h = tmp.file("s.4k"), out = tmp.file("l.ply");
+  const Mesh sphere = uv_sphere(30, 40);
+  std::vector<float> p(sphere.positions.begin(), sphere.positions.end());
+  write_binary_ply(in, p, sphere.triangles);
+  CliResult r = run_cli("hierarchy " + in + " -o " + h + " --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("records"));
+  r = run_cli("info " + h);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("4-k hierarchy, version 1"));
+  r = run_cli("extract " + h + " -o " + out + " --level 2");
+  CHECK(r.exit_code == 0);
+  const LoadedMesh l = load_mesh(out);
+  CHECK(topology(l.positions, std::vector<std::uint32_t>(l.triangles.begin(), l.triangles.end())).euler() == 2);
+  r = run_cli("extract " + h + " -o " + out + " --level 999");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Catch::Contains("--level 999 is beyond the last"));
+  r = run_cli("extract " + h + " -o " + out + " --level 1 --sphere 9,9,9,1");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Catch::Contains("meets no face"));
+  r = run_cli("extract " + h + " -o " + out + " --level 1 --tris 10");
+  CHECK(r.exit_code == 2);
+  r = run_cli("extract " + in + " -o " + out + " --level 1");
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Catch::Contains("not an oocsimp hierarchy"));
+}
