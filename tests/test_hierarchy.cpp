@@ -165,6 +165,18 @@ std::size_t turned_faces(const SimplifiedMesh& m, const Outward& outward) {
   return turned;
 }
 
+// The volume a closed mesh encloses, positive when its faces face out.
+double signed_volume(const SimplifiedMesh& m) {
+  double six = 0;
+  for (std::size_t f = 0; f < m.triangles.size(); f += 3) {
+    const double* a = &m.positions[3 * m.triangles[f]];
+    const double* b = &m.positions[3 * m.triangles[f + 1]];
+    const double* c = &m.positions[3 * m.triangles[f + 2]];
+    six += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  return six / 6;
+}
+
 SimplifiedMesh level(const MeshHierarchy& h, std::uint32_t j) {
   HierarchyQuery q;
   q.level = j;
@@ -188,7 +200,11 @@ TEST_CASE("each level of a sphere keeps it closed, manifold, of Euler characteri
     CHECK(t.boundary_edges == 0);
     CHECK(t.euler() == 2);
     CHECK(t.zero_area == 0);
-    CHECK(turned_faces(m, [](const double* c) { return std::array<double, 3>{c[0], c[1], c[2]}; }) == 0);
+    // Facing out: the enclosed volume is positive, and while the faces are small
+    // beside the sphere, each faces away from its centre.
+    CHECK(signed_volume(m) > 0);
+    if (t.faces >= 200)
+      CHECK(turned_faces(m, [](const double* c) { return std::array<double, 3>{c[0], c[1], c[2]}; }) == 0);
   }
 }
 
@@ -210,27 +226,30 @@ TEST_CASE("each level of a height field keeps one outline, Euler characteristic 
 
 TEST_CASE("levels take at most 0.75 of the triangles before while more than 10% are left", "[hierarchy]") {
   ScratchDir tmp;
-  for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts}) {
-    const Mesh m = generated(shape, 20000, tmp);
-    const MeshHierarchy h = build_hierarchy(view_of(m), {});
-    const double input = double(h.levels[0].triangles);
-    for (std::size_t j = 1; j < h.levels.size(); ++j) {
-      if (double(h.levels[j - 1].triangles) <= 0.1 * input) break;
-      INFO("shape " << int(shape) << ", level " << j);
-      CHECK(double(h.levels[j].triangles) <= 0.75 * double(h.levels[j - 1].triangles));
+  for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts})
+    for (const bool independent : {true, false}) {
+      const Mesh m = generated(shape, 20000, tmp);
+      HierarchyOptions options;
+      options.independent = independent;
+      const MeshHierarchy h = build_hierarchy(view_of(m), options);
+      const double input = double(h.levels[0].triangles);
+      for (std::size_t j = 1; j < h.levels.size(); ++j) {
+        if (double(h.levels[j - 1].triangles) <= 0.1 * input) break;
+        INFO("shape " << int(shape) << ", independent " << independent << ", level " << j);
+        CHECK(double(h.levels[j].triangles) <= 0.75 * double(h.levels[j - 1].triangles));
+      }
+      // The parts keep their topology at every level, whatever it is.
+      const Topology finest = topology(m.positions, m.triangles);
+      for (std::uint32_t j = 0; j < h.levels.size(); j += 3) {
+        const SimplifiedMesh l = level(h, j);
+        const Topology t = topology(l.positions, l.triangles);
+        INFO("shape " << int(shape) << ", independent " << independent << ", level " << j);
+        CHECK(t.manifold);
+        CHECK(t.euler() == finest.euler());
+        CHECK(t.boundary_loops == finest.boundary_loops);
+        CHECK(t.zero_area == 0);
+      }
     }
-    // The parts keep their topology at every level, whatever it is.
-    const Topology finest = topology(m.positions, m.triangles);
-    for (std::uint32_t j = 0; j < h.levels.size(); j += 3) {
-      const SimplifiedMesh l = level(h, j);
-      const Topology t = topology(l.positions, l.triangles);
-      INFO("shape " << int(shape) << ", level " << j);
-      CHECK(t.manifold);
-      CHECK(t.euler() == finest.euler());
-      CHECK(t.boundary_loops == finest.boundary_loops);
-      CHECK(t.zero_area == 0);
-    }
-  }
 }
 
 TEST_CASE("a region keeps every finest face that meets it, and the mesh around it has no crack", "[hierarchy]") {

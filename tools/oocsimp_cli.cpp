@@ -76,6 +76,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"query.box", "--box"},
     {"query.region", "the region"},
     {"query", "extract"},
+    {"options.level_ratio", "--level-ratio"},
 };
 
 // A character that continues a name or a path.
@@ -616,9 +617,9 @@ int run_simplify(const SimplifyArgs& a) {
 
 struct HierarchyArgs {
   std::string in, out;
-  Given levels, threads, mem;
+  Given levels, threads, mem, level_ratio;
   HierarchyOptions options;
-  bool quiet = false;
+  bool quiet = false, sequential = false;
 };
 
 CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
@@ -629,6 +630,11 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
   add_given(cmd, "--levels", &a.levels, "Levels to build (default: until a level removes nothing)");
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
+  cmd->add_flag("--sequential", a.sequential,
+                "A level's removals need not be independent: the cheapest first, as an edge collapse takes them "
+                "(closer to QEM, a deeper hierarchy)");
+  add_given(cmd, "--level-ratio", &a.level_ratio,
+            "A level ends at this fraction of the triangles of the level before (default 0.7; 0 = all it can)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   add_quiet_flag(cmd, &a.quiet);
@@ -638,6 +644,13 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
 int run_hierarchy(HierarchyArgs& a) {
   HierarchyOptions o = a.options;
   if (a.levels.given()) o.levels = std::uint32_t(whole_number("--levels", a.levels.text, 1, 1000));
+  if (a.level_ratio.given()) {
+    char* end = nullptr;
+    o.level_ratio = std::strtod(a.level_ratio.text.c_str(), &end);
+    if (a.level_ratio.text.empty() || *end != '\0' || !(o.level_ratio >= 0 && o.level_ratio < 1))
+      bad_value("--level-ratio", a.level_ratio.text, "a number from 0 to below 1");
+  }
+  o.independent = !a.sequential;
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
   ProgressReporter progress(a.quiet);
@@ -756,7 +769,8 @@ int run_hierarchy_info(const InfoArgs& a) {
   std::printf("faces     %zu\n", h.triangles.size() / 3);
   std::size_t swaps = 0;
   for (const HierarchyRecord& r : h.records) swaps += r.swap;
-  std::printf("records   %zu (%zu swaps, %zu removals)\n", h.records.size(), swaps, h.records.size() - swaps);
+  std::printf("records   %zu (%zu swaps, %zu removals), height %" PRIu64 "\n", h.records.size(), swaps,
+              h.records.size() - swaps, hierarchy_height(h));
   std::printf("level  triangles   vertices  ratio  largest error\n");
   for (std::size_t j = 0; j < h.levels.size(); ++j) {
     const HierarchyLevel& l = h.levels[j];

@@ -71,6 +71,12 @@ struct HierarchyOptions {
   /// take every vertex they can (0: about 0.68 a level); 0.7 measured 0.77x the RMS
   /// at equal counts on the bunny (docs/hierarchy.md).
   double level_ratio = 0.7;
+  /// Velho §4 step 2: a level's removals are independent, each marking the four
+  /// vertices around it so that no other removal of the level touches them: the
+  /// dependency graph stays shallow. Off (--sequential), a level takes the cheapest
+  /// removals one after another as an edge collapse does: closer to QEM at the same
+  /// count (docs/hierarchy.md), a deeper graph.
+  bool independent = true;
   /// Velho eq. 6's weights of the removal cost C(v) and the swap cost S(v).
   double removal_weight = 0.75, swap_weight = 0.25;
   /// Weight of the plane through each boundary edge (Garland & Heckbert §6.1), per
@@ -109,6 +115,10 @@ MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& opti
 /// available) for a level beyond the last, a triangle count below the coarsest, a
 /// negative error, or a region that meets no face.
 SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery& query);
+
+/// The longest chain of records each depending on the one before (Velho §3's
+/// height): how far a region's refinement can reach beyond it.
+std::uint64_t hierarchy_height(const MeshHierarchy& hierarchy);
 
 /// Writes `hierarchy` to a .4k file (docs/hierarchy.md: the format, version 1), under
 /// a temporary name renamed into place when complete. IoError.

@@ -109,6 +109,8 @@ SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery
   return extract_from_hierarchy(hierarchy, query);
 }
 
+std::uint64_t hierarchy_height(const MeshHierarchy& hierarchy) { return dependency_height(hierarchy); }
+
 void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path) {
   write_file_atomically(path, hierarchy_file_bytes(hierarchy));
 }

@@ -4,6 +4,7 @@
 #include "hierarchy/four_k_mesh.hpp"
 #include "hierarchy/hierarchy_steps.hpp"
 #include "hierarchy/record_faces.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -18,12 +19,15 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
   FourFaceSimplifier simplifier(&mesh, options);
   simplifier.assign_quadrics();
   h.levels.push_back({0, mesh.live_faces(), mesh.live_vertices(), 0});
+  // Progress in faces gone: a level takes a share of what is left.
+  ProgressPhase progress(options.progress, "4-k levels", mesh.live_faces(), "tri");
   float largest = 0;
   for (std::uint32_t level = 1; options.levels == 0 || level <= options.levels; ++level) {
     const std::size_t first = h.records.size();
     if (simplifier.simplify_level(&h.records) == 0) break;
     for (std::size_t r = first; r < h.records.size(); ++r) largest = std::max(largest, h.records[r].error);
     h.levels.push_back({h.records.size(), mesh.live_faces(), mesh.live_vertices(), largest});
+    progress.set(h.levels[0].triangles - mesh.live_faces());
   }
   h.face_corners = mesh.face_corners();
   h.first_new_face.resize(h.records.size());

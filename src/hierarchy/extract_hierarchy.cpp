@@ -70,6 +70,22 @@ void check_query(const MeshHierarchy& h, const HierarchyQuery& q) {
 
 }  // namespace
 
+std::uint64_t dependency_height(const MeshHierarchy& h) {
+  std::vector<std::uint32_t> made_by(h.face_corners.size() / 3, kFinest), depth(h.records.size(), 0);
+  std::uint64_t height = 0;
+  for (std::size_t r = 0; r < h.records.size(); ++r) {
+    const HierarchyRecord& record = h.records[r];
+    std::uint32_t d = 1;
+    for (int i = 0; i < record.face_count; ++i)
+      if (made_by[record.faces[i]] != kFinest) d = std::max(d, depth[made_by[record.faces[i]]] + 1);
+    depth[r] = d;
+    height = std::max<std::uint64_t>(height, d);
+    for (int i = 0; i < record_new_face_count(record); ++i)
+      made_by[h.first_new_face[r] + std::size_t(i)] = std::uint32_t(r);
+  }
+  return height;
+}
+
 SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQuery& q) {
   check_query(h, q);
   const std::size_t finest = h.triangles.size() / 3, records = h.records.size();

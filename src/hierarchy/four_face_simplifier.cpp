@@ -68,7 +68,7 @@ void FourFaceSimplifier::assign_quadrics() {
 
 // Eq. 8, read symmetrically: the quadric error of each end of the new edge at the other.
 double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
-  return 0.5 * (quadrics_[s].error(mesh_.position(t)) + quadrics_[t].error(mesh_.position(s)));
+  return std::max(0.0, 0.5 * (quadrics_[s].error(mesh_.position(t)) + quadrics_[t].error(mesh_.position(s))));
 }
 
 // The new faces cover the outline the old ones did. Along each outline edge the new
@@ -185,7 +185,8 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   for (int i = 0; i < n; ++i) {
     Quadric q = qv;
     q.add(quadrics_[ring[i]]);
-    ring_cost[i] = q.error(mesh_.position(ring[i]));
+    ring_cost[i] =
+        std::max(0.0, q.error(mesh_.position(ring[i])));  // a quadric's error is never negative but for rounding
   }
   const int faces = closed ? n : n - 1;
   std::uint32_t old_faces[12];
@@ -204,7 +205,11 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
     std::uint32_t new_faces[6] = {r0, r1, r2, r0, r2, ring[(start + 3) % n]};
     double least = 0;
     if (!faces_fit(old_faces, faces, new_faces, n - 2, &least)) continue;
-    const double cost = ring_cost[start] + ring_cost[(start + 2) % n];
+    // The removal is the half-edge collapse of v into either end of the new edge
+    // (Velho §3): its cost is the cheaper of the two (of all three after a valence-3
+    // removal, whose new face has them all).
+    double cost = std::min(ring_cost[start], ring_cost[(start + 2) % n]);
+    if (n == 2 || (closed && n == 3)) cost = *std::min_element(ring_cost, ring_cost + n);
     if (chosen < 0 || cost < chosen_cost) {
       chosen = start;
       chosen_cost = cost;
@@ -213,11 +218,10 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   if (chosen < 0) return false;
   plan->closed = closed;
   plan->ring_count = n;
-  plan->removal = kNoCost;
+  plan->removal = chosen_cost;
   for (int i = 0; i < n; ++i) {
     plan->ring[i] = ring[(chosen + i) % n];
     plan->ring_cost[i] = ring_cost[(chosen + i) % n];
-    plan->removal = std::min(plan->removal, ring_cost[i]);
   }
   plan->cost = options_.removal_weight * plan->removal + options_.swap_weight * plan->swaps;
   return std::isfinite(plan->cost);
@@ -276,7 +280,8 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
   records->push_back(removal);
 
   share_quadric(v, plan);
-  for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
+  if (options_.independent)
+    for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
 }
 
 std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* records) {

@@ -22,6 +22,9 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
 /// shape), or records.size() when all fit.
 std::size_t derive_faces(MeshHierarchy* hierarchy);
 
+/// The longest dependency chain (oocsimp::hierarchy_height).
+std::uint64_t dependency_height(const MeshHierarchy& hierarchy);
+
 /// The selected records' mesh (oocsimp::extract_mesh).
 SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& hierarchy, const HierarchyQuery& query);
 
