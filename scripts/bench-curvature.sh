@@ -37,13 +37,6 @@ if [ ${#inputs[@]} -eq 0 ]; then
   done
 fi
 
-now() { date +%s.%N; }
-calc() { awk "BEGIN { print $1 }"; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf("%.2fx", a / b) }'; }
-measured() {  # measured MEASURE.json -> "rms/diag hausdorff/diag" of the symmetric distance
-  grep '"symmetric"' "$1" |
-    sed -E 's/.*"of_diagonal": \{"hausdorff": ([^,]*), "mean": [^,]*, "rms": ([^}]*)\}.*/\2 \1/'
-}
 topology() { python3 "$root/scripts/mesh_topology.py" "$1" | sed -E 's/.* ([0-9]+) boundary .* ([0-9]+) non-manifold .*/\1\/\2/'; }
 
 # clustered METHOD GRID RESULT -> the output triangles of --method METHOD --grid GRID

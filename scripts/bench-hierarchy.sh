@@ -35,13 +35,6 @@ if [ ${#inputs[@]} -eq 0 ]; then
   done
 fi
 
-now() { date +%s.%N; }
-calc() { awk "BEGIN { print $1 }"; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf("%.2fx", a / b) }'; }
-measured() {  # measured MEASURE.json -> "rms/diag hausdorff/diag" of the symmetric distance
-  grep '"symmetric"' "$1" |
-    sed -E 's/.*"of_diagonal": \{"hausdorff": ([^,]*), "mean": [^,]*, "rms": ([^}]*)\}.*/\2 \1/'
-}
 rms_of() {  # rms_of MESH RESULT -> "rms hausdorff"
   "$bin" measure "$1" "$2" --samples "$samples" --json --quiet >"$out/measure.json"
   measured "$out/measure.json"

@@ -9,6 +9,13 @@ bin="${OOCSIMP_BIN:-$root/build/oocsimp}"
 dir="$root/build/bench"  # generated meshes are cached here
 mkdir -p "$dir"
 
+now() { date +%s.%N; }
+calc() { awk "BEGIN { print $1 }"; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf("%.2fx", a / b) }'; }
+measured() {  # measured MEASURE.json -> "rms/diag hausdorff/diag" of the symmetric distance
+  grep '"symmetric"' "$1" |
+    sed -E 's/.*"of_diagonal": \{"hausdorff": ([^,]*), "mean": [^,]*, "rms": ([^}]*)\}.*/\2 \1/'
+}
 json_field() {  # json_field FILE KEY -> first number after "KEY":
   grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'
 }

@@ -49,6 +49,19 @@ struct Quadric {
     b2 += o.b2;
     c += o.c;
   }
+  /// Adds w times `o` (w >= 0 keeps it a sum of squared distances).
+  void add_scaled(const Quadric& o, double w) {
+    a00 += w * o.a00;
+    a01 += w * o.a01;
+    a02 += w * o.a02;
+    a11 += w * o.a11;
+    a12 += w * o.a12;
+    a22 += w * o.a22;
+    b0 += w * o.b0;
+    b1 += w * o.b1;
+    b2 += w * o.b2;
+    c += w * o.c;
+  }
   /// E(x): the area-weighted sum of squared distances from x to the planes.
   double error(const Vec3d& x) const {
     const double ax = a00 * x.x + a01 * x.y + a02 * x.z;

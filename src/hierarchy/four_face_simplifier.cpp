@@ -242,19 +242,7 @@ void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
   for (int i = 0; i < count; ++i) total += plan.ring_cost[ends[i]];
   for (int i = 0; i < count; ++i) {
     const double share = total > 0 ? (total - plan.ring_cost[ends[i]]) / ((count - 1) * total) : 1.0 / count;
-    const Quadric& q = quadrics_[v];
-    Quadric part;
-    part.a00 = share * q.a00;
-    part.a01 = share * q.a01;
-    part.a02 = share * q.a02;
-    part.a11 = share * q.a11;
-    part.a12 = share * q.a12;
-    part.a22 = share * q.a22;
-    part.b0 = share * q.b0;
-    part.b1 = share * q.b1;
-    part.b2 = share * q.b2;
-    part.c = share * q.c;
-    quadrics_[plan.ring[ends[i]]].add(part);
+    quadrics_[plan.ring[ends[i]]].add_scaled(quadrics_[v], share);
   }
 }
 
