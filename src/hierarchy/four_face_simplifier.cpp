@@ -109,7 +109,12 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
         if (other > j && !(dot(new_normal[j], new_normal[other]) >= old_crease)) return false;
       }
     }
-  if (least < kMinCompactness && least < kNeedleSlack * old_least) return false;
+  // A flat patch stays flat whatever its faces' shapes: the guard is for faces that
+  // carry a bend, whose normals a needle would make unstable.
+  bool flat = true;
+  for (int i = 0; i < old_count && flat; ++i) flat = dot(old_normal[i], new_normal[0]) >= kFlat;
+  for (int j = 1; j < new_count && flat; ++j) flat = dot(new_normal[j], new_normal[0]) >= kFlat;
+  if (!flat && least < kMinCompactness && least < kNeedleSlack * old_least) return false;
   *least_compactness = least;
   return true;
 }

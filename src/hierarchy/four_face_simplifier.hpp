@@ -44,6 +44,8 @@ class FourFaceSimplifier {
   /// least old one. Without the slack, a mesh of slivers (the poles of the generated
   /// sphere) stalls: the 1M sphere stopped at 0.6% of its faces, with it at 4 faces.
   static constexpr double kMinCompactness = 0.05, kNeedleSlack = 0.5;
+  /// Faces whose unit normals agree to this dot product are one flat patch.
+  static constexpr double kFlat = 1 - 1e-9;
 
   FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options);
 
