@@ -18,11 +18,6 @@ constexpr double kNoCost = std::numeric_limits<double>::infinity();
 
 Vec3d face_normal(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
 
-Vec3d unit_or_zero(const Vec3d& n) {
-  const double l = length(n);
-  return l > 0 ? n / l : Vec3d{0, 0, 0};
-}
-
 // The face of `faces` (3 corners each) with directed edge a->b, or -1.
 int face_with(const std::uint32_t* faces, int count, std::uint32_t a, std::uint32_t b) {
   for (int i = 0; i < count; ++i)
@@ -77,26 +72,24 @@ double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
 // sharpest between two old faces, or than a right angle.
 bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
                                    int new_count, double* least_compactness) const {
+  // Normals as cross products: a flip is a sign, and only the rarer checks need
+  // lengths (this runs for every swap and removal considered).
+  auto normal_of = [&](const std::uint32_t* t) {
+    return face_normal(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
+  };
+  auto compactness_of = [&](const std::uint32_t* t) {
+    return metrics::compactness(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
+  };
+  auto cosine = [](const Vec3d& a, const Vec3d& b) {
+    return dot(a, b) / std::sqrt(squared_length(a) * squared_length(b));
+  };
   Vec3d old_normal[4], new_normal[2];
-  double old_least = 1, old_crease = 0;
-  for (int i = 0; i < old_count; ++i) {
-    const Vec3d &a = mesh_.position(old_faces[3 * i]), &b = mesh_.position(old_faces[3 * i + 1]),
-                &c = mesh_.position(old_faces[3 * i + 2]);
-    old_normal[i] = unit_or_zero(face_normal(a, b, c));
-    old_least = std::min(old_least, metrics::compactness(a, b, c));
-  }
-  for (int i = 0; i < old_count; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const int j = face_with(old_faces, old_count, old_faces[3 * i + (k + 1) % 3], old_faces[3 * i + k]);
-      if (j > i) old_crease = std::min(old_crease, dot(old_normal[i], old_normal[j]));
-    }
+  for (int i = 0; i < old_count; ++i) old_normal[i] = normal_of(old_faces + 3 * i);
   double least = 1;
   for (int j = 0; j < new_count; ++j) {
-    const Vec3d &a = mesh_.position(new_faces[3 * j]), &b = mesh_.position(new_faces[3 * j + 1]),
-                &c = mesh_.position(new_faces[3 * j + 2]);
-    new_normal[j] = unit_or_zero(face_normal(a, b, c));
+    new_normal[j] = normal_of(new_faces + 3 * j);
     if (!(squared_length(new_normal[j]) > 0)) return false;
-    least = std::min(least, metrics::compactness(a, b, c));
+    least = std::min(least, compactness_of(new_faces + 3 * j));
   }
   for (int j = 0; j < new_count; ++j)
     for (int k = 0; k < 3; ++k) {
@@ -104,17 +97,31 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
       const int old = face_with(old_faces, old_count, a, b);
       if (old >= 0) {
         if (squared_length(old_normal[old]) > 0 && !(dot(new_normal[j], old_normal[old]) > 0)) return false;
-      } else {
-        const int other = face_with(new_faces, new_count, b, a);
-        if (other > j && !(dot(new_normal[j], new_normal[other]) >= old_crease)) return false;
+        continue;
       }
+      const int other = face_with(new_faces, new_count, b, a);
+      if (other <= j) continue;
+      const double crease = cosine(new_normal[j], new_normal[other]);
+      if (crease >= 0) continue;
+      double old_crease = 0;
+      for (int i = 0; i < old_count; ++i)
+        for (int e = 0; e < 3; ++e) {
+          const int o = face_with(old_faces, old_count, old_faces[3 * i + (e + 1) % 3], old_faces[3 * i + e]);
+          if (o > i && squared_length(old_normal[i]) > 0 && squared_length(old_normal[o]) > 0)
+            old_crease = std::min(old_crease, cosine(old_normal[i], old_normal[o]));
+        }
+      if (!(crease >= old_crease)) return false;
     }
-  // A flat patch stays flat whatever its faces' shapes: the guard is for faces that
-  // carry a bend, whose normals a needle would make unstable.
-  bool flat = true;
-  for (int i = 0; i < old_count && flat; ++i) flat = dot(old_normal[i], new_normal[0]) >= kFlat;
-  for (int j = 1; j < new_count && flat; ++j) flat = dot(new_normal[j], new_normal[0]) >= kFlat;
-  if (!flat && least < kMinCompactness && least < kNeedleSlack * old_least) return false;
+  if (least < kMinCompactness) {
+    // A flat patch stays flat whatever its faces' shapes: the guard is for faces
+    // that carry a bend, whose normals a needle would make unstable.
+    bool flat = new_count > 0;
+    for (int i = 0; i < old_count && flat; ++i) flat = cosine(old_normal[i], new_normal[0]) >= kFlat;
+    for (int j = 1; j < new_count && flat; ++j) flat = cosine(new_normal[j], new_normal[0]) >= kFlat;
+    double old_least = 1;
+    for (int i = 0; i < old_count && !flat; ++i) old_least = std::min(old_least, compactness_of(old_faces + 3 * i));
+    if (!flat && least < kNeedleSlack * old_least) return false;
+  }
   *least_compactness = least;
   return true;
 }
