@@ -3,8 +3,6 @@
 // .4k files.
 #include "oocsimp/hierarchy.hpp"
 
-#include <tbb/global_control.h>
-
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -17,7 +15,9 @@
 #include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/oocsimp.hpp"
+#include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
+#include "runtime/thread_limit.hpp"
 
 namespace oocsimp {
 
@@ -28,11 +28,6 @@ namespace {
 // back), measured as peak anonymous memory over triangles on the generated sphere
 // (docs/hierarchy.md).
 constexpr std::uint64_t kBuildBytesPerTriangle = 400;
-
-std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
-  if (threads == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-}
 
 struct LoadedMesh {
   std::vector<Vec3d> positions;
@@ -136,7 +131,7 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
   open.progress = options.progress;
   open.attributes.mode = AttributeSelection::Mode::none;
   MeshInput input = open_mesh_input(input_path, open);
-  const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
+  const std::uint64_t budget = budget_bytes(options.memory_budget);
   const std::uint64_t fits = budget / kBuildBytesPerTriangle;
   HierarchyStats st;
   st.input_vertices = input.info.vertex_count;

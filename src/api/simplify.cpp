@@ -1,8 +1,6 @@
 // The simplify entry points: open, choose the grid, cluster, write.
 #include "api/simplify.hpp"
 
-#include <tbb/global_control.h>
-
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -23,16 +21,12 @@
 #include "oocsimp/error.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
+#include "runtime/thread_limit.hpp"
 #include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
 namespace {
-
-std::unique_ptr<tbb::global_control> limit_threads(unsigned threads) {
-  if (threads == 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-}
 
 // The clusterers work, and a float output is written, within the float range: an
 // input coordinate beyond it (possible in double input) is rejected up front, naming

@@ -68,10 +68,20 @@ void check_query(const MeshHierarchy& h, const HierarchyQuery& q) {
     throw UsageError("query.box", "query.box is empty (a minimum above its maximum)");
 }
 
+// Which record made each face (kFinest: the finest mesh's).
+std::vector<std::uint32_t> records_making_faces(const MeshHierarchy& h) {
+  std::vector<std::uint32_t> made_by(h.face_corners.size() / 3, kFinest);
+  for (std::size_t r = 0; r < h.records.size(); ++r)
+    for (int i = 0; i < record_new_face_count(h.records[r]); ++i)
+      made_by[h.first_new_face[r] + std::size_t(i)] = std::uint32_t(r);
+  return made_by;
+}
+
 }  // namespace
 
 std::uint64_t dependency_height(const MeshHierarchy& h) {
-  std::vector<std::uint32_t> made_by(h.face_corners.size() / 3, kFinest), depth(h.records.size(), 0);
+  const std::vector<std::uint32_t> made_by = records_making_faces(h);
+  std::vector<std::uint32_t> depth(h.records.size(), 0);
   std::uint64_t height = 0;
   for (std::size_t r = 0; r < h.records.size(); ++r) {
     const HierarchyRecord& record = h.records[r];
@@ -80,8 +90,6 @@ std::uint64_t dependency_height(const MeshHierarchy& h) {
       if (made_by[record.faces[i]] != kFinest) d = std::max(d, depth[made_by[record.faces[i]]] + 1);
     depth[r] = d;
     height = std::max<std::uint64_t>(height, d);
-    for (int i = 0; i < record_new_face_count(record); ++i)
-      made_by[h.first_new_face[r] + std::size_t(i)] = std::uint32_t(r);
   }
   return height;
 }
@@ -105,12 +113,7 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
     }
   }
 
-  // Which record made each face.
-  std::vector<std::uint32_t> made_by(faces, kFinest);
-  for (std::size_t r = 0; r < records; ++r) {
-    const int count = record_new_face_count(h.records[r]);
-    for (int i = 0; i < count; ++i) made_by[h.first_new_face[r] + std::size_t(i)] = std::uint32_t(r);
-  }
+  const std::vector<std::uint32_t> made_by = records_making_faces(h);
   const std::size_t end = q.level != HierarchyQuery::kNoLevel ? h.levels[q.level].end_record : records;
   std::vector<std::uint8_t> applied(records, 0), replaced(faces, 0);
   std::uint64_t triangles = finest;

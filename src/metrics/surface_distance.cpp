@@ -39,7 +39,6 @@
 #include "oocsimp/measure.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -59,6 +58,7 @@
 #include "io/mesh_input.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
+#include "runtime/thread_limit.hpp"
 
 namespace oocsimp {
 
@@ -466,9 +466,7 @@ DistanceReport measure_surface_distance(const std::string& a_path, const std::st
                                         const MeasureOptions& options) {
   if (options.samples == 0 || options.samples > std::numeric_limits<std::uint32_t>::max())
     throw UsageError("options.samples", "options.samples must be between 1 and 2^32 - 1");
-  std::unique_ptr<tbb::global_control> thread_limit;
-  if (options.threads > 0)
-    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
+  const auto thread_limit = limit_threads(options.threads);
   const PeakAnonSampler memory;
   const double t0 = now_seconds();
   DistanceReport report;
