@@ -388,13 +388,14 @@ TEST_CASE("stitch and assembly on a hand-made case: first occurrences in input o
     corners.append(0, cr, 3);
     inside.flush();
     corners.flush();
-    std::vector<KeptTriangle> stitched = stitch_kept_triangles(inside, corners);
+    LargeArray<KeptTriangle> stitched = stitch_kept_triangles(inside, corners);
     CHECK(stitched.size() == 4);
     AssemblyCounts counts;
     AssemblySettings assembly;
     assembly.cell = FloatingCellShape{2, CellShape::cube};
     assembly.rule = rule;
-    SimplifiedMesh m = assemble_mesh(stitched, partials, assembly, &counts);
+    assembly.cluster_span = 64;
+    SimplifiedMesh m = assemble_mesh(std::move(stitched), partials, assembly, &counts).take();
     CHECK(counts.clusters == 4);
     // Input order of first occurrence: 1 (30 40 10), 3 (10 20 30), 5 (20 30 40); 7 is 3 again.
     // Vertices by first use: 30 -> 0, 40 -> 1, 10 -> 2, 20 -> 3.

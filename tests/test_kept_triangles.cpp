@@ -36,6 +36,11 @@ TEST_CASE("deduplication keeps each cluster triple once, at its lowest input ind
   CHECK(kept[2].corners() == std::array<std::uint64_t, 3>{3, 2, 1});  // the orientation of triangle 7
 }
 
+// A KeptTriangleSink appending to `kept`.
+KeptTriangleSink append_to(std::vector<KeptTriangle>& kept) {
+  return [&kept](const KeptTriangle* t, std::size_t n) { kept.insert(kept.end(), t, t + n); };
+}
+
 TEST_CASE("the stitch joins corners reported by different tiles into triangles", "[stitch]") {
   ScratchDir d;
   StreamSpill corners(d.path(), "stitch", sizeof(CornerRecord), 16, false);
@@ -53,7 +58,7 @@ TEST_CASE("the stitch joins corners reported by different tiles into triangles",
   corners.append(1, e.data(), e.size());
   corners.flush();
   std::vector<KeptTriangle> kept;
-  stitch_cross_tile_corners(corners, &kept);
+  stitch_cross_tile_corners(corners, append_to(kept));
   REQUIRE(kept.size() == 2);
   std::sort(kept.begin(), kept.end(),
             [](const KeptTriangle& x, const KeptTriangle& y) { return x.index() < y.index(); });
@@ -72,5 +77,5 @@ TEST_CASE("the stitch refuses a triangle that lacks a corner", "[stitch]") {
   corners.append(0, a.data(), a.size());
   corners.flush();
   std::vector<KeptTriangle> kept;
-  CHECK_THROWS_AS(stitch_cross_tile_corners(corners, &kept), std::logic_error);
+  CHECK_THROWS_AS(stitch_cross_tile_corners(corners, append_to(kept)), std::logic_error);
 }

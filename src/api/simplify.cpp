@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -50,13 +51,14 @@ void check_float_range(const MeshInput& input) {
 // Rounds the clusterers' double positions to float values for a float output. A
 // cluster's output vertex may lie up to a cell beyond the bounding box: for inputs
 // near the float limit it can overflow where the input did not.
-void round_to_float(const MeshInput& input, SimplifiedMesh& m) {
+void round_to_float(const MeshInput& input, OutputMesh& m) {
+  double* positions = m.positions.data();
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    float f = float(m.positions[i]);
+    float f = float(positions[i]);
     if (std::isinf(f))
       throw InputError(input.info.path + ": output vertex " + std::to_string(i / 3) +
                        " overflows the float range (input coordinates too close to the float limit)");
-    m.positions[i] = f;
+    positions[i] = f;
   }
   m.precision = ScalarType::f32;
 }
@@ -133,8 +135,8 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
 }
 
 // The output's precision and the run's peak memory.
-void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory,
-                SimplifiedMesh& m, SimplifyStats& st) {
+void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory, OutputMesh& m,
+                SimplifyStats& st) {
   m.precision = ScalarType::f64;
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   st.peak_rss_bytes = peak_rss_bytes();
@@ -148,7 +150,11 @@ void record_grid(const GridSpec& grid, SimplifyStats* st) {
 
 }  // namespace
 
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
+namespace {
+
+// simplify(), with the output's arrays where the clusterers put them (mapped files
+// for an output large next to the budget).
+OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
   SimplifyOptions options = given;
   options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
@@ -165,9 +171,9 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, Simplify
     warnings.insert(warnings.end(), st.warnings.begin(), st.warnings.end());
     st.warnings = std::move(warnings);
   }
-  SimplifiedMesh m;
+  OutputMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {
-    m = simplify_to_target(input, options, &st);
+    m = OutputMesh::of(simplify_to_target(input, options, &st));
   } else {
     const GridSpec grid = choose_grid(input, options.sizing, options.threads);
     record_grid(grid, &st);
@@ -176,6 +182,12 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& given, Simplify
   }
   finish_run(input, options, memory, m, st);
   return m;
+}
+
+}  // namespace
+
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+  return simplify_output(input, options, stats).take();
 }
 
 namespace {
@@ -194,9 +206,12 @@ void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
 }
 
 // sqrt(2 A / T) for the output's area A and triangle count T (SimplifyStats::lod_cell).
-double equivalent_cell(const SimplifiedMesh& m) {
+double equivalent_cell(const OutputMesh& m) {
   double area = 0;
-  auto at = [&](std::uint32_t v) { return Vec3d{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}; };
+  auto at = [&](std::uint32_t v) {
+    return Vec3d{m.positions[3 * std::size_t(v)], m.positions[3 * std::size_t(v) + 1],
+                 m.positions[3 * std::size_t(v) + 2]};
+  };
   for (std::size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
     const Vec3d a = at(m.triangles[t]);
     area += 0.5 * length(cross(at(m.triangles[t + 1]) - a, at(m.triangles[t + 2]) - a));
@@ -205,9 +220,12 @@ double equivalent_cell(const SimplifiedMesh& m) {
   return triangles > 0 ? std::sqrt(2 * area / triangles) : 0;
 }
 
-}  // namespace
+// Where simplify_lods_output hands each level.
+using OutputSink = std::function<void(std::uint32_t level, OutputMesh& mesh, const SimplifyStats& stats)>;
 
-void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods, const LodSink& sink) {
+// simplify_lods(), with the levels' arrays where the clusterers put them.
+void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods,
+                          const OutputSink& sink) {
   check_lods(given, lods);
   SimplifyOptions options = given;  // with a target each level resolves the method itself (simplify())
   if (!options.target.given()) options.method = resolved_method(given);
@@ -219,7 +237,7 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
       o.target.triangles = std::max<std::uint64_t>(options.target.triangles >> k, options.target.triangles ? 1 : 0);
       o.target.ratio = std::ldexp(options.target.ratio, -int(k));
       SimplifyStats st;
-      SimplifiedMesh m = simplify(input, o, &st);
+      OutputMesh m = simplify_output(input, o, &st);
       st.lod_cell = equivalent_cell(m);
       sink(k, m, st);
     }
@@ -236,7 +254,7 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
     input.restart_triangles();
     method.levels(
         input, options, grids,
-        [&](std::size_t k, SimplifiedMesh& m, SimplifyStats& st) {
+        [&](std::size_t k, OutputMesh& m, SimplifyStats& st) {
           record_grid(grids[k], &st);
           st.lod_cell = grids[k].cell;
           finish_run(input, options, memory, m, st);
@@ -251,10 +269,19 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& given, const LodOpti
     record_grid(grids[k], &st);
     st.lod_cell = grids[k].cell;
     input.restart_triangles();
-    SimplifiedMesh m = method.run(input, options, grids[k], &st, nullptr);
+    OutputMesh m = method.run(input, options, grids[k], &st, nullptr);
     finish_run(input, options, memory, m, st);
     sink(k, m, st);
   }
+}
+
+}  // namespace
+
+void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink) {
+  simplify_lods_output(input, options, lods, [&](std::uint32_t k, OutputMesh& m, const SimplifyStats& st) {
+    SimplifiedMesh mesh = m.take();
+    sink(k, mesh, st);
+  });
 }
 
 namespace {
@@ -322,9 +349,10 @@ void check_distinct_destinations(const std::string& input_path, const OutputOpti
 }
 
 // The warning for an output format that cannot hold the carried attributes.
-std::string attributes_not_written(const std::string& path, MeshFormat format, const AttributeValues& attributes) {
+std::string attributes_not_written(const std::string& path, MeshFormat format,
+                                   const std::vector<VertexAttribute>& attributes) {
   std::string names;
-  for (const VertexAttribute& a : attributes.attributes) {
+  for (const VertexAttribute& a : attributes) {
     if (format == MeshFormat::obj && (a.name == "red" || a.name == "green" || a.name == "blue")) continue;
     names += (names.empty() ? "" : ", ") + a.name;
   }
@@ -346,12 +374,13 @@ MeshInput open_input(const std::string& input_path, const SimplifyOptions& optio
 
 // Writes `mesh` (normals added when asked) to `file`, with a warning in `st` for what
 // the format cannot keep, and records the "write" phase.
-void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outputs, SimplifiedMesh& mesh,
-                  const ProgressCallback& progress, SimplifyStats& st) {
-  if (outputs.normals) add_vertex_normals(&mesh);
+void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outputs, OutputMesh& mesh,
+                  const SimplifyOptions& options, SimplifyStats& st) {
+  if (outputs.normals)
+    add_vertex_normals(&mesh, ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir));
   const double t0 = now_seconds();
-  ProgressPhase phase(progress, "write", 0, "B");
-  if (!format_keeps_attributes(format, mesh.attributes))
+  ProgressPhase phase(options.progress, "write", 0, "B");
+  if (!format_keeps_attributes(format, AttributeValues{mesh.attributes, {}}))
     st.warnings.push_back(attributes_not_written(file.path(), format, mesh.attributes));
   if (!mesh.primitives.empty() && !format_keeps_primitives(format))
     st.warnings.push_back(file.path() + ": " +
@@ -362,7 +391,7 @@ void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outp
                                      std::to_string(mesh.primitives.edge_count()) + " thick edges and " +
                                      std::to_string(mesh.primitives.point_count()) + " points not written") +
                           " (write .ply to keep them)");
-  write_mesh(file, mesh.positions, mesh.triangles, format, mesh.precision, &mesh.attributes, &mesh.primitives);
+  write_mesh(file, mesh, format);
   st.phases.push_back({"write", now_seconds() - t0});
 }
 
@@ -384,8 +413,8 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t0 = now_seconds();
   MeshInput input = open_input(input_path, options);
   st.phases.push_back({"open", now_seconds() - t0});
-  SimplifiedMesh mesh = simplify(input, options, &st);
-  write_output(mesh_file, format, outputs, mesh, options.progress, st);
+  OutputMesh mesh = simplify_output(input, options, &st);
+  write_output(mesh_file, format, outputs, mesh, options, st);
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
@@ -421,11 +450,11 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
   std::vector<SimplifyStats>& st = stats ? *stats : local;
   st.clear();
   double level_start = now_seconds();
-  simplify_lods(input, options, lods, [&](std::uint32_t k, SimplifiedMesh& mesh, const SimplifyStats& level) {
+  simplify_lods_output(input, options, lods, [&](std::uint32_t k, OutputMesh& mesh, const SimplifyStats& level) {
     st.push_back(level);
     SimplifyStats& s = st.back();
     if (k == 0) s.phases.insert(s.phases.begin(), {"open", open_seconds});
-    write_output(*files[k], format, outputs, mesh, options.progress, s);
+    write_output(*files[k], format, outputs, mesh, options, s);
     const double now = now_seconds();
     s.seconds_total = now - level_start + (k == 0 ? open_seconds : 0);
     level_start = now;

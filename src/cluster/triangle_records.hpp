@@ -47,7 +47,12 @@ struct KeptTriangle {
 
 /// Each cluster triple once, the occurrence with the smallest input index (its
 /// orientation and its place in the output order): a minimum, so it does not
-/// depend on the order in which tiles report. In place; `kept` ends sorted by triple.
-void dedupe_kept_triangles(std::vector<KeptTriangle>& kept);
+/// depend on the order in which tiles report. In place on [first, last): the kept
+/// ones end sorted by triple at the front; returns how many they are.
+std::size_t dedupe_kept_triangles(KeptTriangle* first, KeptTriangle* last);
+/// The same on a vector, resized to the kept ones.
+inline void dedupe_kept_triangles(std::vector<KeptTriangle>& kept) {
+  kept.resize(dedupe_kept_triangles(kept.data(), kept.data() + kept.size()));
+}
 
 }  // namespace oocsimp

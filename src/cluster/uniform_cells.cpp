@@ -614,15 +614,16 @@ void UniformCells::release_indexes() {
 }
 
 // Output vertices are the cells the kept triangles use, numbered by first use.
-std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* out) {
+std::vector<std::uint32_t> UniformCells::number_output_vertices(OutputMesh* out, const ArrayPlace& place) {
   const CellMap<CellRecord>& cells = cells_;
   TriangleSet& kept = kept_;
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> out_index(cells.size(), kUnused);
   std::vector<std::uint32_t> order;
   order.reserve(cells.size());  // no doubling past the budget
-  SimplifiedMesh& mesh = *out;
-  mesh.triangles.resize(3 * kept.size());
+  OutputMesh& mesh = *out;
+  mesh.triangles.assign_zeroed(3 * kept.size(), place, "triangles");
+  std::uint32_t* triangles = mesh.triangles.data();
   for (std::size_t t = 0; t < kept.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       std::uint32_t c = kept[t][std::size_t(k)];
@@ -630,7 +631,7 @@ std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* 
         out_index[c] = std::uint32_t(order.size());
         order.push_back(c);
       }
-      mesh.triangles[3 * t + k] = out_index[c];
+      triangles[3 * t + k] = out_index[c];
     }
   if (thick_) {
     // Their clusters not yet numbered follow the triangles'.
@@ -651,21 +652,23 @@ std::vector<std::uint32_t> UniformCells::number_output_vertices(SimplifiedMesh* 
   return order;
 }
 
-void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order, SimplifiedMesh* out,
-                                         std::vector<Quadric>* quadrics) {
+void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order, OutputMesh* out,
+                                         std::vector<Quadric>* quadrics, const ArrayPlace& place) {
   const GridSpec& grid = grid_;
   const CellKeys& keys = keys_;
   const std::vector<ChosenVertex>& chosen = chosen_;
   const CellMap<CellRecord>& cells = cells_;
   const UniformAttributeSums& attributes = *attributes_;
   std::vector<double>& attribute_sums = attribute_sums_;
-  SimplifiedMesh& mesh = *out;
+  OutputMesh& mesh = *out;
   const std::size_t attribute_count = attributes.layout().count();
-  mesh.attributes.attributes = attributes.layout().attributes();
-  resize_zeroed(mesh.attributes.values, attribute_count * order.size());
+  mesh.attributes = attributes.layout().attributes();
+  mesh.attribute_values.assign_zeroed(attribute_count * order.size(), place, "attributes");
+  double* values = mesh.attribute_values.data();
   if (attribute_count > 0) attribute_sums.resize(cells.size() * attributes.width(), 0.0);  // before the parallel reads
 
-  mesh.positions.resize(3 * order.size());
+  mesh.positions.assign_zeroed(3 * order.size(), place, "positions");
+  double* positions = mesh.positions.data();
   if (quadrics) quadrics->resize(order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& r) {
@@ -682,12 +685,12 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                                                         : chosen[order[i]].position;
                         Vec3d x = at + grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
-                        mesh.positions[3 * i] = x.x;
-                        mesh.positions[3 * i + 1] = x.y;
-                        mesh.positions[3 * i + 2] = x.z;
+                        positions[3 * i] = x.x;
+                        positions[3 * i + 1] = x.y;
+                        positions[3 * i + 2] = x.z;
                         if (attribute_count > 0)
                           attributes.finish(&attribute_sums[std::size_t(order[i]) * attributes.width()],
-                                            &mesh.attributes.values[attribute_count * i]);
+                                            &values[attribute_count * i]);
                       }
                     });
 }

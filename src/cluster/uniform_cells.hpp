@@ -18,6 +18,7 @@
 #include "grid/occupancy.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "io/output_mesh.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
@@ -136,18 +137,19 @@ class UniformCells {
   std::uint64_t chosen_bytes() const;
   /// Frees the hash indexes of the cells and the kept triangles: no lookups follow.
   void release_indexes();
-  /// The surviving triangles into mesh->triangles (and with thick edges the surviving
-  /// edges and points into mesh->primitives) over output vertices: the cells they use,
-  /// numbered by first use. Returns the cell of each output vertex; the kept
-  /// triangles and thick sums are freed.
-  std::vector<std::uint32_t> number_output_vertices(SimplifiedMesh* mesh);
-  /// Each output vertex of `order` at the point that minimises its cell's quadric
+  /// The surviving triangles into mesh->triangles, placed by `place` (and with thick
+  /// edges the surviving edges and points into mesh->primitives) over output
+  /// vertices: the cells they use, numbered by first use. Returns the cell of each
+  /// output vertex; the kept triangles and thick sums are freed.
+  std::vector<std::uint32_t> number_output_vertices(OutputMesh* mesh, const ArrayPlace& place);
+  /// Each output vertex of `order` (positions and attribute values placed by `place`)
+  /// at the point that minimises its cell's quadric
   /// (minimize_quadric, from the cell's vertex mean, kept in the cell), or at its cell's
   /// chosen vertex after choose_vertices, with its
   /// attribute values; with `quadrics`, also its cell's quadric (relative to the
   /// grid's origin).
-  void solve_representatives(const std::vector<std::uint32_t>& order, SimplifiedMesh* mesh,
-                             std::vector<Quadric>* quadrics);
+  void solve_representatives(const std::vector<std::uint32_t>& order, OutputMesh* mesh, std::vector<Quadric>* quadrics,
+                             const ArrayPlace& place);
 
   /// Sizes, for the budget checks.
   std::size_t cell_count() const { return cells_.size(); }

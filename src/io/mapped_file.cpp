@@ -55,7 +55,12 @@ MappedFile::~MappedFile() {
 
 MappedScratch::MappedScratch(const std::string& dir, const std::string& prefix, std::uint64_t bytes)
     : file_(dir, prefix) {
+  resize(bytes);
+}
+
+void MappedScratch::resize(std::uint64_t bytes) {
   bytes = std::max<std::uint64_t>(bytes, 8);  // an empty file would map to nothing
+  map_.reset();
   if (::ftruncate(file_.fd(), off_t(bytes)) != 0)
     throw IoError(
         system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", errno));

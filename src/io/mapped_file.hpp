@@ -47,6 +47,9 @@ class MappedScratch {
   MappedScratch(const std::string& dir, const std::string& prefix, std::uint64_t bytes);
   unsigned char* data() { return map_->writable_data(); }
   const unsigned char* data() const { return map_->data(); }
+  /// Grows or shrinks the file to `bytes` (new bytes are zeros) and maps it again:
+  /// data() moves. Throws IoError as the constructor.
+  void resize(std::uint64_t bytes);
 
  private:
   TempFile file_;

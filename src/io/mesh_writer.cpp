@@ -48,22 +48,27 @@ class TextOut {
   std::string text_;
 };
 
+// What the writers read: the arrays of a SimplifiedMesh or an OutputMesh.
 struct MeshArrays {
-  const std::vector<double>& pos;
-  const std::vector<std::uint32_t>& tri;
+  const double* pos;  // 3 per vertex
+  std::size_t vertex_count;
+  const std::uint32_t* tri;  // 3 per triangle
+  std::size_t triangle_count;
   ScalarType precision;
-  const AttributeValues* attributes;  // null or empty: positions only
-  const ThickPrimitives* primitives;  // null or empty: triangles only
+  const std::vector<VertexAttribute>* attribute_names;  // null or empty: positions only
+  const double* attribute_values;                       // attribute_count() per vertex
+  const ThickPrimitives* primitives;                    // null or empty: triangles only
   std::size_t edges() const { return primitives ? primitives->edge_count() : 0; }
   std::size_t points() const { return primitives ? primitives->point_count() : 0; }
-  std::size_t attribute_count() const { return attributes ? attributes->attributes.size() : 0; }
-  double attribute(std::size_t i, std::size_t k) const { return attributes->values[attribute_count() * i + k]; }
+  std::size_t attribute_count() const { return attribute_names ? attribute_names->size() : 0; }
+  double attribute(std::size_t i, std::size_t k) const { return attribute_values[attribute_count() * i + k]; }
+  const VertexAttribute& attribute_info(std::size_t k) const { return (*attribute_names)[k]; }
   // " a b c" of vertex i's attributes, integers as integers.
   void append_attributes(std::string& s, std::size_t i) const {
     for (std::size_t k = 0; k < attribute_count(); ++k) {
       s += ' ';
       const double v = attribute(i, k);
-      const AttributeType t = attributes->attributes[k].type;
+      const AttributeType t = attribute_info(k).type;
       if (is_integer_type(t)) {
         char buf[24];
         auto r = std::to_chars(buf, buf + sizeof buf, std::int64_t(v));
@@ -77,11 +82,11 @@ struct MeshArrays {
   // red, green and blue are carried; -1 otherwise.
   int colour_index(const char* name) const {
     for (std::size_t k = 0; k < attribute_count(); ++k)
-      if (attributes->attributes[k].name == name) return int(k);
+      if (attribute_info(k).name == name) return int(k);
     return -1;
   }
-  std::size_t vertices() const { return pos.size() / 3; }
-  std::size_t triangles() const { return tri.size() / 3; }
+  std::size_t vertices() const { return vertex_count; }
+  std::size_t triangles() const { return triangle_count; }
   // "x y z" of vertex i.
   void append_vertex(std::string& s, std::size_t i) const {
     append_coord(s, pos[3 * i], precision);
@@ -129,7 +134,7 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
     if (colours)
       for (int c : rgb) {
         out.text() += ' ';
-        append_coord(out.text(), m.attribute(i, std::size_t(c)) / colour_scale(m.attributes->attributes[c].type),
+        append_coord(out.text(), m.attribute(i, std::size_t(c)) / colour_scale(m.attribute_info(std::size_t(c)).type),
                      ScalarType::f32);
       }
     out.text() += '\n';
@@ -227,10 +232,10 @@ void write_off(ByteSink& sink, const MeshArrays& m) {
 void write_ply(ByteSink& sink, const MeshArrays& m, bool ascii) {
   const std::vector<VertexAttribute> none;
   PlyStreamWriter out(sink, ascii, m.precision, m.vertices(), m.triangles(),
-                      m.attribute_count() ? m.attributes->attributes : none, m.edges(), m.points());
+                      m.attribute_count() ? *m.attribute_names : none, m.edges(), m.points());
   for (std::size_t i = 0; i < m.vertices(); ++i)
     out.vertex(Vec3d{m.pos[3 * i], m.pos[3 * i + 1], m.pos[3 * i + 2]},
-               m.attribute_count() ? &m.attributes->values[m.attribute_count() * i] : nullptr);
+               m.attribute_count() ? &m.attribute_values[m.attribute_count() * i] : nullptr);
   for (std::size_t t = 0; t < m.triangles(); ++t) out.triangle(&m.tri[3 * t]);
   out.finish();
   write_ply_primitives(sink, m, ascii);
@@ -456,14 +461,33 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
   return found == 3 && attributes.attributes.size() == 3;
 }
 
+namespace {
+
+void write_arrays(OutputFile& out, const MeshArrays& m, MeshFormat format) {
+  if (m.points() + m.edges() > 0 && m.vertices() > 0x7FFFFFFFu)
+    throw IoError(out.path() + ": thick edges and points name vertices as int, and there are more than 2^31");
+  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  write_body(sink, m, format, out.path());
+  sink.finish();
+}
+
+}  // namespace
+
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
                 MeshFormat format, ScalarType precision, const AttributeValues* attributes,
                 const ThickPrimitives* primitives) {
-  if (primitives && !primitives->empty() && positions.size() / 3 > 0x7FFFFFFFu)
-    throw IoError(out.path() + ": thick edges and points name vertices as int, and there are more than 2^31");
-  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
-  write_body(sink, MeshArrays{positions, triangles, precision, attributes, primitives}, format, out.path());
-  sink.finish();
+  write_arrays(out,
+               MeshArrays{positions.data(), positions.size() / 3, triangles.data(), triangles.size() / 3, precision,
+                          attributes ? &attributes->attributes : nullptr,
+                          attributes ? attributes->values.data() : nullptr, primitives},
+               format);
+}
+
+void write_mesh(OutputFile& out, const OutputMesh& mesh, MeshFormat format) {
+  write_arrays(out,
+               MeshArrays{mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(),
+                          mesh.precision, &mesh.attributes, mesh.attribute_values.data(), &mesh.primitives},
+               format);
 }
 
 }  // namespace oocsimp

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "io/byte_sink.hpp"
+#include "io/output_mesh.hpp"
 #include "io/temp_file.hpp"
 #include "oocsimp/oocsimp.hpp"
 
@@ -15,6 +16,8 @@ namespace oocsimp {
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
                 MeshFormat format, ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr,
                 const ThickPrimitives* primitives = nullptr);
+/// The same for an OutputMesh, read where its arrays are (heap or mapped files).
+void write_mesh(OutputFile& out, const OutputMesh& mesh, MeshFormat format);
 
 /// A PLY file written in order, vertex by vertex, then face by face: what write_mesh
 /// writes, byte for byte, without holding the mesh. The header comes first, so the

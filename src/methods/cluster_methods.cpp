@@ -9,12 +9,12 @@
 
 namespace oocsimp {
 
-SimplifiedMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options,
-                            const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  SimplifiedMesh out;
+OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                        SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  OutputMesh out;
   levels(
       input, options, {grid},
-      [&](std::size_t, SimplifiedMesh& m, SimplifyStats& s) {
+      [&](std::size_t, OutputMesh& m, SimplifyStats& s) {
         out = std::move(m);
         if (stats) *stats = std::move(s);
       },

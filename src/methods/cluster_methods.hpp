@@ -9,6 +9,7 @@
 #include "cluster/quadric.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "io/output_mesh.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
@@ -19,11 +20,11 @@ namespace oocsimp {
 /// fields of `stats` (counts, the method's phases). With `quadrics`, it also gives
 /// each output vertex its cluster's summed quadric, in model units relative to
 /// grid.origin (multiphase simplification's phase 1, Garland & Shaffer 2002).
-using ClusterRun = SimplifiedMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                      SimplifyStats* stats, std::vector<Quadric>* quadrics);
+using ClusterRun = OutputMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                  SimplifyStats* stats, std::vector<Quadric>* quadrics);
 /// Hears each level of a ClusterLevels run when it is done: its number, its mesh
 /// (which the sink may move from) and its stats.
-using LevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, SimplifyStats& stats)>;
+using LevelSink = std::function<void(std::size_t level, OutputMesh& mesh, SimplifyStats& stats)>;
 /// A method's levels of detail at each of `grids` from one run: what does not depend
 /// on the grid (floating: binning and grading; curvature: the estimate) is done once.
 /// Each level equals `run` at its grid; its stats start as a copy of `base`, and the
@@ -31,8 +32,8 @@ using LevelSink = std::function<void(std::size_t level, SimplifiedMesh& mesh, Si
 using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
                                const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics);
 /// A ClusterRun from a method's ClusterLevels: `levels` at the one grid `grid`.
-SimplifiedMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options,
-                            const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics);
+OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                        SimplifyStats* stats, std::vector<Quadric>* quadrics);
 struct ClusterMethodEntry {
   ClusterMethod method;  ///< spelled by cluster_method_names() (oocsimp/simplify.hpp)
   ClusterRun run;        ///< null for qem, which clusters nothing (simplify_to_target)

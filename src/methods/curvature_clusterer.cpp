@@ -62,9 +62,9 @@ void note_estimates(const CurvatureStats& c, SimplifyStats* stats) {
 
 // Steps 2-4 at one grid, from the curvatures `k`; the phases go to `clock`'s stages
 // and then to `stats`.
-SimplifiedMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, const float* k,
-                          const MemoryBudget& budget, const std::string& temp, PhaseTimer* clock, SimplifyStats* stats,
-                          std::vector<Quadric>* quadrics) {
+OutputMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, const float* k,
+                      const MemoryBudget& budget, const std::string& temp, PhaseTimer* clock, SimplifyStats* stats,
+                      std::vector<Quadric>* quadrics) {
   CurvatureCellSettings settings;
   settings.tolerance = options.curvature.tolerance;
   settings.max_depth = options.curvature.max_depth;
@@ -88,8 +88,8 @@ SimplifiedMesh cluster_at(MeshInput& input, const SimplifyOptions& options, cons
 
 }  // namespace
 
-SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+OutputMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                             SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   return single_level(cluster_curvature_levels, input, options, grid, stats, quadrics);
 }
 
@@ -114,7 +114,7 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
     if (level > 0) clock.restart();
     input.restart_triangles();
     SimplifyStats stats = base;
-    SimplifiedMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, temp, &clock, &stats, quadrics);
+    OutputMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, temp, &clock, &stats, quadrics);
     if (level == 0) note_estimates(estimated, &stats);
     sink(level, mesh, stats);
   }

@@ -15,8 +15,8 @@ namespace oocsimp {
 /// Clusters `input` (triangle stream at its start) on `grid`'s cells split where the
 /// principal curvatures disagree, as options.curvature says; fills the clustering
 /// fields of `stats` like cluster_uniform, with the method's phases first.
-SimplifiedMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+OutputMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                             SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
 /// cluster_curvature at each of `grids` (levels of detail): the curvatures are
 /// estimated once, then each level builds its octree, parts and clusters. Each level

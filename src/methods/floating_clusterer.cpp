@@ -90,10 +90,9 @@ class FloatingRun {
   void regrade(std::size_t level);
   void sweep(SimplifyStats* stats);
   ClusterShares accumulate(std::size_t level);
-  std::vector<KeptTriangle> stitch(std::size_t level, ClusterShares& shares);
-  SimplifiedMesh assemble(std::size_t level, std::vector<KeptTriangle> kept, ClusterShares& shares,
-                          AssemblyCounts* counts);
-  void report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts, const SimplifiedMesh& m,
+  LargeArray<KeptTriangle> stitch(std::size_t level, ClusterShares& shares);
+  OutputMesh assemble(std::size_t level, LargeArray<KeptTriangle> kept, ClusterShares& shares, AssemblyCounts* counts);
+  void report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts, const OutputMesh& m,
               SimplifyStats* stats) const;
 
  private:
@@ -104,6 +103,7 @@ class FloatingRun {
   std::vector<Quadric>* quadrics_;
   SimplifyOptions options_;
   const MemoryBudget budget_;  // the output's check, at the end
+  const ArrayPlace place_;     // of the kept triangles and the output's arrays
   double coarsest_ = 0;
   std::vector<std::string> warnings_;  // the kept tiles', reported with the first level
   KeptTileStore kept_;
@@ -123,6 +123,7 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
       quadrics_(quadrics),
       options_(given),
       budget_(budget_bytes(given.memory_budget), given.budget_counts_process),
+      place_(ArrayPlace::within(budget_.bytes(), given.temp_dir)),
       kept_(input, given.temp_dir.empty() ? default_temp_dir() : given.temp_dir, &warnings_),
       first_([this](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
         return decisions_->choose_first(tile, sorted);
@@ -212,12 +213,13 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
 }
 
 // The triangles that cross tiles joined by index to the ones decided in tiles.
-std::vector<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& shares) {
-  std::vector<KeptTriangle> kept;
+LargeArray<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& shares) {
+  LargeArray<KeptTriangle> kept;
   {
     ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
     CrossTileEdges cross{&input_.positions, cell(level).size, shares.edge_shares.get(), shares.cluster_span};
-    kept = stitch_kept_triangles(*shares.inside, *shares.corners, budget_, options_.thick_edges ? &cross : nullptr);
+    kept = stitch_kept_triangles(*shares.inside, *shares.corners, place_, budget_,
+                                 options_.thick_edges ? &cross : nullptr);
   }
   shares.corners->discard();  // read into kept
   shares.inside->discard();
@@ -225,8 +227,8 @@ std::vector<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& 
 }
 
 // Representatives, and the output triangles in input order of first occurrence.
-SimplifiedMesh FloatingRun::assemble(std::size_t level, std::vector<KeptTriangle> kept, ClusterShares& shares,
-                                     AssemblyCounts* counts) {
+OutputMesh FloatingRun::assemble(std::size_t level, LargeArray<KeptTriangle> kept, ClusterShares& shares,
+                                 AssemblyCounts* counts) {
   ProgressPhase phase(options_.progress, "assemble", 0, "cell");
   const ThickAssembly thick{shares.edge_shares.get(), &input_.positions};
   AssemblySettings settings;
@@ -237,12 +239,14 @@ SimplifiedMesh FloatingRun::assemble(std::size_t level, std::vector<KeptTriangle
   settings.attributes = &shares.attributes;
   settings.thick = options_.thick_edges ? &thick : nullptr;
   settings.origin = grids_[level].origin;
+  settings.cluster_span = input_.positions.count;
+  settings.place = place_;
   return assemble_mesh(std::move(kept), *shares.partials, settings, counts, quadrics_);
 }
 
 // The level's counts, and the spills' bytes so far.
 void FloatingRun::report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts,
-                         const SimplifiedMesh& m, SimplifyStats* stats) const {
+                         const OutputMesh& m, SimplifyStats* stats) const {
   const StreamSpill* spills[] = {tiles_.triangles.get(),  graded_.get(),       shares.corners.get(),
                                  shares.partials.get(),   shares.inside.get(), shares.attribute_shares.get(),
                                  shares.edge_shares.get()};
@@ -257,8 +261,8 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   stats->input_triangles = tiles_.triangle_count;
   stats->skipped = tiles_.skipped;
   stats->occupied_cells = counts.clusters;
-  stats->output_vertices = m.positions.size() / 3;
-  stats->output_triangles = m.triangles.size() / 3;
+  stats->output_vertices = m.vertex_count();
+  stats->output_triangles = m.triangle_count();
   stats->output_edges = m.primitives.edge_count();
   stats->output_points = m.primitives.point_count();
   stats->floating.tiles = tiles_.count();
@@ -269,8 +273,8 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
 
 }  // namespace
 
-SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                            SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   return single_level(cluster_floating_levels, input, options, grid, stats, quadrics);
 }
 
@@ -293,10 +297,10 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     clock.end("rounds");
     ClusterShares shares = run.accumulate(level);
     clock.end("cluster");
-    std::vector<KeptTriangle> kept = run.stitch(level, shares);
+    LargeArray<KeptTriangle> kept = run.stitch(level, shares);
     clock.end("stitch");
     AssemblyCounts counts;
-    SimplifiedMesh m = run.assemble(level, std::move(kept), shares, &counts);
+    OutputMesh m = run.assemble(level, std::move(kept), shares, &counts);
     clock.end("assemble");
     run.report(level, shares, counts, m, &stats);
     clock.move_to(&stats.phases);

@@ -20,8 +20,8 @@ namespace oocsimp {
 /// tile side, temp folder); fills the clustering fields of `stats`. The result equals
 /// the sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
 /// count. Only vertices used by a triangle take part.
-SimplifiedMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                            SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
 
 /// cluster_floating at each of `grids` (levels of detail, Low & Tan 1997 §3.2.2 and
 /// §4: "sort once"): the input is binned and graded once, with tiles that fit the

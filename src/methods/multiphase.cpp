@@ -318,7 +318,7 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
   for (int a = 0; a < 3; ++a) stats->grid_dims[a] = out.grid.dims[a];
   input.restart_triangles();
   const PeakAnonSampler phase1_memory;
-  out.mesh = method.run(input, *o, out.grid, stats, with_quadrics ? &out.quadrics : nullptr);
+  out.mesh = method.run(input, *o, out.grid, stats, with_quadrics ? &out.quadrics : nullptr).take();
   stats->refine.phase1_peak_anon_bytes = phase1_memory.peak();
   return out;
 }

@@ -56,9 +56,10 @@ std::string output_tables(std::size_t cells, std::size_t triangles) {
   return std::to_string(cells) + " occupied cells and " + std::to_string(triangles) + " output triangles";
 }
 
-// The output tables next to the cells: first the numbering and the triangles...
-void check_numbering_fits(const TableBudget& budget, const UniformCells& cells) {
-  const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * cells.kept_count();
+// The output tables next to the cells: first the numbering and the triangles (those
+// in the heap when `place` puts them there)...
+void check_numbering_fits(const TableBudget& budget, const UniformCells& cells, const ArrayPlace& place) {
+  const std::uint64_t triangle_bytes = place.heap_bytes(3 * sizeof(std::uint32_t) * cells.kept_count());
   budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() + cells.kept_bytes() +
                    2 * sizeof(std::uint32_t) * cells.cell_count() + triangle_bytes,
                output_tables(cells.cell_count(), cells.kept_count()));
@@ -67,22 +68,23 @@ void check_numbering_fits(const TableBudget& budget, const UniformCells& cells) 
 // ... then (numbering and kept triangles freed) the positions and attribute values
 // of the output vertices of `order`.
 void check_positions_fit(const TableBudget& budget, const UniformCells& cells, const std::vector<std::uint32_t>& order,
-                         const SimplifiedMesh& mesh) {
-  const std::size_t triangles = mesh.triangles.size() / 3;
-  const std::uint64_t triangle_bytes = 3 * sizeof(std::uint32_t) * triangles;
+                         const OutputMesh& mesh, const ArrayPlace& place) {
+  const std::size_t triangles = mesh.triangle_count();
+  const std::uint64_t triangle_bytes = mesh.triangles.mapped() ? 0 : 3 * sizeof(std::uint32_t) * triangles;
   budget.check(cells.cell_bytes() + cells.attribute_sum_bytes() + cells.chosen_bytes() +
                    sizeof(std::uint32_t) * order.capacity() + triangle_bytes +
-                   (3 + cells.attribute_count()) * sizeof(double) * order.size(),
+                   place.heap_bytes(3 * sizeof(double) * order.size()) +
+                   place.heap_bytes(cells.attribute_count() * sizeof(double) * order.size()),
                output_tables(cells.cell_count(), triangles));
 }
 
-void fill_stats(const MeshInput& input, std::uint64_t triangles, const UniformCells& cells, const SimplifiedMesh& mesh,
+void fill_stats(const MeshInput& input, std::uint64_t triangles, const UniformCells& cells, const OutputMesh& mesh,
                 PhaseTimer* clock, SimplifyStats* stats) {
   stats->input_triangles = triangles;
   stats->skipped = input.triangles->skipped();
   stats->occupied_cells = cells.cell_count();
-  stats->output_vertices = mesh.positions.size() / 3;
-  stats->output_triangles = mesh.triangles.size() / 3;
+  stats->output_vertices = mesh.vertex_count();
+  stats->output_triangles = mesh.triangle_count();
   stats->output_edges = mesh.primitives.edge_count();
   stats->output_points = mesh.primitives.point_count();
   clock->move_to(&stats->phases);
@@ -90,13 +92,13 @@ void fill_stats(const MeshInput& input, std::uint64_t triangles, const UniformCe
 
 }  // namespace
 
-SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                               SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+OutputMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, SimplifyStats* stats,
+                           std::vector<Quadric>* quadrics) {
   return cluster_cells(input, options, grid, ClusterCellSource(), stats, quadrics);
 }
 
-SimplifiedMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                             const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                         const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   const ProgressCallback& progress = options.progress;
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
   const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
@@ -125,11 +127,12 @@ SimplifiedMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, c
   // The chunks' tables were freed on several threads: let the caller's allocator give
   // that memory back before the output arrays come (see SimplifyOptions::release_memory).
   if (options.release_memory) options.release_memory();
-  check_numbering_fits(budget, cells);
-  SimplifiedMesh mesh;
-  const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh);
-  check_positions_fit(budget, cells, order, mesh);
-  cells.solve_representatives(order, &mesh, quadrics);
+  const ArrayPlace place = ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir);
+  check_numbering_fits(budget, cells, place);
+  OutputMesh mesh;
+  const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
+  check_positions_fit(budget, cells, order, mesh, place);
+  cells.solve_representatives(order, &mesh, quadrics, place);
   clock.end("solve");
 
   if (stats) fill_stats(input, triangles, cells, mesh, &clock, stats);

@@ -16,8 +16,8 @@ namespace oocsimp {
 /// Clusters `input` (triangle stream at its start) on `grid`, reporting to
 /// options.progress (no other option applies); fills the clustering fields of `stats`
 /// (counts and the vertices / faces / solve seconds).
-SimplifiedMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                               SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+OutputMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, SimplifyStats* stats,
+                           std::vector<Quadric>* quadrics = nullptr);
 
 /// What another method changes in the uniform run: its clusters in place of the grid
 /// cells (VertexClusters, the curvature method) and, for vertex representatives, the
@@ -29,7 +29,7 @@ struct ClusterCellSource {
 };
 
 /// cluster_uniform over the cells of `source`.
-SimplifiedMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                             const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics);
+OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                         const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics);
 
 }  // namespace oocsimp

@@ -12,7 +12,7 @@
 
 namespace oocsimp {
 
-void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept, const CrossTileEdges* edges) {
+void stitch_cross_tile_corners(StreamSpill& corners, const KeptTriangleSink& keep, const CrossTileEdges* edges) {
   std::vector<KeptTriangle> bucket_kept;
   std::vector<CornerRecord> rec;
   EdgeShareTable shares;
@@ -51,7 +51,7 @@ void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* 
       shares.clear();
     }
     dedupe_kept_triangles(bucket_kept);
-    kept->insert(kept->end(), bucket_kept.begin(), bucket_kept.end());
+    keep(bucket_kept.data(), bucket_kept.size());
     bucket_kept.clear();
   }
 }

@@ -4,6 +4,8 @@
 // depend on the partition", last paragraph).
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "cluster/triangle_records.hpp"
@@ -12,12 +14,15 @@
 
 namespace oocsimp {
 
+/// Where the stitch hands its triangles: `count` at `triangles`, a bucket at a time.
+using KeptTriangleSink = std::function<void(const KeptTriangle* triangles, std::size_t count)>;
+
 /// Joins the corners of cross-tile triangles, which the tiles owning them wrote into
 /// `corners` (CornerRecord, one bucket of triangle indices per spill tile, each
-/// bucket small enough to sort in memory): appends to `kept` the triangles whose
-/// three clusters differ, deduplicated per bucket. Throws std::logic_error when a
-/// triangle lacks a corner (the tiles did not report every owned corner).
-void stitch_cross_tile_corners(StreamSpill& corners, std::vector<KeptTriangle>* kept,
+/// bucket small enough to sort in memory): hands `keep` the triangles whose three
+/// clusters differ, deduplicated per bucket. Throws std::logic_error when a triangle
+/// lacks a corner (the tiles did not report every owned corner).
+void stitch_cross_tile_corners(StreamSpill& corners, const KeptTriangleSink& keep,
                                const struct CrossTileEdges* edges = nullptr);
 
 /// With thick edges, where the stitch puts the cross-tile triangles over two clusters

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
 #include <mutex>
 #include <utility>
 
@@ -36,14 +39,40 @@ std::uint64_t largest_bucket(const StreamSpill& spill) {
   return most;
 }
 
+// The output vertices' numbers by cluster, in order of first numbering: a table with
+// a slot per input vertex (a cluster is named by its centre's input index), placed as
+// the output's arrays are, so that it needs no heap for a large input.
+class ClusterNumbering {
+ public:
+  ClusterNumbering(std::uint64_t span, const ArrayPlace& place) { slots_.assign_zeroed(span, place, "numbering"); }
+  /// The number of `cluster`, given the next one if it has none yet.
+  std::uint32_t insert(std::uint64_t cluster) {
+    std::uint32_t& slot = slots_[cluster];
+    if (slot == 0) {
+      if (count_ == std::numeric_limits<std::uint32_t>::max() - 1)
+        throw std::length_error("more than 2^32 - 2 output vertices");
+      slot = ++count_;
+    }
+    return slot - 1;
+  }
+  /// The number of `cluster`, or -1 when it has none.
+  std::int64_t find(std::uint64_t cluster) const { return std::int64_t(slots_[cluster]) - 1; }
+  std::size_t size() const { return count_; }
+
+ private:
+  LargeArray<std::uint32_t> slots_;  // per cluster its number + 1, 0 when unnumbered
+  std::uint32_t count_ = 0;
+};
+
 // Each used cluster's attribute values from its shares, a cluster bucket at a time;
 // `index` numbers the output vertices by centre. The shares of one centre are summed
 // in fixed point, so in any order.
-void assemble_attributes(StreamSpill& shares, const AttributeLayout& layout, const FlatHashSet<std::uint64_t>& index,
-                         AttributeValues* out) {
+void assemble_attributes(StreamSpill& shares, const AttributeLayout& layout, const ClusterNumbering& index,
+                         const ArrayPlace& place, OutputMesh* out) {
   const std::size_t width = layout.width(), n = layout.count(), record = 1 + width;
   out->attributes = layout.attributes();
-  out->values.assign(n * index.size(), 0.0);
+  out->attribute_values.assign_zeroed(n * index.size(), place, "attributes");
+  double* values = out->attribute_values.data();
   for (std::uint32_t b = 0; b < shares.stream_count(); ++b) {
     std::vector<std::int64_t> records;
     records.resize(std::size_t(shares.record_count(b)) * record);
@@ -63,7 +92,7 @@ void assemble_attributes(StreamSpill& shares, const AttributeLayout& layout, con
       const std::int64_t id = index.find(c);
       if (id < 0) continue;  // a cluster no output triangle uses
       for (std::size_t k = 0; k < width; ++k) value[k] = sum[k].value();
-      layout.finish(value.data(), &out->values[n * std::size_t(id)]);
+      layout.finish(value.data(), &values[n * std::size_t(id)]);
     }
   }
 }
@@ -78,7 +107,7 @@ struct ClusterPairHash {
 // those no kept triangle has as a side kept with their thickness (edge_thickness, in
 // cell units about the second centre, then scaled), sorted by pair. Pairs of one
 // cluster (cross-tile triangles collapsed into it) go to `stitched_points`.
-std::vector<EdgeCandidate> surviving_edges(const std::vector<KeptTriangle>& tris, const ThickAssembly& thick,
+std::vector<EdgeCandidate> surviving_edges(const LargeArray<KeptTriangle>& tris, const ThickAssembly& thick,
                                            const FloatingCellShape& cell, const MemoryBudget& budget,
                                            FlatHashSet<std::uint64_t>* stitched_points,
                                            std::vector<ClusterPair>* pairs) {
@@ -87,7 +116,8 @@ std::vector<EdgeCandidate> surviving_edges(const std::vector<KeptTriangle>& tris
                         largest_bucket(*thick.edge_shares) * sizeof(EdgeShare),
                     "the sides of " + std::to_string(tris.size()) + " output triangles and a bucket of edges");
   FlatHashSet<ClusterPair, ClusterPairHash> sides(6 * tris.size() + 16);
-  for (const KeptTriangle& t : tris) {  // t.c ascending
+  for (std::size_t i = 0; i < tris.size(); ++i) {  // t.c ascending
+    const KeptTriangle& t = tris[i];
     sides.insert({t.c[0], t.c[1]});
     sides.insert({t.c[0], t.c[2]});
     sides.insert({t.c[1], t.c[2]});
@@ -131,28 +161,37 @@ struct PointCluster {
 
 // Cross-tile triangles: their corners' clusters were written by the tiles owning
 // the corners into buckets by triangle index; a bucket fits in memory.
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners, const MemoryBudget& budget,
-                                                const CrossTileEdges* edges) {
-  std::vector<KeptTriangle> kept;
+LargeArray<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners, const ArrayPlace& place,
+                                               const MemoryBudget& budget, const CrossTileEdges* edges) {
   // At most: every triangle decided in a tile, and one per three stitch corners.
   const std::uint64_t most =
       inside.bytes_appended() / sizeof(KeptTriangle) + corners.bytes_appended() / sizeof(CornerRecord) / 3;
-  // The list, and a stitch bucket's corners with the triangles they join.
+  // The list where it is in the heap, and a stitch bucket's corners with the
+  // triangles they join.
   const std::uint64_t bucket = largest_bucket(corners);
   // With thick edges, a bucket's cross-tile triangles over two clusters become edge
   // shares (with their table's slots) before they go to their spill.
   const std::uint64_t edge_shares = edges ? bucket / 3 * (sizeof(EdgeShare) + 4 * sizeof(std::uint32_t) + 16) : 0;
-  check_output_fits(
-      budget,
-      most * sizeof(KeptTriangle) + bucket * sizeof(CornerRecord) + bucket / 3 * sizeof(KeptTriangle) + edge_shares,
-      "up to " + std::to_string(most) + " kept triangles");
-  kept.reserve(most);
+  check_output_fits(budget,
+                    place.heap_bytes(most * sizeof(KeptTriangle)) + bucket * sizeof(CornerRecord) +
+                        bucket / 3 * sizeof(KeptTriangle) + edge_shares,
+                    "up to " + std::to_string(most) + " kept triangles");
+  LargeArray<KeptTriangle> kept;
+  kept.assign_zeroed(most, place, "kept");
+  std::size_t count = 0;
   for (std::uint32_t b = 0; b < inside.stream_count(); ++b) {
-    std::size_t at = kept.size();
-    kept.resize(at + inside.record_count(b));
-    inside.read_into(b, kept.data() + at, (kept.size() - at) * sizeof(KeptTriangle));
+    const std::size_t n = inside.record_count(b);
+    inside.read_into(b, kept.data() + count, n * sizeof(KeptTriangle));
+    count += n;
   }
-  stitch_cross_tile_corners(corners, &kept, edges);
+  stitch_cross_tile_corners(
+      corners,
+      [&](const KeptTriangle* t, std::size_t n) {
+        if (n) std::memcpy(static_cast<void*>(kept.data() + count), t, n * sizeof(KeptTriangle));
+        count += n;
+      },
+      edges);
+  kept.resize(count);
   return kept;
 }
 
@@ -203,37 +242,37 @@ Quadric multiphase_quadric(const ClusterRecord& s, const FloatingCellShape& cell
 
 namespace {
 
-// The kept triangles once each, in input order of first occurrence.
-void order_kept_triangles(std::vector<KeptTriangle>& tris) {
-  dedupe_kept_triangles(tris);
-  tbb::parallel_sort(tris.begin(), tris.end(), [](const KeptTriangle& a, const KeptTriangle& b) {
+// The kept triangles once each, in input order of first occurrence, sorted where
+// they are.
+void order_kept_triangles(LargeArray<KeptTriangle>& tris) {
+  tris.resize(dedupe_kept_triangles(tris.data(), tris.data() + tris.size()));
+  tbb::parallel_sort(tris.data(), tris.data() + tris.size(), [](const KeptTriangle& a, const KeptTriangle& b) {
     return a.index() < b.index();  // input order of first occurrence
   });
 }
 
-// The triangles' corners as output vertices: the clusters in order of first use. The
-// set numbers its keys in insertion order, which is exactly that. Checked first: the
-// index and the triangle array, next to the kept list (a closed surface has about half
-// as many vertices as triangles, Euler).
-FlatHashSet<std::uint64_t> number_triangle_vertices(const std::vector<KeptTriangle>& tris, const MemoryBudget& budget,
-                                                    const std::string& output, SimplifiedMesh* mesh) {
-  const std::uint64_t slots = 2 * tris.size() + 16;
-  check_output_fits(budget,
-                    slots * 2 * sizeof(std::uint32_t) + tris.size() / 2 * (sizeof(std::uint64_t) + 1) +
-                        3 * sizeof(std::uint32_t) * tris.size(),
+// The triangles' corners as output vertices: the clusters in order of first use.
+// Checked first: the triangle array, where it goes in the heap.
+ClusterNumbering number_triangle_vertices(const LargeArray<KeptTriangle>& tris, const AssemblySettings& settings,
+                                          const std::string& output, OutputMesh* mesh) {
+  const ArrayPlace& place = settings.place;
+  check_output_fits(settings.budget,
+                    place.heap_bytes(settings.cluster_span * sizeof(std::uint32_t)) +
+                        place.heap_bytes(3 * sizeof(std::uint32_t) * tris.size()),
                     output);
-  FlatHashSet<std::uint64_t> index(2 * tris.size() + 16);
-  mesh->triangles.reserve(3 * tris.size());
-  for (const KeptTriangle& t : tris)
-    for (std::uint64_t c : t.corners()) mesh->triangles.push_back(index.insert(c));
+  ClusterNumbering index(settings.cluster_span, place);
+  mesh->triangles.assign_zeroed(3 * tris.size(), place, "triangles");
+  std::uint32_t* out = mesh->triangles.data();
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (std::uint64_t c : tris[t].corners()) *out++ = index.insert(c);
   return index;
 }
 
 // Thick edges (Low & Tan 1997 §3.3): their clusters numbered after the triangles';
 // `stitched_points` gets the clusters a triangle collapsed into.
-void number_thick_edges(const std::vector<KeptTriangle>& tris, const ThickAssembly& thick,
+void number_thick_edges(const LargeArray<KeptTriangle>& tris, const ThickAssembly& thick,
                         const AssemblySettings& settings, FlatHashSet<std::uint64_t>* stitched_points,
-                        FlatHashSet<std::uint64_t>* index, ThickPrimitives* p) {
+                        ClusterNumbering* index, ThickPrimitives* p) {
   std::vector<ClusterPair> pairs;
   std::vector<EdgeCandidate> edges =
       surviving_edges(tris, thick, settings.cell, settings.budget, stitched_points, &pairs);
@@ -252,8 +291,10 @@ void check_positions_fit(const StreamSpill& partials, const AssemblySettings& se
   const std::size_t attribute_count = attributes && settings.attribute_shares ? attributes->count() : 0;
   const std::uint64_t attribute_bucket =
       attribute_count ? largest_bucket(*settings.attribute_shares) * (attribute_record_bytes(*attributes) + 4) : 0;
+  const ArrayPlace& place = settings.place;
   check_output_fits(settings.budget,
-                    (3 + attribute_count) * sizeof(double) * vertices +
+                    place.heap_bytes(3 * sizeof(double) * vertices) +
+                        place.heap_bytes(attribute_count * sizeof(double) * vertices) +
                         bucket * (sizeof(PartialCluster) + sizeof(std::size_t)) + attribute_bucket,
                     output + " and " + std::to_string(vertices) + " vertices");
 }
@@ -261,9 +302,9 @@ void check_positions_fit(const StreamSpill& partials, const AssemblySettings& se
 // Where the representatives go: the output's positions (and quadrics) by vertex
 // number, and the thick points found among the clusters no triangle or edge uses.
 struct Representatives {
-  const FlatHashSet<std::uint64_t>& index;
+  const ClusterNumbering& index;
   const FlatHashSet<std::uint64_t>& stitched_points;
-  SimplifiedMesh* mesh;
+  double* positions;  // 3 per output vertex
   std::vector<Quadric>* quadrics;
   std::vector<PointCluster>* points;
   std::mutex* points_lock;
@@ -300,7 +341,7 @@ std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySe
       return;
     }
     if (out.quadrics) (*out.quadrics)[std::size_t(id)] = multiphase_quadric(sum, cell, settings.origin);
-    std::vector<double>& positions = out.mesh->positions;
+    double* positions = out.positions;
     positions[3 * std::size_t(id)] = p.x;
     positions[3 * std::size_t(id) + 1] = p.y;
     positions[3 * std::size_t(id) + 2] = p.z;
@@ -309,34 +350,36 @@ std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySe
 }
 
 // The thick points in centre order, numbered after everything else.
-void append_points(std::vector<PointCluster>& points, FlatHashSet<std::uint64_t>* index, SimplifiedMesh* mesh) {
+void append_points(std::vector<PointCluster>& points, ClusterNumbering* index, OutputMesh* mesh) {
   std::sort(points.begin(), points.end(),
             [](const PointCluster& a, const PointCluster& b) { return a.centre < b.centre; });
+  std::size_t at = mesh->positions.size();
+  mesh->positions.resize(at + 3 * points.size());
   for (const PointCluster& pc : points) {
     mesh->primitives.points.push_back(index->insert(pc.centre));
     mesh->primitives.point_thickness.push_back(pc.width);
-    mesh->positions.insert(mesh->positions.end(), {pc.position.x, pc.position.y, pc.position.z});
+    for (double x : {pc.position.x, pc.position.y, pc.position.z}) mesh->positions[at++] = x;
   }
 }
 
 }  // namespace
 
-SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
-                             AssemblyCounts* counts, std::vector<Quadric>* quadrics) {
+OutputMesh assemble_mesh(LargeArray<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
+                         AssemblyCounts* counts, std::vector<Quadric>* quadrics) {
   order_kept_triangles(kept);
   const std::string output = std::to_string(kept.size()) + " output triangles";
-  SimplifiedMesh mesh;
-  FlatHashSet<std::uint64_t> index = number_triangle_vertices(kept, settings.budget, output, &mesh);
+  OutputMesh mesh;
+  ClusterNumbering index = number_triangle_vertices(kept, settings, output, &mesh);
   FlatHashSet<std::uint64_t> stitched_points;
   if (settings.thick) number_thick_edges(kept, *settings.thick, settings, &stitched_points, &index, &mesh.primitives);
-  std::vector<KeptTriangle>().swap(kept);
+  kept.clear();
   check_positions_fit(partials, settings, index.size(), output);
-  mesh.positions.assign(3 * index.size(), 0.0);
+  mesh.positions.assign_zeroed(3 * index.size(), settings.place, "positions");
   if (quadrics) quadrics->assign(index.size(), Quadric());
   // Representatives, a cluster bucket at a time.
   std::vector<PointCluster> points;
   std::mutex points_lock;
-  const Representatives out{index, stitched_points, &mesh, quadrics, &points, &points_lock};
+  const Representatives out{index, stitched_points, mesh.positions.data(), quadrics, &points, &points_lock};
   std::uint64_t clusters = 0;
   for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
     std::vector<PartialCluster> shares;
@@ -345,7 +388,7 @@ SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partia
   }
   append_points(points, &index, &mesh);
   if (settings.attribute_shares && settings.attributes && !settings.attributes->empty())
-    assemble_attributes(*settings.attribute_shares, *settings.attributes, index, &mesh.attributes);
+    assemble_attributes(*settings.attribute_shares, *settings.attributes, index, settings.place, &mesh);
   if (counts) counts->clusters = clusters;
   return mesh;
 }

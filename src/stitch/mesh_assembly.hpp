@@ -13,7 +13,9 @@
 #include "runtime/memory_budget.hpp"
 #include "spill/stream_spill.hpp"
 #include "grid/grid_spec.hpp"
+#include "io/large_array.hpp"
 #include "io/mesh_input.hpp"
+#include "io/output_mesh.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 #include "stitch/kept_triangles.hpp"
@@ -21,14 +23,16 @@
 namespace oocsimp {
 
 /// The candidate output triangles: those decided inside tiles (read from `inside`)
-/// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners). With
-/// a `budget`, throws UsageError when the list and the largest
-/// stitch bucket would not fit next to what the process holds.
-/// With `edges`, the cross-tile triangles over two clusters or one go to its shares
-/// (CrossTileEdges).
-std::vector<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
-                                                const MemoryBudget& budget = MemoryBudget(),
-                                                const CrossTileEdges* edges = nullptr);
+/// and the cross-tile ones joined from `corners` (stitch_cross_tile_corners), in an
+/// array placed by `place` (a mapped file when it is large: the list never needs the
+/// heap). With a `budget`, throws UsageError when the largest stitch bucket (and the
+/// list, where `place` keeps it in the heap) would not fit next to what the process
+/// holds. With `edges`, the cross-tile triangles over two clusters or one go to its
+/// shares (CrossTileEdges).
+LargeArray<KeptTriangle> stitch_kept_triangles(StreamSpill& inside, StreamSpill& corners,
+                                               const ArrayPlace& place = ArrayPlace(),
+                                               const MemoryBudget& budget = MemoryBudget(),
+                                               const CrossTileEdges* edges = nullptr);
 
 /// The output position of a cluster from its merged sums: its centre, the mean of
 /// its vertices or the quadric minimiser kept in the cell (`rule`), for cells `cell`.
@@ -60,13 +64,20 @@ struct AssemblySettings {
   const ThickAssembly* thick = nullptr;
   /// What the handed-on quadrics are relative to (assemble_mesh's `quadrics`).
   Vec3d origin;
+  /// Clusters are named by their centre's input index, below this (the input's
+  /// vertex count): the size of the table that numbers them.
+  std::uint64_t cluster_span = 0;
+  /// Where the output's arrays and the cluster numbering go.
+  ArrayPlace place;
 };
 
 /// The output mesh: `kept` deduplicated and in input order of first occurrence
-/// (consumed), vertices numbered by first use, each placed at representative() of
-/// its cluster's shares merged from `partials` a bucket at a time. Throws UsageError
-/// before allocating the output tables when they (and the largest cluster bucket)
-/// would not fit settings.budget next to what the process holds.
+/// (consumed, sorted where it is), vertices numbered by first use, each placed at
+/// representative() of its cluster's shares merged from `partials` a bucket at a
+/// time. The output's arrays and the numbering go where settings.place puts them: an
+/// output of any size is assembled next to a bucket of shares. Throws UsageError
+/// before allocating what goes in the heap when that (and the largest cluster
+/// bucket) would not fit settings.budget next to what the process holds.
 /// With settings.attribute_shares, each output vertex also gets its cluster's
 /// attribute values (AttributeLayout::finish).
 /// With `quadrics`, each output vertex also gets its cluster's summed quadric, in
@@ -77,8 +88,8 @@ struct AssemblySettings {
 /// collapsed into and no triangle or edge uses, by centre index; their vertices follow
 /// the triangles'. See select_thick_primitives.
 /// `counts`, when given, gets what assembly counted.
-SimplifiedMesh assemble_mesh(std::vector<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
-                             AssemblyCounts* counts = nullptr, std::vector<Quadric>* quadrics = nullptr);
+OutputMesh assemble_mesh(LargeArray<KeptTriangle> kept, StreamSpill& partials, const AssemblySettings& settings,
+                         AssemblyCounts* counts = nullptr, std::vector<Quadric>* quadrics = nullptr);
 
 /// A cluster's summed quadric, kept in cell units about its centre, in model units
 /// about `origin`: with u = (y - t) / s (t the centre less origin, s the cell side)

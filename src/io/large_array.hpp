@@ -1,0 +1,111 @@
+// Arrays as large as the output or the input: in the heap while they are small next
+// to the memory budget, else in a mapped temporary file, whose pages the kernel
+// writes out and reads back as they are used and which never count as heap.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "io/mapped_file.hpp"
+#include "oocsimp/oocsimp.hpp"  // default_temp_dir
+
+namespace oocsimp {
+
+/// Where a run's large arrays go: the heap up to `heap_limit` bytes an array, a mapped
+/// temporary file in `temp_dir` beyond.
+struct ArrayPlace {
+  std::string temp_dir;
+  std::uint64_t heap_limit = std::numeric_limits<std::uint64_t>::max();
+
+  /// The place of a run with a memory budget of `budget` bytes (0: unbounded) and its
+  /// temporary folder (empty: default_temp_dir()): an array may take an eighth of the
+  /// budget in the heap.
+  static ArrayPlace within(std::uint64_t budget, const std::string& temp_dir) {
+    ArrayPlace p;
+    p.temp_dir = temp_dir.empty() ? default_temp_dir() : temp_dir;
+    if (budget) p.heap_limit = budget / 8;
+    return p;
+  }
+  /// The heap bytes an array of `bytes` takes here: all or none.
+  std::uint64_t heap_bytes(std::uint64_t bytes) const { return bytes <= heap_limit ? bytes : 0; }
+};
+
+/// A resizable array of trivially copyable values, zeroed when it grows, placed as an
+/// ArrayPlace says when it is first sized. Same values whichever place it has.
+template <class T>
+class LargeArray {
+  static_assert(std::is_trivially_copyable<T>::value, "LargeArray holds plain values");
+
+ public:
+  LargeArray() = default;
+  /// An array in the heap: the values of `values`.
+  explicit LargeArray(std::vector<T> values) : heap_(std::move(values)), size_(heap_.size()) {}
+
+  /// `count` zeros, in the heap when they fit place.heap_limit, else in a file named
+  /// after `name`. Throws IoError when the file cannot be made.
+  void assign_zeroed(std::size_t count, const ArrayPlace& place, const char* name) {
+    clear();
+    if (std::uint64_t(count) * sizeof(T) <= place.heap_limit) {
+      heap_.assign(count, T());
+    } else {
+      file_ = std::make_unique<MappedScratch>(place.temp_dir, std::string("oocsimp-") + name,
+                                              std::uint64_t(count) * sizeof(T));
+    }
+    size_ = count;
+  }
+  /// Grows (with zeros) or shrinks to `count` values where it already is.
+  void resize(std::size_t count) {
+    if (file_) {
+      file_->resize(std::uint64_t(count) * sizeof(T));
+    } else {
+      heap_.resize(count);
+    }
+    size_ = count;
+  }
+  void push_back(const T& value) {
+    resize(size_ + 1);
+    data()[size_ - 1] = value;
+  }
+
+  T* data() { return file_ ? reinterpret_cast<T*>(file_->data()) : heap_.data(); }
+  const T* data() const { return file_ ? reinterpret_cast<const T*>(file_->data()) : heap_.data(); }
+  T& operator[](std::size_t i) { return data()[i]; }
+  const T& operator[](std::size_t i) const { return data()[i]; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  /// Whether the values are in a file.
+  bool mapped() const { return file_ != nullptr; }
+
+  /// The values in a heap vector: moved out when they are in the heap, else copied.
+  /// The array is left empty.
+  std::vector<T> take() {
+    std::vector<T> out;
+    if (file_) {
+      out.resize(size_);
+      if (size_) std::memcpy(out.data(), file_->data(), size_ * sizeof(T));
+    } else {
+      out = std::move(heap_);
+    }
+    clear();
+    return out;
+  }
+  void clear() {
+    std::vector<T>().swap(heap_);
+    file_.reset();
+    size_ = 0;
+  }
+
+ private:
+  std::vector<T> heap_;
+  std::unique_ptr<MappedScratch> file_;
+  std::size_t size_ = 0;
+};
+
+}  // namespace oocsimp
