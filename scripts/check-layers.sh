@@ -19,6 +19,7 @@ floors=(
   "src/cluster src/curvature"
   "src/stitch src/refine src/hierarchy"
   "src/methods"
+  "src/parts"
   "src/report src/metrics src/synth src/render src/lod"
   "src/api"
   "tools"

@@ -229,6 +229,8 @@ struct SimplifyArgs {
   std::vector<CLI::Option*> curvature_only;
   bool measure = false;
   bool quiet = false;
+  Given part;
+  std::string work_dir;
 };
 
 // The size of the output: cell, grid or ratio, or an exact target, and levels of detail.
@@ -362,6 +364,12 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
   add_floating_options(cmd, a);
   add_curvature_options(cmd, a);
+  add_given(cmd, "--part", &a.part,
+            "I/K: run part I (0 to K-1) of a run spread over K processes, leaving its share in --work-dir for "
+            "oocsimp merge (--method uniform; see docs/cluster.md)")
+      ->group("Distributed runs");
+  cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge")
+      ->group("Distributed runs");
   return cmd;
 }
 
@@ -404,6 +412,7 @@ void set_representative(const SimplifyArgs& a, SimplifyOptions* o) {
 struct SimplifyPlan {
   SimplifyOptions options;
   LodOptions lod;
+  PartOptions part;  // count 1 and no folder: one process
 };
 
 // Checks the options given as text into a SimplifyPlan, each refused with its flag.
@@ -456,6 +465,19 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
     if (!(p.lod.factor > 1)) bad_value("--lod-factor", a.lod_factor.text, "a number above 1");
   }
   if (a.measure && !a.lods.given()) throw UsageError("--measure applies with --lods (use oocsimp measure otherwise)");
+  if (a.part.given()) {
+    unsigned index = 0, count = 0;
+    char end = 0;
+    if (std::sscanf(a.part.text.c_str(), "%u/%u%c", &index, &count, &end) != 2 || count < 1 || index >= count)
+      bad_value("--part", a.part.text, "I/K with 0 <= I < K, e.g. 0/4");
+    if (a.work_dir.empty()) throw UsageError("--part needs --work-dir, the folder shared by the parts and the merge");
+    if (a.lods.given()) throw UsageError("--part and --lods: a distributed run makes one level for now");
+    p.part.index = index;
+    p.part.count = count;
+    p.part.work_dir = a.work_dir;
+  } else if (!a.work_dir.empty()) {
+    throw UsageError("--work-dir applies with --part");
+  }
   return p;
 }
 
@@ -594,6 +616,20 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
                double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
 }
 
+// simplify --part I/K: the part's share into --work-dir; -o is the merge's.
+int run_simplify_part(const SimplifyArgs& a, const SimplifyPlan& p) {
+  SimplifyStats stats;
+  simplify_part(a.in, p.options, p.part, &stats);
+  if (!a.quiet)
+    std::printf("part    %u of %u: %" PRIu64
+                " input triangles summed into %s in %.3f s (peak anonymous %.1f "
+                "MiB); when every part is done: oocsimp merge %s -o %s\n",
+                p.part.index, p.part.count, stats.input_triangles, p.part.work_dir.c_str(), stats.seconds_total,
+                double(stats.peak_anon_bytes) / 1048576.0, p.part.work_dir.c_str(), a.outputs.mesh.c_str());
+  print_warnings(stats.warnings);
+  return kOk;
+}
+
 int run_simplify(const SimplifyArgs& a) {
   SimplifyPlan p = check_simplify_args(a);
   ProgressReporter progress(a.quiet);
@@ -601,6 +637,7 @@ int run_simplify(const SimplifyArgs& a) {
   p.options.release_memory = release_free_heap;
   p.options.budget_counts_process = true;
   if (a.lods.given()) return run_simplify_lods(a, p);
+  if (!p.part.work_dir.empty()) return run_simplify_part(a, p);
   SimplifyStats stats;
   simplify_file(a.in, a.outputs, p.options, &stats);
   // stdout may carry the mesh or the stats: then the summary goes to stderr.
@@ -609,6 +646,53 @@ int run_simplify(const SimplifyArgs& a) {
   // Not silenced by --quiet: the output lacks part of the input.
   const std::string skipped = skipped_input_summary(a.in, stats);
   if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
+  print_warnings(stats.warnings);
+  return kOk;
+}
+
+// --- merge
+
+struct MergeArgs {
+  std::string dir;
+  OutputOptions outputs;
+  SimplifyOptions options;
+  Given mem, threads;
+  bool quiet = false;
+};
+
+CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
+  CLI::App* cmd = app.add_subcommand(
+      "merge", "Finish a run spread over parts (simplify --part I/K --work-dir DIR): the same output as one process");
+  cmd->add_option("work-dir", a.dir, "The parts' work folder")->required();
+  cmd->add_option("-o,--output", a.outputs.mesh, "Output mesh, as for simplify")->required();
+  cmd->add_option("--stats", a.outputs.stats, "Write statistics as JSON to this file (- for stdout)");
+  cmd->add_flag("--ascii", a.outputs.ascii, "Write ascii PLY or STL instead of binary");
+  cmd->add_flag("--normals", a.outputs.normals, "Write per-vertex normals nx, ny, nz, as for simplify");
+  add_given(cmd, "--mem", &a.mem, "Memory budget of the whole process, as for simplify");
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
+  return cmd;
+}
+
+int run_merge(const MergeArgs& a) {
+  SimplifyOptions o = a.options;
+  if (a.threads.given()) o.threads = threads_of(a.threads);
+  if (a.mem.given()) {
+    try {
+      o.memory_budget = parse_byte_size(a.mem.text);
+    } catch (const UsageError& e) {
+      throw UsageError(std::string("--mem: ") + e.what());
+    }
+  }
+  ProgressReporter progress(a.quiet);
+  o.progress = progress.callback();
+  o.release_memory = release_free_heap;
+  o.budget_counts_process = true;
+  SimplifyStats stats;
+  merge_parts(a.dir, a.outputs, o, &stats);
+  o.method = ClusterMethod::uniform;
+  if (!a.quiet) print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, o, stats);
   print_warnings(stats.warnings);
   return kOk;
 }
@@ -1181,6 +1265,7 @@ int main(int argc, char** argv) {
   RenderArgs render;
   HierarchyArgs hierarchy;
   ExtractArgs extract;
+  MergeArgs merge;
   const std::pair<CLI::App*, std::function<int()>> commands[] = {
       {add_simplify_command(app, simplify), [&] { return run_simplify(simplify); }},
       {add_info_command(app, info), [&] { return run_info(info); }},
@@ -1191,6 +1276,7 @@ int main(int argc, char** argv) {
       {add_render_command(app, render), [&] { return run_render(render); }},
       {add_hierarchy_command(app, hierarchy), [&] { return run_hierarchy(hierarchy); }},
       {add_extract_command(app, extract), [&] { return run_extract(extract); }},
+      {add_merge_command(app, merge), [&] { return run_merge(merge); }},
   };
   try {
     app.parse(argc, argv);

@@ -57,6 +57,32 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
 void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
                    const SimplifyOptions& options, SimplifyStats* stats);
 
+// --- Distributed runs (docs/cluster.md) -----------------------------------------
+
+/// One part of a run spread over processes or machines.
+struct PartOptions {
+  std::uint32_t index = 0;  ///< this part, below count
+  std::uint32_t count = 1;  ///< the parts of the run, each given the same input and options
+  std::string work_dir;     ///< where the part's file goes; the folder merge_parts reads
+};
+
+/// Part part.index of part.count of the run simplify_file(input_path, ..., options)
+/// would make: the share of its work the part owns, left in
+/// part.work_dir/part-I-of-K.oocpart (renamed into place when complete, so a failed
+/// part leaves nothing) for merge_parts. Every part reads the whole input from a
+/// shared path. options.method uniform, without a target or thick edges, for now
+/// (UsageError otherwise). Fills the input counts of `stats` when given.
+void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
+                   SimplifyStats* stats = nullptr);
+
+/// Finishes a distributed run from the part files in `work_dir`: writes `outputs` as
+/// simplify_file would with the parts' input and options, the same bytes for any
+/// part count and threads. From `options` only the memory budget, threads, temporary
+/// folder and progress apply. Throws InputError (exit 3) naming a missing, damaged or
+/// stale part (another input or other options), or an input changed since.
+void merge_parts(const std::string& work_dir, const OutputOptions& outputs, const SimplifyOptions& options,
+                 SimplifyStats* stats = nullptr);
+
 /// simplify_lods on the file at `input_path`, level k written to
 /// lod_level_path(outputs.mesh, k) (outputs.normals and outputs.ascii apply; not
 /// stdout, and outputs.stats is refused: the levels' figures are the caller's to

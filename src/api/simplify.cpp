@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -15,10 +17,13 @@
 
 #include "common/vec3_math.hpp"
 #include "io/byte_sink.hpp"
+#include "io/error_text.hpp"
 #include "io/mesh_writer_output.hpp"
 #include "io/temp_file.hpp"
 #include "methods/cluster_methods.hpp"
 #include "methods/multiphase.hpp"
+#include "methods/uniform_clusterer.hpp"
+#include "parts/distributed_run.hpp"
 #include "oocsimp/error.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
@@ -460,6 +465,83 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
     level_start = now;
   });
   for (auto& f : files) f->commit();
+}
+
+namespace {
+
+// The absolute path of `path` with links followed, for a manifest read elsewhere.
+std::string absolute_path(const std::string& path) {
+  char* real = ::realpath(path.c_str(), nullptr);
+  if (!real) throw IoError(system_error_text(path, "cannot find", errno));
+  std::string out = real;
+  std::free(real);
+  return out;
+}
+
+}  // namespace
+
+void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
+                   SimplifyStats* stats) {
+  if (part.count < 1 || part.index >= part.count)
+    throw UsageError("part.index", "part.index " + std::to_string(part.index) + " must be below part.count " +
+                                       std::to_string(part.count));
+  if (part.work_dir.empty()) throw UsageError("part.work_dir", "part.work_dir: a distributed run needs a work folder");
+  if (input_path == "-") throw UsageError("", "a distributed run reads its input from a shared path, not stdin");
+  check_part_options(options);
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  auto threads = limit_threads(options.threads);
+  const PeakAnonSampler memory;
+  const double t0 = now_seconds();
+  MeshInput input = open_input(input_path, options);
+  st = begin_run(input, options);
+  PartManifest manifest;
+  manifest.part = part.index;
+  manifest.parts = part.count;
+  manifest.input = absolute_path(input_path);
+  manifest.key = input_key(input_path);
+  manifest.options = part_options_text(options);
+  manifest.grid = choose_grid(input, options.sizing, options.threads);
+  record_grid(manifest.grid, &st);
+  input.restart_triangles();
+  run_uniform_part(input, options, manifest, part.work_dir, &st);
+  st.seconds_total = now_seconds() - t0;
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
+}
+
+void merge_parts(const std::string& work_dir, const OutputOptions& outputs, const SimplifyOptions& runtime,
+                 SimplifyStats* stats) {
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  const MeshFormat format = output_format(outputs);
+  const PartSet parts(work_dir);
+  const PartManifest& manifest = parts.manifest();
+  SimplifyOptions options = runtime;
+  if (!read_part_options(manifest.options, &options))
+    throw InputError(work_dir + "/" + part_file_name(0, manifest.parts) + ": its options are malformed");
+  check_distinct_destinations(manifest.input, outputs);
+  std::unique_ptr<OutputFile> stats_file;
+  if (!outputs.stats.empty()) stats_file = std::make_unique<OutputFile>(outputs.stats);
+  OutputFile mesh_file(outputs.mesh);
+  auto threads = limit_threads(options.threads);
+  const PeakAnonSampler memory;
+  const double t0 = now_seconds();
+  MeshInput input = open_input(manifest.input, options);
+  st = begin_run(input, options);
+  st.phases.push_back({"open", now_seconds() - t0});
+  record_grid(manifest.grid, &st);
+  OutputMesh mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
+  finish_run(input, options, memory, mesh, st);
+  write_output(mesh_file, format, outputs, mesh, options, st);
+  st.seconds_total = now_seconds() - t0;
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
+  if (stats_file) {
+    stats_file->write_all(stats_to_json(st, manifest.input, outputs, options));
+    stats_file->commit();
+  }
+  mesh_file.commit();
 }
 
 SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,

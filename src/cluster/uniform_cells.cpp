@@ -267,6 +267,8 @@ class UniformAttributeSums {
 struct UniformCells::FaceChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
   std::size_t count = 0;
+  std::uint64_t number = 0;  // the how-manieth read of the stream
+  bool summed = true;        // false for a chunk another part sums
   CellMap<Quadric> cells{4096};
   std::vector<std::uint32_t> kept;     // local cell indices, 3 per surviving triangle
   std::vector<double> attribute_sums;  // UniformAttributeSums::width() per local cell
@@ -377,10 +379,42 @@ UniformCells::~UniformCells() = default;
 std::size_t UniformCells::attribute_count() const { return attributes_->layout().count(); }
 std::size_t UniformCells::attribute_width() const { return attributes_->width(); }
 
-void UniformCells::add_vertices(const PositionArray& positions, const TableBudget& budget,
-                                const ProgressCallback& progress) {
+namespace {
+
+// A chunk's vertex sums (`n` cells: key(i), sum(i)) added to the run's cells.
+template <class KeyAt, class SumAt>
+void add_vertex_sums(CellMap<CellRecord>& cells, std::size_t n, KeyAt key, SumAt sum) {
+  for (std::size_t i = 0; i < n; ++i) {
+    VertexSum& dst = cells.value(cells.insert(key(i))).vertices;
+    const VertexSum& src = sum(i);
+    dst.sum += src.sum;
+    dst.squares += src.squares;
+    dst.n += src.n;
+  }
+}
+
+}  // namespace
+
+// Vertices [begin, end) into their cells' sums in `cells` (cleared first).
+void UniformCells::sum_vertex_chunk(const PositionArray& positions, std::uint64_t begin, std::uint64_t end,
+                                    CellMap<VertexSum>* cells) const {
   const GridSpec& grid = grid_;
   const CellKeys& keys = keys_;
+  cells->clear();
+  CellIndexCache<VertexSum> index(*cells);
+  for (std::uint64_t i = begin; i < end; ++i) {
+    Vec3d q = positions.get(i);
+    if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
+    Vec3d p = grid.relative(q);
+    VertexSum& s = cells->value(index(keys.key(i, p)));
+    s.sum += p;
+    s.squares += dot(p, p);
+    ++s.n;
+  }
+}
+
+void UniformCells::add_vertices(const PositionArray& positions, const TableBudget& budget,
+                                const ProgressCallback& progress) {
   CellMap<CellRecord>& cells = cells_;
   std::uint64_t next = 0;
   ChunkTables chunks(pipeline_tokens());
@@ -394,27 +428,11 @@ void UniformCells::add_vertices(const PositionArray& positions, const TableBudge
         next = c.end;
         return true;
       },
+      [&](VertexChunk& c) { sum_vertex_chunk(positions, c.begin, c.end, &c.cells); },
       [&](VertexChunk& c) {
-        c.cells.clear();
-        CellIndexCache<VertexSum> index(c.cells);
-        for (std::uint64_t i = c.begin; i < c.end; ++i) {
-          Vec3d q = positions.get(i);
-          if (!is_finite(q)) continue;  // no cell holds it; its triangles were dropped by the stream
-          Vec3d p = grid.relative(q);
-          VertexSum& s = c.cells.value(index(keys.key(i, p)));
-          s.sum += p;
-          s.squares += dot(p, p);
-          ++s.n;
-        }
-      },
-      [&](VertexChunk& c) {
-        for (std::size_t i = 0; i < c.cells.size(); ++i) {
-          VertexSum& dst = cells.value(cells.insert(c.cells.key(i))).vertices;
-          const VertexSum& src = c.cells.value(i);
-          dst.sum += src.sum;
-          dst.squares += src.squares;
-          dst.n += src.n;
-        }
+        add_vertex_sums(
+            cells, c.cells.size(), [&](std::size_t i) { return c.cells.key(i); },
+            [&](std::size_t i) -> const VertexSum& { return c.cells.value(i); });
         chunks.saw(c.cells.bytes(), c.cells.size());
         budget.check(cells.bytes_with(chunks.next_entries()) + chunks.bytes(),
                      std::to_string(cells.size()) + " occupied cells after " + std::to_string(c.end) + " vertices");
@@ -515,14 +533,30 @@ void UniformCells::sum_face_chunk(const PositionArray& positions, FaceChunk& c) 
 // A chunk's cells, surviving triangles and thick sums added to the run's, in input
 // order (so every sum is taken in the same order for any thread count); to_global
 // gets the run's number of each of the chunk's cells.
-void UniformCells::merge_face_chunk(const FaceChunk& c, std::vector<std::uint32_t>* to_global_cells) {
+namespace {
+
+// The two kinds of chunk merge_faces takes: a pipeline's FaceChunk and a part's sums.
+std::size_t chunk_cells(const UniformCells::FaceChunk& c) { return c.cells.size(); }
+std::uint64_t chunk_key(const UniformCells::FaceChunk& c, std::size_t i) { return c.cells.key(i); }
+const Quadric& chunk_quadric(const UniformCells::FaceChunk& c, std::size_t i) { return c.cells.value(i); }
+const ThickSums* chunk_thick(const UniformCells::FaceChunk& c) { return &c.thick; }
+std::size_t chunk_cells(const FaceChunkSums& c) { return c.keys.size(); }
+std::uint64_t chunk_key(const FaceChunkSums& c, std::size_t i) { return c.keys[i]; }
+const Quadric& chunk_quadric(const FaceChunkSums& c, std::size_t i) { return c.quadrics[i]; }
+const ThickSums* chunk_thick(const FaceChunkSums&) { return nullptr; }
+
+}  // namespace
+
+template <class Chunk>
+void UniformCells::merge_faces(const Chunk& c, std::vector<std::uint32_t>* to_global_cells) {
   const UniformAttributeSums& attributes = *attributes_;
   const bool with_attributes = !attributes.empty();
   std::vector<std::uint32_t>& to_global = *to_global_cells;
-  to_global.resize(c.cells.size());
-  for (std::size_t i = 0; i < c.cells.size(); ++i) {
-    std::uint32_t g = cells_.insert(c.cells.key(i));
-    cells_.value(g).q.add(c.cells.value(i));
+  const std::size_t n = chunk_cells(c);
+  to_global.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t g = cells_.insert(chunk_key(c, i));
+    cells_.value(g).q.add(chunk_quadric(c, i));
     to_global[i] = g;
     if (with_attributes && c.attribute_sums.size() >= (i + 1) * attributes.width()) {
       if (attribute_sums_.size() < (std::size_t(g) + 1) * attributes.width())
@@ -534,7 +568,7 @@ void UniformCells::merge_face_chunk(const FaceChunk& c, std::vector<std::uint32_
   }
   for (std::size_t t = 0; t < c.kept.size(); t += 3)
     kept_.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
-  if (thick_) merge_thick_sums(c.thick, to_global, thick_.get());
+  if (thick_ && chunk_thick(c)) merge_thick_sums(*chunk_thick(c), to_global, thick_.get());
 }
 
 std::uint64_t UniformCells::add_triangles(MeshInput& input, const TableBudget& budget,
@@ -557,7 +591,7 @@ std::uint64_t UniformCells::add_triangles(MeshInput& input, const TableBudget& b
       [&](FaceChunk& c) { sum_face_chunk(input.positions, c); },
       [&](FaceChunk& c) {
         total += c.count;
-        merge_face_chunk(c, &to_global);
+        merge_faces(c, &to_global);
         chunks.saw(c.cells.bytes() + c.tris.capacity() * sizeof(std::uint64_t) +
                        c.kept.capacity() * sizeof(std::uint32_t) + c.attribute_sums.capacity() * sizeof(double) +
                        c.vertex_weights.bytes() + c.thick.bytes(),
@@ -571,6 +605,72 @@ std::uint64_t UniformCells::add_triangles(MeshInput& input, const TableBudget& b
       });
   return total;
 }
+
+std::pair<std::uint64_t, std::uint64_t> UniformCells::sum_part(MeshInput& input, const ChunkPart& part,
+                                                               const ProgressCallback& progress) const {
+  const PositionArray& positions = input.positions;
+  const std::uint64_t vertex_chunks = (positions.count + kVertexChunk - 1) / kVertexChunk;
+  std::uint64_t next = part.part;
+  {
+    ProgressPhase phase(progress, "cell means", vertex_chunks, "chunk");
+    run_ordered_pipeline<VertexChunk>(
+        pipeline_tokens(),
+        [&](VertexChunk& c) {
+          if (next >= vertex_chunks) return false;
+          c.begin = next * kVertexChunk;
+          c.end = std::min(positions.count, c.begin + kVertexChunk);
+          next += part.parts;
+          return true;
+        },
+        [&](VertexChunk& c) { sum_vertex_chunk(positions, c.begin, c.end, &c.cells); },
+        [&](VertexChunk& c) {
+          VertexChunkSums sums;
+          for (std::size_t i = 0; i < c.cells.size(); ++i) {
+            sums.keys.push_back(c.cells.key(i));
+            sums.sums.push_back(c.cells.value(i));
+          }
+          part.vertices(c.begin / kVertexChunk, sums);
+          phase.set(c.begin / kVertexChunk + 1);
+        });
+  }
+  TriangleStream& stream = *input.triangles;
+  std::uint64_t face_chunks = 0;
+  ProgressPhase phase(progress, "cell quadrics", input.file_size, "B");
+  run_ordered_pipeline<FaceChunk>(
+      pipeline_tokens(),
+      [&](FaceChunk& c) {
+        c.count = stream.read(c.tris.data(), kFaceChunk);
+        c.number = face_chunks;
+        c.summed = c.number % part.parts == part.part;
+        face_chunks += c.count > 0;
+        phase.set(stream.bytes_consumed());
+        return c.count > 0;
+      },
+      [&](FaceChunk& c) {
+        if (c.summed) sum_face_chunk(positions, c);
+      },
+      [&](FaceChunk& c) {
+        if (!c.summed) return;
+        FaceChunkSums sums;
+        sums.triangles = c.count;
+        for (std::size_t i = 0; i < c.cells.size(); ++i) {
+          sums.keys.push_back(c.cells.key(i));
+          sums.quadrics.push_back(c.cells.value(i));
+        }
+        sums.kept = c.kept;
+        sums.attribute_sums = c.attribute_sums;
+        part.faces(c.number, sums);
+      });
+  return {vertex_chunks, face_chunks};
+}
+
+void UniformCells::merge_vertex_chunk(const VertexChunkSums& chunk) {
+  add_vertex_sums(
+      cells_, chunk.keys.size(), [&](std::size_t i) { return chunk.keys[i]; },
+      [&](std::size_t i) -> const VertexSum& { return chunk.sums[i]; });
+}
+
+void UniformCells::merge_face_chunk(const FaceChunkSums& chunk) { merge_faces(chunk, &to_global_); }
 
 void UniformCells::choose_vertices(const PositionArray& positions, VertexMatch matches, const void* context,
                                    const ProgressCallback& progress) {

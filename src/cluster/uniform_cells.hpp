@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <memory>
 #include <string>
 #include <vector>
@@ -97,6 +99,32 @@ class CellKeys {
 class UniformAttributeSums;
 struct ThickSums;
 
+/// What a chunk of pass 1 sums: its cells in the order it met them, and their vertex
+/// sums. Chunk j holds vertices [j 2^16, (j + 1) 2^16).
+struct VertexChunkSums {
+  std::vector<std::uint64_t> keys;
+  std::vector<VertexSum> sums;
+};
+
+/// What a chunk of pass 2 sums: its cells in the order it met them, their quadrics,
+/// its surviving triangles over those cells (3 local indices each) and, with
+/// attributes, UniformAttributeSums::width() sums per cell. Chunk j is the j-th read
+/// of the triangle stream.
+struct FaceChunkSums {
+  std::uint64_t triangles = 0;
+  std::vector<std::uint64_t> keys;
+  std::vector<Quadric> quadrics;
+  std::vector<std::uint32_t> kept;
+  std::vector<double> attribute_sums;
+};
+
+/// A part's share of the passes: the chunks it sums, each handed on with its number.
+struct ChunkPart {
+  std::uint32_t part = 0, parts = 1;  ///< chunk j belongs to part j mod parts
+  std::function<void(std::uint64_t chunk, const VertexChunkSums&)> vertices;
+  std::function<void(std::uint64_t chunk, const FaceChunkSums&)> faces;
+};
+
 /// The occupied cells of a grid and what OoCS sums in them, in the order the driver
 /// calls the methods: add_vertices, start_face_sums, add_triangles, release_indexes,
 /// number_output_vertices, solve_representatives. Each pass cuts its input into
@@ -114,6 +142,17 @@ class UniformCells {
   /// Pass 1 over the vertices: per cell, the sum and count of the vertex positions in
   /// it (the anchor of the quadric solve). Checks `budget` after each chunk's merge.
   void add_vertices(const PositionArray& positions, const TableBudget& budget, const ProgressCallback& progress);
+
+  /// A distributed run's passes (docs/cluster.md). sum_part sums the chunks of both
+  /// passes that `part` owns and hands them on, merging nothing; it returns the
+  /// number of vertex and face chunks of the whole input. A merge then calls
+  /// merge_vertex_chunk for every vertex chunk in order, start_face_sums, and
+  /// merge_face_chunk for every face chunk in order: the same sums, in the same order,
+  /// as add_vertices and add_triangles. No thick edges.
+  std::pair<std::uint64_t, std::uint64_t> sum_part(MeshInput& input, const ChunkPart& part,
+                                                   const ProgressCallback& progress) const;
+  void merge_vertex_chunk(const VertexChunkSums& chunk);
+  void merge_face_chunk(const FaceChunkSums& chunk);
   /// Between the passes, over the cells pass 1 found: the zeroed attribute sums and,
   /// with `thick_edges`, the sums of what collapses below a triangle.
   void start_face_sums(bool thick_edges);
@@ -151,6 +190,8 @@ class UniformCells {
   void solve_representatives(const std::vector<std::uint32_t>& order, OutputMesh* mesh, std::vector<Quadric>* quadrics,
                              const ArrayPlace& place);
 
+  struct FaceChunk;  ///< pass 2's unit of work, private to uniform_cells.cpp
+
   /// Sizes, for the budget checks.
   std::size_t cell_count() const { return cells_.size(); }
   std::uint64_t cell_bytes() const { return cells_.bytes(); }
@@ -161,9 +202,13 @@ class UniformCells {
   std::uint64_t attribute_sum_bytes() const { return attribute_sums_.capacity() * sizeof(double); }
 
  private:
-  struct FaceChunk;  // pass 2's unit of work
   void sum_face_chunk(const PositionArray& positions, FaceChunk& c) const;
-  void merge_face_chunk(const FaceChunk& c, std::vector<std::uint32_t>* to_global);
+  // A chunk's sums (FaceChunk or FaceChunkSums) added to the run's, in input order.
+  template <class Chunk>
+  void merge_faces(const Chunk& c, std::vector<std::uint32_t>* to_global);
+  void sum_vertex_chunk(const PositionArray& positions, std::uint64_t begin, std::uint64_t end,
+                        CellMap<VertexSum>* cells) const;
+  std::vector<std::uint32_t> to_global_;  // merge_face_chunk's scratch
 
   struct ChosenVertex;
 

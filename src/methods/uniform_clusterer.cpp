@@ -78,16 +78,34 @@ void check_positions_fit(const TableBudget& budget, const UniformCells& cells, c
                output_tables(cells.cell_count(), triangles));
 }
 
-void fill_stats(const MeshInput& input, std::uint64_t triangles, const UniformCells& cells, const OutputMesh& mesh,
+void fill_stats(const SkippedFaces& skipped, std::uint64_t triangles, const UniformCells& cells, const OutputMesh& mesh,
                 PhaseTimer* clock, SimplifyStats* stats) {
   stats->input_triangles = triangles;
-  stats->skipped = input.triangles->skipped();
+  stats->skipped = skipped;
   stats->occupied_cells = cells.cell_count();
   stats->output_vertices = mesh.vertex_count();
   stats->output_triangles = mesh.triangle_count();
   stats->output_edges = mesh.primitives.edge_count();
   stats->output_points = mesh.primitives.point_count();
   clock->move_to(&stats->phases);
+}
+
+// After the passes: the output vertices numbered and placed.
+OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const TableBudget& budget,
+                 std::vector<Quadric>* quadrics) {
+  // The hash indexes are not needed any more; free them before the output arrays
+  // are allocated, which keeps the peak down.
+  cells.release_indexes();
+  // The chunks' tables were freed on several threads: let the caller's allocator give
+  // that memory back before the output arrays come (see SimplifyOptions::release_memory).
+  if (options.release_memory) options.release_memory();
+  const ArrayPlace place = ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir);
+  check_numbering_fits(budget, cells, place);
+  OutputMesh mesh;
+  const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
+  check_positions_fit(budget, cells, order, mesh, place);
+  cells.solve_representatives(order, &mesh, quadrics, place);
+  return mesh;
 }
 
 }  // namespace
@@ -120,22 +138,54 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
     clock.end("vertices chosen");
   }
 
-  ProgressPhase solve_phase(progress, "solve", 0, "cell");
-  // The hash indexes are not needed any more; free them before the output arrays
-  // are allocated, which keeps the peak down.
-  cells.release_indexes();
-  // The chunks' tables were freed on several threads: let the caller's allocator give
-  // that memory back before the output arrays come (see SimplifyOptions::release_memory).
-  if (options.release_memory) options.release_memory();
-  const ArrayPlace place = ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir);
-  check_numbering_fits(budget, cells, place);
-  OutputMesh mesh;
-  const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
-  check_positions_fit(budget, cells, order, mesh, place);
-  cells.solve_representatives(order, &mesh, quadrics, place);
+  OutputMesh mesh = solve(cells, options, budget, quadrics);
   clock.end("solve");
+  if (stats) fill_stats(input.triangles->skipped(), triangles, cells, mesh, &clock, stats);
+  return mesh;
+}
 
-  if (stats) fill_stats(input, triangles, cells, mesh, &clock, stats);
+OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                const UniformChunkSource& chunks, SimplifyStats* stats) {
+  const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
+  const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
+                           occupancy, input.positions.count);
+  check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
+  UniformCells cells(grid, input.attributes);
+
+  PhaseTimer clock;
+  {
+    ProgressPhase phase(options.progress, "merge cell means", chunks.vertex_chunks, "chunk");
+    VertexChunkSums v;
+    for (std::uint64_t j = 0; j < chunks.vertex_chunks; ++j) {
+      chunks.vertices(j, &v);
+      cells.merge_vertex_chunk(v);
+      budget.check(cells.cell_bytes(), std::to_string(cells.cell_count()) + " occupied cells");
+      phase.set(j + 1);
+    }
+  }
+  check_cell_table_fits(budget, cells);
+  clock.end("vertices");
+  check_attribute_sums_fit(budget, cells);
+  cells.start_face_sums(false);
+  std::uint64_t triangles = 0;
+  {
+    ProgressPhase phase(options.progress, "merge cell quadrics", chunks.face_chunks, "chunk");
+    FaceChunkSums f;
+    for (std::uint64_t j = 0; j < chunks.face_chunks; ++j) {
+      chunks.faces(j, &f);
+      cells.merge_face_chunk(f);
+      triangles += f.triangles;
+      budget.check(cells.cell_bytes() + cells.kept_bytes(), std::to_string(cells.cell_count()) +
+                                                                " occupied cells and " +
+                                                                std::to_string(cells.kept_count()) + " kept triangles");
+      phase.set(j + 1);
+    }
+  }
+  clock.end("faces");
+  ProgressPhase solve_phase(options.progress, "solve", 0, "cell");
+  OutputMesh mesh = solve(cells, options, budget, nullptr);
+  clock.end("solve");
+  if (stats) fill_stats(chunks.skipped, triangles, cells, mesh, &clock, stats);
   return mesh;
 }
 

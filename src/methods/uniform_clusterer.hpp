@@ -2,6 +2,7 @@
 // uniform_clusterer.cpp.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "cluster/quadric.hpp"
@@ -27,6 +28,22 @@ struct ClusterCellSource {
   UniformCells::VertexMatch matches = nullptr;  ///< null: quadric representatives
   const void* context = nullptr;                ///< handed to matches
 };
+
+/// Where merge_uniform_chunks takes the passes' chunk sums: chunk j of each pass
+/// (filled into the given sums), the chunk counts, and the faces the input lost.
+struct UniformChunkSource {
+  std::uint64_t vertex_chunks = 0, face_chunks = 0;
+  std::function<void(std::uint64_t chunk, VertexChunkSums* sums)> vertices;
+  std::function<void(std::uint64_t chunk, FaceChunkSums* sums)> faces;
+  SkippedFaces skipped;
+};
+
+/// cluster_uniform with the passes' chunk sums taken from `chunks` (the parts of a
+/// distributed run, UniformCells::sum_part) instead of summed here: merged in chunk
+/// order, as cluster_uniform merges its own, so the output is the same bytes.
+/// `input` gives the attributes' layout; its triangles are not read.
+OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                const UniformChunkSource& chunks, SimplifyStats* stats);
 
 /// cluster_uniform over the cells of `source`.
 OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,

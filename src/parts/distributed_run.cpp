@@ -1,0 +1,161 @@
+#include "parts/distributed_run.hpp"
+
+#include <dirent.h>
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "cluster/uniform_cells.hpp"
+#include "oocsimp/error.hpp"
+
+namespace oocsimp {
+
+std::string part_options_text(const SimplifyOptions& options) {
+  std::string attributes;
+  switch (options.attributes.mode) {
+    case AttributeSelection::Mode::all:
+      attributes = "all";
+      break;
+    case AttributeSelection::Mode::none:
+      attributes = "none";
+      break;
+    case AttributeSelection::Mode::named:
+      for (const std::string& n : options.attributes.names) attributes += (attributes.empty() ? "" : ",") + n;
+      break;
+  }
+  return "method uniform weld " + std::to_string(int(options.weld)) + " precision " +
+         std::to_string(int(options.precision)) + " attributes " + attributes;
+}
+
+bool read_part_options(const std::string& text, SimplifyOptions* options) {
+  std::istringstream s(text);
+  std::string method_key, method, weld_key, precision_key, attributes_key, attributes;
+  int weld = -1, precision = -1;
+  s >> method_key >> method >> weld_key >> weld >> precision_key >> precision >> attributes_key >> attributes;
+  if (s.fail() || method_key != "method" || method != "uniform" || weld_key != "weld" || weld < 0 || weld > 1 ||
+      precision_key != "precision" || precision < 0 || precision > int(Precision::float64) ||
+      attributes_key != "attributes")
+    return false;
+  options->method = ClusterMethod::uniform;
+  options->weld = weld == 1;
+  options->precision = Precision(precision);
+  options->attributes = parse_attribute_selection(attributes);
+  return true;
+}
+
+void check_part_options(const SimplifyOptions& options) {
+  if (resolved_method(options) != ClusterMethod::uniform)
+    throw UsageError("options.method", std::string("a distributed run (options.part) takes options.method uniform; ") +
+                                           "the other methods run in one process for now");
+  if (options.target.given())
+    throw UsageError("options.target", "a distributed run (options.part) takes no target yet");
+  if (options.thick_edges)
+    throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
+}
+
+void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                      const std::string& dir, SimplifyStats* stats) {
+  PartWriter writer(dir, manifest);
+  UniformCells cells(manifest.grid, input.attributes);
+  ChunkPart part;
+  part.part = manifest.part;
+  part.parts = manifest.parts;
+  std::uint64_t triangles = 0;
+  part.vertices = [&](std::uint64_t chunk, const VertexChunkSums& sums) { writer.vertices(chunk, sums); };
+  part.faces = [&](std::uint64_t chunk, const FaceChunkSums& sums) {
+    triangles += sums.triangles;
+    writer.faces(chunk, sums);
+  };
+  const auto [vertex_chunks, face_chunks] = cells.sum_part(input, part, options.progress);
+  writer.commit(vertex_chunks, face_chunks, input.triangles->skipped());
+  if (stats) {
+    stats->input_triangles = triangles;  // the part's own
+    stats->skipped = input.triangles->skipped();
+  }
+}
+
+namespace {
+
+// The part files of `dir` by part count, then part number.
+std::map<std::uint32_t, std::map<std::uint32_t, std::string>> list_part_files(const std::string& dir) {
+  std::map<std::uint32_t, std::map<std::uint32_t, std::string>> found;
+  DIR* d = ::opendir(dir.c_str());
+  if (!d) throw InputError(dir + ": cannot open the work folder");
+  while (const dirent* e = ::readdir(d)) {
+    unsigned part = 0, parts = 0;
+    char tail[16] = "";
+    if (std::sscanf(e->d_name, "part-%u-of-%u.%15s", &part, &parts, tail) == 3 && std::string(tail) == "oocpart" &&
+        e->d_name == part_file_name(part, parts))
+      found[parts][part] = dir + "/" + e->d_name;
+  }
+  ::closedir(d);
+  return found;
+}
+
+// What differs between two manifests of one run, or "" when nothing does.
+std::string manifest_difference(const PartManifest& a, const PartManifest& b) {
+  if (a.input != b.input) return "its input is " + b.input + ", not " + a.input;
+  if (a.key != b.key) return "its input " + b.input + " was another file or another version of it";
+  if (a.options != b.options) return "its options are \"" + b.options + "\", not \"" + a.options + "\"";
+  const GridSpec &g = a.grid, &h = b.grid;
+  if (g.origin.x != h.origin.x || g.origin.y != h.origin.y || g.origin.z != h.origin.z || g.cell != h.cell ||
+      g.dims[0] != h.dims[0] || g.dims[1] != h.dims[1] || g.dims[2] != h.dims[2])
+    return "it chose another grid (other sizing options)";
+  return "";
+}
+
+}  // namespace
+
+PartSet::PartSet(const std::string& dir) : dir_(dir) {
+  const auto found = list_part_files(dir);
+  if (found.empty())
+    throw InputError(dir +
+                     ": no part files (part-I-of-K.oocpart): run oocsimp simplify IN -o OUT --part I/K "
+                     "--work-dir " +
+                     dir + " for each part first");
+  if (found.size() > 1) {
+    const auto& a = *found.begin();
+    const auto& b = *std::next(found.begin());
+    throw InputError(dir + ": part files of runs in " + std::to_string(a.first) + " and " + std::to_string(b.first) +
+                     " parts (" + a.second.begin()->second + ", " + b.second.begin()->second +
+                     "): remove the stale ones");
+  }
+  const std::uint32_t count = found.begin()->first;
+  const auto& files = found.begin()->second;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const auto it = files.find(i);
+    if (it == files.end())
+      throw InputError(dir + "/" + part_file_name(i, count) + ": part " + std::to_string(i) + " of " +
+                       std::to_string(count) + " is missing: run it (--part " + std::to_string(i) + "/" +
+                       std::to_string(count) + "), then merge again");
+    parts_.push_back(std::make_unique<PartReader>(it->second));
+    const PartManifest& m = parts_.back()->manifest();
+    if (m.part != i || m.parts != count)
+      throw InputError(it->second + ": byte 12: it says it is part " + std::to_string(m.part) + " of " +
+                       std::to_string(m.parts));
+    const std::string difference = i == 0 ? "" : manifest_difference(parts_[0]->manifest(), m);
+    if (!difference.empty())
+      throw InputError(it->second + ": stale: " + difference + " (as " + parts_[0]->path() +
+                       " says): run the part again, then merge");
+    if (parts_.back()->vertex_chunks() != parts_[0]->vertex_chunks() ||
+        parts_.back()->face_chunks() != parts_[0]->face_chunks())
+      throw InputError(it->second + ": stale: it read another number of chunks than " + parts_[0]->path());
+  }
+  const PartManifest& m = manifest();
+  if (input_key(m.input) != m.key)
+    throw InputError(m.input + ": the input changed since the parts read it: run them again, then merge");
+}
+
+UniformChunkSource PartSet::chunks() const {
+  UniformChunkSource s;
+  s.vertex_chunks = parts_[0]->vertex_chunks();
+  s.face_chunks = parts_[0]->face_chunks();
+  s.skipped = parts_[0]->skipped();
+  const std::uint64_t count = parts_.size();
+  s.vertices = [this, count](std::uint64_t j, VertexChunkSums* out) { parts_[j % count]->vertices(j, out); };
+  s.faces = [this, count](std::uint64_t j, FaceChunkSums* out) { parts_[j % count]->faces(j, out); };
+  return s;
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,53 @@
+// A run spread over parts (docs/cluster.md): part I of K sums the chunks it owns into
+// its part file; the merge checks that every part is there, whole and from the same
+// run, and finishes the run from them. The uniform grid for now.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "grid/grid_spec.hpp"
+#include "io/mesh_input.hpp"
+#include "methods/uniform_clusterer.hpp"
+#include "oocsimp/options.hpp"
+#include "oocsimp/stats.hpp"
+#include "parts/part_file.hpp"
+
+namespace oocsimp {
+
+/// The options that shape the output, as one line for the manifest (and the test of
+/// a stale part): the method, welding, the attribute selection and the precision.
+std::string part_options_text(const SimplifyOptions& options);
+/// The same options back from that text into `options` (the rest untouched); false
+/// when the text is malformed.
+bool read_part_options(const std::string& text, SimplifyOptions* options);
+
+/// Throws UsageError naming the option for what a part cannot run with yet: a method
+/// other than uniform, a target, thick edges.
+void check_part_options(const SimplifyOptions& options);
+
+/// Part manifest.part of manifest.parts of a uniform run on `input` (at its start)
+/// with `grid`: the chunks it owns summed (UniformCells::sum_part) into its part file
+/// in `dir`, renamed into place when complete. Fills the input counts of `stats`.
+void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                      const std::string& dir, SimplifyStats* stats);
+
+/// The part files of a work folder, checked to make one run: every part of the count
+/// present, each whole (its checksum), all with the same manifest but for the part
+/// number, and the input unchanged since. Throws InputError (exit 3) naming the
+/// missing, damaged or stale part, or the changed input.
+class PartSet {
+ public:
+  explicit PartSet(const std::string& dir);
+  const PartManifest& manifest() const { return parts_[0]->manifest(); }
+  /// Chunk j of each pass from the part that holds it.
+  UniformChunkSource chunks() const;
+
+ private:
+  std::string dir_;
+  std::vector<std::unique_ptr<PartReader>> parts_;  // by part number
+};
+
+}  // namespace oocsimp

@@ -1,0 +1,103 @@
+// The file a part of a distributed run leaves in the work folder: what it was run on
+// and with, and the chunk sums it owns, for `oocsimp merge` to finish the run
+// (docs/cluster.md). Format, version 1, little-endian:
+//
+//   "OOCSPART" u32 version u32 part u32 parts u64 manifest-bytes manifest-text
+//   records: u8 kind (1 vertex chunk, 2 face chunk) u64 chunk u64 payload-bytes payload
+//   end:     u8 0 u64 vertex-chunks u64 face-chunks, the skipped faces (3 u64)
+//   u64 XXH64 of every byte before it
+//
+// A vertex chunk's payload is u64 n, n u64 keys, n VertexSum; a face chunk's is u64
+// triangles, u64 n, n u64 keys, n Quadric, u64 m, m u32 kept, u64 a, a double
+// attribute sums (the structs as they are in memory: a part and its merge run the
+// same build).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cluster/uniform_cells.hpp"
+#include "grid/grid_spec.hpp"
+#include "io/mapped_file.hpp"
+#include "io/temp_file.hpp"
+
+namespace oocsimp {
+
+/// What tells an input file apart cheaply on a shared file system, where device and
+/// inode numbers differ between machines: its size, its modification time and the
+/// XXH64 of its first and last MiB.
+struct InputKey {
+  std::uint64_t size = 0;
+  std::int64_t mtime_ns = 0;
+  std::uint64_t sample = 0;
+  bool operator==(const InputKey& o) const { return size == o.size && mtime_ns == o.mtime_ns && sample == o.sample; }
+  bool operator!=(const InputKey& o) const { return !(*this == o); }
+};
+/// The key of `path`; throws IoError when it cannot be read.
+InputKey input_key(const std::string& path);
+
+/// What a part was run on and with. Parts of one run have equal manifests but for
+/// `part`; the merge refuses any other.
+struct PartManifest {
+  std::uint32_t part = 0, parts = 1;
+  std::string input;    ///< the input's path as the part was given it
+  InputKey key;         ///< of the input when the part read it
+  std::string options;  ///< the options that shape the output, as text (part_options_text)
+  GridSpec grid;        ///< the grid the part chose
+};
+
+/// "part-I-of-K.oocpart".
+std::string part_file_name(std::uint32_t part, std::uint32_t parts);
+
+/// Writes a part's file under a temporary name in `dir`, renamed into place by
+/// commit(): a part that fails or is killed leaves no part file (a stale one from an
+/// earlier run is replaced only on success).
+class PartWriter {
+ public:
+  PartWriter(const std::string& dir, const PartManifest& manifest);
+  void vertices(std::uint64_t chunk, const VertexChunkSums& sums);
+  void faces(std::uint64_t chunk, const FaceChunkSums& sums);
+  /// The end record (the input's chunk counts and skipped faces, which every part
+  /// reads) and the checksum, then the rename. Throws IoError.
+  void commit(std::uint64_t vertex_chunks, std::uint64_t face_chunks, const SkippedFaces& skipped);
+
+ private:
+  void put(const void* data, std::size_t bytes);
+  void flush();
+  std::string dir_, path_;
+  TempFile file_;
+  std::vector<unsigned char> buffer_;
+  std::uint64_t written_ = 0;
+};
+
+/// A part file, mapped and checked: its checksum, its records and its end. Throws
+/// InputError naming the file and the byte where it is damaged, truncated, of
+/// another version or no part file at all.
+class PartReader {
+ public:
+  explicit PartReader(const std::string& path);
+  const PartManifest& manifest() const { return manifest_; }
+  const std::string& path() const { return path_; }
+  std::uint64_t vertex_chunks() const { return vertex_chunks_; }
+  std::uint64_t face_chunks() const { return face_chunks_; }
+  const SkippedFaces& skipped() const { return skipped_; }
+  /// Whether the part holds chunk `chunk` of the pass.
+  bool has_vertices(std::uint64_t chunk) const;
+  bool has_faces(std::uint64_t chunk) const;
+  /// The sums of a chunk the part holds.
+  void vertices(std::uint64_t chunk, VertexChunkSums* out) const;
+  void faces(std::uint64_t chunk, FaceChunkSums* out) const;
+
+ private:
+  std::string path_;
+  std::unique_ptr<MappedFile> map_;
+  PartManifest manifest_;
+  std::uint64_t vertex_chunks_ = 0, face_chunks_ = 0;
+  SkippedFaces skipped_;
+  // Per chunk the part owns (chunk / parts), the offset of its payload.
+  std::vector<std::uint64_t> vertex_at_, face_at_;
+};
+
+}  // namespace oocsimp
