@@ -1,0 +1,159 @@
+// Distributed runs (docs/cluster.md): the parts and their merge give one process's
+// bytes, and a missing, killed, damaged or stale part is named, never merged.
+#include <catch2/catch.hpp>
+
+#include <sys/stat.h>
+#include <sys/time.h>
+
+#include <string>
+
+#include "test_support.hpp"
+
+using namespace oocsimp_test;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+// Runs part I of K of a uniform run of `input` at `grid` into `dir`.
+CliResult run_part(const std::string& input, const std::string& dir, int part, int parts, int threads = 1,
+                   const std::string& extra = "") {
+  return run_cli("simplify " + q(input) + " -o unused.ply --method uniform --quiet --threads " +
+                 std::to_string(threads) + " --part " + std::to_string(part) + "/" + std::to_string(parts) +
+                 " --work-dir " + q(dir) + " " + extra);
+}
+
+void flip_byte(const std::string& path, std::size_t at) {
+  std::string bytes = read_file(path);
+  REQUIRE(at < bytes.size());
+  bytes[at] = char(bytes[at] ^ 0x20);
+  write_file(path, bytes);
+}
+
+}  // namespace
+
+TEST_CASE("parts merged give one process's bytes for 1 to 4 parts and any threads", "[distributed]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --shape parts --tris 200000 --seed 3 --quiet -o " + q(d.file("parts.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --shape terrain --tris 150000 --seed 4 --attributes --quiet -o " + q(d.file("terrain.ply")))
+              .exit_code == 0);
+  for (const char* shape : {"parts", "terrain"}) {
+    const std::string input = d.file(std::string(shape) + ".ply");
+    for (const char* options : {"--grid 60", "--grid 150 --normals", "--ratio 0.05 --precision double"}) {
+      const std::string o(options);
+      const bool normals = o.find("--normals") != std::string::npos;
+      const std::string sizing = normals ? "--grid 150" : o;
+      REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --method uniform --quiet " + o)
+                  .exit_code == 0);
+      for (int parts = 1; parts <= 4; ++parts) {
+        ScratchDir work;
+        for (int part = 0; part < parts; ++part)
+          REQUIRE(run_part(input, work.path(), part, parts, 1 + part % 2, sizing).exit_code == 0);
+        CliResult r =
+            run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + (normals ? " --normals" : ""));
+        INFO(shape << " " << options << ", " << parts << " parts: " << r.err);
+        REQUIRE(r.exit_code == 0);
+        CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+      }
+    }
+  }
+}
+
+TEST_CASE("merge names a missing, killed, damaged or stale part and a changed input; rerunning the part completes",
+          "[distributed]") {
+  ScratchDir d, work;
+  const std::string input = d.file("sphere.ply"), out = d.file("out.ply");
+  REQUIRE(run_cli("generate --tris 1000000 --quiet -o " + q(input)).exit_code == 0);
+  REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --method uniform --grid 100 --quiet")
+              .exit_code == 0);
+  const std::string merge = "merge " + q(work.path()) + " -o " + q(out);
+  const auto part_file = [&](int i) { return work.file("part-" + std::to_string(i) + "-of-3.oocpart"); };
+  REQUIRE(run_part(input, work.path(), 0, 3, 1, "--grid 100").exit_code == 0);
+  REQUIRE(run_part(input, work.path(), 2, 3, 1, "--grid 100").exit_code == 0);
+
+  // Part 1 never ran, or was killed before it finished: no file of its own.
+  CliResult r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("part-1-of-3.oocpart: part 1 of 3 is missing") != std::string::npos);
+  CHECK_FALSE(file_exists(out));
+  // A part that dies half-way (here: the file size limit kills it while it writes)
+  // leaves no part file: the file is renamed into place whole.
+  r = run_cli(
+      "simplify " + q(input) + " -o x.ply --method uniform --grid 100 --quiet --part 1/3 --work-dir " + q(work.path()),
+      "ulimit -f 64");
+  CHECK(r.exit_code != 0);
+  CHECK_FALSE(file_exists(part_file(1)));
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("part 1 of 3 is missing") != std::string::npos);
+
+  // A stale part: run with other options.
+  REQUIRE(run_part(input, work.path(), 1, 3, 2, "--grid 90").exit_code == 0);
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("part-1-of-3.oocpart: stale") != std::string::npos);
+  CHECK_FALSE(file_exists(out));
+
+  // Rerun it: the job completes, the bytes one process makes.
+  REQUIRE(run_part(input, work.path(), 1, 3, 2, "--grid 100").exit_code == 0);
+  r = run_cli(merge);
+  REQUIRE(r.exit_code == 0);
+  CHECK(read_file(out) == read_file(d.file("one.ply")));
+  std::remove(out.c_str());
+
+  // A damaged part: one byte flipped in its middle.
+  const std::string kept = read_file(part_file(2));
+  flip_byte(part_file(2), kept.size() / 2);
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("part-2-of-3.oocpart: byte") != std::string::npos);
+  CHECK(r.err.find("checksum") != std::string::npos);
+  CHECK_FALSE(file_exists(out));
+  // Truncated, or of another version: named with the byte.
+  write_file(part_file(2), kept.substr(0, 20));
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("part-2-of-3.oocpart: byte") != std::string::npos);
+  std::string other_version = kept;
+  other_version[8] = 9;
+  write_file(part_file(2), other_version);
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("version 9; this oocsimp reads version 1") != std::string::npos);
+  write_file(part_file(2), kept);
+  REQUIRE(run_cli(merge).exit_code == 0);
+  CHECK(read_file(out) == read_file(d.file("one.ply")));
+
+  // The input changed since the parts read it.
+  struct timeval times[2] = {{1000000000, 0}, {1000000000, 0}};
+  REQUIRE(::utimes(input.c_str(), times) == 0);
+  r = run_cli(merge);
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("the input changed since the parts read it") != std::string::npos);
+}
+
+TEST_CASE("a part refuses what a distributed run cannot do yet, naming the option", "[distributed]") {
+  ScratchDir d;
+  const std::string input = d.file("s.ply");
+  REQUIRE(run_cli("generate --tris 2000 --quiet -o " + q(input)).exit_code == 0);
+  const std::string part = "simplify " + q(input) + " -o x.ply --work-dir " + q(d.path());
+  struct Case {
+    const char* args;
+    const char* says;
+  };
+  for (const Case& c : {Case{" --part 0/2 --method floating", "takes --method uniform"},
+                        Case{" --part 0/2 --method uniform --target-tris 100", "no target"},
+                        Case{" --part 0/2 --method uniform --thick-edges", "thick edges"},
+                        Case{" --part 2/2 --method uniform", "--part"}, Case{" --part x --method uniform", "--part"}}) {
+    CliResult r = run_cli(part + c.args);
+    INFO(c.args << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(c.says) != std::string::npos);
+  }
+  CliResult r = run_cli("simplify " + q(input) + " -o x.ply --method uniform --part 0/2");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("--work-dir") != std::string::npos);
+  r = run_cli("merge " + q(d.path()) + " -o x.ply");
+  CHECK(r.exit_code == 3);
+  CHECK(r.err.find("no part files") != std::string::npos);
+}
