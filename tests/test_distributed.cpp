@@ -4,7 +4,9 @@
 
 #include <sys/stat.h>
 #include <sys/time.h>
+#include <sys/wait.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "test_support.hpp"
@@ -156,4 +158,73 @@ TEST_CASE("a part refuses what a distributed run cannot do yet, naming the optio
   r = run_cli("merge " + q(d.path()) + " -o x.ply");
   CHECK(r.exit_code == 3);
   CHECK(r.err.find("no part files") != std::string::npos);
+}
+
+namespace {
+
+// "mpirun --oversubscribe -n K " with root allowed (CI containers run as root), or ""
+// when the CLI was built without MPI or no mpirun is installed.
+std::string mpirun(int ranks) {
+  static const bool usable = [] {
+    if (std::system("command -v mpirun >/dev/null 2>&1") != 0) return false;
+    ScratchDir d;
+    const std::string probe = "mpirun --oversubscribe -n 2 " + std::string(OOCSIMP_CLI) + " simplify /nonexistent -o " +
+                              d.file("x.ply") + " --quiet 2>" + d.file("err") + " >/dev/null";
+    (void)std::system(("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + probe).c_str());
+    return read_file(d.file("err")).find("built without MPI") == std::string::npos;
+  }();
+  if (!usable) return "";
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -n " +
+         std::to_string(ranks) + " ";
+}
+
+// Runs the CLI under `launcher` (a command prefix) with `args`.
+CliResult run_launched(const std::string& launcher, const std::string& args) {
+  ScratchDir d;
+  CliResult r;
+  const std::string command = launcher + OOCSIMP_CLI + " " + args + " >" + d.file("out") + " 2>" + d.file("err");
+  const int status = std::system(command.c_str());
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(d.file("out"));
+  r.err = read_file(d.file("err"));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][mpi]") {
+  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  ScratchDir d, tmp;
+  const std::string input = d.file("terrain.ply");
+  REQUIRE(run_cli("generate --shape terrain --tris 200000 --attributes --quiet -o " + q(input)).exit_code == 0);
+  for (const char* method : {"uniform", "floating"}) {
+    const std::string options = std::string(" --grid 80 --quiet --threads 1 --tmp ") + q(tmp.path()) + " --method " +
+                                method + " " + q(input) + " -o ";
+    REQUIRE(run_cli("simplify" + options + q(d.file("one.ply"))).exit_code == 0);
+    for (int ranks = 1; ranks <= 4; ++ranks) {
+      const CliResult r = run_launched(mpirun(ranks), "simplify" + options + q(d.file("mpi.ply")));
+      INFO(method << ", " << ranks << " ranks: " << r.err);
+      REQUIRE(r.exit_code == 0);
+      CHECK(read_file(d.file("mpi.ply")) == read_file(d.file("one.ply")));
+      // A method that cannot be spread yet runs whole on rank 0, and says so.
+      if (std::string(method) == "floating" && ranks > 1)
+        CHECK(r.err.find("rank 0 runs the job alone") != std::string::npos);
+    }
+    CHECK(tmp.entries().empty());  // the ranks' work folder is gone
+  }
+}
+
+TEST_CASE("under mpirun a failing rank is named and no output is written", "[distributed][mpi]") {
+  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  ScratchDir d;
+  const std::string input = d.file("s.ply");
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(input)).exit_code == 0);
+  // Every rank fails to write its part into a folder that does not exist.
+  const CliResult r = run_launched(mpirun(3), "simplify " + q(input) + " -o " + q(d.file("o.ply")) +
+                                                  " --method uniform --quiet --work-dir " + q(d.file("missing")));
+  INFO(r.err);
+  CHECK(r.exit_code == 4);
+  for (const char* rank : {"rank 0 of 3 failed", "rank 1 of 3 failed", "rank 2 of 3 failed"})
+    CHECK(r.err.find(rank) != std::string::npos);
+  CHECK_FALSE(file_exists(d.file("o.ply")));
 }

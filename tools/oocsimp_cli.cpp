@@ -27,6 +27,7 @@
 #include "oocsimp/measure.hpp"
 #include "oocsimp/progress_reporter.hpp"
 #include "oocsimp/render.hpp"
+#include "mpi_run.hpp"
 
 using namespace oocsimp;
 
@@ -417,7 +418,7 @@ struct SimplifyPlan {
 
 // Checks the options given as text into a SimplifyPlan, each refused with its flag.
 SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
-  SimplifyPlan p{a.options, {}};
+  SimplifyPlan p{a.options, {}, {}};
   SimplifyOptions& o = p.options;
   if (a.target_tris.given()) o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, kMost);
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
@@ -475,8 +476,8 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
     p.part.index = index;
     p.part.count = count;
     p.part.work_dir = a.work_dir;
-  } else if (!a.work_dir.empty()) {
-    throw UsageError("--work-dir applies with --part");
+  } else if (!a.work_dir.empty() && !oocsimp_cli::launched_by_mpi()) {
+    throw UsageError("--work-dir applies with --part or under mpirun");
   }
   return p;
 }
@@ -630,6 +631,55 @@ int run_simplify_part(const SimplifyArgs& a, const SimplifyPlan& p) {
   return kOk;
 }
 
+int report_failure();
+int run_simplify_one(const SimplifyArgs& a, const SimplifyPlan& p);
+
+// simplify under mpirun or srun: each rank a part, rank 0 the merge; a method that
+// cannot be spread yet runs whole on rank 0. -1 when this is no MPI run.
+int run_simplify_mpi(const SimplifyArgs& a, const SimplifyPlan& p) {
+  oocsimp_cli::MpiJob job;
+  job.work_dir = a.work_dir;
+  job.temp_dir = p.options.temp_dir;
+  SimplifyStats stats;
+  try {
+    check_distributed_options(p.options);
+    job.run_part = [&](const PartOptions& part) {
+      try {
+        SimplifyOptions o = p.options;
+        if (part.index != 0) o.progress = nullptr;  // one rank reports
+        simplify_part(a.in, o, part, &stats);
+        return int(kOk);
+      } catch (...) {
+        return report_failure();
+      }
+    };
+  } catch (const UsageError& e) {
+    const std::string why = with_flags(e.what());
+    job.whole = [&a, &p, why] {
+      std::fprintf(stderr, "oocsimp: warning: %s: rank 0 runs the job alone\n", why.c_str());
+      try {
+        return run_simplify_one(a, p);
+      } catch (...) {
+        return report_failure();
+      }
+    };
+  }
+  job.merge = [&](const std::string& dir) {
+    try {
+      merge_parts(dir, a.outputs, p.options, &stats);
+      SimplifyOptions shown = p.options;
+      shown.method = ClusterMethod::uniform;
+      if (!a.quiet)
+        print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, shown, stats);
+      print_warnings(stats.warnings);
+      return int(kOk);
+    } catch (...) {
+      return report_failure();
+    }
+  };
+  return oocsimp_cli::run_mpi_job(job);
+}
+
 int run_simplify(const SimplifyArgs& a) {
   SimplifyPlan p = check_simplify_args(a);
   ProgressReporter progress(a.quiet);
@@ -638,6 +688,15 @@ int run_simplify(const SimplifyArgs& a) {
   p.options.budget_counts_process = true;
   if (a.lods.given()) return run_simplify_lods(a, p);
   if (!p.part.work_dir.empty()) return run_simplify_part(a, p);
+  if (oocsimp_cli::launched_by_mpi()) {
+    const int status = run_simplify_mpi(a, p);
+    if (status >= 0) return status;
+  }
+  return run_simplify_one(a, p);
+}
+
+// simplify in one process.
+int run_simplify_one(const SimplifyArgs& a, const SimplifyPlan& p) {
   SimplifyStats stats;
   simplify_file(a.in, a.outputs, p.options, &stats);
   // stdout may carry the mesh or the stats: then the summary goes to stderr.

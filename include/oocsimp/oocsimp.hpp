@@ -66,6 +66,10 @@ struct PartOptions {
   std::string work_dir;     ///< where the part's file goes; the folder merge_parts reads
 };
 
+/// Throws UsageError naming the option when `options` ask for what a distributed run
+/// cannot do yet (a method other than uniform, a target, thick edges).
+void check_distributed_options(const SimplifyOptions& options);
+
 /// Part part.index of part.count of the run simplify_file(input_path, ..., options)
 /// would make: the share of its work the part owns, left in
 /// part.work_dir/part-I-of-K.oocpart (renamed into place when complete, so a failed

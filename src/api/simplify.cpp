@@ -480,6 +480,8 @@ std::string absolute_path(const std::string& path) {
 
 }  // namespace
 
+void check_distributed_options(const SimplifyOptions& options) { check_part_options(options); }
+
 void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
                    SimplifyStats* stats) {
   if (part.count < 1 || part.index >= part.count)

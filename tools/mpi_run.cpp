@@ -1,0 +1,122 @@
+#include "mpi_run.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#ifdef OOCSIMP_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace oocsimp_cli {
+
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
+#ifdef OOCSIMP_WITH_MPI
+
+namespace {
+
+// MPI_Init and MPI_Finalize around the job.
+class MpiSession {
+ public:
+  MpiSession() { MPI_Init(nullptr, nullptr); }
+  ~MpiSession() { MPI_Finalize(); }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  int rank() const {
+    int r = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+  }
+  int size() const {
+    int s = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &s);
+    return s;
+  }
+};
+
+// Rank 0's string on every rank.
+std::string broadcast(const std::string& text, int rank) {
+  unsigned long long n = text.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::string out = rank == 0 ? text : std::string(std::size_t(n), '\0');
+  MPI_Bcast(out.data(), int(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return out;
+}
+
+}  // namespace
+
+int run_mpi_job(const MpiJob& job) {
+  if (!launched_by_mpi()) return -1;
+  MpiSession mpi;
+  const int rank = mpi.rank(), size = mpi.size();
+  if (size < 2) return -1;  // one rank: an ordinary run (MPI_Finalize on the way out)
+  if (!job.run_part) {
+    int result = rank == 0 ? job.whole() : 0;
+    MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return result;
+  }
+  // The shared folder: the one given, or one rank 0 makes under the temp folder.
+  int status = 0;
+  std::string dir = job.work_dir;
+  const bool own_dir = dir.empty();
+  if (own_dir) {
+    if (rank == 0) {
+      const std::string base = job.temp_dir.empty() ? oocsimp::default_temp_dir() : job.temp_dir;
+      std::string pattern = base + "/oocsimp-mpi-XXXXXX";
+      if (!::mkdtemp(pattern.data())) {
+        std::fprintf(stderr, "oocsimp: %s: cannot make the ranks' work folder\n", base.c_str());
+        pattern.clear();
+      }
+      dir = pattern;
+    }
+    dir = broadcast(dir, rank);
+    if (dir.empty()) status = 4;
+  }
+  if (status == 0) {
+    oocsimp::PartOptions part;
+    part.index = std::uint32_t(rank);
+    part.count = std::uint32_t(size);
+    part.work_dir = dir;
+    status = job.run_part(part);
+  }
+  // Every rank's status at rank 0, which names the failed ones and merges otherwise.
+  std::vector<int> statuses(std::size_t(size), 0);
+  MPI_Gather(&status, 1, MPI_INT, statuses.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  int result = 0;
+  if (rank == 0) {
+    for (int r = 0; r < size; ++r)
+      if (statuses[std::size_t(r)] != 0) {
+        std::fprintf(stderr, "oocsimp: rank %d of %d failed (exit %d); no output written\n", r, size,
+                     statuses[std::size_t(r)]);
+        if (result == 0) result = statuses[std::size_t(r)];
+      }
+    if (result == 0) result = job.merge(dir);
+    if (own_dir) {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  }
+  MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return result;
+}
+
+#else
+
+int run_mpi_job(const MpiJob&) {
+  if (launched_by_mpi())
+    std::fprintf(stderr,
+                 "oocsimp: warning: started by an MPI launcher, but built without MPI (libopenmpi-dev): this rank "
+                 "runs the whole job alone\n");
+  return -1;
+}
+
+#endif
+
+}  // namespace oocsimp_cli
