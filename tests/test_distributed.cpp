@@ -61,7 +61,7 @@ TEST_CASE("parts merged give one process's bytes for 1 to 4 parts and any thread
   }
 }
 
-TEST_CASE("merge names a missing, killed, damaged or stale part and a changed input; rerunning the part completes",
+TEST_CASE("merge names a missing, killed, damaged or stale part and a changed input, and a rerun of the part completes",
           "[distributed]") {
   ScratchDir d, work;
   const std::string input = d.file("sphere.ply"), out = d.file("out.ply");
@@ -227,4 +227,25 @@ TEST_CASE("under mpirun a failing rank is named and no output is written", "[dis
   for (const char* rank : {"rank 0 of 3 failed", "rank 1 of 3 failed", "rank 2 of 3 failed"})
     CHECK(r.err.find(rank) != std::string::npos);
   CHECK_FALSE(file_exists(d.file("o.ply")));
+}
+
+TEST_CASE("the Slurm array scripts run the parts and the merge", "[distributed][slurm]") {
+  // Without Slurm here, the array's tasks are run as Slurm would start them: the same
+  // script with SLURM_ARRAY_TASK_ID set.
+  ScratchDir d, work;
+  const std::string input = d.file("s.ply");
+  REQUIRE(run_cli("generate --tris 100000 --quiet -o " + q(input)).exit_code == 0);
+  REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --method uniform --grid 300 --quiet")
+              .exit_code == 0);
+  const std::string scripts = std::string(OOCSIMP_SOURCE_DIR) + "/scripts/slurm/";
+  const std::string env = "OOCSIMP=" + q(OOCSIMP_CLI) + " OPTIONS='--method uniform --grid 300' TMP=" + q(d.path());
+  for (int task = 0; task < 3; ++task)
+    REQUIRE(std::system(("cd " + q(d.path()) + " && SLURM_ARRAY_TASK_ID=" + std::to_string(task) + " " + env +
+                         " bash " + q(scripts + "array.sbatch") + " " + q(input) + " " + q(work.path()) + " 3")
+                            .c_str()) == 0);
+  REQUIRE(std::system(("cd " + q(d.path()) + " && " + env + " bash " + q(scripts + "merge.sbatch") + " " +
+                       q(work.path()) + " " + q(d.file("out.ply")) + " >/dev/null")
+                          .c_str()) == 0);
+  CHECK(read_file(d.file("out.ply")) == read_file(d.file("one.ply")));
+  CHECK(file_exists(d.file("out.ply.stats.json")));
 }

@@ -138,6 +138,7 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
     clock.end("vertices chosen");
   }
 
+  ProgressPhase solve_phase(progress, "solve", 0, "cell");
   OutputMesh mesh = solve(cells, options, budget, quadrics);
   clock.end("solve");
   if (stats) fill_stats(input.triangles->skipped(), triangles, cells, mesh, &clock, stats);

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Distributed runs (docs/cluster.md) against one process, on generated spheres cached
+# under build/bench/:
+#
+#   scripts/bench-cluster.sh [SIZES...]      default sizes: 20000000 100000000
+#   GRID=256 (default) METHOD=uniform (the method the parts take)
+#
+# Per size, all with 1 thread per process:
+#   one      oocsimp simplify, one process;
+#   part K=1 one part alone (the whole input read, every chunk summed);
+#   parts 2  two parts at once (two processes, --part 0/2 and 1/2), then the merge;
+#   mpirun 2 mpirun -n 2 (when the CLI is built with MPI).
+# Then the speed-up of 2 processes over one, the bytes of the part files (what the
+# ranks exchange through the work folder), and the model of docs/cluster.md for K =
+# 8, 64 and 256 on a 10 Gb/s network, from this invocation's figures:
+#   T(K) = R + S/K + M + X/B     R: what every part repeats (T(part K=1) - S),
+#                                S: the summing that splits (2 (T(part K=1) - T(2 parts))),
+#                                M: the merge, X: the part files' bytes, B: 1.25 GB/s.
+# Each output is checked against the one-process bytes.
+set -euo pipefail
+source "$(dirname "$0")/bench-setup.sh"
+sizes=("$@")
+[ ${#sizes[@]} -eq 0 ] && sizes=(20000000 100000000)
+grid="${GRID:-256}"
+method="${METHOD:-uniform}"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+work="$dir/cluster-work"
+common=(--method "$method" --grid "$grid" --threads 1 --quiet)
+
+printf '%-10s %8s %9s %9s %9s %9s %9s %9s %10s\n' size one_s part1_s parts2_s merge_s 2proc_s mpirun2_s speedup part_MiB
+for n in "${sizes[@]}"; do
+  mesh="$dir/sphere-$n.ply"
+  [ -f "$mesh" ] || "$bin" generate --tris "$n" --shape sphere --seed 1 --quiet -o "$mesh"
+  cat "$mesh" >/dev/null
+  t0=$(now)
+  "$bin" simplify "$mesh" -o "$dir/one.ply" "${common[@]}"
+  t1=$(now)
+  rm -rf "$work" && mkdir -p "$work"
+  "$bin" simplify "$mesh" -o "$dir/x.ply" "${common[@]}" --part 0/1 --work-dir "$work"
+  t2=$(now)
+  rm -rf "$work" && mkdir -p "$work"
+  t3=$(now)
+  "$bin" simplify "$mesh" -o "$dir/x.ply" "${common[@]}" --part 0/2 --work-dir "$work" &
+  "$bin" simplify "$mesh" -o "$dir/x.ply" "${common[@]}" --part 1/2 --work-dir "$work"
+  wait
+  t4=$(now)
+  "$bin" merge "$work" -o "$dir/merged.ply" --threads 1 --quiet
+  t5=$(now)
+  cmp -s "$dir/one.ply" "$dir/merged.ply" || { echo "bench-cluster: merged output differs from one process" >&2; exit 1; }
+  part_bytes=$(du -cb "$work"/part-*.oocpart | tail -1 | cut -f1)
+  mpi="-"
+  if command -v mpirun >/dev/null; then
+    t6=$(now)
+    mpirun --oversubscribe -n 2 "$bin" simplify "$mesh" -o "$dir/mpi.ply" "${common[@]}" 2>"$dir/mpi.err"
+    t7=$(now)
+    if grep -q "built without MPI" "$dir/mpi.err"; then
+      mpi="no MPI"
+    else
+      cmp -s "$dir/one.ply" "$dir/mpi.ply" || { echo "bench-cluster: mpirun output differs" >&2; exit 1; }
+      mpi=$(calc "$t7 - $t6")
+    fi
+  fi
+  one=$(calc "$t1 - $t0")
+  part1=$(calc "$t2 - $t1")
+  parts2=$(calc "$t4 - $t3")
+  merge=$(calc "$t5 - $t4")
+  two=$(calc "$parts2 + $merge")
+  printf '%-10s %8.2f %9.2f %9.2f %9.2f %9.2f %9s %9s %10.1f\n' "$n" "$one" "$part1" "$parts2" "$merge" "$two" "$mpi" \
+    "$(ratio "$one" "$two")" "$(calc "$part_bytes / 1048576")"
+  awk -v one="$one" -v p1="$part1" -v p2="$parts2" -v m="$merge" -v x="$part_bytes" 'BEGIN {
+    s = 2 * (p1 - p2); if (s < 0) s = 0; r = p1 - s; b = 1.25e9;
+    printf("  model: R %.2f s, S %.2f s, M %.2f s, X %.1f MiB:", r, s, m, x / 1048576);
+    split("8 64 256", ks, " ");
+    for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }
+    printf("\n");
+  }'
+done
+rm -rf "$work"
