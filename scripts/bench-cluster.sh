@@ -68,7 +68,7 @@ for n in "${sizes[@]}"; do
   printf '%-10s %8.2f %9.2f %9.2f %9.2f %9.2f %9s %9s %10.1f\n' "$n" "$one" "$part1" "$parts2" "$merge" "$two" "$mpi" \
     "$(ratio "$one" "$two")" "$(calc "$part_bytes / 1048576")"
   awk -v one="$one" -v p1="$part1" -v p2="$parts2" -v m="$merge" -v x="$part_bytes" 'BEGIN {
-    s = 2 * (p1 - p2); if (s < 0) s = 0; r = p1 - s; b = 1.25e9;
+    s = 2 * (p1 - p2); if (s < 0) s = 0; r = p1 - s; if (r < 0) r = 0; b = 1.25e9;
     printf("  model: R %.2f s, S %.2f s, M %.2f s, X %.1f MiB:", r, s, m, x / 1048576);
     split("8 64 256", ks, " ");
     for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }

@@ -290,7 +290,10 @@ TEST_CASE("a fine grid whose cell table cannot fit in --mem exits 2 for uniform,
   CHECK_FALSE(file_exists(d.file("st.json")));
   CHECK(tmp.entries().empty());
 
-  r = run_cli(common + " --mem 32M --method floating -o " + q(d.file("small.ply")) + " --stats " +
+  // One thread: with two, the tile phases (not the output) overshoot a budget this
+  // small by a few MiB now and then (docs/benchmarks.md, "Outputs larger than the
+  // budget").
+  r = run_cli(common + " --mem 32M --threads 1 --method floating -o " + q(d.file("small.ply")) + " --stats " +
               q(d.file("st.json")));
   REQUIRE(r.exit_code == 0);
   const std::string js = read_file(d.file("st.json"));

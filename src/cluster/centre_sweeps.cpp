@@ -36,6 +36,7 @@ std::vector<GradedVertex> external_centres(const TileGrid& grid, std::uint32_t t
           c.p.y <= box.max.y + reach && c.p.z >= box.min.z - reach && c.p.z <= box.max.z + reach)
         ext.push_back(c);
   std::sort(ext.begin(), ext.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
+  ext.shrink_to_fit();  // kept for every tile until the sweeps end: no growth slack
   return ext;
 }
 
@@ -45,6 +46,7 @@ std::vector<GradedVertex> border_of(const TileGrid& grid, std::uint32_t tile, co
   std::vector<GradedVertex> b;
   for (const GradedVertex& c : centres)
     if (near_border(c.p, box, half)) b.push_back(c);
+  b.shrink_to_fit();  // published for every tile until the assignment: no growth slack
   return b;
 }
 
