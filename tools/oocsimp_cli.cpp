@@ -210,6 +210,15 @@ void add_quiet_flag(CLI::App* app, bool* quiet, const std::string& help = "No pr
   app->add_flag("--quiet", *quiet, help);
 }
 
+// The bytes --mem gives; a bad size exits 2 naming --mem.
+std::uint64_t memory_budget_of(const Given& mem) {
+  try {
+    return parse_byte_size(mem.text);
+  } catch (const UsageError& e) {
+    throw UsageError(std::string("--mem: ") + e.what());
+  }
+}
+
 // --- simplify
 
 struct SimplifyArgs {
@@ -452,13 +461,7 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
   if (a.tile.given()) o.floating.tile_side = positive_number("--tile", a.tile.text);
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) {
-    try {
-      o.memory_budget = parse_byte_size(a.mem.text);
-    } catch (const UsageError& e) {
-      throw UsageError(std::string("--mem: ") + e.what());
-    }
-  }
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   if (a.lods.given()) p.lod.levels = std::uint32_t(whole_number("--lods", a.lods.text, 1, 16));
   if (a.lod_factor.given()) {
     if (!a.lods.given()) throw UsageError("--lod-factor applies with --lods");
@@ -737,13 +740,7 @@ CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
 int run_merge(const MergeArgs& a) {
   SimplifyOptions o = a.options;
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) {
-    try {
-      o.memory_budget = parse_byte_size(a.mem.text);
-    } catch (const UsageError& e) {
-      throw UsageError(std::string("--mem: ") + e.what());
-    }
-  }
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   o.release_memory = release_free_heap;
@@ -795,7 +792,7 @@ int run_hierarchy(HierarchyArgs& a) {
   }
   o.independent = !a.sequential;
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   HierarchyStats st;
@@ -1101,7 +1098,7 @@ int run_curvature(CurvatureArgs& a) {
   CurvatureOptions o = a.options;
   if (a.radius.given()) o.radius = positive_number("--radius", a.radius.text);
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) o.memory_budget = parse_byte_size(a.mem.text);
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
   o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
   ProgressReporter progress(a.quiet);

@@ -152,12 +152,7 @@ void PartWriter::vertices(std::uint64_t chunk, const VertexChunkSums& sums) {
   payload.insert(payload.end(), k, k + sums.keys.size() * sizeof(std::uint64_t));
   const auto* v = reinterpret_cast<const unsigned char*>(sums.sums.data());
   payload.insert(payload.end(), v, v + sums.sums.size() * sizeof(VertexSum));
-  std::vector<unsigned char> head;
-  append(&head, std::uint8_t(kVertices));
-  append(&head, chunk);
-  append(&head, std::uint64_t(payload.size()));
-  put(head.data(), head.size());
-  put(payload.data(), payload.size());
+  put_record(kVertices, chunk, payload);
 }
 
 void PartWriter::faces(std::uint64_t chunk, const FaceChunkSums& sums) {
@@ -170,8 +165,12 @@ void PartWriter::faces(std::uint64_t chunk, const FaceChunkSums& sums) {
   payload.insert(payload.end(), q, q + sums.quadrics.size() * sizeof(Quadric));
   append_array(&payload, sums.kept);
   append_array(&payload, sums.attribute_sums);
+  put_record(kFaces, chunk, payload);
+}
+
+void PartWriter::put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload) {
   std::vector<unsigned char> head;
-  append(&head, std::uint8_t(kFaces));
+  append(&head, kind);
   append(&head, chunk);
   append(&head, std::uint64_t(payload.size()));
   put(head.data(), head.size());

@@ -64,6 +64,7 @@ class PartWriter {
   void commit(std::uint64_t vertex_chunks, std::uint64_t face_chunks, const SkippedFaces& skipped);
 
  private:
+  void put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload);
   void put(const void* data, std::size_t bytes);
   void flush();
   std::string dir_, path_;
