@@ -34,16 +34,21 @@ namespace oocsimp {
 
 namespace {
 
-// Triangles per stitch bucket: the stitch reads a bucket whole, so this bounds its
-// memory, and the buckets stay few.
-constexpr std::uint64_t kTrianglesPerStitchBucket = std::uint64_t(1) << 22;
+// Triangles per stitch bucket: the stitch reads a bucket whole (up to three corners
+// a triangle, and the triangles they make), so a bucket's records fit in an eighth of
+// the budget; within these bounds, so the buckets stay few.
+constexpr std::uint64_t kLeastTrianglesPerStitchBucket = std::uint64_t(1) << 16;
+constexpr std::uint64_t kMostTrianglesPerStitchBucket = std::uint64_t(1) << 22;
+constexpr std::uint64_t kStitchBucketsInBudget = 8;
 // A cluster bucket's shares fit in an eighth of the budget even if every vertex were
 // a centre: the assembly reads a bucket whole next to the output tables.
 constexpr std::uint64_t kClusterBucketsInBudget = 8;
 // Records per buffer of a spill's stream: the stitch buckets are few and large, the
 // cluster buckets many (one per cluster span), each with a buffer of its own.
-constexpr std::size_t kCornerBufferRecords = 4096;
-constexpr std::size_t kKeptBufferRecords = 1024;
+// The stitch buckets' buffers together take at most a sixteenth of the budget.
+constexpr std::size_t kMostCornerBufferRecords = 4096;
+constexpr std::size_t kLeastCornerBufferRecords = 256;
+constexpr std::uint64_t kStitchBuffersInBudget = 16;
 constexpr std::size_t kClusterBufferRecords = 64;
 
 // Appends `records` to `spill`, a run per bucket(record), after sorting them by
@@ -63,12 +68,20 @@ void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket b
 
 // The stitch buckets, by triangle index: the corners of the triangles that cross
 // tiles (`corners`) and the triangles decided inside a tile (`inside`).
-void open_triangle_buckets(const BinnedTiles& tiles, const SpillSettings& spill, ClusterShares* out) {
-  std::size_t buckets = std::max<std::size_t>(1, std::size_t(tiles.triangle_count / kTrianglesPerStitchBucket) + 1);
+void open_triangle_buckets(const BinnedTiles& tiles, const SpillSettings& spill, std::uint64_t memory_budget,
+                           ClusterShares* out) {
+  const std::uint64_t per_bucket = std::clamp<std::uint64_t>(
+      memory_budget / kStitchBucketsInBudget / (3 * sizeof(CornerRecord) + sizeof(KeptTriangle)),
+      kLeastTrianglesPerStitchBucket, kMostTrianglesPerStitchBucket);
+  std::size_t buckets = std::max<std::size_t>(1, std::size_t(tiles.triangle_count / per_bucket) + 1);
   out->bucket_span = std::max<std::uint64_t>(1, (tiles.triangle_count + buckets - 1) / buckets);
-  out->corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), kCornerBufferRecords,
-                                               spill.compress, spill.allow.buckets);
-  out->inside = std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), kKeptBufferRecords,
+  // Each stream has a buffer of its own: many buckets get smaller ones.
+  const std::size_t corner_buffer = std::size_t(
+      std::clamp<std::uint64_t>(memory_budget / kStitchBuffersInBudget / buckets / (2 * sizeof(CornerRecord)),
+                                kLeastCornerBufferRecords, kMostCornerBufferRecords));
+  out->corners = std::make_unique<StreamSpill>(spill.dir, "stitch", sizeof(CornerRecord), corner_buffer, spill.compress,
+                                               spill.allow.buckets);
+  out->inside = std::make_unique<StreamSpill>(spill.dir, "kept", sizeof(KeptTriangle), corner_buffer / 4,
                                               spill.compress, spill.allow.buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
     out->corners->add_stream();
@@ -365,7 +378,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
                                   const TileBorders& borders, std::uint64_t vertex_count,
                                   const AccumulationSettings& settings) {
   ClusterShares out;
-  open_triangle_buckets(tiles, settings.spill, &out);
+  open_triangle_buckets(tiles, settings.spill, settings.memory_budget, &out);
   open_cluster_buckets(vertex_count, settings, &out);
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", tiles.count(), "tile");
