@@ -16,7 +16,9 @@
 #   T(K) = R + S/K + M + X/B     R: what every part repeats (T(part K=1) - S),
 #                                S: the summing that splits (2 (T(part K=1) - T(2 parts))),
 #                                M: the merge, X: the part files' bytes, B: 1.25 GB/s.
-# Each output is checked against the one-process bytes.
+# Each output is checked against the one-process bytes. Floating cells, which are not
+# spread yet, run once in one process for the bytes their tiles hand on (per sweep,
+# per stitch) and the same model's prediction.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 sizes=("$@")
@@ -74,5 +76,31 @@ for n in "${sizes[@]}"; do
     for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }
     printf("\n");
   }'
+  # Floating cells are not spread yet: their exchange measured in one process, and the
+  # model's prediction from it (docs/cluster.md, "A model for floating cells").
+  "$bin" simplify "$mesh" -o "$dir/one-floating.ply" --method floating --grid "$grid" --threads 1 --quiet \
+    --stats "$dir/floating.json"
+  python3 - "$dir/floating.json" "$n" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+t, x = s["seconds"], s["tiles"]["exchange"]
+centre = x["border_centre_bytes"]
+sweeps = [c["published"] * centre for c in s["tiles"]["sweeps"]]
+stitch = x["stitch_corner_bytes"] + x["inside_triangle_bytes"] + x["cluster_share_bytes"]
+total = x["border_bytes"] + sum(sweeps) + stitch
+mib = lambda b: b / 1048576
+print("  floating (one process, 1 thread): %.2f s; exchange: first greedy's borders %.1f MiB, %d sweeps %s MiB, "
+      "stitch corners %.1f MiB + inside triangles %.1f MiB + cluster shares %.1f MiB" %
+      (t["total"], mib(x["border_bytes"]), len(sweeps), "/".join("%.1f" % mib(b) for b in sweeps),
+       mib(x["stitch_corner_bytes"]), mib(x["inside_triangle_bytes"]), mib(x["cluster_share_bytes"])))
+r = t.get("bin", 0) + t.get("open", 0)
+split = t.get("grade", 0) + t.get("cluster", 0) + t.get("rounds", 0)
+m = t.get("stitch", 0) + t.get("assemble", 0) + t.get("write", 0)
+print("  floating model: R %.2f s (bin), S %.2f s (grade, rounds, cluster), M %.2f s (stitch, assemble, write), "
+      "X %.1f MiB:" % (r, split, m, mib(total)), end="")
+for k in (8, 64, 256):
+    print(" K=%d %.2fx" % (k, t["total"] / (r + split / k + m + total / 1.25e9)), end="")
+print()
+PY
 done
 rm -rf "$work"

@@ -482,6 +482,18 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
     CHECK(s.looked_at <= st.floating.tiles);
   }
   CHECK(st.floating.rounds <= 1 + st.floating.sweeps.size());
+  // What the tiles hand on: whole records; a sweep publishes only from tiles it re-ran.
+  CHECK(st.floating.border_centre_bytes == sizeof(GradedVertex));
+  CHECK(st.floating.border_bytes > 0);
+  CHECK(st.floating.border_bytes % sizeof(GradedVertex) == 0);
+  for (const FloatingStats::SweepCount& s : st.floating.sweeps)
+    if (s.rerun == 0) CHECK(s.published == 0);
+  CHECK(st.floating.stitch_corner_bytes > 0);  // tiles this small: triangles cross them
+  CHECK(st.floating.stitch_corner_bytes % sizeof(CornerRecord) == 0);
+  CHECK(st.floating.inside_triangle_bytes % sizeof(KeptTriangle) == 0);
+  // Each kept triangle is decided in one place: inside a tile, or in the stitch.
+  CHECK(st.floating.inside_triangle_bytes / sizeof(KeptTriangle) <= st.input_triangles);
+  CHECK(st.floating.cluster_share_bytes >= st.occupied_cells * sizeof(PartialCluster));
 
   CliResult r = run_cli("simplify --quiet --cell " + std::to_string(f.cell) + " --tile " + std::to_string(3 * f.cell) +
                         " '" + f.path + "' -o '" + f.dir.file("o.ply") + "' --stats '" + f.dir.file("st.json") + "'");
@@ -491,6 +503,8 @@ TEST_CASE("the stats report the fullest tile and every sweep, in SimplifyStats a
   CHECK(js.find("\"largest_tile_records\": ") != std::string::npos);
   CHECK(js.find("\"sweeps\": [{\"looked_at\": ") != std::string::npos);
   CHECK(js.find("\"rerun\": ") != std::string::npos);
+  CHECK(js.find("\"published\": ") != std::string::npos);
+  CHECK(js.find("\"exchange\": {\"border_bytes\": ") != std::string::npos);
 }
 
 TEST_CASE("the methods are rows of one table that simplify() and the CLI use", "[stages][methods]") {

@@ -28,10 +28,20 @@ struct FloatingStats {
   /// Per sweep of border decisions after the first greedy (the last one only
   /// confirms): the tiles looked at (a neighbour's border changed since they last ran)
   /// and, of those, the tiles re-run (their external centres had changed).
+  /// `published`: the border centres the tiles whose border changed published to
+  /// their neighbours (what a distributed run would send between ranks in that
+  /// sweep, docs/cluster.md).
   struct SweepCount {
-    std::uint64_t looked_at = 0, rerun = 0;
+    std::uint64_t looked_at = 0, rerun = 0, published = 0;
   };
   std::vector<SweepCount> sweeps;
+  /// What the tiles hand on, in bytes (what a distributed run would exchange): the
+  /// border centres every tile published after its first greedy, the stitch corners
+  /// of the triangles that cross tiles, the triangles decided inside tiles, and the
+  /// clusters' shares (with their attribute shares).
+  std::uint64_t border_bytes = 0, stitch_corner_bytes = 0, inside_triangle_bytes = 0, cluster_share_bytes = 0;
+  /// Bytes of one published border centre (a graded vertex).
+  std::uint64_t border_centre_bytes = 0;
 };
 
 /// The edge collapse's figures, with a target (TargetOptions) or --method qem

@@ -79,8 +79,12 @@ void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
   // Rounds: the first greedy, then every sweep in which some tile re-ran (the last
   // sweep, which only confirms, is not one).
   std::uint64_t rounds = 1;
+  if (stats) {
+    stats->border_centre_bytes = sizeof(GradedVertex);
+    for (const std::vector<GradedVertex>& b : border_) stats->border_bytes += b.size() * sizeof(GradedVertex);
+  }
   for (;;) {
-    std::size_t runs = 0;
+    std::size_t runs = 0, published = 0;
     std::atomic<std::size_t> reran{0};  // of those, the tiles whose input had changed
     for (int k = 0; k < TileGrid::kColours; ++k) {
       std::vector<std::uint32_t> dirty = grid_.tiles_of_colour(k, &stale);
@@ -103,13 +107,14 @@ void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
         stale[tile] = 0;
         ++runs;
         if (!border_changed[i]) continue;
+        published += next_border[i].size();
         border_[tile] = std::move(next_border[i]);
         for (std::uint32_t nb : adjacent[tile]) stale[nb] = 1;
       }
     }
     if (runs == 0) break;
     if (reran > 0) ++rounds;
-    if (stats) stats->sweeps.push_back({runs, reran.load()});
+    if (stats) stats->sweeps.push_back({runs, reran.load(), published});
   }
   std::vector<std::vector<GradedVertex>>().swap(ext_);
   if (stats) stats->rounds = rounds;

@@ -69,10 +69,6 @@ class LargeArray {
     }
     size_ = count;
   }
-  void push_back(const T& value) {
-    resize(size_ + 1);
-    data()[size_ - 1] = value;
-  }
 
   T* data() { return file_ ? reinterpret_cast<T*>(file_->data()) : heap_.data(); }
   const T* data() const { return file_ ? reinterpret_cast<const T*>(file_->data()) : heap_.data(); }

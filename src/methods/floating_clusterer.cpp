@@ -258,6 +258,10 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
       stats->floating.spill_raw_bytes += sp->bytes_spilled();
       stats->floating.spill_bytes_in_memory += sp->bytes_kept_in_memory();
     }
+  stats->floating.stitch_corner_bytes = shares.corners->bytes_appended();
+  stats->floating.inside_triangle_bytes = shares.inside->bytes_appended();
+  stats->floating.cluster_share_bytes =
+      shares.partials->bytes_appended() + (shares.attribute_shares ? shares.attribute_shares->bytes_appended() : 0);
   stats->input_triangles = tiles_.triangle_count;
   stats->skipped = tiles_.skipped;
   stats->occupied_cells = counts.clusters;
