@@ -60,10 +60,19 @@ MappedScratch::MappedScratch(const std::string& dir, const std::string& prefix, 
 
 void MappedScratch::resize(std::uint64_t bytes) {
   bytes = std::max<std::uint64_t>(bytes, 8);  // an empty file would map to nothing
+  const std::uint64_t before = map_ ? map_->size() : 0;
   map_.reset();
-  if (::ftruncate(file_.fd(), off_t(bytes)) != 0)
-    throw IoError(
-        system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", errno));
+  const auto no_room = [&](int error) {
+    return IoError(
+        system_error_text(file_.path(), "cannot make room for " + std::to_string(bytes) + " bytes in", error));
+  };
+  if (::ftruncate(file_.fd(), off_t(bytes)) != 0) throw no_room(errno);
+  // The blocks are taken now: a full disk is then this one error, where a page of a
+  // sparse file written through the mapping would end the run with SIGBUS. A file
+  // system without fallocate keeps the file sparse.
+  if (bytes > before && ::fallocate(file_.fd(), 0, off_t(before), off_t(bytes - before)) != 0 && errno != EOPNOTSUPP &&
+      errno != ENOSYS && errno != EINVAL)
+    throw no_room(errno);
   map_ = std::make_unique<MappedFile>(file_.path(), MapAccess::read_write);
 }
 
