@@ -157,6 +157,18 @@ void record_grid(const GridSpec& grid, SimplifyStats* st) {
 
 namespace {
 
+// begin_run's stats into `st`, after the caller's phases so far (simplify_file's
+// "open") and warnings, which stay first.
+void begin_stats(const MeshInput& input, const SimplifyOptions& options, SimplifyStats* st) {
+  const SimplifyStats begun = begin_run(input, options);
+  std::vector<PhaseTime> phases = std::move(st->phases);
+  std::vector<std::string> warnings = std::move(st->warnings);
+  *st = begun;
+  st->phases = std::move(phases);
+  warnings.insert(warnings.end(), st->warnings.begin(), st->warnings.end());
+  st->warnings = std::move(warnings);
+}
+
 // simplify(), with the output's arrays where the clusterers put them (mapped files
 // for an output large next to the budget).
 OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
@@ -166,16 +178,7 @@ OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, Simpl
   const PeakAnonSampler memory;
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
-  const SimplifyStats begun = begin_run(input, options);
-  {
-    // The caller's phases so far (simplify_file's "open") and warnings stay first.
-    std::vector<PhaseTime> phases = std::move(st.phases);
-    std::vector<std::string> warnings = std::move(st.warnings);
-    st = begun;
-    st.phases = std::move(phases);
-    warnings.insert(warnings.end(), st.warnings.begin(), st.warnings.end());
-    st.warnings = std::move(warnings);
-  }
+  begin_stats(input, options, &st);
   OutputMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {
     m = OutputMesh::of(simplify_to_target(input, options, &st));
@@ -402,14 +405,16 @@ void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outp
 
 }  // namespace
 
-void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
-                   SimplifyStats* stats) {
-  SimplifyStats local;
-  SimplifyStats& st = stats ? *stats : local;
+namespace {
+
+// A run from the file at `input_path` to `outputs`: every destination opened before
+// the work (a missing folder fails in a moment, not after the run), the input opened
+// (the "open" phase), `produce` run on it, the mesh written; the stats committed
+// first, so that when they cannot be written the mesh output stays as it was.
+void run_to_files(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                  SimplifyStats& st, const std::function<OutputMesh(MeshInput& input)>& produce) {
   const MeshFormat format = output_format(outputs);
   check_distinct_destinations(input_path, outputs);
-  // Every destination is opened before the work: a missing folder fails in a moment,
-  // not after the run.
   std::unique_ptr<OutputFile> stats_file;
   if (!outputs.stats.empty()) stats_file = std::make_unique<OutputFile>(outputs.stats);
   OutputFile mesh_file(outputs.mesh);
@@ -418,17 +423,26 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   double t0 = now_seconds();
   MeshInput input = open_input(input_path, options);
   st.phases.push_back({"open", now_seconds() - t0});
-  OutputMesh mesh = simplify_output(input, options, &st);
+  OutputMesh mesh = produce(input);
   write_output(mesh_file, format, outputs, mesh, options, st);
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
-  // The stats first: when they cannot be written, the mesh output stays as it was.
   if (stats_file) {
     stats_file->write_all(stats_to_json(st, input_path, outputs, options));
     stats_file->commit();
   }
   mesh_file.commit();
+}
+
+}  // namespace
+
+void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
+                   SimplifyStats* stats) {
+  SimplifyStats local;
+  SimplifyStats& st = stats ? *stats : local;
+  run_to_files(input_path, outputs, options, st,
+               [&](MeshInput& input) { return simplify_output(input, options, &st); });
 }
 
 void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
@@ -516,34 +530,20 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
                  SimplifyStats* stats) {
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
-  const MeshFormat format = output_format(outputs);
+  output_format(outputs);  // an unwritable name is refused before the parts are read
   const PartSet parts(work_dir);
   const PartManifest& manifest = parts.manifest();
   SimplifyOptions options = runtime;
   if (!read_part_options(manifest.options, &options))
     throw InputError(work_dir + "/" + part_file_name(0, manifest.parts) + ": its options are malformed");
-  check_distinct_destinations(manifest.input, outputs);
-  std::unique_ptr<OutputFile> stats_file;
-  if (!outputs.stats.empty()) stats_file = std::make_unique<OutputFile>(outputs.stats);
-  OutputFile mesh_file(outputs.mesh);
-  auto threads = limit_threads(options.threads);
-  const PeakAnonSampler memory;
-  const double t0 = now_seconds();
-  MeshInput input = open_input(manifest.input, options);
-  st = begin_run(input, options);
-  st.phases.push_back({"open", now_seconds() - t0});
-  record_grid(manifest.grid, &st);
-  OutputMesh mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
-  finish_run(input, options, memory, mesh, st);
-  write_output(mesh_file, format, outputs, mesh, options, st);
-  st.seconds_total = now_seconds() - t0;
-  st.peak_rss_bytes = peak_rss_bytes();
-  st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
-  if (stats_file) {
-    stats_file->write_all(stats_to_json(st, manifest.input, outputs, options));
-    stats_file->commit();
-  }
-  mesh_file.commit();
+  run_to_files(manifest.input, outputs, options, st, [&](MeshInput& input) {
+    const PeakAnonSampler memory;
+    begin_stats(input, options, &st);
+    record_grid(manifest.grid, &st);
+    OutputMesh mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
+    finish_run(input, options, memory, mesh, st);
+    return mesh;
+  });
 }
 
 SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,
