@@ -49,7 +49,10 @@ class BorderDecisions {
   void sweep(BlockStore& blocks, FloatingStats* stats);
 
   /// The settled borders (after sweep()), for the assignment; the state is spent.
-  TileBorders take_borders() { return std::move(border_); }
+  TileBorders take_borders() {
+    TileBorders().swap(ext_);
+    return std::move(border_);
+  }
 
  private:
   const TileGrid& grid_;

@@ -348,12 +348,13 @@ void TileAccumulation::hand_on_attribute_shares(const AssignedTile& a, const Fac
 // the tiles' share in its scratch (the buffers of an outsized tile are freed after
 // it), and the gate lets the tiles in work take the other half, so the two stay
 // within the share.
-void accumulate_tiles(const TileAccumulation& accumulation, const BinnedTiles& tiles, std::uint64_t work_share,
-                      ProgressPhase& phase) {
+void accumulate_tiles(const TileAccumulation& accumulation, const BinnedTiles& tiles,
+                      const AccumulationSettings& settings, ProgressPhase& phase) {
+  const std::uint64_t work_share = settings.work_share;
   tbb::enumerable_thread_specific<Scratch> scratches;
   const std::uint64_t threads = std::uint64_t(std::max(1, tbb::this_task_arena::max_concurrency()));
   const std::uint64_t kept_scratch = work_share / 2 / threads;
-  TileMemoryGate gate(work_share - kept_scratch * threads);
+  TileMemoryGate gate(work_share - kept_scratch * threads, settings.budget, settings.release_memory);
   tbb::parallel_for(std::uint32_t(0), tiles.count(), [&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       Scratch& scratch = scratches.local();
@@ -383,7 +384,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", tiles.count(), "tile");
   const TileAccumulation accumulation(tiles, positions, blocks, borders, settings, out);
-  accumulate_tiles(accumulation, tiles, settings.work_share, phase);
+  accumulate_tiles(accumulation, tiles, settings, phase);
   flush_shares(&out);
   return out;
 }

@@ -16,6 +16,7 @@
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
+#include "runtime/memory_budget.hpp"
 #include "spill/block_store.hpp"
 #include "spill/stream_spill.hpp"
 
@@ -61,6 +62,11 @@ struct AccumulationSettings {
   /// Keep what collapses below a triangle (ClusterShares::edge_shares, and
   /// ClusterRecord::collapsed): Low & Tan 1997 §3.3.
   bool thick_edges = false;
+  /// The run's budget (may be null), which the memory held and the tiles in work
+  /// must fit (TileMemoryGate).
+  const MemoryBudget* budget = nullptr;
+  /// Gives the allocator's free pages back (SimplifyOptions::release_memory), or null.
+  void (*release_memory)() = nullptr;
 };
 
 /// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the

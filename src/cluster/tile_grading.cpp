@@ -29,7 +29,7 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
   // borders of the neighbours graded before.
   auto blocks =
       std::make_unique<BlockStore>(settings.blocks.temp_dir, "vertex-blocks", n, settings.blocks.memory_allowance);
-  TileMemoryGate gate(settings.work_share);
+  TileMemoryGate gate(settings.work_share, settings.budget, settings.release_memory);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);

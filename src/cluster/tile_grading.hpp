@@ -14,6 +14,7 @@
 #include "common/flat_hash_map.hpp"
 #include "grid/tile_binning.hpp"
 #include "io/mesh_input.hpp"
+#include "runtime/memory_budget.hpp"
 #include "spill/block_store.hpp"
 #include "spill/stream_spill.hpp"
 
@@ -72,6 +73,11 @@ struct GradingSettings {
   /// The tiles in work take at most this many bytes together (TileMemoryGate; a tile
   /// larger than that runs alone).
   std::uint64_t work_share = ~std::uint64_t(0);
+  /// The run's budget (may be null), which the memory held and the tiles in work
+  /// must fit (TileMemoryGate).
+  const MemoryBudget* budget = nullptr;
+  /// Gives the allocator's free pages back (SimplifyOptions::release_memory), or null.
+  void (*release_memory)() = nullptr;
 };
 
 /// Every tile's vertex block (TileVertexBlock) in one mapped BlockStore, as

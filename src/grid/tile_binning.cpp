@@ -72,10 +72,17 @@ std::uint64_t BinnedTiles::largest_tile_records() const {
 
 std::uint64_t tile_work_share(std::uint64_t budget, std::uint64_t fullest_tile_records) {
   const unsigned threads = unsigned(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const std::uint64_t planned =
-      std::min<std::uint64_t>(budget / 2, std::uint64_t(2 * threads * kMaxTileTriangles * kTileBytesPerTriangle));
-  // The plan's estimate of the fullest tile comes from a sample: a quarter more.
-  return std::max(planned, fullest_tile_records * kTileBytesPerRecord * 5 / 4);
+  const std::uint64_t planned = std::uint64_t(2 * threads * kMaxTileTriangles * kTileBytesPerTriangle);
+  // Tiles fuller than planned (a dense part of the input) get up to half the budget,
+  // so that two of them can still run at once.
+  return std::min(budget / 2, std::max(planned, fullest_tile_records * kTileBytesPerRecord * 5 / 4));
+}
+
+std::uint64_t tile_memory_reserve(std::uint64_t work_share, std::uint64_t fullest_tile_records) {
+  // A tile over the share runs alone (TileMemoryGate), so the tiles in work take the
+  // share or the fullest tile, whichever is more. The plan's estimate of the fullest
+  // tile comes from a sample: a quarter more.
+  return std::max(work_share, fullest_tile_records * kTileBytesPerRecord * 5 / 4);
 }
 
 // The raw triangle spill, estimated: most triangles are binned into one tile.
@@ -127,7 +134,7 @@ SpillSettings spill_settings(const MeshInput& input, const TileSettings& setting
             " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
             whole_mib(fullest / 3 * 4) +
             " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
-  s.allow = memory_for_spills(input, settings, vertex_record_bytes, s.work_share);
+  s.allow = memory_for_spills(input, settings, vertex_record_bytes, tile_memory_reserve(s.work_share, fullest_tile_records));
   s.compress = spill_compression(input, settings, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
   // once, raw; the triangle records compress to an eighth or more, and (a header's

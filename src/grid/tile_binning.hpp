@@ -38,10 +38,15 @@ struct TriangleRecord {
 constexpr std::size_t kMinBufferRecords = 256;
 constexpr std::uint64_t kTileFixedBytes = kMinBufferRecords * sizeof(TriangleRecord) + 1024;
 
-/// The share of `budget` the tiles in work take at once (TileMemoryGate): half the
-/// budget, or what two tiles of kMaxTileTriangles per thread take when that is less;
-/// and at least what the fullest tile, of `fullest_tile_records`, takes alone.
+/// The share of `budget` the tiles in work take at once (TileMemoryGate): what two
+/// tiles of kMaxTileTriangles per thread take, or the fullest tile of
+/// `fullest_tile_records` when that is more, and at most half the budget. A tile
+/// larger than the share (a dense part of the input) runs alone.
 std::uint64_t tile_work_share(std::uint64_t budget, std::uint64_t fullest_tile_records);
+
+/// What the tiles in work may hold at once, set aside before the spills' allowances:
+/// the share, or the fullest tile of `fullest_tile_records` running alone.
+std::uint64_t tile_memory_reserve(std::uint64_t work_share, std::uint64_t fullest_tile_records);
 
 /// The binned mesh: the tiling, each tile's triangle records (stream `tile` of the
 /// spill, in input order) and what the triangle stream reported.

@@ -5,7 +5,10 @@
 // its fullest tiles. Two such tiles on two threads at once would take the process past
 // --mem. The gate lets a tile start only while the working sets of the tiles in work,
 // its own included, stay within the share; a tile larger than the whole share runs
-// alone. Which thread works on which tile, and when, changes no output.
+// alone. Given the run's budget, it also waits while what the process holds (measured:
+// the spills, borders and scratch the share does not cover, and the allocator's free
+// pages) and the tiles in work would not fit it. Which thread works on which tile, and
+// when, changes no output.
 #pragma once
 
 #include <tbb/task_arena.h>
@@ -13,6 +16,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+
+#include "runtime/memory_budget.hpp"
 
 namespace oocsimp {
 
@@ -25,8 +30,11 @@ constexpr std::uint64_t kTileBytesPerRecord = 200;
 
 class TileMemoryGate {
  public:
-  /// `share`: bytes the tiles in work may take together.
-  explicit TileMemoryGate(std::uint64_t share) : share_(share) {}
+  /// `share`: bytes the tiles in work may take together. `budget` (may be null): the
+  /// run's, which the memory held and the tiles in work must fit. `release` (may be
+  /// null): gives the allocator's free pages back (SimplifyOptions::release_memory).
+  explicit TileMemoryGate(std::uint64_t share, const MemoryBudget* budget = nullptr, void (*release)() = nullptr)
+      : share_(share), budget_(budget), release_(release) {}
 
   /// Runs f() once a tile of `bytes` fits next to the tiles in work (at once when no
   /// tile is in work). f runs isolated: a thread waiting inside it for nested
@@ -36,7 +44,7 @@ class TileMemoryGate {
   void run(std::uint64_t bytes, F&& f) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      fits_.wait(lock, [&] { return in_work_ == 0 || in_work_ + bytes <= share_; });
+      fits_.wait(lock, [&] { return (in_work_ == 0 || in_work_ + bytes <= share_) && fits_budget(bytes); });
       in_work_ += bytes;
     }
     struct Release {
@@ -54,7 +62,20 @@ class TileMemoryGate {
   }
 
  private:
+  // What the process holds counts the tiles in work as far as they have grown: their
+  // whole estimates are added on top, which errs on the side of waiting. Freed tiles
+  // leave pages in the allocator's per-thread arenas, which a thread starting the next
+  // tile in another arena would not reuse: they are given back before a tile is
+  // refused, and a tile with none in work starts anyway.
+  bool fits_budget(std::uint64_t bytes) {
+    if (!budget_ || budget_->fits(budget_->held(), in_work_ + bytes)) return true;
+    if (release_) release_();
+    return budget_->fits(budget_->held(), in_work_ + bytes) || in_work_ == 0;
+  }
+
   std::uint64_t share_;
+  const MemoryBudget* budget_;
+  void (*release_)();
   std::uint64_t in_work_ = 0;
   std::mutex mutex_;
   std::condition_variable fits_;

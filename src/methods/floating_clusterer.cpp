@@ -61,14 +61,17 @@ std::unique_ptr<StreamSpill> graded_vertex_spill(const BinnedTiles& tiles, const
 
 // An uneven input can put many times the planned triangles into its fullest tile,
 // whose working set then does not fit --mem even alone: the run stops (exit 2) before
-// grading, naming what it would take, rather than exceed the budget.
-void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tiles, const std::string& path) {
+// grading, or before clustering next to the borders and blocks that grading left,
+// naming what it would take, rather than exceed the budget. `work`: "grade" or
+// "cluster".
+void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tiles, const std::string& path,
+                             const char* work) {
   const std::uint64_t records = tiles.largest_tile_records();
   const std::uint64_t need = records * kTileBytesPerRecord;
   const std::uint64_t held = budget.held();
   budget.check(held, need,
                "the fullest tile of " + path + " (" + std::to_string(records) + " triangle records, " +
-                   whole_mib(need) + " MiB to grade)",
+                   whole_mib(need) + " MiB to " + work + ")",
                "a dense part of the mesh: give options.memory_budget " + whole_mib(held + need + need / 4) +
                    " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
 }
@@ -153,7 +156,7 @@ void FloatingRun::grade() {
   release_memory(options_);  // the binning chunks
   // The fullest tile is known now; it must fit in the budget next to what the run
   // holds, even alone (TileMemoryGate runs it alone).
-  check_fullest_tile_fits(budget_, tiles_, input_.info.path);
+  check_fullest_tile_fits(budget_, tiles_, input_.info.path, "grade");
   const FloatingCellShape first_cell = cell(0);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, first_cell);
   if (resumed_) {
@@ -166,6 +169,8 @@ void FloatingRun::grade() {
     grading.keep = graded_.get();
     grading.progress = &options_.progress;
     grading.work_share = spill_.work_share;
+    grading.budget = &budget_;
+    grading.release_memory = options_.release_memory;
     blocks_ = grade_tiles(tiles_, input_.positions, first_, grading);
     if (keeping_) kept_.keep(tiles_, *graded_);
   }
@@ -195,9 +200,13 @@ void FloatingRun::sweep(SimplifyStats* stats) {
 ClusterShares FloatingRun::accumulate(std::size_t level) {
   TileBorders borders = decisions_->take_borders();
   release_memory(options_);
+  // The borders and the vertex blocks have grown since grading began: the fullest
+  // tile must still fit next to them.
+  check_fullest_tile_fits(budget_, tiles_, input_.info.path, "cluster");
   const AccumulationSettings settings{
       cell(level),        options_.floating.assign, options_.memory_budget, spill_,
-      &options_.progress, &input_.attributes,       spill_.work_share,      options_.thick_edges};
+      &options_.progress, &input_.attributes,       spill_.work_share,      options_.thick_edges,
+      &budget_,           options_.release_memory};
   ClusterShares shares =
       accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
   // Centres live on in the cluster records; the per-tile lists are done, and the
