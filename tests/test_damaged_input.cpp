@@ -334,7 +334,7 @@ TEST_CASE("a single triangle comes out as itself", "[cli][damaged]") {
   }
 }
 
-TEST_CASE("empty meshes give an empty output, a file too short to have a header exits 3", "[cli][damaged]") {
+TEST_CASE("empty meshes give an empty output, a file too short to have a header or not OBJ at all exits 3", "[cli][damaged]") {
   ScratchDir d;
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
   const std::string face = "element face 0\nproperty list uchar int vertex_indices\n";
@@ -356,6 +356,16 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
       CHECK(r.output.vertex_count() == 0);
       CHECK_THAT(r.stats, Contains("\"output\": {\"vertices\": 0, \"triangles\": 0, \"edges\": 0, \"points\": 0}"));
     }
+  // Text that is not OBJ at all is no empty mesh: exit 3 naming the line.
+  write_file(d.file("text.obj"), "hello\n");
+  for (const char* method : kMethods) {
+    CAPTURE(method);
+    Run r = simplify(d, d.file("text.obj"), method, "--grid 8");
+    CHECK(r.cli.exit_code == 3);
+    CHECK(lines(r.cli.err) == 1);
+    CHECK_THAT(r.cli.err, Contains(d.file("text.obj") + ": line 1: not an OBJ file"));
+    CHECK_FALSE(file_exists(d.file(std::string("out-") + method + ".ply")));
+  }
   for (const char* name : {"zero-bytes.ply", "zero-bytes.stl"}) {
     CAPTURE(name);
     write_file(d.file(name), "");

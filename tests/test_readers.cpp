@@ -1415,6 +1415,26 @@ TEST_CASE("Empty PLY and STL files are rejected and an empty OBJ is an empty mes
   CHECK(m.triangle_count() == 0);
 }
 
+TEST_CASE("A file named .obj with no OBJ statement is refused, naming its first foreign line", "[readers][errors]") {
+  ScratchDir dir;
+  // Text: every line is read, and none opens a statement.
+  write_file(dir.file("text.obj"), "# a comment\n\nhello world\nmore text\n");
+  CHECK(open_error(dir.file("text.obj"), dir) ==
+        dir.file("text.obj") +
+            ": line 3: not an OBJ file: no line opens an OBJ statement (this one opens with \"hello\")");
+  // Binary: refused after 1000 foreign lines, whatever follows.
+  std::string binary;
+  for (int i = 0; i < 1500; ++i) binary += std::string("\x01\x02\xFF\x80", 4) + "\n";
+  binary += "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  write_file(dir.file("binary.obj"), binary);
+  CHECK_THAT(open_error(dir.file("binary.obj"), dir),
+             StartsWith(dir.file("binary.obj") + ": line 1: not an OBJ file: none of the first 1000 lines"));
+  // A statement anywhere makes it OBJ, with whatever it holds (here, nothing to read).
+  write_file(dir.file("named.obj"), "hello\no object\n");
+  LoadedMesh m = load_mesh(dir.file("named.obj"), dir.path());
+  CHECK(m.triangle_count() == 0);
+}
+
 TEST_CASE("Missing input file throws IoError", "[readers][errors]") {
   ScratchDir dir;
   CHECK_THROWS_AS(oocsimp::open_mesh_input(dir.file("absent.ply")), oocsimp::IoError);

@@ -24,6 +24,19 @@ bool is_keyword(std::string_view line, char c) {
   return line.size() >= 2 && line[0] == c && TokenScanner::is_space(line[1]);
 }
 
+// Whether `word` opens a statement of the OBJ format (its specification's keywords,
+// free-form geometry included): a file none of whose lines does is not OBJ.
+bool is_obj_statement(std::string_view word) {
+  static const char* const kStatements[] = {
+      "v",    "vt",   "vn",   "vp",   "f",      "l",     "p",      "o",        "g",        "s",          "mg",
+      "usemtl", "mtllib", "cstype", "deg", "bmat", "step", "curv", "curv2",  "surf",     "parm",       "trim",
+      "hole", "scrv", "sp",   "end",  "con",    "lod",   "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",
+      "stech", "bevel", "c_interp", "d_interp", "call", "csh"};
+  for (const char* k : kStatements)
+    if (word == k) return true;
+  return false;
+}
+
 // Lines may start with blanks; returns the line from its first non-blank character.
 std::string_view trim_front(std::string_view line) {
   std::size_t i = 0;
@@ -140,9 +153,33 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   std::unique_ptr<AttributeArrayBuilder> colours;
   std::vector<std::size_t> carried;
   std::uint64_t faces = 0, texture_lines = 0, normal_lines = 0, uncoloured = 0, line_elements = 0, point_elements = 0;
+  // A file with lines but no OBJ statement (text, or binary named .obj) is refused
+  // rather than read as an empty mesh; the first foreign line is named. 1000 foreign
+  // lines before any statement end the reading there, so a large foreign file is not
+  // read to its end.
+  bool any_statement = false;
+  std::uint64_t foreign_line = 0, foreign_lines = 0;
+  std::string foreign_word;
+  const auto refuse = [&](const char* scope) {
+    throw InputError(at_line(src.path(), foreign_line,
+                             std::string("not an OBJ file: ") + scope + " opens an OBJ statement (this one opens with " +
+                                 quoted(foreign_word) + ")"));
+  };
   std::string_view line;
   while (src.next_line(&line)) {
     line = trim_front(line);
+    if (!any_statement && !line.empty() && line[0] != '#') {
+      std::string_view word = TokenScanner(line).next();
+      if (is_obj_statement(word)) {
+        any_statement = true;
+      } else {
+        if (foreign_line == 0) {
+          foreign_line = src.line_number();
+          foreign_word = std::string(word.substr(0, 16));
+        }
+        if (++foreign_lines == 1000) refuse("none of the first 1000 lines");
+      }
+    }
     if (is_keyword(line, 'v')) {
       // "v x y z [w]" or "v x y z r g b": the first three values are the position.
       TokenScanner t(line.substr(1));
@@ -193,6 +230,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     }
     if ((src.line_number() & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
+  if (!any_statement && foreign_line > 0) refuse("no line");
   // No colours (or no vertices): a selection that names an attribute cannot be met.
   if (!colours) carried_attributes({}, options.attributes, src.path(), nullptr);
   if (texture_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
