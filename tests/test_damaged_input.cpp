@@ -334,7 +334,8 @@ TEST_CASE("a single triangle comes out as itself", "[cli][damaged]") {
   }
 }
 
-TEST_CASE("empty meshes give an empty output, a file too short to have a header or not OBJ at all exits 3", "[cli][damaged]") {
+TEST_CASE("empty meshes give an empty output, a file too short to have a header or not OBJ at all exits 3",
+          "[cli][damaged]") {
   ScratchDir d;
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
   const std::string face = "element face 0\nproperty list uchar int vertex_indices\n";

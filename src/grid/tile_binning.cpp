@@ -134,7 +134,8 @@ SpillSettings spill_settings(const MeshInput& input, const TileSettings& setting
             " MiB to grade, estimated from a sample): a dense part of the mesh; give options.memory_budget " +
             whole_mib(fullest / 3 * 4) +
             " MiB or more, or a larger options.sizing.cell (options.sizing.grid, options.sizing.ratio)");
-  s.allow = memory_for_spills(input, settings, vertex_record_bytes, tile_memory_reserve(s.work_share, fullest_tile_records));
+  s.allow =
+      memory_for_spills(input, settings, vertex_record_bytes, tile_memory_reserve(s.work_share, fullest_tile_records));
   s.compress = spill_compression(input, settings, s.allow);
   // A lower estimate, so no run that fits is refused: every used vertex is spilled
   // once, raw; the triangle records compress to an eighth or more, and (a header's

@@ -28,10 +28,10 @@ bool is_keyword(std::string_view line, char c) {
 // free-form geometry included): a file none of whose lines does is not OBJ.
 bool is_obj_statement(std::string_view word) {
   static const char* const kStatements[] = {
-      "v",    "vt",   "vn",   "vp",   "f",      "l",     "p",      "o",        "g",        "s",          "mg",
-      "usemtl", "mtllib", "cstype", "deg", "bmat", "step", "curv", "curv2",  "surf",     "parm",       "trim",
-      "hole", "scrv", "sp",   "end",  "con",    "lod",   "maplib", "usemap", "shadow_obj", "trace_obj", "ctech",
-      "stech", "bevel", "c_interp", "d_interp", "call", "csh"};
+      "v",          "vt",        "vn",     "vp",     "f",     "l",        "p",        "o",    "g",      "s",
+      "mg",         "usemtl",    "mtllib", "cstype", "deg",   "bmat",     "step",     "curv", "curv2",  "surf",
+      "parm",       "trim",      "hole",   "scrv",   "sp",    "end",      "con",      "lod",  "maplib", "usemap",
+      "shadow_obj", "trace_obj", "ctech",  "stech",  "bevel", "c_interp", "d_interp", "call", "csh"};
   for (const char* k : kStatements)
     if (word == k) return true;
   return false;
@@ -162,8 +162,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   std::string foreign_word;
   const auto refuse = [&](const char* scope) {
     throw InputError(at_line(src.path(), foreign_line,
-                             std::string("not an OBJ file: ") + scope + " opens an OBJ statement (this one opens with " +
-                                 quoted(foreign_word) + ")"));
+                             std::string("not an OBJ file: ") + scope +
+                                 " opens an OBJ statement (this one opens with " + quoted(foreign_word) + ")"));
   };
   std::string_view line;
   while (src.next_line(&line)) {

@@ -204,9 +204,8 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
   // tile must still fit next to them.
   check_fullest_tile_fits(budget_, tiles_, input_.info.path, "cluster");
   const AccumulationSettings settings{
-      cell(level),        options_.floating.assign, options_.memory_budget, spill_,
-      &options_.progress, &input_.attributes,       spill_.work_share,      options_.thick_edges,
-      &budget_,           options_.release_memory};
+      cell(level),        options_.floating.assign, options_.memory_budget, spill_,   &options_.progress,
+      &input_.attributes, spill_.work_share,        options_.thick_edges,   &budget_, options_.release_memory};
   ClusterShares shares =
       accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
   // Centres live on in the cluster records; the per-tile lists are done, and the

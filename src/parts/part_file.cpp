@@ -79,10 +79,13 @@ bool parse_manifest(const std::string& text, PartManifest* m) {
   return found == 6;
 }
 
+// Resized, then copied: vector::insert of a few bytes draws a false
+// -Wstringop-overflow from GCC 12 in position-independent code.
 template <class T>
 void append(std::vector<unsigned char>* out, const T& value) {
-  const auto* p = reinterpret_cast<const unsigned char*>(&value);
-  out->insert(out->end(), p, p + sizeof(T));
+  const std::size_t at = out->size();
+  out->resize(at + sizeof(T));
+  std::memcpy(out->data() + at, &value, sizeof(T));
 }
 
 template <class T>

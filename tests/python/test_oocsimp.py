@@ -1,0 +1,229 @@
+"""The Python module against properties known without it: exact counts, a plane that
+stays flat, constant attributes that stay constant, distances of shifted planes, the
+CLI's bytes, Python's exceptions and Ctrl-C.
+
+Run by ctest with PYTHONPATH=build/python and OOCSIMP_CLI=the oocsimp program.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import textwrap
+import unittest
+
+import numpy as np
+
+import oocsimp
+
+CLI = os.environ.get("OOCSIMP_CLI", "oocsimp")
+
+
+def grid(n, height=None):
+    """An n x n grid of vertices on [0, 1]^2 (z = height(x, y) or 0), two triangles a square."""
+    x, y = np.meshgrid(np.linspace(0.0, 1.0, n), np.linspace(0.0, 1.0, n))
+    z = height(x, y) if height else np.zeros_like(x)
+    vertices = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
+    i = np.arange(n * n).reshape(n, n)
+    a, b, c, d = i[:-1, :-1].ravel(), i[1:, :-1].ravel(), i[:-1, 1:].ravel(), i[1:, 1:].ravel()
+    faces = np.concatenate([np.stack([a, b, d], 1), np.stack([a, d, c], 1)]).astype(np.int32)
+    return vertices, faces
+
+
+def wavy(x, y):
+    return 0.1 * np.sin(6 * x) * np.cos(6 * y)
+
+
+class Simplify(unittest.TestCase):
+    def test_exact_target_and_types(self):
+        v, f = grid(120, wavy)
+        for vt, ft in [(np.float64, np.int32), (np.float32, np.int64), (np.float64, np.uint32)]:
+            with self.subTest(vertices=vt.__name__, faces=ft.__name__):
+                v2, f2 = oocsimp.simplify(v.astype(vt), f.astype(ft), target_tris=1000)
+                self.assertEqual(f2.shape, (1000, 3))
+                self.assertEqual(v2.dtype, vt)
+                self.assertEqual(f2.dtype, ft)
+                self.assertTrue((f2 >= 0).all() and (f2 < len(v2)).all())
+                self.assertEqual(len(np.unique(f2)), len(v2))  # every vertex is used
+
+    def test_ratio_and_a_plane_stays_flat(self):
+        v, f = grid(100)
+        v2, f2 = oocsimp.simplify(v, f, target_ratio=0.1)
+        self.assertEqual(len(f2), round(0.1 * len(f)))
+        self.assertEqual(np.abs(v2[:, 2]).max(), 0.0)
+        # The plane's area is kept: the unit square.
+        a, b, c = v2[f2[:, 0]], v2[f2[:, 1]], v2[f2[:, 2]]
+        area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+        self.assertAlmostEqual(area, 1.0, places=9)
+
+    def test_strided_and_contiguous_input_agree(self):
+        v, f = grid(80, wavy)
+        wide = np.zeros((len(v), 5))
+        wide[:, 1:4] = v  # rows 40 bytes apart, read in place
+        a = oocsimp.simplify(v, f, target_tris=500)
+        b = oocsimp.simplify(wide[:, 1:4], f, target_tris=500)
+        c = oocsimp.simplify(np.asfortranarray(v), np.asfortranarray(f), target_tris=500)  # copied
+        for other in (b, c):
+            np.testing.assert_array_equal(a[0], other[0])
+            np.testing.assert_array_equal(a[1], other[1])
+
+    def test_methods_and_sizes(self):
+        v, f = grid(150, wavy)
+        for method in ("floating", "uniform", "curvature", "qem"):
+            with self.subTest(method=method):
+                if method == "qem":
+                    v2, f2 = oocsimp.simplify(v, f, method=method, target_tris=800)
+                    self.assertEqual(len(f2), 800)
+                else:
+                    v2, f2 = oocsimp.simplify(v, f, method=method, grid=20)
+                    self.assertGreater(len(f2), 0)
+                    self.assertLess(len(f2), len(f) // 10)
+
+    def test_constant_attributes_stay_constant(self):
+        v, f = grid(90, wavy)
+        colors = np.tile(np.array([[10, 200, 30]], dtype=np.uint8), (len(v), 1))
+        normals = np.tile([[0.0, 0.6, 0.8]], (len(v), 1))
+        v2, f2, attrs = oocsimp.simplify(v, f, target_tris=600, colors=colors, normals=normals)
+        self.assertEqual(sorted(attrs), ["colors", "normals"])
+        self.assertEqual(attrs["colors"].dtype, np.uint8)
+        self.assertEqual(attrs["colors"].shape, (len(v2), 3))
+        self.assertTrue((attrs["colors"] == [10, 200, 30]).all())
+        np.testing.assert_allclose(attrs["normals"], np.tile([[0.0, 0.6, 0.8]], (len(v2), 1)), atol=1e-6)
+
+    def test_rgba_colours_keep_their_alpha(self):
+        v, f = grid(40)
+        rgba = np.tile(np.array([[0.1, 0.2, 0.3, 0.5]], dtype=np.float32), (len(v), 1))
+        _, _, attrs = oocsimp.simplify(v, f, target_tris=100, colors=rgba)
+        self.assertEqual(attrs["colors"].shape[1], 4)
+        np.testing.assert_allclose(attrs["colors"][:, 3], 0.5, atol=1e-6)
+
+
+class Errors(unittest.TestCase):
+    def setUp(self):
+        self.v, self.f = grid(20)
+
+    def test_bad_options_are_value_errors_naming_the_keyword(self):
+        with self.assertRaisesRegex(ValueError, "target_tris"):
+            oocsimp.simplify(self.v, self.f, target_tris=2)
+        with self.assertRaisesRegex(ValueError, "target_ratio"):
+            oocsimp.simplify(self.v, self.f, target_ratio=1.5)
+        with self.assertRaisesRegex(ValueError, "method must be one of"):
+            oocsimp.simplify(self.v, self.f, method="magic")
+        with self.assertRaisesRegex(ValueError, "^mem: "):
+            oocsimp.simplify(self.v, self.f, mem="lots")
+        with self.assertRaises(TypeError):
+            oocsimp.simplify(self.v, self.f, target_triangles=10)
+        with self.assertRaises(TypeError):  # texture coordinates are not carried yet
+            oocsimp.simplify(self.v, self.f, target_tris=10, uvs=np.zeros((len(self.v), 2)))
+
+    def test_bad_arrays(self):
+        with self.assertRaisesRegex(ValueError, r"vertices must have shape \(n, 3\)"):
+            oocsimp.simplify(self.v[:, :2], self.f, target_tris=10)
+        with self.assertRaisesRegex(ValueError, "faces"):
+            oocsimp.simplify(self.v, self.f.astype(np.float64), target_tris=10)
+        bad = self.f.astype(np.int64)
+        bad[3, 1] = len(self.v)
+        with self.assertRaisesRegex(ValueError, r"faces\[3, 1\]"):
+            oocsimp.simplify(self.v, bad, target_tris=10)
+        bad = self.f.copy()
+        bad[0, 0] = -1
+        with self.assertRaises(ValueError):  # int32 read in place: the library names it
+            oocsimp.simplify(self.v, bad, target_tris=10)
+        with self.assertRaisesRegex(ValueError, "colors must have a row per vertex"):
+            oocsimp.simplify(self.v, self.f, target_tris=10, colors=np.zeros((3, 3)))
+
+    def test_files(self):
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaises(OSError):
+                oocsimp.simplify_file(os.path.join(d, "absent.ply"), os.path.join(d, "o.ply"))
+            text = os.path.join(d, "text.obj")
+            with open(text, "w") as out:
+                out.write("hello\n")
+            with self.assertRaises(oocsimp.InputError) as caught:
+                oocsimp.simplify_file(text, os.path.join(d, "o.ply"))
+            self.assertIsInstance(caught.exception, ValueError)
+            self.assertIn("line 1", str(caught.exception))
+            self.assertFalse(os.path.exists(os.path.join(d, "o.ply")))
+
+
+class Files(unittest.TestCase):
+    def test_simplify_file_gives_the_cli_bytes(self):
+        with tempfile.TemporaryDirectory() as d:
+            mesh = os.path.join(d, "parts.ply")
+            subprocess.run([CLI, "generate", "--shape", "parts", "--tris", "60000", "--quiet", "-o", mesh], check=True)
+            cases = [
+                ({"target_tris": 3000}, ["--target-tris", "3000"], "a.ply"),
+                ({"method": "floating", "grid": 40, "threads": 1}, ["--method", "floating", "--grid", "40", "--threads", "1"], "b.obj"),
+                ({"method": "uniform", "grid": 30, "normals": True, "ascii": True}, ["--method", "uniform", "--grid", "30", "--normals", "--ascii"], "c.ply"),
+                ({"target_ratio": 0.05, "mem": "64M"}, ["--target-ratio", "0.05", "--mem", "64M"], "d.stl"),
+            ]
+            for kw, flags, name in cases:
+                with self.subTest(kw=kw):
+                    ours, theirs = os.path.join(d, "py-" + name), os.path.join(d, "cli-" + name)
+                    stats = oocsimp.simplify_file(mesh, ours, **kw)
+                    subprocess.run([CLI, "simplify", "--quiet", mesh, "-o", theirs] + flags, check=True)
+                    with open(ours, "rb") as a, open(theirs, "rb") as b:
+                        self.assertEqual(a.read(), b.read())
+                    self.assertGreater(stats["input"]["triangles"], 50000)
+                    self.assertGreater(stats["output"]["triangles"], 0)
+                    if "target_tris" in kw:
+                        self.assertEqual(stats["output"]["triangles"], kw["target_tris"])
+
+    def test_measure_shifted_planes(self):
+        v, f = grid(30)
+        up = v + [0.0, 0.0, 0.25]
+        same = oocsimp.measure((v, f), (v, f), samples=20000)
+        self.assertAlmostEqual(same["symmetric"]["hausdorff"], 0.0, places=12)
+        shifted = oocsimp.measure((v, f), (up, f), samples=20000)
+        for key in ("hausdorff", "mean", "rms"):
+            self.assertAlmostEqual(shifted["symmetric"][key], 0.25, places=12)
+        with tempfile.TemporaryDirectory() as d:
+            a, b = os.path.join(d, "a.obj"), os.path.join(d, "b.obj")
+            for path, verts in ((a, v), (b, up)):
+                with open(path, "w") as out:
+                    out.writelines("v %r %r %r\n" % tuple(p) for p in verts)
+                    out.writelines("f %d %d %d\n" % tuple(t + 1) for t in f)
+            from_files = oocsimp.measure(a, b, samples=20000)
+            self.assertAlmostEqual(from_files["symmetric"]["hausdorff"], 0.25, places=12)
+
+
+class Interrupt(unittest.TestCase):
+    def test_ctrl_c_cancels_and_leaves_nothing(self):
+        with tempfile.TemporaryDirectory() as d:
+            mesh, tmp = os.path.join(d, "big.ply"), os.path.join(d, "tmp")
+            os.mkdir(tmp)
+            subprocess.run([CLI, "generate", "--tris", "4000000", "--quiet", "-o", mesh], check=True)
+            # interrupt_main() is what SIGINT does to the main thread: it sets the flag
+            # the run's progress callback checks.
+            script = textwrap.dedent(f"""
+                import _thread, threading, oocsimp
+                threading.Timer(0.3, _thread.interrupt_main).start()
+                try:
+                    oocsimp.simplify_file({mesh!r}, {os.path.join(d, 'o.ply')!r}, method="floating", grid=600,
+                                          threads=1, tmp={tmp!r})
+                    print("finished")
+                except KeyboardInterrupt:
+                    print("interrupted")
+            """)
+            run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=os.environ)
+            self.assertEqual(run.stdout.strip(), "interrupted", run.stderr)
+            self.assertFalse(os.path.exists(os.path.join(d, "o.ply")))
+            self.assertEqual(os.listdir(tmp), [])
+
+
+class Open3D(unittest.TestCase):
+    def test_round_trip(self):
+        try:
+            import open3d as o3d
+        except ImportError:
+            self.skipTest("open3d is not installed (python3-open3d)")
+        sphere = o3d.geometry.TriangleMesh.create_sphere(radius=1.0, resolution=60)
+        v, f = oocsimp.simplify(np.asarray(sphere.vertices), np.asarray(sphere.triangles), target_tris=1000)
+        out = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(v), o3d.utility.Vector3iVector(f))
+        self.assertEqual(len(out.triangles), 1000)
+        self.assertTrue(out.is_watertight())
+        radii = np.linalg.norm(v, axis=1)
+        self.assertLess(np.abs(radii - 1.0).max(), 0.05)
+
+
+if __name__ == "__main__":
+    unittest.main()
