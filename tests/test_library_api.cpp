@@ -201,6 +201,11 @@ TEST_CASE("the in-memory entry point reports and cancels through the same callba
   CHECK(!m.triangles.empty());
   CHECK(log.find("grade tiles") != nullptr);
   CHECK(stats.peak_anon_bytes > 0);  // sampled by the library, not by a progress display
+  // The run's time, at least the sum of its phases'.
+  double phases = 0;
+  for (const auto& phase : stats.phases) phases += phase.seconds;
+  CHECK(stats.seconds_total > 0);
+  CHECK(stats.seconds_total >= phases);
   ProgressLog stop;
   stop.cancel_in = "grade tiles";
   stop.cancel_at_begin = true;

@@ -167,6 +167,26 @@ TEST_CASE("a maximum error (--max-error) stops the collapse, in model units", "[
   CHECK(std::stod(js.substr(at + 26)) <= 0.0005);
   CHECK(js.find("\"intermediate_triangles\": ") != std::string::npos);
   CHECK(js.find("\"refine\": ") != std::string::npos);
+  // No count was asked: stopping at the error is the aim, not a missed target.
+  const CliResult alone = simplify(in, d.file("c.ply"), "--max-error 0.0005");
+  REQUIRE(alone.exit_code == 0);
+  CHECK(alone.err.find("was not met") == std::string::npos);
+}
+
+TEST_CASE("a clustering method that does not run is named in a warning", "[multiphase][cli]") {
+  ScratchDir d;
+  // 20k triangles: phase 1 aims at 65536 at least, the whole input, so the input
+  // collapses whole instead and no grid is shown.
+  const std::string in = generated(d, "sphere", 20000);
+  for (const char* method : {"floating", "uniform", "curvature"}) {
+    CAPTURE(method);
+    const CliResult r =
+        run_cli("simplify " + q(in) + " -o " + q(d.file("o.ply")) + " --target-tris 2000 --method " + method);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find(std::string("warning: --method ") + method + ": no clustering ran; the whole input") !=
+          std::string::npos);
+    CHECK(r.out.find("2000 triangles (edge collapse)") != std::string::npos);
+  }
 }
 
 namespace {
@@ -215,9 +235,9 @@ TEST_CASE("a target without --method is --method qem, and with floating or unifo
   REQUIRE(simplify(in, d.file("qem.ply"), "--method qem --target-tris 3000").exit_code == 0);
   CHECK(read_file(d.file("default.ply")) == read_file(d.file("qem.ply")));
   CHECK(read_file(d.file("default.json")).find("\"method\": \"qem\"") != std::string::npos);
-  REQUIRE(simplify(in, d.file("floating.ply"), "--method floating --target-tris 3000 --stats " +
-                                                   q(d.file("floating.json")))
-              .exit_code == 0);
+  REQUIRE(
+      simplify(in, d.file("floating.ply"), "--method floating --target-tris 3000 --stats " + q(d.file("floating.json")))
+          .exit_code == 0);
   const std::string json = read_file(d.file("floating.json"));
   CHECK(json.find("\"method\": \"floating\"") != std::string::npos);
   CHECK(json.find("\"phase1_peak_anon_bytes\": 0,") == std::string::npos);  // phase 1 ran
@@ -236,8 +256,8 @@ TEST_CASE("bad targets exit 2 with one line, a target at or above the input give
        {"--target-tris 3", "--target-tris 0", "--target-ratio 0", "--target-ratio 1.5", "--target-ratio -1",
         "--target-tris 1000 --grid 64", "--target-tris 1000 --ratio 0.1", "--target-tris 1000 --cell 0.1",
         "--target-tris 1000 --target-ratio 0.5", "--method qem --grid 64", "--refine qem", "--max-error 0",
-        "--max-error nan", "--target-tris 1000 --method floating --intermediate-factor 0.5",
-        "--intermediate-factor 2", "--target-tris 1000 --intermediate-factor 2", "--target-tris 1000 --refine none",
+        "--max-error nan", "--target-tris 1000 --method floating --intermediate-factor 0.5", "--intermediate-factor 2",
+        "--target-tris 1000 --intermediate-factor 2", "--target-tris 1000 --refine none",
         "--target-tris 1000 --tile 0.5", "--method qem --target-tris 1000 --intermediate-factor 2"}) {
     INFO(args);
     CliResult r = simplify(in, out, args);

@@ -607,16 +607,22 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
                                                 std::to_string(stats.output_points) + " points"
                                           : std::string();
   const double mtri = stats.seconds_total > 0 ? double(stats.input_triangles) / stats.seconds_total / 1e6 : 0;
+  // A collapse with no clustering before it has no grid to show.
+  char how[160];
+  if (stats.grid_dims[0] == 0)
+    std::snprintf(how, sizeof how, "%s", o.target.given() || method == ClusterMethod::qem ? "edge collapse" : "as is");
+  else
+    std::snprintf(how, sizeof how, "%s, grid %ux%ux%u, cell %.6g", method_name(method), stats.grid_dims[0],
+                  stats.grid_dims[1], stats.grid_dims[2], stats.cell_size);
   std::fprintf(to,
                "input   %" PRIu64 " vertices, %" PRIu64
                " triangles\n"
                "output  %" PRIu64 " vertices, %" PRIu64
-               " triangles%s (%s, grid %ux%ux%u, cell %.6g)\n"
+               " triangles%s (%s)\n"
                "time    %.3f s (%s): %.2f Mtri/s\n"
                "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
                stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-               thick.c_str(), method_name(method), stats.grid_dims[0], stats.grid_dims[1], stats.grid_dims[2],
-               stats.cell_size, stats.seconds_total, phase_times(stats.phases).c_str(), mtri,
+               thick.c_str(), how, stats.seconds_total, phase_times(stats.phases).c_str(), mtri,
                double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
 }
 

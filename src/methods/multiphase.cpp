@@ -158,8 +158,9 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
   stats->refine.largest_collapse_cost = cs.largest_cost;
   stats->refine.largest_collapse_error = cs.largest_error;
   // max_error alone asks for no count: stopping at it is the aim, not a miss.
-  const bool count_asked =
-      options.target.triangles != 0 || options.target.ratio != 0 || options.method == ClusterMethod::qem;
+  // (qem with no target at all keeps the default share, a count.)
+  const bool count_asked = options.target.triangles != 0 || options.target.ratio != 0 ||
+                           (options.method == ClusterMethod::qem && options.target.max_error == 0);
   stats->refine.target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
   if (stats->refine.target_missed && count_asked && (goal.last || cs.parity)) {
     std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
@@ -360,6 +361,13 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     stats->warnings.resize(warnings_before);
     if (plan.whole_instead(want, attempt)) {
       stats->refine.phase1_peak_anon_bytes = 0;
+      // The method asked for did not run: say so, and why.
+      stats->warnings.push_back(std::string("options.method ") + method_name(o->method) +
+                                ": no clustering ran; the whole input (" + std::to_string(input.info.face_count) +
+                                " triangles) was collapsed instead, since " +
+                                (attempt > 0 ? "clustering finer still missed the target"
+                                             : "clustering to the " + std::to_string(std::uint64_t(want)) +
+                                                   " triangles phase 1 aims at would keep most of it"));
       return collapse_whole(input, *o, origin, stats);
     }
     const bool finest = plan.finest(attempt);
