@@ -673,6 +673,12 @@ TEST_CASE("every invalid size or count exits 2 naming the flag and the value", "
       {measure + "--samples 0", "--samples", "0"},
       {measure + "--samples -5", "--samples", "-5"},
       {measure + "--threads 0", "--threads", "0"},
+      {simplify + "--target-tris 2.5k5", "--target-tris", "2.5k5"},
+      {simplify + "--target-tris 1.5k1", "--target-tris", "1.5k1"},
+      {simplify + "--target-tris 1e-3", "--target-tris", "1e-3"},
+      {simplify + "--target-tris 1.0005k", "--target-tris", "1.0005k"},
+      {simplify + "--target-tris 1e300", "--target-tris", "1e300"},
+      {simplify + "--grid 3m", "--grid", "3m"},
   };
   for (const Case& c : cases) {
     CliResult r = run_cli(c.args);
@@ -690,6 +696,23 @@ TEST_CASE("every invalid size or count exits 2 naming the flag and the value", "
     CHECK(r.err.find("--method") != std::string::npos);
   }
   CHECK(d.entries() == std::vector<std::string>{"s.ply"});
+}
+
+TEST_CASE("counts take a decimal suffix or an exponent, and --help names each value's kind", "[cli][options]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --tris 2e4 --quiet -o " + q(d.file("s.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(d.file("digits.ply"))).exit_code == 0);
+  CHECK(read_file(d.file("s.ply")) == read_file(d.file("digits.ply")));
+  for (const char* count : {"1500", "1.5k", "1.5K", "15e2", "0.0015M"}) {
+    CAPTURE(count);
+    REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")) + " --target-tris " + count)
+                .exit_code == 0);
+    CHECK(load_mesh(d.file("o.ply")).triangle_count() == 1500);
+  }
+  const CliResult help = run_cli("simplify --help");
+  CHECK(help.out.find("TEXT") == std::string::npos);
+  for (const char* shown : {"input FILE", "--grid N", "--cell X", "--mem SIZE", "--tmp DIR", "--method NAME:{"})
+    CHECK(help.out.find(shown) != std::string::npos);
 }
 
 TEST_CASE("the documented maximum grid, 2097151, is accepted", "[cli][options]") {

@@ -137,11 +137,30 @@ double positive_number(const std::string& flag, const std::string& text, double 
   return v;
 }
 
+// A count: digits, or a number with an exponent or a decimal suffix k, M or G (10^3,
+// 10^6, 10^9: "10k", "2.5M", "1e6") that comes to a whole number.
 std::uint64_t whole_number(const std::string& flag, const std::string& text, std::uint64_t min, std::uint64_t max) {
   std::uint64_t v = 0;
   auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || text[0] == '-' || r.ec != std::errc() || r.ptr != text.data() + text.size() || v < min || v > max)
-    bad_value(flag, text, "a whole number from " + std::to_string(min) + " to " + std::to_string(max));
+  bool ok = !text.empty() && text[0] != '-' && r.ec == std::errc() && r.ptr == text.data() + text.size();
+  if (!ok && !text.empty() && text[0] != '-') {
+    std::string number = text;
+    double scale = 1;
+    const char last = number.back();
+    if (last == 'k' || last == 'K' || last == 'M' || last == 'G') {
+      scale = last == 'G' ? 1e9 : last == 'M' ? 1e6 : 1e3;
+      number.pop_back();
+    }
+    char* end = nullptr;
+    const double x = std::strtod(number.c_str(), &end) * scale;
+    // Below 2^53 every whole number is exact in a double.
+    ok = !number.empty() && *end == '\0' && std::isfinite(x) && x >= 0 && x < 9007199254740992.0 && x == std::floor(x);
+    if (ok) v = std::uint64_t(x);
+  }
+  if (!ok || v < min || v > max)
+    bad_value(
+        flag, text,
+        "a whole number from " + std::to_string(min) + " to " + std::to_string(max) + " (digits, or 10k, 2.5M, 1e6)");
   return v;
 }
 
@@ -1312,6 +1331,36 @@ int report_failure() {
 
 }  // namespace
 
+// What each option's value is, for --help: every value is taken as text and checked
+// later, which CLI11 would show as TEXT.
+void show_value_types(CLI::App& app) {
+  static const std::pair<const char*, const char*> kTypeOfOption[] = {
+      {"threads", "N"},      {"target-tris", "N"},
+      {"tris", "N"},         {"grid", "N"},
+      {"lods", "N"},         {"levels", "N"},
+      {"samples", "N"},      {"seed", "N"},
+      {"level", "N"},        {"max-depth", "N"},
+      {"height", "N"},       {"mem", "SIZE"},
+      {"part", "I/K"},       {"box", "X0,Y0,Z0,X1,Y1,Z1"},
+      {"sphere", "X,Y,Z,R"}, {"size", "WxH"},
+      {"view", "AZ,EL"},     {"attributes", "NAMES"},
+      {"tmp", "DIR"},        {"work-dir", "DIR"},
+      {"output", "FILE"},    {"stats", "FILE"},
+      {"input", "FILE"},     {"a", "FILE"},
+      {"b", "FILE"},
+  };
+  for (CLI::App* command : app.get_subcommands({}))
+    for (CLI::Option* option : command->get_options()) {
+      const std::string shown = option->get_type_name();
+      if (option->get_type_size() == 0 || shown.empty()) continue;  // a flag
+      const std::string name = option->get_lnames().empty() ? option->get_name() : option->get_lnames().front();
+      const char* type = shown.find(':') != std::string::npos ? "NAME" : "X";  // a choice, or a number
+      for (const auto& [n, t] : kTypeOfOption)
+        if (name == n) type = t;
+      option->type_name(type);
+    }
+}
+
 int main(int argc, char** argv) {
   install_signal_cleanup();
   tune_allocator_for_tiles();
@@ -1340,6 +1389,7 @@ int main(int argc, char** argv) {
       {add_extract_command(app, extract), [&] { return run_extract(extract); }},
       {add_merge_command(app, merge), [&] { return run_merge(merge); }},
   };
+  show_value_types(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
