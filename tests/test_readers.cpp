@@ -21,6 +21,7 @@
 #include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 #include "io/mesh_input.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
 
 using Catch::Matchers::Contains;
@@ -1433,6 +1434,62 @@ TEST_CASE("A file named .obj with no OBJ statement is refused, naming its first 
   write_file(dir.file("named.obj"), "hello\no object\n");
   LoadedMesh m = load_mesh(dir.file("named.obj"), dir.path());
   CHECK(m.triangle_count() == 0);
+}
+
+TEST_CASE("OFF is read: comments, counts on the keyword line, polygons, the prefixes", "[readers][off]") {
+  ScratchDir dir;
+  // A unit square as a quad and a triangle beside it; comments and blank lines between.
+  write_file(dir.file("quad.off"),
+             "OFF # a comment\n\n# counts next\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0 # the last corner\n2 0.5 0\n"
+             "4 0 1 2 3\n3 1 4 2 255 0 0\n");
+  LoadedMesh m = load_mesh(dir.file("quad.off"), dir.path());
+  CHECK(m.info.format == "off");
+  CHECK(m.vertex_count() == 5);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 2, 3, 1, 4, 2});  // the quad fanned from its first corner
+  CHECK(m.positions[3 * 4] == 2.0);
+  // Counts on the keyword line, colours and normals after x y z (not carried), no
+  // extension: the content says OFF.
+  write_file(dir.file("coloured.mesh"),
+             "CNOFF 3 1 0\n0 0 0 0 0 1 255 0 0\n1 0 0 0 0 1 0 255 0\n0 1 0 0 0 1 0 0 255\n3 0 1 2\n");
+  LoadedMesh c = load_mesh(dir.file("coloured.mesh"), dir.path());
+  CHECK(c.info.format == "off");
+  CHECK(c.triangles == std::vector<std::uint64_t>{0, 1, 2});
+  REQUIRE(c.info.not_carried.size() == 1);
+  CHECK_THAT(c.info.not_carried[0], Contains("OFF vertex normals, colours are not carried"));
+  // Written by the writer, read back: the same mesh as the PLY.
+  const std::vector<double> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const std::vector<std::uint32_t> triangles = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+  oocsimp::write_mesh(dir.file("t.off"), positions, triangles, oocsimp::MeshFormat::off);
+  oocsimp::write_mesh(dir.file("t.ply"), positions, triangles, oocsimp::MeshFormat::ply_binary);
+  const LoadedMesh off = load_mesh(dir.file("t.off"), dir.path()), ply = load_mesh(dir.file("t.ply"), dir.path());
+  CHECK(off.positions == ply.positions);
+  CHECK(off.triangles == ply.triangles);
+}
+
+TEST_CASE("damaged OFF is refused naming the line", "[readers][off][errors]") {
+  ScratchDir dir;
+  struct Case {
+    const char* content;
+    const char* message;
+  } cases[] = {
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n", "line 4: the file ends after 2 of its 3 vertices"},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 x\n3 0 1 2\n", "line 5: malformed vertex coordinate \"x\""},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "line 6: vertex index 3 is not below the vertex count 3"},
+      {"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "the file ends after 1 of its 2 faces"},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", "line 6: a face of 4 corners lists 3 indices"},
+      {"OFF\nthree 1 0\n", "line 2: expected the counts"},
+      {"OFF BINARY\n", "binary OFF is not read"},
+      {"4OFF\n1 0 0\n0 0 0 0\n", "only three-dimensional OFF"},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    const std::string path = dir.file("bad" + std::to_string(i++) + ".off");
+    write_file(path, c.content);
+    CAPTURE(c.content);
+    const std::string error = input_error([&] { load_mesh(path, dir.path()); });
+    CHECK_THAT(error, StartsWith(path + ": "));
+    CHECK_THAT(error, Contains(c.message));
+  }
 }
 
 TEST_CASE("Missing input file throws IoError", "[readers][errors]") {

@@ -1,3 +1,4 @@
+#include <cctype>
 #include <cstdlib>
 #include <cstring>
 
@@ -125,6 +126,19 @@ bool looks_like_obj(ByteSource& src) {
   return false;
 }
 
+// Whether the content starts with an OFF keyword line ("OFF", "COFF", "NOFF",
+// "STCNOFF", ... with or without the counts after it).
+bool looks_like_off(ByteSource& src) {
+  std::size_t n = 16;
+  const unsigned char* p = nullptr;
+  while (n > 0 && !(p = text_start(src, n))) --n;
+  if (!p) return false;
+  std::size_t k = 0;
+  while (k < n && std::isupper(p[k])) ++k;
+  if (k < 3 || std::memcmp(p + k - 3, "OFF", 3) != 0) return false;
+  return k == n || p[k] == '\n' || p[k] == '\r' || p[k] == ' ' || p[k] == '\t';
+}
+
 }  // namespace
 
 MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in) {
@@ -150,6 +164,8 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
     stl = true;
   } else if (ends_with(name, ".obj")) {
     open_obj(src, options, progress, out);
+  } else if (ends_with(name, ".off") || looks_like_off(src)) {
+    open_off(src, options, progress, out);
   } else if (ends_with(name, ".ply")) {
     throw InputError(at_byte(path, 0, "not a PLY file (it does not start with \"ply\")"));
   } else {
@@ -160,7 +176,7 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
     } else if (looks_like_obj(src)) {
       open_obj(src, options, progress, out);
     } else {
-      throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj or .stl, optionally .zst)");
+      throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj, .stl or .off, optionally .zst)");
     }
   }
   // STL has no vertex attributes: a selection that names one cannot be met.

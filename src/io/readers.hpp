@@ -16,6 +16,7 @@ namespace oocsimp {
 void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 void open_stl(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
+void open_off(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 
 /// Largest polygon accepted (corners); more is treated as a corrupt count.
 constexpr std::uint64_t kMaxPolygonCorners = 1u << 20;
