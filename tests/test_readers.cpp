@@ -2,6 +2,7 @@
 // through the public open_mesh_input() API. Every input is written by the test itself
 // into a scratch folder.
 #include <catch2/catch.hpp>
+#include <zlib.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -832,6 +833,72 @@ TEST_CASE("zstd-compressed PLY OBJ and STL give the same mesh as uncompressed", 
     CHECK(a.vertex_count() > 0);
     CHECK(a.triangle_count() > 0);
   }
+}
+
+namespace {
+
+// `bytes` as one gzip member (RFC 1952), by zlib's deflate with a gzip wrapper.
+std::string gzip_member(const std::string& bytes) {
+  z_stream z{};
+  REQUIRE(deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) == Z_OK);
+  std::string out(deflateBound(&z, uLong(bytes.size())) + 64, '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = uInt(bytes.size());
+  z.next_out = reinterpret_cast<Bytef*>(&out[0]);
+  z.avail_out = uInt(out.size());
+  REQUIRE(deflate(&z, Z_FINISH) == Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("gzip-compressed input reads as the plain file, members one after another", "[readers][gzip]") {
+  ScratchDir dir;
+  std::string ply = std::string("ply\n") + format_line(false) + "element vertex 40000\n" + kXyzFloat +
+                    "element face 39998\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::uint32_t i = 0; i < 40000; ++i) {
+    put_le(ply, float(i));
+    put_le(ply, float(i % 7));
+    put_le(ply, float(i % 13));
+  }
+  for (std::int32_t i = 0; i + 2 < 40000; ++i) {
+    ply.push_back(3);
+    put_le(ply, i);
+    put_le(ply, i + 1);
+    put_le(ply, i + 2);
+  }
+  const std::string cases[][2] = {{"mesh.obj", obj_text()}, {"mesh.stl", ascii_stl()}, {"big.ply", ply}};
+  for (const auto& c : cases) {
+    CAPTURE(c[0]);
+    const std::string plain = dir.file(c[0]), packed = plain + ".gz", two = dir.file("two-" + c[0] + ".gz");
+    write_file(plain, c[1]);
+    write_file(packed, gzip_member(c[1]));
+    // Split in two members, as `cat a.gz b.gz` or pigz gives.
+    const std::size_t half = c[1].size() / 2;
+    write_file(two, gzip_member(c[1].substr(0, half)) + gzip_member(c[1].substr(half)));
+    const LoadedMesh a = load_mesh(plain, dir.path());
+    for (const std::string& path : {packed, two}) {
+      const LoadedMesh b = load_mesh(path, dir.path());
+      CHECK(b.info.compressed);
+      CHECK(b.info.compression == "gzip");
+      CHECK(b.positions == a.positions);
+      CHECK(b.triangles == a.triangles);
+    }
+  }
+  // Damaged: cut short, a corrupt byte, something after the last member.
+  const std::string member = gzip_member(ply);
+  write_file(dir.file("short.ply.gz"), member.substr(0, member.size() / 2));
+  CHECK_THAT(input_error([&] { load_mesh(dir.file("short.ply.gz"), dir.path()); }),
+             StartsWith(dir.file("short.ply.gz") + ": byte ") && Contains("truncated gzip stream"));
+  std::string corrupt = member;
+  for (std::size_t i = 100; i < 140; ++i) corrupt[i] = char(corrupt[i] ^ 0x5A);
+  write_file(dir.file("corrupt.ply.gz"), corrupt);
+  CHECK_THAT(input_error([&] { load_mesh(dir.file("corrupt.ply.gz"), dir.path()); }), Contains("gzip"));
+  write_file(dir.file("tail.ply.gz"), member + "garbage");
+  CHECK_THAT(input_error([&] { load_mesh(dir.file("tail.ply.gz"), dir.path()); }),
+             Contains("data after the gzip stream"));
 }
 
 TEST_CASE("zstd-compressed PLY with multi-megabyte content", "[readers][zstd]") {

@@ -951,7 +951,8 @@ int run_info(const InfoArgs& a) {
   const MeshSummary m = describe_mesh(a.in, a.tmp);
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
-  std::printf("format    %s%s\n", i.format.c_str(), i.compressed ? " (zstd)" : "");
+  std::printf("format    %s%s%s%s\n", i.format.c_str(), i.compressed ? " (" : "", i.compression.c_str(),
+              i.compressed ? ")" : "");
   std::printf("vertices  %" PRIu64, i.vertex_count);
   if (i.unwelded_vertex_count) std::printf(" (welded from %" PRIu64 " stored)", i.unwelded_vertex_count);
   std::printf("\n");

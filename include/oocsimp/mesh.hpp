@@ -22,7 +22,8 @@ enum class MeshFormat { ply_binary, ply_ascii, obj, stl_binary, stl_ascii, off }
 struct MeshInfo {
   std::string path;
   std::string format;              ///< e.g. "ply binary_little_endian", "obj", "stl binary"
-  bool compressed = false;         ///< read through zstd
+  bool compressed = false;         ///< read through zstd or gzip
+  std::string compression;         ///< "zstd", "gzip", or empty when not compressed
   std::uint64_t vertex_count = 0;  ///< after welding, when welded
   std::uint64_t face_count = 0;    ///< faces as stored (polygons); STL: triangles
   /// Thick edges and points: PLY "edge" and "point" records, OBJ "l" and "p" lines.

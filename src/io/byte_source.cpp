@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -135,10 +136,21 @@ std::size_t InputFile::read_at(std::uint64_t offset, void* dst, std::size_t n) {
 
 ByteSource::ByteSource(std::shared_ptr<InputFile> file) : file_(std::move(file)) {
   unsigned char head[4];
-  if (file_->read_at(0, head, 4) == 4 && starts_zstd_frame(head)) {
+  const bool has_head = file_->read_at(0, head, 4) == 4;
+  if (has_head && starts_zstd_frame(head)) {
     zstd_ = ZSTD_createDCtx();
     if (!zstd_) throw IoError(path() + ": cannot create a zstd decompression context");
     zin_.resize(ZSTD_DStreamInSize());
+  } else if (has_head && head[0] == 0x1F && head[1] == 0x8B) {  // RFC 1952 §2.3.1: ID1, ID2
+    gzip_ = new z_stream_s();
+    // 15 + 16: the largest window, with a gzip header and trailer.
+    if (inflateInit2(gzip_, 15 + 16) != Z_OK) {
+      delete gzip_;
+      gzip_ = nullptr;
+      throw IoError(path() + ": cannot create a gzip decompression state");
+    }
+    zin_.resize(1 << 17);
+    frame_done_ = false;
   }
   // A small file gets a buffer of its size (peek and long lines grow it as needed):
   // clearing 1 MiB per pass would dominate reading it, a few times per input.
@@ -149,6 +161,10 @@ ByteSource::ByteSource(std::shared_ptr<InputFile> file) : file_(std::move(file))
 
 ByteSource::~ByteSource() {
   if (zstd_) ZSTD_freeDCtx(zstd_);
+  if (gzip_) {
+    inflateEnd(gzip_);
+    delete gzip_;
+  }
 }
 
 std::size_t ByteSource::read_raw(void* dst, std::size_t cap) {
@@ -157,7 +173,48 @@ std::size_t ByteSource::read_raw(void* dst, std::size_t cap) {
   return got;
 }
 
+// Members follow one another (`cat a.gz b.gz`, pigz): after the end of one, the next
+// must start with the gzip magic, and is inflated in turn.
+std::size_t ByteSource::fill_gzip(unsigned char* dst, std::size_t cap) {
+  z_stream_s& z = *gzip_;
+  z.next_out = dst;
+  z.avail_out = unsigned(std::min<std::size_t>(cap, 1u << 30));
+  const std::size_t asked = z.avail_out;
+  while (z.avail_out > 0) {
+    if (zin_pos_ == zin_end_) {
+      if (raw_eof_) break;
+      std::size_t n = read_raw(zin_.data(), zin_.size());
+      if (n == 0) {
+        raw_eof_ = true;
+        if (!frame_done_) throw InputError(at_byte(path(), raw_consumed_, "truncated gzip stream (compressed offset)"));
+        break;
+      }
+      zin_pos_ = 0;
+      zin_end_ = n;
+    }
+    if (frame_done_) {  // another member, or something that is none
+      if (zin_[zin_pos_] != 0x1F)
+        throw InputError(at_byte(path(), raw_consumed_ - (zin_end_ - zin_pos_),
+                                 "data after the gzip stream that starts no gzip member"));
+      inflateReset(&z);
+      frame_done_ = false;
+    }
+    z.next_in = zin_.data() + zin_pos_;
+    z.avail_in = unsigned(zin_end_ - zin_pos_);
+    const int r = inflate(&z, Z_NO_FLUSH);
+    zin_pos_ = zin_end_ - z.avail_in;
+    if (r == Z_STREAM_END) {
+      frame_done_ = true;
+    } else if (r != Z_OK && !(r == Z_BUF_ERROR && z.avail_in == 0)) {
+      throw InputError(at_byte(path(), raw_consumed_ - (zin_end_ - zin_pos_),
+                               std::string("corrupt gzip stream: ") + (z.msg ? z.msg : "inflate failed")));
+    }
+  }
+  return asked - z.avail_out;
+}
+
 std::size_t ByteSource::fill_raw(unsigned char* dst, std::size_t cap) {
+  if (gzip_) return fill_gzip(dst, cap);
   if (!zstd_) return read_raw(dst, cap);
   // ZSTD_decompressStream goes on from one frame to the next and passes over skippable
   // frames, so concatenated files (`cat a.zst b.zst`, pzstd) read as `zstd -d` reads them.

@@ -10,6 +10,8 @@
 
 typedef struct ZSTD_DCtx_s ZSTD_DCtx;
 
+struct z_stream_s;  // zlib's z_stream
+
 namespace oocsimp {
 
 class TempFile;
@@ -58,7 +60,8 @@ class InputFile {
 
 /// Reads an InputFile front to back through a buffer. Content that starts with a zstd
 /// frame (or a skippable frame, as pzstd writes) is decompressed as a stream of frames,
-/// as `zstd -d` does. Offsets are positions in the (decompressed) content; lines are
+/// as `zstd -d` does; content that starts with a gzip member (RFC 1952) as a stream of
+/// members, as `gzip -d` does. Offsets are positions in the (decompressed) content; lines are
 /// counted from 1 by next_line().
 class ByteSource {
  public:
@@ -70,7 +73,9 @@ class ByteSource {
   /// The name of the input, for messages.
   const std::string& path() const { return file_->name(); }
   const std::shared_ptr<InputFile>& input() const { return file_; }
-  bool compressed() const { return zstd_ != nullptr; }
+  bool compressed() const { return zstd_ != nullptr || gzip_ != nullptr; }
+  /// "zstd", "gzip", or "" for content read as it is.
+  const char* compression() const { return zstd_ ? "zstd" : gzip_ ? "gzip" : ""; }
   /// True when file_size() is the size of the content: an uncompressed regular file.
   /// Checks of counts against the size, and reading positions in place, need it.
   bool content_size_known() const { return !compressed() && !file_->streamed(); }
@@ -115,6 +120,7 @@ class ByteSource {
  private:
   bool refill_for(std::size_t n);
   std::size_t fill_raw(unsigned char* dst, std::size_t cap);
+  std::size_t fill_gzip(unsigned char* dst, std::size_t cap);
   std::size_t read_raw(void* dst, std::size_t cap);
   [[noreturn]] void line_too_long(std::size_t max_length, const char* too_long) const;
 
@@ -126,6 +132,7 @@ class ByteSource {
   bool eof_ = false;
   std::vector<unsigned char> buf_;
   ZSTD_DCtx* zstd_ = nullptr;
+  z_stream_s* gzip_ = nullptr;
   std::vector<unsigned char> zin_;
   std::size_t zin_pos_ = 0, zin_end_ = 0;
   bool raw_eof_ = false;

@@ -149,8 +149,10 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   // Opened once: every later pass reads this descriptor (or the copy of a stream).
   ByteSource src(InputFile::open(path, options.temp_dir));
   out.info.compressed = src.compressed();
+  out.info.compression = src.compression();
   std::string name = path;
   if (ends_with(name, ".zst")) name.resize(name.size() - 4);
+  if (ends_with(name, ".gz")) name.resize(name.size() - 3);
 
   // The content decides; the extension only separates OBJ from STL when the first
   // bytes do not.
@@ -176,7 +178,8 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
     } else if (looks_like_obj(src)) {
       open_obj(src, options, progress, out);
     } else {
-      throw InputError(src.path() + ": unknown mesh format (expected .ply, .obj, .stl or .off, optionally .zst)");
+      throw InputError(src.path() +
+                       ": unknown mesh format (expected .ply, .obj, .stl or .off, optionally .zst or .gz)");
     }
   }
   // STL has no vertex attributes: a selection that names one cannot be met.
