@@ -115,6 +115,17 @@ TEST_CASE("every output format is chosen by extension", "[cli]") {
               .exit_code == 0);
   CHECK(read_file(d.file("a.ply")).find("format ascii 1.0") != std::string::npos);
   CHECK(load_mesh(d.file("a.ply")).positions == ref.positions);
+  // --normals into OBJ: a vn line per vertex, no warning, the same mesh.
+  const CliResult r = run_cli("simplify " + q(d.file("s.ply")) + " -o " + q(d.file("n.obj")) + " --grid 16 --normals");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.find("warning") == std::string::npos);
+  const std::string obj = read_file(d.file("n.obj"));
+  std::size_t v = 0, vn = 0;
+  for (std::size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++v;
+  for (std::size_t at = obj.find("\nvn "); at != std::string::npos; at = obj.find("\nvn ", at + 1)) ++vn;
+  CHECK(v == ref.vertex_count());
+  CHECK(vn == v);
+  CHECK(load_mesh(d.file("n.obj")).triangles == ref.triangles);
 }
 
 TEST_CASE("bad input exits 3 with one line naming the file and no output", "[cli]") {

@@ -396,6 +396,25 @@ TEST_CASE("write_mesh OFF holds the vertices and triangles exactly", "[writers][
   CHECK(dir.entries() == std::vector<std::string>{"m.off.zst"});
 }
 
+TEST_CASE("OBJ keeps vertex normals as vn lines the faces name with the vertex's index", "[writers][obj]") {
+  ScratchDir dir;
+  const std::vector<double> pos = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::vector<std::uint32_t> tri = {0, 1, 2};
+  oocsimp::AttributeValues attrs;
+  for (const char* n : {"red", "green", "blue", "nx", "ny", "nz"})
+    attrs.attributes.push_back({n, oocsimp::AttributeType::f32, 0, 1});
+  // Per vertex: a grey, then the normal (0, 0, 1), (0, 0.6, 0.8), (1, 0, 0).
+  attrs.values = {0.5, 0.5, 0.5, 0, 0, 1, 0.5, 0.5, 0.5, 0, 0.6, 0.8, 0.5, 0.5, 0.5, 1, 0, 0};
+  CHECK(oocsimp::format_keeps_attributes(MeshFormat::obj, attrs));
+  write_mesh(dir.file("n.obj"), pos, tri, MeshFormat::obj, ScalarType::f32, &attrs);
+  CHECK(oocsimp_test::read_file(dir.file("n.obj")) ==
+        "# oocsimp\nv 0 0 0 0.5 0.5 0.5\nvn 0 0 1\nv 1 0 0 0.5 0.5 0.5\nvn 0 0.6 0.8\nv 0 1 0 0.5 0.5 0.5\nvn 1 0 0\n"
+        "f 1//1 2//2 3//3\n");
+  // Another attribute beside them is not kept.
+  attrs.attributes.push_back({"quality", oocsimp::AttributeType::f32, 0, 1});
+  CHECK_FALSE(oocsimp::format_keeps_attributes(MeshFormat::obj, attrs));
+}
+
 TEST_CASE("simplify writes the format its output's extension names, and refuses others before any work",
           "[writers][cli]") {
   ScratchDir d;

@@ -156,7 +156,8 @@ void write_mesh(const std::string& path, const std::vector<double>& positions,
 
 /// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
 /// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in
-/// [0, 1]); STL and OFF none.
+/// [0, 1]) and the normals nx, ny, nz ("vn", a line per vertex, which the faces name
+/// as "f a//a b//b c//c"); STL and OFF none.
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
 
 /// Whether `format` stores thick edges and points with their thickness (PLY only; OBJ

@@ -78,8 +78,8 @@ struct MeshArrays {
       }
     }
   }
-  // OBJ's "r g b" in [0, 1] (integer colours divided by their type's maximum), when
-  // red, green and blue are carried; -1 otherwise.
+  // The attribute named `name` (OBJ's colours "red", "green", "blue" and normals "nx",
+  // "ny", "nz"), or -1.
   int colour_index(const char* name) const {
     for (std::size_t k = 0; k < attribute_count(); ++k)
       if (attribute_info(k).name == name) return int(k);
@@ -128,6 +128,10 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
   // "v x y z r g b", the colour extension MeshLab and most scanners read.
   const int rgb[3] = {m.colour_index("red"), m.colour_index("green"), m.colour_index("blue")};
   const bool colours = rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0;
+  // Vertex normals as "vn", one per vertex in the vertices' order, which the faces
+  // name with the vertex's own index ("f a//a b//b c//c").
+  const int nxyz[3] = {m.colour_index("nx"), m.colour_index("ny"), m.colour_index("nz")};
+  const bool normals = nxyz[0] >= 0 && nxyz[1] >= 0 && nxyz[2] >= 0;
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     out.text() += "v ";
     m.append_vertex(out.text(), i);
@@ -138,11 +142,29 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
                      ScalarType::f32);
       }
     out.text() += '\n';
+    if (normals) {
+      out.text() += "vn";
+      for (int c : nxyz) {
+        out.text() += ' ';
+        append_coord(out.text(), m.attribute(i, std::size_t(c)), ScalarType::f32);
+      }
+      out.text() += '\n';
+    }
     out.maybe_flush();
   }
   for (std::size_t t = 0; t < m.triangles(); ++t) {
     out.text() += "f ";
-    m.append_triangle(out.text(), t, 1);
+    if (normals) {
+      for (int k = 0; k < 3; ++k) {
+        if (k) out.text() += ' ';
+        const std::uint64_t v = std::uint64_t(m.tri[3 * t + std::size_t(k)]) + 1;
+        append_uint(out.text(), v);
+        out.text() += "//";
+        append_uint(out.text(), v);
+      }
+    } else {
+      m.append_triangle(out.text(), t, 1);
+    }
     out.text() += '\n';
     out.maybe_flush();
   }
@@ -455,10 +477,14 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
   if (attributes.empty()) return true;
   if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
   if (format != MeshFormat::obj) return false;
-  int found = 0;
-  for (const VertexAttribute& a : attributes.attributes)
-    found += a.name == "red" || a.name == "green" || a.name == "blue";
-  return found == 3 && attributes.attributes.size() == 3;
+  // OBJ keeps colours ("v x y z r g b") and normals ("vn"), each whole, and nothing else.
+  int colours = 0, normals = 0;
+  for (const VertexAttribute& a : attributes.attributes) {
+    colours += a.name == "red" || a.name == "green" || a.name == "blue";
+    normals += a.name == "nx" || a.name == "ny" || a.name == "nz";
+  }
+  return (colours == 0 || colours == 3) && (normals == 0 || normals == 3) &&
+         std::size_t(colours + normals) == attributes.attributes.size();
 }
 
 namespace {
