@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
@@ -238,4 +239,70 @@ TEST_CASE("a budget that cannot hold a tile of the passes is refused up front, n
   options.memory_budget = std::uint64_t(120) << 20;
   MeshInput again = open_mesh_input(in, open);
   CHECK(reduce_in_passes(again, options, again.info.bounds.min, 2000, &stats).triangles.size() > 0);
+}
+
+namespace {
+
+// The boundary of a mesh (its edges of one face) as position pairs, each pair in
+// ascending order, sorted: comparable between meshes numbered differently.
+std::vector<std::array<double, 6>> boundary_edges(const LoadedMesh& m) {
+  std::map<std::pair<std::uint64_t, std::uint64_t>, int> faces;
+  for (std::size_t t = 0; t < m.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = m.triangles[3 * t + std::size_t(k)], b = m.triangles[3 * t + std::size_t((k + 1) % 3)];
+      ++faces[{std::min(a, b), std::max(a, b)}];
+    }
+  std::vector<std::array<double, 6>> out;
+  for (const auto& [edge, count] : faces) {
+    if (count != 1) continue;
+    std::array<double, 3> p, q;
+    for (int k = 0; k < 3; ++k) {
+      p[std::size_t(k)] = m.positions[3 * edge.first + std::size_t(k)];
+      q[std::size_t(k)] = m.positions[3 * edge.second + std::size_t(k)];
+    }
+    if (q < p) std::swap(p, q);
+    out.push_back({p[0], p[1], p[2], q[0], q[1], q[2]});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a locked boundary keeps its every vertex and edge, whole and in passes", "[qem][locks]") {
+  ScratchDir d;
+  // 600k triangles collapse whole; 2M at --mem 128M in out-of-core passes (the whole
+  // would not fit) before the last collapse.
+  struct Case {
+    std::uint64_t triangles;
+    const char* mem;
+    bool passes;
+  };
+  std::vector<Case> cases = {{600000, "1G", false}};
+  if (!OOCSIMP_TEST_UNDER_ASAN) cases.push_back({2000000, "128M", true});
+  for (const Case& c : cases) {
+    CAPTURE(c.triangles);
+    const std::string in = d.file("terrain-" + std::to_string(c.triangles) + ".ply");
+    REQUIRE(run_cli("generate --quiet --shape terrain --tris " + std::to_string(c.triangles) + " -o '" + in + "'")
+                .exit_code == 0);
+    const auto before = boundary_edges(load_mesh(in));
+    REQUIRE(before.size() > 1000);
+    const std::string out = d.file("locked.ply"), stats = d.file("st.json");
+    REQUIRE(run_cli("simplify --quiet '" + in + "' -o '" + out + "' --target-tris 6000 --lock-boundary --mem " + c.mem +
+                    " --stats '" + stats + "'")
+                .exit_code == 0);
+    const LoadedMesh m = load_mesh(out);
+    CHECK(m.triangle_count() == 6000);
+    CHECK(boundary_edges(m) == before);
+    CHECK((read_file(stats).find("\"passes\": 0,") == std::string::npos) == c.passes);
+    if (c.passes) continue;
+    // Without the lock the outline is simplified too.
+    REQUIRE(run_cli("simplify --quiet '" + in + "' -o '" + d.file("free.ply") + "' --target-tris 6000").exit_code == 0);
+    CHECK(boundary_edges(load_mesh(d.file("free.ply"))).size() < before.size());
+    // Clustering moves boundaries: refused, naming the flag and the method.
+    const CliResult r = run_cli("simplify --quiet '" + in + "' -o '" + d.file("x.ply") + "' --grid 32 --lock-boundary");
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--lock-boundary") != std::string::npos);
+    CHECK(r.err.find("not floating") != std::string::npos);
+  }
 }

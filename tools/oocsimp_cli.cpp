@@ -54,6 +54,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.target.max_error", "--max-error"},
     {"options.target.intermediate_factor", "--intermediate-factor"},
     {"options.thick_edges", "--thick-edges"},
+    {"options.lock_boundary", "--lock-boundary"},
     {"options.method", "--method"},
     {"options.lods.levels", "--lods"},
     {"options.lods.factor", "--lod-factor"},
@@ -375,6 +376,9 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   cmd->add_flag(
       "--normals", a.outputs.normals,
       "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)");
+  cmd->add_flag("--lock-boundary", a.options.lock_boundary,
+                "Leave every vertex on the mesh's boundary (an edge of one face) where it is: open borders and holes "
+                "keep their exact outline (the edge collapse: --method qem, the default with a target)");
   cmd->add_flag("--thick-edges", a.options.thick_edges,
                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
                 "edge and point with a thickness, OBJ l and p lines)");

@@ -153,6 +153,11 @@ struct SimplifyOptions {
   /// Keep what clustering reduces below a triangle as thick edges and points
   /// (Low & Tan 1997 §3.3; SimplifiedMesh::primitives) instead of dropping it.
   bool thick_edges = false;
+  /// The edge collapse (ClusterMethod::qem, the default with a target) leaves every
+  /// vertex on the mesh's boundary (an edge of one face) where it is: open borders,
+  /// holes and the seams of separately textured parts keep their exact outline.
+  /// Clustering moves boundaries with everything else, so a clustering method refuses it.
+  bool lock_boundary = false;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).
   ProgressCallback progress;
   /// Floating: called between the phases of a run, whose tiles' buffers were just

@@ -126,6 +126,11 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
     throw UsageError("options.thick_edges",
                      "options.thick_edges needs a clustering method without a target (options.method floating or "
                      "uniform; exact targets do not make thick edges yet)");
+  if (options.lock_boundary && options.method != ClusterMethod::qem)
+    throw UsageError("options.lock_boundary",
+                     std::string("options.lock_boundary holds the edge collapse's boundary: options.method qem (the "
+                                 "default with a target), not ") +
+                         method_name(options.method) + ", whose clustering moves boundaries");
   check_method_options(input, options);
   check_float_range(input);
   SimplifyStats st;

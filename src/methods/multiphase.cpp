@@ -187,6 +187,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
   settings.result_quadrics = false;  // the output's
+  settings.lock_boundary = options.lock_boundary;
   CollapseStats cs;
   QuadricMesh done;
   {

@@ -578,6 +578,7 @@ class PassRun {
     settings_.target_triangles = 4;
     settings_.exact_count = false;
     if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
+    settings_.lock_boundary = options.lock_boundary;
   }
 
   QuadricMesh run() {

@@ -156,6 +156,9 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   locked_.resize(n, 0);
   build_adjacency();
   classify_vertices();
+  if (settings.lock_boundary)
+    for (std::size_t v = 0; v < n; ++v)
+      if (boundary_[v]) locked_[v] = 1;
   add_boundary_planes(settings.boundary_weight);
 }
 

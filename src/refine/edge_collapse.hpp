@@ -80,6 +80,9 @@ struct CollapseSettings {
   /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
   /// of open scans and terrain.
   double boundary_weight = 1000;
+  /// Lock every vertex on a boundary edge (SimplifyOptions::lock_boundary). In a tile,
+  /// a free vertex has all its faces there, so its boundary is the mesh's.
+  bool lock_boundary = false;
   /// Meet target_triangles exactly (collapses that overshoot wait; edges are split at
   /// the end to make up an overshoot). Off, the collapse stops at or below it, or when
   /// none is left.

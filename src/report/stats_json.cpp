@@ -83,6 +83,7 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   s += ", \"tmp\": " + quoted(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir);
   s += ", \"weld\": " + std::string(o.weld ? "true" : "false");
   s += ", \"thick_edges\": " + std::string(o.thick_edges ? "true" : "false");
+  s += ", \"lock_boundary\": " + std::string(o.lock_boundary ? "true" : "false");
   s += ", \"precision\": " + quoted(precision_name(o.precision));
   if (o.attributes.mode == AttributeSelection::Mode::named) {
     std::string names;

@@ -55,6 +55,21 @@ class Simplify(unittest.TestCase):
         area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
         self.assertAlmostEqual(area, 1.0, places=9)
 
+    def test_a_locked_boundary_stays(self):
+        v, f = grid(60, wavy)
+        def outline(vs, fs):
+            edges = np.sort(np.concatenate([fs[:, [0, 1]], fs[:, [1, 2]], fs[:, [2, 0]]]), axis=1)
+            unique, counts = np.unique(edges, axis=0, return_counts=True)
+            ends = vs[unique[counts == 1]]  # (edges, 2, 3)
+            return sorted(tuple(sorted(map(tuple, e))) for e in ends.tolist())
+        v2, f2 = oocsimp.simplify(v, f, target_tris=600, lock_boundary=True)
+        self.assertEqual(len(f2), 600)
+        self.assertEqual(outline(v2, f2), outline(v, f))
+        v3, f3 = oocsimp.simplify(v, f, target_tris=600)
+        self.assertLess(len(outline(v3, f3)), len(outline(v, f)))
+        with self.assertRaisesRegex(ValueError, "lock_boundary"):
+            oocsimp.simplify(v, f, grid=10, lock_boundary=True)
+
     def test_strided_and_contiguous_input_agree(self):
         v, f = grid(80, wavy)
         wide = np.zeros((len(v), 5))

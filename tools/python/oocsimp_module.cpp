@@ -38,6 +38,7 @@ constexpr std::pair<const char*, const char*> kKeywordOfField[] = {
     {"options.attributes", "attributes"},
     {"options.temp_dir", "tmp"},
     {"options.thick_edges", "thick_edges"},
+    {"options.lock_boundary", "lock_boundary"},
     {"options.method", "method"},
     {"options.samples", "samples"},
     {"outputs.mesh", "output"},
@@ -123,6 +124,7 @@ void read_options(py::dict& kw, oocsimp::SimplifyOptions* o) {
   if (take("threads", &v)) o->threads = unsigned(whole_number("threads", v));
   if (take("tmp", &v)) o->temp_dir = py::str(v);
   if (take("thick_edges", &v)) o->thick_edges = v.cast<bool>();
+  if (take("lock_boundary", &v)) o->lock_boundary = v.cast<bool>();
   if (take("weld", &v)) o->weld = v.cast<bool>();
   if (take("precision", &v)) o->precision = enum_value("precision", oocsimp::precision_names(), v);
   if (take("refine", &v)) o->target.refine = enum_value("refine", oocsimp::refine_method_names(), v);
