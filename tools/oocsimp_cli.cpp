@@ -1207,6 +1207,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   cmd->add_option("--size", a.size, "Image size WIDTHxHEIGHT (default 1024x768)");
   cmd->add_option("--view", a.view,
                   "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
+  add_enum_option(cmd, "--up", &a.options.up, up_axis_names(),
+                  "The model's up axis: z (the default), y (y-up scans, glTF) or x; --view turns about it");
   add_enum_option(
       cmd, "--shading", &a.options.shading, shading_names(),
       value_list(shading_names(), {{Shading::flat, "default"}, {Shading::smooth, "the file's vertex normals"}}));

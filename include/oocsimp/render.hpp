@@ -20,11 +20,18 @@ enum class Shading : std::uint8_t {
   smooth,  ///< by the file's vertex normals (nx, ny, nz), interpolated; flat without them
 };
 
+/// The model's up axis: z for scans and CAD in z-up frames, y for most scanners' and
+/// glTF's (y-up) frames, x for the rest.
+enum class UpAxis : std::uint8_t { z, y, x };
+
 struct RenderOptions {
   std::uint32_t width = 1024, height = 768;  ///< pixels, 1 to 16384 each
-  /// The direction the camera looks from, in degrees: azimuth about +z from +x,
-  /// elevation above the xy plane (90: from straight above, looking down -z).
+  /// The direction the camera looks from, in degrees: azimuth about the up axis (from
+  /// +x about +z, from +z about +y, from +y about +x), elevation above the plane of the
+  /// other two (90: from straight above, looking down the up axis).
   double azimuth_degrees = 30, elevation_degrees = 20;
+  /// Which axis is up on the screen.
+  UpAxis up = UpAxis::z;
   Shading shading = Shading::flat;
   /// The file's edges and points (LinePrimitive): with thick_edges, an edge of
   /// thickness T is drawn T / R pixels wide and a point as a disc T / R pixels across,
@@ -66,5 +73,7 @@ RenderStats render_file(const std::string& input, const std::string& output, con
 
 /// The shadings as the command line spells them, the default first.
 const EnumNames<Shading>& shading_names();
+/// The up axes as the command line spells them ("z", "y", "x"), the default first.
+const EnumNames<UpAxis>& up_axis_names();
 
 }  // namespace oocsimp

@@ -28,9 +28,15 @@ struct Camera {
 
   Camera(const Box3d& box, const RenderOptions& o) {
     const double az = o.azimuth_degrees * kPi / 180, el = o.elevation_degrees * kPi / 180;
-    towards = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-    // Up is +z on the screen, unless the camera looks along z: then +y.
-    const Vec3d world_up = std::fabs(towards.z) > 0.999 ? Vec3d{-std::cos(az), -std::sin(az), 0} : Vec3d{0, 0, 1};
+    // The up axis U and the two across it, A (azimuth 0) and B, with A x B = U.
+    const Vec3d x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    const Vec3d U = o.up == UpAxis::z ? z : o.up == UpAxis::y ? y : x;
+    const Vec3d A = o.up == UpAxis::z ? x : o.up == UpAxis::y ? z : y;
+    const Vec3d B = cross(U, A);
+    const Vec3d across = A * std::cos(az) + B * std::sin(az);
+    towards = across * std::cos(el) + U * std::sin(el);
+    // U is up on the screen, unless the camera looks along it: then away from the camera's azimuth.
+    const Vec3d world_up = std::fabs(dot(towards, U)) > 0.999 ? across * -1.0 : U;
     right = cross(world_up, towards);
     right = right / length(right);
     up = cross(towards, right);
@@ -234,6 +240,11 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
     phase.set(input.triangles->bytes_consumed());
   }
   return raster.image(&st.covered_pixels);
+}
+
+const EnumNames<UpAxis>& up_axis_names() {
+  static const EnumNames<UpAxis> names = {{UpAxis::z, "z"}, {UpAxis::y, "y"}, {UpAxis::x, "x"}};
+  return names;
 }
 
 const EnumNames<Shading>& shading_names() {
