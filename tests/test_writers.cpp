@@ -1,6 +1,7 @@
 // Tests of write_mesh() and format_for_path(): every format round-trips exactly
 // through the readers, and writing is atomic (temporary name, then rename).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <sys/stat.h>
 
@@ -225,14 +226,15 @@ TEST_CASE("format_for_path picks the format from the name", "[writers]") {
 
 TEST_CASE("format_for_path refuses a name it cannot write, listing what it can", "[writers]") {
   for (const char* name :
-       {"a.glb", "a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst", "a.ply.zst.zst", "a.3ds"}) {
+       {"a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst", "a.ply.zst.zst", "a.3ds"}) {
     CAPTURE(name);
     try {
       format_for_path(name, false);
       FAIL("no UsageError");
     } catch (const oocsimp::UsageError& e) {
       std::string msg = e.what();
-      for (const char* ext : {".ply", ".obj", ".stl", ".off", ".zst"}) CHECK(msg.find(ext) != std::string::npos);
+      for (const char* ext : {".ply", ".obj", ".stl", ".off", ".glb", ".zst"})
+        CHECK(msg.find(ext) != std::string::npos);
       CHECK(msg.find('\n') == std::string::npos);
     }
   }
@@ -415,6 +417,104 @@ TEST_CASE("OBJ keeps vertex normals as vn lines the faces name with the vertex's
   CHECK_FALSE(oocsimp::format_keeps_attributes(MeshFormat::obj, attrs));
 }
 
+namespace {
+
+// A .glb read back by the specification (glTF 2.0 §4.4): its JSON and BIN chunks.
+struct Glb {
+  nlohmann::json json;
+  std::string bin;
+};
+
+Glb read_glb(const std::string& bytes) {
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+  };
+  REQUIRE(bytes.size() >= 20);
+  CHECK(u32(0) == 0x46546C67);  // "glTF"
+  CHECK(u32(4) == 2);
+  CHECK(u32(8) == bytes.size());
+  const std::uint32_t json_length = u32(12);
+  CHECK(u32(16) == 0x4E4F534A);
+  CHECK(json_length % 4 == 0);
+  Glb g;
+  g.json = nlohmann::json::parse(bytes.substr(20, json_length));
+  if (20 + json_length < bytes.size()) {
+    CHECK(u32(20 + json_length + 4) == 0x004E4942);
+    g.bin = bytes.substr(28 + json_length, u32(20 + json_length));
+    CHECK(28 + json_length + g.bin.size() == bytes.size());
+  }
+  return g;
+}
+
+// Accessor `a`'s values as floats (or unsigned ints, converted).
+std::vector<double> accessor(const Glb& g, int a) {
+  const auto& acc = g.json["accessors"][a];
+  const auto& view = g.json["bufferViews"][acc["bufferView"].get<int>()];
+  const std::size_t width = acc["type"] == "VEC3" ? 3 : acc["type"] == "VEC4" ? 4 : 1;
+  const std::size_t n = acc["count"].get<std::size_t>() * width;
+  REQUIRE(view["byteLength"].get<std::size_t>() == 4 * n);
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const char* p = g.bin.data() + view["byteOffset"].get<std::size_t>() + 4 * i;
+    if (acc["componentType"] == 5126) {
+      float f;
+      std::memcpy(&f, p, 4);
+      out[i] = f;
+    } else {
+      std::uint32_t u;
+      std::memcpy(&u, p, 4);
+      out[i] = u;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("glTF binary holds positions, indices, unit normals and colours as the specification reads them",
+          "[writers][gltf]") {
+  ScratchDir dir;
+  const std::vector<double> pos = {0, 0, 0, 1, 0, 0, 0, 2, 0, 0.1, 0.2, 3};
+  const std::vector<std::uint32_t> tri = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+  oocsimp::AttributeValues attrs;
+  for (const char* n : {"red", "green", "blue", "alpha"})
+    attrs.attributes.push_back({n, oocsimp::AttributeType::u8, 0, 255});
+  for (const char* n : {"nx", "ny", "nz"}) attrs.attributes.push_back({n, oocsimp::AttributeType::f32, -1, 1});
+  for (int v = 0; v < 4; ++v)
+    for (double x : {255.0, 51.0 * v, 0.0, 255.0, 0.0, 0.0, 2.0})
+      attrs.values.push_back(x);  // normal (0, 0, 2): not unit
+  CHECK(oocsimp::format_keeps_attributes(MeshFormat::glb, attrs));
+  CHECK(format_for_path("m.glb", false) == MeshFormat::glb);
+  write_mesh(dir.file("m.glb"), pos, tri, MeshFormat::glb, ScalarType::f32, &attrs);
+  const Glb g = read_glb(oocsimp_test::read_file(dir.file("m.glb")));
+  const auto& prim = g.json["meshes"][0]["primitives"][0];
+  CHECK(prim["mode"] == 4);
+  std::vector<double> as_floats;
+  for (double x : pos) as_floats.push_back(double(float(x)));  // glTF positions are float
+  CHECK(accessor(g, prim["attributes"]["POSITION"].get<int>()) == as_floats);
+  const auto& p = g.json["accessors"][prim["attributes"]["POSITION"].get<int>()];
+  CHECK(p["min"] == nlohmann::json::array({0, 0, 0}));
+  CHECK(p["max"][1] == 2);
+  CHECK(p["max"][2] == 3);
+  const std::vector<double> indices = accessor(g, prim["indices"].get<int>());
+  CHECK(indices == std::vector<double>(tri.begin(), tri.end()));
+  const std::vector<double> normals = accessor(g, prim["attributes"]["NORMAL"].get<int>());
+  for (std::size_t v = 0; v < 4; ++v) CHECK(normals[3 * v + 2] == 1.0);  // made unit
+  const std::vector<double> colours = accessor(g, prim["attributes"]["COLOR_0"].get<int>());
+  REQUIRE(colours.size() == 16);
+  CHECK(colours[4 * 2 + 1] == Approx(102.0 / 255).epsilon(1e-6));
+  CHECK(colours[4 * 3 + 3] == 1.0);
+  // Another attribute is dropped; a mesh without triangles is an empty scene.
+  attrs.attributes.push_back({"quality", oocsimp::AttributeType::f32, 0, 1});
+  CHECK_FALSE(oocsimp::format_keeps_attributes(MeshFormat::glb, attrs));
+  write_mesh(dir.file("empty.glb"), {}, {}, MeshFormat::glb);
+  const Glb e = read_glb(oocsimp_test::read_file(dir.file("empty.glb")));
+  CHECK(e.bin.empty());
+  CHECK(e.json["scenes"][0]["nodes"].empty());
+}
+
 TEST_CASE("simplify writes the format its output's extension names, and refuses others before any work",
           "[writers][cli]") {
   ScratchDir d;
@@ -441,7 +541,7 @@ TEST_CASE("simplify writes the format its output's extension names, and refuses 
   }
   REQUIRE(oocsimp_test::run_cli(base + q(d.file("o.off"))).exit_code == 0);
   CHECK(oocsimp_test::read_file(d.file("o.off")).compare(0, 4, "OFF\n") == 0);
-  for (const char* name : {"o.glb", "o.gltf", "o.off.gz", "noext"}) {
+  for (const char* name : {"o.gltf", "o.off.gz", "noext"}) {
     CAPTURE(name);
     oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(name)));
     CHECK(r.exit_code == 2);

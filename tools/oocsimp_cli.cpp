@@ -351,7 +351,7 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
       "triangles).\n");
   cmd->add_option("input", a.in, "Input mesh")->required();
   cmd->add_option("-o,--output", a.outputs.mesh,
-                  "Output mesh; the format from the name: .ply, .obj, .stl or .off, + .zst compresses; - writes "
+                  "Output mesh; the format from the name: .ply, .obj, .stl, .off or .glb, + .zst compresses; - writes "
                   "binary PLY to stdout")
       ->required();
   add_size_options(cmd, a);
@@ -847,7 +847,7 @@ struct ExtractArgs {
 CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
   CLI::App* cmd = app.add_subcommand("extract", "Extract a conforming mesh from a .4k hierarchy");
   cmd->add_option("input", a.in, "Input .4k file (written by oocsimp hierarchy)")->required();
-  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF; .zst compresses)")->required();
+  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF, glTF .glb; .zst compresses)")->required();
   add_given(cmd, "--level", &a.level, "Level J: 0 is the finest, higher is coarser");
   add_given(cmd, "--tris", &a.tris, "The finest state with at most this many triangles");
   add_given(cmd, "--error", &a.error, "The coarsest state whose removals all cost at most this (see info)");

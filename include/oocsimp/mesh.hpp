@@ -16,7 +16,7 @@ namespace oocsimp {
 
 enum class ScalarType : std::uint8_t { f32, f64 };
 
-enum class MeshFormat { ply_binary, ply_ascii, obj, stl_binary, stl_ascii, off };
+enum class MeshFormat { ply_binary, ply_ascii, obj, stl_binary, stl_ascii, off, glb };
 
 /// What `oocsimp info` prints: the format and the header-level facts of a mesh.
 struct MeshInfo {

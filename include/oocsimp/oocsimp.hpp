@@ -127,8 +127,8 @@ MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir =
 
 /// The format implied by a path's extension, ignoring case and an optional ".zst"
 /// (which compresses the stream): ".ply" (ascii PLY when `ascii`), ".obj", ".stl"
-/// (ascii STL when `ascii`) or ".off". Any other name throws UsageError listing what
-/// can be written.
+/// (ascii STL when `ascii`), ".off" or ".glb" (glTF 2.0 binary). Any other name throws
+/// UsageError listing what can be written.
 MeshFormat format_for_path(const std::string& path, bool ascii);
 
 /// Writes a triangle mesh given as flat arrays: `positions` holds 3 coordinates per
@@ -137,7 +137,8 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// (OBJ, OFF, ascii STL) the shortest text that reads back as the same double (rounded
 /// to float first for f32, so that a float output reads back as float input; ascii
 /// PLY, which declares float, the shortest text of the float); binary STL holds
-/// float32 whatever `precision` says. PLY faces are
+/// float32 whatever `precision` says, and so does glTF (.glb: POSITION, NORMAL and
+/// COLOR_0 as float, unsigned int indices, one mesh of one primitive). PLY faces are
 /// "uchar uint vertex_indices" lists; STL facet normals are the unit normals of the
 /// triangles (0 for degenerate ones). A ".zst" suffix compresses the stream.
 /// `attributes` (values per vertex, see AttributeValues) go where the format has room
@@ -148,7 +149,7 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// `primitives` (may be null) go to PLY as elements after the faces, "element edge"
 /// (int vertex1, int vertex2, float thickness) and "element point" (int vertex, float
 /// thickness), and to OBJ as "l a b" and "p a" lines, which have no room for the
-/// thickness; STL and OFF drop them (format_keeps_primitives).
+/// thickness; STL, OFF and glTF drop them (format_keeps_primitives).
 /// Throws IoError.
 void write_mesh(const std::string& path, const std::vector<double>& positions,
                 const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32,
@@ -157,11 +158,12 @@ void write_mesh(const std::string& path, const std::vector<double>& positions,
 /// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
 /// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in
 /// [0, 1]) and the normals nx, ny, nz ("vn", a line per vertex, which the faces name
-/// as "f a//a b//b c//c"); STL and OFF none.
+/// as "f a//a b//b c//c"), glTF the colours (with alpha) and the normals; STL and OFF
+/// none.
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
 
 /// Whether `format` stores thick edges and points with their thickness (PLY only; OBJ
-/// keeps the edges and points without it, STL and OFF drop them).
+/// keeps the edges and points without it, STL, OFF and glTF drop them).
 bool format_keeps_primitives(MeshFormat format);
 
 /// The format `outputs.mesh` is written in: format_for_path, except that stdout ("-"),

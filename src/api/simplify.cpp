@@ -364,16 +364,25 @@ void check_distinct_destinations(const std::string& input_path, const OutputOpti
     refuse("outputs.stats", "outputs.stats " + outputs.stats, "output " + outputs.mesh, "");
 }
 
-// The warning for an output format that cannot hold the carried attributes.
+// The warning for an output format that cannot hold the carried attributes: which of
+// them it drops.
 std::string attributes_not_written(const std::string& path, MeshFormat format,
                                    const std::vector<VertexAttribute>& attributes) {
+  const auto is = [](const VertexAttribute& a, std::initializer_list<const char*> names) {
+    for (const char* n : names)
+      if (a.name == n) return true;
+    return false;
+  };
   std::string names;
   for (const VertexAttribute& a : attributes) {
-    if (format == MeshFormat::obj && (a.name == "red" || a.name == "green" || a.name == "blue")) continue;
+    if ((format == MeshFormat::obj || format == MeshFormat::glb) && is(a, {"red", "green", "blue", "nx", "ny", "nz"}))
+      continue;
+    if (format == MeshFormat::glb && a.name == "alpha") continue;
     names += (names.empty() ? "" : ", ") + a.name;
   }
-  const char* what = format == MeshFormat::obj ? "OBJ keeps only the colours red, green and blue"
-                                               : "STL and OFF keep no vertex attributes";
+  const char* what = format == MeshFormat::obj   ? "OBJ keeps only the colours red, green, blue and the normals"
+                     : format == MeshFormat::glb ? "glTF keeps only the colours (with alpha) and the normals"
+                                                 : "STL and OFF keep no vertex attributes";
   return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
 }
 
@@ -403,7 +412,7 @@ void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outp
                           (format == MeshFormat::obj
                                ? std::string("OBJ's l and p lines have no thickness; ") +
                                      "the thick edges and points are written without it"
-                               : std::string("STL and OFF have no edges or points; ") +
+                               : std::string("STL, OFF and the glTF written have no edges or points; ") +
                                      std::to_string(mesh.primitives.edge_count()) + " thick edges and " +
                                      std::to_string(mesh.primitives.point_count()) + " points not written") +
                           " (write .ply to keep them)");

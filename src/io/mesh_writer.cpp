@@ -7,6 +7,7 @@
 #include "common/vec3_math.hpp"
 #include "io/attribute_array.hpp"
 #include "io/byte_sink.hpp"
+#include "io/gltf_writer.hpp"
 #include "oocsimp/error.hpp"
 #include "io/temp_file.hpp"
 
@@ -329,8 +330,29 @@ void write_stl_ascii(ByteSink& sink, const MeshArrays& m) {
   out.flush();
 }
 
+// glTF binary: the arrays as they are, normals and colours found by name.
+void write_gltf(ByteSink& sink, const MeshArrays& m) {
+  GlbArrays g;
+  g.positions = m.pos;
+  g.vertex_count = m.vertices();
+  g.triangles = m.tri;
+  g.triangle_count = m.triangles();
+  g.attributes = m.attribute_values;
+  g.attribute_width = m.attribute_count();
+  const char* normal[3] = {"nx", "ny", "nz"};
+  const char* colour[4] = {"red", "green", "blue", "alpha"};
+  for (int k = 0; k < 3; ++k) g.normal[k] = m.colour_index(normal[k]);
+  for (int k = 0; k < 4; ++k) {
+    g.colour[k] = m.colour_index(colour[k]);
+    if (g.colour[k] >= 0) g.colour_scale[k] = colour_scale(m.attribute_info(std::size_t(g.colour[k])).type);
+  }
+  write_glb(sink, g);
+}
+
 void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const std::string& path) {
   switch (format) {
+    case MeshFormat::glb:
+      return write_gltf(sink, m);
     case MeshFormat::obj:
       return write_obj(sink, m);
     case MeshFormat::off:
@@ -456,9 +478,10 @@ MeshFormat format_for_path(const std::string& path, bool ascii) {
   if (ext == ".obj") return MeshFormat::obj;
   if (ext == ".stl") return ascii ? MeshFormat::stl_ascii : MeshFormat::stl_binary;
   if (ext == ".off") return MeshFormat::off;
+  if (ext == ".glb") return MeshFormat::glb;
   throw UsageError("cannot write \"" + path +
-                   "\": the output format comes from the extension, one of .ply, .obj, .stl or .off, optionally "
-                   "followed by .zst");
+                   "\": the output format comes from the extension, one of .ply, .obj, .stl, .off or .glb, "
+                   "optionally followed by .zst");
 }
 
 void write_mesh(const std::string& path, const std::vector<double>& positions,
@@ -476,6 +499,18 @@ bool format_keeps_primitives(MeshFormat format) {
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes) {
   if (attributes.empty()) return true;
   if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
+  if (format == MeshFormat::glb) {
+    // glTF keeps colours (COLOR_0, with alpha when there is one) and normals.
+    int kept = 0, colours = 0, normals = 0;
+    for (const VertexAttribute& a : attributes.attributes) {
+      colours += a.name == "red" || a.name == "green" || a.name == "blue";
+      normals += a.name == "nx" || a.name == "ny" || a.name == "nz";
+      kept += a.name == "alpha";
+    }
+    if (colours != 3) kept = 0;  // alpha goes with the colours
+    return (colours == 0 || colours == 3) && (normals == 0 || normals == 3) &&
+           std::size_t(colours + normals + kept) == attributes.attributes.size();
+  }
   if (format != MeshFormat::obj) return false;
   // OBJ keeps colours ("v x y z r g b") and normals ("vn"), each whole, and nothing else.
   int colours = 0, normals = 0;

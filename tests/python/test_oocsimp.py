@@ -238,6 +238,15 @@ class Open3D(unittest.TestCase):
         self.assertTrue(out.is_watertight())
         radii = np.linalg.norm(v, axis=1)
         self.assertLess(np.abs(radii - 1.0).max(), 0.05)
+        # A .glb written by oocsimp, read by Open3D: the same triangles.
+        with tempfile.TemporaryDirectory() as d:
+            ply, glb = os.path.join(d, "s.ply"), os.path.join(d, "s.glb")
+            o3d.io.write_triangle_mesh(ply, sphere)
+            oocsimp.simplify_file(ply, glb, target_tris=1000, normals=True)
+            back = o3d.io.read_triangle_mesh(glb)
+            self.assertEqual(len(back.triangles), 1000)
+            self.assertTrue(back.has_vertex_normals())
+            self.assertLess(np.abs(np.linalg.norm(np.asarray(back.vertices), axis=1) - 1.0).max(), 0.05)
 
 
 if __name__ == "__main__":
