@@ -269,7 +269,8 @@ std::vector<std::array<double, 6>> boundary_edges(const LoadedMesh& m) {
 
 }  // namespace
 
-TEST_CASE("a locked boundary keeps its every vertex and edge, whole and in passes", "[qem][locks]") {
+TEST_CASE("a locked boundary keeps its every vertex and edge, and locked vertices stay, whole and in passes",
+          "[qem][locks]") {
   ScratchDir d;
   // 600k triangles collapse whole; 2M at --mem 128M in out-of-core passes (the whole
   // would not fit) before the last collapse.
@@ -295,7 +296,39 @@ TEST_CASE("a locked boundary keeps its every vertex and edge, whole and in passe
     CHECK(m.triangle_count() == 6000);
     CHECK(boundary_edges(m) == before);
     CHECK((read_file(stats).find("\"passes\": 0,") == std::string::npos) == c.passes);
+    // Chosen vertices, spread over the input, stay where they are too.
+    const LoadedMesh input = load_mesh(in);
+    std::string list = "# every 997th vertex\n";
+    std::vector<std::array<double, 3>> pinned;
+    for (std::size_t v = 5; v < input.vertex_count(); v += 997) {
+      list += std::to_string(v) + (pinned.size() % 10 == 9 ? "\n" : " ");
+      pinned.push_back({input.positions[3 * v], input.positions[3 * v + 1], input.positions[3 * v + 2]});
+    }
+    write_file(d.file("locks.txt"), list);
+    REQUIRE(run_cli("simplify --quiet '" + in + "' -o '" + out + "' --target-tris 6000 --lock-vertices '" +
+                    d.file("locks.txt") + "' --mem " + c.mem)
+                .exit_code == 0);
+    const LoadedMesh held = load_mesh(out);
+    CHECK(held.triangle_count() == 6000);
+    std::vector<std::array<double, 3>> kept;
+    for (std::size_t v = 0; v < held.vertex_count(); ++v)
+      kept.push_back({held.positions[3 * v], held.positions[3 * v + 1], held.positions[3 * v + 2]});
+    std::sort(kept.begin(), kept.end());
+    std::size_t found = 0;
+    for (const auto& p : pinned) found += std::binary_search(kept.begin(), kept.end(), p);
+    CHECK(found == pinned.size());
     if (c.passes) continue;
+    // An index past the vertices, or a word that is none, is refused.
+    write_file(d.file("bad.txt"), "1 2 " + std::to_string(input.vertex_count()) + "\n");
+    CliResult bad = run_cli("simplify --quiet '" + in + "' -o '" + d.file("x.ply") +
+                            "' --target-tris 6000 --lock-vertices '" + d.file("bad.txt") + "'");
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.err.find("--lock-vertices names vertex") != std::string::npos);
+    write_file(d.file("word.txt"), "1 2\n3 x4\n");
+    bad = run_cli("simplify --quiet '" + in + "' -o '" + d.file("x.ply") + "' --target-tris 6000 --lock-vertices '" +
+                  d.file("word.txt") + "'");
+    CHECK(bad.exit_code == 3);
+    CHECK(bad.err.find("word.txt: line 2: \"x4\"") != std::string::npos);
     // Without the lock the outline is simplified too.
     REQUIRE(run_cli("simplify --quiet '" + in + "' -o '" + d.file("free.ply") + "' --target-tris 6000").exit_code == 0);
     CHECK(boundary_edges(load_mesh(d.file("free.ply"))).size() < before.size());

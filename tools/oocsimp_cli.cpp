@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cinttypes>
@@ -17,6 +18,7 @@
 #include <functional>
 #include <initializer_list>
 #include <new>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +57,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.target.intermediate_factor", "--intermediate-factor"},
     {"options.thick_edges", "--thick-edges"},
     {"options.lock_boundary", "--lock-boundary"},
+    {"options.locked_vertices", "--lock-vertices"},
     {"options.method", "--method"},
     {"options.lods.levels", "--lods"},
     {"options.lods.factor", "--lod-factor"},
@@ -248,6 +251,7 @@ struct SimplifyArgs {
   // checked into a copy (check_simplify_args).
   SimplifyOptions options;
   std::string attributes = "all";
+  std::string lock_vertices;  // a file of vertex indices
   Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
   Given lods, lod_factor;
   CLI::Option* refine = nullptr;
@@ -379,6 +383,9 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   cmd->add_flag("--lock-boundary", a.options.lock_boundary,
                 "Leave every vertex on the mesh's boundary (an edge of one face) where it is: open borders and holes "
                 "keep their exact outline (the edge collapse: --method qem, the default with a target)");
+  cmd->add_option("--lock-vertices", a.lock_vertices,
+                  "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) the edge "
+                  "collapse leaves where they are");
   cmd->add_flag("--thick-edges", a.options.thick_edges,
                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
                 "edge and point with a thickness, OBJ l and p lines)");
@@ -449,11 +456,42 @@ struct SimplifyPlan {
 };
 
 // Checks the options given as text into a SimplifyPlan, each refused with its flag.
+// --lock-vertices FILE: vertex indices from 0, separated by blanks or line ends, with
+// "#" comments. A word that is no index exits 3 naming the file and line.
+std::vector<std::uint64_t> read_vertex_list(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw IoError(path + ": cannot open: " + std::strerror(errno));
+  std::vector<std::uint64_t> out;
+  std::string line;
+  std::uint64_t number = 0;
+  for (int c = 0; c != EOF;) {
+    line.clear();
+    while ((c = std::fgetc(f)) != EOF && c != '\n') line += char(c);
+    ++number;
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    for (std::string w; words >> w;) {
+      std::uint64_t v = 0;
+      const auto r = std::from_chars(w.data(), w.data() + w.size(), v);
+      if (r.ec != std::errc() || r.ptr != w.data() + w.size()) {
+        std::fclose(f);
+        throw InputError(path + ": line " + std::to_string(number) + ": \"" + w.substr(0, 32) +
+                         "\" is no vertex index (expected a whole number from 0)");
+      }
+      out.push_back(v);
+    }
+  }
+  std::fclose(f);
+  return out;
+}
+
 SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   SimplifyPlan p{a.options, {}, {}};
   SimplifyOptions& o = p.options;
   if (a.target_tris.given()) o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, kMost);
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
+  if (!a.lock_vertices.empty()) o.locked_vertices = read_vertex_list(a.lock_vertices);
   if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
   if (resolved_method(o) != ClusterMethod::floating) refuse_floating_only(a.floating_only, o);
   if (resolved_method(o) != ClusterMethod::curvature) refuse_curvature_only(a.curvature_only, o);
@@ -1342,18 +1380,31 @@ int report_failure() {
 // later, which CLI11 would show as TEXT.
 void show_value_types(CLI::App& app) {
   static const std::pair<const char*, const char*> kTypeOfOption[] = {
-      {"threads", "N"},      {"target-tris", "N"},
-      {"tris", "N"},         {"grid", "N"},
-      {"lods", "N"},         {"levels", "N"},
-      {"samples", "N"},      {"seed", "N"},
-      {"level", "N"},        {"max-depth", "N"},
-      {"height", "N"},       {"mem", "SIZE"},
-      {"part", "I/K"},       {"box", "X0,Y0,Z0,X1,Y1,Z1"},
-      {"sphere", "X,Y,Z,R"}, {"size", "WxH"},
-      {"view", "AZ,EL"},     {"attributes", "NAMES"},
-      {"tmp", "DIR"},        {"work-dir", "DIR"},
-      {"output", "FILE"},    {"stats", "FILE"},
-      {"input", "FILE"},     {"a", "FILE"},
+      {"threads", "N"},
+      {"target-tris", "N"},
+      {"tris", "N"},
+      {"grid", "N"},
+      {"lods", "N"},
+      {"levels", "N"},
+      {"samples", "N"},
+      {"seed", "N"},
+      {"level", "N"},
+      {"max-depth", "N"},
+      {"height", "N"},
+      {"mem", "SIZE"},
+      {"part", "I/K"},
+      {"box", "X0,Y0,Z0,X1,Y1,Z1"},
+      {"sphere", "X,Y,Z,R"},
+      {"size", "WxH"},
+      {"view", "AZ,EL"},
+      {"attributes", "NAMES"},
+      {"tmp", "DIR"},
+      {"work-dir", "DIR"},
+      {"output", "FILE"},
+      {"stats", "FILE"},
+      {"lock-vertices", "FILE"},
+      {"input", "FILE"},
+      {"a", "FILE"},
       {"b", "FILE"},
   };
   for (CLI::App* command : app.get_subcommands({}))

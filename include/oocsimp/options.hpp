@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "oocsimp/attributes.hpp"
 #include "oocsimp/progress.hpp"
@@ -158,6 +159,10 @@ struct SimplifyOptions {
   /// holes and the seams of separately textured parts keep their exact outline.
   /// Clustering moves boundaries with everything else, so a clustering method refuses it.
   bool lock_boundary = false;
+  /// Input vertices (by index, any order) the edge collapse leaves where they are, like
+  /// a boundary under lock_boundary: marked features, seams, joints with other parts.
+  /// Clustering methods refuse them.
+  std::vector<std::uint64_t> locked_vertices;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).
   ProgressCallback progress;
   /// Floating: called between the phases of a run, whose tiles' buffers were just

@@ -126,6 +126,16 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
     throw UsageError("options.thick_edges",
                      "options.thick_edges needs a clustering method without a target (options.method floating or "
                      "uniform; exact targets do not make thick edges yet)");
+  if (!options.locked_vertices.empty() && options.method != ClusterMethod::qem)
+    throw UsageError("options.locked_vertices",
+                     std::string("options.locked_vertices are held by the edge collapse: options.method qem (the "
+                                 "default with a target), not ") +
+                         method_name(options.method) + ", whose clustering moves every vertex");
+  for (std::uint64_t v : options.locked_vertices)
+    if (v >= input.positions.count)
+      throw UsageError("options.locked_vertices", "options.locked_vertices names vertex " + std::to_string(v) +
+                                                      ", not below the input's vertex count " +
+                                                      std::to_string(input.positions.count));
   if (options.lock_boundary && options.method != ClusterMethod::qem)
     throw UsageError("options.lock_boundary",
                      std::string("options.lock_boundary holds the edge collapse's boundary: options.method qem (the "

@@ -87,6 +87,10 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
   reserve_huge(&m.positions, v);
   m.positions.resize(v);
   for (std::uint64_t i = 0; i < v; ++i) m.positions[i] = input.positions.get(i) - origin;
+  if (!options.locked_vertices.empty()) {
+    m.locked.assign(v, 0);
+    for (std::uint64_t i : options.locked_vertices) m.locked[i] = 1;  // below v: checked at the start
+  }
   m.attribute_count = k;
   m.attributes.resize(v * k);
   for (std::uint64_t i = 0; i < v; ++i)
@@ -410,6 +414,9 @@ void check_target_options(const SimplifyOptions& o) {
 SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
   check_target_options(options);
   SimplifyOptions o = options;
+  // Sorted, once: the passes look vertices up in it.
+  std::sort(o.locked_vertices.begin(), o.locked_vertices.end());
+  o.locked_vertices.erase(std::unique(o.locked_vertices.begin(), o.locked_vertices.end()), o.locked_vertices.end());
   // --method qem alone keeps the default share, now exactly.
   if (!o.target.given()) o.target.ratio = kDefaultRatio;
   const std::uint64_t faces = input.info.face_count;

@@ -445,9 +445,10 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
 }
 
 // The remainder whole, for the last collapse: vertices numbered by id, faces in input
-// order, each face once (from the tile owning its first corner). Built tile by tile,
-// so that no more than one tile's records is held beside the mesh.
-QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
+// order, each face once (from the tile owning its first corner), the vertices of
+// `locked_ids` (sorted; may be null) locked. Built tile by tile, so that no more than
+// one tile's records is held beside the mesh.
+QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vector<std::uint64_t>* locked_ids) {
   // In order of id: the order of the vertices whatever the tiles.
   std::vector<PassVertex> owned;
   std::vector<double> values;
@@ -467,6 +468,11 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes) {
     ids[i] = owned[i].id;
     m.positions[i] = owned[i].position;
     m.quadrics[i] = owned[i].quadric;
+  }
+  if (locked_ids) {
+    m.locked.resize(owned.size());
+    for (std::size_t i = 0; i < owned.size(); ++i)
+      m.locked[i] = std::binary_search(locked_ids->begin(), locked_ids->end(), ids[i]);
   }
   std::vector<PassVertex>().swap(owned);
   struct Face {
@@ -579,6 +585,7 @@ class PassRun {
     settings_.exact_count = false;
     if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
     settings_.lock_boundary = options.lock_boundary;
+    if (!options.locked_vertices.empty()) settings_.locked_ids = &options.locked_vertices;  // sorted by the caller
   }
 
   QuadricMesh run() {
@@ -595,7 +602,7 @@ class PassRun {
     stats_->refine.collapses = collapse_stats_.collapses;
     stats_->refine.largest_collapse_error = collapse_stats_.largest_error;
     if (!bins_) throw std::logic_error("reduce_in_passes: no pass ran");
-    return gather(*bins_, attributes_);
+    return gather(*bins_, attributes_, settings_.locked_ids);
   }
 
  private:

@@ -739,6 +739,7 @@ void CollapseState::compact_adjacency() {
 QuadricMesh CollapseState::release_vertices() {
   QuadricMesh out = std::move(mesh_);
   out.triangles.clear();
+  out.locked = locked_;  // the caller's locks hold in the next state too
   return out;
 }
 

@@ -83,6 +83,10 @@ struct CollapseSettings {
   /// Lock every vertex on a boundary edge (SimplifyOptions::lock_boundary). In a tile,
   /// a free vertex has all its faces there, so its boundary is the mesh's.
   bool lock_boundary = false;
+  /// Input vertex ids (PassVertex::id, sorted) that are locked wherever they are
+  /// (SimplifyOptions::locked_vertices), or null. A whole mesh numbered by input index
+  /// is given QuadricMesh::locked instead.
+  const std::vector<std::uint64_t>* locked_ids = nullptr;
   /// Meet target_triangles exactly (collapses that overshoot wait; edges are split at
   /// the end to make up an overshoot). Off, the collapse stops at or below it, or when
   /// none is left.

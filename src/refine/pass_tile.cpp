@@ -34,7 +34,8 @@ void number_vertices(const TileMesh& tile, std::vector<std::uint64_t>* ids, std:
 // The tile as a mesh for the collapse: owned vertices free unless a face of theirs
 // reaches another tile, every other vertex locked.
 QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& ids,
-                       const std::vector<std::uint32_t>& corners, std::vector<std::uint8_t>* owned) {
+                       const std::vector<std::uint32_t>& corners, const std::vector<std::uint64_t>* locked_ids,
+                       std::vector<std::uint8_t>* owned) {
   const std::size_t n = ids.size(), k = tile.attribute_count;
   QuadricMesh m;
   reserve_huge(&m.positions, n);
@@ -52,7 +53,7 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
     while (l < n && ids[l] < tile.owned[i].id) ++l;
     if (l == n || ids[l] != tile.owned[i].id) continue;
     (*owned)[l] = 1;
-    m.locked[l] = 0;
+    m.locked[l] = locked_ids && std::binary_search(locked_ids->begin(), locked_ids->end(), ids[l]);
     m.positions[l] = tile.owned[i].position;
     m.quadrics[l] = tile.owned[i].quadric;
     std::copy(tile.attributes.begin() + std::ptrdiff_t(i * k), tile.attributes.begin() + std::ptrdiff_t((i + 1) * k),
@@ -93,7 +94,7 @@ TileOutput collapse_pass_tile(const TileMesh& tile, const CollapseSettings& sett
   // Boundary planes join the quadrics once, in the first pass: a boundary edge of an
   // owned vertex has all its faces here, so its count of faces is the mesh's.
   if (!tile.first_pass || !tile.hold_border) s.boundary_weight = 0;
-  CollapseState state(local_mesh(tile, ids, corners, &owned), s);
+  CollapseState state(local_mesh(tile, ids, corners, s.locked_ids, &owned), s);
   std::vector<std::uint32_t>().swap(corners);
   TileOutput out;
   out.stats.cost_log = cost_log;

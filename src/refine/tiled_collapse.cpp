@@ -115,7 +115,7 @@ TileResult collapse_tile(const CollapseState& state, const std::vector<std::uint
     sub.quadrics[i] = m.quadrics[v];
     std::copy(m.attributes.begin() + std::ptrdiff_t(v * k), m.attributes.begin() + std::ptrdiff_t((v + 1) * k),
               sub.attributes.begin() + std::ptrdiff_t(i * k));
-    sub.locked[i] = vertex_tile[v] == kBorder;
+    sub.locked[i] = vertex_tile[v] == kBorder || state.locked(v);
   }
   sub.triangles.resize(3 * faces.size());
   sub.face_normals.resize(faces.size());

@@ -84,6 +84,7 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
   s += ", \"weld\": " + std::string(o.weld ? "true" : "false");
   s += ", \"thick_edges\": " + std::string(o.thick_edges ? "true" : "false");
   s += ", \"lock_boundary\": " + std::string(o.lock_boundary ? "true" : "false");
+  s += ", \"locked_vertices\": " + std::to_string(o.locked_vertices.size());
   s += ", \"precision\": " + quoted(precision_name(o.precision));
   if (o.attributes.mode == AttributeSelection::Mode::named) {
     std::string names;

@@ -69,6 +69,16 @@ class Simplify(unittest.TestCase):
         self.assertLess(len(outline(v3, f3)), len(outline(v, f)))
         with self.assertRaisesRegex(ValueError, "lock_boundary"):
             oocsimp.simplify(v, f, grid=10, lock_boundary=True)
+        # Chosen vertices, as indices or as a mask, stay where they are.
+        chosen = np.arange(7, len(v), 97)
+        mask = np.zeros(len(v), dtype=bool)
+        mask[chosen] = True
+        for locked in (chosen, mask):
+            v4, f4 = oocsimp.simplify(v, f, target_tris=600, locked=locked)
+            kept = {tuple(p) for p in np.round(v4, 12).tolist()}
+            self.assertTrue(all(tuple(p) in kept for p in np.round(v[chosen], 12).tolist()))
+        with self.assertRaisesRegex(ValueError, "locked"):
+            oocsimp.simplify(v, f, target_tris=600, locked=[len(v)])
 
     def test_strided_and_contiguous_input_agree(self):
         v, f = grid(80, wavy)

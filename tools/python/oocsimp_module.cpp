@@ -39,6 +39,7 @@ constexpr std::pair<const char*, const char*> kKeywordOfField[] = {
     {"options.temp_dir", "tmp"},
     {"options.thick_edges", "thick_edges"},
     {"options.lock_boundary", "lock_boundary"},
+    {"options.locked_vertices", "locked"},
     {"options.method", "method"},
     {"options.samples", "samples"},
     {"outputs.mesh", "output"},
@@ -93,6 +94,28 @@ E enum_value(const char* keyword, const oocsimp::EnumNames<E>& names, const py::
   throw py::value_error(std::string(keyword) + " must be one of " + known + ", not \"" + text + "\"");
 }
 
+// locked=: vertex indices, or a boolean mask with a value per vertex.
+std::vector<std::uint64_t> vertex_list(const py::handle& value) {
+  py::array a = py::array::ensure(value);
+  if (!a || a.ndim() != 1) throw py::value_error("locked must be a 1-d array of vertex indices or a boolean mask");
+  std::vector<std::uint64_t> out;
+  if (a.dtype().kind() == 'b') {
+    auto mask = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(a).unchecked<1>();
+    for (py::ssize_t i = 0; i < mask.shape(0); ++i)
+      if (mask(i)) out.push_back(std::uint64_t(i));
+    return out;
+  }
+  if (a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
+    throw py::value_error("locked must hold integers or booleans");
+  auto idx = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a).unchecked<1>();
+  for (py::ssize_t i = 0; i < idx.shape(0); ++i) {
+    if (idx(i) < 0)
+      throw py::value_error("locked[" + std::to_string(i) + "] = " + std::to_string(idx(i)) + " is no vertex");
+    out.push_back(std::uint64_t(idx(i)));
+  }
+  return out;
+}
+
 // The keywords simplify() and simplify_file() share, into `o`; each one used is
 // removed from `kw`, so that what is left is unknown.
 void read_options(py::dict& kw, oocsimp::SimplifyOptions* o) {
@@ -125,6 +148,7 @@ void read_options(py::dict& kw, oocsimp::SimplifyOptions* o) {
   if (take("tmp", &v)) o->temp_dir = py::str(v);
   if (take("thick_edges", &v)) o->thick_edges = v.cast<bool>();
   if (take("lock_boundary", &v)) o->lock_boundary = v.cast<bool>();
+  if (take("locked", &v)) o->locked_vertices = vertex_list(v);
   if (take("weld", &v)) o->weld = v.cast<bool>();
   if (take("precision", &v)) o->precision = enum_value("precision", oocsimp::precision_names(), v);
   if (take("refine", &v)) o->target.refine = enum_value("refine", oocsimp::refine_method_names(), v);
