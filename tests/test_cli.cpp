@@ -722,7 +722,7 @@ TEST_CASE("counts take a decimal suffix or an exponent, and --help names each va
   }
   const CliResult help = run_cli("simplify --help");
   CHECK(help.out.find("TEXT") == std::string::npos);
-  for (const char* shown : {"input FILE", "--grid N", "--cell X", "--mem SIZE", "--tmp DIR", "--method NAME:{"})
+  for (const char* shown : {"input PATH", "--grid INT", "--cell FLOAT", "--mem SIZE", "--tmp PATH", "--method NAME:{"})
     CHECK(help.out.find(shown) != std::string::npos);
 }
 

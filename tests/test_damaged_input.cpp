@@ -344,10 +344,10 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
              "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + face + "end_header\n0 0 0\n1 0 0\n0 1 0\n");
   write_file(d.file("no-face-element.ply"), "ply\nformat ascii 1.0\nelement vertex 1\n" + xyz + "end_header\n0 0 0\n");
   write_file(d.file("no-faces.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
-  write_file(d.file("zero-bytes.obj"), "");
   write_file(d.file("empty.stl"), "solid empty\nendsolid empty\n");
+  write_file(d.file("nothing.off"), "OFF\n0 0 0\n");
   for (const char* name :
-       {"nothing.ply", "no-faces.ply", "no-face-element.ply", "no-faces.obj", "zero-bytes.obj", "empty.stl"})
+       {"nothing.ply", "no-faces.ply", "no-face-element.ply", "no-faces.obj", "empty.stl", "nothing.off"})
     for (const char* method : kMethods) {
       CAPTURE(name, method);
       Run r = simplify(d, d.file(name), method, "--grid 8");
@@ -357,16 +357,22 @@ TEST_CASE("empty meshes give an empty output, a file too short to have a header 
       CHECK(r.output.vertex_count() == 0);
       CHECK_THAT(r.stats, Contains("\"output\": {\"vertices\": 0, \"triangles\": 0, \"edges\": 0, \"points\": 0}"));
     }
-  // Text that is not OBJ at all is no empty mesh: exit 3 naming the line.
+  // Text that is not OBJ at all, or an OBJ with nothing in it, is no empty mesh: exit
+  // 3 naming the line. (PLY, STL and OFF that declare no vertices are empty meshes.)
   write_file(d.file("text.obj"), "hello\n");
-  for (const char* method : kMethods) {
-    CAPTURE(method);
-    Run r = simplify(d, d.file("text.obj"), method, "--grid 8");
-    CHECK(r.cli.exit_code == 3);
-    CHECK(lines(r.cli.err) == 1);
-    CHECK_THAT(r.cli.err, Contains(d.file("text.obj") + ": line 1: not an OBJ file"));
-    CHECK_FALSE(file_exists(d.file(std::string("out-") + method + ".ply")));
-  }
+  write_file(d.file("zero-bytes.obj"), "");
+  write_file(d.file("names-only.obj"), "# exported\nmtllib a.mtl\no empty\n");
+  for (const auto& [name, message] : {std::pair<const char*, const char*>{"text.obj", ": line 1: not an OBJ file"},
+                                      {"zero-bytes.obj", ": line 0: no vertices or faces found"},
+                                      {"names-only.obj", ": line 3: no vertices or faces found"}})
+    for (const char* method : kMethods) {
+      CAPTURE(name, method);
+      Run r = simplify(d, d.file(name), method, "--grid 8");
+      CHECK(r.cli.exit_code == 3);
+      CHECK(lines(r.cli.err) == 1);
+      CHECK_THAT(r.cli.err, Contains(d.file(name) + message));
+      CHECK_FALSE(file_exists(d.file(std::string("out-") + method + ".ply")));
+    }
   for (const char* name : {"zero-bytes.ply", "zero-bytes.stl"}) {
     CAPTURE(name);
     write_file(d.file(name), "");

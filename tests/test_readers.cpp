@@ -1470,17 +1470,13 @@ TEST_CASE("Truncated or corrupt zstd stream is an InputError", "[readers][errors
   CHECK(tmp.entries().empty());
 }
 
-TEST_CASE("Empty PLY and STL files are rejected and an empty OBJ is an empty mesh", "[readers][errors]") {
+TEST_CASE("Empty PLY, STL, OBJ and OFF files are rejected", "[readers][errors]") {
   ScratchDir dir;
-  write_file(dir.file("empty.ply"), "");
-  write_file(dir.file("empty.stl"), "");
-  write_file(dir.file("empty.obj"), "");
+  for (const char* name : {"empty.ply", "empty.stl", "empty.obj", "empty.off"}) write_file(dir.file(name), "");
   CHECK_THAT(open_error(dir.file("empty.ply"), dir), StartsWith(dir.file("empty.ply") + ": byte 0:"));
   CHECK_THAT(open_error(dir.file("empty.stl"), dir), StartsWith(dir.file("empty.stl") + ": byte 0:"));
-  LoadedMesh m = load_mesh(dir.file("empty.obj"), dir.path());
-  CHECK(m.info.format == "obj");
-  CHECK(m.vertex_count() == 0);
-  CHECK(m.triangle_count() == 0);
+  CHECK(open_error(dir.file("empty.obj"), dir) == dir.file("empty.obj") + ": line 0: no vertices or faces found");
+  CHECK_THAT(open_error(dir.file("empty.off"), dir), StartsWith(dir.file("empty.off") + ": byte 0:"));
 }
 
 TEST_CASE("A file named .obj with no OBJ statement is refused, naming its first foreign line", "[readers][errors]") {
@@ -1497,10 +1493,11 @@ TEST_CASE("A file named .obj with no OBJ statement is refused, naming its first 
   write_file(dir.file("binary.obj"), binary);
   CHECK_THAT(open_error(dir.file("binary.obj"), dir),
              StartsWith(dir.file("binary.obj") + ": line 1: not an OBJ file: none of the first 1000 lines"));
-  // A statement anywhere makes it OBJ, with whatever it holds (here, nothing to read).
+  // A statement anywhere makes it OBJ, read for what it holds: here no vertex or face.
   write_file(dir.file("named.obj"), "hello\no object\n");
-  LoadedMesh m = load_mesh(dir.file("named.obj"), dir.path());
-  CHECK(m.triangle_count() == 0);
+  CHECK(open_error(dir.file("named.obj"), dir) == dir.file("named.obj") + ": line 2: no vertices or faces found");
+  write_file(dir.file("point.obj"), "hello\nv 1 2 3\n");
+  CHECK(load_mesh(dir.file("point.obj"), dir.path()).vertex_count() == 1);
 }
 
 TEST_CASE("OFF is read: comments, counts on the keyword line, polygons, the prefixes", "[readers][off]") {

@@ -1380,17 +1380,17 @@ int report_failure() {
 // later, which CLI11 would show as TEXT.
 void show_value_types(CLI::App& app) {
   static const std::pair<const char*, const char*> kTypeOfOption[] = {
-      {"threads", "N"},
-      {"target-tris", "N"},
-      {"tris", "N"},
-      {"grid", "N"},
-      {"lods", "N"},
-      {"levels", "N"},
-      {"samples", "N"},
-      {"seed", "N"},
-      {"level", "N"},
-      {"max-depth", "N"},
-      {"height", "N"},
+      {"threads", "INT"},
+      {"target-tris", "INT"},
+      {"tris", "INT"},
+      {"grid", "INT"},
+      {"lods", "INT"},
+      {"levels", "INT"},
+      {"samples", "INT"},
+      {"seed", "INT"},
+      {"level", "INT"},
+      {"max-depth", "INT"},
+      {"height", "INT"},
       {"mem", "SIZE"},
       {"part", "I/K"},
       {"box", "X0,Y0,Z0,X1,Y1,Z1"},
@@ -1398,21 +1398,21 @@ void show_value_types(CLI::App& app) {
       {"size", "WxH"},
       {"view", "AZ,EL"},
       {"attributes", "NAMES"},
-      {"tmp", "DIR"},
-      {"work-dir", "DIR"},
-      {"output", "FILE"},
-      {"stats", "FILE"},
-      {"lock-vertices", "FILE"},
-      {"input", "FILE"},
-      {"a", "FILE"},
-      {"b", "FILE"},
+      {"tmp", "PATH"},
+      {"work-dir", "PATH"},
+      {"output", "PATH"},
+      {"stats", "PATH"},
+      {"lock-vertices", "PATH"},
+      {"input", "PATH"},
+      {"a", "PATH"},
+      {"b", "PATH"},
   };
   for (CLI::App* command : app.get_subcommands({}))
     for (CLI::Option* option : command->get_options()) {
       const std::string shown = option->get_type_name();
       if (option->get_type_size() == 0 || shown.empty()) continue;  // a flag
       const std::string name = option->get_lnames().empty() ? option->get_name() : option->get_lnames().front();
-      const char* type = shown.find(':') != std::string::npos ? "NAME" : "X";  // a choice, or a number
+      const char* type = shown.find(':') != std::string::npos ? "NAME" : "FLOAT";  // a choice, or a number
       for (const auto& [n, t] : kTypeOfOption)
         if (name == n) type = t;
       option->type_name(type);

@@ -231,6 +231,9 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     if ((src.line_number() & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
   if (!any_statement && foreign_line > 0) refuse("no line");
+  // Nothing at all (no byte, or comments and names only): no mesh, not an empty one.
+  if (builder.count() == 0 && faces == 0 && line_elements == 0 && point_elements == 0)
+    throw InputError(at_line(src.path(), src.line_number(), "no vertices or faces found"));
   // No colours (or no vertices): a selection that names an attribute cannot be met.
   if (!colours) carried_attributes({}, options.attributes, src.path(), nullptr);
   if (texture_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
