@@ -16,7 +16,7 @@
 # Reproduce a finding with: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_simplify)
+all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_gzip_input fuzz_simplify)
 
 usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
@@ -59,7 +59,7 @@ OOCSIMP_BUILD_DIR="$build" "$root/scripts/build.sh" -DCMAKE_CXX_COMPILER=clang++
 corpus="$build/corpus"
 seeds="$build/seeds"  # staging: every seed once, by format
 rm -rf "$seeds"
-mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl"
+mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl" "$seeds/off" "$seeds/gzip"
 export ASAN_OPTIONS="detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1"
 cli="$build/oocsimp"
 
@@ -161,6 +161,24 @@ seed obj/fewcoords.obj "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
 seed obj/nan.obj "v 0 0 0\nv nan 0 0\nv 0 1 inf\nf 1 2 3\n"
 seed obj/malformed.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 a 2\nv 1e999 0 0\n"
 seed obj/truncated.obj "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2"
+# OFF: the writer's output, then the prefixes, comments, polygons and broken variants.
+for shape in sphere parts; do
+  "$cli" simplify "$seeds/ply/gen-$shape-2000.ply" -o "$seeds/off/gen-$shape-g8.off" --grid 8 --threads 1 --quiet
+done
+seed off/tet.off "OFF\n4 4 0\n${tet_v}${tet_f}"
+seed off/counts-on-keyword.off "OFF 4 4 6\n${tet_v}${tet_f}"
+seed off/coloured.off "CNOFF # colours and normals\n3 1 0\n0 0 0 0 0 1 255 0 0\n1 0 0 0 0 1 0 255 0\n0 1 0 0 0 1 0 0 255\n3 0 1 2 1 0 0\n"
+seed off/quad.off "OFF\n\n# a quad\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"
+seed off/truncated.off "OFF\n4 4 0\n0 0 0\n1 0"
+seed off/badindex.off "OFF\n4 2 0\n${tet_v}3 0 1 9\n3 0 -1 2\n"
+seed off/shortface.off "OFF\n4 1 0\n${tet_v}5 0 1 2\n"
+seed off/binary.off "OFF BINARY\n"
+# gzip: members of the text seeds, one and two of them, and a member cut short.
+for f in "$seeds/obj/tet.obj" "$seeds/obj/forms.obj" "$seeds/off/tet.off"; do
+  gzip -c "$f" >"$seeds/gzip/$(basename "$f").gz"
+done
+cat "$seeds/gzip/tet.obj.gz" "$seeds/gzip/tet.obj.gz" >"$seeds/gzip/two-members.obj.gz"
+head -c 30 "$seeds/gzip/forms.obj.gz" >"$seeds/gzip/cut.obj.gz"
 stl_facet() { printf "  facet normal 0 0 1\n    outer loop\n      vertex $1\n      vertex $2\n      vertex $3\n    endloop\n  endfacet\n"; }
 { echo "solid tet"; stl_facet "0 0 0" "0 1 0" "1 0 0"; stl_facet "0 0 0" "1 0 0" "0 0 1"
   stl_facet "0 0 0" "0 0 1" "0 1 0"; stl_facet "1 0 0" "0 1 0" "0 0 1"; echo "endsolid tet"; } >"$seeds/stl/tet-ascii.stl"
@@ -186,10 +204,12 @@ perl -e '
 
 # Each reader gets its format; the simplify target gets every seed under 64 KiB behind
 # a few variant-selector bytes (see tests/fuzz/fuzz_simplify.cpp).
-for fmt in ply obj stl; do
+for fmt in ply obj stl off; do
   mkdir -p "$corpus/fuzz_${fmt}_reader"
   cp "$seeds/$fmt"/* "$corpus/fuzz_${fmt}_reader/"
 done
+mkdir -p "$corpus/fuzz_gzip_input"
+cp "$seeds/gzip"/* "$corpus/fuzz_gzip_input/"
 mkdir -p "$corpus/fuzz_simplify"
 add_simplify_seeds() {  # add_simplify_seeds FMT SELECTOR-OCTALS...
   local fmt="$1" f sel

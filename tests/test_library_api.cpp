@@ -3,6 +3,7 @@
 // name option fields (the CLI turns them into its flags), options nested per method.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <atomic>
 #include <cstring>
 #include <map>
@@ -403,4 +404,48 @@ TEST_CASE("describe_mesh gives what info prints: counts, carried attributes, thi
   std::vector<std::string> names;
   for (const VertexAttribute& a : coloured.attributes) names.push_back(a.name);
   CHECK(names == std::vector<std::string>{"red", "green", "blue", "nx", "ny", "nz"});
+}
+
+TEST_CASE("MeshView::vertex_lock keeps the marked vertices where they are", "[api][locks]") {
+  // A 40 x 40 grid on a wave; every 50th vertex marked.
+  const std::uint32_t n = 40;
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> tri;
+  for (std::uint32_t j = 0; j <= n; ++j)
+    for (std::uint32_t i = 0; i <= n; ++i)
+      xyz.insert(xyz.end(), {double(i) / n, double(j) / n, 0.1 * std::sin(6.0 * i / n) * std::cos(5.0 * j / n)});
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, e = c + 1;
+      tri.insert(tri.end(), {a, b, e, a, e, c});
+    }
+  std::vector<std::uint8_t> lock(xyz.size() / 3, 0);
+  for (std::size_t v = 3; v < lock.size(); v += 50) lock[v] = 1;
+  MeshView view;
+  view.positions = xyz.data();
+  view.position_type = ScalarType::f64;
+  view.vertex_count = xyz.size() / 3;
+  view.indices = tri.data();
+  view.triangle_count = tri.size() / 3;
+  view.vertex_lock = lock.data();
+  SimplifyOptions o;
+  o.target.triangles = 300;
+  const SimplifiedMesh m = simplify_mesh(view, o);
+  CHECK(m.triangles.size() == 3 * 300);
+  for (std::size_t v = 0; v < lock.size(); ++v) {
+    if (!lock[v]) continue;
+    bool found = false;
+    for (std::size_t w = 0; w < m.positions.size() / 3 && !found; ++w) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(m.positions[3 * w + std::size_t(k)] - xyz[3 * v + std::size_t(k)]));
+      found = d <= 1e-12;  // the collapse works relative to the box's corner: the last bit may round
+    }
+    CAPTURE(v);
+    CHECK(found);
+  }
+  // Marked vertices need the edge collapse: clustering refuses them.
+  o.target = TargetOptions();
+  o.method = ClusterMethod::floating;
+  o.sizing.grid = 8;
+  CHECK_THROWS_AS(simplify_mesh(view, o), UsageError);
 }

@@ -88,7 +88,11 @@ MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selecti
 
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats) {
   MeshInput in = open_mesh_view(mesh, options.attributes);
-  return simplify(in, options, stats);
+  if (!mesh.vertex_lock) return simplify(in, options, stats);
+  SimplifyOptions locked = options;
+  for (std::uint64_t v = 0; v < mesh.vertex_count; ++v)
+    if (mesh.vertex_lock[v]) locked.locked_vertices.push_back(v);
+  return simplify(in, locked, stats);
 }
 
 }  // namespace oocsimp
