@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -338,4 +339,108 @@ TEST_CASE("a locked boundary keeps its every vertex and edge, and locked vertice
     CHECK(r.err.find("--lock-boundary") != std::string::npos);
     CHECK(r.err.find("not floating") != std::string::npos);
   }
+}
+
+namespace {
+
+// An open cylinder of radius 1 around z, nu columns around by nz rows up, cut along
+// x > 0, y = 0 into one texture chart: the seam's column is doubled, u = 0 on one
+// side and u = 1 on the other, v = z. Binary PLY with float u and v.
+void write_seam_cylinder(const std::string& path, std::uint32_t nu, std::uint32_t nz) {
+  std::string body;
+  const std::uint32_t row = nu + 1;
+  for (std::uint32_t j = 0; j <= nz; ++j)
+    for (std::uint32_t i = 0; i <= nu; ++i) {
+      const double a = 2 * 3.14159265358979323846 * (i % nu) / nu;
+      const float p[5] = {float(std::cos(a)), float(std::sin(a)), float(double(j) / nz), float(double(i) / nu),
+                          float(double(j) / nz)};
+      body.append(reinterpret_cast<const char*>(p), sizeof p);
+    }
+  for (std::uint32_t j = 0; j < nz; ++j)
+    for (std::uint32_t i = 0; i < nu; ++i) {
+      const std::uint32_t a = j * row + i, b = a + 1, c = a + row, e = c + 1;
+      for (const std::array<std::uint32_t, 3>& t :
+           {std::array<std::uint32_t, 3>{a, b, e}, std::array<std::uint32_t, 3>{a, e, c}}) {
+        body.push_back(3);
+        body.append(reinterpret_cast<const char*>(t.data()), 12);
+      }
+    }
+  write_file(path, "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(row * (nz + 1)) +
+                       "\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\n"
+                       "element face " +
+                       std::to_string(2 * nu * nz) + "\nproperty list uchar uint vertex_indices\nend_header\n" + body);
+}
+
+// The vertices of an ascii PLY with x y z u v, and its faces.
+void read_ascii_xyzuv(const std::string& path, std::vector<std::array<double, 5>>* vertices,
+                      std::vector<std::array<std::uint32_t, 3>>* faces) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::size_t nv = 0, nf = 0;
+  while (std::getline(in, line) && line != "end_header") {
+    if (line.rfind("element vertex ", 0) == 0) nv = std::stoul(line.substr(15));
+    if (line.rfind("element face ", 0) == 0) nf = std::stoul(line.substr(13));
+  }
+  vertices->resize(nv);
+  for (auto& v : *vertices)
+    for (double& x : v) in >> x;
+  faces->resize(nf);
+  for (auto& f : *faces) {
+    int n = 0;
+    in >> n;
+    REQUIRE(n == 3);
+    for (auto& k : f) in >> k;
+  }
+}
+
+}  // namespace
+
+TEST_CASE("texture coordinates follow the edge collapse, and a seam stays where it is, whole and in passes",
+          "[qem][uv]") {
+  ScratchDir d;
+  struct Case {
+    std::uint32_t nu, nz;
+    const char* mem;
+  };
+  std::vector<Case> cases = {{200, 150, "1G"}};
+  if (!OOCSIMP_TEST_UNDER_ASAN) cases.push_back({1000, 1000, "128M"});
+  for (const Case& c : cases) {
+    CAPTURE(c.nu, c.nz);
+    const std::string in = d.file("cylinder.ply"), out = d.file("out.ply");
+    write_seam_cylinder(in, c.nu, c.nz);
+    const CliResult r = run_cli("simplify '" + in + "' -o '" + out + "' --ascii --target-tris 4000 --mem " + c.mem);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find("texture coordinates") == std::string::npos);  // carried, not dropped
+    std::vector<std::array<double, 5>> v;
+    std::vector<std::array<std::uint32_t, 3>> f;
+    read_ascii_xyzuv(out, &v, &f);
+    CHECK(f.size() == 4000);
+    // No face blends the two sides of the seam: its u span is that of a face, not ~1.
+    for (const auto& t : f) {
+      const double lo = std::min({v[t[0]][3], v[t[1]][3], v[t[2]][3]}),
+                   hi = std::max({v[t[0]][3], v[t[1]][3], v[t[2]][3]});
+      CHECK(hi - lo < 0.5);
+    }
+    // u follows the angle and v the height: interpolated along the collapses, they stay
+    // near the cylinder's own parametrisation (the face's chart decides 0 or 1 at the seam).
+    double worst = 0;
+    for (const auto& p : v) {
+      double u = std::atan2(p[1], p[0]) / (2 * 3.14159265358979323846);
+      if (u < 0) u += 1;
+      if (p[3] > 0.75 && u < 0.25) u += 1;
+      if (p[3] < 0.25 && u > 0.75) u -= 1;
+      worst = std::max({worst, std::fabs(u - p[3]), std::fabs(p[2] - p[4])});
+    }
+    CHECK(worst < 0.02);
+    // Both sides of the seam keep every vertex: u 0 and u 1 at each row.
+    std::size_t seam = 0;
+    for (const auto& p : v) seam += (p[3] == 0.0 || p[3] == 1.0) && p[1] == 0.0;
+    CHECK(seam == 2 * std::size_t(c.nz + 1));
+  }
+  // Clustering cannot keep them: dropped with the warning that says why.
+  write_seam_cylinder(d.file("small.ply"), 60, 40);
+  const CliResult r = run_cli("simplify '" + d.file("small.ply") + "' -o '" + d.file("c.ply") + "' --grid 10");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.find("texture coordinates (u, v) are dropped: clustering merges vertices across texture seams") !=
+        std::string::npos);
 }

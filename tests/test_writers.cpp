@@ -160,7 +160,7 @@ TEST_CASE("write_mesh round trip of a mesh larger than the write buffer", "[writ
   }
 }
 
-TEST_CASE("write_mesh of an empty mesh reads back empty, as PLY and OFF; OBJ has nothing to read", "[writers]") {
+TEST_CASE("write_mesh of an empty mesh reads back empty, as PLY and OFF, and OBJ has nothing to read", "[writers]") {
   const std::vector<float> no_positions;
   const std::vector<std::uint32_t> no_triangles;
   round_trip("empty.ply", MeshFormat::ply_binary, "ply binary_little_endian", no_positions, no_triangles);
@@ -457,7 +457,7 @@ Glb read_glb(const std::string& bytes) {
 std::vector<double> accessor(const Glb& g, int a) {
   const auto& acc = g.json["accessors"][a];
   const auto& view = g.json["bufferViews"][acc["bufferView"].get<int>()];
-  const std::size_t width = acc["type"] == "VEC3" ? 3 : acc["type"] == "VEC4" ? 4 : 1;
+  const std::size_t width = acc["type"] == "VEC2" ? 2 : acc["type"] == "VEC3" ? 3 : acc["type"] == "VEC4" ? 4 : 1;
   const std::size_t n = acc["count"].get<std::size_t>() * width;
   REQUIRE(view["byteLength"].get<std::size_t>() == 4 * n);
   std::vector<double> out(n);
@@ -486,10 +486,10 @@ TEST_CASE("glTF binary holds positions, indices, unit normals and colours as the
   oocsimp::AttributeValues attrs;
   for (const char* n : {"red", "green", "blue", "alpha"})
     attrs.attributes.push_back({n, oocsimp::AttributeType::u8, 0, 255});
-  for (const char* n : {"nx", "ny", "nz"}) attrs.attributes.push_back({n, oocsimp::AttributeType::f32, -1, 1});
-  for (int v = 0; v < 4; ++v)
-    for (double x : {255.0, 51.0 * v, 0.0, 255.0, 0.0, 0.0, 2.0})
-      attrs.values.push_back(x);  // normal (0, 0, 2): not unit
+  for (const char* n : {"nx", "ny", "nz", "u", "v"})
+    attrs.attributes.push_back({n, oocsimp::AttributeType::f32, -1, 1});
+  for (int v = 0; v < 4; ++v)  // normal (0, 0, 2): not unit; uv (0.25 v, 0.75)
+    for (double x : {255.0, 51.0 * v, 0.0, 255.0, 0.0, 0.0, 2.0, 0.25 * v, 0.75}) attrs.values.push_back(x);
   CHECK(oocsimp::format_keeps_attributes(MeshFormat::glb, attrs));
   CHECK(format_for_path("m.glb", false) == MeshFormat::glb);
   write_mesh(dir.file("m.glb"), pos, tri, MeshFormat::glb, ScalarType::f32, &attrs);
@@ -511,6 +511,9 @@ TEST_CASE("glTF binary holds positions, indices, unit normals and colours as the
   REQUIRE(colours.size() == 16);
   CHECK(colours[4 * 2 + 1] == Approx(102.0 / 255).epsilon(1e-6));
   CHECK(colours[4 * 3 + 3] == 1.0);
+  // TEXCOORD_0 with v turned to glTF's top-left origin.
+  const std::vector<double> uv = accessor(g, prim["attributes"]["TEXCOORD_0"].get<int>());
+  CHECK(uv == std::vector<double>{0, 0.25, 0.25, 0.25, 0.5, 0.25, 0.75, 0.25});
   // Another attribute is dropped; a mesh without triangles is an empty scene.
   attrs.attributes.push_back({"quality", oocsimp::AttributeType::f32, 0, 1});
   CHECK_FALSE(oocsimp::format_keeps_attributes(MeshFormat::glb, attrs));

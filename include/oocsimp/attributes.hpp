@@ -34,6 +34,11 @@ struct AttributeSelection {
   enum class Mode { all, none, named };
   Mode mode = Mode::all;
   std::vector<std::string> names;  ///< for Mode::named, in the order the output writes them
+  /// Carry texture coordinates (u, v, s, t, texture_u, ...) too. The edge collapse
+  /// sets it (simplify with ClusterMethod::qem): it keeps their seams, locking the
+  /// vertices a seam splits. Clustering, which merges vertices across seams, drops
+  /// them with a warning.
+  bool texture_coordinates = false;
 };
 
 /// Parses --attributes: "all", "none" or "NAME,NAME...". Throws UsageError for an empty

@@ -87,7 +87,9 @@ MeshInput open_mesh_view(const MeshView& mesh, const AttributeSelection& selecti
 }
 
 SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats) {
-  MeshInput in = open_mesh_view(mesh, options.attributes);
+  AttributeSelection selection = options.attributes;
+  selection.texture_coordinates = resolved_method(options) == ClusterMethod::qem;
+  MeshInput in = open_mesh_view(mesh, selection);
   if (!mesh.vertex_lock) return simplify(in, options, stats);
   SimplifyOptions locked = options;
   for (std::uint64_t v = 0; v < mesh.vertex_count; ++v)

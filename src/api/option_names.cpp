@@ -5,12 +5,11 @@
 namespace oocsimp {
 
 const EnumNames<ClusterMethod>& cluster_method_names() {
-  static const EnumNames<ClusterMethod> names = {
-      {ClusterMethod::automatic, "auto"},
-      {ClusterMethod::floating, "floating"},
-      {ClusterMethod::uniform, "uniform"},
-      {ClusterMethod::curvature, "curvature"},
-      {ClusterMethod::qem, "qem"}};
+  static const EnumNames<ClusterMethod> names = {{ClusterMethod::automatic, "auto"},
+                                                 {ClusterMethod::floating, "floating"},
+                                                 {ClusterMethod::uniform, "uniform"},
+                                                 {ClusterMethod::curvature, "curvature"},
+                                                 {ClusterMethod::qem, "qem"}};
   return names;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/vec3_math.hpp"
+#include "io/attribute_array.hpp"
 #include "io/byte_sink.hpp"
 #include "io/error_text.hpp"
 #include "io/mesh_writer_output.hpp"
@@ -385,14 +386,16 @@ std::string attributes_not_written(const std::string& path, MeshFormat format,
   };
   std::string names;
   for (const VertexAttribute& a : attributes) {
-    if ((format == MeshFormat::obj || format == MeshFormat::glb) && is(a, {"red", "green", "blue", "nx", "ny", "nz"}))
+    if ((format == MeshFormat::obj || format == MeshFormat::glb) &&
+        (is(a, {"red", "green", "blue", "nx", "ny", "nz"}) || is_texture_coordinate(a.name)))
       continue;
     if (format == MeshFormat::glb && a.name == "alpha") continue;
     names += (names.empty() ? "" : ", ") + a.name;
   }
-  const char* what = format == MeshFormat::obj   ? "OBJ keeps only the colours red, green, blue and the normals"
-                     : format == MeshFormat::glb ? "glTF keeps only the colours (with alpha) and the normals"
-                                                 : "STL and OFF keep no vertex attributes";
+  const char* what =
+      format == MeshFormat::obj   ? "OBJ keeps only the colours red, green, blue, the normals and texture coordinates"
+      : format == MeshFormat::glb ? "glTF keeps only the colours (with alpha), the normals and texture coordinates"
+                                  : "STL and OFF keep no vertex attributes";
   return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
 }
 
@@ -402,6 +405,7 @@ MeshInput open_input(const std::string& input_path, const SimplifyOptions& optio
   open.temp_dir = options.temp_dir;
   open.weld = options.weld;
   open.attributes = options.attributes;
+  open.attributes.texture_coordinates = resolved_method(options) == ClusterMethod::qem;
   open.memory_budget = budget_bytes(options.memory_budget);
   open.progress = options.progress;
   return open_mesh_input(input_path, open);

@@ -75,6 +75,12 @@ bool is_texture_coordinate(const std::string& name) {
   return false;
 }
 
+bool carries_texture_coordinates(const std::vector<VertexAttribute>& attributes) {
+  for (const VertexAttribute& a : attributes)
+    if (is_texture_coordinate(a.name)) return true;
+  return false;
+}
+
 namespace {
 
 std::string names_of(const std::vector<AttributeCandidate>& c) {
@@ -93,8 +99,11 @@ std::vector<std::size_t> carried_attributes(const std::vector<AttributeCandidate
                                             std::vector<std::string>* notes) {
   std::vector<std::size_t> carried;
   std::string textures;
+  const auto dropped = [&](const std::string& name) {
+    return !selection.texture_coordinates && is_texture_coordinate(name);
+  };
   for (const AttributeCandidate& a : candidates)
-    if (is_texture_coordinate(a.name)) textures += (textures.empty() ? "" : ", ") + a.name;
+    if (dropped(a.name)) textures += (textures.empty() ? "" : ", ") + a.name;
   if (!textures.empty() && selection.mode != AttributeSelection::Mode::none && notes)
     notes->push_back(path + ": texture coordinates (" + textures +
                      ") are dropped: clustering merges vertices across texture seams");
@@ -103,13 +112,13 @@ std::vector<std::size_t> carried_attributes(const std::vector<AttributeCandidate
       return carried;
     case AttributeSelection::Mode::all:
       for (std::size_t i = 0; i < candidates.size(); ++i)
-        if (!is_texture_coordinate(candidates[i].name)) carried.push_back(i);
+        if (!dropped(candidates[i].name)) carried.push_back(i);
       return carried;
     case AttributeSelection::Mode::named:
       for (const std::string& name : selection.names) {
         std::size_t i = 0;
         while (i < candidates.size() && candidates[i].name != name) ++i;
-        if (i == candidates.size() || is_texture_coordinate(name))
+        if (i == candidates.size() || dropped(name))
           throw UsageError("options.attributes", "options.attributes: " + path + " has no vertex attribute \"" + name +
                                                      "\" that can be carried (it has: " + names_of(candidates) + ")");
         carried.push_back(i);

@@ -35,6 +35,8 @@ struct AttributeCandidate {
 /// Texture coordinates (PLY u, v, s, t, texture_u, texture_v, texcoord...): they
 /// cannot survive clustering, which merges vertices across texture seams.
 bool is_texture_coordinate(const std::string& name);
+/// Whether any of `attributes` is a texture coordinate.
+bool carries_texture_coordinates(const std::vector<VertexAttribute>& attributes);
 
 /// The positions in `candidates` of the attributes a run carries, in the order the
 /// output writes them: every candidate but texture coordinates for Mode::all, the

@@ -75,6 +75,7 @@ void write_glb(ByteSink& sink, const GlbArrays& m) {
   const bool normals = m.normal[0] >= 0 && m.normal[1] >= 0 && m.normal[2] >= 0;
   const bool colours = m.colour[0] >= 0 && m.colour[1] >= 0 && m.colour[2] >= 0;
   const std::size_t colour_width = colours && m.colour[3] >= 0 ? 4 : 3;
+  const bool texture = m.uv[0] >= 0 && m.uv[1] >= 0;
   std::vector<Block> blocks;
   std::string attributes;
   std::uint64_t bin = 0;
@@ -101,6 +102,8 @@ void write_glb(ByteSink& sink, const GlbArrays& m) {
     add(position, "POSITION");
     if (normals)
       add({"VEC3", kFloat, kArrayBuffer, m.vertex_count, 12 * std::uint64_t(m.vertex_count), 0, ""}, "NORMAL");
+    if (texture)
+      add({"VEC2", kFloat, kArrayBuffer, m.vertex_count, 8 * std::uint64_t(m.vertex_count), 0, ""}, "TEXCOORD_0");
     if (colours)
       add({colour_width == 4 ? "VEC4" : "VEC3", kFloat, kArrayBuffer, m.vertex_count,
            4 * colour_width * std::uint64_t(m.vertex_count), 0, ""},
@@ -133,6 +136,11 @@ void write_glb(ByteSink& sink, const GlbArrays& m) {
       const double n[3] = {value(i, m.normal[0]), value(i, m.normal[1]), value(i, m.normal[2])};
       const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       for (int k = 0; k < 3; ++k) out[k] = l > 0 ? float(n[k] / l) : k == 2 ? 1.0f : 0.0f;  // NORMAL is unit
+    });
+  if (texture)
+    write_rows(sink, m.vertex_count, 2, [&](std::size_t i, float* out) {
+      out[0] = float(value(i, m.uv[0]));
+      out[1] = float(1.0 - value(i, m.uv[1]));
     });
   if (colours)
     write_rows(sink, m.vertex_count, colour_width, [&](std::size_t i, float* out) {

@@ -21,13 +21,15 @@ struct GlbArrays {
   const double* attributes = nullptr;  ///< attribute_width per vertex
   std::size_t attribute_width = 0;
   int normal[3] = {-1, -1, -1};           ///< nx, ny, nz
+  int uv[2] = {-1, -1};                   ///< texture coordinates, origin at the image's bottom left
   int colour[4] = {-1, -1, -1, -1};       ///< red, green, blue and alpha (alpha may be absent)
   double colour_scale[4] = {1, 1, 1, 1};  ///< the divisor that takes each colour into [0, 1]
 };
 
-/// Writes `m` as a .glb: POSITION (float, with its bounds), NORMAL (made unit length)
-/// and COLOR_0 (float RGB or RGBA in [0, 1]) when present, and indices as unsigned
-/// int. A mesh without triangles is a glTF with an empty scene.
+/// Writes `m` as a .glb: POSITION (float, with its bounds), NORMAL (made unit length),
+/// TEXCOORD_0 (v turned to glTF's top-left origin, §3.7.2.1) and COLOR_0 (float RGB
+/// or RGBA in [0, 1]) when present, and indices as unsigned int. A mesh without triangles is a glTF with an empty
+/// scene.
 void write_glb(ByteSink& sink, const GlbArrays& m);
 
 }  // namespace oocsimp

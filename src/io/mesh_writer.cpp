@@ -106,6 +106,35 @@ struct MeshArrays {
   }
 };
 
+// The texture coordinates among `attributes`: the first pair of the spellings PLY
+// files use (u v, s t, texture_u texture_v, ...), their positions in *u and *v; false
+// when there is none.
+bool texture_coordinate_pair(const std::vector<VertexAttribute>& attributes, int* u = nullptr, int* v = nullptr) {
+  static const char* const kPairs[][2] = {{"u", "v"},
+                                          {"s", "t"},
+                                          {"texture_u", "texture_v"},
+                                          {"texture_s", "texture_t"},
+                                          {"texcoord_u", "texcoord_v"},
+                                          {"tex_u", "tex_v"}};
+  const auto find = [&](const char* name) {
+    for (std::size_t k = 0; k < attributes.size(); ++k)
+      if (attributes[k].name == name) return int(k);
+    return -1;
+  };
+  for (const auto& pair : kPairs) {
+    const int a = find(pair[0]), b = find(pair[1]);
+    if (a < 0 || b < 0) continue;
+    if (u) *u = a;
+    if (v) *v = b;
+    return true;
+  }
+  return false;
+}
+
+bool texture_pair(const MeshArrays& m, int* u, int* v) {
+  return m.attribute_names && texture_coordinate_pair(*m.attribute_names, u, v);
+}
+
 // The divisor that takes a colour of type `t` into [0, 1]: 255 for uchar, 65535 for
 // ushort, 1 for floating point (stored as [0, 1] already).
 double colour_scale(AttributeType t) {
@@ -133,6 +162,9 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
   // name with the vertex's own index ("f a//a b//b c//c").
   const int nxyz[3] = {m.colour_index("nx"), m.colour_index("ny"), m.colour_index("nz")};
   const bool normals = nxyz[0] >= 0 && nxyz[1] >= 0 && nxyz[2] >= 0;
+  // Texture coordinates as "vt", one per vertex likewise.
+  int uv[2];
+  const bool texture = texture_pair(m, &uv[0], &uv[1]);
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     out.text() += "v ";
     m.append_vertex(out.text(), i);
@@ -151,17 +183,29 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
       }
       out.text() += '\n';
     }
+    if (texture) {
+      out.text() += "vt";
+      for (int c : uv) {
+        out.text() += ' ';
+        append_coord(out.text(), m.attribute(i, std::size_t(c)), ScalarType::f32);
+      }
+      out.text() += '\n';
+    }
     out.maybe_flush();
   }
   for (std::size_t t = 0; t < m.triangles(); ++t) {
     out.text() += "f ";
-    if (normals) {
+    if (normals || texture) {
       for (int k = 0; k < 3; ++k) {
         if (k) out.text() += ' ';
         const std::uint64_t v = std::uint64_t(m.tri[3 * t + std::size_t(k)]) + 1;
         append_uint(out.text(), v);
-        out.text() += "//";
-        append_uint(out.text(), v);
+        out.text() += '/';
+        if (texture) append_uint(out.text(), v);
+        if (normals) {
+          out.text() += '/';
+          append_uint(out.text(), v);
+        }
       }
     } else {
       m.append_triangle(out.text(), t, 1);
@@ -339,6 +383,7 @@ void write_gltf(ByteSink& sink, const MeshArrays& m) {
   g.triangle_count = m.triangles();
   g.attributes = m.attribute_values;
   g.attribute_width = m.attribute_count();
+  texture_pair(m, &g.uv[0], &g.uv[1]);
   const char* normal[3] = {"nx", "ny", "nz"};
   const char* colour[4] = {"red", "green", "blue", "alpha"};
   for (int k = 0; k < 3; ++k) g.normal[k] = m.colour_index(normal[k]);
@@ -499,27 +544,20 @@ bool format_keeps_primitives(MeshFormat format) {
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes) {
   if (attributes.empty()) return true;
   if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
-  if (format == MeshFormat::glb) {
-    // glTF keeps colours (COLOR_0, with alpha when there is one) and normals.
-    int kept = 0, colours = 0, normals = 0;
-    for (const VertexAttribute& a : attributes.attributes) {
-      colours += a.name == "red" || a.name == "green" || a.name == "blue";
-      normals += a.name == "nx" || a.name == "ny" || a.name == "nz";
-      kept += a.name == "alpha";
-    }
-    if (colours != 3) kept = 0;  // alpha goes with the colours
-    return (colours == 0 || colours == 3) && (normals == 0 || normals == 3) &&
-           std::size_t(colours + normals + kept) == attributes.attributes.size();
-  }
-  if (format != MeshFormat::obj) return false;
-  // OBJ keeps colours ("v x y z r g b") and normals ("vn"), each whole, and nothing else.
-  int colours = 0, normals = 0;
+  if (format != MeshFormat::obj && format != MeshFormat::glb) return false;
+  // OBJ keeps colours ("v x y z r g b"), normals ("vn") and one pair of texture
+  // coordinates ("vt"), each whole, and nothing else; glTF the same (COLOR_0 with
+  // alpha when there is one, NORMAL, TEXCOORD_0).
+  int colours = 0, normals = 0, alpha = 0;
   for (const VertexAttribute& a : attributes.attributes) {
     colours += a.name == "red" || a.name == "green" || a.name == "blue";
     normals += a.name == "nx" || a.name == "ny" || a.name == "nz";
+    alpha += format == MeshFormat::glb && a.name == "alpha";
   }
+  if (colours != 3) alpha = 0;  // alpha goes with the colours
+  const std::size_t texture = texture_coordinate_pair(attributes.attributes) ? 2 : 0;
   return (colours == 0 || colours == 3) && (normals == 0 || normals == 3) &&
-         std::size_t(colours + normals) == attributes.attributes.size();
+         std::size_t(colours + normals + alpha) + texture == attributes.attributes.size();
 }
 
 namespace {

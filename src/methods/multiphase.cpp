@@ -192,6 +192,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
   settings.result_quadrics = false;  // the output's
   settings.lock_boundary = options.lock_boundary;
+  settings.lock_coincident = carries_texture_coordinates(*in.attributes);
   CollapseStats cs;
   QuadricMesh done;
   {

@@ -585,6 +585,7 @@ class PassRun {
     settings_.exact_count = false;
     if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
     settings_.lock_boundary = options.lock_boundary;
+    settings_.lock_coincident = carries_texture_coordinates(input.attributes.attributes);
     if (!options.locked_vertices.empty()) settings_.locked_ids = &options.locked_vertices;  // sorted by the caller
   }
 

@@ -21,8 +21,8 @@ namespace {
 constexpr char kMagic[8] = {'O', 'O', 'C', 'S', 'P', 'A', 'R', 'T'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8;  // magic, version, part, parts, manifest bytes
+// A record: its kind (1 byte), the chunk (8) and the payload bytes (8), then the payload.
 enum RecordKind : std::uint8_t { kEnd = 0, kVertices = 1, kFaces = 2 };
-constexpr std::size_t kRecordHead = 1 + 8 + 8;  // kind, chunk, payload bytes
 constexpr std::uint64_t kSampleBytes = 1 << 20;
 
 std::string hex_double(double v) {

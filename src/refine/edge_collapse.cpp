@@ -5,6 +5,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -159,6 +160,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   if (settings.lock_boundary)
     for (std::size_t v = 0; v < n; ++v)
       if (boundary_[v]) locked_[v] = 1;
+  if (settings.lock_coincident) lock_coincident_vertices();
   add_boundary_planes(settings.boundary_weight);
 }
 
@@ -734,6 +736,26 @@ void CollapseState::compact_adjacency() {
   }
   faces_ = std::move(packed);
   compact_at_ = 2 * faces_.size() + 1024;
+}
+
+// Vertices sorted by position; each run of two or more at one position is locked.
+void CollapseState::lock_coincident_vertices() {
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t v = 0; v < std::uint32_t(mesh_.positions.size()); ++v)
+    if (alive_[v]) order.push_back(v);
+  const auto key = [&](std::uint32_t v) {
+    const Vec3d& p = mesh_.positions[v];
+    return std::make_tuple(p.x, p.y, p.z);
+  };
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return key(a) != key(b) ? key(a) < key(b) : a < b; });
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i + 1;
+    while (j < order.size() && key(order[j]) == key(order[i])) ++j;
+    if (j - i > 1)
+      for (std::size_t k = i; k < j; ++k) locked_[order[k]] = 1;
+    i = j;
+  }
 }
 
 QuadricMesh CollapseState::release_vertices() {

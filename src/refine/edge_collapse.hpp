@@ -87,6 +87,10 @@ struct CollapseSettings {
   /// (SimplifyOptions::locked_vertices), or null. A whole mesh numbered by input index
   /// is given QuadricMesh::locked instead.
   const std::vector<std::uint64_t>* locked_ids = nullptr;
+  /// Lock every vertex that shares its position with another: the two sides of a
+  /// texture seam (vertices split so that each side has its own coordinates) stay
+  /// where they are together, so the seam neither opens nor blends.
+  bool lock_coincident = false;
   /// Meet target_triangles exactly (collapses that overshoot wait; edges are split at
   /// the end to make up an overshoot). Off, the collapse stops at or below it, or when
   /// none is left.
@@ -226,6 +230,7 @@ class CollapseState {
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
+  void lock_coincident_vertices();
   // The longest live edge of `faces` faces (ties: the lowest vertices) into *edge (if
   // given); false when there is none.
   bool longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const;

@@ -114,6 +114,38 @@ class Simplify(unittest.TestCase):
         self.assertTrue((attrs["colors"] == [10, 200, 30]).all())
         np.testing.assert_allclose(attrs["normals"], np.tile([[0.0, 0.6, 0.8]], (len(v2), 1)), atol=1e-6)
 
+    def test_uvs_follow_a_plane_and_a_seam_stays(self):
+        # A flat grid cut along x = 0.5 into two charts: the seam's vertices doubled,
+        # each side with its own u (the plane's x, shifted by 10 on the right chart).
+        n = 41
+        v, f = grid(n)
+        uv = v[:, :2].copy()
+        seam = np.where(np.isclose(v[:, 0], 0.5))[0]
+        extra = np.arange(len(v), len(v) + len(seam))
+        v2 = np.concatenate([v, v[seam]])
+        uv2 = np.concatenate([uv, uv[seam]])
+        uv2[:, 0] += np.where(v2[:, 0] > 0.5, 10.0, 0.0)
+        uv2[extra, 0] += 10.0
+        remap = np.arange(len(v))
+        remap[seam] = extra
+        f2 = f.copy()
+        right = v[f].mean(axis=1)[:, 0] > 0.5  # faces of the right chart take the doubles
+        f2[right] = remap[f[right]]
+        out_v, out_f, attrs = oocsimp.simplify(v2, f2, target_tris=300, uvs=uv2)
+        self.assertEqual(len(out_f), 300)
+        u = attrs["uvs"]
+        # Every face lies in one chart: its u all below 1 or all above 10.
+        chart = u[out_f][:, :, 0] > 5
+        self.assertTrue((chart.all(axis=1) | (~chart).all(axis=1)).all())
+        # The uv is the plane's position (the shift taken off) within rounding.
+        expected = out_v[:, :2].copy()
+        expected[:, 0] += np.where(u[:, 0] > 5, 10.0, 0.0)
+        self.assertLess(np.abs(u - expected).max(), 1e-6)
+        # The seam's vertices, both sides, are all there.
+        kept = {tuple(p) for p in np.round(np.concatenate([out_v, u], axis=1), 9).tolist()}
+        want = np.round(np.concatenate([v2, uv2], axis=1), 9)
+        self.assertTrue(all(tuple(p) in kept for p in want[np.concatenate([seam, extra])].tolist()))
+
     def test_rgba_colours_keep_their_alpha(self):
         v, f = grid(40)
         rgba = np.tile(np.array([[0.1, 0.2, 0.3, 0.5]], dtype=np.float32), (len(v), 1))
@@ -137,8 +169,8 @@ class Errors(unittest.TestCase):
             oocsimp.simplify(self.v, self.f, mem="lots")
         with self.assertRaises(TypeError):
             oocsimp.simplify(self.v, self.f, target_triangles=10)
-        with self.assertRaises(TypeError):  # texture coordinates are not carried yet
-            oocsimp.simplify(self.v, self.f, target_tris=10, uvs=np.zeros((len(self.v), 2)))
+        with self.assertRaisesRegex(ValueError, "uvs"):
+            oocsimp.simplify(self.v, self.f, grid=8, uvs=np.zeros((len(self.v), 2)))
 
     def test_bad_arrays(self):
         with self.assertRaisesRegex(ValueError, r"vertices must have shape \(n, 3\)"):

@@ -238,8 +238,9 @@ py::object simplify(py::array vertices, py::array faces, py::kwargs kwargs) {
   oocsimp::SimplifyOptions options;
   std::vector<AttributeGroup> groups;
   const std::size_t vertex_count = std::size_t(checked_rows("vertices", vertices, 3, std::size_t(-1)).shape(0));
-  for (auto [keyword, names] :
-       {std::pair<const char*, std::vector<const char*>>{"colors", {}}, {"normals", {"nx", "ny", "nz"}}}) {
+  for (auto [keyword, names] : {std::pair<const char*, std::vector<const char*>>{"colors", {}},
+                                {"normals", {"nx", "ny", "nz"}},
+                                {"uvs", {"u", "v"}}}) {
     if (!kw.contains(keyword)) continue;
     py::object value = kw[keyword];
     PyDict_DelItemString(kw.ptr(), keyword);
@@ -254,6 +255,11 @@ py::object simplify(py::array vertices, py::array faces, py::kwargs kwargs) {
   }
   read_options(kw, &options);
   refuse_unknown(kw, "simplify");
+  for (const AttributeGroup& g : groups)
+    if (std::string(g.keyword) == "uvs" && oocsimp::resolved_method(options) != oocsimp::ClusterMethod::qem)
+      throw py::value_error(std::string("uvs need the edge collapse (a target, method qem): clustering by ") +
+                            oocsimp::method_name(oocsimp::resolved_method(options)) +
+                            " merges vertices across texture seams");
 
   const bool doubles = vertices.dtype().is(py::dtype::of<double>());
   py::array positions = doubles ? in_place_or_copy<double>(vertices) : in_place_or_copy<float>(vertices);
@@ -401,7 +407,8 @@ PYBIND11_MODULE(oocsimp, m) {
         "simplify(vertices, faces, target_tris=None, target_ratio=None, max_error=None, method=None, colors=None,\n"
         "         normals=None, threads=None, ...) -> (vertices, faces[, attributes])\n\n"
         "Simplifies a mesh held in numpy arrays: vertices (n, 3) float32 or float64, faces (m, 3) integers.\n"
-        "colors (n, 3 or 4) and normals (n, 3) are carried as per-vertex means and returned in a dict.\n"
+        "colors (n, 3 or 4), normals (n, 3) and uvs (n, 2) are carried and returned in a dict; uvs need\n"
+        "the edge collapse (a target), whose seams (vertices split at one position) stay where they are.\n"
         "The other keywords are simplify_file's.");
   m.def("simplify_file", &simplify_file, "input"_a, "output"_a,
         "simplify_file(input, output, **options) -> dict\n\n"
