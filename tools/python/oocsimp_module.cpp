@@ -303,7 +303,7 @@ py::object simplify(py::array vertices, py::array faces, py::kwargs kwargs) {
   py::array_t<double> v({n, std::size_t(3)}, mesh.positions.data());
   py::array_t<std::uint32_t> t({m, std::size_t(3)}, mesh.triangles.data());
   py::object v_out = doubles ? py::object(v) : v.attr("astype")("float32");
-  py::object f_out = t.attr("astype")(f.dtype().kind() == 'u' ? py::dtype("uint32") : f.dtype());
+  py::object f_out = t.attr("astype")(f.dtype());
   if (groups.empty()) return py::make_tuple(v_out, f_out);
   py::dict attributes;
   for (const AttributeGroup& g : groups) attributes[g.keyword] = group_result(g, mesh);
