@@ -259,7 +259,17 @@ EOF
 write_dict "$dicts/fuzz_ply_reader.dict" $words_ply
 write_dict "$dicts/fuzz_obj_reader.dict" $words_obj
 write_dict "$dicts/fuzz_stl_reader.dict" $words_stl
-write_dict "$dicts/fuzz_simplify.dict" $words_ply $words_obj $words_stl
+words_off="OFF COFF NOFF CNOFF STOFF STCNOFF 4OFF nOFF BINARY # 0 1 3 4 255 1.5 -1 1e30 nan"
+write_dict "$dicts/fuzz_off_reader.dict" $words_off
+# gzip: the magic, the deflate method and flag bytes, a stored block's header.
+write_dict "$dicts/fuzz_gzip_input.dict" $words_obj
+cat >>"$dicts/fuzz_gzip_input.dict" <<'EOF'
+"\x1F\x8B\x08\x00"
+"\x1F\x8B\x08\x08"
+"\x01\x00\x00\xFF\xFF"
+"\x03\x00"
+EOF
+write_dict "$dicts/fuzz_simplify.dict" $words_ply $words_obj $words_stl $words_off
 
 # --- runs ---------------------------------------------------------------------------
 mkdir -p "$build/logs"
