@@ -165,6 +165,15 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
   // Texture coordinates as "vt", one per vertex likewise.
   int uv[2];
   const bool texture = texture_pair(m, &uv[0], &uv[1]);
+  // "KEY a b ...": vertex i's attributes `columns`, as floats.
+  const auto attribute_line = [&](const char* key, const int* columns, int count, std::size_t i) {
+    out.text() += key;
+    for (int k = 0; k < count; ++k) {
+      out.text() += ' ';
+      append_coord(out.text(), m.attribute(i, std::size_t(columns[k])), ScalarType::f32);
+    }
+    out.text() += '\n';
+  };
   for (std::size_t i = 0; i < m.vertices(); ++i) {
     out.text() += "v ";
     m.append_vertex(out.text(), i);
@@ -175,22 +184,8 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
                      ScalarType::f32);
       }
     out.text() += '\n';
-    if (normals) {
-      out.text() += "vn";
-      for (int c : nxyz) {
-        out.text() += ' ';
-        append_coord(out.text(), m.attribute(i, std::size_t(c)), ScalarType::f32);
-      }
-      out.text() += '\n';
-    }
-    if (texture) {
-      out.text() += "vt";
-      for (int c : uv) {
-        out.text() += ' ';
-        append_coord(out.text(), m.attribute(i, std::size_t(c)), ScalarType::f32);
-      }
-      out.text() += '\n';
-    }
+    if (normals) attribute_line("vn", nxyz, 3, i);
+    if (texture) attribute_line("vt", uv, 2, i);
     out.maybe_flush();
   }
   for (std::size_t t = 0; t < m.triangles(); ++t) {
