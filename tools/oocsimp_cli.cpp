@@ -15,10 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <initializer_list>
 #include <new>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -459,30 +459,26 @@ struct SimplifyPlan {
 // --lock-vertices FILE: vertex indices from 0, separated by blanks or line ends, with
 // "#" comments. A word that is no index exits 3 naming the file and line.
 std::vector<std::uint64_t> read_vertex_list(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw IoError(path + ": cannot open: " + std::strerror(errno));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open: " + std::strerror(errno));
   std::vector<std::uint64_t> out;
   std::string line;
-  std::uint64_t number = 0;
-  for (int c = 0; c != EOF;) {
-    line.clear();
-    while ((c = std::fgetc(f)) != EOF && c != '\n') line += char(c);
-    ++number;
-    const std::size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    for (std::string w; words >> w;) {
+  for (std::uint64_t number = 1; std::getline(in, line); ++number) {
+    const char* p = line.data();
+    const char* end = p + std::min(line.size(), line.find('#'));
+    while (p < end) {
+      while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+      const char* word = p;
+      while (p < end && !std::isspace(static_cast<unsigned char>(*p))) ++p;
+      if (word == p) break;
       std::uint64_t v = 0;
-      const auto r = std::from_chars(w.data(), w.data() + w.size(), v);
-      if (r.ec != std::errc() || r.ptr != w.data() + w.size()) {
-        std::fclose(f);
-        throw InputError(path + ": line " + std::to_string(number) + ": \"" + w.substr(0, 32) +
+      const auto r = std::from_chars(word, p, v);
+      if (r.ec != std::errc() || r.ptr != p)
+        throw InputError(path + ": line " + std::to_string(number) + ": \"" + std::string(word, p).substr(0, 32) +
                          "\" is no vertex index (expected a whole number from 0)");
-      }
       out.push_back(v);
     }
   }
-  std::fclose(f);
   return out;
 }
 

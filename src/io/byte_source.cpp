@@ -173,6 +173,23 @@ std::size_t ByteSource::read_raw(void* dst, std::size_t cap) {
   return got;
 }
 
+// The next block of the compressed file into zin_; false at its end. A stream that
+// ends inside a frame (zstd) or member (gzip) is truncated: InputError.
+bool ByteSource::refill_compressed(const char* format) {
+  if (raw_eof_) return false;
+  const std::size_t n = read_raw(zin_.data(), zin_.size());
+  if (n == 0) {
+    raw_eof_ = true;
+    if (!frame_done_)
+      throw InputError(
+          at_byte(path(), raw_consumed_, std::string("truncated ") + format + " stream (compressed offset)"));
+    return false;
+  }
+  zin_pos_ = 0;
+  zin_end_ = n;
+  return true;
+}
+
 // Members follow one another (`cat a.gz b.gz`, pigz): after the end of one, the next
 // must start with the gzip magic, and is inflated in turn.
 std::size_t ByteSource::fill_gzip(unsigned char* dst, std::size_t cap) {
@@ -181,17 +198,7 @@ std::size_t ByteSource::fill_gzip(unsigned char* dst, std::size_t cap) {
   z.avail_out = unsigned(std::min<std::size_t>(cap, 1u << 30));
   const std::size_t asked = z.avail_out;
   while (z.avail_out > 0) {
-    if (zin_pos_ == zin_end_) {
-      if (raw_eof_) break;
-      std::size_t n = read_raw(zin_.data(), zin_.size());
-      if (n == 0) {
-        raw_eof_ = true;
-        if (!frame_done_) throw InputError(at_byte(path(), raw_consumed_, "truncated gzip stream (compressed offset)"));
-        break;
-      }
-      zin_pos_ = 0;
-      zin_end_ = n;
-    }
+    if (zin_pos_ == zin_end_ && !refill_compressed("gzip")) break;
     if (frame_done_) {  // another member, or something that is none
       if (zin_[zin_pos_] != 0x1F)
         throw InputError(at_byte(path(), raw_consumed_ - (zin_end_ - zin_pos_),
@@ -220,17 +227,7 @@ std::size_t ByteSource::fill_raw(unsigned char* dst, std::size_t cap) {
   // frames, so concatenated files (`cat a.zst b.zst`, pzstd) read as `zstd -d` reads them.
   ZSTD_outBuffer out{dst, cap, 0};
   while (out.pos < out.size) {
-    if (zin_pos_ == zin_end_) {
-      if (raw_eof_) break;
-      std::size_t n = read_raw(zin_.data(), zin_.size());
-      if (n == 0) {
-        raw_eof_ = true;
-        if (!frame_done_) throw InputError(at_byte(path(), raw_consumed_, "truncated zstd stream (compressed offset)"));
-        break;
-      }
-      zin_pos_ = 0;
-      zin_end_ = n;
-    }
+    if (zin_pos_ == zin_end_ && !refill_compressed("zstd")) break;
     ZSTD_inBuffer in{zin_.data(), zin_end_, zin_pos_};
     std::size_t r = ZSTD_decompressStream(zstd_, &out, &in);
     zin_pos_ = in.pos;

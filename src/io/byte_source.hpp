@@ -121,6 +121,7 @@ class ByteSource {
   bool refill_for(std::size_t n);
   std::size_t fill_raw(unsigned char* dst, std::size_t cap);
   std::size_t fill_gzip(unsigned char* dst, std::size_t cap);
+  bool refill_compressed(const char* format);
   std::size_t read_raw(void* dst, std::size_t cap);
   [[noreturn]] void line_too_long(std::size_t max_length, const char* too_long) const;
 
