@@ -393,6 +393,67 @@ void read_ascii_xyzuv(const std::string& path, std::vector<std::array<double, 5>
   }
 }
 
+// The same cylinder as write_seam_cylinder, in OBJ as exporters write it: each
+// position once (nu a row), the texture coordinates apart (nu + 1 a row), and the faces
+// naming both, so the reader has to split the seam's positions itself.
+void write_seam_cylinder_obj(const std::string& path, std::uint32_t nu, std::uint32_t nz) {
+  std::string s;
+  char line[128];
+  for (std::uint32_t j = 0; j <= nz; ++j)
+    for (std::uint32_t i = 0; i < nu; ++i) {
+      const double a = 2 * 3.14159265358979323846 * i / nu;
+      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", double(float(std::cos(a))), double(float(std::sin(a))),
+                    double(float(double(j) / nz)));
+      s += line;
+    }
+  for (std::uint32_t j = 0; j <= nz; ++j)
+    for (std::uint32_t i = 0; i <= nu; ++i) {
+      std::snprintf(line, sizeof line, "vt %.9g %.9g\n", double(float(double(i) / nu)), double(float(double(j) / nz)));
+      s += line;
+    }
+  // 1-based "position/texture" of column i (0..nu) of row j.
+  const auto corner = [&](std::uint32_t i, std::uint32_t j) {
+    return std::to_string(j * nu + i % nu + 1) + "/" + std::to_string(j * (nu + 1) + i + 1);
+  };
+  for (std::uint32_t j = 0; j < nz; ++j)
+    for (std::uint32_t i = 0; i < nu; ++i) {
+      s += "f " + corner(i, j) + " " + corner(i + 1, j) + " " + corner(i + 1, j + 1) + "\n";
+      s += "f " + corner(i, j) + " " + corner(i + 1, j + 1) + " " + corner(i, j + 1) + "\n";
+    }
+  write_file(path, s);
+}
+
+// Checks the ascii PLY (x y z u v) simplified from a seam cylinder of nz rows: the
+// seam is whole on both sides, no face spans it, and u and v stay near the cylinder's
+// own parametrisation.
+void check_seam_cylinder_output(const std::string& out, std::uint32_t nz) {
+  std::vector<std::array<double, 5>> v;
+  std::vector<std::array<std::uint32_t, 3>> f;
+  read_ascii_xyzuv(out, &v, &f);
+  CHECK(f.size() == 4000);
+  // No face blends the two sides of the seam: its u span is that of a face, not ~1.
+  for (const auto& t : f) {
+    const double lo = std::min({v[t[0]][3], v[t[1]][3], v[t[2]][3]}),
+                 hi = std::max({v[t[0]][3], v[t[1]][3], v[t[2]][3]});
+    CHECK(hi - lo < 0.5);
+  }
+  // u follows the angle and v the height: interpolated along the collapses, they stay
+  // near the cylinder's own parametrisation (the face's chart decides 0 or 1 at the seam).
+  double worst = 0;
+  for (const auto& p : v) {
+    double u = std::atan2(p[1], p[0]) / (2 * 3.14159265358979323846);
+    if (u < 0) u += 1;
+    if (p[3] > 0.75 && u < 0.25) u += 1;
+    if (p[3] < 0.25 && u > 0.75) u -= 1;
+    worst = std::max({worst, std::fabs(u - p[3]), std::fabs(p[2] - p[4])});
+  }
+  CHECK(worst < 0.02);
+  // Both sides of the seam keep every vertex: u 0 and u 1 at each row.
+  std::size_t seam = 0;
+  for (const auto& p : v) seam += (p[3] == 0.0 || p[3] == 1.0) && p[1] == 0.0;
+  CHECK(seam == 2 * std::size_t(nz + 1));
+}
+
 }  // namespace
 
 TEST_CASE("texture coordinates follow the edge collapse, and a seam stays where it is, whole and in passes",
@@ -411,31 +472,20 @@ TEST_CASE("texture coordinates follow the edge collapse, and a seam stays where 
     const CliResult r = run_cli("simplify '" + in + "' -o '" + out + "' --ascii --target-tris 4000 --mem " + c.mem);
     REQUIRE(r.exit_code == 0);
     CHECK(r.err.find("texture coordinates") == std::string::npos);  // carried, not dropped
-    std::vector<std::array<double, 5>> v;
-    std::vector<std::array<std::uint32_t, 3>> f;
-    read_ascii_xyzuv(out, &v, &f);
-    CHECK(f.size() == 4000);
-    // No face blends the two sides of the seam: its u span is that of a face, not ~1.
-    for (const auto& t : f) {
-      const double lo = std::min({v[t[0]][3], v[t[1]][3], v[t[2]][3]}),
-                   hi = std::max({v[t[0]][3], v[t[1]][3], v[t[2]][3]});
-      CHECK(hi - lo < 0.5);
-    }
-    // u follows the angle and v the height: interpolated along the collapses, they stay
-    // near the cylinder's own parametrisation (the face's chart decides 0 or 1 at the seam).
-    double worst = 0;
-    for (const auto& p : v) {
-      double u = std::atan2(p[1], p[0]) / (2 * 3.14159265358979323846);
-      if (u < 0) u += 1;
-      if (p[3] > 0.75 && u < 0.25) u += 1;
-      if (p[3] < 0.25 && u > 0.75) u -= 1;
-      worst = std::max({worst, std::fabs(u - p[3]), std::fabs(p[2] - p[4])});
-    }
-    CHECK(worst < 0.02);
-    // Both sides of the seam keep every vertex: u 0 and u 1 at each row.
-    std::size_t seam = 0;
-    for (const auto& p : v) seam += (p[3] == 0.0 || p[3] == 1.0) && p[1] == 0.0;
-    CHECK(seam == 2 * std::size_t(c.nz + 1));
+    check_seam_cylinder_output(out, c.nz);
+  }
+  // OBJ keeps texture coordinates on face corners: the reader splits the seam.
+  {
+    const std::string in = d.file("cylinder.obj"), out = d.file("out-obj.ply");
+    write_seam_cylinder_obj(in, 200, 150);
+    OpenOptions open;
+    open.attributes.texture_coordinates = true;
+    const MeshInput mesh = open_mesh_input(in, open);
+    CHECK(mesh.info.vertex_count == 200 * 151 + 151);
+    const CliResult r = run_cli("simplify '" + in + "' -o '" + out + "' --ascii --target-tris 4000");
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find("texture coordinates") == std::string::npos);
+    check_seam_cylinder_output(out, 150);
   }
   // Clustering cannot keep them: dropped with the warning that says why.
   write_seam_cylinder(d.file("small.ply"), 60, 40);

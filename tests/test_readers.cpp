@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "io/attribute_array.hpp"
 #include "io/error_text.hpp"
 #include "oocsimp/error.hpp"
 #include "io/mesh_input.hpp"
@@ -655,6 +656,64 @@ TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][ob
   CHECK(m.info.face_count == 4);
   CHECK(m.positions == kTextD);
   CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 2, 3, 1, 4, 2, 4, 3, 2, 4, 2, 1});
+}
+
+TEST_CASE("OBJ texture coordinates split a position per pair its corners name, in file order",
+          "[readers][obj][attributes]") {
+  ScratchDir dir;
+  std::string path = dir.file("seam.obj");
+  write_file(path,
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+             "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\nvt 0.25 0.25\n"
+             "vn 0 0 1\nvn 0 1 1\n"
+             "f 1/1/1 2/2/1 3/3/1\n"  // first pairs: vertices 0 1 2
+             "f 2/5/2 4/4/2 3/6/2\n"  // 2/5 and 3/6 are new pairs: vertices 4 and 5
+             "f 2/5 1/1 2/2\n");      // pairs seen before: 4 0 1
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  REQUIRE(in.info.vertex_count == 6);
+  REQUIRE(in.positions.count == 6);
+  std::vector<std::uint64_t> tris(9);
+  REQUIRE(in.triangles->read(tris.data(), 3) == 3);
+  CHECK(tris == std::vector<std::uint64_t>{0, 1, 2, 4, 3, 5, 4, 0, 1});
+  // The split vertices sit at their positions.
+  const oocsimp::Vec3d p4 = in.positions.get(4), p5 = in.positions.get(5);
+  CHECK((p4.x == 1 && p4.y == 0 && p4.z == 0));
+  CHECK((p5.x == 0 && p5.y == 1 && p5.z == 0));
+  REQUIRE(in.attributes.size() == 5);
+  const char* names[5] = {"u", "v", "nx", "ny", "nz"};
+  for (std::size_t k = 0; k < 5; ++k) CHECK(in.attributes.attributes[k].name == names[k]);
+  const double uv[6][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}, {0.5, 0.5}, {0.25, 0.25}};
+  for (std::uint64_t i = 0; i < 6; ++i) {
+    CHECK(oocsimp::attribute_value(in.attributes, i, 0) == uv[i][0]);
+    CHECK(oocsimp::attribute_value(in.attributes, i, 1) == uv[i][1]);
+  }
+  // Normals are averaged per position (vn 1 and vn 2 at positions 2 and 3), and a split
+  // vertex has its position's.
+  const double s5 = 1 / std::sqrt(5.0), s2 = 1 / std::sqrt(2.0);
+  const double normal[6][3] = {{0, 0, 1}, {0, s5, 2 * s5}, {0, s5, 2 * s5}, {0, s2, s2}, {0, s5, 2 * s5}, {0, s5, 2 * s5}};
+  for (std::uint64_t i = 0; i < 6; ++i)
+    for (std::size_t k = 0; k < 3; ++k) CHECK(oocsimp::attribute_value(in.attributes, i, 2 + k) == Approx(normal[i][k]).margin(1e-6));
+  // Without texture coordinates (clustering) no position is split.
+  o.attributes.texture_coordinates = false;
+  oocsimp::MeshInput plain = oocsimp::open_mesh_input(path, o);
+  CHECK(plain.info.vertex_count == 4);
+  CHECK(plain.attributes.size() == 3);
+  // Corner indices beyond what the file has defined so far name the line.
+  const struct {
+    const char* face;
+    const char* message;
+  } bad[] = {{"f 1/7 2/1 3/1\n", "line 12: texture coordinate index 7 refers to a texture coordinate not defined yet (6 so far)"},
+             {"f 1//3 2//1 3//1\n", "line 12: normal index 3 refers to a normal not defined yet (2 so far)"},
+             {"f 1/x 2/1 3/1\n", "line 12: malformed texture coordinate index \"1/x\""}};
+  for (const auto& b : bad) {
+    write_file(path, std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0 0\nvt 1 1\nvn 0 0 1\nvn 0 1 0\n") +
+                         b.face);
+    o.attributes.texture_coordinates = true;
+    CHECK_THROWS_WITH(oocsimp::open_mesh_input(path, o), Catch::Contains(b.message));
+  }
 }
 
 TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers][obj]") {

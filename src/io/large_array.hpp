@@ -104,4 +104,39 @@ class LargeArray {
   std::size_t size_ = 0;
 };
 
+/// A LargeArray filled by appending, of unknown final size: its room doubles when it
+/// is full, and it moves from the heap into a file when the room outgrows the place's
+/// heap limit, so reading a file of any size into it never holds more than that.
+template <class T>
+class AppendArray {
+ public:
+  AppendArray(ArrayPlace place, const char* name) : place_(std::move(place)), name_(name) {}
+  void push_back(const T& value) {
+    if (size_ == values_.size()) grow();
+    values_[size_++] = value;
+  }
+  const T& operator[](std::size_t i) const { return values_[i]; }
+  T& operator[](std::size_t i) { return values_[i]; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+
+ private:
+  void grow() {
+    const std::size_t room = values_.size() < 1024 ? 1024 : 2 * values_.size();
+    if (values_.mapped() || std::uint64_t(room) * sizeof(T) <= place_.heap_limit) {
+      values_.resize(room);
+      return;
+    }
+    LargeArray<T> moved;
+    moved.assign_zeroed(room, place_, name_);
+    if (size_) std::memcpy(moved.data(), values_.data(), size_ * sizeof(T));
+    values_ = std::move(moved);
+  }
+
+  ArrayPlace place_;
+  const char* name_;
+  LargeArray<T> values_;
+  std::size_t size_ = 0;
+};
+
 }  // namespace oocsimp

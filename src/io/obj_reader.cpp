@@ -5,11 +5,23 @@
 // (and counts `f` lines), the second streams the faces. An index refers to the
 // vertices defined so far (negative ones count back from the latest), as in the
 // format's definition, so forward references are rejected.
+//
+// OBJ gives texture coordinates (`vt`) and normals (`vn`) to face corners, not to
+// vertices. When they are carried, a corner pass between the two reads them onto
+// vertices:
+// - a position whose corners name several texture coordinates (a texture seam) is
+//   split, one vertex per pair, so that the seam stays sharp (CornerVertices);
+// - the normals of a position's corners are averaged: splitting at every hard edge
+//   would cut the surface open there, and the simplifier would treat each cut as a
+//   border.
+#include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
 
 #include "io/attribute_array.hpp"
+#include "io/large_array.hpp"
 #include "io/position_array.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
@@ -44,10 +56,125 @@ std::string_view trim_front(std::string_view line) {
   return line.substr(i);
 }
 
+// A corner's texture coordinate: its `vt` index, or kNoTexture when it names none.
+constexpr std::uint64_t kNoTexture = ~std::uint64_t(0);
+
+// The vertices that a file's corners make of its positions and texture coordinates:
+// one per (position, texture coordinate) pair they name. Position p keeps index p for
+// the first pair its corners name; every further pair becomes a new vertex after the
+// file's own, in the order corners first name them, so the numbering depends only on
+// the file. The pairs of one position form a chain (the first in first_, the rest in
+// more_), held in LargeArrays, so the index stays out of the heap for any file.
+class CornerVertices {
+ public:
+  CornerVertices(std::uint64_t positions, const ArrayPlace& place) : positions_(positions), more_(place, "obj-seams") {
+    first_.assign_zeroed(positions, place, "obj-corners");
+  }
+
+  // The vertex of the corner at position p with texture coordinate t, made if new.
+  std::uint64_t add(std::uint64_t p, std::uint64_t t) {
+    const std::uint64_t key = key_of(t);
+    Link* link = &first_[p];
+    if (link->texture == 0) {
+      link->texture = key;
+      return p;
+    }
+    std::uint64_t vertex = p;
+    for (;;) {
+      if (link->texture == key) return vertex;
+      if (link->next == 0) break;
+      vertex = positions_ + link->next - 1;
+      link = &more_[link->next - 1];
+    }
+    more_.push_back({key, 0, p});
+    // more_ may have moved: find the end of the chain again by the vertex found last.
+    Link& last = vertex == p ? first_[p] : more_[vertex - positions_];
+    last.next = more_.size();
+    return positions_ + more_.size() - 1;
+  }
+
+  // The vertex of a corner that add() has seen.
+  std::uint64_t find(std::uint64_t p, std::uint64_t t) const {
+    const std::uint64_t key = key_of(t);
+    const Link* link = &first_[p];
+    std::uint64_t vertex = p;
+    while (link->texture != key && link->next != 0) {
+      vertex = positions_ + link->next - 1;
+      link = &more_[link->next - 1];
+    }
+    return vertex;
+  }
+
+  std::uint64_t vertex_count() const { return positions_ + more_.size(); }
+  std::uint64_t position_of(std::uint64_t vertex) const {
+    return vertex < positions_ ? vertex : more_[vertex - positions_].position;
+  }
+  // The texture coordinate of a vertex: kNoTexture also for a position no corner names.
+  std::uint64_t texture_of(std::uint64_t vertex) const {
+    const std::uint64_t key = vertex < positions_ ? first_[vertex].texture : more_[vertex - positions_].texture;
+    return key < 2 ? kNoTexture : key - 2;
+  }
+
+ private:
+  // 0 marks a position no corner has named yet, 1 a corner without a texture coordinate.
+  static std::uint64_t key_of(std::uint64_t t) { return t == kNoTexture ? 1 : t + 2; }
+  struct Link {
+    std::uint64_t texture;   // key_of(the texture coordinate)
+    std::uint64_t next;      // the chain's next pair: its place in more_ + 1, 0: the end
+    std::uint64_t position;  // in more_: the position split
+  };
+  std::uint64_t positions_;
+  LargeArray<Link> first_;
+  AppendArray<Link> more_;
+};
+
+// How many `v`, `vt` and `vn` lines came so far: what a face's indices may refer to.
+struct DefinedSoFar {
+  std::uint64_t positions = 0, textures = 0, normals = 0;
+};
+
+// The 0-based element of OBJ index text `text` (of corner token `tok`) among `defined`
+// elements of kind `what`: 1-based, or negative counting back from the latest.
+// `fail` throws the message.
+template <class Fail>
+std::uint64_t obj_index(std::string_view text, std::string_view tok, std::uint64_t defined, const char* what,
+                        Fail&& fail) {
+  std::int64_t idx;
+  if (!parse_int(text, &idx)) fail(std::string("malformed ") + what + " index " + quoted(tok));
+  std::int64_t abs = 0;
+  if (idx > 0)
+    abs = idx - 1;
+  else if (idx < 0)
+    abs = std::int64_t(defined) + idx;
+  else
+    fail(std::string(what) + " index 0 (OBJ indices start at 1)");
+  if (abs < 0 || std::uint64_t(abs) >= defined)
+    fail(std::string(what) + " index " + std::to_string(idx) + " refers to a " + what + " not defined yet (" +
+         std::to_string(defined) + " so far)");
+  return std::uint64_t(abs);
+}
+
+// A face corner "v", "v/vt", "v//vn" or "v/vt/vn" split into its three index texts
+// (empty where absent).
+struct CornerText {
+  std::string_view position, texture, normal;
+};
+inline CornerText split_corner(std::string_view tok) {
+  CornerText c;
+  const std::size_t a = tok.find('/');
+  c.position = tok.substr(0, a);
+  if (a == std::string_view::npos) return c;
+  const std::size_t b = tok.find('/', a + 1);
+  c.texture = tok.substr(a + 1, b == std::string_view::npos ? std::string_view::npos : b - a - 1);
+  if (b != std::string_view::npos) c.normal = tok.substr(b + 1);
+  return c;
+}
+
 class ObjTriangleStream : public TriangleStream {
  public:
-  ObjTriangleStream(std::shared_ptr<InputFile> file, std::uint64_t vertex_count)
-      : src_(std::move(file)), vertex_count_(vertex_count) {}
+  // `corners`: the vertices of split texture seams, or null when faces name positions.
+  ObjTriangleStream(std::shared_ptr<InputFile> file, std::shared_ptr<const CornerVertices> corners)
+      : src_(std::move(file)), corners_(std::move(corners)) {}
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
     std::size_t n = 0;
@@ -63,7 +190,9 @@ class ObjTriangleStream : public TriangleStream {
       }
       line = trim_front(line);
       if (is_keyword(line, 'v')) {
-        ++defined_;
+        ++defined_.positions;
+      } else if (line.size() > 2 && line[0] == 'v' && line[1] == 't' && TokenScanner::is_space(line[2])) {
+        ++defined_.textures;
       } else if (is_keyword(line, 'f')) {
         parse_face(line);
         fan_.start();
@@ -86,7 +215,7 @@ class ObjTriangleStream : public TriangleStream {
     std::uint64_t previous = 0;
     bool first = true;
     for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
-      const std::uint64_t v = index_of(tok.substr(0, tok.find('/')), tok);
+      const std::uint64_t v = position_index(split_corner(tok).position, tok);
       if (points)
         primitives_.add(v, v, 0);
       else if (!first)
@@ -105,8 +234,15 @@ class ObjTriangleStream : public TriangleStream {
     auto& poly = fan_.polygon();
     poly.clear();
     for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
-      // v, v/vt, v//vn, v/vt/vn: the position index is the part before the first '/'.
-      const std::uint64_t v = index_of(tok.substr(0, tok.find('/')), tok);
+      const CornerText corner = split_corner(tok);
+      std::uint64_t v = position_index(corner.position, tok);
+      if (corners_) {
+        const auto failed = [&](const std::string& what) { fail(what); };
+        const std::uint64_t texture = corner.texture.empty() ? kNoTexture
+                                                             : obj_index(corner.texture, tok, defined_.textures,
+                                                                         "texture coordinate", failed);
+        v = corners_->find(v, texture);
+      }
       if (poly.size() >= kMaxPolygonCorners) fail("polygon with more than 2^20 corners");
       poly.push_back(v);
     }
@@ -114,45 +250,114 @@ class ObjTriangleStream : public TriangleStream {
       ++skipped_;
       poly.clear();
     }
-    (void)vertex_count_;
   }
 
-  // The 0-based vertex of index text `vtok` (of token `tok`): 1-based, or negative
-  // counting back from the latest vertex.
-  std::uint64_t index_of(std::string_view vtok, std::string_view tok) const {
-    std::int64_t idx;
-    if (!parse_int(vtok, &idx)) fail("malformed vertex index " + quoted(tok));
-    std::int64_t abs = 0;
-    if (idx > 0)
-      abs = idx - 1;
-    else if (idx < 0)
-      abs = std::int64_t(defined_) + idx;
-    else
-      fail("vertex index 0 (OBJ indices start at 1)");
-    if (abs < 0 || std::uint64_t(abs) >= defined_)
-      fail("vertex index " + std::to_string(idx) + " refers to a vertex not defined yet (" + std::to_string(defined_) +
-           " so far)");
-    return std::uint64_t(abs);
+  std::uint64_t position_index(std::string_view text, std::string_view tok) const {
+    return obj_index(text, tok, defined_.positions, "vertex", [&](const std::string& what) { fail(what); });
   }
 
   ByteSource src_;
+  std::shared_ptr<const CornerVertices> corners_;
   PrimitiveBatch primitives_;
-  std::uint64_t vertex_count_;
-  std::uint64_t defined_ = 0;
+  DefinedSoFar defined_;
   std::uint64_t skipped_ = 0;
   FanTriangulator fan_;
 };
 
 }  // namespace
 
+namespace {
+
+// Where each carried attribute of an OBJ vertex comes from: a colour channel of its
+// `v` line, a value of its corners' `vt`, or a component of their averaged `vn`.
+enum class ObjSource { colour, texture, normal };
+struct ObjAttribute {
+  ObjSource source;
+  int component;
+};
+
+// What the first pass keeps of a file's per-vertex and per-corner values, as floats.
+struct ObjValues {
+  explicit ObjValues(const ArrayPlace& place)
+      : colours(place, "obj-colours"), textures(place, "obj-texcoords"), normals(place, "obj-normals") {}
+  AppendArray<float> colours;   // r, g, b per `v` line (once the first has them)
+  AppendArray<float> textures;  // u, v per `vt` line
+  AppendArray<float> normals;   // x, y, z per `vn` line
+};
+
+// Reads up to `count` numbers of the rest of an OBJ line into `out` (0 where absent).
+void read_floats(TokenScanner& t, float* out, int count, const ByteSource& src) {
+  for (int k = 0; k < count; ++k) {
+    std::string_view tok = t.next();
+    double v = 0;
+    if (!tok.empty() && !parse_double(tok, &v))
+      throw InputError(at_line(src.path(), src.line_number(), "malformed value " + quoted(tok)));
+    out[k] = float(v);
+  }
+}
+
+// The corner pass: every face corner's texture coordinate onto the vertex it makes
+// (`corners`, when carried) and its normal into its position's sum (`normal_sums`,
+// when carried).
+void read_corners(const std::shared_ptr<InputFile>& file, const ObjValues& values, CornerVertices* corners,
+                  LargeArray<float>* normal_sums) {
+  ByteSource src(file);
+  DefinedSoFar defined;
+  const auto fail = [&](const std::string& what) { throw InputError(at_line(src.path(), src.line_number(), what)); };
+  std::string_view line;
+  while (src.next_line(&line)) {
+    line = trim_front(line);
+    if (is_keyword(line, 'v')) {
+      ++defined.positions;
+    } else if (line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2])) {
+      defined.textures += line[1] == 't';
+      defined.normals += line[1] == 'n';
+    } else if (is_keyword(line, 'f')) {
+      TokenScanner t(line.substr(1));
+      for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
+        const CornerText corner = split_corner(tok);
+        const std::uint64_t p = obj_index(corner.position, tok, defined.positions, "vertex", fail);
+        if (corners)
+          corners->add(p, corner.texture.empty()
+                              ? kNoTexture
+                              : obj_index(corner.texture, tok, defined.textures, "texture coordinate", fail));
+        if (normal_sums && !corner.normal.empty()) {
+          const std::uint64_t n = obj_index(corner.normal, tok, defined.normals, "normal", fail);
+          for (std::size_t k = 0; k < 3; ++k) (*normal_sums)[3 * p + k] += values.normals[3 * n + k];
+        }
+      }
+    }
+  }
+}
+
+// Rewrites `positions` (the file's `v` lines) with the vertices a split adds after
+// them, each at its position, into `out`.
+void add_split_positions(MeshInput& positions, const CornerVertices& corners, const std::string& temp_dir,
+                         const std::string& path, MeshInput& out) {
+  PositionArrayBuilder builder(temp_dir, path);
+  builder.declare(positions.info.double_precision ? ScalarType::f64 : ScalarType::f32);
+  for (std::uint64_t i = 0; i < corners.vertex_count(); ++i) {
+    const Vec3d p = positions.positions.get(corners.position_of(i));
+    builder.add(p.x, p.y, p.z, [&] { return "vertex " + std::to_string(i); });
+  }
+  builder.finish(out);
+  out.info.first_non_finite_vertex = positions.info.first_non_finite_vertex;
+  out.info.first_non_finite_position = positions.info.first_non_finite_position;
+  out.info.non_finite_vertices = positions.info.non_finite_vertices;
+}
+
+}  // namespace
+
 void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out) {
   out.info.format = "obj";
   PositionArrayBuilder builder(options.temp_dir, src.path());
+  const ArrayPlace place = ArrayPlace::within(options.memory_budget, options.temp_dir);
+  const bool any_attributes = options.attributes.mode != AttributeSelection::Mode::none;
   // "v x y z r g b" (MeshLab, CloudCompare and most scanners' exporters): colours, when
-  // the first vertex has them; which of them are carried is decided there too.
-  std::unique_ptr<AttributeArrayBuilder> colours;
-  std::vector<std::size_t> carried;
-  std::uint64_t faces = 0, texture_lines = 0, normal_lines = 0, uncoloured = 0, line_elements = 0, point_elements = 0;
+  // the first vertex has them.
+  ObjValues values(place);
+  bool coloured = false;
+  std::uint64_t faces = 0, uncoloured = 0, line_elements = 0, point_elements = 0;
   // A file with lines but no OBJ statement (text, or binary named .obj) is refused
   // rather than read as an empty mesh; the first foreign line is named. 1000 foreign
   // lines before any statement end the reading there, so a large foreign file is not
@@ -199,22 +404,13 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
           throw InputError(at_line(src.path(), src.line_number(), "malformed vertex value " + quoted(tok)));
         ++extra;
       }
-      if (builder.count() == 0 && extra == 3) {
-        const std::vector<AttributeCandidate> offered = {
-            {"red", AttributeType::f32}, {"green", AttributeType::f32}, {"blue", AttributeType::f32}};
-        carried = carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);
-        std::vector<VertexAttribute> attrs;
-        for (std::size_t i : carried) attrs.push_back({offered[i].name, offered[i].type, 0, 0});
-        colours = std::make_unique<AttributeArrayBuilder>(options.temp_dir, src.path(), attrs);
-      }
-      if (colours) {
+      if (builder.count() == 0 && extra == 3) coloured = any_attributes;
+      if (coloured) {
         if (extra < 3) {
           ++uncoloured;
           c[3] = c[4] = c[5] = 0;
         }
-        double values[3];
-        for (std::size_t k = 0; k < carried.size(); ++k) values[k] = c[3 + carried[k]];
-        colours->add(values);
+        for (int k = 3; k < 6; ++k) values.colours.push_back(float(c[k]));
       }
       builder.add(
           c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
@@ -224,9 +420,15 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
       ++line_elements;
     } else if (is_keyword(line, 'p')) {
       ++point_elements;
-    } else if (line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2])) {
-      texture_lines += line[1] == 't';
-      normal_lines += line[1] == 'n';
+    } else if (any_attributes && line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2]) &&
+               (line[1] == 't' || line[1] == 'n')) {
+      // "vt u [v [w]]" and "vn x y z".
+      TokenScanner t(line.substr(2));
+      float f[3];
+      const int count = line[1] == 't' ? 2 : 3;
+      read_floats(t, f, count, src);
+      AppendArray<float>& to = line[1] == 't' ? values.textures : values.normals;
+      for (int k = 0; k < count; ++k) to.push_back(f[k]);
     }
     if ((src.line_number() & 0xFFFF) == 0) progress.set(src.raw_consumed());
   }
@@ -234,30 +436,99 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   // Nothing at all (no byte, or comments and names only): no mesh, not an empty one.
   if (builder.count() == 0 && faces == 0 && line_elements == 0 && point_elements == 0)
     throw InputError(at_line(src.path(), src.line_number(), "no vertices or faces found"));
-  // No colours (or no vertices): a selection that names an attribute cannot be met.
-  if (!colours) carried_attributes({}, options.attributes, src.path(), nullptr);
-  if (texture_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
-    out.info.not_carried.push_back(src.path() + ": texture coordinates (" + std::to_string(texture_lines) +
-                                   " vt lines) are dropped: clustering merges vertices across texture seams");
-  if (normal_lines > 0 && options.attributes.mode != AttributeSelection::Mode::none)
-    out.info.not_carried.push_back(src.path() + ": normals (" + std::to_string(normal_lines) +
-                                   " vn lines) belong to face corners in OBJ and are not carried");
+
+  // The attributes offered, and which of them are carried.
+  std::vector<AttributeCandidate> offered;
+  std::vector<ObjAttribute> sources;
+  const auto offer = [&](const char* name, ObjSource source, int component) {
+    offered.push_back({name, AttributeType::f32});
+    sources.push_back({source, component});
+  };
+  if (coloured) {
+    offer("red", ObjSource::colour, 0);
+    offer("green", ObjSource::colour, 1);
+    offer("blue", ObjSource::colour, 2);
+  }
+  if (!values.textures.empty()) {
+    offer("u", ObjSource::texture, 0);
+    offer("v", ObjSource::texture, 1);
+  }
+  if (!values.normals.empty()) {
+    offer("nx", ObjSource::normal, 0);
+    offer("ny", ObjSource::normal, 1);
+    offer("nz", ObjSource::normal, 2);
+  }
+  const std::vector<std::size_t> carried = carried_attributes(offered, options.attributes, src.path(),
+                                                              &out.info.not_carried);
+  bool carry_textures = false, carry_normals = false;
+  for (std::size_t i : carried) {
+    carry_textures = carry_textures || sources[i].source == ObjSource::texture;
+    carry_normals = carry_normals || sources[i].source == ObjSource::normal;
+  }
   if (uncoloured > 0)
     out.info.not_carried.push_back(src.path() + ": " + std::to_string(uncoloured) +
                                    " vertices have no colour (the first vertex has one); they count as black");
-  out.info.vertex_count = builder.count();
+
+  const std::uint64_t positions = builder.count();
+  std::shared_ptr<CornerVertices> corners;
+  LargeArray<float> normal_sums;
+  if (carry_textures) corners = std::make_shared<CornerVertices>(positions, place);
+  if (carry_normals) normal_sums.assign_zeroed(3 * positions, place, "obj-normal-sums");
+  if (corners || carry_normals) read_corners(src.input(), values, corners.get(), carry_normals ? &normal_sums : nullptr);
+  const std::uint64_t vertices = corners ? corners->vertex_count() : positions;
+
+  out.info.vertex_count = vertices;
   out.info.face_count = faces;
   out.info.edge_count = line_elements;
   out.info.point_count = point_elements;
-  out.info.elements = {"v " + std::to_string(builder.count()), "f " + std::to_string(faces)};
+  out.info.elements = {"v " + std::to_string(positions), "f " + std::to_string(faces)};
   if (line_elements > 0) out.info.elements.push_back("l " + std::to_string(line_elements));
   if (point_elements > 0) out.info.elements.push_back("p " + std::to_string(point_elements));
-  builder.finish(out);
-  if (colours) colours->finish(out);
+  if (vertices > positions)
+    out.info.elements.push_back("texture seams: " + std::to_string(vertices - positions) + " vertices split");
+  if (vertices > positions) {
+    MeshInput file_positions;
+    builder.finish(file_positions);
+    add_split_positions(file_positions, *corners, options.temp_dir, src.path(), out);
+  } else {
+    builder.finish(out);
+  }
+
+  std::vector<VertexAttribute> attrs;
+  for (std::size_t i : carried) attrs.push_back({offered[i].name, offered[i].type, 0, 0});
+  AttributeArrayBuilder attributes(options.temp_dir, src.path(), attrs);
+  std::vector<double> record(carried.size());
+  for (std::uint64_t i = 0; !attrs.empty() && i < vertices; ++i) {
+    const std::uint64_t p = corners ? corners->position_of(i) : i;
+    const std::uint64_t texture = corners ? corners->texture_of(i) : kNoTexture;
+    float normal[3] = {0, 0, 0};
+    if (carry_normals) {
+      for (std::size_t k = 0; k < 3; ++k) normal[k] = normal_sums[3 * p + k];
+      const double l = std::sqrt(double(normal[0]) * normal[0] + double(normal[1]) * normal[1] +
+                                 double(normal[2]) * normal[2]);
+      for (float& c : normal) c = l > 0 ? float(c / l) : 0.0f;
+    }
+    for (std::size_t k = 0; k < carried.size(); ++k) {
+      const ObjAttribute& a = sources[carried[k]];
+      switch (a.source) {
+        case ObjSource::colour:
+          record[k] = values.colours[3 * p + std::size_t(a.component)];
+          break;
+        case ObjSource::texture:
+          record[k] = texture == kNoTexture ? 0.0 : values.textures[2 * texture + std::size_t(a.component)];
+          break;
+        case ObjSource::normal:
+          record[k] = normal[a.component];
+          break;
+      }
+    }
+    attributes.add(record.data());
+  }
+  attributes.finish(out);
   std::shared_ptr<InputFile> file = src.input();
-  std::uint64_t vcount = out.info.vertex_count;
-  reader_state(out).make_triangles = [file, vcount]() -> std::unique_ptr<TriangleStream> {
-    return std::make_unique<ObjTriangleStream>(file, vcount);
+  std::shared_ptr<const CornerVertices> split = vertices > positions ? corners : nullptr;
+  reader_state(out).make_triangles = [file, split]() -> std::unique_ptr<TriangleStream> {
+    return std::make_unique<ObjTriangleStream>(file, split);
   };
 }
 

@@ -207,6 +207,7 @@ inline Outcome read_whole_mesh(const std::string& path) {
   Outcome r;
   oocsimp::OpenOptions o;
   o.temp_dir = Scratch::path();
+  o.attributes.texture_coordinates = true;  // so that OBJ corners split texture seams
   oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
   if (in.info.vertex_count != in.positions.count) finding("info.vertex_count differs from positions.count");
   check_positions(in);
