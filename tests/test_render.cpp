@@ -133,3 +133,72 @@ TEST_CASE("render up y draws a y-up copy of a mesh as up z draws the mesh", "[re
   const CliResult bad = run_cli("render --quiet " + q(d.file("z.ply")) + " -o " + q(d.file("b.png")) + " --up w");
   CHECK(bad.exit_code == 2);
 }
+
+namespace {
+
+// A closed cylinder of radius 1 and height 1.5 along axis `along` (0 x, 1 y, 2 z), its
+// caps fanned from their centres, as positions and triangles.
+void closed_cylinder(int along, std::vector<double>* positions, std::vector<std::uint32_t>* triangles) {
+  const std::uint32_t n = 48;
+  const auto put = [&](double a, double b, double h) {
+    double p[3];
+    p[along] = h;
+    p[(along + 1) % 3] = a;
+    p[(along + 2) % 3] = b;
+    positions->insert(positions->end(), {p[0], p[1], p[2]});
+  };
+  for (int ring = 0; ring < 2; ++ring)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const double t = 2 * 3.14159265358979323846 * i / n;
+      put(std::cos(t), std::sin(t), 1.5 * ring);
+    }
+  put(0, 0, 0);
+  put(0, 0, 1.5);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    triangles->insert(triangles->end(), {i, j, n + j, i, n + j, n + i});
+    triangles->insert(triangles->end(), {2 * n, j, i, 2 * n + 1, n + i, n + j});
+  }
+}
+
+}  // namespace
+
+TEST_CASE("render up auto takes the way an open surface faces, else a closed one's base, else z", "[render][cli]") {
+  ScratchDir d;
+  const auto up_of = [&](const std::string& file) {
+    const CliResult r = run_cli("render " + q(d.file(file)) + " -o " + q(d.file("a.png")) + " --size 160x120");
+    REQUIRE(r.exit_code == 0);
+    const std::size_t at = r.err.find(" up (auto)");
+    REQUIRE(at != std::string::npos);
+    return r.err.substr(at - 1, 1);
+  };
+  // A terrain faces +z; its y-up copy faces +y, and is drawn as --up y draws it.
+  REQUIRE(run_cli("generate --quiet --shape terrain --tris 20000 -o " + q(d.file("z.ply"))).exit_code == 0);
+  const LoadedMesh m = load_mesh(d.file("z.ply"));
+  std::vector<double> turned(m.positions.size());
+  for (std::size_t i = 0; i < m.vertex_count(); ++i) {
+    turned[3 * i] = m.positions[3 * i + 1];
+    turned[3 * i + 1] = m.positions[3 * i + 2];
+    turned[3 * i + 2] = m.positions[3 * i];
+  }
+  write_mesh(d.file("y.ply"), turned, std::vector<std::uint32_t>(m.triangles.begin(), m.triangles.end()),
+             MeshFormat::ply_binary, ScalarType::f64);
+  CHECK(up_of("z.ply") == "z");
+  CHECK(up_of("y.ply") == "y");
+  REQUIRE(run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("given.png")) + " --size 160x120 --up y")
+              .exit_code == 0);
+  REQUIRE(run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("auto.png")) + " --size 160x120")
+              .exit_code == 0);
+  CHECK(read_file(d.file("given.png")) == read_file(d.file("auto.png")));
+  // A closed drum stands on a cap: up is its axis.
+  for (int along = 0; along < 3; ++along) {
+    std::vector<double> p;
+    std::vector<std::uint32_t> t;
+    closed_cylinder(along, &p, &t);
+    write_mesh(d.file("c.ply"), p, t, MeshFormat::ply_binary, ScalarType::f64);
+    CHECK(up_of("c.ply") == std::string(1, "xyz"[along]));
+  }
+  // A sphere has no base and faces no way: z.
+  REQUIRE(run_cli("generate --quiet --shape sphere --tris 20000 -o " + q(d.file("s.ply"))).exit_code == 0);
+  CHECK(up_of("s.ply") == "z");
+}

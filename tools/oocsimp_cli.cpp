@@ -1242,7 +1242,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   cmd->add_option("--view", a.view,
                   "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
   add_enum_option(cmd, "--up", &a.options.up, up_axis_names(),
-                  "The model's up axis: z (the default), y (y-up scans, glTF) or x; --view turns about it");
+                  "The model's up axis: auto (the default: the way the surface faces, else z), z, y (y-up scans, glTF) "
+                  "or x; --view turns about it");
   add_enum_option(
       cmd, "--shading", &a.options.shading, shading_names(),
       value_list(shading_names(), {{Shading::flat, "default"}, {Shading::smooth, "the file's vertex normals"}}));
@@ -1287,8 +1288,9 @@ int run_render(const RenderArgs& a) {
   if (!a.quiet)
     std::fprintf(stderr,
                  "render  %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64 " points, %ux%u pixels (%" PRIu64
-                 " covered, %.3g model units each), %.3f s\n",
-                 s.triangles, s.edges, s.points, o.width, o.height, s.covered_pixels, s.pixel_size, seconds);
+                 " covered, %.3g model units each), %s up%s, %.3f s\n",
+                 s.triangles, s.edges, s.points, o.width, o.height, s.covered_pixels, s.pixel_size,
+                 name_of(up_axis_names(), s.up), o.up == UpAxis::automatic ? " (auto)" : "", seconds);
   return kOk;
 }
 

@@ -21,8 +21,9 @@ enum class Shading : std::uint8_t {
 };
 
 /// The model's up axis: z for scans and CAD in z-up frames, y for most scanners' and
-/// glTF's (y-up) frames, x for the rest.
-enum class UpAxis : std::uint8_t { z, y, x };
+/// glTF's (y-up) frames, x for the rest; automatic picks one from the surface
+/// (choose_up_axis).
+enum class UpAxis : std::uint8_t { automatic, z, y, x };
 
 struct RenderOptions {
   std::uint32_t width = 1024, height = 768;  ///< pixels, 1 to 16384 each
@@ -31,7 +32,7 @@ struct RenderOptions {
   /// other two (90: from straight above, looking down the up axis).
   double azimuth_degrees = 30, elevation_degrees = 20;
   /// Which axis is up on the screen.
-  UpAxis up = UpAxis::z;
+  UpAxis up = UpAxis::automatic;
   Shading shading = Shading::flat;
   /// The file's edges and points (LinePrimitive): with thick_edges, an edge of
   /// thickness T is drawn T / R pixels wide and a point as a disc T / R pixels across,
@@ -59,6 +60,7 @@ struct RenderStats {
   /// The size of a pixel in model units: the camera frames the bounding box's
   /// circumscribed sphere, its diameter x 1.05 across the image's shorter side.
   double pixel_size = 0;
+  UpAxis up = UpAxis::z;  ///< the up axis drawn: the one asked for, or the one chosen
 };
 
 /// `image` as PNG bytes (8-bit RGB, through libpng).
@@ -73,7 +75,7 @@ RenderStats render_file(const std::string& input, const std::string& output, con
 
 /// The shadings as the command line spells them, the default first.
 const EnumNames<Shading>& shading_names();
-/// The up axes as the command line spells them ("z", "y", "x"), the default first.
+/// The up axes as the command line spells them ("auto", "z", "y", "x"), the default first.
 const EnumNames<UpAxis>& up_axis_names();
 
 }  // namespace oocsimp

@@ -18,6 +18,16 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kFraming = 1.05;  // the bounding sphere's diameter over the shorter side
+// A surface faces one way when its area-weighted normals sum to at least this share of
+// its area (a closed surface's sum to 0, a plane's to 1).
+constexpr double kFacingShare = 0.1;
+// A closed surface's base: faces whose centroid lies within this share of the box's
+// extent from one of its sides and whose normal is within 25 degrees of that side's
+// outward direction. The base decides when it holds at least kBaseShare of the area
+// and kBaseMargin times the base of any other axis (measured: the armadillo's soles
+// 2.2% of its area, 4.6 times the next axis; the bunny's underside 6.0%, 6.5 times;
+// a sphere's sides within 1.1 times of each other).
+constexpr double kBaseDepth = 0.02, kBaseCosine = 0.9063, kBaseShare = 0.005, kBaseMargin = 2.0;
 
 // The view: screen axes `right` and `up` and the direction `towards` the camera, all
 // unit, and the model point at the image's centre.
@@ -181,11 +191,69 @@ void check_size(const RenderOptions& o) {
 
 }  // namespace
 
+UpAxis choose_up_axis(MeshInput& input) {
+  const Box3d& box = input.info.bounds;
+  if (box.empty()) return UpAxis::z;
+  // Twice the area-weighted normal, summed; twice the area; and twice the area of each
+  // of the box's six sides' base: faces near the side, facing out through it.
+  Vec3d facing{};
+  double area = 0, base[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  const double lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
+  constexpr std::size_t kChunk = 65536;
+  std::vector<std::uint64_t> chunk(3 * kChunk);
+  input.restart_triangles();
+  while (std::size_t n = input.triangles->read(chunk.data(), kChunk))
+    for (std::size_t t = 0; t < n; ++t) {
+      const Vec3d p[3] = {input.positions.get(chunk[3 * t]), input.positions.get(chunk[3 * t + 1]),
+                          input.positions.get(chunk[3 * t + 2])};
+      const Vec3d normal = cross(p[1] - p[0], p[2] - p[0]);
+      const double twice_area = length(normal);
+      if (!is_finite(normal) || !(twice_area > 0)) continue;
+      facing += normal;
+      area += twice_area;
+      const Vec3d centroid = (p[0] + p[1] + p[2]) / 3.0;
+      const double c[3] = {centroid.x, centroid.y, centroid.z}, u[3] = {normal.x, normal.y, normal.z};
+      for (int k = 0; k < 3; ++k) {
+        const double near = kBaseDepth * (hi[k] - lo[k]), cosine = u[k] / twice_area;
+        if (c[k] - lo[k] <= near && -cosine >= kBaseCosine) base[k][0] += twice_area;
+        if (hi[k] - c[k] <= near && cosine >= kBaseCosine) base[k][1] += twice_area;
+      }
+    }
+  input.restart_triangles();
+  if (!(area > 0)) return UpAxis::z;
+  const UpAxis axes[3] = {UpAxis::x, UpAxis::y, UpAxis::z};
+  // The axis with the most of `score`, when it has `margin` times any other's; else z.
+  const auto clear_winner = [&](const double* score, double margin) {
+    int best = 2;
+    for (int k : {1, 0})
+      if (score[k] > score[best]) best = k;
+    for (int k = 0; k < 3; ++k)
+      if (k != best && !(score[best] >= margin * score[k])) return UpAxis::z;
+    return axes[best];
+  };
+  // An open surface facing one way: a terrain, a facade, a scan open at its base (the
+  // missing underside leaves the sum pointing up).
+  if (length(facing) >= kFacingShare * area) {
+    const double f[3] = {std::fabs(facing.x), std::fabs(facing.y), std::fabs(facing.z)};
+    const UpAxis up = clear_winner(f, 1.0);
+    return up;
+  }
+  // A closed (or balanced) surface: the axis of its base, a figure's soles or a scan's
+  // flat underside, when it stands out.
+  const double b[3] = {std::max(base[0][0], base[0][1]), std::max(base[1][0], base[1][1]),
+                       std::max(base[2][0], base[2][1])};
+  if (std::max({b[0], b[1], b[2]}) < kBaseShare * area) return UpAxis::z;
+  return clear_winner(b, kBaseMargin);
+}
+
 Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats) {
   check_size(options);
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
-  const Camera camera(input.info.bounds, options);
+  RenderOptions view = options;
+  if (view.up == UpAxis::automatic) view.up = choose_up_axis(input);
+  st.up = view.up;
+  const Camera camera(input.info.bounds, view);
   st.pixel_size = camera.pixel;
   Rasterizer raster(options);
   const VertexNormals normals(input.attributes);
@@ -243,7 +311,8 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
 }
 
 const EnumNames<UpAxis>& up_axis_names() {
-  static const EnumNames<UpAxis> names = {{UpAxis::z, "z"}, {UpAxis::y, "y"}, {UpAxis::x, "x"}};
+  static const EnumNames<UpAxis> names = {
+      {UpAxis::automatic, "auto"}, {UpAxis::z, "z"}, {UpAxis::y, "y"}, {UpAxis::x, "x"}};
   return names;
 }
 

@@ -7,8 +7,15 @@
 namespace oocsimp {
 
 /// Draws the triangles, edges and points of `input` (one pass over its triangle
-/// stream) as seen from the options' view, framing its bounding box. An empty mesh gives the background.
+/// stream, two when the up axis is chosen) as seen from the options' view, framing its
+/// bounding box. An empty mesh gives the background.
 /// Throws UsageError on a bad size, InputError from the reader.
+/// The up axis of a surface, for UpAxis::automatic (one pass over the triangles): the
+/// axis nearest the sum of its area-weighted normals where that sum is at least a
+/// tenth of its area, as for a terrain, a facade or a scan open at its base (the
+/// missing underside leaves the sum pointing up); z for a closed or balanced surface.
+UpAxis choose_up_axis(MeshInput& input);
+
 Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats = nullptr);
 
 }  // namespace oocsimp
