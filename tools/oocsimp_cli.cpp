@@ -1003,8 +1003,8 @@ int run_info(const InfoArgs& a) {
   // What simplify carries by default (--attributes all), with the range of each.
   if (m.attributes.empty()) std::printf("attributes none carried\n");
   for (const VertexAttribute& v : m.attributes)
-    std::printf("attribute %s %s, carried (values %.9g to %.9g)\n", v.name.c_str(), attribute_type_name(v.type), v.min,
-                v.max);
+    std::printf("attribute %s %s, carried%s (values %.9g to %.9g)\n", v.name.c_str(), attribute_type_name(v.type),
+                is_texture_coordinate(v.name) ? " by the edge collapse, dropped by clustering" : "", v.min, v.max);
   for (const std::string& n : i.not_carried) std::printf("not carried %s\n", n.c_str());
   if (i.bounds.empty()) {
     std::printf("bounds    empty\n");

@@ -41,6 +41,11 @@ struct AttributeSelection {
   bool texture_coordinates = false;
 };
 
+/// Whether a vertex property is a texture coordinate (u, v, s, t, texture_u, texture_v,
+/// texcoord...): the edge collapse carries those, clustering drops them, since it
+/// merges vertices across texture seams.
+bool is_texture_coordinate(const std::string& name);
+
 /// Parses --attributes: "all", "none" or "NAME,NAME...". Throws UsageError for an empty
 /// name.
 AttributeSelection parse_attribute_selection(const std::string& text);

@@ -22,6 +22,8 @@ void add(PrimitiveTally* t, float thickness) {
 MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir) {
   OpenOptions open;
   open.temp_dir = temp_dir;
+  // As the edge collapse reads the file: texture coordinates too (OBJ's split at seams).
+  open.attributes.texture_coordinates = true;
   MeshInput m = open_mesh_input(path, open);
   MeshSummary s;
   // The thick edges and points come with the triangle stream: it is read through only

@@ -32,9 +32,6 @@ struct AttributeCandidate {
   AttributeType type = AttributeType::f32;
 };
 
-/// Texture coordinates (PLY u, v, s, t, texture_u, texture_v, texcoord...): they
-/// cannot survive clustering, which merges vertices across texture seams.
-bool is_texture_coordinate(const std::string& name);
 /// Whether any of `attributes` is a texture coordinate.
 bool carries_texture_coordinates(const std::vector<VertexAttribute>& attributes);
 
