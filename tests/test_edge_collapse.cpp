@@ -588,3 +588,101 @@ TEST_CASE("the needle guard does not freeze a sphere's lat-long poles", "[refine
   }
   CHECK(lowest > 0.8);
 }
+
+namespace {
+
+// A closed sphere of `rings` x `columns` quads (poles fanned) cut along the meridian
+// x > 0, y = 0 into one texture chart: that meridian's vertices are doubled, u = 0 on
+// one side and u = 1 on the other (v the latitude); the poles, where every column
+// meets, are one vertex each with u = 0.5. Attributes u, v; quadrics from the faces.
+QuadricMesh seam_sphere(std::uint32_t rings, std::uint32_t columns) {
+  QuadricMesh m;
+  m.attribute_count = 2;
+  const double pi = 3.14159265358979323846;
+  const std::uint32_t row = columns + 1;
+  const auto add = [&](const Vec3d& p, double u, double v) {
+    m.positions.push_back(p);
+    m.attributes.insert(m.attributes.end(), {u, v});
+  };
+  for (std::uint32_t r = 1; r < rings; ++r)
+    for (std::uint32_t c = 0; c <= columns; ++c) {
+      const double lat = pi * r / rings, lon = 2 * pi * (c % columns) / columns;
+      add({std::sin(lat) * std::cos(lon), std::sin(lat) * std::sin(lon), std::cos(lat)}, double(c) / columns,
+          double(r) / rings);
+    }
+  const std::uint32_t north = std::uint32_t(m.positions.size()), south = north + 1;
+  add({0, 0, 1}, 0.5, 0);
+  add({0, 0, -1}, 0.5, 1);
+  const auto at = [&](std::uint32_t r, std::uint32_t c) { return (r - 1) * row + c; };
+  for (std::uint32_t c = 0; c < columns; ++c) {
+    m.triangles.insert(m.triangles.end(), {north, at(1, c), at(1, c + 1)});
+    m.triangles.insert(m.triangles.end(), {south, at(rings - 1, c + 1), at(rings - 1, c)});
+    for (std::uint32_t r = 1; r + 1 < rings; ++r)
+      m.triangles.insert(m.triangles.end(),
+                         {at(r, c), at(r + 1, c), at(r + 1, c + 1), at(r, c), at(r + 1, c + 1), at(r, c + 1)});
+  }
+  m.quadrics = face_quadrics(m.positions, m.triangles);
+  return m;
+}
+
+// Edges by position (the seam's two sides welded) and how many faces each has.
+std::map<std::pair<std::array<double, 3>, std::array<double, 3>>, int> welded_edges(const QuadricMesh& m) {
+  std::map<std::pair<std::array<double, 3>, std::array<double, 3>>, int> edges;
+  for (std::size_t f = 0; f < m.triangles.size(); f += 3)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3d& p = m.positions[m.triangles[f + k]];
+      const Vec3d& q = m.positions[m.triangles[f + (k + 1) % 3]];
+      std::array<double, 3> a{p.x, p.y, p.z}, b{q.x, q.y, q.z};
+      if (b < a) std::swap(a, b);
+      ++edges[{a, b}];
+    }
+  return edges;
+}
+
+}  // namespace
+
+TEST_CASE("a texture seam collapses along itself, both sides together, and stays closed", "[refine][collapse][uv]") {
+  const QuadricMesh sphere = seam_sphere(60, 120);
+  const std::size_t seam_before = 2 * 59;
+  for (std::uint64_t target : {2000, 400})
+    for (std::uint64_t passes : {0, 1024}) {
+      INFO("target " << target << ", tiles and passes from " << passes << " faces");
+      CollapseSettings s;
+      s.target_triangles = target;
+      s.lock_coincident = true;
+      s.pass_faces = s.tile_faces = passes;
+      s.tile_min_faces = 4 * passes;
+      CollapseStats st;
+      const QuadricMesh m = collapse_edges(sphere, s, &st);
+      CHECK_FALSE(st.stuck);
+      CHECK(m.triangles.size() / 3 == target);
+      // Welded by position it is a closed manifold surface: the seam neither opened nor
+      // pinched.
+      for (const auto& e : welded_edges(m)) CHECK(e.second == 2);
+      // Each seam vertex has its mirror; the seam lost vertices.
+      std::map<std::array<double, 3>, std::set<double>> seam;
+      std::size_t seam_vertices = 0;
+      for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const double u = m.attributes[2 * v];
+        if (u != 0.0 && u != 1.0) continue;
+        ++seam_vertices;
+        seam[{m.positions[v].x, m.positions[v].y, m.positions[v].z}].insert(u);
+      }
+      for (const auto& p : seam) CHECK(p.second == std::set<double>{0.0, 1.0});
+      CHECK(seam_vertices < 3 * seam_before / 4);
+      // No face takes u from both sides (the poles' 0.5 is halfway).
+      for (std::size_t f = 0; f < m.triangles.size(); f += 3) {
+        double lo = 1, hi = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          lo = std::min(lo, m.attributes[2 * m.triangles[f + k]]);
+          hi = std::max(hi, m.attributes[2 * m.triangles[f + k]]);
+        }
+        CHECK(hi - lo <= 0.5);
+      }
+      // The same mesh for any thread count.
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      const QuadricMesh again = collapse_edges(sphere, s, nullptr);
+      CHECK(again.triangles == m.triangles);
+      CHECK(again.positions.size() == m.positions.size());
+    }
+}

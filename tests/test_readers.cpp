@@ -693,9 +693,11 @@ TEST_CASE("OBJ texture coordinates split a position per pair its corners name, i
   // Normals are averaged per position (vn 1 and vn 2 at positions 2 and 3), and a split
   // vertex has its position's.
   const double s5 = 1 / std::sqrt(5.0), s2 = 1 / std::sqrt(2.0);
-  const double normal[6][3] = {{0, 0, 1}, {0, s5, 2 * s5}, {0, s5, 2 * s5}, {0, s2, s2}, {0, s5, 2 * s5}, {0, s5, 2 * s5}};
+  const double normal[6][3] = {{0, 0, 1},   {0, s5, 2 * s5}, {0, s5, 2 * s5},
+                               {0, s2, s2}, {0, s5, 2 * s5}, {0, s5, 2 * s5}};
   for (std::uint64_t i = 0; i < 6; ++i)
-    for (std::size_t k = 0; k < 3; ++k) CHECK(oocsimp::attribute_value(in.attributes, i, 2 + k) == Approx(normal[i][k]).margin(1e-6));
+    for (std::size_t k = 0; k < 3; ++k)
+      CHECK(oocsimp::attribute_value(in.attributes, i, 2 + k) == Approx(normal[i][k]).margin(1e-6));
   // Without texture coordinates (clustering) no position is split.
   o.attributes.texture_coordinates = false;
   oocsimp::MeshInput plain = oocsimp::open_mesh_input(path, o);
@@ -705,12 +707,15 @@ TEST_CASE("OBJ texture coordinates split a position per pair its corners name, i
   const struct {
     const char* face;
     const char* message;
-  } bad[] = {{"f 1/7 2/1 3/1\n", "line 12: texture coordinate index 7 refers to a texture coordinate not defined yet (6 so far)"},
+  } bad[] = {{"f 1/7 2/1 3/1\n",
+              "line 12: texture coordinate index 7 refers to a texture coordinate not defined yet (6 so far)"},
              {"f 1//3 2//1 3//1\n", "line 12: normal index 3 refers to a normal not defined yet (2 so far)"},
              {"f 1/x 2/1 3/1\n", "line 12: malformed texture coordinate index \"1/x\""}};
   for (const auto& b : bad) {
-    write_file(path, std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0 0\nvt 1 1\nvn 0 0 1\nvn 0 1 0\n") +
-                         b.face);
+    write_file(
+        path,
+        std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0 0\nvt 1 1\nvn 0 0 1\nvn 0 1 0\n") +
+            b.face);
     o.attributes.texture_coordinates = true;
     CHECK_THROWS_WITH(oocsimp::open_mesh_input(path, o), Catch::Contains(b.message));
   }

@@ -187,8 +187,9 @@ TEST_CASE("render up auto takes the way an open surface faces, else a closed one
   CHECK(up_of("y.ply") == "y");
   REQUIRE(run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("given.png")) + " --size 160x120 --up y")
               .exit_code == 0);
-  REQUIRE(run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("auto.png")) + " --size 160x120")
-              .exit_code == 0);
+  REQUIRE(
+      run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("auto.png")) + " --size 160x120").exit_code ==
+      0);
   CHECK(read_file(d.file("given.png")) == read_file(d.file("auto.png")));
   // A closed drum stands on a cap: up is its axis.
   for (int along = 0; along < 3; ++along) {

@@ -35,9 +35,9 @@ struct AttributeSelection {
   Mode mode = Mode::all;
   std::vector<std::string> names;  ///< for Mode::named, in the order the output writes them
   /// Carry texture coordinates (u, v, s, t, texture_u, ...) too. The edge collapse
-  /// sets it (simplify with ClusterMethod::qem): it keeps their seams, locking the
-  /// vertices a seam splits. Clustering, which merges vertices across seams, drops
-  /// them with a warning.
+  /// sets it (simplify with ClusterMethod::qem): it keeps their seams closed, the two
+  /// sides collapsing together along them. Clustering, which merges vertices across
+  /// seams, drops them with a warning.
   bool texture_coordinates = false;
 };
 

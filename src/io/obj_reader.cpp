@@ -238,9 +238,9 @@ class ObjTriangleStream : public TriangleStream {
       std::uint64_t v = position_index(corner.position, tok);
       if (corners_) {
         const auto failed = [&](const std::string& what) { fail(what); };
-        const std::uint64_t texture = corner.texture.empty() ? kNoTexture
-                                                             : obj_index(corner.texture, tok, defined_.textures,
-                                                                         "texture coordinate", failed);
+        const std::uint64_t texture =
+            corner.texture.empty() ? kNoTexture
+                                   : obj_index(corner.texture, tok, defined_.textures, "texture coordinate", failed);
         v = corners_->find(v, texture);
       }
       if (poly.size() >= kMaxPolygonCorners) fail("polygon with more than 2^20 corners");
@@ -458,8 +458,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     offer("ny", ObjSource::normal, 1);
     offer("nz", ObjSource::normal, 2);
   }
-  const std::vector<std::size_t> carried = carried_attributes(offered, options.attributes, src.path(),
-                                                              &out.info.not_carried);
+  const std::vector<std::size_t> carried =
+      carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);
   bool carry_textures = false, carry_normals = false;
   for (std::size_t i : carried) {
     carry_textures = carry_textures || sources[i].source == ObjSource::texture;
@@ -474,7 +474,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   LargeArray<float> normal_sums;
   if (carry_textures) corners = std::make_shared<CornerVertices>(positions, place);
   if (carry_normals) normal_sums.assign_zeroed(3 * positions, place, "obj-normal-sums");
-  if (corners || carry_normals) read_corners(src.input(), values, corners.get(), carry_normals ? &normal_sums : nullptr);
+  if (corners || carry_normals)
+    read_corners(src.input(), values, corners.get(), carry_normals ? &normal_sums : nullptr);
   const std::uint64_t vertices = corners ? corners->vertex_count() : positions;
 
   out.info.vertex_count = vertices;
@@ -504,8 +505,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     float normal[3] = {0, 0, 0};
     if (carry_normals) {
       for (std::size_t k = 0; k < 3; ++k) normal[k] = normal_sums[3 * p + k];
-      const double l = std::sqrt(double(normal[0]) * normal[0] + double(normal[1]) * normal[1] +
-                                 double(normal[2]) * normal[2]);
+      const double l =
+          std::sqrt(double(normal[0]) * normal[0] + double(normal[1]) * normal[1] + double(normal[2]) * normal[2]);
       for (float& c : normal) c = l > 0 ? float(c / l) : 0.0f;
     }
     for (std::size_t k = 0; k < carried.size(); ++k) {

@@ -33,6 +33,10 @@ constexpr double kPassCostSlack = 1.5;
 // A pass that takes less than 1 / this of the collapses it wanted hands the rest to the
 // lazy queue: each pass costs every edge again, the queue only those a collapse moved.
 constexpr std::uint64_t kPassLeastShare = 16;
+// A texture seam's line quadric against an outline's (add_boundary_planes): the
+// outline's weight, 1000 per squared edge length, is about 2000 times a face plane's
+// (area-weighted); a seam's is about twice a face's.
+constexpr double kSeamShare = 1e-3;
 
 // The lists around a vertex hold a dozen or so entries: insertion sort beats
 // std::sort's setup there; long lists (a high-valence vertex) take std::sort.
@@ -160,7 +164,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   if (settings.lock_boundary)
     for (std::size_t v = 0; v < n; ++v)
       if (boundary_[v]) locked_[v] = 1;
-  if (settings.lock_coincident) lock_coincident_vertices();
+  if (settings.lock_coincident) pair_coincident_vertices();
   add_boundary_planes(settings.boundary_weight);
 }
 
@@ -339,7 +343,10 @@ bool CollapseState::manifold_given_ends(std::uint32_t v, VertexScratch* scratch)
 }
 
 // Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the
-// quadric of its line (boundary_edge_quadric).
+// quadric of its line (boundary_edge_quadric). A texture seam's edge (both ends
+// mirrored) is a boundary of its side only: its line is held kSeamShare as hard, about
+// as hard as a face's plane, so that a chart's outline keeps its shape as the surface
+// does, where the surface's own outline is held a thousand times harder.
 void CollapseState::add_boundary_planes(double weight) {
   if (!(weight > 0)) return;
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
@@ -353,8 +360,9 @@ void CollapseState::add_boundary_planes(double weight) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
       if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
-      const Quadric line =
-          boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length, weight);
+      const bool seam = !mirror_.empty() && mirror_[u] != kNoMirror && mirror_[w] != kNoMirror;
+      const Quadric line = boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length,
+                                                 seam ? kSeamShare * weight : weight);
       mesh_.quadrics[u].add(line);
       mesh_.quadrics[w].add(line);
     }
@@ -391,6 +399,17 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
   const Quadric q = sum(mesh_.quadrics[a], mesh_.quadrics[b]);
   const Vec3d& pa = mesh_.positions[a];
   const Vec3d& pb = mesh_.positions[b];
+  if (!mirror_.empty() && (mirror_[a] != kNoMirror || mirror_[b] != kNoMirror)) {
+    if (mirror_[a] != kNoMirror && mirror_[b] != kNoMirror) {
+      // Along a seam: both sides onto one end, costed with both sides' quadrics.
+      const Quadric both = sum(q, sum(mesh_.quadrics[mirror_[a]], mesh_.quadrics[mirror_[b]]));
+      const double ea = both.error(pa), eb = both.error(pb);
+      return eb < ea ? Candidate{clean_cost(eb), a, b, pb} : Candidate{clean_cost(ea), a, b, pa};
+    }
+    // One end on a seam: it stays, so that the seam stays closed.
+    const Vec3d& fixed = mirror_[a] != kNoMirror ? pa : pb;
+    return {clean_cost(q.error(fixed)), a, b, fixed};
+  }
   const bool anchored_a = boundary_[a] || complex_[a], anchored_b = boundary_[b] || complex_[b];
   if (anchored_a != anchored_b) {
     const Vec3d& fixed = anchored_a ? pa : pb;
@@ -424,11 +443,39 @@ double CollapseState::error(const Candidate& c) const {
   const Quadric& qa = mesh_.quadrics[c.a];
   const Quadric& qb = mesh_.quadrics[c.b];
   // trace(A) is the total weight: each plane adds w n n^T with |n| = 1.
-  const double weight = qa.a00 + qa.a11 + qa.a22 + qb.a00 + qb.a11 + qb.a22;
+  const auto trace = [](const Quadric& q) { return q.a00 + q.a11 + q.a22; };
+  double weight = trace(qa) + trace(qb);
+  Candidate other;
+  if (mirrored(c, &other)) weight += trace(mesh_.quadrics[other.a]) + trace(mesh_.quadrics[other.b]);
   return weight > 0 ? std::sqrt(c.cost / weight) : 0;
 }
 
+bool CollapseState::mirrored(const Candidate& c, Candidate* other) const {
+  if (mirror_.empty()) return false;
+  const std::uint32_t ma = mirror_[c.a], mb = mirror_[c.b];
+  if (ma == kNoMirror || mb == kNoMirror) return false;
+  *other = {c.cost, std::min(ma, mb), std::max(ma, mb), c.placement};
+  return true;
+}
+
+int CollapseState::faces_removed(const Candidate& c) const {
+  Candidate other;
+  return faces_on_edge(c.a, c.b) + (mirrored(c, &other) ? faces_on_edge(other.a, other.b) : 0);
+}
+
 bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
+  Candidate other;
+  if (!mirrored(c, &other)) return valid_one(c, blamed);
+  // A seam edge (one face) whose mirrors make one too, on the other side, apart from
+  // it; both collapses valid there.
+  if (blamed) *blamed = kNoFace;
+  if (c.b == mirror_[c.a] || other.a == c.a || other.a == c.b || other.b == c.a || other.b == c.b) return false;
+  if (!alive_[other.a] || !alive_[other.b] || locked_[other.a] || locked_[other.b]) return false;
+  if (faces_on_edge(c.a, c.b) != 1 || faces_on_edge(other.a, other.b) != 1) return false;
+  return valid_one(c, blamed) && valid_one(other, nullptr);
+}
+
+bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   const std::uint32_t a = c.a, b = c.b;
   std::uint32_t no_face = kNoFace;
   if (!blamed) blamed = &no_face;
@@ -536,6 +583,29 @@ bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const
 }
 
 void CollapseState::collapse(const Candidate& c) {
+  Candidate other;
+  const bool pair = mirrored(c, &other);
+  collapse_one(c);
+  if (pair) {
+    std::vector<std::uint32_t> anchored = std::move(newly_anchored_);
+    collapse_one(other);
+    anchored.insert(anchored.end(), newly_anchored_.begin(), newly_anchored_.end());
+    anchored.push_back(other.a);
+    newly_anchored_ = std::move(anchored);
+    // The survivors, both at the placement, are the seam's vertex there now.
+    mirror_[c.b] = mirror_[other.b] = kNoMirror;
+    mirror_[c.a] = other.a;
+    mirror_[other.a] = c.a;
+  } else if (!mirror_.empty() && mirror_[c.b] != kNoMirror) {
+    // b was on a seam and stayed in place (evaluate): a, there now, takes its mirror.
+    const std::uint32_t m = mirror_[c.b];
+    mirror_[c.b] = kNoMirror;
+    mirror_[c.a] = m;
+    mirror_[m] = c.a;
+  }
+}
+
+void CollapseState::collapse_one(const Candidate& c) {
   const std::uint32_t a = c.a, b = c.b;
   // Attributes follow the placement's position along the edge.
   const Vec3d pa = mesh_.positions[a], d = mesh_.positions[b] - pa;
@@ -628,6 +698,7 @@ void CollapseState::split_edge(std::uint32_t u, std::uint32_t w, int faces) {
     mesh_.attributes.push_back(0.5 * (mesh_.attributes[u * k + j] + mesh_.attributes[w * k + j]));
   alive_.push_back(1);
   locked_.push_back(0);
+  if (!mirror_.empty()) mirror_.push_back(kNoMirror);
   complex_.push_back(faces > 2);  // on an edge of three or more faces
   boundary_.push_back(faces == 1);
   face_start_.push_back(std::uint32_t(faces_.size()));
@@ -738,8 +809,11 @@ void CollapseState::compact_adjacency() {
   compact_at_ = 2 * faces_.size() + 1024;
 }
 
-// Vertices sorted by position; each run of two or more at one position is locked.
-void CollapseState::lock_coincident_vertices() {
+// Vertices sorted by position. A run of two at one position, both on a boundary of
+// their side, manifold and free, are mirrors: the two sides of a texture seam. Every
+// other run of two or more is locked: where three charts meet, or a tangle.
+void CollapseState::pair_coincident_vertices() {
+  mirror_.assign(mesh_.positions.size(), kNoMirror);
   std::vector<std::uint32_t> order;
   for (std::uint32_t v = 0; v < std::uint32_t(mesh_.positions.size()); ++v)
     if (alive_[v]) order.push_back(v);
@@ -752,8 +826,13 @@ void CollapseState::lock_coincident_vertices() {
   for (std::size_t i = 0; i < order.size();) {
     std::size_t j = i + 1;
     while (j < order.size() && key(order[j]) == key(order[i])) ++j;
-    if (j - i > 1)
+    const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v] && !locked_[v]; };
+    if (j - i == 2 && seam_side(order[i]) && seam_side(order[i + 1])) {
+      mirror_[order[i]] = order[i + 1];
+      mirror_[order[i + 1]] = order[i];
+    } else if (j - i > 1) {
       for (std::size_t k = i; k < j; ++k) locked_[order[k]] = 1;
+    }
     i = j;
   }
 }
@@ -910,7 +989,7 @@ class LazyQueue {
       // tangle. One that would go below the target waits (a closed surface's count
       // is even: with one triangle to go only a boundary edge meets it).
       if (settings_.exact_count &&
-          state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e.a, e.b))) {
+          state_.triangle_count() - settings_.target_triangles < std::uint64_t(state_.faces_removed(c))) {
         deferred.push_back(e);
         continue;
       }
@@ -1141,11 +1220,13 @@ class PassDriver {
       }
       if (touched_[e->a] == stamp || touched_[e->b] == stamp) continue;
       const CollapseState::Candidate c = state_.evaluate(e->a, e->b);
+      CollapseState::Candidate other;
+      const bool pair = state_.mirrored(c, &other);
+      if (pair && (touched_[other.a] == stamp || touched_[other.b] == stamp)) continue;
       if (!state_.valid(c)) continue;
       // Never below an exact target (an edge may have many faces): the lazy queue
       // settles the last ones.
-      if (settings_.exact_count && left - settings_.target_triangles < std::uint64_t(state_.faces_on_edge(e->a, e->b)))
-        continue;
+      if (settings_.exact_count && left - settings_.target_triangles < std::uint64_t(state_.faces_removed(c))) continue;
       // Skipped edges may be cheaper than this one now: whether the collapse stops at
       // max_error is for the lazy queue to say, in strict order of cost.
       const double error = state_.error(c);
@@ -1159,6 +1240,7 @@ class PassDriver {
       stats_->largest_error = std::max(stats_->largest_error, error);
       if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
       touched_[e->a] = touched_[e->b] = stamp;
+      if (pair) touched_[other.a] = touched_[other.b] = stamp;
       for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
     }
     stats_->collapses += taken;

@@ -87,9 +87,11 @@ struct CollapseSettings {
   /// (SimplifyOptions::locked_vertices), or null. A whole mesh numbered by input index
   /// is given QuadricMesh::locked instead.
   const std::vector<std::uint64_t>* locked_ids = nullptr;
-  /// Lock every vertex that shares its position with another: the two sides of a
-  /// texture seam (vertices split so that each side has its own coordinates) stay
-  /// where they are together, so the seam neither opens nor blends.
+  /// Keep texture seams (vertices split so that each side has its own coordinates)
+  /// closed and unblended: two vertices that share a position, each on the boundary of
+  /// its side, are mirrors, which collapse only together, along the seam, onto one of
+  /// its vertices (CollapseState::mirrored); every other vertex that shares its
+  /// position (where three charts meet, or a tangle) is locked.
   bool lock_coincident = false;
   /// Meet target_triangles exactly (collapses that overshoot wait; edges are split at
   /// the end to make up an overshoot). Off, the collapse stops at or below it, or when
@@ -165,12 +167,24 @@ class CollapseState {
   bool keeps_face(const Candidate& c, std::uint32_t f) const;
   /// The faces the collapse removes: 2 inside, 1 on a boundary.
   int faces_on_edge(std::uint32_t a, std::uint32_t b) const;
+  /// No mirror: what mirror() says of a vertex that is on no seam.
+  static constexpr std::uint32_t kNoMirror = ~std::uint32_t(0);
+  /// The vertex on the other side of a texture seam at v's position, or kNoMirror
+  /// (CollapseSettings::lock_coincident).
+  std::uint32_t mirror(std::uint32_t v) const { return mirror_.empty() ? kNoMirror : mirror_[v]; }
+  /// Whether `c` collapses a seam edge, both of whose ends have mirrors: then the
+  /// mirrors' edge collapses with it, to the same placement, and *other gets that
+  /// collapse.
+  bool mirrored(const Candidate& c, Candidate* other) const;
+  /// The faces collapse `c` removes, its mirror's included.
+  int faces_removed(const Candidate& c) const;
   /// The error of `c` in model units (see CollapseSettings::max_error).
   double error(const Candidate& c) const;
-  /// Collapses b into a.
+  /// Collapses b into a (and the mirrors' edge, when mirrored()).
   void collapse(const Candidate& c);
-  /// The vertices next to a that the last collapse left non-manifold: now anchored,
-  /// all their edges cost anew.
+  /// The vertices other than c.a whose edges the last collapse changed, all of whose
+  /// edges cost anew: neighbours it left non-manifold (now anchored), and the mirror
+  /// collapse's survivor.
   const std::vector<std::uint32_t>& newly_anchored() const { return newly_anchored_; }
   /// Splits the longest edge of `faces` faces (ties: the lowest vertices) at its
   /// midpoint, each of its faces into two: `faces` triangles more and the surface
@@ -185,7 +199,7 @@ class CollapseState {
   /// Whether split_up_to() could make up what collapse `c` would take below `target`:
   /// an even number of triangles, or `boundary` (an edge of one face is left).
   bool split_can_make_up(const Candidate& c, std::uint64_t target, bool boundary) const {
-    const std::uint64_t after = live_faces_ - std::uint64_t(faces_on_edge(c.a, c.b));
+    const std::uint64_t after = live_faces_ - std::uint64_t(faces_removed(c));
     return after >= target || boundary || (target - after) % 2 == 0;
   }
 
@@ -230,7 +244,11 @@ class CollapseState {
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
-  void lock_coincident_vertices();
+  void pair_coincident_vertices();
+  // One collapse of b into a, without its mirror.
+  void collapse_one(const Candidate& c);
+  // valid() for one side of a seam.
+  bool valid_one(const Candidate& c, std::uint32_t* blamed) const;
   // The longest live edge of `faces` faces (ties: the lowest vertices) into *edge (if
   // given); false when there is none.
   bool longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const;
@@ -246,7 +264,8 @@ class CollapseState {
   double cos_max_turn_;
   double min_compactness_;
   std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_, locked_;
-  std::vector<UnitNormal> first_normal_;                        // each face's normal in the input
+  std::vector<std::uint32_t> mirror_;     // per vertex: its mirror across a seam, or kNoMirror (empty: no seams)
+  std::vector<UnitNormal> first_normal_;  // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
   std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;

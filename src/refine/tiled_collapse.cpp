@@ -115,7 +115,10 @@ TileResult collapse_tile(const CollapseState& state, const std::vector<std::uint
     sub.quadrics[i] = m.quadrics[v];
     std::copy(m.attributes.begin() + std::ptrdiff_t(v * k), m.attributes.begin() + std::ptrdiff_t((v + 1) * k),
               sub.attributes.begin() + std::ptrdiff_t(i * k));
-    sub.locked[i] = vertex_tile[v] == kBorder || state.locked(v);
+    // A seam's vertex collapses only with its mirror: held unless both are this tile's.
+    const std::uint32_t mirror = state.mirror(v);
+    sub.locked[i] = vertex_tile[v] == kBorder || state.locked(v) ||
+                    (mirror != CollapseState::kNoMirror && vertex_tile[mirror] != vertex_tile[v]);
   }
   sub.triangles.resize(3 * faces.size());
   sub.face_normals.resize(faces.size());
