@@ -3,7 +3,8 @@
 # and runs each for SECONDS of wall time, one after the other.
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]
-#   TARGETs: fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_simplify (default: all)
+#   TARGETs: fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input
+#            fuzz_simplify (default: all)
 #
 # Installs what is missing (scripts/setup-deps.sh, clang and its fuzzer runtime).
 # Each run starts from a seed corpus written into build-fuzz/corpus/TARGET (generated
@@ -16,7 +17,7 @@
 # Reproduce a finding with: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_gzip_input fuzz_simplify)
+all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input fuzz_simplify)
 
 usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
@@ -59,7 +60,7 @@ OOCSIMP_BUILD_DIR="$build" "$root/scripts/build.sh" -DCMAKE_CXX_COMPILER=clang++
 corpus="$build/corpus"
 seeds="$build/seeds"  # staging: every seed once, by format
 rm -rf "$seeds"
-mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl" "$seeds/off" "$seeds/gzip"
+mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl" "$seeds/off" "$seeds/glb" "$seeds/gzip"
 export ASAN_OPTIONS="detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1"
 cli="$build/oocsimp"
 
@@ -173,6 +174,13 @@ seed off/truncated.off "OFF\n4 4 0\n0 0 0\n1 0"
 seed off/badindex.off "OFF\n4 2 0\n${tet_v}3 0 1 9\n3 0 -1 2\n"
 seed off/shortface.off "OFF\n4 1 0\n${tet_v}5 0 1 2\n"
 seed off/binary.off "OFF BINARY\n"
+# glb: the writer's output, with and without attributes, and cut short.
+for shape in sphere parts; do
+  "$cli" simplify "$seeds/ply/gen-$shape-2000.ply" -o "$seeds/glb/gen-$shape.glb" --target-tris 300 --threads 1 --quiet
+  "$cli" simplify "$seeds/ply/gen-$shape-2000.ply" -o "$seeds/glb/gen-$shape-normals.glb" --grid 8 --normals \
+    --threads 1 --quiet
+done
+head -c 200 "$seeds/glb/gen-sphere.glb" >"$seeds/glb/truncated.glb"
 # gzip: members of the text seeds, one and two of them, and a member cut short.
 for f in "$seeds/obj/tet.obj" "$seeds/obj/forms.obj" "$seeds/off/tet.off"; do
   gzip -c "$f" >"$seeds/gzip/$(basename "$f").gz"
@@ -204,7 +212,7 @@ perl -e '
 
 # Each reader gets its format; the simplify target gets every seed under 64 KiB behind
 # a few variant-selector bytes (see tests/fuzz/fuzz_simplify.cpp).
-for fmt in ply obj stl off; do
+for fmt in ply obj stl off glb; do
   mkdir -p "$corpus/fuzz_${fmt}_reader"
   cp "$seeds/$fmt"/* "$corpus/fuzz_${fmt}_reader/"
 done
@@ -261,6 +269,17 @@ write_dict "$dicts/fuzz_obj_reader.dict" $words_obj
 write_dict "$dicts/fuzz_stl_reader.dict" $words_stl
 words_off="OFF COFF NOFF CNOFF STOFF STCNOFF 4OFF nOFF BINARY # 0 1 3 4 255 1.5 -1 1e30 nan"
 write_dict "$dicts/fuzz_off_reader.dict" $words_off
+# glb: the magic and chunk types, and the JSON's names.
+words_glb='glTF JSON asset version 2.0 scene scenes nodes mesh meshes primitives attributes POSITION NORMAL
+  TEXCOORD_0 COLOR_0 indices mode accessors bufferView bufferViews buffer buffers byteOffset byteLength
+  byteStride componentType count type SCALAR VEC2 VEC3 VEC4 normalized sparse uri matrix translation rotation
+  scale children extensionsRequired 5120 5121 5122 5123 5125 5126 4294967295'
+write_dict "$dicts/fuzz_glb_reader.dict" $words_glb
+cat >>"$dicts/fuzz_glb_reader.dict" <<'EOF'
+"glTF\x02\x00\x00\x00"
+"JSON"
+"BIN\x00"
+EOF
 # gzip: the magic, the deflate method and flag bytes, a stored block's header.
 write_dict "$dicts/fuzz_gzip_input.dict" $words_obj
 cat >>"$dicts/fuzz_gzip_input.dict" <<'EOF'

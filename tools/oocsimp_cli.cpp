@@ -349,7 +349,7 @@ void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
 }
 
 CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
-  CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, optionally .zst)");
+  CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)");
   cmd->footer(
       "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of the "
       "triangles).\n");
@@ -1236,7 +1236,7 @@ struct RenderArgs {
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   CLI::App* cmd = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
-  cmd->add_option("input", a.in, "Mesh file (PLY, OBJ, STL, OFF, optionally .zst)")->required();
+  cmd->add_option("input", a.in, "Mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)")->required();
   cmd->add_option("-o,--output", a.out, "PNG file")->required();
   cmd->add_option("--size", a.size, "Image size WIDTHxHEIGHT (default 1024x768)");
   cmd->add_option("--view", a.view,

@@ -161,6 +161,10 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   ProgressPhase progress(options.progress, "read positions", src.file_size(), "B");
   if (head && std::memcmp(head, "ply", 3) == 0 && (head[3] == '\n' || head[3] == '\r')) {
     open_ply(src, options, progress, out);
+  } else if (looks_like_glb(src.peek(4))) {
+    open_glb(src, options, progress, out);
+  } else if (ends_with(name, ".glb")) {
+    throw InputError(at_byte(path, 0, "not a binary glTF file (it does not start with \"glTF\")"));
   } else if (ends_with(name, ".stl")) {
     open_stl(src, options, progress, out);
     stl = true;
@@ -179,7 +183,7 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
       open_obj(src, options, progress, out);
     } else {
       throw InputError(src.path() +
-                       ": unknown mesh format (expected .ply, .obj, .stl or .off, optionally .zst or .gz)");
+                       ": unknown mesh format (expected .ply, .obj, .stl, .off or .glb, optionally .zst or .gz)");
     }
   }
   // STL has no vertex attributes: a selection that names one cannot be met.

@@ -17,6 +17,9 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
 void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 void open_stl(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
 void open_off(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
+void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out);
+/// Whether the first 4 bytes of the content (null: fewer) are binary glTF's magic.
+bool looks_like_glb(const unsigned char* head);
 
 /// Largest polygon accepted (corners); more is treated as a corrupt count.
 constexpr std::uint64_t kMaxPolygonCorners = 1u << 20;

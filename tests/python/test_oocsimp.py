@@ -301,6 +301,15 @@ class Open3D(unittest.TestCase):
             self.assertEqual(len(back.triangles), 1000)
             self.assertTrue(back.has_vertex_normals())
             self.assertLess(np.abs(np.linalg.norm(np.asarray(back.vertices), axis=1) - 1.0).max(), 0.05)
+            # A .glb written by Open3D (tinygltf), read by oocsimp: the same mesh.
+            theirs, ours = os.path.join(d, "o3d.glb"), os.path.join(d, "o3d.ply")
+            sphere.compute_vertex_normals()
+            self.assertTrue(o3d.io.write_triangle_mesh(theirs, sphere))
+            stats = oocsimp.simplify_file(theirs, ours, target_tris=2000)
+            self.assertEqual(stats["input"]["triangles"], len(sphere.triangles))
+            again = o3d.io.read_triangle_mesh(ours)
+            self.assertEqual(len(again.triangles), 2000)
+            self.assertTrue(again.is_watertight())
 
 
 if __name__ == "__main__":
