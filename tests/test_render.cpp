@@ -163,7 +163,8 @@ void closed_cylinder(int along, std::vector<double>* positions, std::vector<std:
 
 }  // namespace
 
-TEST_CASE("render up auto takes the way an open surface faces, else a closed one's base, else z", "[render][cli]") {
+TEST_CASE("render up auto takes the way an open surface faces, else a closed one's base, else the format's",
+          "[render][cli]") {
   ScratchDir d;
   const auto up_of = [&](const std::string& file) {
     const CliResult r = run_cli("render " + q(d.file(file)) + " -o " + q(d.file("a.png")) + " --size 160x120");
@@ -202,4 +203,8 @@ TEST_CASE("render up auto takes the way an open surface faces, else a closed one
   // A sphere has no base and faces no way: z.
   REQUIRE(run_cli("generate --quiet --shape sphere --tris 20000 -o " + q(d.file("s.ply"))).exit_code == 0);
   CHECK(up_of("s.ply") == "z");
+  // The same as glTF, whose frame is y-up: y.
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("s.glb")) + " --target-tris 5000")
+              .exit_code == 0);
+  CHECK(up_of("s.glb") == "y");
 }

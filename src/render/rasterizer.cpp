@@ -193,7 +193,9 @@ void check_size(const RenderOptions& o) {
 
 UpAxis choose_up_axis(MeshInput& input) {
   const Box3d& box = input.info.bounds;
-  if (box.empty()) return UpAxis::z;
+  // Without a sign from the surface: glTF's frame is y-up (glTF 2.0 §3.4), the rest z.
+  const UpAxis fallback = input.info.format == "glb" ? UpAxis::y : UpAxis::z;
+  if (box.empty()) return fallback;
   // Twice the area-weighted normal, summed; twice the area; and twice the area of each
   // of the box's six sides' base: faces near the side, facing out through it.
   Vec3d facing{};
@@ -220,15 +222,16 @@ UpAxis choose_up_axis(MeshInput& input) {
       }
     }
   input.restart_triangles();
-  if (!(area > 0)) return UpAxis::z;
+  if (!(area > 0)) return fallback;
   const UpAxis axes[3] = {UpAxis::x, UpAxis::y, UpAxis::z};
-  // The axis with the most of `score`, when it has `margin` times any other's; else z.
+  // The axis with the most of `score`, when it has `margin` times any other's; else the
+  // fallback.
   const auto clear_winner = [&](const double* score, double margin) {
     int best = 2;
     for (int k : {1, 0})
       if (score[k] > score[best]) best = k;
     for (int k = 0; k < 3; ++k)
-      if (k != best && !(score[best] >= margin * score[k])) return UpAxis::z;
+      if (k != best && !(score[best] >= margin * score[k])) return fallback;
     return axes[best];
   };
   // An open surface facing one way: a terrain, a facade, a scan open at its base (the
@@ -242,7 +245,7 @@ UpAxis choose_up_axis(MeshInput& input) {
   // flat underside, when it stands out.
   const double b[3] = {std::max(base[0][0], base[0][1]), std::max(base[1][0], base[1][1]),
                        std::max(base[2][0], base[2][1])};
-  if (std::max({b[0], b[1], b[2]}) < kBaseShare * area) return UpAxis::z;
+  if (std::max({b[0], b[1], b[2]}) < kBaseShare * area) return fallback;
   return clear_winner(b, kBaseMargin);
 }
 

@@ -13,7 +13,9 @@ namespace oocsimp {
 /// The up axis of a surface, for UpAxis::automatic (one pass over the triangles): the
 /// axis nearest the sum of its area-weighted normals where that sum is at least a
 /// tenth of its area, as for a terrain, a facade or a scan open at its base (the
-/// missing underside leaves the sum pointing up); z for a closed or balanced surface.
+/// missing underside leaves the sum pointing up); else the axis of a closed surface's
+/// base when it stands out; else y for glTF (y-up by its specification) and z for the
+/// rest.
 UpAxis choose_up_axis(MeshInput& input);
 
 Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* stats = nullptr);
