@@ -721,6 +721,22 @@ TEST_CASE("OBJ texture coordinates split a position per pair its corners name, i
   }
 }
 
+TEST_CASE("An OBJ with normals but no vertex opens with empty attribute arrays", "[readers][obj][attributes]") {
+  // Found by fuzz_obj_reader: the empty attribute file mapped to no address, and the
+  // arrays were offset from it.
+  ScratchDir dir;
+  write_file(dir.file("n.obj"), "vn 0 0 1\nvt 0 0\np 1\n");
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(dir.file("n.obj"), o);
+  CHECK(in.positions.count == 0);
+  CHECK(in.attributes.size() == 5);
+  in.triangles->set_primitive_sink([](const oocsimp::LinePrimitive*, std::size_t) {});
+  std::vector<std::uint64_t> buf(3);
+  CHECK_THROWS_WITH(in.triangles->read(buf.data(), 1), Catch::Contains("line 3: vertex index 1 refers to a vertex"));
+}
+
 TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");

@@ -183,7 +183,9 @@ void AttributeArrayBuilder::finish(MeshInput& out) {
   file_->close();
   auto map = std::make_unique<MappedFile>(file_->path());
   AttributeArray& a = out.attributes;
-  for (std::size_t k = 0; k < attributes_.size(); ++k) a.add(attributes_[k], map->data() + offset_[k], stride_);
+  // An empty file maps to no address: no vertex, no value to point at.
+  for (std::size_t k = 0; k < attributes_.size(); ++k)
+    a.add(attributes_[k], map->data() ? map->data() + offset_[k] : nullptr, stride_);
   a.count = count_;
   a.swap = false;
   scan_attribute_ranges(a);
