@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "oocsimp/error.hpp"
@@ -151,4 +152,104 @@ TEST_CASE("grid choice validates its options", "[uniform]") {
   CHECK(g.dims[0] == 4);
   CHECK(g.dims[1] == 4);
   CHECK(g.cell == Approx(0.25));
+}
+
+namespace {
+
+// The positions of `vertices` of `m`.
+std::set<std::array<double, 3>> positions_of(const LoadedMesh& m, const std::vector<std::uint64_t>& vertices) {
+  std::set<std::array<double, 3>> out;
+  for (std::uint64_t v : vertices) out.insert({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
+  return out;
+}
+
+// How many vertices of `m` are at one of `wanted`, and whether each is a corner of some
+// triangle.
+std::size_t count_at(const SimplifiedMesh& m, const std::set<std::array<double, 3>>& wanted, bool* all_used) {
+  std::vector<char> used(m.positions.size() / 3, 0);
+  for (std::uint32_t v : m.triangles) used[v] = 1;
+  std::size_t n = 0;
+  *all_used = true;
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (wanted.count(std::array<double, 3>{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]})) {
+      ++n;
+      *all_used = *all_used && used[i];
+    }
+  return n;
+}
+
+SimplifiedMesh run_locked(const std::string& path, ClusterMethod method, const std::vector<std::uint64_t>& locks,
+                          unsigned threads, SimplifyStats* stats = nullptr) {
+  MeshInput in = open_mesh_input(path);
+  SimplifyOptions o;
+  o.method = method;
+  o.sizing = grid(24);
+  o.threads = threads;
+  o.locked_vertices = locks;
+  return simplify(in, o, stats);
+}
+
+}  // namespace
+
+TEST_CASE("a locked vertex is a cluster of its own, its output vertex where it is", "[uniform][locks]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --shape parts --tris 20000 -o " + d.file("p.ply")).exit_code == 0);
+  REQUIRE(run_cli("generate --quiet --shape terrain --tris 20000 -o " + d.file("t.ply")).exit_code == 0);
+  const LoadedMesh parts = load_mesh(d.file("p.ply")), terrain = load_mesh(d.file("t.ply"));
+  // Scattered vertices of a closed surface.
+  std::vector<std::uint64_t> scattered;
+  for (std::uint64_t v = 5; v < parts.vertex_count(); v += 397) scattered.push_back(v);
+  // The whole outline of an open one: the edges of one face.
+  std::map<std::pair<std::uint64_t, std::uint64_t>, int> edge_faces;
+  for (std::size_t t = 0; t < terrain.triangles.size(); t += 3)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = terrain.triangles[t + k], b = terrain.triangles[t + (k + 1) % 3];
+      ++edge_faces[{std::min(a, b), std::max(a, b)}];
+    }
+  std::set<std::uint64_t> on_outline;
+  for (const auto& e : edge_faces)
+    if (e.second == 1) on_outline.insert({e.first.first, e.first.second});
+  const std::vector<std::uint64_t> outline(on_outline.begin(), on_outline.end());
+  REQUIRE(outline.size() > 100);
+  for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::curvature}) {
+    INFO(method_name(method));
+    bool used = false;
+    // Clustering moves vertices; locked ones stay, each a corner of some triangle, or
+    // are left out with a warning where their whole neighbourhood fell in one cell.
+    const auto wanted = positions_of(parts, scattered);
+    CHECK(count_at(run_locked(d.file("p.ply"), method, {}, 2), wanted, &used) < wanted.size() / 2);
+    SimplifyStats st;
+    const SimplifiedMesh held = run_locked(d.file("p.ply"), method, scattered, 2, &st);
+    const std::size_t kept = count_at(held, wanted, &used);
+    CHECK(used);
+    CHECK(kept > wanted.size() / 2);
+    // The ones left out are counted in a warning (a vertex of the surface that is not
+    // locked may happen to stand where a dropped one was: at least the others are kept).
+    std::size_t dropped = 0;
+    const std::string said = " of " + std::to_string(scattered.size()) + " locked vertices are left out";
+    for (const std::string& w : st.warnings)
+      if (w.find(said) != std::string::npos) dropped = std::stoul(w);
+    CHECK(kept + dropped >= wanted.size());
+    CHECK(dropped < wanted.size() / 2);
+    const SimplifiedMesh one = run_locked(d.file("p.ply"), method, scattered, 1);
+    CHECK(one.positions == held.positions);
+    CHECK(one.triangles == held.triangles);
+    // A locked outline is kept whole: every vertex of it, exactly where it was.
+    const auto rim = positions_of(terrain, outline);
+    CHECK(count_at(run_locked(d.file("t.ply"), method, outline, 2), rim, &used) == rim.size());
+    CHECK(used);
+  }
+  // Floating cells, and a clustering phase 1 before a target, refuse locks.
+  write_file(d.file("locks.txt"), "5 402\n");
+  const CliResult floating = run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("x.ply") +
+                                     " --method floating --lock-vertices " + d.file("locks.txt"));
+  CHECK(floating.exit_code == 2);
+  CHECK(floating.err.find("floating cells cannot keep a vertex as a cluster of its own") != std::string::npos);
+  const CliResult phase_one = run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("x.ply") +
+                                      " --method uniform --target-tris 2000 --lock-vertices " + d.file("locks.txt"));
+  CHECK(phase_one.exit_code == 2);
+  CHECK(phase_one.err.find("are held by the edge collapse") != std::string::npos);
+  REQUIRE(run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("u.ply") +
+                  " --method uniform --grid 24 --lock-vertices " + d.file("locks.txt"))
+              .exit_code == 0);
 }

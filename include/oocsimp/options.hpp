@@ -159,9 +159,11 @@ struct SimplifyOptions {
   /// holes and the seams of separately textured parts keep their exact outline.
   /// Clustering moves boundaries with everything else, so a clustering method refuses it.
   bool lock_boundary = false;
-  /// Input vertices (by index, any order) the edge collapse leaves where they are, like
-  /// a boundary under lock_boundary: marked features, seams, joints with other parts.
-  /// Clustering methods refuse them.
+  /// Input vertices (by index, any order) that stay where they are: the edge collapse
+  /// moves and removes none of them (like a boundary under lock_boundary), and the
+  /// uniform grid and curvature cells make each a cluster of its own, its output vertex
+  /// where it is. Marked features, seams, joints with other parts. Floating cells, and
+  /// a clustering phase 1 before a target, refuse them.
   std::vector<std::uint64_t> locked_vertices;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).
   ProgressCallback progress;

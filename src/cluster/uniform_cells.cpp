@@ -346,11 +346,20 @@ std::uint32_t TableBudget::coarser_resolution(double cells) const {
 }
 
 Vec3d CellKeys::cell_min(std::uint64_t key) const {
+  if (key & kLockedKey) return locked_->relative(key & ~kLockedKey);
   return clusters_ ? clusters_->cell_min_relative(std::uint32_t(key)) : grid_.cell_min_relative(key);
 }
 
 double CellKeys::cell_side(std::uint64_t key) const {
+  if (key & kLockedKey) return 0;
   return clusters_ ? clusters_->cell_side(std::uint32_t(key)) : grid_.cell;
+}
+
+LockedVertices::LockedVertices(const std::vector<std::uint64_t>& sorted, const PositionArray& positions,
+                               const GridSpec& grid)
+    : ids_(sorted) {
+  relative_.reserve(ids_.size());
+  for (std::uint64_t v : ids_) relative_.push_back(grid.relative(positions.get(v)));
 }
 
 std::uint64_t CellKeys::cluster_of(std::uint64_t vertex) const { return clusters_->cluster(vertex); }
@@ -371,8 +380,11 @@ struct UniformCells::ChosenVertex {
   }
 };
 
-UniformCells::UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters)
-    : grid_(grid), keys_(grid, clusters), attributes_(std::make_unique<const UniformAttributeSums>(attributes)) {}
+UniformCells::UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters,
+                           const LockedVertices* locked)
+    : grid_(grid),
+      keys_(grid, clusters, locked),
+      attributes_(std::make_unique<const UniformAttributeSums>(attributes)) {}
 
 UniformCells::~UniformCells() = default;
 
@@ -692,7 +704,7 @@ void UniformCells::choose_vertices(const PositionArray& positions, VertexMatch m
       const std::uint64_t key = keys_.key(v, p);
       const std::int64_t cell = cells_.find(key);
       if (cell < 0) continue;
-      const bool m = matches(context, v, key);
+      const bool m = (key & kLockedKey) != 0 || matches(context, v, key);
       const double e = cells_.value(std::size_t(cell)).q.error(p);
       ChosenVertex& c = best.value(best.insert(std::uint64_t(cell)));
       if (c.better(m, e, v)) c = ChosenVertex{p, e, v, m};
@@ -704,6 +716,12 @@ void UniformCells::choose_vertices(const PositionArray& positions, VertexMatch m
     for (const auto& [cell, c] : list)
       if (chosen_[cell].better(c.matching, c.error, c.vertex)) chosen_[cell] = c;
   phase.set(positions.count);
+}
+
+std::size_t UniformCells::locked_output_count(const std::vector<std::uint32_t>& order) const {
+  std::size_t n = 0;
+  for (std::uint32_t cell : order) n += (cells_.key(cell) & kLockedKey) != 0;
+  return n;
 }
 
 std::uint64_t UniformCells::chosen_bytes() const { return chosen_.capacity() * sizeof(ChosenVertex); }
@@ -781,8 +799,10 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                         const VertexSum& s = rec.vertices;
                         const double half = 0.5 * side;
                         Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
-                        const Vec3d at = chosen.empty() ? minimize_quadric(rec.q, mean, lo, hi)  //
-                                                        : chosen[order[i]].position;
+                        // A locked vertex's cell is the point where it is.
+                        const Vec3d at = (key & kLockedKey) ? lo
+                                         : chosen.empty()   ? minimize_quadric(rec.q, mean, lo, hi)
+                                                            : chosen[order[i]].position;
                         Vec3d x = at + grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         positions[3 * i] = x.x;

@@ -76,14 +76,37 @@ class TableBudget {
 
 class VertexClusters;
 
+/// The vertices that stay where they are (SimplifyOptions::locked_vertices): each is
+/// a cluster of its own, whose key is kLockedKey | its index (grid keys use 63 bits,
+/// cluster keys 32) and whose cell is the point where it is.
+constexpr std::uint64_t kLockedKey = std::uint64_t(1) << 63;
+class LockedVertices {
+ public:
+  LockedVertices() = default;
+  /// `sorted`: ascending, distinct, below positions.count.
+  LockedVertices(const std::vector<std::uint64_t>& sorted, const PositionArray& positions, const GridSpec& grid);
+  bool empty() const { return ids_.empty(); }
+  bool contains(std::uint64_t vertex) const { return std::binary_search(ids_.begin(), ids_.end(), vertex); }
+  /// A locked vertex's position relative to the grid's origin.
+  Vec3d relative(std::uint64_t vertex) const {
+    return relative_[std::size_t(std::lower_bound(ids_.begin(), ids_.end(), vertex) - ids_.begin())];
+  }
+
+ private:
+  std::vector<std::uint64_t> ids_;
+  std::vector<Vec3d> relative_;
+};
+
 /// Where a vertex's cell is: the grid cell its position falls in (OoCS), or the
 /// cluster VertexClusters gave it (the curvature method, cluster/curvature_cells.hpp),
 /// whose cell is an octree leaf. The cell's box bounds the quadric solve and is the
 /// frame of the thick edges' moments.
 class CellKeys {
  public:
-  CellKeys(const GridSpec& grid, const VertexClusters* clusters) : grid_(grid), clusters_(clusters) {}
+  CellKeys(const GridSpec& grid, const VertexClusters* clusters, const LockedVertices* locked)
+      : grid_(grid), clusters_(clusters), locked_(locked && !locked->empty() ? locked : nullptr) {}
   std::uint64_t key(std::uint64_t vertex, const Vec3d& relative) const {
+    if (locked_ && locked_->contains(vertex)) return kLockedKey | vertex;
     return clusters_ ? cluster_of(vertex) : grid_.key_relative(relative);
   }
   /// The lower corner of cell `key`, relative to the grid's origin, and its side.
@@ -94,6 +117,7 @@ class CellKeys {
   std::uint64_t cluster_of(std::uint64_t vertex) const;
   GridSpec grid_;
   const VertexClusters* clusters_;
+  const LockedVertices* locked_;
 };
 
 class UniformAttributeSums;
@@ -133,8 +157,10 @@ struct ChunkPart {
 class UniformCells {
  public:
   /// No cells yet, on `grid`, carrying the vertex attributes of `attributes`; with
-  /// `clusters`, a vertex's cell is its cluster there rather than its grid cell.
-  UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters = nullptr);
+  /// `clusters`, a vertex's cell is its cluster there rather than its grid cell; a
+  /// vertex of `locked` is a cell of its own, its representative where it is.
+  UniformCells(const GridSpec& grid, const AttributeArray& attributes, const VertexClusters* clusters = nullptr,
+               const LockedVertices* locked = nullptr);
   ~UniformCells();
   UniformCells(const UniformCells&) = delete;
   UniformCells& operator=(const UniformCells&) = delete;
@@ -172,6 +198,10 @@ class UniformCells {
   using VertexMatch = bool (*)(const void* context, std::uint64_t vertex, std::uint64_t cell_key);
   void choose_vertices(const PositionArray& positions, VertexMatch matches, const void* context,
                        const ProgressCallback& progress);
+  /// How many of the output vertices of `order` (number_output_vertices) are locked
+  /// vertices: a locked vertex all of whose neighbours fall in one other cell has no
+  /// triangle left, and is not among them.
+  std::size_t locked_output_count(const std::vector<std::uint32_t>& order) const;
   /// Bytes choose_vertices holds until the solve.
   std::uint64_t chosen_bytes() const;
   /// Frees the hash indexes of the cells and the kept triangles: no lookups follow.

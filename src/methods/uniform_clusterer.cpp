@@ -15,6 +15,7 @@
 // are the check_* functions below.
 #include "methods/uniform_clusterer.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -92,7 +93,7 @@ void fill_stats(const SkippedFaces& skipped, std::uint64_t triangles, const Unif
 
 // After the passes: the output vertices numbered and placed.
 OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const TableBudget& budget,
-                 std::vector<Quadric>* quadrics) {
+                 std::vector<Quadric>* quadrics, std::size_t locked, SimplifyStats* stats) {
   // The hash indexes are not needed any more; free them before the output arrays
   // are allocated, which keeps the peak down.
   cells.release_indexes();
@@ -103,6 +104,13 @@ OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const Tabl
   check_numbering_fits(budget, cells, place);
   OutputMesh mesh;
   const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
+  // A locked vertex whose neighbours all fall in one other cell makes no triangle with
+  // two other clusters: it is dropped, and said so.
+  const std::size_t dropped = locked - cells.locked_output_count(order);
+  if (dropped > 0 && stats)
+    stats->warnings.push_back(std::to_string(dropped) + " of " + std::to_string(locked) +
+                              " locked vertices are left out: every neighbour of theirs fell in one other cell, so "
+                              "no triangle of theirs survived (a finer grid keeps them)");
   check_positions_fit(budget, cells, order, mesh, place);
   cells.solve_representatives(order, &mesh, quadrics, place);
   return mesh;
@@ -122,7 +130,11 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
                            occupancy, input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
-  UniformCells cells(grid, input.attributes, source.clusters);
+  std::vector<std::uint64_t> locked_ids = options.locked_vertices;
+  std::sort(locked_ids.begin(), locked_ids.end());
+  locked_ids.erase(std::unique(locked_ids.begin(), locked_ids.end()), locked_ids.end());
+  const LockedVertices locked(locked_ids, input.positions, grid);
+  UniformCells cells(grid, input.attributes, source.clusters, &locked);
 
   PhaseTimer clock;
   cells.add_vertices(input.positions, budget, progress);
@@ -139,7 +151,7 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   }
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, quadrics);
+  OutputMesh mesh = solve(cells, options, budget, quadrics, locked_ids.size(), stats);
   clock.end("solve");
   if (stats) fill_stats(input.triangles->skipped(), triangles, cells, mesh, &clock, stats);
   return mesh;
@@ -184,7 +196,7 @@ OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options
   }
   clock.end("faces");
   ProgressPhase solve_phase(options.progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, nullptr);
+  OutputMesh mesh = solve(cells, options, budget, nullptr, 0, stats);
   clock.end("solve");
   if (stats) fill_stats(chunks.skipped, triangles, cells, mesh, &clock, stats);
   return mesh;

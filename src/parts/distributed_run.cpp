@@ -52,6 +52,8 @@ void check_part_options(const SimplifyOptions& options) {
     throw UsageError("options.target", "a distributed run (options.part) takes no target yet");
   if (options.thick_edges)
     throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
+  if (!options.locked_vertices.empty())
+    throw UsageError("options.locked_vertices", "a distributed run (options.part) keeps no locked vertices yet");
 }
 
 void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
