@@ -644,7 +644,8 @@ std::map<std::pair<std::array<double, 3>, std::array<double, 3>>, int> welded_ed
 TEST_CASE("a texture seam collapses along itself, both sides together, and stays closed", "[refine][collapse][uv]") {
   const QuadricMesh sphere = seam_sphere(60, 120);
   const std::size_t seam_before = 2 * 59;
-  for (std::uint64_t target : {2000, 400})
+  // 401: odd, on a closed surface one fewer (a seam's edge is no boundary to split).
+  for (std::uint64_t target : {2000, 401})
     for (std::uint64_t passes : {0, 1024}) {
       INFO("target " << target << ", tiles and passes from " << passes << " faces");
       CollapseSettings s;
@@ -654,8 +655,8 @@ TEST_CASE("a texture seam collapses along itself, both sides together, and stays
       s.tile_min_faces = 4 * passes;
       CollapseStats st;
       const QuadricMesh m = collapse_edges(sphere, s, &st);
-      CHECK_FALSE(st.stuck);
-      CHECK(m.triangles.size() / 3 == target);
+      CHECK(st.parity == (target % 2 == 1));
+      CHECK(m.triangles.size() / 3 == target - target % 2);
       // Welded by position it is a closed manifold surface: the seam neither opened nor
       // pinched.
       for (const auto& e : welded_edges(m)) CHECK(e.second == 2);

@@ -721,6 +721,29 @@ TEST_CASE("OBJ texture coordinates split a position per pair its corners name, i
   }
 }
 
+TEST_CASE("OBJ positions with many texture coordinates split into as many vertices", "[readers][obj][attributes]") {
+  // Position 1 is named with 300 texture coordinates (past the chains' walk, as at the
+  // pole of a UV sphere): 299 vertices more, each corner on its own.
+  ScratchDir dir;
+  std::string s = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (int k = 0; k < 300; ++k) s += "vt " + std::to_string(k) + " 0\n";
+  for (int k = 0; k < 300; ++k) s += "f 1/" + std::to_string(k + 1) + " 2/1 3/1\n";
+  for (int k = 299; k >= 0; --k) s += "f 1/" + std::to_string(k + 1) + " 3/1 2/1\n";
+  write_file(dir.file("pole.obj"), s);
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(dir.file("pole.obj"), o);
+  REQUIRE(in.positions.count == 3 + 299);
+  std::vector<std::uint64_t> t(3 * 600);
+  REQUIRE(in.triangles->read(t.data(), 600) == 600);
+  for (int k = 0; k < 300; ++k) {
+    const std::uint64_t v = t[3 * std::size_t(k)], back = t[3 * std::size_t(599 - k)];
+    CHECK(v == back);  // the same pair, the same vertex
+    CHECK(oocsimp::attribute_value(in.attributes, v, 0) == double(k));
+  }
+}
+
 TEST_CASE("An OBJ with normals but no vertex opens with empty attribute arrays", "[readers][obj][attributes]") {
   // Found by fuzz_obj_reader: the empty attribute file mapped to no address, and the
   // arrays were offset from it.
@@ -935,7 +958,9 @@ std::string base64(const std::string& bytes) {
 
 // `buffer_uri`: the buffer as a uri instead of the BIN chunk ("base64": a data URI of
 // it).
-std::string scene_glb(const std::string& extra_json = "", const std::string& buffer_uri = "") {
+// `scene_json`: the scene and nodes instead of the default ones (ending in a comma).
+std::string scene_glb(const std::string& extra_json = "", const std::string& buffer_uri = "",
+                      const std::string& scene_json = "") {
   std::string bin;
   append_values<float>(bin, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});  // 0: 48 bytes of positions
   append_values<std::uint16_t>(bin, {0, 1, 2, 0, 2, 3});            // 48: 12 bytes of indices
@@ -944,8 +969,12 @@ std::string scene_glb(const std::string& extra_json = "", const std::string& buf
   append_values<float>(bin, {0, 0, 5, 1, 0, 5, 0, 1, 5});  // 108: 36 bytes, a triangle
   append_values<float>(bin, {0, 0, 2, 0, 0, 2, 0, 0, 2});  // 144: its normals (0, 0, 2)
   const std::string json =
-      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1,3]}],)"
-      R"("nodes":[{"mesh":0,"translation":[10,0,0]},{"children":[2],"scale":[2,2,2]},{"mesh":0},{"mesh":1}],)"
+      R"({"asset":{"version":"2.0"},)" +
+      (scene_json.empty()
+           ? std::string(R"("scene":0,"scenes":[{"nodes":[0,1,3]}],)"
+                         R"("nodes":[{"mesh":0,"translation":[10,0,0]},{"children":[2],"scale":[2,2,2]},)"
+                         R"({"mesh":0},{"mesh":1}],)")
+           : scene_json) +
       R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":2,"COLOR_0":3},"indices":1}]},)"
       R"({"primitives":[{"attributes":{"POSITION":4,"NORMAL":5}},{"attributes":{"POSITION":4},"mode":1}]}],)"
       R"("buffers":[{"byteLength":180)" +
@@ -1013,6 +1042,45 @@ TEST_CASE("glb nodes place their meshes, and the attributes are carried", "[read
   CHECK(packed.positions.get(6).y == 2.0);
 }
 
+TEST_CASE("glb nodes form trees, however deep, and a mirroring node turns its faces", "[readers][glb]") {
+  ScratchDir dir;
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  // A chain of 30000 nodes, the last naming the triangle of mesh 1: read without
+  // recursion, placed by every translation on the way.
+  std::string chain = R"("scene":0,"scenes":[{"nodes":[0]}],"nodes":[)";
+  for (int i = 0; i < 30000; ++i) chain += "{\"translation\":[1,0,0],\"children\":[" + std::to_string(i + 1) + "]},";
+  chain += R"({"mesh":1}],)";
+  write_file(dir.file("chain.glb"), scene_glb("", "", chain));
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(dir.file("chain.glb"), o);
+  REQUIRE(in.positions.count == 3);
+  CHECK(in.positions.get(0).x == 30000.0);
+  // Two parents of one node (2^39 placements, were it followed) and a cycle: refused.
+  std::string doubled = R"("nodes":[)";
+  for (int i = 0; i < 40; ++i)
+    doubled += "{\"children\":[" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
+  doubled += R"({"mesh":1}],)";
+  write_file(dir.file("doubled.glb"), scene_glb("", "", doubled));
+  CHECK_THROWS_WITH(oocsimp::open_mesh_input(dir.file("doubled.glb"), o), Catch::Contains("has two parents"));
+  write_file(dir.file("cycle.glb"),
+             scene_glb("", "", R"("scenes":[{"nodes":[0]}],"nodes":[{"children":[1]},{"children":[0]}],)"));
+  CHECK_THROWS_WITH(oocsimp::open_mesh_input(dir.file("cycle.glb"), o), Catch::Contains("own ancestor"));
+  // Mirrored by scale -1 in x: the corners' order is reversed (the face still faces
+  // out, now -x turned) and the normal (0, 0, 1) stays (0, 0, 1).
+  write_file(dir.file("mirror.glb"),
+             scene_glb("", "", R"("scenes":[{"nodes":[0]}],"nodes":[{"mesh":1,"scale":[-1,1,1]}],)"));
+  oocsimp::MeshInput m = oocsimp::open_mesh_input(dir.file("mirror.glb"), o);
+  REQUIRE(m.positions.count == 3);
+  CHECK(m.positions.get(1).x == -1.0);
+  std::vector<std::uint64_t> t(3);
+  REQUIRE(m.triangles->read(t.data(), 1) == 1);
+  CHECK(t == std::vector<std::uint64_t>{0, 2, 1});
+  CHECK(oocsimp::attribute_value(m.attributes, 0, 2) == 1.0);
+  // The normal of the face as read: (x1 - x0) x (x2 - x0) points along +z still.
+  const oocsimp::Vec3d a = m.positions.get(t[0]), b = m.positions.get(t[1]), c = m.positions.get(t[2]);
+  CHECK((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) > 0);
+}
+
 TEST_CASE("glb written by oocsimp reads back as the same mesh", "[readers][glb]") {
   ScratchDir dir;
   const std::vector<double> positions = {0, 0, 0, 1.5, 0, 0, 0, 2.25, 0, 0, 0, -3};
@@ -1047,6 +1115,9 @@ TEST_CASE("damaged or unsupported glb files exit with one line naming what", "[r
        "extensionsRequired: the extension \"KHR_draco_mesh_compression\" is not supported"},
       {"glTF", "unexpected end of file"},
       {scene_glb("", "scene.bin"), "buffers[0]: data in another file (scene.bin) is not read"},
+      {scene_glb(R"(,"extras":1e999)"), "JSON chunk"},
+      {scene_glb(",\"extensionsRequired\":" + std::string(100000, '[') + std::string(100000, ']')),
+       "extensionsRequired: the extension (array) is not supported"},
   };
   for (const Case& c : cases) {
     write_file(dir.file("bad.glb"), c.bytes);

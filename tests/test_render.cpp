@@ -203,6 +203,10 @@ TEST_CASE("render up auto takes the way an open surface faces, else a closed one
   // A sphere has no base and faces no way: z.
   REQUIRE(run_cli("generate --quiet --shape sphere --tris 20000 -o " + q(d.file("s.ply"))).exit_code == 0);
   CHECK(up_of("s.ply") == "z");
+  // A wall facing -y (seen from behind in a z-up frame) is no terrain: the fallback, z.
+  write_mesh(d.file("wall.ply"), {0, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0, 1}, {0, 2, 1, 2, 3, 1}, MeshFormat::ply_binary,
+             ScalarType::f64);
+  CHECK(up_of("wall.ply") == "z");
   // The same as glTF, whose frame is y-up: y.
   REQUIRE(run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(d.file("s.glb")) + " --target-tris 5000")
               .exit_code == 0);

@@ -253,3 +253,46 @@ TEST_CASE("a locked vertex is a cluster of its own, its output vertex where it i
                   " --method uniform --grid 24 --lock-vertices " + d.file("locks.txt"))
               .exit_code == 0);
 }
+
+TEST_CASE("a lock holds every vertex at its position: the other side of a seam stays with it", "[uniform][locks]") {
+  // A closed sphere of 40 x 80 quads whose meridian x > 0, y = 0 has its vertices
+  // doubled (one copy for the faces on each side, as a texture seam splits them).
+  ScratchDir d;
+  const std::uint32_t rings = 40, columns = 80, row = columns + 1;
+  std::vector<double> p;
+  std::vector<std::uint32_t> t;
+  const double pi = 3.14159265358979323846;
+  for (std::uint32_t r = 1; r < rings; ++r)
+    for (std::uint32_t c = 0; c <= columns; ++c) {
+      const double lat = pi * r / rings, lon = 2 * pi * (c % columns) / columns;
+      p.insert(p.end(), {std::sin(lat) * std::cos(lon), std::sin(lat) * std::sin(lon), std::cos(lat)});
+    }
+  const std::uint32_t north = std::uint32_t(p.size() / 3), south = north + 1;
+  p.insert(p.end(), {0, 0, 1, 0, 0, -1});
+  const auto at = [&](std::uint32_t r, std::uint32_t c) { return (r - 1) * row + c; };
+  std::vector<std::uint64_t> side;  // one copy of each doubled vertex
+  for (std::uint32_t r = 1; r < rings; ++r) side.push_back(at(r, 0));
+  for (std::uint32_t c = 0; c < columns; ++c) {
+    t.insert(t.end(), {north, at(1, c), at(1, c + 1), south, at(rings - 1, c + 1), at(rings - 1, c)});
+    for (std::uint32_t r = 1; r + 1 < rings; ++r)
+      t.insert(t.end(), {at(r, c), at(r + 1, c), at(r + 1, c + 1), at(r, c), at(r + 1, c + 1), at(r, c + 1)});
+  }
+  write_mesh(d.file("s.ply"), p, t, MeshFormat::ply_binary, ScalarType::f64);
+  // Edges of one face once the copies are welded by position: the seam opened there.
+  const auto open_edges = [](const SimplifiedMesh& m) {
+    std::map<std::pair<std::array<double, 3>, std::array<double, 3>>, int> faces;
+    for (std::size_t f = 0; f < m.triangles.size(); f += 3)
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double* a = &m.positions[3 * std::size_t(m.triangles[f + k])];
+        const double* b = &m.positions[3 * std::size_t(m.triangles[f + (k + 1) % 3])];
+        std::array<double, 3> x{a[0], a[1], a[2]}, y{b[0], b[1], b[2]};
+        if (y < x) std::swap(x, y);
+        ++faces[{x, y}];
+      }
+    std::size_t n = 0;
+    for (const auto& e : faces) n += e.second == 1;
+    return n;
+  };
+  const std::size_t free = open_edges(run_locked(d.file("s.ply"), ClusterMethod::uniform, {}, 2));
+  CHECK(open_edges(run_locked(d.file("s.ply"), ClusterMethod::uniform, side, 2)) <= free);
+}

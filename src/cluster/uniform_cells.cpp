@@ -346,7 +346,7 @@ std::uint32_t TableBudget::coarser_resolution(double cells) const {
 }
 
 Vec3d CellKeys::cell_min(std::uint64_t key) const {
-  if (key & kLockedKey) return locked_->relative(key & ~kLockedKey);
+  if (key & kLockedKey) return locked_->place(key & ~kLockedKey);
   return clusters_ ? clusters_->cell_min_relative(std::uint32_t(key)) : grid_.cell_min_relative(key);
 }
 
@@ -355,11 +355,33 @@ double CellKeys::cell_side(std::uint64_t key) const {
   return clusters_ ? clusters_->cell_side(std::uint32_t(key)) : grid_.cell;
 }
 
-LockedVertices::LockedVertices(const std::vector<std::uint64_t>& sorted, const PositionArray& positions,
-                               const GridSpec& grid)
-    : ids_(sorted) {
-  relative_.reserve(ids_.size());
-  for (std::uint64_t v : ids_) relative_.push_back(grid.relative(positions.get(v)));
+namespace {
+
+bool before(const Vec3d& a, const Vec3d& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+}  // namespace
+
+LockedVertices::LockedVertices(const std::vector<std::uint64_t>& vertices, const PositionArray& positions,
+                               const GridSpec& grid) {
+  places_.reserve(vertices.size());
+  for (std::uint64_t v : vertices) {
+    const Vec3d p = positions.get(v);
+    if (is_finite(p)) places_.push_back(grid.relative(p));  // a non-finite vertex takes part in nothing
+  }
+  std::sort(places_.begin(), places_.end(), before);
+  places_.erase(std::unique(places_.begin(), places_.end(),
+                            [](const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }),
+                places_.end());
+}
+
+std::int64_t LockedVertices::rank_of(const Vec3d& relative) const {
+  const auto at = std::lower_bound(places_.begin(), places_.end(), relative, before);
+  if (at == places_.end() || at->x != relative.x || at->y != relative.y || at->z != relative.z) return -1;
+  return at - places_.begin();
 }
 
 std::uint64_t CellKeys::cluster_of(std::uint64_t vertex) const { return clusters_->cluster(vertex); }

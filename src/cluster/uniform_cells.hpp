@@ -76,25 +76,27 @@ class TableBudget {
 
 class VertexClusters;
 
-/// The vertices that stay where they are (SimplifyOptions::locked_vertices): each is
-/// a cluster of its own, whose key is kLockedKey | its index (grid keys use 63 bits,
-/// cluster keys 32) and whose cell is the point where it is.
+/// The places that stay where they are (SimplifyOptions::locked_vertices): each is a
+/// cluster of its own, whose key is kLockedKey | its rank (grid keys use 63 bits,
+/// cluster keys 32) and whose cell is the point itself. A place is a position, not a
+/// vertex: every vertex there is in it, so the other side of a texture seam or a
+/// duplicated vertex at a locked one goes with it, and the surface does not open.
 constexpr std::uint64_t kLockedKey = std::uint64_t(1) << 63;
 class LockedVertices {
  public:
   LockedVertices() = default;
-  /// `sorted`: ascending, distinct, below positions.count.
-  LockedVertices(const std::vector<std::uint64_t>& sorted, const PositionArray& positions, const GridSpec& grid);
-  bool empty() const { return ids_.empty(); }
-  bool contains(std::uint64_t vertex) const { return std::binary_search(ids_.begin(), ids_.end(), vertex); }
-  /// A locked vertex's position relative to the grid's origin.
-  Vec3d relative(std::uint64_t vertex) const {
-    return relative_[std::size_t(std::lower_bound(ids_.begin(), ids_.end(), vertex) - ids_.begin())];
-  }
+  /// The finite positions of `vertices` (each below positions.count).
+  LockedVertices(const std::vector<std::uint64_t>& vertices, const PositionArray& positions, const GridSpec& grid);
+  bool empty() const { return places_.empty(); }
+  std::size_t size() const { return places_.size(); }
+  /// The rank of the place at `relative` (a position relative to the grid's origin),
+  /// or -1.
+  std::int64_t rank_of(const Vec3d& relative) const;
+  /// The place of rank `rank`, relative to the grid's origin.
+  const Vec3d& place(std::uint64_t rank) const { return places_[std::size_t(rank)]; }
 
  private:
-  std::vector<std::uint64_t> ids_;
-  std::vector<Vec3d> relative_;
+  std::vector<Vec3d> places_;  // ascending by x, then y, then z
 };
 
 /// Where a vertex's cell is: the grid cell its position falls in (OoCS), or the
@@ -106,7 +108,10 @@ class CellKeys {
   CellKeys(const GridSpec& grid, const VertexClusters* clusters, const LockedVertices* locked)
       : grid_(grid), clusters_(clusters), locked_(locked && !locked->empty() ? locked : nullptr) {}
   std::uint64_t key(std::uint64_t vertex, const Vec3d& relative) const {
-    if (locked_ && locked_->contains(vertex)) return kLockedKey | vertex;
+    if (locked_) {
+      const std::int64_t rank = locked_->rank_of(relative);
+      if (rank >= 0) return kLockedKey | std::uint64_t(rank);
+    }
     return clusters_ ? cluster_of(vertex) : grid_.key_relative(relative);
   }
   /// The lower corner of cell `key`, relative to the grid's origin, and its side.

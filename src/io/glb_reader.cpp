@@ -142,6 +142,22 @@ int type_width(const std::string& type) {
   return 0;
 }
 
+// A JSON value for a message: a number or a string as it is (cut to 40 bytes), else
+// its type. Never the dump of a nested value, whose depth the file chooses.
+std::string shown(const Json& v) {
+  if (v.is_number() || v.is_boolean() || v.is_null()) return v.dump();
+  if (v.is_string()) {
+    const std::string& t = v.get_ref<const std::string&>();
+    return "\"" + t.substr(0, 40) + (t.size() > 40 ? "...\"" : "\"");
+  }
+  return std::string("(") + v.type_name() + ")";
+}
+
+// More placed primitives than this is refused: each costs a few hundred bytes of
+// description, and a tree of nodes that names one mesh many times could ask for
+// millions.
+constexpr std::size_t kMaxInstances = std::size_t(1) << 20;
+
 using Matrix = std::array<double, 16>;  // column-major, as glTF writes it (§3.5.3)
 
 Matrix identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
@@ -162,6 +178,9 @@ struct Instance {
   View positions, normals, texcoords, colours, indices;
   bool indexed = false;
   Matrix transform = identity();
+  // The transform turns the surface inside out (a negative determinant): the corners'
+  // order is reversed, as glTF 2.0 §3.7.4 asks, and the normals' turn is negated.
+  bool mirrored = false;
   std::uint64_t first_vertex = 0;  // its vertices' offset in the whole mesh
 };
 
@@ -201,8 +220,8 @@ class GlbScene {
       for (std::size_t n = 0; n < nodes->size(); ++n)
         if (!child[n]) roots.push_back(n);
     }
-    std::vector<char> visiting(nodes->size(), 0);
-    for (std::size_t r : roots) add_node(r, identity(), &visiting, &out);
+    std::vector<char> visited(nodes->size(), 0);
+    for (std::size_t r : roots) add_tree(r, &visited, &out);
     return out;
   }
 
@@ -219,13 +238,13 @@ class GlbScene {
   }
   std::size_t index_of(const Json& value, const std::string& where, std::size_t count) const {
     if (!value.is_number_unsigned() || value.get<std::uint64_t>() >= count)
-      fail(where, "index " + value.dump() + " is not below " + std::to_string(count));
+      fail(where, "index " + shown(value) + " is not below " + std::to_string(count));
     return std::size_t(value.get<std::uint64_t>());
   }
   std::uint64_t number(const Json& object, const char* key, const std::string& where, std::uint64_t fallback) const {
     if (!object.contains(key)) return fallback;
     const Json& v = object[key];
-    if (!v.is_number_unsigned()) fail(where + "." + key, "not a non-negative integer: " + v.dump());
+    if (!v.is_number_unsigned()) fail(where + "." + key, "not a non-negative integer: " + shown(v));
     return v.get<std::uint64_t>();
   }
   const Json& element(const char* kind, std::size_t i) const {
@@ -238,20 +257,33 @@ class GlbScene {
   void check_extensions() const {
     if (const Json* required = member(json_, "extensionsRequired"))
       for (const Json& e : array(*required, "extensionsRequired"))
-        fail("extensionsRequired", "the extension " + e.dump() + " is not supported (decode it first, e.g. gltfpack)");
+        fail("extensionsRequired", "the extension " + shown(e) + " is not supported (decode it first, e.g. gltfpack)");
   }
 
-  void add_node(std::size_t n, const Matrix& parent, std::vector<char>* visiting, std::vector<Instance>* out) {
-    const std::string where = "nodes[" + std::to_string(n) + "]";
-    if ((*visiting)[n]) fail(where, "is its own ancestor");
-    (*visiting)[n] = 1;
-    const Json& node = element("nodes", n);
-    const Matrix world = multiply(parent, local_transform(node, where));
-    if (node.contains("mesh")) add_mesh(index_of(node["mesh"], where + ".mesh", count_of("meshes")), world, out);
-    if (const Json* children = member(node, "children"))
-      for (const Json& c : array(*children, where + ".children"))
-        add_node(index_of(c, where + ".children", count_of("nodes")), world, visiting, out);
-    (*visiting)[n] = 0;
+  // The tree under root `r` in depth-first order, children in their order, with an
+  // explicit stack (a file's nesting must not reach the call stack). The nodes form
+  // strict trees (§3.5.1): a node met twice, through two parents or a cycle, is refused.
+  void add_tree(std::size_t r, std::vector<char>* visited, std::vector<Instance>* out) {
+    struct Pending {
+      std::size_t node;
+      Matrix parent;
+    };
+    std::vector<Pending> stack = {{r, identity()}};
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      const std::string where = "nodes[" + std::to_string(p.node) + "]";
+      if ((*visited)[p.node]) fail(where, "has two parents, or is its own ancestor (nodes must form trees)");
+      (*visited)[p.node] = 1;
+      const Json& node = element("nodes", p.node);
+      const Matrix world = multiply(p.parent, local_transform(node, where));
+      if (node.contains("mesh")) add_mesh(index_of(node["mesh"], where + ".mesh", count_of("meshes")), world, out);
+      if (const Json* children = member(node, "children")) {
+        const Json& list = array(*children, where + ".children");
+        for (std::size_t i = list.size(); i-- > 0;)  // reversed: the first child comes off the stack first
+          stack.push_back({index_of(list[i], where + ".children", count_of("nodes")), world});
+      }
+    }
   }
 
   std::size_t count_of(const char* kind) const {
@@ -329,6 +361,11 @@ class GlbScene {
       if (!attributes || !attributes->contains("POSITION")) fail(at, "has no POSITION attribute");
       Instance in;
       in.transform = world;
+      const auto w = [&](int r, int c) { return world[std::size_t(c * 4 + r)]; };
+      in.mirrored = w(0, 0) * (w(1, 1) * w(2, 2) - w(1, 2) * w(2, 1)) -
+                        w(0, 1) * (w(1, 0) * w(2, 2) - w(1, 2) * w(2, 0)) +
+                        w(0, 2) * (w(1, 0) * w(2, 1) - w(1, 1) * w(2, 0)) <
+                    0;
       in.positions = accessor((*attributes)["POSITION"], at + ".attributes.POSITION", {kFloat}, {3});
       if (attributes->contains("NORMAL"))
         in.normals = accessor((*attributes)["NORMAL"], at + ".attributes.NORMAL", {kFloat}, {3});
@@ -351,6 +388,8 @@ class GlbScene {
       } else if (in.positions.count % 3 != 0) {
         fail(at, std::to_string(in.positions.count) + " unindexed vertices are not whole triangles");
       }
+      if (out->size() == kMaxInstances)
+        fail(at, "more than " + std::to_string(kMaxInstances) + " placed primitives (nodes naming meshes)");
       out->push_back(in);
     }
   }
@@ -373,7 +412,7 @@ class GlbScene {
                    " may have here (KHR_mesh_quantization is not supported)");
     if (std::find(widths.begin(), widths.end(), v.width) == widths.end())
       fail(at,
-           "type " + (acc.contains("type") ? acc["type"].dump() : std::string("(none)")) + " does not fit " + where);
+           "type " + (acc.contains("type") ? shown(acc["type"]) : std::string("(none)")) + " does not fit " + where);
     if (!acc.contains("bufferView")) fail(at, "has no bufferView (all zeros is not supported)");
     const std::size_t b = index_of(acc["bufferView"], at + ".bufferView", count_of("bufferViews"));
     const std::string view_at = "bufferViews[" + std::to_string(b) + "]";
@@ -430,7 +469,8 @@ class GlbTriangleStream : public TriangleStream {
           throw InputError(path_ + ": index " + std::to_string(i) + " of triangle " +
                            std::to_string((corner_ + std::uint64_t(k)) / 3) + " of primitive " + std::to_string(at_) +
                            " is not below its " + std::to_string(in.positions.count) + " vertices");
-        out[3 * n + std::size_t(k)] = in.first_vertex + i;
+        // Mirrored: corners 1 and 2 trade places.
+        out[3 * n + std::size_t(in.mirrored && k > 0 ? 3 - k : k)] = in.first_vertex + i;
       }
       corner_ += 3;
       ++n;
@@ -560,7 +600,7 @@ std::shared_ptr<Buffers> resolve_buffers(const Json& json, Buffer bin, const std
     }
     const Json* length = b.is_object() && b.contains("byteLength") ? &b["byteLength"] : nullptr;
     if (!length || !length->is_number_unsigned() || length->get<std::uint64_t>() > buffers->back().size)
-      throw InputError(what + ": byteLength " + (length ? length->dump() : std::string("(none)")) +
+      throw InputError(what + ": byteLength " + (length ? shown(*length) : std::string("(none)")) +
                        " is not within its " + std::to_string(buffers->back().size) + " bytes");
   }
   return buffers;
@@ -592,6 +632,8 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     json = Json::parse(text);
   } catch (const Json::parse_error& e) {
     throw InputError(at_byte(src.path(), 20 + e.byte - (e.byte > 0 ? 1 : 0), "malformed JSON chunk"));
+  } catch (const Json::exception& e) {  // a number beyond double's range, ...
+    throw InputError(at_byte(src.path(), 20, std::string("JSON chunk: ") + e.what()));
   }
   if (!json.is_object()) throw InputError(at_byte(src.path(), 20, "the JSON chunk is not an object"));
   std::string().swap(text);
@@ -607,8 +649,12 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
       resolve_buffers(json, map_bin(src, bin_length, options.temp_dir), options.temp_dir, src.path());
   progress.set(src.raw_consumed());
 
-  auto instances =
-      std::make_shared<std::vector<Instance>>(GlbScene(json, *buffers, src.path()).instances(&out.info.not_carried));
+  auto instances = std::make_shared<std::vector<Instance>>();
+  try {
+    *instances = GlbScene(json, *buffers, src.path()).instances(&out.info.not_carried);
+  } catch (const Json::exception& e) {  // a value of an unexpected type the checks let through
+    throw InputError(src.path() + ": JSON chunk: " + e.what());
+  }
   std::uint64_t vertices = 0, faces = 0;
   bool normals = false, texcoords = false, colours = false, alpha = false;
   for (Instance& in : *instances) {
@@ -666,8 +712,10 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
         if (in.normals.data)
           for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) n[r] += cofactor(r, c) * in.normals.get(i, c);
-        const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        for (double c : n) all[k++] = l > 0 ? c / l : 0.0;
+        // The cofactors are det x the inverse transpose: a mirroring transform's
+        // negative determinant is taken out with the length.
+        const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (in.mirrored ? -1.0 : 1.0);
+        for (double c : n) all[k++] = l != 0 ? c / l : 0.0;
       }
       if (texcoords) {
         // glTF's origin is the image's top left (§3.7.2.1); the other formats' the bottom left.

@@ -16,6 +16,7 @@
 //   border.
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -80,11 +81,23 @@ class CornerVertices {
       return p;
     }
     std::uint64_t vertex = p;
+    int walked = 1;
     for (;;) {
       if (link->texture == key) return vertex;
       if (link->next == 0) break;
       vertex = positions_ + link->next - 1;
       link = &more_[link->next - 1];
+      ++walked;
+    }
+    if (walked >= kLongestChain) {
+      // A position with many texture coordinates (a pole of a UV sphere, or a file
+      // made to be slow): the rest are looked up by pair, not walked.
+      const auto found = crowded_.find({p, key});
+      if (found != crowded_.end()) return found->second;
+      more_.push_back({key, 0, p});
+      const std::uint64_t made = positions_ + more_.size() - 1;
+      crowded_.emplace(std::make_pair(p, key), made);
+      return made;
     }
     more_.push_back({key, 0, p});
     // more_ may have moved: find the end of the chain again by the vertex found last.
@@ -102,7 +115,9 @@ class CornerVertices {
       vertex = positions_ + link->next - 1;
       link = &more_[link->next - 1];
     }
-    return vertex;
+    if (link->texture == key) return vertex;
+    const auto found = crowded_.find({p, key});
+    return found != crowded_.end() ? found->second : p;  // every pair was added: found
   }
 
   std::uint64_t vertex_count() const { return positions_ + more_.size(); }
@@ -123,9 +138,12 @@ class CornerVertices {
     std::uint64_t next;      // the chain's next pair: its place in more_ + 1, 0: the end
     std::uint64_t position;  // in more_: the position split
   };
+  // Pairs past this many at one position go to crowded_.
+  static constexpr int kLongestChain = 16;
   std::uint64_t positions_;
   LargeArray<Link> first_;
   AppendArray<Link> more_;
+  std::map<std::pair<std::uint64_t, std::uint64_t>, std::uint64_t> crowded_;  // (position, key) -> vertex
 };
 
 // How many `v`, `vt` and `vn` lines came so far: what a face's indices may refer to.

@@ -109,8 +109,8 @@ OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const Tabl
   const std::size_t dropped = locked - cells.locked_output_count(order);
   if (dropped > 0 && stats)
     stats->warnings.push_back(std::to_string(dropped) + " of " + std::to_string(locked) +
-                              " locked vertices are left out: every neighbour of theirs fell in one other cell, so "
-                              "no triangle of theirs survived (a finer grid keeps them)");
+                              " locked vertices are left out (counted by position): every neighbour of theirs fell "
+                              "in one other cell, so no triangle of theirs survived (a finer grid keeps them)");
   check_positions_fit(budget, cells, order, mesh, place);
   cells.solve_representatives(order, &mesh, quadrics, place);
   return mesh;
@@ -130,10 +130,7 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
                            occupancy, input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
-  std::vector<std::uint64_t> locked_ids = options.locked_vertices;
-  std::sort(locked_ids.begin(), locked_ids.end());
-  locked_ids.erase(std::unique(locked_ids.begin(), locked_ids.end()), locked_ids.end());
-  const LockedVertices locked(locked_ids, input.positions, grid);
+  const LockedVertices locked(options.locked_vertices, input.positions, grid);
   UniformCells cells(grid, input.attributes, source.clusters, &locked);
 
   PhaseTimer clock;
@@ -151,7 +148,7 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   }
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, quadrics, locked_ids.size(), stats);
+  OutputMesh mesh = solve(cells, options, budget, quadrics, locked.size(), stats);
   clock.end("solve");
   if (stats) fill_stats(input.triangles->skipped(), triangles, cells, mesh, &clock, stats);
   return mesh;

@@ -659,6 +659,10 @@ void CollapseState::collapse_one(const Candidate& c) {
   if (faces_.size() > compact_at_) compact_adjacency();
 }
 
+bool CollapseState::touches_seam(std::uint32_t u, std::uint32_t w) const {
+  return !mirror_.empty() && (mirror_[u] != kNoMirror || mirror_[w] != kNoMirror);
+}
+
 bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const {
   double longest = -1;
   std::pair<std::uint32_t, std::uint32_t> best{0, 0};
@@ -667,7 +671,7 @@ bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32
     const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
     for (std::uint32_t k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
-      if (faces_on_edge(u, w) != faces) continue;
+      if (faces_on_edge(u, w) != faces || (faces == 1 && touches_seam(u, w))) continue;
       const double l = squared_distance(mesh_.positions[u], mesh_.positions[w]);
       const std::pair<std::uint32_t, std::uint32_t> key{std::min(u, w), std::max(u, w)};
       if (l > longest || (l == longest && key < best)) longest = l, best = key;
@@ -752,6 +756,7 @@ bool CollapseState::split_up_to(std::uint64_t target) {
   std::vector<Edge> heaps[2];
   auto push = [&](std::uint32_t u, std::uint32_t w, int faces) {
     if (faces != 1 && faces != 2) return;
+    if (faces == 1 && touches_seam(u, w)) return;  // one side of a seam alone would open it
     if (u > w) std::swap(u, w);
     heaps[faces - 1].push_back({squared_distance(mesh_.positions[u], mesh_.positions[w]), u, w});
     std::push_heap(heaps[faces - 1].begin(), heaps[faces - 1].end(), shorter);
@@ -810,8 +815,8 @@ void CollapseState::compact_adjacency() {
 }
 
 // Vertices sorted by position. A run of two at one position, both on a boundary of
-// their side, manifold and free, are mirrors: the two sides of a texture seam. Every
-// other run of two or more is locked: where three charts meet, or a tangle.
+// their side and manifold, are mirrors: the two sides of a texture seam. Every other
+// run of two or more is locked: where three charts meet, or a tangle.
 void CollapseState::pair_coincident_vertices() {
   mirror_.assign(mesh_.positions.size(), kNoMirror);
   std::vector<std::uint32_t> order;
@@ -826,7 +831,10 @@ void CollapseState::pair_coincident_vertices() {
   for (std::size_t i = 0; i < order.size();) {
     std::size_t j = i + 1;
     while (j < order.size() && key(order[j]) == key(order[i])) ++j;
-    const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v] && !locked_[v]; };
+    // Locked vertices pair too (a tile's border): a mirrored collapse needs both sides
+    // free (valid()), and a seam edge's line quadric (add_boundary_planes) must not
+    // depend on where the tiles' borders fall.
+    const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v]; };
     if (j - i == 2 && seam_side(order[i]) && seam_side(order[i + 1])) {
       mirror_[order[i]] = order[i + 1];
       mirror_[order[i + 1]] = order[i];
@@ -1021,12 +1029,15 @@ class LazyQueue {
       stats_->stuck = stats_->stopped_by_error = true;
       return false;
     }
+    CollapseState::Candidate other;
+    const bool pair = state_.mirrored(c, &other);
     state_.collapse(c);
     if ((++stats_->collapses & 0xFFF) == 0 && progress_) progress_->set(2 * stats_->collapses);
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
     stats_->largest_error = std::max(stats_->largest_error, error);
     if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
     requeue_around(c.a);
+    if (pair) requeue_around(other.a);  // the other side of the seam moved too
     // An anchored vertex does not move: the costs of all its edges changed, and their
     // entries are stale.
     for (std::uint32_t v : state_.newly_anchored()) {

@@ -245,6 +245,9 @@ class CollapseState {
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
   void pair_coincident_vertices();
+  // Whether an end of edge (u, w) has a mirror: an edge of one face there is a seam's,
+  // or ends one (a pole where both sides meet), which splits and outline tests pass over.
+  bool touches_seam(std::uint32_t u, std::uint32_t w) const;
   // One collapse of b into a, without its mirror.
   void collapse_one(const Candidate& c);
   // valid() for one side of a seam.

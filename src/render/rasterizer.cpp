@@ -234,12 +234,16 @@ UpAxis choose_up_axis(MeshInput& input) {
       if (k != best && !(score[best] >= margin * score[k])) return fallback;
     return axes[best];
   };
-  // An open surface facing one way: a terrain, a facade, a scan open at its base (the
-  // missing underside leaves the sum pointing up).
+  // An open surface facing one way: up where it faces up along an axis (a terrain, a
+  // scan open at its base, whose missing underside leaves the sum pointing up). One
+  // facing down an axis is no terrain (a facade seen from the back, a ceiling): the
+  // fallback, and not the base rule, whose sides a thin sheet fills.
   if (length(facing) >= kFacingShare * area) {
-    const double f[3] = {std::fabs(facing.x), std::fabs(facing.y), std::fabs(facing.z)};
-    const UpAxis up = clear_winner(f, 1.0);
-    return up;
+    const double f[3] = {facing.x, facing.y, facing.z};
+    int along = 2;
+    for (int k : {1, 0})
+      if (std::fabs(f[k]) > std::fabs(f[along])) along = k;
+    return f[along] > 0 ? axes[along] : fallback;
   }
   // A closed (or balanced) surface: the axis of its base, a figure's soles or a scan's
   // flat underside, when it stands out.
