@@ -21,6 +21,20 @@ namespace {
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
+// The mesh of `from` turned y-up into `to`: (x, y, z) -> (y, z, x) takes the z-up frame
+// (x, y, z) to (z, x, y), the frame --up y turns about (azimuth from +z about +y).
+void write_y_up_copy(const std::string& from, const std::string& to) {
+  const LoadedMesh m = load_mesh(from);
+  std::vector<double> turned(m.positions.size());
+  for (std::size_t i = 0; i < m.vertex_count(); ++i) {
+    turned[3 * i] = m.positions[3 * i + 1];
+    turned[3 * i + 1] = m.positions[3 * i + 2];
+    turned[3 * i + 2] = m.positions[3 * i];
+  }
+  write_mesh(to, turned, std::vector<std::uint32_t>(m.triangles.begin(), m.triangles.end()), MeshFormat::ply_binary,
+             ScalarType::f64);
+}
+
 }  // namespace
 
 TEST_CASE("a unit square facing the camera covers its analytic pixel count", "[render][cli]") {
@@ -101,17 +115,7 @@ TEST_CASE("render refuses bad sizes, views and an output over its input with exi
 TEST_CASE("render up y draws a y-up copy of a mesh as up z draws the mesh", "[render][cli]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --quiet --shape parts --tris 20000 -o " + q(d.file("z.ply"))).exit_code == 0);
-  // The y-up copy: (x, y, z) -> (y, z, x) takes the z-up frame (x, y, z) to (z, x, y),
-  // the frame --up y turns about (azimuth from +z about +y).
-  const LoadedMesh m = load_mesh(d.file("z.ply"));
-  std::vector<double> turned(m.positions.size());
-  for (std::size_t i = 0; i < m.vertex_count(); ++i) {
-    turned[3 * i] = m.positions[3 * i + 1];
-    turned[3 * i + 1] = m.positions[3 * i + 2];
-    turned[3 * i + 2] = m.positions[3 * i];
-  }
-  const std::vector<std::uint32_t> triangles(m.triangles.begin(), m.triangles.end());
-  write_mesh(d.file("y.ply"), turned, triangles, MeshFormat::ply_binary, ScalarType::f64);
+  write_y_up_copy(d.file("z.ply"), d.file("y.ply"));
   auto render = [&](const std::string& in, const std::string& up, const std::string& out) {
     REQUIRE(
         run_cli("render --quiet " + q(d.file(in)) + " -o " + q(d.file(out)) + " --size 320x240 --up " + up).exit_code ==
@@ -175,15 +179,7 @@ TEST_CASE("render up auto takes the way an open surface faces, else a closed one
   };
   // A terrain faces +z; its y-up copy faces +y, and is drawn as --up y draws it.
   REQUIRE(run_cli("generate --quiet --shape terrain --tris 20000 -o " + q(d.file("z.ply"))).exit_code == 0);
-  const LoadedMesh m = load_mesh(d.file("z.ply"));
-  std::vector<double> turned(m.positions.size());
-  for (std::size_t i = 0; i < m.vertex_count(); ++i) {
-    turned[3 * i] = m.positions[3 * i + 1];
-    turned[3 * i + 1] = m.positions[3 * i + 2];
-    turned[3 * i + 2] = m.positions[3 * i];
-  }
-  write_mesh(d.file("y.ply"), turned, std::vector<std::uint32_t>(m.triangles.begin(), m.triangles.end()),
-             MeshFormat::ply_binary, ScalarType::f64);
+  write_y_up_copy(d.file("z.ply"), d.file("y.ply"));
   CHECK(up_of("z.ply") == "z");
   CHECK(up_of("y.ply") == "y");
   REQUIRE(run_cli("render --quiet " + q(d.file("y.ply")) + " -o " + q(d.file("given.png")) + " --size 160x120 --up y")
