@@ -45,8 +45,9 @@ constexpr std::uint32_t kMagic = 0x46546C67, kJsonChunk = 0x4E4F534A, kBinChunk 
 // §3.6.2.2: accessor component types.
 constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123, kUnsignedInt = 5125,
               kFloat = 5126;
-// A JSON chunk larger than this is refused: it only describes the data.
-constexpr std::uint32_t kMaxJson = 256u << 20;
+// A JSON chunk larger than this is refused: it only describes the data (a scene of
+// thousands of nodes takes a few MB), and its parsed form takes several times its size.
+constexpr std::uint32_t kMaxJson = 64u << 20;
 
 std::uint32_t le32(const unsigned char* p) {
   std::uint32_t v;
@@ -148,7 +149,9 @@ std::string shown(const Json& v) {
   if (v.is_number() || v.is_boolean() || v.is_null()) return v.dump();
   if (v.is_string()) {
     const std::string& t = v.get_ref<const std::string&>();
-    return "\"" + t.substr(0, 40) + (t.size() > 40 ? "...\"" : "\"");
+    std::size_t cut = std::min<std::size_t>(t.size(), 40);
+    while (cut > 0 && cut < t.size() && (static_cast<unsigned char>(t[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8
+    return "\"" + t.substr(0, cut) + (cut < t.size() ? "...\"" : "\"");
   }
   return std::string("(") + v.type_name() + ")";
 }
@@ -221,7 +224,8 @@ class GlbScene {
         if (!child[n]) roots.push_back(n);
     }
     std::vector<char> visited(nodes->size(), 0);
-    for (std::size_t r : roots) add_tree(r, &visited, &out);
+    std::vector<Matrix> world(nodes->size());
+    for (std::size_t r : roots) add_tree(r, &visited, &world, &out);
     return out;
   }
 
@@ -263,25 +267,34 @@ class GlbScene {
   // The tree under root `r` in depth-first order, children in their order, with an
   // explicit stack (a file's nesting must not reach the call stack). The nodes form
   // strict trees (§3.5.1): a node met twice, through two parents or a cycle, is refused.
-  void add_tree(std::size_t r, std::vector<char>* visited, std::vector<Instance>* out) {
-    struct Pending {
-      std::size_t node;
-      Matrix parent;
+  //
+  // A node is marked when it is put on the stack, so the stack never holds more than
+  // the nodes, and the world transforms wait in one array over them.
+  void add_tree(std::size_t r, std::vector<char>* visited, std::vector<Matrix>* world, std::vector<Instance>* out) {
+    const auto enter = [&](std::size_t n, const Matrix& parent, const std::string& where) {
+      if ((*visited)[n])
+        fail(where, "nodes[" + std::to_string(n) +
+                        "] is listed twice, has two parents, or is its own ancestor (nodes must form trees)");
+      (*visited)[n] = 1;
+      (*world)[n] = parent;  // the parent's world transform, until the node is taken
     };
-    std::vector<Pending> stack = {{r, identity()}};
+    std::vector<std::size_t> stack;
+    enter(r, identity(), "scene");
+    stack.push_back(r);
     while (!stack.empty()) {
-      const Pending p = stack.back();
+      const std::size_t n = stack.back();
       stack.pop_back();
-      const std::string where = "nodes[" + std::to_string(p.node) + "]";
-      if ((*visited)[p.node]) fail(where, "has two parents, or is its own ancestor (nodes must form trees)");
-      (*visited)[p.node] = 1;
-      const Json& node = element("nodes", p.node);
-      const Matrix world = multiply(p.parent, local_transform(node, where));
-      if (node.contains("mesh")) add_mesh(index_of(node["mesh"], where + ".mesh", count_of("meshes")), world, out);
+      const std::string where = "nodes[" + std::to_string(n) + "]";
+      const Json& node = element("nodes", n);
+      const Matrix placed = multiply((*world)[n], local_transform(node, where));
+      if (node.contains("mesh")) add_mesh(index_of(node["mesh"], where + ".mesh", count_of("meshes")), placed, out);
       if (const Json* children = member(node, "children")) {
         const Json& list = array(*children, where + ".children");
-        for (std::size_t i = list.size(); i-- > 0;)  // reversed: the first child comes off the stack first
-          stack.push_back({index_of(list[i], where + ".children", count_of("nodes")), world});
+        for (std::size_t i = list.size(); i-- > 0;) {  // reversed: the first child comes off the stack first
+          const std::size_t c = index_of(list[i], where + ".children", count_of("nodes"));
+          enter(c, placed, where + ".children");
+          stack.push_back(c);
+        }
       }
     }
   }
@@ -622,9 +635,8 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   const std::uint32_t json_length = le32(chunk);
   if (le32(chunk + 4) != kJsonChunk) throw InputError(at_byte(src.path(), 16, "the first chunk is not JSON"));
   if (json_length > kMaxJson)
-    throw InputError(
-        at_byte(src.path(), 12,
-                "a JSON chunk of " + std::to_string(json_length) + " bytes (more than 256 MiB of description)"));
+    throw InputError(at_byte(
+        src.path(), 12, "a JSON chunk of " + std::to_string(json_length) + " bytes (more than 64 MiB of description)"));
   std::string text(json_length, '\0');
   src.read_exact(text.data(), json_length, "the JSON chunk");
   Json json;
@@ -715,7 +727,7 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
         // The cofactors are det x the inverse transpose: a mirroring transform's
         // negative determinant is taken out with the length.
         const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (in.mirrored ? -1.0 : 1.0);
-        for (double c : n) all[k++] = l != 0 ? c / l : 0.0;
+        for (double c : n) all[k++] = l != 0 ? c / l + 0.0 : 0.0;  // + 0: no -0 from the sign
       }
       if (texcoords) {
         // glTF's origin is the image's top left (§3.7.2.1); the other formats' the bottom left.

@@ -360,7 +360,7 @@ void CollapseState::add_boundary_planes(double weight) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
       if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
-      const bool seam = !mirror_.empty() && mirror_[u] != kNoMirror && mirror_[w] != kNoMirror;
+      const bool seam = seam_edge(u, w);
       const Quadric line = boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length,
                                                  seam ? kSeamShare * weight : weight);
       mesh_.quadrics[u].add(line);
@@ -661,6 +661,13 @@ void CollapseState::collapse_one(const Candidate& c) {
 
 bool CollapseState::touches_seam(std::uint32_t u, std::uint32_t w) const {
   return !mirror_.empty() && (mirror_[u] != kNoMirror || mirror_[w] != kNoMirror);
+}
+
+bool CollapseState::seam_edge(std::uint32_t u, std::uint32_t w) const {
+  if (mirror_.empty()) return false;
+  const std::uint32_t mu = mirror_[u], mw = mirror_[w];
+  if (mu == kNoMirror && mw == kNoMirror) return false;
+  return faces_on_edge(mu == kNoMirror ? u : mu, mw == kNoMirror ? w : mw) > 0;
 }
 
 bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const {

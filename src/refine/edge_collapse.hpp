@@ -245,8 +245,15 @@ class CollapseState {
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
   void pair_coincident_vertices();
-  // Whether an end of edge (u, w) has a mirror: an edge of one face there is a seam's,
-  // or ends one (a pole where both sides meet), which splits and outline tests pass over.
+  // Whether edge (u, w), of one face, is a seam's: its counterpart on the other side,
+  // between the mirrors of its ends (or a mirror and an end both sides share, as at a
+  // pole), is an edge too. Its line quadric is a seam's.
+  bool seam_edge(std::uint32_t u, std::uint32_t w) const;
+  // Whether an end of edge (u, w) has a mirror. Splits (and the outline test of an odd
+  // count) pass over such an edge of one face: splitting a seam's edge on one side
+  // would open it. An outline edge that merely ends at a seam is passed over too, so an
+  // odd target on an open textured mesh whose outline edges all touch seams gives one
+  // fewer.
   bool touches_seam(std::uint32_t u, std::uint32_t w) const;
   // One collapse of b into a, without its mirror.
   void collapse_one(const Candidate& c);
