@@ -687,3 +687,41 @@ TEST_CASE("a texture seam collapses along itself, both sides together, and stays
       CHECK(again.positions.size() == m.positions.size());
     }
 }
+
+TEST_CASE("seams never join a surface's own outlines: a band of charts stops at its least count whole",
+          "[refine][collapse][uv]") {
+  // An open band (a cylinder without caps) of 40 quads around, cut every 4 quads into
+  // its own chart: 10 seams from rim to rim, 20 seam points. A collapse along a seam
+  // would join the rims, opening the band when welded; low targets pressed for it.
+  QuadricMesh band;
+  band.attribute_count = 1;
+  const double pi = 3.14159265358979323846;
+  for (int chart = 0; chart < 10; ++chart) {
+    const std::uint32_t first = std::uint32_t(band.positions.size());
+    for (int c = 0; c <= 4; ++c)
+      for (int z = 0; z < 2; ++z) {
+        const double a = 2 * pi * ((4 * chart + c) % 40) / 40;
+        band.positions.push_back({10 * std::cos(a), 10 * std::sin(a), double(z)});
+        band.attributes.push_back(chart + c / 4.0);  // u: its own range per chart
+      }
+    for (std::uint32_t c = 0; c < 4; ++c) {
+      const std::uint32_t b0 = first + 2 * c, t0 = b0 + 1, b1 = b0 + 2, t1 = b0 + 3;
+      band.triangles.insert(band.triangles.end(), {b0, b1, t1, b0, t1, t0});
+    }
+  }
+  band.quadrics = face_quadrics(band.positions, band.triangles);
+  for (std::uint64_t target : {19, 21, 30}) {
+    INFO("target " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    s.lock_coincident = true;
+    CollapseStats st;
+    const QuadricMesh m = collapse_edges(band, s, &st);
+    if (target >= 20) CHECK(m.triangles.size() / 3 == target);
+    // Welded by position: every edge off the two rims has two faces.
+    for (const auto& e : welded_edges(m)) {
+      const bool rim = e.first.first[2] == e.first.second[2];
+      if (!rim) CHECK(e.second == 2);
+    }
+  }
+}

@@ -472,7 +472,23 @@ bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
   if (c.b == mirror_[c.a] || other.a == c.a || other.a == c.b || other.b == c.a || other.b == c.b) return false;
   if (!alive_[other.a] || !alive_[other.b] || locked_[other.a] || locked_[other.b]) return false;
   if (faces_on_edge(c.a, c.b) != 1 || faces_on_edge(other.a, other.b) != 1) return false;
+  // Welded, the seam's edge is inside the surface: between two vertices of the
+  // surface's own outline it would pinch it, as an inner edge between two boundary
+  // vertices would (valid_one), e.g. join the two rims of a band.
+  if (on_outline(c.a) && on_outline(c.b)) return false;
   return valid_one(c, blamed) && valid_one(other, nullptr);
+}
+
+bool CollapseState::on_outline(std::uint32_t v) const {
+  bool outline = false;
+  for_each_face(v, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    for (int k = 0; k < 3 && !outline; ++k) {
+      const std::uint32_t w = t[k];
+      if (w != v && faces_on_edge(v, w) == 1 && !seam_edge(v, w)) outline = true;
+    }
+  });
+  return outline;
 }
 
 bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {

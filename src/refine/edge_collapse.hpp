@@ -255,6 +255,8 @@ class CollapseState {
   // odd target on an open textured mesh whose outline edges all touch seams gives one
   // fewer.
   bool touches_seam(std::uint32_t u, std::uint32_t w) const;
+  // Whether v is on the surface's own outline: on an edge of one face that is no seam's.
+  bool on_outline(std::uint32_t v) const;
   // One collapse of b into a, without its mirror.
   void collapse_one(const Candidate& c);
   // valid() for one side of a seam.
