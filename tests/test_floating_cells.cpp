@@ -224,3 +224,63 @@ TEST_CASE("a re-run in a vertex block equals the greedy with the new external ce
     }
   }
 }
+
+TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass, in rounds and re-runs", "[floating][locks]") {
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    for (CellShape shape : {CellShape::cube, CellShape::sphere}) {
+      // Every 13th vertex locked; every 17th stands where the one before it does, so
+      // some locked vertices share their point with a free or a locked one.
+      std::vector<GradedVertex> v = random_vertices(seed, 900, 10.0, seed % 3 == 0 ? 0 : 2);
+      std::vector<char> flags(v.size(), 0);
+      std::vector<std::uint64_t> locked;
+      for (std::size_t i = 0; i < v.size(); i += 13) {
+        flags[i] = 1;
+        locked.push_back(v[i].index);
+      }
+      for (std::size_t i = 16; i + 1 < v.size(); i += 17 * 13)  // a locked pair at one point
+        for (std::size_t k : {i, i + 1})
+          if (!flags[k]) {
+            flags[k] = 1;
+            locked.push_back(v[k].index);
+          }
+      std::sort(locked.begin(), locked.end());
+      std::vector<GradedVertex> sorted = sorted_copy(v);
+      lock_graded(&sorted, locked);
+      REQUIRE(std::is_sorted(sorted.begin(), sorted.end(), precedes));
+      std::vector<GradedVertex> graded = v;  // in input order, with the locked weights
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (flags[i]) graded[i].weight = kLockedWeight;
+      const FloatingCellShape cell{1.1 + 0.1 * seed, shape};
+      INFO("seed " << seed << " shape " << int(shape));
+      for (AssignRule rule : {AssignRule::nearest, AssignRule::heaviest}) {
+        const ReferenceClustering ref = reference_floating_cells(v, cell.size, shape, rule, flags);
+        const std::vector<GradedVertex> centres = choose_centres(sorted, {}, cell);
+        REQUIRE(indices(centres) == ref.centres);
+        std::vector<std::uint64_t> cluster;
+        for (std::uint32_t c : assign_to_centres(graded, centres, cell, rule)) cluster.push_back(centres[c].index);
+        CHECK(cluster == ref.cluster);
+        // A locked vertex's cluster is the vertices at its point, and nothing else.
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          const auto centre = std::find_if(v.begin(), v.end(), [&](const GradedVertex& x) { return x.index == ref.cluster[i]; });
+          const std::size_t c = std::size_t(centre - v.begin());
+          if (flags[c]) CHECK((v[i].p.x == v[c].p.x && v[i].p.y == v[c].p.y && v[i].p.z == v[c].p.z));
+          if (flags[i]) CHECK(flags[c]);
+        }
+      }
+      const ReferenceClustering ref = reference_floating_cells(v, cell.size, shape, AssignRule::nearest, flags);
+      for (double width : {1.3, 4.0}) {
+        int rounds = 0;
+        CHECK(tiled_centres(graded, cell, width, &rounds) == ref.centres);
+      }
+      // A re-run with external centres, some of them locked, equals the greedy.
+      std::vector<GradedVertex> ext = random_externals(seed, 100, 10.0, 2);
+      for (std::size_t i = 0; i < ext.size(); i += 3) ext[i].weight = kLockedWeight;
+      std::sort(ext.begin(), ext.end(), precedes);
+      const std::vector<GradedVertex> before = every_other(ext, 0), after = every_other(ext, 1);
+      std::vector<unsigned char> bytes = TileVertexBlock::build(sorted, choose_centres(sorted, before, cell), cell.size);
+      TileVertexBlock block(bytes.data());
+      rechoose_centres(block, before, after, cell);
+      CHECK(indices(block.centres()) == indices(choose_centres(sorted, after, cell)));
+    }
+  }
+}

@@ -179,13 +179,14 @@ std::size_t count_at(const SimplifiedMesh& m, const std::set<std::array<double, 
 }
 
 SimplifiedMesh run_locked(const std::string& path, ClusterMethod method, const std::vector<std::uint64_t>& locks,
-                          unsigned threads, SimplifyStats* stats = nullptr) {
+                          unsigned threads, SimplifyStats* stats = nullptr, double tile = 0) {
   MeshInput in = open_mesh_input(path);
   SimplifyOptions o;
   o.method = method;
   o.sizing = grid(24);
   o.threads = threads;
   o.locked_vertices = locks;
+  o.floating.tile_side = tile;
   return simplify(in, o, stats);
 }
 
@@ -211,7 +212,7 @@ TEST_CASE("a locked vertex is a cluster of its own, its output vertex where it i
     if (e.second == 1) on_outline.insert({e.first.first, e.first.second});
   const std::vector<std::uint64_t> outline(on_outline.begin(), on_outline.end());
   REQUIRE(outline.size() > 100);
-  for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::curvature}) {
+  for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::curvature, ClusterMethod::floating}) {
     INFO(method_name(method));
     bool used = false;
     // Clustering moves vertices; locked ones stay, each a corner of some triangle, or
@@ -234,24 +235,59 @@ TEST_CASE("a locked vertex is a cluster of its own, its output vertex where it i
     const SimplifiedMesh one = run_locked(d.file("p.ply"), method, scattered, 1);
     CHECK(one.positions == held.positions);
     CHECK(one.triangles == held.triangles);
+    if (method == ClusterMethod::floating) {  // tiles of 2.5 cells: locks near their borders
+      SimplifyStats tiled_stats;
+      const SimplifiedMesh tiled =
+          run_locked(d.file("p.ply"), method, scattered, 2, &tiled_stats, 2.5 * st.cell_size);
+      CHECK(tiled_stats.floating.tiles > 20);
+      CHECK(tiled.positions == held.positions);
+      CHECK(tiled.triangles == held.triangles);
+    }
     // A locked outline is kept whole: every vertex of it, exactly where it was.
     const auto rim = positions_of(terrain, outline);
     CHECK(count_at(run_locked(d.file("t.ply"), method, outline, 2), rim, &used) == rim.size());
     CHECK(used);
   }
-  // Floating cells, and a clustering phase 1 before a target, refuse locks.
   write_file(d.file("locks.txt"), "5 402\n");
-  const CliResult floating = run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("x.ply") +
-                                     " --method floating --lock-vertices " + d.file("locks.txt"));
-  CHECK(floating.exit_code == 2);
-  CHECK(floating.err.find("floating cells cannot keep a vertex as a cluster of its own") != std::string::npos);
-  const CliResult phase_one = run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("x.ply") +
-                                      " --method uniform --target-tris 2000 --lock-vertices " + d.file("locks.txt"));
-  CHECK(phase_one.exit_code == 2);
-  CHECK(phase_one.err.find("are held by the edge collapse") != std::string::npos);
-  REQUIRE(run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("u.ply") +
-                  " --method uniform --grid 24 --lock-vertices " + d.file("locks.txt"))
-              .exit_code == 0);
+  for (const char* method : {"floating", "uniform"})
+    REQUIRE(run_cli("simplify --quiet " + d.file("p.ply") + " -o " + d.file("u.ply") + " --method " + method +
+                    " --grid 24 --lock-vertices " + d.file("locks.txt"))
+                .exit_code == 0);
+}
+
+TEST_CASE("locks hold through a clustering phase 1 and the collapse after it", "[uniform][floating][locks]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --quiet --shape sphere --tris 200000 -o " + d.file("p.ply")).exit_code == 0);
+  const LoadedMesh sphere = load_mesh(d.file("p.ply"));
+  std::vector<std::uint64_t> scattered;
+  for (std::uint64_t v = 11; v < sphere.vertex_count(); v += 1999) scattered.push_back(v);
+  const auto wanted = positions_of(sphere, scattered);
+  for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::floating}) {
+    INFO(method_name(method));
+    MeshInput in = open_mesh_input(d.file("p.ply"));
+    SimplifyOptions o;
+    o.method = method;
+    o.target.triangles = 4000;
+    o.target.intermediate_factor = 4;  // a phase 1 of 65536 triangles, the least it hands on
+    o.locked_vertices = scattered;
+    SimplifyStats st;
+    const SimplifiedMesh m = simplify(in, o, &st);
+    // Phase 1 clustered (a grid), then the collapse met the target.
+    CHECK(st.grid_dims[0] > 0);
+    CHECK(st.refine.intermediate_triangles < 200000);
+    CHECK(m.triangles.size() / 3 == 4000);
+    bool used = false;
+    std::size_t dropped = 0;
+    for (const std::string& w : st.warnings)
+      if (w.find(" locked vertices are left out") != std::string::npos) dropped = std::stoul(w);
+    CHECK(count_at(m, wanted, &used) + dropped >= wanted.size());
+    CHECK(dropped < wanted.size() / 10);
+    CHECK(used);
+    // Without the locks, the collapse moves most of them.
+    MeshInput again = open_mesh_input(d.file("p.ply"));
+    o.locked_vertices.clear();
+    CHECK(count_at(simplify(again, o, nullptr), wanted, &used) < wanted.size() / 2);
+  }
 }
 
 TEST_CASE("a lock holds every vertex at its position: the other side of a seam stays with it", "[uniform][locks]") {

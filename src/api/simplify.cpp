@@ -127,20 +127,9 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
     throw UsageError("options.thick_edges",
                      "options.thick_edges needs a clustering method without a target (options.method floating or "
                      "uniform; exact targets do not make thick edges yet)");
-  // A locked vertex is the edge collapse's fixed point, and the uniform grid's (and
-  // curvature cells') cluster of its own; floating cells and a clustering phase 1 do
-  // not keep one yet.
+  // A locked vertex is the edge collapse's fixed point, and a clustering method's
+  // cluster of its own (in a phase 1 before a target too, whose collapse then holds it).
   const ClusterMethod method = resolved_method(options);
-  if (!options.locked_vertices.empty() && method == ClusterMethod::floating)
-    throw UsageError("options.locked_vertices",
-                     "options.locked_vertices: floating cells cannot keep a vertex as a cluster of its own yet; "
-                     "options.method uniform or curvature can (a locked vertex is its own cluster), and qem (the "
-                     "default with a target) holds it in the edge collapse");
-  if (!options.locked_vertices.empty() && method != ClusterMethod::qem && options.target.given())
-    throw UsageError("options.locked_vertices",
-                     std::string("options.locked_vertices with a target are held by the edge collapse: options.method "
-                                 "qem (the default with a target), not a ") +
-                         method_name(method) + " phase 1, which does not keep them yet");
   for (std::uint64_t v : options.locked_vertices)
     if (v >= input.positions.count)
       throw UsageError("options.locked_vertices", "options.locked_vertices names vertex " + std::to_string(v) +

@@ -136,7 +136,7 @@ std::vector<GradedVertex> choose_centres(const std::vector<GradedVertex>& sorted
     // visited; v is a centre unless one of them holds it.
     bool covered = false;
     grid.for_each_near(v.p, [&](std::uint32_t id) {
-      if (!covered && precedes(*filed[id], v) && cell.contains(filed[id]->p, v.p)) covered = true;
+      if (!covered && precedes(*filed[id], v) && cell.holds(*filed[id], v.p)) covered = true;
     });
     if (!covered) {
       centres.push_back(v);
@@ -344,6 +344,8 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
   // present centres can change (to covered). One that disappears only takes cover
   // away: only the covered ones can change. (A vertex's own flag changes only when
   // it is re-decided, after every heavier item, so the filter at queueing holds.)
+  // Queueing tests the whole cube even for a locked item, whose cell is a point in
+  // it: a vertex queued in vain is decided again to what it was.
   std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<std::uint32_t>> queue;
   std::vector<char> queued(n, 0);
   auto queue_reached = [&](const Vec3d& p, bool appeared, auto&& preceded_by) {
@@ -367,11 +369,11 @@ bool rechoose_centres(TileVertexBlock& block, const std::vector<GradedVertex>& o
     queue.pop();
     const GradedVertex& v = block.vertex(i);
     bool covered = block.any_centre_near(
-        v.p, [&](std::uint32_t k) { return cell.contains(block.vertex(k).p, v.p); }, i);
+        v.p, [&](std::uint32_t k) { return cell.holds(block.vertex(k), v.p); }, i);
     if (!covered)
       externals.for_each_near(v.p, [&](std::uint32_t id) {
         const GradedVertex& e = new_external[id];
-        if (!covered && precedes(e, v) && cell.contains(e.p, v.p)) covered = true;
+        if (!covered && precedes(e, v) && cell.holds(e, v.p)) covered = true;
       });
     if (!covered == block.is_centre(i)) continue;
     block.set_centre(i, !covered);
@@ -398,7 +400,7 @@ std::vector<std::uint32_t> assign_to_centres(const std::vector<GradedVertex>& ve
     grid.for_each_near(v.p, [&](std::uint32_t id) {
       const GradedVertex& c = centres[id];
       if (c.index == v.index) self = &c;
-      if (!precedes(c, v) || !cell.contains(c.p, v.p)) return;
+      if (!precedes(c, v) || !cell.holds(c, v.p)) return;
       double d2 = squared_distance(v.p, c.p);
       bool better;
       if (!best)

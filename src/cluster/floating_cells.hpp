@@ -35,6 +35,12 @@ struct FloatingCellShape {
     if (shape == CellShape::cube) return std::abs(d.x) <= h && std::abs(d.y) <= h && std::abs(d.z) <= h;
     return squared_length(d) <= h * h;
   }
+  /// Whether the cell of `centre` holds p: a locked centre's cell is the point where
+  /// it is, so it is a cluster of its own (with the vertices at its very position).
+  bool holds(const GradedVertex& centre, const Vec3d& p) const {
+    if (is_locked(centre)) return p.x == centre.p.x && p.y == centre.p.y && p.z == centre.p.z;
+    return contains(centre.p, p);
+  }
 };
 
 /// The cubes (side `size`, anchored at the origin: §4's lookup grid) that the cell

@@ -34,6 +34,7 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
       if (keep) keep->append(tile, graded.data(), graded.size());
+      if (settings.blocks.locked) lock_graded(&graded, *settings.blocks.locked);
       std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
       blocks->put(tile, block.data(), block.size());
     });
@@ -67,6 +68,7 @@ std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamS
   grid.for_each_by_colour([&](std::uint32_t tile) {
     std::vector<GradedVertex> sorted;
     kept.read(tile, &sorted);
+    if (settings.locked) lock_graded(&sorted, *settings.locked);
     std::vector<unsigned char> block = TileVertexBlock::build(sorted, choose(tile, sorted), cell_size);
     blocks->put(tile, block.data(), block.size());
   });

@@ -62,6 +62,9 @@ struct BlockSettings {
   double cell_size = 1;                ///< the cells of the blocks (TileVertexBlock::build)
   std::string temp_dir;                ///< the BlockStore's folder
   std::uint64_t memory_allowance = 0;  ///< bytes of blocks that stay in memory
+  /// The locked vertices (sorted input indices), or null: each is a centre of its own
+  /// (lock_graded).
+  const std::vector<std::uint64_t>* locked = nullptr;
 };
 
 /// What grade_tiles follows besides its blocks' settings.
@@ -81,7 +84,8 @@ struct GradingSettings {
 };
 
 /// Every tile's vertex block (TileVertexBlock) in one mapped BlockStore, as
-/// settings.blocks say: graded with grade_tile, the tiles by colour class
+/// settings.blocks say: graded with grade_tile (kept so, before lock_graded), the
+/// tiles by colour class
 /// (TileGrid::for_each_by_colour) so that `choose` sees the borders of the classes
 /// before.
 std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const PositionArray& positions,
@@ -92,7 +96,8 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
 std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const BlockStore& earlier,
                                                const FirstChoice& choose, const BlockSettings& settings);
 
-/// The same from vertices graded by an earlier run (stream `tile` of `kept`).
+/// The same from vertices graded by an earlier run (stream `tile` of `kept`), with
+/// this run's locks.
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, const FirstChoice& choose,
                                              const BlockSettings& settings);
 

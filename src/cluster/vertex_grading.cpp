@@ -47,6 +47,19 @@ double weight_of(const Vec3d* edges, std::size_t count, const unsigned char* rep
 
 double vertex_weight(const Vec3d* edges, std::size_t count) { return weight_of(edges, count, nullptr); }
 
+void lock_graded(std::vector<GradedVertex>* sorted, const std::vector<std::uint64_t>& locked) {
+  if (locked.empty()) return;
+  const auto is_listed = [&](const GradedVertex& v) {
+    return std::binary_search(locked.begin(), locked.end(), v.index);
+  };
+  // The others keep their relative order; the locked ones go before them by index,
+  // which is `precedes` among equal weights.
+  const auto first_other = std::stable_partition(sorted->begin(), sorted->end(), is_listed);
+  for (auto v = sorted->begin(); v != first_other; ++v) v->weight = kLockedWeight;
+  std::sort(sorted->begin(), first_other,
+            [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
+}
+
 std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned, const std::uint64_t* triangles,
                                          std::size_t triangle_count, const PositionArray& positions) {
   // Local ids: the owned vertices first, in their order, then the other corners.
@@ -120,7 +133,10 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
     }
     out[i].index = mesh.index[owned[i]];
     out[i].p = p;
-    out[i].weight = weight_of(edges.data(), edges.size(), repeated.data());
+    // Finite, so that a locked vertex's weight (kLockedWeight) precedes every other:
+    // edges of coordinates near the double's range can overflow to an infinite length.
+    const double w = weight_of(edges.data(), edges.size(), repeated.data());
+    out[i].weight = w < kLargestGradedWeight ? w : kLargestGradedWeight;
   }
   return out;
 }

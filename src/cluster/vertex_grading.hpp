@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "io/mesh_input.hpp"
@@ -14,6 +15,19 @@ struct GradedVertex {
   Vec3d p;
   double weight = 0;
 };
+
+/// The weight of a locked vertex (SimplifyOptions::locked_vertices): above every
+/// graded one, so it is visited first and always becomes a centre, whose cell holds
+/// only the points where it is (FloatingCellShape::holds).
+constexpr double kLockedWeight = std::numeric_limits<double>::infinity();
+/// Graded weights stay at or below this.
+constexpr double kLargestGradedWeight = std::numeric_limits<double>::max();
+inline bool is_locked(const GradedVertex& v) { return v.weight == kLockedWeight; }
+
+/// Gives the vertices of `sorted` (in `precedes` order, floating_cells.hpp) whose
+/// input index is in `locked` (sorted) kLockedWeight, keeping the order: the locked
+/// ones first, by index, then the others as they were.
+void lock_graded(std::vector<GradedVertex>* sorted, const std::vector<std::uint64_t>& locked);
 
 /// The weight of a vertex whose incident edges (from the vertex to its neighbours,
 /// one per triangle side, duplicates allowed) are `edges`:

@@ -1,5 +1,6 @@
 #include "methods/cluster_methods.hpp"
 
+#include <string>
 #include <utility>
 
 #include "methods/curvature_clusterer.hpp"
@@ -42,6 +43,13 @@ std::vector<ClusterMethod> cluster_methods() {
   std::vector<ClusterMethod> methods;
   for (const ClusterMethodEntry& e : cluster_method_table()) methods.push_back(e.method);
   return methods;
+}
+
+void warn_dropped_locks(std::size_t dropped, std::size_t places, SimplifyStats* stats) {
+  if (dropped == 0 || !stats) return;
+  stats->warnings.push_back(std::to_string(dropped) + " of " + std::to_string(places) +
+                            " locked vertices are left out (counted by position): every neighbour of theirs fell "
+                            "in one other cell, so no triangle of theirs survived (a finer grid keeps them)");
 }
 
 }  // namespace oocsimp

@@ -34,6 +34,10 @@ using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options,
 /// A ClusterRun from a method's ClusterLevels: `levels` at the one grid `grid`.
 OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                         SimplifyStats* stats, std::vector<Quadric>* quadrics);
+/// The warning for `dropped` of the `places` locked positions that no output triangle
+/// uses: every neighbour of theirs fell in one other cluster.
+void warn_dropped_locks(std::size_t dropped, std::size_t places, SimplifyStats* stats);
+
 struct ClusterMethodEntry {
   ClusterMethod method;  ///< spelled by cluster_method_names() (oocsimp/simplify.hpp)
   ClusterRun run;        ///< null for qem, which clusters nothing (simplify_to_target)

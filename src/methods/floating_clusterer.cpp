@@ -32,6 +32,7 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
+#include "cluster/uniform_cells.hpp"
 #include "runtime/phase_timer.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
@@ -116,6 +117,7 @@ class FloatingRun {
   SpillSettings spill_;
   std::unique_ptr<BorderDecisions> decisions_;  // the level's
   FirstChoice first_;                           // the level's first greedy, by decisions_
+  std::vector<std::uint64_t> locked_;           // options_.locked_vertices, sorted
   std::unique_ptr<BlockStore> blocks_;          // the level's graded vertex blocks
 };
 
@@ -132,6 +134,9 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
         return decisions_->choose_first(tile, sorted);
       }) {
   options_.memory_budget = budget_.bytes();  // the stages take the bytes, never 0
+  locked_ = given.locked_vertices;
+  std::sort(locked_.begin(), locked_.end());
+  locked_.erase(std::unique(locked_.begin(), locked_.end()), locked_.end());
   for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
 }
 
@@ -160,12 +165,12 @@ void FloatingRun::grade() {
   const FloatingCellShape first_cell = cell(0);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, first_cell);
   if (resumed_) {
-    blocks_ =
-        blocks_from_kept(tiles_.grid, *graded_, first_, {first_cell.size, spill_.dir, spill_.allow.vertex_blocks});
+    blocks_ = blocks_from_kept(tiles_.grid, *graded_, first_,
+                               {first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_});
   } else {
     if (options_.floating.keep_temp) graded_ = graded_vertex_spill(tiles_, spill_);
     GradingSettings grading;
-    grading.blocks = {first_cell.size, spill_.dir, spill_.allow.vertex_blocks};
+    grading.blocks = {first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_};
     grading.keep = graded_.get();
     grading.progress = &options_.progress;
     grading.work_share = spill_.work_share;
@@ -249,6 +254,7 @@ OutputMesh FloatingRun::assemble(std::size_t level, LargeArray<KeptTriangle> kep
   settings.origin = grids_[level].origin;
   settings.cluster_span = input_.positions.count;
   settings.place = place_;
+  settings.locked = &locked_;
   return assemble_mesh(std::move(kept), *shares.partials, settings, counts, quadrics_);
 }
 
@@ -281,6 +287,10 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   stats->floating.largest_tile_records = tiles_.largest_tile_records();
   stats->floating.resumed = resumed_;
   if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
+  // A locked vertex whose neighbours all fall in one other cluster makes no triangle
+  // with two others: it is dropped, and said so.
+  const std::size_t places = LockedVertices(locked_, input_.positions, grids_[level]).size();
+  warn_dropped_locks(places - std::min<std::size_t>(places, counts.locked_used), places, stats);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "methods/multiphase.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -330,11 +331,26 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
   return out;
 }
 
+// The positions of the locked vertices `locked` of `input`, sorted: where phase 1
+// left each locked vertex, a cluster of its own.
+std::vector<std::array<double, 3>> locked_places(const MeshInput& input, const std::vector<std::uint64_t>& locked) {
+  std::vector<std::array<double, 3>> places;
+  places.reserve(locked.size());
+  for (std::uint64_t v : locked) {
+    const Vec3d p = input.positions.get(v);
+    places.push_back({p.x, p.y, p.z});
+  }
+  std::sort(places.begin(), places.end());
+  places.erase(std::unique(places.begin(), places.end()), places.end());
+  return places;
+}
+
 // Phase 1's output as phase 2's input, relative to the grid's origin, with the
 // clusters' summed quadrics, so that no error information is lost between the phases
 // (Garland & Shaffer 2002 §3). The positions are copied (and freed), the rest moves;
-// the attributes' description stays in `p1`.
-CollapseInput collapse_input(Intermediate* p1) {
+// the attributes' description stays in `p1`. The vertices at one of `locked`
+// (sorted) are locked in the collapse: phase 1 kept each locked vertex where it was.
+CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<double, 3>>& locked) {
   SimplifiedMesh& m = p1->mesh;
   CollapseInput in;
   QuadricMesh& q = in.mesh;
@@ -342,6 +358,13 @@ CollapseInput collapse_input(Intermediate* p1) {
   q.positions.resize(got ? m.positions.size() / 3 : 0);
   for (std::size_t i = 0; i < q.positions.size(); ++i)
     q.positions[i] = Vec3d{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]} - p1->grid.origin;
+  if (!locked.empty()) {
+    q.locked.assign(q.positions.size(), 0);
+    for (std::size_t i = 0; i < q.positions.size(); ++i)
+      q.locked[i] = std::binary_search(locked.begin(), locked.end(),
+                                       std::array<double, 3>{m.positions[3 * i], m.positions[3 * i + 1],
+                                                             m.positions[3 * i + 2]});
+  }
   std::vector<double>().swap(m.positions);  // copied: not held through phase 2
   q.triangles = std::move(m.triangles);
   q.quadrics = std::move(p1->quadrics);
@@ -360,6 +383,7 @@ CollapseInput collapse_input(Intermediate* p1) {
 SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
                           SimplifyStats* stats) {
   const IntermediatePlan plan(input, *o, estimate);
+  const std::vector<std::array<double, 3>> locked = locked_places(input, o->locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
   for (int attempt = 0;; ++attempt) {
     const double want = plan.intermediate(attempt);
@@ -381,7 +405,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
     if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
-    CollapseResult out = refine(collapse_input(&p1), {target, finest}, *o, stats);
+    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest}, *o, stats);
     if (!out.finer_may_help || finest) return std::move(out.mesh);
   }
 }

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cluster/uniform_cells.hpp"
+#include "methods/cluster_methods.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/phase_timer.hpp"
 #include "grid/occupancy.hpp"
@@ -106,11 +107,7 @@ OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const Tabl
   const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
   // A locked vertex whose neighbours all fall in one other cell makes no triangle with
   // two other clusters: it is dropped, and said so.
-  const std::size_t dropped = locked - cells.locked_output_count(order);
-  if (dropped > 0 && stats)
-    stats->warnings.push_back(std::to_string(dropped) + " of " + std::to_string(locked) +
-                              " locked vertices are left out (counted by position): every neighbour of theirs fell "
-                              "in one other cell, so no triangle of theirs survived (a finer grid keeps them)");
+  warn_dropped_locks(locked - cells.locked_output_count(order), locked, stats);
   check_positions_fit(budget, cells, order, mesh, place);
   cells.solve_representatives(order, &mesh, quadrics, place);
   return mesh;

@@ -4,6 +4,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -310,11 +311,17 @@ struct Representatives {
   std::mutex* points_lock;
 };
 
+// Whether `centre` is a locked vertex: its cluster is the point where it is.
+bool is_locked_centre(const AssemblySettings& settings, std::uint64_t centre) {
+  return settings.locked && std::binary_search(settings.locked->begin(), settings.locked->end(), centre);
+}
+
 // One cluster bucket: each centre's shares merged (in fixed point, so in any order)
 // and solved for, where some triangle uses the cluster or a triangle collapsed into it
-// (a thick point). Returns the clusters the bucket holds.
+// (a thick point). Counts the locked clusters used into `locked_used`. Returns the
+// clusters the bucket holds.
 std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySettings& settings,
-                           const Representatives& out) {
+                           const Representatives& out, std::atomic<std::uint64_t>* locked_used) {
   const FloatingCellShape& cell = settings.cell;
   // Shares of one centre in any order: they are summed in fixed point.
   tbb::parallel_sort(shares.begin(), shares.end(),
@@ -332,7 +339,9 @@ std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySe
     for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
     // No triangle or edge uses it: a thick point when a triangle collapsed into it.
     if (id < 0 && sum.collapsed == 0 && out.stitched_points.find(centre) < 0) return;
-    Vec3d p = representative(sum, cell, settings.rule);
+    const bool locked = is_locked_centre(settings, centre);
+    Vec3d p = locked ? sum.centre : representative(sum, cell, settings.rule);
+    if (locked && id >= 0) ++*locked_used;
     if (id < 0) {
       const double width =
           point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
@@ -381,15 +390,19 @@ OutputMesh assemble_mesh(LargeArray<KeptTriangle> kept, StreamSpill& partials, c
   std::mutex points_lock;
   const Representatives out{index, stitched_points, mesh.positions.data(), quadrics, &points, &points_lock};
   std::uint64_t clusters = 0;
+  std::atomic<std::uint64_t> locked_used{0};
   for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
     std::vector<PartialCluster> shares;
     partials.read(b, &shares);
-    clusters += place_bucket(shares, settings, out);
+    clusters += place_bucket(shares, settings, out, &locked_used);
   }
   append_points(points, &index, &mesh);
   if (settings.attribute_shares && settings.attributes && !settings.attributes->empty())
     assemble_attributes(*settings.attribute_shares, *settings.attributes, index, settings.place, &mesh);
-  if (counts) counts->clusters = clusters;
+  if (counts) {
+    counts->clusters = clusters;
+    counts->locked_used = locked_used;
+  }
   return mesh;
 }
 
