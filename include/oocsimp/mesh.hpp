@@ -119,8 +119,8 @@ struct MeshView {
   /// stride), carried as for a file; their count is vertex_count, their ranges are
   /// computed. Left empty: positions only.
   AttributeArray attributes;
-  /// Optional, one per vertex: non-zero where the edge collapse must leave the vertex
-  /// where it is (added to SimplifyOptions::locked_vertices). Null: none.
+  /// Optional, one per vertex: non-zero where the vertex must stay where it is (added
+  /// to SimplifyOptions::locked_vertices). Null: none.
   const std::uint8_t* vertex_lock = nullptr;
 };
 

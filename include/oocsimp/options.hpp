@@ -161,9 +161,9 @@ struct SimplifyOptions {
   bool lock_boundary = false;
   /// Input vertices (by index, any order) that stay where they are: the edge collapse
   /// moves and removes none of them (like a boundary under lock_boundary), and the
-  /// uniform grid and curvature cells make each a cluster of its own, its output vertex
-  /// where it is. Marked features, seams, joints with other parts. Floating cells, and
-  /// a clustering phase 1 before a target, refuse them.
+  /// clustering methods make each a cluster of its own, its output vertex where it is
+  /// (in a phase 1 before a target too). Marked features, seams, joints with other
+  /// parts. A distributed run (PartOptions) refuses them.
   std::vector<std::uint64_t> locked_vertices;
   /// Progress reports, and cancellation when it returns false (see ProgressCallback).
   ProgressCallback progress;
