@@ -273,8 +273,10 @@ TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass,
         CHECK(tiled_centres(graded, cell, width, &rounds) == ref.centres);
       }
       // A re-run with external centres, some of them locked, equals the greedy.
+      // Some locked externals stand on a vertex of the block, which they then hold.
       std::vector<GradedVertex> ext = random_externals(seed, 100, 10.0, 2);
       for (std::size_t i = 0; i < ext.size(); i += 3) ext[i].weight = kLockedWeight;
+      for (std::size_t i = 0; i < ext.size(); i += 9) ext[i].p = v[(i * 37) % v.size()].p;
       std::sort(ext.begin(), ext.end(), precedes);
       const std::vector<GradedVertex> before = every_other(ext, 0), after = every_other(ext, 1);
       std::vector<unsigned char> bytes = TileVertexBlock::build(sorted, choose_centres(sorted, before, cell), cell.size);

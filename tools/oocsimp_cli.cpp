@@ -385,8 +385,7 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                 "keep their exact outline (the edge collapse: --method qem, the default with a target)");
   cmd->add_option("--lock-vertices", a.lock_vertices,
                   "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) that stay "
-                  "where they are: fixed in the edge collapse, each its own cluster with --method uniform or "
-                  "curvature");
+                  "where they are: fixed in the edge collapse, each its own cluster in clustering");
   cmd->add_flag("--thick-edges", a.options.thick_edges,
                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
                 "edge and point with a thickness, OBJ l and p lines)");

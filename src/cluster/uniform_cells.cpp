@@ -367,15 +367,19 @@ bool before(const Vec3d& a, const Vec3d& b) {
 
 LockedVertices::LockedVertices(const std::vector<std::uint64_t>& vertices, const PositionArray& positions,
                                const GridSpec& grid) {
-  places_.reserve(vertices.size());
+  std::vector<std::pair<Vec3d, Vec3d>> both;  // relative, input
+  both.reserve(vertices.size());
   for (std::uint64_t v : vertices) {
     const Vec3d p = positions.get(v);
-    if (is_finite(p)) places_.push_back(grid.relative(p));  // a non-finite vertex takes part in nothing
+    if (is_finite(p)) both.push_back({grid.relative(p), p});  // a non-finite vertex takes part in nothing
   }
-  std::sort(places_.begin(), places_.end(), before);
-  places_.erase(std::unique(places_.begin(), places_.end(),
-                            [](const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }),
-                places_.end());
+  std::sort(both.begin(), both.end(), [](const auto& a, const auto& b) { return before(a.first, b.first); });
+  const auto same = [](const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  for (const auto& p : both)
+    if (places_.empty() || !same(places_.back(), p.first)) {
+      places_.push_back(p.first);
+      input_.push_back(p.second);
+    }
 }
 
 std::int64_t LockedVertices::rank_of(const Vec3d& relative) const {
@@ -825,7 +829,8 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                         const Vec3d at = (key & kLockedKey) ? lo
                                          : chosen.empty()   ? minimize_quadric(rec.q, mean, lo, hi)
                                                             : chosen[order[i]].position;
-                        Vec3d x = at + grid.origin;
+                        // A locked place comes back as the input has it, to the last bit.
+                        const Vec3d x = (key & kLockedKey) ? keys.locked_position(key) : at + grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         positions[3 * i] = x.x;
                         positions[3 * i + 1] = x.y;

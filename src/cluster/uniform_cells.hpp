@@ -94,9 +94,13 @@ class LockedVertices {
   std::int64_t rank_of(const Vec3d& relative) const;
   /// The place of rank `rank`, relative to the grid's origin.
   const Vec3d& place(std::uint64_t rank) const { return places_[std::size_t(rank)]; }
+  /// The place of rank `rank` as the input has it: relative + origin can differ from
+  /// it in the last bit of a double.
+  const Vec3d& input_position(std::uint64_t rank) const { return input_[std::size_t(rank)]; }
 
  private:
   std::vector<Vec3d> places_;  // ascending by x, then y, then z
+  std::vector<Vec3d> input_;   // the same places as the input has them
 };
 
 /// Where a vertex's cell is: the grid cell its position falls in (OoCS), or the
@@ -116,6 +120,8 @@ class CellKeys {
   }
   /// The lower corner of cell `key`, relative to the grid's origin, and its side.
   Vec3d cell_min(std::uint64_t key) const;
+  /// The input's position of the locked place of `key` (key & kLockedKey).
+  const Vec3d& locked_position(std::uint64_t key) const { return locked_->input_position(key & ~kLockedKey); }
   double cell_side(std::uint64_t key) const;
 
  private:

@@ -1,5 +1,6 @@
 #include "methods/cluster_methods.hpp"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -43,6 +44,19 @@ std::vector<ClusterMethod> cluster_methods() {
   std::vector<ClusterMethod> methods;
   for (const ClusterMethodEntry& e : cluster_method_table()) methods.push_back(e.method);
   return methods;
+}
+
+std::vector<std::array<double, 3>> locked_positions(const PositionArray& positions,
+                                                    const std::vector<std::uint64_t>& locked) {
+  std::vector<std::array<double, 3>> places;
+  places.reserve(locked.size());
+  for (std::uint64_t v : locked) {
+    const Vec3d p = positions.get(v);
+    if (is_finite(p)) places.push_back({p.x, p.y, p.z});  // a non-finite vertex takes part in nothing
+  }
+  std::sort(places.begin(), places.end());
+  places.erase(std::unique(places.begin(), places.end()), places.end());
+  return places;
 }
 
 void warn_dropped_locks(std::size_t dropped, std::size_t places, SimplifyStats* stats) {

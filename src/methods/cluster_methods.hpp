@@ -2,6 +2,7 @@
 // file and a row in cluster_methods.cpp.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -34,6 +35,11 @@ using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options,
 /// A ClusterRun from a method's ClusterLevels: `levels` at the one grid `grid`.
 OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
                         SimplifyStats* stats, std::vector<Quadric>* quadrics);
+/// The positions of the input vertices `locked`, sorted, each once: the places that
+/// stay where they are.
+std::vector<std::array<double, 3>> locked_positions(const PositionArray& positions,
+                                                    const std::vector<std::uint64_t>& locked);
+
 /// The warning for `dropped` of the `places` locked positions that no output triangle
 /// uses: every neighbour of theirs fell in one other cluster.
 void warn_dropped_locks(std::size_t dropped, std::size_t places, SimplifyStats* stats);

@@ -32,7 +32,6 @@
 #include "cluster/floating_cells.hpp"
 #include "cluster/kept_tiles.hpp"
 #include "cluster/tile_grading.hpp"
-#include "cluster/uniform_cells.hpp"
 #include "runtime/phase_timer.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
@@ -289,7 +288,7 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
   // A locked vertex whose neighbours all fall in one other cluster makes no triangle
   // with two others: it is dropped, and said so.
-  const std::size_t places = LockedVertices(locked_, input_.positions, grids_[level]).size();
+  const std::size_t places = locked_positions(input_.positions, locked_).size();
   warn_dropped_locks(places - std::min<std::size_t>(places, counts.locked_used), places, stats);
 }
 

@@ -110,12 +110,42 @@ QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const V
   return m;
 }
 
-// The collapse's result in model units, attributes as their types hold them.
-SimplifiedMesh to_output(const QuadricMesh& m, const Vec3d& origin, const std::vector<VertexAttribute>& attributes) {
+// Where the input has each locked place (`locked`, sorted), found by its position
+// relative to `origin` as the collapse holds it: p - origin + origin can differ from p
+// in the last bit of a double, and a locked vertex stays where the input has it.
+class LockedPlaces {
+ public:
+  LockedPlaces(const std::vector<std::array<double, 3>>& locked, const Vec3d& origin) {
+    for (const std::array<double, 3>& a : locked) {
+      const Vec3d r = Vec3d{a[0], a[1], a[2]} - origin;
+      relative_.push_back({{r.x, r.y, r.z}, a});
+    }
+    std::sort(relative_.begin(), relative_.end());
+  }
+  /// The model position of `p`, relative to the origin: the input's where p is locked.
+  Vec3d model(const Vec3d& p, const Vec3d& origin) const {
+    if (!relative_.empty()) {
+      const std::array<double, 3> key{p.x, p.y, p.z};
+      const auto at = std::lower_bound(relative_.begin(), relative_.end(), key,
+                                       [](const auto& e, const std::array<double, 3>& k) { return e.first < k; });
+      if (at != relative_.end() && at->first == key) return {at->second[0], at->second[1], at->second[2]};
+    }
+    return p + origin;
+  }
+
+ private:
+  std::vector<std::pair<std::array<double, 3>, std::array<double, 3>>> relative_;
+};
+
+// The collapse's result in model units, attributes as their types hold them; the
+// locked places (sorted) where the input has them.
+SimplifiedMesh to_output(const QuadricMesh& m, const Vec3d& origin, const std::vector<VertexAttribute>& attributes,
+                         const std::vector<std::array<double, 3>>& locked) {
   SimplifiedMesh out;
   out.positions.reserve(3 * m.positions.size());
+  const LockedPlaces places(locked, origin);
   for (const Vec3d& p : m.positions) {
-    const Vec3d x = p + origin;
+    const Vec3d x = places.model(p, origin);
     out.positions.insert(out.positions.end(), {x.x, x.y, x.z});
   }
   out.triangles = m.triangles;
@@ -139,6 +169,8 @@ struct CollapseInput {
   const std::vector<VertexAttribute>* attributes = nullptr;
   /// The quadrics hold the boundary planes already (the out-of-core passes added them).
   bool boundary_planes_in_quadrics = false;
+  /// The input's positions of the locked vertices, sorted (locked_positions).
+  std::vector<std::array<double, 3>> locked;
 };
 
 // What phase 2 is asked for.
@@ -204,7 +236,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   }
   CollapseResult out;
   out.finer_may_help = note_collapse(cs, done.triangles.size() / 3, goal, options, stats);
-  out.mesh = to_output(done, in.origin, *in.attributes);
+  out.mesh = to_output(done, in.origin, *in.attributes, in.locked);
   stats->output_vertices = out.mesh.positions.size() / 3;
   stats->output_triangles = out.mesh.triangles.size() / 3;
   clock.end("refine");
@@ -226,7 +258,7 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
   stats->warnings.push_back(input.info.path + ": the target of " + std::to_string(target) +
                             " triangles is at or above the input's " + std::to_string(stats->input_triangles) +
                             ": its own triangles are given back");
-  SimplifiedMesh out = to_output(used, origin, input.attributes.attributes);
+  SimplifiedMesh out = to_output(used, origin, input.attributes.attributes, {});
   stats->output_vertices = out.positions.size() / 3;
   stats->output_triangles = out.triangles.size() / 3;
   return out;
@@ -243,7 +275,10 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
   clock.move_to(&stats->phases);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
-  return refine({std::move(whole), origin, &input.attributes.attributes}, {target, true}, o, stats).mesh;
+  return refine({std::move(whole), origin, &input.attributes.attributes, false,
+                 locked_positions(input.positions, o.locked_vertices)},
+                {target, true}, o, stats)
+      .mesh;
 }
 
 // --method qem: the collapse whole, or out of core in passes (methods/qem_passes)
@@ -264,6 +299,7 @@ SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Ve
   rest.origin = origin;
   rest.attributes = &input.attributes.attributes;
   rest.boundary_planes_in_quadrics = true;
+  rest.locked = locked_positions(input.positions, o.locked_vertices);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
   SimplifiedMesh out = refine(std::move(rest), {target, true}, o, stats).mesh;
   stats->refine.collapses += pass_collapses;
@@ -331,25 +367,12 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
   return out;
 }
 
-// The positions of the locked vertices `locked` of `input`, sorted: where phase 1
-// left each locked vertex, a cluster of its own.
-std::vector<std::array<double, 3>> locked_places(const MeshInput& input, const std::vector<std::uint64_t>& locked) {
-  std::vector<std::array<double, 3>> places;
-  places.reserve(locked.size());
-  for (std::uint64_t v : locked) {
-    const Vec3d p = input.positions.get(v);
-    places.push_back({p.x, p.y, p.z});
-  }
-  std::sort(places.begin(), places.end());
-  places.erase(std::unique(places.begin(), places.end()), places.end());
-  return places;
-}
-
 // Phase 1's output as phase 2's input, relative to the grid's origin, with the
 // clusters' summed quadrics, so that no error information is lost between the phases
 // (Garland & Shaffer 2002 §3). The positions are copied (and freed), the rest moves;
 // the attributes' description stays in `p1`. The vertices at one of `locked`
-// (sorted) are locked in the collapse: phase 1 kept each locked vertex where it was.
+// (sorted) are locked in the collapse: phase 1 kept each locked vertex where the
+// input has it, to the last bit.
 CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<double, 3>>& locked) {
   SimplifiedMesh& m = p1->mesh;
   CollapseInput in;
@@ -372,6 +395,7 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
   q.attributes = std::move(m.attributes.values);
   in.origin = p1->grid.origin;
   in.attributes = &m.attributes.attributes;
+  in.locked = locked;
   return in;
 }
 
@@ -383,7 +407,7 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
 SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
                           SimplifyStats* stats) {
   const IntermediatePlan plan(input, *o, estimate);
-  const std::vector<std::array<double, 3>> locked = locked_places(input, o->locked_vertices);
+  const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, o->locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
   for (int attempt = 0;; ++attempt) {
     const double want = plan.intermediate(attempt);

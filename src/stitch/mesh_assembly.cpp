@@ -341,7 +341,7 @@ std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySe
     if (id < 0 && sum.collapsed == 0 && out.stitched_points.find(centre) < 0) return;
     const bool locked = is_locked_centre(settings, centre);
     Vec3d p = locked ? sum.centre : representative(sum, cell, settings.rule);
-    if (locked && id >= 0) ++*locked_used;
+    if (locked) ++*locked_used;  // an output vertex, or a thick point
     if (id < 0) {
       const double width =
           point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
