@@ -543,7 +543,8 @@ TEST_CASE("OBJ colours (v x y z r g b) are carried and written back as OBJ colou
       worst = std::max(worst, std::fabs(value(m, i, 0) - red_of(&m.positions[3 * i]) / 255));
     CHECK(worst <= kRedGradient * st.cell_size * std::sqrt(3.0) + 1e-6);
     bool warned = false;
-    for (const std::string& w : st.warnings) warned = warned || w.find("texture coordinates (u, v) are dropped") != std::string::npos;
+    for (const std::string& w : st.warnings)
+      warned = warned || w.find("texture coordinates (u, v) are dropped") != std::string::npos;
     CHECK(warned);
   }
   REQUIRE(run_cli("simplify " + d.file("c.obj") + " -o " + d.file("o.obj") + " --grid 16 --quiet").exit_code == 0);

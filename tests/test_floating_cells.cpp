@@ -225,7 +225,8 @@ TEST_CASE("a re-run in a vertex block equals the greedy with the new external ce
   }
 }
 
-TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass, in rounds and re-runs", "[floating][locks]") {
+TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass, in rounds and re-runs",
+          "[floating][locks]") {
   for (std::uint32_t seed = 1; seed <= 8; ++seed) {
     for (CellShape shape : {CellShape::cube, CellShape::sphere}) {
       // Every 13th vertex locked; every 17th stands where the one before it does, so
@@ -261,7 +262,8 @@ TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass,
         CHECK(cluster == ref.cluster);
         // A locked vertex's cluster is the vertices at its point, and nothing else.
         for (std::size_t i = 0; i < v.size(); ++i) {
-          const auto centre = std::find_if(v.begin(), v.end(), [&](const GradedVertex& x) { return x.index == ref.cluster[i]; });
+          const auto centre =
+              std::find_if(v.begin(), v.end(), [&](const GradedVertex& x) { return x.index == ref.cluster[i]; });
           const std::size_t c = std::size_t(centre - v.begin());
           if (flags[c]) CHECK((v[i].p.x == v[c].p.x && v[i].p.y == v[c].p.y && v[i].p.z == v[c].p.z));
           if (flags[i]) CHECK(flags[c]);
@@ -279,7 +281,8 @@ TEST_CASE("a locked vertex is a centre whose cell is its own point, in one pass,
       for (std::size_t i = 0; i < ext.size(); i += 9) ext[i].p = v[(i * 37) % v.size()].p;
       std::sort(ext.begin(), ext.end(), precedes);
       const std::vector<GradedVertex> before = every_other(ext, 0), after = every_other(ext, 1);
-      std::vector<unsigned char> bytes = TileVertexBlock::build(sorted, choose_centres(sorted, before, cell), cell.size);
+      std::vector<unsigned char> bytes =
+          TileVertexBlock::build(sorted, choose_centres(sorted, before, cell), cell.size);
       TileVertexBlock block(bytes.data());
       rechoose_centres(block, before, after, cell);
       CHECK(indices(block.centres()) == indices(choose_centres(sorted, after, cell)));

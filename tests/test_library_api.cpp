@@ -437,7 +437,8 @@ TEST_CASE("MeshView::vertex_lock keeps the marked vertices where they are", "[ap
     bool found = false;
     for (std::size_t w = 0; w < m.positions.size() / 3 && !found; ++w) {
       double d = 0;
-      for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(m.positions[3 * w + std::size_t(k)] - xyz[3 * v + std::size_t(k)]));
+      for (int k = 0; k < 3; ++k)
+        d = std::max(d, std::fabs(m.positions[3 * w + std::size_t(k)] - xyz[3 * v + std::size_t(k)]));
       found = d == 0;  // to the last bit, though the collapse works relative to the box's corner
     }
     CAPTURE(v);

@@ -237,8 +237,7 @@ TEST_CASE("a locked vertex is a cluster of its own, its output vertex where it i
     CHECK(one.triangles == held.triangles);
     if (method == ClusterMethod::floating) {  // tiles of 2.5 cells: locks near their borders
       SimplifyStats tiled_stats;
-      const SimplifiedMesh tiled =
-          run_locked(d.file("p.ply"), method, scattered, 2, &tiled_stats, 2.5 * st.cell_size);
+      const SimplifiedMesh tiled = run_locked(d.file("p.ply"), method, scattered, 2, &tiled_stats, 2.5 * st.cell_size);
       CHECK(tiled_stats.floating.tiles > 20);
       CHECK(tiled.positions == held.positions);
       CHECK(tiled.triangles == held.triangles);

@@ -349,7 +349,8 @@ void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
 }
 
 CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
-  CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)");
+  CLI::App* cmd =
+      app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)");
   cmd->footer(
       "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of the "
       "triangles).\n");

@@ -384,9 +384,9 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
   if (!locked.empty()) {
     q.locked.assign(q.positions.size(), 0);
     for (std::size_t i = 0; i < q.positions.size(); ++i)
-      q.locked[i] = std::binary_search(locked.begin(), locked.end(),
-                                       std::array<double, 3>{m.positions[3 * i], m.positions[3 * i + 1],
-                                                             m.positions[3 * i + 2]});
+      q.locked[i] =
+          std::binary_search(locked.begin(), locked.end(),
+                             std::array<double, 3>{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]});
   }
   std::vector<double>().swap(m.positions);  // copied: not held through phase 2
   q.triangles = std::move(m.triangles);

@@ -40,7 +40,7 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
 
 /// What assembly counted.
 struct AssemblyCounts {
-  std::uint64_t clusters = 0;  ///< clusters with a share, used by a triangle or not
+  std::uint64_t clusters = 0;     ///< clusters with a share, used by a triangle or not
   std::uint64_t locked_used = 0;  ///< clusters of locked centres that the output uses (as a vertex or a point)
 };
 

@@ -60,10 +60,13 @@ void simplify_write_reread(oocsimp::MeshInput& in, const oocsimp::SimplifyOption
     auto tris = oocsimp_fuzz::drain_triangles(back);
     if (back.positions.count != m.positions.size() / 3 || tris.first != m.triangles.size() / 3)
       finding(std::string(method) + ": the written mesh reads back with other counts");
+    // In the output's precision: a double output (double input, such as an OBJ whose
+    // coordinates need it) reads back exactly, a float one as its floats.
+    const bool as_float = m.precision == oocsimp::ScalarType::f32;
+    const auto same = [&](double read, double written) { return as_float ? float(read) == written : read == written; };
     for (std::uint64_t i = 0; i < back.positions.count; ++i) {
       oocsimp::Vec3d p = back.positions.get(i);
-      if (float(p.x) != m.positions[3 * i] || float(p.y) != m.positions[3 * i + 1] ||
-          float(p.z) != m.positions[3 * i + 2])
+      if (!same(p.x, m.positions[3 * i]) || !same(p.y, m.positions[3 * i + 1]) || !same(p.z, m.positions[3 * i + 2]))
         finding(std::string(method) + ": the written mesh reads back with other positions");
     }
   } catch (const std::exception& e) {
