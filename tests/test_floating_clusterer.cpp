@@ -594,3 +594,94 @@ TEST_CASE("the CLI prints a recomputed kept file as one warning line, exit 0, th
   CHECK(read_file(d.file("again.ply")) == read_file(d.file("fresh.ply")));
   CHECK(read_file(d.file("first.ply")) == read_file(d.file("fresh.ply")));
 }
+
+namespace {
+
+using PositionPair = std::array<double, 6>;
+
+// The edges of a mesh as position pairs (each pair in ascending order), with the
+// number of faces on each: comparable between meshes numbered differently.
+std::map<PositionPair, int> edge_faces(const std::vector<double>& positions, const std::vector<std::uint64_t>& tris) {
+  std::map<PositionPair, int> out;
+  for (std::size_t t = 0; t < tris.size(); t += 3)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double* a = &positions[3 * tris[t + k]];
+      const double* b = &positions[3 * tris[t + (k + 1) % 3]];
+      std::array<double, 3> p{a[0], a[1], a[2]}, q{b[0], b[1], b[2]};
+      if (q < p) std::swap(p, q);
+      ++out[{p[0], p[1], p[2], q[0], q[1], q[2]}];
+    }
+  return out;
+}
+
+std::map<PositionPair, int> edge_faces(const SimplifiedMesh& m) {
+  return edge_faces(m.positions, std::vector<std::uint64_t>(m.triangles.begin(), m.triangles.end()));
+}
+
+}  // namespace
+
+TEST_CASE("floating cells with a locked boundary keep every boundary vertex and edge, for any tiling",
+          "[floating][locks]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.shape = SyntheticShape::terrain;
+  g.triangles = 100000;
+  generate_mesh(d.file("t.ply"), g);
+  const LoadedMesh input = load_mesh(d.file("t.ply"));
+  std::vector<PositionPair> outline;
+  for (const auto& [edge, faces] : edge_faces(input.positions, input.triangles))
+    if (faces == 1) outline.push_back(edge);
+  REQUIRE(outline.size() > 500);
+  const auto run = [&](double tile, unsigned threads, std::uint64_t target, SimplifyStats* st) {
+    MeshInput in = open_mesh_input(d.file("t.ply"));
+    SimplifyOptions o;
+    o.method = ClusterMethod::floating;
+    if (target) {
+      o.target.triangles = target;
+      o.target.intermediate_factor = 4;  // a phase 1 of 65536 triangles
+    } else {
+      o.sizing.grid = 48;
+    }
+    o.floating.tile_side = tile;
+    o.threads = threads;
+    o.lock_boundary = true;
+    return simplify(in, o, st);
+  };
+  SimplifyStats st;
+  const SimplifiedMesh whole = run(0, 2, 0, &st);
+  // Each boundary edge's triangle keeps its two locked ends and a third cluster: the
+  // edge stays, with its one face, and the rest is simplified.
+  const auto kept = edge_faces(whole);
+  std::size_t found = 0;
+  for (const PositionPair& e : outline) {
+    const auto at = kept.find(e);
+    found += at != kept.end() && at->second == 1;
+  }
+  CHECK(found == outline.size());
+  CHECK(whole.triangles.size() / 3 < input.triangle_count() / 4);
+  for (const std::string& w : st.warnings) CHECK(w.find("locked vertices are left out") == std::string::npos);
+  // The same bytes for tiles of 2.5 cells (the outline crosses many) and one thread.
+  SimplifyStats tiled_stats;
+  const SimplifiedMesh tiled = run(2.5 * st.cell_size, 1, 0, &tiled_stats);
+  CHECK(tiled_stats.floating.tiles > 20);
+  CHECK(tiled.positions == whole.positions);
+  CHECK(tiled.triangles == whole.triangles);
+  // With a target, the edge collapse holds the boundary; a floating phase 1 would
+  // leave tears that the collapse would hold too: refused.
+  SimplifyStats target_stats;
+  CHECK_THROWS_WITH(run(0, 2, 3000, &target_stats), Catch::Contains("not by a floating phase 1"));
+  // Without the lock the outline is simplified too.
+  MeshInput in = open_mesh_input(d.file("t.ply"));
+  SimplifyOptions free_outline;
+  free_outline.method = ClusterMethod::floating;
+  free_outline.sizing.grid = 48;
+  const auto free_edges = edge_faces(simplify(in, free_outline, nullptr));
+  found = 0;
+  for (const PositionPair& e : outline) found += free_edges.count(e);
+  CHECK(found < outline.size() / 2);
+  // The uniform grid cannot find the boundary: refused, naming the option.
+  MeshInput again = open_mesh_input(d.file("t.ply"));
+  free_outline.method = ClusterMethod::uniform;
+  free_outline.lock_boundary = true;
+  CHECK_THROWS_WITH(simplify(again, free_outline, nullptr), Catch::Contains("options.lock_boundary"));
+}

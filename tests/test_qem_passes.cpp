@@ -334,11 +334,12 @@ TEST_CASE("a locked boundary keeps its every vertex and edge, and locked vertice
     // Without the lock the outline is simplified too.
     REQUIRE(run_cli("simplify --quiet '" + in + "' -o '" + d.file("free.ply") + "' --target-tris 6000").exit_code == 0);
     CHECK(boundary_edges(load_mesh(d.file("free.ply"))).size() < before.size());
-    // Clustering moves boundaries: refused, naming the flag and the method.
-    const CliResult r = run_cli("simplify --quiet '" + in + "' -o '" + d.file("x.ply") + "' --grid 32 --lock-boundary");
+    // The uniform grid cannot find the boundary: refused, naming the flag and the method.
+    const CliResult r = run_cli("simplify --quiet '" + in + "' -o '" + d.file("x.ply") +
+                                "' --method uniform --grid 32 --lock-boundary");
     CHECK(r.exit_code == 2);
     CHECK(r.err.find("--lock-boundary") != std::string::npos);
-    CHECK(r.err.find("not floating") != std::string::npos);
+    CHECK(r.err.find("not in uniform") != std::string::npos);
   }
 }
 

@@ -383,7 +383,8 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
       "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)");
   cmd->add_flag("--lock-boundary", a.options.lock_boundary,
                 "Leave every vertex on the mesh's boundary (an edge of one face) where it is: open borders and holes "
-                "keep their exact outline (the edge collapse: --method qem, the default with a target)");
+                "keep their exact outline (the edge collapse, the default with a target, and floating cells without "
+                "one)");
   cmd->add_option("--lock-vertices", a.lock_vertices,
                   "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) that stay "
                   "where they are: fixed in the edge collapse, each its own cluster in clustering");

@@ -154,10 +154,11 @@ struct SimplifyOptions {
   /// Keep what clustering reduces below a triangle as thick edges and points
   /// (Low & Tan 1997 §3.3; SimplifiedMesh::primitives) instead of dropping it.
   bool thick_edges = false;
-  /// The edge collapse (ClusterMethod::qem, the default with a target) leaves every
-  /// vertex on the mesh's boundary (an edge of one face) where it is: open borders,
-  /// holes and the seams of separately textured parts keep their exact outline.
-  /// Clustering moves boundaries with everything else, so a clustering method refuses it.
+  /// Every vertex on the mesh's boundary (an edge of one face) stays where it is: open
+  /// borders, holes and the seams of separately textured parts keep their exact
+  /// outline. The edge collapse (ClusterMethod::qem, the default with a target) and
+  /// floating cells without a target hold it (each boundary vertex a cluster of its
+  /// own); the uniform grid and curvature cells refuse it.
   bool lock_boundary = false;
   /// Input vertices (by index, any order) that stay where they are: the edge collapse
   /// moves and removes none of them (like a boundary under lock_boundary), and the

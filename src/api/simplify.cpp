@@ -135,11 +135,19 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
       throw UsageError("options.locked_vertices", "options.locked_vertices names vertex " + std::to_string(v) +
                                                       ", not below the input's vertex count " +
                                                       std::to_string(input.positions.count));
-  if (options.lock_boundary && method != ClusterMethod::qem)
+  // Floating cells find the boundary in their tiles, which hold every face of the
+  // vertices they own; the uniform grid streams its faces and cannot.
+  if (options.lock_boundary && method != ClusterMethod::qem && method != ClusterMethod::floating)
     throw UsageError("options.lock_boundary",
-                     std::string("options.lock_boundary holds the edge collapse's boundary: options.method qem (the "
-                                 "default with a target), not ") +
-                         method_name(options.method) + ", whose clustering moves boundaries");
+                     std::string("options.lock_boundary holds the boundary in the edge collapse (options.method qem, "
+                                 "the default with a target) and in floating cells, not in ") +
+                         method_name(method) + " clustering, which does not find the mesh's boundary");
+  // A phase 1 keeps the boundary, but the collapse after it would hold its tears as
+  // boundary too, and stall.
+  if (options.lock_boundary && method == ClusterMethod::floating && options.target.given())
+    throw UsageError("options.lock_boundary",
+                     "options.lock_boundary with a target is held by the edge collapse (options.method qem, the "
+                     "default with a target), not by a floating phase 1, whose tears the collapse would hold too");
   check_method_options(input, options);
   check_float_range(input);
   SimplifyStats st;

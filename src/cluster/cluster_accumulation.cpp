@@ -303,6 +303,7 @@ void TileAccumulation::hand_on(const AssignedTile& a, FaceSums& f, Scratch& s) c
   for (std::size_t i = 0; i < a.near.size(); ++i)
     if (s.sums[i].members) {
       s.sums[i].centre = a.near[i].p;
+      s.sums[i].locked = is_locked(a.near[i]);
       partial.push_back({a.near[i].index, s.sums[i]});
     }
   append_by_bucket(*out_.partials, &partial, [&](const PartialCluster& c) { return c.centre / cluster_span; });

@@ -140,6 +140,7 @@ struct ClusterRecord {
   Fixed offset_squares;
   std::uint64_t members = 0;
   std::uint64_t collapsed = 0;
+  std::uint64_t locked = 0;  ///< 1 when the centre is a locked vertex (its cluster is its point)
 
   /// Adds a member vertex: its quadric and its offset from the centre, both in cell units.
   void add_vertex(const Quadric& q, const Vec3d& offset_in_cells) {
@@ -155,6 +156,7 @@ struct ClusterRecord {
     offset_squares.add(o.offset_squares.v);
     members += o.members;
     collapsed += o.collapsed;
+    locked |= o.locked;
   }
   /// The summed quadric (relative to the centre, in cell units; c = 0).
   Quadric quadric() const { return quadric_sum.value(); }

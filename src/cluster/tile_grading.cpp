@@ -9,11 +9,12 @@
 
 namespace oocsimp {
 
-std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions) {
+std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions,
+                                     std::vector<std::uint64_t>* boundary) {
   // The tile's vertices as local ids in order of first use, each position read
   // once; the owned ones (whose fans are complete here) are graded.
   TileLocalMesh local(tris, positions);
-  std::vector<GradedVertex> graded = grade_local_vertices(local.mesh(), local.owned);
+  std::vector<GradedVertex> graded = grade_local_vertices(local.mesh(), local.owned, boundary);
   std::sort(graded.begin(), graded.end(), [](const GradedVertex& a, const GradedVertex& b) { return precedes(a, b); });
   return graded;
 }
@@ -32,8 +33,11 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
   TileMemoryGate gate(settings.work_share, settings.budget, settings.release_memory);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
-      std::vector<GradedVertex> graded = grade_tile(tiles.load(tile), positions);
+      std::vector<std::uint64_t> boundary;
+      std::vector<GradedVertex> graded =
+          grade_tile(tiles.load(tile), positions, settings.blocks.lock_boundary ? &boundary : nullptr);
       if (keep) keep->append(tile, graded.data(), graded.size());
+      lock_graded(&graded, boundary);
       if (settings.blocks.locked) lock_graded(&graded, *settings.blocks.locked);
       std::vector<unsigned char> block = TileVertexBlock::build(graded, choose(tile, graded), cell_size);
       blocks->put(tile, block.data(), block.size());

@@ -49,8 +49,10 @@ struct TileLocalMesh {
 };
 
 /// The tile's owned vertices (those whose records say so) graded from the tile's
-/// triangles `tris` (input order), in `precedes` order.
-std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions);
+/// triangles `tris` (input order), in `precedes` order. With `boundary`, also the
+/// input indices of those on the mesh's boundary, ascending (grade_local_vertices).
+std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions,
+                                     std::vector<std::uint64_t>* boundary = nullptr);
 
 /// The first greedy of a tile over its graded vertices (in `precedes` order): the
 /// centres, given what the tiles run before it published.
@@ -65,6 +67,9 @@ struct BlockSettings {
   /// The locked vertices (sorted input indices), or null: each is a centre of its own
   /// (lock_graded).
   const std::vector<std::uint64_t>* locked = nullptr;
+  /// Every vertex on the mesh's boundary is locked too (SimplifyOptions::lock_boundary):
+  /// a tile holds every face of the vertices it owns, so it finds them itself.
+  bool lock_boundary = false;
 };
 
 /// What grade_tiles follows besides its blocks' settings.
@@ -97,7 +102,8 @@ std::unique_ptr<BlockStore> blocks_from_blocks(const TileGrid& grid, const Block
                                                const FirstChoice& choose, const BlockSettings& settings);
 
 /// The same from vertices graded by an earlier run (stream `tile` of `kept`), with
-/// this run's locks.
+/// this run's locked vertices (not settings.lock_boundary: the kept vertices do not
+/// say which are on the boundary).
 std::unique_ptr<BlockStore> blocks_from_kept(const TileGrid& grid, const StreamSpill& kept, const FirstChoice& choose,
                                              const BlockSettings& settings);
 

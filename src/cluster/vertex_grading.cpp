@@ -49,13 +49,11 @@ double vertex_weight(const Vec3d* edges, std::size_t count) { return weight_of(e
 
 void lock_graded(std::vector<GradedVertex>* sorted, const std::vector<std::uint64_t>& locked) {
   if (locked.empty()) return;
-  const auto is_listed = [&](const GradedVertex& v) {
-    return std::binary_search(locked.begin(), locked.end(), v.index);
-  };
-  // The others keep their relative order; the locked ones go before them by index,
-  // which is `precedes` among equal weights.
-  const auto first_other = std::stable_partition(sorted->begin(), sorted->end(), is_listed);
-  for (auto v = sorted->begin(); v != first_other; ++v) v->weight = kLockedWeight;
+  for (GradedVertex& v : *sorted)
+    if (std::binary_search(locked.begin(), locked.end(), v.index)) v.weight = kLockedWeight;
+  // The others keep their relative order; the locked ones (these and any locked
+  // before) go before them by index, which is `precedes` among equal weights.
+  const auto first_other = std::stable_partition(sorted->begin(), sorted->end(), is_locked);
   std::sort(sorted->begin(), first_other,
             [](const GradedVertex& a, const GradedVertex& b) { return a.index < b.index; });
 }
@@ -85,7 +83,8 @@ std::vector<GradedVertex> grade_vertices(const std::vector<std::uint64_t>& owned
   return grade_local_vertices(m, local);
 }
 
-std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned) {
+std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned,
+                                               std::vector<std::uint64_t>* boundary) {
   // Per local vertex, its position among the owned (or kNone).
   constexpr std::uint32_t kNone = ~std::uint32_t(0);
   std::vector<std::uint32_t> slot(mesh.vertex_count, kNone);
@@ -133,11 +132,15 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
     }
     out[i].index = mesh.index[owned[i]];
     out[i].p = p;
+    // A neighbour met once shares one face with the vertex: their edge is on the
+    // boundary (every face of an owned vertex is in the mesh).
+    if (boundary && std::find(repeated.begin(), repeated.end(), 0) != repeated.end()) boundary->push_back(out[i].index);
     // Finite, so that a locked vertex's weight (kLockedWeight) precedes every other:
     // edges of coordinates near the double's range can overflow to an infinite length.
     const double w = weight_of(edges.data(), edges.size(), repeated.data());
     out[i].weight = w < kLargestGradedWeight ? w : kLargestGradedWeight;
   }
+  if (boundary) std::sort(boundary->begin(), boundary->end());
   return out;
 }
 

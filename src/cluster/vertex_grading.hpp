@@ -26,7 +26,7 @@ inline bool is_locked(const GradedVertex& v) { return v.weight == kLockedWeight;
 
 /// Gives the vertices of `sorted` (in `precedes` order, floating_cells.hpp) whose
 /// input index is in `locked` (sorted) kLockedWeight, keeping the order: the locked
-/// ones first, by index, then the others as they were.
+/// ones (with any locked before) first, by index, then the others as they were.
 void lock_graded(std::vector<GradedVertex>* sorted, const std::vector<std::uint64_t>& locked);
 
 /// The weight of a vertex whose incident edges (from the vertex to its neighbours,
@@ -63,7 +63,9 @@ struct LocalMesh {
 /// ids), whose incident triangles must all be in `mesh`. Returns one GradedVertex
 /// per owned vertex, in the order of `owned`. Positions are read once per local
 /// vertex, edges are kept as neighbour ids (each neighbour once), so a tile's
-/// working set stays in cache.
-std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned);
+/// working set stays in cache. With `boundary`, it also gets the input indices of
+/// the owned vertices on the mesh's boundary (an edge of one face), ascending.
+std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std::vector<std::uint32_t>& owned,
+                                               std::vector<std::uint64_t>* boundary = nullptr);
 
 }  // namespace oocsimp

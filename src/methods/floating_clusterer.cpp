@@ -163,14 +163,16 @@ void FloatingRun::grade() {
   check_fullest_tile_fits(budget_, tiles_, input_.info.path, "grade");
   const FloatingCellShape first_cell = cell(0);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, first_cell);
-  if (resumed_) {
-    blocks_ = blocks_from_kept(tiles_.grid, *graded_, first_,
-                               {first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_});
+  const BlockSettings blocks{first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_, options_.lock_boundary};
+  // The kept graded vertices do not say which are on the boundary: with a locked
+  // boundary, the kept tiles are graded again.
+  if (resumed_ && !options_.lock_boundary) {
+    blocks_ = blocks_from_kept(tiles_.grid, *graded_, first_, blocks);
   } else {
-    if (options_.floating.keep_temp) graded_ = graded_vertex_spill(tiles_, spill_);
+    if (options_.floating.keep_temp && !resumed_) graded_ = graded_vertex_spill(tiles_, spill_);
     GradingSettings grading;
-    grading.blocks = {first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_};
-    grading.keep = graded_.get();
+    grading.blocks = blocks;
+    grading.keep = resumed_ ? nullptr : graded_.get();
     grading.progress = &options_.progress;
     grading.work_share = spill_.work_share;
     grading.budget = &budget_;
@@ -253,7 +255,6 @@ OutputMesh FloatingRun::assemble(std::size_t level, LargeArray<KeptTriangle> kep
   settings.origin = grids_[level].origin;
   settings.cluster_span = input_.positions.count;
   settings.place = place_;
-  settings.locked = &locked_;
   return assemble_mesh(std::move(kept), *shares.partials, settings, counts, quadrics_);
 }
 
@@ -288,8 +289,7 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
   // A locked vertex whose neighbours all fall in one other cluster makes no triangle
   // with two others: it is dropped, and said so.
-  const std::size_t places = locked_positions(input_.positions, locked_).size();
-  warn_dropped_locks(places - std::min<std::size_t>(places, counts.locked_used), places, stats);
+  warn_dropped_locks(counts.locked - counts.locked_used, counts.locked, stats);
 }
 
 }  // namespace

@@ -311,17 +311,13 @@ struct Representatives {
   std::mutex* points_lock;
 };
 
-// Whether `centre` is a locked vertex: its cluster is the point where it is.
-bool is_locked_centre(const AssemblySettings& settings, std::uint64_t centre) {
-  return settings.locked && std::binary_search(settings.locked->begin(), settings.locked->end(), centre);
-}
-
 // One cluster bucket: each centre's shares merged (in fixed point, so in any order)
 // and solved for, where some triangle uses the cluster or a triangle collapsed into it
-// (a thick point). Counts the locked clusters used into `locked_used`. Returns the
+// (a thick point). A locked centre's cluster is placed where the centre is. Counts
+// into `locked` the clusters of locked centres, and the used ones. Returns the
 // clusters the bucket holds.
 std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySettings& settings,
-                           const Representatives& out, std::atomic<std::uint64_t>* locked_used) {
+                           const Representatives& out, std::atomic<std::uint64_t> locked[2]) {
   const FloatingCellShape& cell = settings.cell;
   // Shares of one centre in any order: they are summed in fixed point.
   tbb::parallel_sort(shares.begin(), shares.end(),
@@ -334,14 +330,14 @@ std::uint64_t place_bucket(std::vector<PartialCluster>& shares, const AssemblySe
   tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t k) {
     const std::uint64_t centre = shares[starts[k]].centre;
     const std::int64_t id = out.index.find(centre);
-    if (id < 0 && !settings.thick) return;  // a cluster no output triangle uses
+    if (shares[starts[k]].sums.locked) ++locked[0];  // every share of a cluster says so
+    if (id < 0 && !settings.thick) return;           // a cluster no output triangle uses
     ClusterRecord sum = shares[starts[k]].sums;
     for (std::size_t i = starts[k] + 1; i < starts[k + 1]; ++i) sum.add(shares[i].sums);
     // No triangle or edge uses it: a thick point when a triangle collapsed into it.
     if (id < 0 && sum.collapsed == 0 && out.stitched_points.find(centre) < 0) return;
-    const bool locked = is_locked_centre(settings, centre);
-    Vec3d p = locked ? sum.centre : representative(sum, cell, settings.rule);
-    if (locked) ++*locked_used;  // an output vertex, or a thick point
+    Vec3d p = sum.locked ? sum.centre : representative(sum, cell, settings.rule);
+    if (sum.locked) ++locked[1];  // an output vertex, or a thick point
     if (id < 0) {
       const double width =
           point_width(double(sum.members), sum.offset_sum.value(), sum.offset_squares.value()) * cell.size;
@@ -390,18 +386,19 @@ OutputMesh assemble_mesh(LargeArray<KeptTriangle> kept, StreamSpill& partials, c
   std::mutex points_lock;
   const Representatives out{index, stitched_points, mesh.positions.data(), quadrics, &points, &points_lock};
   std::uint64_t clusters = 0;
-  std::atomic<std::uint64_t> locked_used{0};
+  std::atomic<std::uint64_t> locked[2] = {{0}, {0}};  // clusters of locked centres, and the used ones
   for (std::uint32_t b = 0; b < partials.stream_count(); ++b) {
     std::vector<PartialCluster> shares;
     partials.read(b, &shares);
-    clusters += place_bucket(shares, settings, out, &locked_used);
+    clusters += place_bucket(shares, settings, out, locked);
   }
   append_points(points, &index, &mesh);
   if (settings.attribute_shares && settings.attributes && !settings.attributes->empty())
     assemble_attributes(*settings.attribute_shares, *settings.attributes, index, settings.place, &mesh);
   if (counts) {
     counts->clusters = clusters;
-    counts->locked_used = locked_used;
+    counts->locked = locked[0];
+    counts->locked_used = locked[1];
   }
   return mesh;
 }

@@ -41,7 +41,8 @@ Vec3d representative(const ClusterRecord& s, const FloatingCellShape& cell, Repr
 /// What assembly counted.
 struct AssemblyCounts {
   std::uint64_t clusters = 0;     ///< clusters with a share, used by a triangle or not
-  std::uint64_t locked_used = 0;  ///< clusters of locked centres that the output uses (as a vertex or a point)
+  std::uint64_t locked = 0;       ///< clusters of locked centres
+  std::uint64_t locked_used = 0;  ///< of those, the ones the output uses (as a vertex or a point)
 };
 
 /// With thick edges (Low & Tan 1997 §3.3), where assemble_mesh finds the edges and
@@ -70,9 +71,6 @@ struct AssemblySettings {
   std::uint64_t cluster_span = 0;
   /// Where the output's arrays and the cluster numbering go.
   ArrayPlace place;
-  /// The locked vertices (SimplifyOptions::locked_vertices, sorted), or null: a
-  /// cluster whose centre is one of them is placed exactly where its centre is.
-  const std::vector<std::uint64_t>* locked = nullptr;
 };
 
 /// The output mesh: `kept` deduplicated and in input order of first occurrence

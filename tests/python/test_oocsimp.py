@@ -67,8 +67,15 @@ class Simplify(unittest.TestCase):
         self.assertEqual(outline(v2, f2), outline(v, f))
         v3, f3 = oocsimp.simplify(v, f, target_tris=600)
         self.assertLess(len(outline(v3, f3)), len(outline(v, f)))
+        # Floating cells keep it too, each boundary vertex a cluster of its own; the
+        # uniform grid cannot find it.
+        v5, f5 = oocsimp.simplify(v, f, grid=10, lock_boundary=True)
+        self.assertLess(len(f5), len(f) // 4)
+        rim = {tuple(p) for e in np.asarray(outline(v, f)).tolist() for p in e}
+        kept = set(map(tuple, np.round(np.asarray(v5), 12).tolist()))
+        self.assertEqual(rim - kept, set())
         with self.assertRaisesRegex(ValueError, "lock_boundary"):
-            oocsimp.simplify(v, f, grid=10, lock_boundary=True)
+            oocsimp.simplify(v, f, grid=10, method="uniform", lock_boundary=True)
         # Chosen vertices, as indices or as a mask, stay where they are.
         chosen = np.arange(7, len(v), 97)
         mask = np.zeros(len(v), dtype=bool)
