@@ -638,7 +638,6 @@ TEST_CASE("floating cells with a locked boundary keep every boundary vertex and 
     o.method = ClusterMethod::floating;
     if (target) {
       o.target.triangles = target;
-      o.target.intermediate_factor = 4;  // a phase 1 of 65536 triangles
     } else {
       o.sizing.grid = 48;
     }
@@ -679,9 +678,37 @@ TEST_CASE("floating cells with a locked boundary keep every boundary vertex and 
   found = 0;
   for (const PositionPair& e : outline) found += free_edges.count(e);
   CHECK(found < outline.size() / 2);
-  // The uniform grid cannot find the boundary: refused, naming the option.
-  MeshInput again = open_mesh_input(d.file("t.ply"));
-  free_outline.method = ClusterMethod::uniform;
-  free_outline.lock_boundary = true;
-  CHECK_THROWS_WITH(simplify(again, free_outline, nullptr), Catch::Contains("options.lock_boundary"));
+  // With listed locked vertices too (the two locks applied one after the other): the
+  // outline and every listed vertex stay.
+  MeshInput both = open_mesh_input(d.file("t.ply"));
+  SimplifyOptions both_locks;
+  both_locks.method = ClusterMethod::floating;
+  both_locks.sizing.grid = 48;
+  both_locks.lock_boundary = true;
+  std::set<std::array<double, 3>> listed;
+  for (std::uint64_t v = 3; v < input.vertex_count(); v += 499) {
+    both_locks.locked_vertices.push_back(v);
+    listed.insert({input.positions[3 * v], input.positions[3 * v + 1], input.positions[3 * v + 2]});
+  }
+  SimplifyStats both_stats;
+  const SimplifiedMesh held = simplify(both, both_locks, &both_stats);
+  const auto held_edges = edge_faces(held);
+  found = 0;
+  for (const PositionPair& e : outline) found += held_edges.count(e);
+  CHECK(found == outline.size());
+  std::size_t left_out = 0, at_listed = 0;
+  for (const std::string& w : both_stats.warnings)
+    if (w.find(" locked vertices are left out") != std::string::npos) left_out = std::stoul(w);
+  for (std::size_t v = 0; v < held.positions.size() / 3; ++v)
+    at_listed += listed.count({held.positions[3 * v], held.positions[3 * v + 1], held.positions[3 * v + 2]});
+  CHECK(at_listed + left_out >= listed.size());
+  CHECK(left_out < listed.size() / 4);
+  // The uniform grid and curvature cells cannot find the boundary: refused, naming
+  // the option.
+  for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::curvature}) {
+    MeshInput again = open_mesh_input(d.file("t.ply"));
+    free_outline.method = method;
+    free_outline.lock_boundary = true;
+    CHECK_THROWS_WITH(simplify(again, free_outline, nullptr), Catch::Contains("options.lock_boundary"));
+  }
 }

@@ -157,8 +157,9 @@ struct SimplifyOptions {
   /// Every vertex on the mesh's boundary (an edge of one face) stays where it is: open
   /// borders, holes and the seams of separately textured parts keep their exact
   /// outline. The edge collapse (ClusterMethod::qem, the default with a target) and
-  /// floating cells without a target hold it (each boundary vertex a cluster of its
-  /// own); the uniform grid and curvature cells refuse it.
+  /// floating cells hold it (each boundary vertex a cluster of its own); the uniform
+  /// grid and curvature cells refuse it, and so does floating with a target refined
+  /// by the collapse (which would hold phase 1's tears as boundary too).
   bool lock_boundary = false;
   /// Input vertices (by index, any order) that stay where they are: the edge collapse
   /// moves and removes none of them (like a boundary under lock_boundary), and the

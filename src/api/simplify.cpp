@@ -144,7 +144,8 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
                          method_name(method) + " clustering, which does not find the mesh's boundary");
   // A phase 1 keeps the boundary, but the collapse after it would hold its tears as
   // boundary too, and stall.
-  if (options.lock_boundary && method == ClusterMethod::floating && options.target.given())
+  if (options.lock_boundary && method == ClusterMethod::floating && options.target.given() &&
+      options.target.refine == RefineMethod::qem)
     throw UsageError("options.lock_boundary",
                      "options.lock_boundary with a target is held by the edge collapse (options.method qem, the "
                      "default with a target), not by a floating phase 1, whose tears the collapse would hold too");

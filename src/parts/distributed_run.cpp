@@ -54,6 +54,8 @@ void check_part_options(const SimplifyOptions& options) {
     throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
   if (!options.locked_vertices.empty())
     throw UsageError("options.locked_vertices", "a distributed run (options.part) keeps no locked vertices yet");
+  if (options.lock_boundary)
+    throw UsageError("options.lock_boundary", "a distributed run (options.part) keeps no boundary locked yet");
 }
 
 void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
