@@ -825,12 +825,11 @@ void UniformCells::solve_representatives(const std::vector<std::uint32_t>& order
                         const VertexSum& s = rec.vertices;
                         const double half = 0.5 * side;
                         Vec3d mean = s.n ? s.sum / double(s.n) : lo + Vec3d{half, half, half};
-                        // A locked vertex's cell is the point where it is.
-                        const Vec3d at = (key & kLockedKey) ? lo
-                                         : chosen.empty()   ? minimize_quadric(rec.q, mean, lo, hi)
-                                                            : chosen[order[i]].position;
-                        // A locked place comes back as the input has it, to the last bit.
-                        const Vec3d x = (key & kLockedKey) ? keys.locked_position(key) : at + grid.origin;
+                        // A locked vertex's cell is the point where it is, given back as the
+                        // input has it (relative + origin may miss it by a bit).
+                        const Vec3d x = (key & kLockedKey) ? keys.locked_position(key)
+                                        : chosen.empty()   ? minimize_quadric(rec.q, mean, lo, hi) + grid.origin
+                                                           : chosen[order[i]].position + grid.origin;
                         if (quadrics) (*quadrics)[i] = rec.q;  // already relative to grid.origin
                         positions[3 * i] = x.x;
                         positions[3 * i + 1] = x.y;

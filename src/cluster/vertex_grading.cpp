@@ -135,10 +135,7 @@ std::vector<GradedVertex> grade_local_vertices(const LocalMesh& mesh, const std:
     // A neighbour met once shares one face with the vertex: their edge is on the
     // boundary (every face of an owned vertex is in the mesh).
     if (boundary && std::find(repeated.begin(), repeated.end(), 0) != repeated.end()) boundary->push_back(out[i].index);
-    // Finite, so that a locked vertex's weight (kLockedWeight) precedes every other:
-    // edges of coordinates near the double's range can overflow to an infinite length.
-    const double w = weight_of(edges.data(), edges.size(), repeated.data());
-    out[i].weight = w < kLargestGradedWeight ? w : kLargestGradedWeight;
+    out[i].weight = weight_of(edges.data(), edges.size(), repeated.data());
   }
   if (boundary) std::sort(boundary->begin(), boundary->end());
   return out;

@@ -18,10 +18,10 @@ struct GradedVertex {
 
 /// The weight of a locked vertex (SimplifyOptions::locked_vertices): above every
 /// graded one, so it is visited first and always becomes a centre, whose cell holds
-/// only the points where it is (FloatingCellShape::holds).
+/// only the points where it is (FloatingCellShape::holds). Graded weights are finite:
+/// coordinates are within the float range (api/simplify.cpp, check_float_range), so
+/// no edge length overflows a double.
 constexpr double kLockedWeight = std::numeric_limits<double>::infinity();
-/// Graded weights stay at or below this.
-constexpr double kLargestGradedWeight = std::numeric_limits<double>::max();
 inline bool is_locked(const GradedVertex& v) { return v.weight == kLockedWeight; }
 
 /// Gives the vertices of `sorted` (in `precedes` order, floating_cells.hpp) whose
