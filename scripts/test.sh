@@ -18,7 +18,12 @@ esac
 "$root/scripts/setup-deps.sh"
 if [ "${1:-}" = "--sanitize" ]; then
   export OOCSIMP_BUILD_DIR="$root/build-sanitize"
-  "$root/scripts/build.sh" -DOOCSIMP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo ${configure[@]+"${configure[@]}"}
+  # -O1 -g1: the optimisation and debug level AddressSanitizer's documentation
+  # suggests (line tables are enough for its reports); the build takes about half
+  # the time of -O2 -g, which keeps .ci/run within its 30 minutes.
+  "$root/scripts/build.sh" -DOOCSIMP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
+    ${configure[@]+"${configure[@]}"}
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 else
   export OOCSIMP_BUILD_DIR="$root/build"
