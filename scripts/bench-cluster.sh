@@ -4,6 +4,8 @@
 #
 #   scripts/bench-cluster.sh [SIZES...]      default sizes: 20000000 100000000
 #   GRID=256 (default) METHOD=uniform (the method the parts take)
+#   METHOD=qem RATIO=0.029 (default): the edge collapse to that share of the input,
+#   whose first out-of-core pass the parts share
 #
 # Per size, all with 1 thread per process:
 #   one      oocsimp simplify, one process;
@@ -27,7 +29,11 @@ grid="${GRID:-256}"
 method="${METHOD:-uniform}"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 work="$dir/cluster-work"
-common=(--method "$method" --grid "$grid" --threads 1 --quiet)
+if [ "$method" = qem ]; then
+  common=(--method qem --target-ratio "${RATIO:-0.029}" --threads 1 --quiet)
+else
+  common=(--method "$method" --grid "$grid" --threads 1 --quiet)
+fi
 
 printf '%-10s %8s %9s %9s %9s %9s %9s %9s %10s\n' size one_s part1_s parts2_s merge_s 2proc_s mpirun2_s speedup part_MiB
 for n in "${sizes[@]}"; do
@@ -76,6 +82,7 @@ for n in "${sizes[@]}"; do
     for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }
     printf("\n");
   }'
+  [ "$method" = qem ] && continue
   # Floating cells are not spread yet: their exchange measured in one process, and the
   # model's prediction from it (docs/cluster.md, "A model for floating cells").
   "$bin" simplify "$mesh" -o "$dir/one-floating.ply" --method floating --grid "$grid" --threads 1 --quiet \

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <set>
 #include <sstream>
@@ -518,4 +519,55 @@ TEST_CASE("texture coordinates follow the edge collapse, and a seam stays where 
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.find("texture coordinates (u, v) are dropped: clustering merges vertices across texture seams") !=
         std::string::npos);
+}
+
+TEST_CASE("the first pass spread over parts leaves one process's remainder, for 1 to 5 parts", "[qem_passes]") {
+  ScratchDir d;
+  const std::string in = generated(d, SyntheticShape::parts, 40000, true);
+  PassSizes sizes = small_tiles();
+  sizes.part_above = 3000;  // dense tiles are worked on in parts too
+  const SimplifyOptions options;
+  const std::uint64_t target = 3000;
+  MeshInput whole = open_mesh_input(in, OpenOptions());
+  SimplifyStats one;
+  const QuadricMesh expected = reduce_in_passes(whole, options, whole.info.bounds.min, target, &one, sizes);
+  REQUIRE(one.refine.passes >= 2);
+  for (std::uint32_t parts = 1; parts <= 5; ++parts) {
+    // Each part's tiles, as a part file would keep them.
+    std::vector<TileOutput> tiles;
+    FirstPassParts spread;
+    std::uint64_t collapses = 0;
+    for (std::uint32_t part = 0; part < parts; ++part) {
+      MeshInput input = open_mesh_input(in, OpenOptions());
+      const FirstPassPlan plan = first_pass_part(
+          input, options, input.info.bounds.min, target, part, parts, [&](const TileOutput& t) { tiles.push_back(t); },
+          sizes);
+      collapses += plan.collapses;
+      if (part == 0) spread.plan = plan;
+      CHECK(plan.threshold == spread.plan.threshold);
+      CHECK(plan.tiles == spread.plan.tiles);
+    }
+    spread.plan.collapses = collapses;
+    std::reverse(tiles.begin(), tiles.end());  // any order
+    spread.tiles = [&](const TileOutputSink& sink) {
+      for (const TileOutput& t : tiles) sink(t);
+    };
+    MeshInput input = open_mesh_input(in, OpenOptions());
+    SimplifyStats merged;
+    const QuadricMesh rest = reduce_after_first_pass(input, options, input.info.bounds.min, target, spread.plan,
+                                                     spread.tiles, &merged, sizes);
+    INFO(parts << " parts");
+    CHECK(merged.refine.pass_triangles == one.refine.pass_triangles);
+    CHECK(merged.refine.collapses == one.refine.collapses);
+    CHECK(merged.input_triangles == one.input_triangles);
+    REQUIRE(rest.triangles == expected.triangles);
+    REQUIRE(rest.positions.size() == expected.positions.size());
+    for (std::size_t i = 0; i < rest.positions.size(); ++i) {
+      const Vec3d &a = rest.positions[i], &b = expected.positions[i];
+      REQUIRE((a.x == b.x && a.y == b.y && a.z == b.z));
+    }
+    CHECK(rest.attributes == expected.attributes);
+    REQUIRE(rest.quadrics.size() == expected.quadrics.size());
+    CHECK(std::memcmp(rest.quadrics.data(), expected.quadrics.data(), rest.quadrics.size() * sizeof(Quadric)) == 0);
+  }
 }

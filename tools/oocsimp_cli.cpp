@@ -689,11 +689,14 @@ void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const Simpl
 int run_simplify_part(const SimplifyArgs& a, const SimplifyPlan& p) {
   SimplifyStats stats;
   simplify_part(a.in, p.options, p.part, &stats);
+  const char* work = resolved_method(p.options) == ClusterMethod::qem
+                         ? "input triangles, its share of the first pass collapsed"
+                         : "input triangles summed";
   if (!a.quiet)
     std::printf("part    %u of %u: %" PRIu64
-                " input triangles summed into %s in %.3f s (peak anonymous %.1f "
+                " %s into %s in %.3f s (peak anonymous %.1f "
                 "MiB); when every part is done: oocsimp merge %s -o %s\n",
-                p.part.index, p.part.count, stats.input_triangles, p.part.work_dir.c_str(), stats.seconds_total,
+                p.part.index, p.part.count, stats.input_triangles, work, p.part.work_dir.c_str(), stats.seconds_total,
                 double(stats.peak_anon_bytes) / 1048576.0, p.part.work_dir.c_str(), a.outputs.mesh.c_str());
   print_warnings(stats.warnings);
   return kOk;
@@ -736,7 +739,7 @@ int run_simplify_mpi(const SimplifyArgs& a, const SimplifyPlan& p) {
     try {
       merge_parts(dir, a.outputs, p.options, &stats);
       SimplifyOptions shown = p.options;
-      shown.method = ClusterMethod::uniform;
+      shown.method = resolved_method(p.options);
       if (!a.quiet)
         print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, shown, stats);
       print_warnings(stats.warnings);
@@ -812,7 +815,8 @@ int run_merge(const MergeArgs& a) {
   o.budget_counts_process = true;
   SimplifyStats stats;
   merge_parts(a.dir, a.outputs, o, &stats);
-  o.method = ClusterMethod::uniform;
+  // The parts' method, for the summary: a grid for the uniform one, none for the collapse.
+  o.method = stats.grid_dims[0] != 0 ? ClusterMethod::uniform : ClusterMethod::qem;
   if (!a.quiet) print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, o, stats);
   print_warnings(stats.warnings);
   return kOk;

@@ -547,18 +547,24 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   const double t0 = now_seconds();
-  MeshInput input = open_input(input_path, options);
-  st = begin_run(input, options);
+  SimplifyOptions o = options;
+  o.method = resolved_method(options);
+  MeshInput input = open_input(input_path, o);
+  st = begin_run(input, o);
   PartManifest manifest;
   manifest.part = part.index;
   manifest.parts = part.count;
   manifest.input = absolute_path(input_path);
   manifest.key = input_key(input_path);
-  manifest.options = part_options_text(options);
-  manifest.grid = choose_grid(input, options.sizing, options.threads);
-  record_grid(manifest.grid, &st);
-  input.restart_triangles();
-  run_uniform_part(input, options, manifest, part.work_dir, &st);
+  manifest.options = part_options_text(o);
+  if (o.method == ClusterMethod::qem) {
+    run_qem_part(input, o, manifest, part.work_dir, &st);
+  } else {
+    manifest.grid = choose_grid(input, o.sizing, o.threads);
+    record_grid(manifest.grid, &st);
+    input.restart_triangles();
+    run_uniform_part(input, o, manifest, part.work_dir, &st);
+  }
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
@@ -577,8 +583,15 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
   run_to_files(manifest.input, outputs, options, st, [&](MeshInput& input) {
     const PeakAnonSampler memory;
     begin_stats(input, options, &st);
-    record_grid(manifest.grid, &st);
-    OutputMesh mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
+    OutputMesh mesh;
+    if (options.method != ClusterMethod::qem) {
+      record_grid(manifest.grid, &st);
+      mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
+    } else if (parts.has_first_pass()) {
+      mesh = OutputMesh::of(simplify_to_target_after_parts(input, options, parts.first_pass(), &st));
+    } else {  // the parts found no pass to spread: the run whole
+      mesh = OutputMesh::of(simplify_to_target(input, options, &st));
+    }
     finish_run(input, options, memory, mesh, st);
     return mesh;
   });

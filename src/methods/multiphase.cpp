@@ -283,15 +283,17 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
 
 // --method qem: the collapse whole, or out of core in passes (methods/qem_passes)
 // down to a few times the target, then whole.
+// With `parts`, the parts of a distributed run did the passes' first.
 SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t estimate,
-                            SimplifyStats* stats) {
+                            SimplifyStats* stats, const FirstPassParts* parts = nullptr) {
   if (!collapses_in_passes(input.info.face_count, estimate)) return collapse_whole(input, o, origin, stats);
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   CollapseInput rest;
   {
     const PeakAnonSampler memory;
-    rest.mesh = reduce_in_passes(input, o, origin, estimate, stats);
+    rest.mesh = parts ? reduce_after_first_pass(input, o, origin, estimate, parts->plan, parts->tiles, stats)
+                      : reduce_in_passes(input, o, origin, estimate, stats);
     stats->refine.phase1_peak_anon_bytes = memory.peak();
   }
   const std::uint64_t pass_collapses = stats->refine.collapses;
@@ -460,22 +462,61 @@ void check_target_options(const SimplifyOptions& o) {
     throw UsageError("options.target.intermediate_factor", "options.target.intermediate_factor must be at least 1");
 }
 
-SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+namespace {
+
+// What a run to a target settles first: its options, its frame and its count.
+struct TargetRun {
+  SimplifyOptions o;
+  Vec3d origin;
+  std::uint64_t estimate = 0;
+  /// The input is given back as it is.
+  bool as_is = false;
+};
+
+TargetRun prepare_target(const MeshInput& input, const SimplifyOptions& options) {
   check_target_options(options);
-  SimplifyOptions o = options;
+  TargetRun run;
+  SimplifyOptions& o = run.o;
+  o = options;
   // Sorted, once: the passes look vertices up in it.
   std::sort(o.locked_vertices.begin(), o.locked_vertices.end());
   o.locked_vertices.erase(std::unique(o.locked_vertices.begin(), o.locked_vertices.end()), o.locked_vertices.end());
   // --method qem alone keeps the default share, now exactly.
   if (!o.target.given()) o.target.ratio = kDefaultRatio;
   const std::uint64_t faces = input.info.face_count;
-  const Vec3d origin = input.info.bounds.empty() ? Vec3d{} : input.info.bounds.min;
-  const std::uint64_t estimate = resolve_target(o.target, faces);
-  if (o.target.max_error == 0 && estimate >= faces) return input_as_is(input, o, estimate, stats);
-  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, origin, estimate, stats);
+  run.origin = input.info.bounds.empty() ? Vec3d{} : input.info.bounds.min;
+  run.estimate = resolve_target(o.target, faces);
+  run.as_is = o.target.max_error == 0 && run.estimate >= faces;
+  return run;
+}
+
+}  // namespace
+
+SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+  TargetRun run = prepare_target(input, options);
+  SimplifyOptions& o = run.o;
+  if (run.as_is) return input_as_is(input, o, run.estimate, stats);
+  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, run.origin, run.estimate, stats);
   // --refine none: phase 1 alone, at the cell for about the target itself.
-  if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(estimate), false, stats).mesh;
-  return multiphase(input, &o, origin, estimate, stats);
+  if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(run.estimate), false, stats).mesh;
+  return multiphase(input, &o, run.origin, run.estimate, stats);
+}
+
+bool simplify_to_target_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part, std::uint32_t parts,
+                             const TileOutputSink& out, FirstPassPlan* plan) {
+  const TargetRun run = prepare_target(input, options);
+  if (run.as_is || run.o.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
+    return false;
+  *plan = first_pass_part(input, run.o, run.origin, run.estimate, part, parts, out);
+  return true;
+}
+
+SimplifiedMesh simplify_to_target_after_parts(MeshInput& input, const SimplifyOptions& options,
+                                              const FirstPassParts& parts, SimplifyStats* stats) {
+  const TargetRun run = prepare_target(input, options);
+  if (run.as_is || run.o.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
+    throw std::logic_error("simplify_to_target_after_parts: the run has no passes");
+  return collapse_qem(input, run.o, run.origin, run.estimate, stats, &parts);
 }
 
 }  // namespace oocsimp

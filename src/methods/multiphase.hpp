@@ -5,6 +5,7 @@
 
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/qem_passes.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
@@ -20,6 +21,18 @@ namespace oocsimp {
 /// Fills `stats` (the clustering's fields, intermediate_triangles, collapses, the
 /// largest collapse cost and error, target_missed, phase seconds "refine").
 SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+
+/// Part `part` of `parts` of simplify_to_target's run with options.method qem (the
+/// default with a target): the share of the first out-of-core pass that falls to the
+/// part, its tiles into `out` and the pass's plan into `plan`. False, with nothing
+/// done, when the run has no such pass (an input that collapses whole, a target at or
+/// above the input's count): the merge then runs it whole.
+bool simplify_to_target_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part, std::uint32_t parts,
+                             const TileOutputSink& out, FirstPassPlan* plan);
+
+/// simplify_to_target's result, the same bytes and stats, from the parts' first pass.
+SimplifiedMesh simplify_to_target_after_parts(MeshInput& input, const SimplifyOptions& options,
+                                              const FirstPassParts& parts, SimplifyStats* stats);
 
 /// Throws UsageError unless options.target is consistent: at most one of triangles and
 /// ratio, no CellSizing beside them, triangles at least 4, ratio in (0, 1], max_error

@@ -412,6 +412,36 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
   return taken ? pooled[taken - 1] : 0.0;
 }
 
+// The share of a pass's work one process of a distributed run takes: `part` of `parts`.
+struct WorkShare {
+  std::uint32_t part = 0, parts = 1;
+};
+
+// The pass's work: each tile, or each part of a dense one, with its face records.
+std::vector<TileWork> pass_work(const PassSource& source) {
+  std::vector<TileWork> work;
+  for (std::uint32_t t : source.order) {
+    const std::uint32_t parts = source.parts(t);
+    for (std::uint32_t part = 0; part < parts; ++part) work.push_back({t, part, source.faces(t) / parts, work.size()});
+  }
+  return work;
+}
+
+// `work` dealt to `parts` processes: the largest first (ties in the list's order), each
+// to the process with the fewest face records so far (ties to the lower number).
+// Returns each work's process. It follows from the counts alone.
+std::vector<std::uint32_t> deal_work(std::vector<TileWork> work, std::uint32_t parts) {
+  std::stable_sort(work.begin(), work.end(), [](const TileWork& a, const TileWork& b) { return a.faces > b.faces; });
+  std::vector<std::uint64_t> load(parts, 0);
+  std::vector<std::uint32_t> owner(work.size(), 0);
+  for (const TileWork& w : work) {
+    const auto least = std::uint32_t(std::min_element(load.begin(), load.end()) - load.begin());
+    owner[w.slot] = least;
+    load[least] += std::max<std::uint64_t>(w.faces, 1);
+  }
+  return owner;
+}
+
 // Steps 3 and 4: every tile collapsed up to settings.max_error and binned for the
 // next pass.
 //
@@ -420,12 +450,16 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
 // past the target (costs near zero, ties everywhere), which of its collapses go is
 // for the last collapse, in strict order, to say. The shares sum to the target, so
 // no pass takes the mesh below it.
+//
+// Only `mine` of the work runs here (deal_work); each tile goes to `next`.
 void run_pass(const PassSource& source, const CollapseSettings& settings, double share, TileMemoryGate& gate,
-              PassBins* next, CollapseStats* stats, ProgressPhase* progress) {
-  std::vector<TileWork> work;
-  for (std::uint32_t t : source.order) {
-    const std::uint32_t parts = source.parts(t);
-    for (std::uint32_t part = 0; part < parts; ++part) work.push_back({t, part, source.faces(t) / parts, work.size()});
+              const TileOutputSink& next, CollapseStats* stats, ProgressPhase* progress,
+              const WorkShare& mine = WorkShare()) {
+  std::vector<TileWork> work = pass_work(source);
+  if (mine.parts > 1) {
+    const std::vector<std::uint32_t> owner = deal_work(work, mine.parts);
+    work.erase(std::remove_if(work.begin(), work.end(), [&](const TileWork& w) { return owner[w.slot] != mine.part; }),
+               work.end());
   }
   std::mutex mutex;
   for_each_largest_first(work, [&](const TileWork& w) {
@@ -434,7 +468,7 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
       CollapseSettings s = settings;
       s.target_triangles = tile_floor(tile, faces_given(tile), share);
       TileOutput out = collapse_pass_tile(tile, s);
-      next->add(out);
+      next(out);
       std::lock_guard<std::mutex> lock(mutex);
       stats->collapses += out.stats.collapses;
       stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
@@ -592,6 +626,64 @@ class PassRun {
   QuadricMesh run() {
     check_last_collapse_fits();
     bin_input();
+    return passes();
+  }
+
+  // Part `mine` of the first pass of a distributed run: the input binned and the
+  // threshold chosen as one process does, then the part's share of the tiles
+  // collapsed into `out`, one call at a time.
+  FirstPassPlan first_pass_part(const WorkShare& mine, const TileOutputSink& out) {
+    check_last_collapse_fits();
+    bin_input();
+    if (!(faces_ > final_faces_)) throw std::logic_error("first_pass_part: no pass runs");
+    choose_threshold();
+    std::mutex mutex;
+    run_pass(
+        source_, settings_, share(), *gate_,
+        [&](const TileOutput& tile) {
+          std::lock_guard<std::mutex> lock(mutex);
+          out(tile);
+        },
+        &collapse_stats_, &progress_, mine);
+    FirstPassPlan plan;
+    plan.input_triangles = binned_.triangle_count;
+    plan.skipped = binned_.skipped;
+    plan.tiles = source_.order.size();
+    plan.side = side_;
+    plan.threshold = threshold_;
+    plan.collapses = collapse_stats_.collapses;
+    plan.largest_cost = collapse_stats_.largest_cost;
+    plan.largest_error = collapse_stats_.largest_error;
+    return plan;
+  }
+
+  // The passes after a first pass that the parts of a distributed run did: the state
+  // one process has after its first pass, from their plan and tiles.
+  QuadricMesh after_first_pass(const FirstPassPlan& plan, const TileOutputSource& tiles) {
+    check_last_collapse_fits();
+    side_ = plan.side;
+    faces_ = double(plan.input_triangles);
+    stats_->input_triangles = plan.input_triangles;
+    stats_->skipped = plan.skipped;
+    const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
+    spill_ = spill_settings(input_, tiling, sizeof(PassVertex), 0, work_share());
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share);
+    threshold_ = plan.threshold;
+    settings_.max_cost = threshold_;
+    collapse_stats_.collapses = plan.collapses;
+    collapse_stats_.largest_cost = plan.largest_cost;
+    collapse_stats_.largest_error = plan.largest_error;
+    start_next_bins(double(plan.tiles));
+    tiles([this](const TileOutput& out) { next_->add(out); });
+    ++passes_;
+    take_next_tiles();
+    return passes();
+  }
+
+ private:
+  // The passes from the present one until the remainder is small enough, then that
+  // remainder whole.
+  QuadricMesh passes() {
     while (faces_ > final_faces_ && passes_ < kMaxPasses && !held_) {
       choose_threshold();
       collapse_tiles();
@@ -606,7 +698,6 @@ class PassRun {
     return gather(*bins_, attributes_, settings_.locked_ids);
   }
 
- private:
   // The last collapse holds the remainder whole: refused up front when it cannot.
   void check_last_collapse_fits() const {
     const MemoryBudget memory(budget_, options_.budget_counts_process);
@@ -674,20 +765,27 @@ class PassRun {
     // Progress counts the face records the tiles read, pass after pass.
     for (std::uint32_t t : source_.order) progress_total_ += source_.faces(t);
     progress_.set_total(progress_total_);
-    const double aim = std::min(1.0, kAimShare * double(target_) / faces_);
-    next_tiling_ = pass_tiling(passes_ + 1, side_, faces_, kExpectedShare * aim * faces_);
-    // About as many tiles as this pass's, fewer by the square of the sides' ratio.
-    const double ratio = side_ / next_tiling_.side;
-    const double tiles = std::max(1.0, double(source_.order.size()) * ratio * ratio);
-    const std::size_t record = sizeof(PassFace) + vertex_record_bytes(attributes_);
-    const std::size_t buffer =
-        std::clamp(std::size_t(double(budget_ / 16) / (tiles * double(record))), kLeastBinRecords, kMostBinRecords);
-    next_ = std::make_unique<PassBins>(spill_.dir, next_tiling_, attributes_, spill_.allow.buckets * 3, buffer);
-    run_pass(source_, settings_, share(), *gate_, next_.get(), &collapse_stats_, &progress_);
+    start_next_bins(double(source_.order.size()));
+    run_pass(
+        source_, settings_, share(), *gate_, [this](const TileOutput& out) { next_->add(out); }, &collapse_stats_,
+        &progress_);
     ++passes_;
     // The tiles' buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
     if (options_.release_memory) options_.release_memory();
+  }
+
+  // The next pass's tiles, to bin this pass's `tiles` tiles into.
+  void start_next_bins(double tiles_now) {
+    const double aim = std::min(1.0, kAimShare * double(target_) / faces_);
+    next_tiling_ = pass_tiling(passes_ + 1, side_, faces_, kExpectedShare * aim * faces_);
+    // About as many tiles as this pass's, fewer by the square of the sides' ratio.
+    const double ratio = side_ / next_tiling_.side;
+    const double tiles = std::max(1.0, tiles_now * ratio * ratio);
+    const std::size_t record = sizeof(PassFace) + vertex_record_bytes(attributes_);
+    const std::size_t buffer =
+        std::clamp(std::size_t(double(budget_ / 16) / (tiles * double(record))), kLeastBinRecords, kMostBinRecords);
+    next_ = std::make_unique<PassBins>(spill_.dir, next_tiling_, attributes_, spill_.allow.buckets * 3, buffer);
   }
 
   // The next pass reads what this one binned, in blocks of tiles chosen from its counts.
@@ -753,6 +851,21 @@ QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, c
   QuadricMesh rest = PassRun(input, options, origin, target, sizes, stats).run();
   // The passes' bins and buffers, freed on several threads, go back before the last
   // collapse.
+  if (options.release_memory) options.release_memory();
+  return rest;
+}
+
+FirstPassPlan first_pass_part(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
+                              std::uint64_t target, std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
+                              const PassSizes& sizes) {
+  SimplifyStats stats;
+  return PassRun(input, options, origin, target, sizes, &stats).first_pass_part({part, parts}, out);
+}
+
+QuadricMesh reduce_after_first_pass(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
+                                    std::uint64_t target, const FirstPassPlan& plan, const TileOutputSource& tiles,
+                                    SimplifyStats* stats, const PassSizes& sizes) {
+  QuadricMesh rest = PassRun(input, options, origin, target, sizes, stats).after_first_pass(plan, tiles);
   if (options.release_memory) options.release_memory();
   return rest;
 }

@@ -5,11 +5,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 #include "refine/edge_collapse.hpp"
+#include "refine/pass_tile.hpp"
 
 namespace oocsimp {
 
@@ -41,5 +43,51 @@ bool collapses_in_passes(std::uint64_t faces, std::uint64_t target, const PassSi
 /// cannot hold a tile or the last collapse.
 QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
                              std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes = {});
+
+// The first pass spread over the parts of a distributed run (parts/, docs/cluster.md).
+// Every part bins the input and takes the pass's threshold from the same sample, as
+// one process would, then collapses only its own share of the tiles; the merge bins
+// every part's tiles for the second pass and goes on as one process does. The tiles,
+// the sample and the threshold follow from the input and the target, and a pass's
+// next tiles read their records sorted, so the output does not depend on the parts.
+
+/// What the first pass decided, the same in every part, and what a part's own tiles
+/// collapsed.
+struct FirstPassPlan {
+  std::uint64_t input_triangles = 0;  ///< the faces binned
+  SkippedFaces skipped;
+  std::uint64_t tiles = 0;  ///< the pass's tiles
+  double side = 0;          ///< their side
+  double threshold = 0;     ///< the pass's collapse cost threshold
+  std::uint64_t collapses = 0;
+  double largest_cost = 0, largest_error = 0;
+};
+
+/// Where a part's tiles go: called from the threads that collapse them, one call at a
+/// time.
+using TileOutputSink = std::function<void(const TileOutput&)>;
+/// Every tile of every part, each handed to the sink, in any order.
+using TileOutputSource = std::function<void(const TileOutputSink&)>;
+
+/// The first pass as the parts did it: their plans combined (the collapses added up)
+/// and their tiles.
+struct FirstPassParts {
+  FirstPassPlan plan;
+  TileOutputSource tiles;
+};
+
+/// Part `part` of `parts` of reduce_in_passes's first pass: the tiles whose work falls
+/// to the part (the work balanced over the parts by face records, largest first),
+/// each collapsed and handed to `out`.
+FirstPassPlan first_pass_part(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
+                              std::uint64_t target, std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
+                              const PassSizes& sizes = {});
+
+/// reduce_in_passes, its first pass done by the parts: `plan` their plan (the
+/// collapses added up) and `tiles` their tiles. The same remainder and stats as
+/// reduce_in_passes.
+QuadricMesh reduce_after_first_pass(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
+                                    std::uint64_t target, const FirstPassPlan& plan, const TileOutputSource& tiles,
+                                    SimplifyStats* stats, const PassSizes& sizes = {});
 
 }  // namespace oocsimp

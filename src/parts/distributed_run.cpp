@@ -2,7 +2,9 @@
 
 #include <dirent.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 
@@ -10,6 +12,16 @@
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
+
+namespace {
+
+std::string hex_double(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+}  // namespace
 
 std::string part_options_text(const SimplifyOptions& options) {
   std::string attributes;
@@ -24,20 +36,30 @@ std::string part_options_text(const SimplifyOptions& options) {
       for (const std::string& n : options.attributes.names) attributes += (attributes.empty() ? "" : ",") + n;
       break;
   }
-  return "method uniform weld " + std::to_string(int(options.weld)) + " precision " +
-         std::to_string(int(options.precision)) + " attributes " + attributes;
+  const TargetOptions& t = options.target;
+  return std::string("method ") + method_name(resolved_method(options)) + " target " + std::to_string(t.triangles) +
+         " ratio " + hex_double(t.ratio) + " max_error " + hex_double(t.max_error) + " weld " +
+         std::to_string(int(options.weld)) + " precision " + std::to_string(int(options.precision)) + " attributes " +
+         attributes;
 }
 
 bool read_part_options(const std::string& text, SimplifyOptions* options) {
   std::istringstream s(text);
-  std::string method_key, method, weld_key, precision_key, attributes_key, attributes;
+  std::string method_key, method, target_key, ratio_key, ratio, error_key, error, weld_key, precision_key,
+      attributes_key, attributes;
+  std::uint64_t target = 0;
   int weld = -1, precision = -1;
-  s >> method_key >> method >> weld_key >> weld >> precision_key >> precision >> attributes_key >> attributes;
-  if (s.fail() || method_key != "method" || method != "uniform" || weld_key != "weld" || weld < 0 || weld > 1 ||
+  s >> method_key >> method >> target_key >> target >> ratio_key >> ratio >> error_key >> error >> weld_key >> weld >>
+      precision_key >> precision >> attributes_key >> attributes;
+  if (s.fail() || method_key != "method" || (method != "uniform" && method != "qem") || target_key != "target" ||
+      ratio_key != "ratio" || error_key != "max_error" || weld_key != "weld" || weld < 0 || weld > 1 ||
       precision_key != "precision" || precision < 0 || precision > int(Precision::float64) ||
       attributes_key != "attributes")
     return false;
-  options->method = ClusterMethod::uniform;
+  options->method = method == "qem" ? ClusterMethod::qem : ClusterMethod::uniform;
+  options->target.triangles = target;
+  options->target.ratio = std::strtod(ratio.c_str(), nullptr);
+  options->target.max_error = std::strtod(error.c_str(), nullptr);
   options->weld = weld == 1;
   options->precision = Precision(precision);
   options->attributes = parse_attribute_selection(attributes);
@@ -45,11 +67,16 @@ bool read_part_options(const std::string& text, SimplifyOptions* options) {
 }
 
 void check_part_options(const SimplifyOptions& options) {
-  if (resolved_method(options) != ClusterMethod::uniform)
-    throw UsageError("options.method", std::string("a distributed run (options.part) takes options.method uniform; ") +
-                                           "the other methods run in one process for now");
-  if (options.target.given())
-    throw UsageError("options.target", "a distributed run (options.part) takes no target yet");
+  const ClusterMethod method = resolved_method(options);
+  if (method != ClusterMethod::uniform && method != ClusterMethod::qem)
+    throw UsageError("options.method",
+                     std::string("a distributed run (options.part) takes options.method uniform, or qem (the default "
+                                 "with a target); ") +
+                         method_name(method) + " runs in one process for now");
+  if (method == ClusterMethod::uniform && options.target.given())
+    throw UsageError("options.target",
+                     "a distributed run (options.part) takes a target with options.method qem (the default with a "
+                     "target), not after uniform clustering");
   if (options.thick_edges)
     throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
   if (!options.locked_vertices.empty())
@@ -76,6 +103,21 @@ void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const Pa
   if (stats) {
     stats->input_triangles = triangles;  // the part's own
     stats->skipped = input.triangles->skipped();
+  }
+}
+
+void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                  const std::string& dir, SimplifyStats* stats) {
+  PartWriter writer(dir, manifest);
+  FirstPassPlan plan;
+  const bool spread = simplify_to_target_part(
+      input, options, manifest.part, manifest.parts, [&](const TileOutput& tile) { writer.tile(tile); }, &plan);
+  if (spread) writer.plan(plan);
+  writer.commit(0, 0, plan.skipped);
+  if (stats) {
+    stats->input_triangles = plan.input_triangles;
+    stats->skipped = plan.skipped;
+    stats->refine.collapses = plan.collapses;  // the part's own
   }
 }
 
@@ -149,6 +191,34 @@ PartSet::PartSet(const std::string& dir) : dir_(dir) {
   const PartManifest& m = manifest();
   if (input_key(m.input) != m.key)
     throw InputError(m.input + ": the input changed since the parts read it: run them again, then merge");
+}
+
+bool PartSet::has_first_pass() const { return parts_[0]->has_plan(); }
+
+FirstPassParts PartSet::first_pass() const {
+  FirstPassParts out;
+  FirstPassPlan& sum = out.plan;
+  for (const std::unique_ptr<PartReader>& part : parts_) {
+    if (!part->has_plan())
+      throw InputError(part->path() + ": stale: it holds no first pass of the collapse, where " + parts_[0]->path() +
+                       " does: run the part again, then merge");
+    const FirstPassPlan p = part->plan();
+    if (&part == &parts_[0]) {
+      sum = p;
+      continue;
+    }
+    if (p.input_triangles != sum.input_triangles || p.tiles != sum.tiles || p.side != sum.side ||
+        p.threshold != sum.threshold || p.skipped.total() != sum.skipped.total())
+      throw InputError(part->path() + ": stale: its first pass was planned otherwise than " + parts_[0]->path() +
+                       "'s (another build?): run the part again, then merge");
+    sum.collapses += p.collapses;
+    sum.largest_cost = std::max(sum.largest_cost, p.largest_cost);
+    sum.largest_error = std::max(sum.largest_error, p.largest_error);
+  }
+  out.tiles = [this](const TileOutputSink& sink) {
+    for (const std::unique_ptr<PartReader>& part : parts_) part->tiles(sink);
+  };
+  return out;
 }
 
 UniformChunkSource PartSet::chunks() const {

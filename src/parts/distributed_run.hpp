@@ -1,6 +1,7 @@
 // A run spread over parts (docs/cluster.md): part I of K sums the chunks it owns into
 // its part file; the merge checks that every part is there, whole and from the same
-// run, and finishes the run from them. The uniform grid for now.
+// run, and finishes the run from them: the uniform grid, and the edge collapse to a
+// target (its first out-of-core pass spread).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/multiphase.hpp"
 #include "methods/uniform_clusterer.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
@@ -34,6 +36,12 @@ void check_part_options(const SimplifyOptions& options);
 void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
                       const std::string& dir, SimplifyStats* stats);
 
+/// The same for a run to a target with options.method qem (the default with a
+/// target): the part's share of the first out-of-core pass (simplify_to_target_part),
+/// or nothing but its manifest when the run has no such pass.
+void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                  const std::string& dir, SimplifyStats* stats);
+
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part
 /// number, and the input unchanged since. Throws InputError (exit 3) naming the
@@ -44,6 +52,11 @@ class PartSet {
   const PartManifest& manifest() const { return parts_[0]->manifest(); }
   /// Chunk j of each pass from the part that holds it.
   UniformChunkSource chunks() const;
+  /// Whether the parts hold the first pass of an edge collapse; then their plans,
+  /// checked to agree, combined, and their tiles. Throws InputError naming a part
+  /// whose plan differs.
+  bool has_first_pass() const;
+  FirstPassParts first_pass() const;
 
  private:
   std::string dir_;

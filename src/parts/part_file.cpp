@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 #include "io/content_hash.hpp"
 #include "io/error_text.hpp"
@@ -19,11 +20,14 @@ namespace oocsimp {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'O', 'C', 'S', 'P', 'A', 'R', 'T'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8;  // magic, version, part, parts, manifest bytes
 // A record: its kind (1 byte), the chunk (8) and the payload bytes (8), then the payload.
-enum RecordKind : std::uint8_t { kEnd = 0, kVertices = 1, kFaces = 2 };
+enum RecordKind : std::uint8_t { kEnd = 0, kVertices = 1, kFaces = 2, kTile = 3, kPlan = 4 };
 constexpr std::uint64_t kSampleBytes = 1 << 20;
+static_assert(std::is_trivially_copyable<PassFace>::value && std::is_trivially_copyable<PassVertex>::value &&
+                  std::is_trivially_copyable<FirstPassPlan>::value,
+              "a tile's records are written as they are in memory");
 
 std::string hex_double(double v) {
   char buf[64];
@@ -171,6 +175,20 @@ void PartWriter::faces(std::uint64_t chunk, const FaceChunkSums& sums) {
   put_record(kFaces, chunk, payload);
 }
 
+void PartWriter::tile(const TileOutput& tile) {
+  std::vector<unsigned char> payload;
+  append_array(&payload, tile.faces);
+  append_array(&payload, tile.owned);
+  append_array(&payload, tile.attributes);
+  put_record(kTile, tiles_++, payload);
+}
+
+void PartWriter::plan(const FirstPassPlan& plan) {
+  std::vector<unsigned char> payload;
+  append(&payload, plan);
+  put_record(kPlan, 0, payload);
+}
+
 void PartWriter::put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload) {
   std::vector<unsigned char> head;
   append(&head, kind);
@@ -298,6 +316,16 @@ PartReader::PartReader(const std::string& path) : path_(path) {
     }
     const auto chunk = c.get<std::uint64_t>();
     const auto bytes = c.get<std::uint64_t>();
+    if (kind == kTile || kind == kPlan) {
+      if (kind == kTile ? chunk != tile_at_.size() : (plan_at_ != 0 || chunk != 0 || bytes != sizeof(FirstPassPlan)))
+        throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
+      if (kind == kTile)
+        tile_at_.push_back(c.at());
+      else
+        plan_at_ = c.at();
+      c.skip(bytes);
+      continue;
+    }
     std::vector<std::uint64_t>& at = kind == kVertices ? vertex_at_ : face_at_;
     if ((kind != kVertices && kind != kFaces) || chunk != manifest_.part + at.size() * manifest_.parts)
       throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
@@ -334,6 +362,22 @@ void PartReader::faces(std::uint64_t chunk, FaceChunkSums* out) const {
   c.array(n, &out->quadrics);
   c.array(c.get<std::uint64_t>(), &out->kept);
   c.array(c.get<std::uint64_t>(), &out->attribute_sums);
+}
+
+FirstPassPlan PartReader::plan() const {
+  PartCursor c(path_, map_->data(), map_->size() - 8, plan_at_);
+  return c.get<FirstPassPlan>();
+}
+
+void PartReader::tiles(const TileOutputSink& sink) const {
+  TileOutput tile;
+  for (std::uint64_t at : tile_at_) {
+    PartCursor c(path_, map_->data(), map_->size() - 8, at);
+    c.array(c.get<std::uint64_t>(), &tile.faces);
+    c.array(c.get<std::uint64_t>(), &tile.owned);
+    c.array(c.get<std::uint64_t>(), &tile.attributes);
+    sink(tile);
+  }
 }
 
 }  // namespace oocsimp

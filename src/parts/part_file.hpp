@@ -1,16 +1,20 @@
 // The file a part of a distributed run leaves in the work folder: what it was run on
-// and with, and the chunk sums it owns, for `oocsimp merge` to finish the run
-// (docs/cluster.md). Format, version 1, little-endian:
+// and with, and what it owns of the run's work, for `oocsimp merge` to finish the
+// run (docs/cluster.md): the uniform grid's chunk sums, or the edge collapse's first
+// pass. Format, version 2, little-endian:
 //
 //   "OOCSPART" u32 version u32 part u32 parts u64 manifest-bytes manifest-text
-//   records: u8 kind (1 vertex chunk, 2 face chunk) u64 chunk u64 payload-bytes payload
+//   records: u8 kind u64 number u64 payload-bytes payload, the kinds
+//            1 vertex chunk, 2 face chunk (numbered by chunk),
+//            3 collapsed tile (numbered 0, 1, 2, ...), 4 the first pass's plan (0)
 //   end:     u8 0 u64 vertex-chunks u64 face-chunks, the skipped faces (3 u64)
 //   u64 XXH64 of every byte before it
 //
 // A vertex chunk's payload is u64 n, n u64 keys, n VertexSum; a face chunk's is u64
 // triangles, u64 n, n u64 keys, n Quadric, u64 m, m u32 kept, u64 a, a double
-// attribute sums (the structs as they are in memory: a part and its merge run the
-// same build).
+// attribute sums. A tile's is u64 n, n PassFace, u64 m, m PassVertex, u64 a, a
+// double attribute values; the plan's a FirstPassPlan. (The structs as they are in
+// memory: a part and its merge run the same build.)
 #pragma once
 
 #include <cstdint>
@@ -22,6 +26,8 @@
 #include "grid/grid_spec.hpp"
 #include "io/mapped_file.hpp"
 #include "io/temp_file.hpp"
+#include "methods/qem_passes.hpp"
+#include "refine/pass_tile.hpp"
 
 namespace oocsimp {
 
@@ -59,6 +65,9 @@ class PartWriter {
   PartWriter(const std::string& dir, const PartManifest& manifest);
   void vertices(std::uint64_t chunk, const VertexChunkSums& sums);
   void faces(std::uint64_t chunk, const FaceChunkSums& sums);
+  /// A tile of the edge collapse's first pass, and the pass's plan (once).
+  void tile(const TileOutput& tile);
+  void plan(const FirstPassPlan& plan);
   /// The end record (the input's chunk counts and skipped faces, which every part
   /// reads) and the checksum, then the rename. Throws IoError.
   void commit(std::uint64_t vertex_chunks, std::uint64_t face_chunks, const SkippedFaces& skipped);
@@ -71,6 +80,7 @@ class PartWriter {
   TempFile file_;
   std::vector<unsigned char> buffer_;
   std::uint64_t written_ = 0;
+  std::uint64_t tiles_ = 0;
 };
 
 /// A part file, mapped and checked: its checksum, its records and its end. Throws
@@ -90,6 +100,11 @@ class PartReader {
   /// The sums of a chunk the part holds.
   void vertices(std::uint64_t chunk, VertexChunkSums* out) const;
   void faces(std::uint64_t chunk, FaceChunkSums* out) const;
+  /// Whether the part holds the first pass of an edge collapse; its plan, and each of
+  /// its tiles handed to `sink`.
+  bool has_plan() const { return plan_at_ != 0; }
+  FirstPassPlan plan() const;
+  void tiles(const TileOutputSink& sink) const;
 
  private:
   std::string path_;
@@ -99,6 +114,8 @@ class PartReader {
   SkippedFaces skipped_;
   // Per chunk the part owns (chunk / parts), the offset of its payload.
   std::vector<std::uint64_t> vertex_at_, face_at_;
+  std::vector<std::uint64_t> tile_at_;  // the payload of each collapsed tile
+  std::uint64_t plan_at_ = 0;           // of the plan, 0 where there is none
 };
 
 }  // namespace oocsimp
