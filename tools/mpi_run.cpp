@@ -1,9 +1,11 @@
 #include "mpi_run.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #ifdef OOCSIMP_WITH_MPI
@@ -50,6 +52,25 @@ std::string broadcast(const std::string& text, int rank) {
   return out;
 }
 
+// Waits for `request` without spinning. MPI's blocking calls poll at full speed, so a
+// rank waiting for rank 0's merge (or for its whole run) would take a core from the
+// ranks at work where they share the machine; 2 ms naps cost nothing next to seconds.
+void wait_idle(MPI_Request* request) {
+  for (;;) {
+    int done = 0;
+    MPI_Test(request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+// Rank 0's `value` on every rank, waited for idly.
+void broadcast_idle(int* value) {
+  MPI_Request request;
+  MPI_Ibcast(value, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
+  wait_idle(&request);
+}
+
 }  // namespace
 
 int run_mpi_job(const MpiJob& job) {
@@ -59,7 +80,7 @@ int run_mpi_job(const MpiJob& job) {
   if (size < 2) return -1;  // one rank: an ordinary run (MPI_Finalize on the way out)
   if (!job.run_part) {
     int result = rank == 0 ? job.whole() : 0;
-    MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    broadcast_idle(&result);
     return result;
   }
   // The shared folder: the one given, or one rank 0 makes under the temp folder.
@@ -88,7 +109,9 @@ int run_mpi_job(const MpiJob& job) {
   }
   // Every rank's status at rank 0, which names the failed ones and merges otherwise.
   std::vector<int> statuses(std::size_t(size), 0);
-  MPI_Gather(&status, 1, MPI_INT, statuses.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Request gathered;
+  MPI_Igather(&status, 1, MPI_INT, statuses.data(), 1, MPI_INT, 0, MPI_COMM_WORLD, &gathered);
+  wait_idle(&gathered);
   int result = 0;
   if (rank == 0) {
     for (int r = 0; r < size; ++r)
@@ -103,7 +126,7 @@ int run_mpi_job(const MpiJob& job) {
       std::filesystem::remove_all(dir, ignored);
     }
   }
-  MPI_Bcast(&result, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  broadcast_idle(&result);
   return result;
 }
 
