@@ -67,7 +67,7 @@ for n in "${sizes[@]}"; do
       mpi="no MPI"
     else
       cmp -s "$dir/one.ply" "$dir/mpi.ply" || { echo "bench-cluster: mpirun output differs" >&2; exit 1; }
-      mpi=$(calc "$t7 - $t6")
+      mpi=$(printf '%.2f' "$(calc "$t7 - $t6")")
     fi
   fi
   one=$(calc "$t1 - $t0")

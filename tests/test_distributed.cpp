@@ -7,8 +7,11 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
+#include "io/content_hash.hpp"
+#include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp_test;
@@ -169,8 +172,40 @@ TEST_CASE("parts of a run to a target give one process's bytes, its first pass s
       const CliResult stale = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")));
       CHECK(stale.exit_code == 3);
       CHECK(stale.err.find("part-1-of-2.oocpart: stale") != std::string::npos);
+      // A part written by another build (its manifest names the records' sizes), its
+      // checksum made whole again: stale too, never merged.
+      const std::string part0 = work.file("part-0-of-2.oocpart");
+      std::string bytes = read_file(part0);
+      const std::size_t at = bytes.find("build oocsimp ");
+      REQUIRE(at != std::string::npos);
+      bytes[bytes.find(" records ", at) + 1] = 'R';
+      const std::uint64_t sum = oocsimp::content_hash(bytes.data(), bytes.size() - 8);
+      std::memcpy(&bytes[bytes.size() - 8], &sum, 8);
+      write_file(part0, bytes);
+      const CliResult other = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")));
+      CHECK(other.exit_code == 3);
+      CHECK(other.err.find("part-0-of-2.oocpart: stale: it was written by another build") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("merge_parts takes only how to run from its caller's options, the rest from the parts", "[distributed]") {
+  ScratchDir d, work;
+  const std::string input = d.file("p.ply");
+  REQUIRE(run_cli("generate --shape parts --tris 30000 --seed 7 --quiet -o " + q(input)).exit_code == 0);
+  oocsimp::SimplifyOptions o;
+  o.target.triangles = 3000;
+  oocsimp::simplify_file(input, d.file("one.ply"), false, o, nullptr);
+  for (std::uint32_t i = 0; i < 2; ++i) oocsimp::simplify_part(input, o, {i, 2, work.path()});
+  // Options a caller might pass along that would change the result: not taken.
+  oocsimp::SimplifyOptions runtime;
+  runtime.lock_boundary = true;
+  runtime.target.triangles = 500;
+  runtime.threads = 1;
+  oocsimp::OutputOptions out;
+  out.mesh = d.file("merged.ply");
+  oocsimp::merge_parts(work.path(), out, runtime);
+  CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
 }
 
 TEST_CASE("a part refuses what a distributed run cannot do yet, naming the option", "[distributed]") {

@@ -690,7 +690,7 @@ int run_simplify_part(const SimplifyArgs& a, const SimplifyPlan& p) {
   SimplifyStats stats;
   simplify_part(a.in, p.options, p.part, &stats);
   const char* work = resolved_method(p.options) == ClusterMethod::qem
-                         ? "input triangles, its share of the first pass collapsed"
+                         ? "input triangles, its share of the collapse's first pass (if the run has one) collapsed"
                          : "input triangles summed";
   if (!a.quiet)
     std::printf("part    %u of %u: %" PRIu64

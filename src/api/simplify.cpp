@@ -577,7 +577,16 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
   output_format(outputs);  // an unwritable name is refused before the parts are read
   const PartSet parts(work_dir);
   const PartManifest& manifest = parts.manifest();
-  SimplifyOptions options = runtime;
+  // The parts' options, with only how this process runs taken from the caller's: any
+  // other option given here (a lock, a sizing) would change the result.
+  SimplifyOptions options;
+  options.memory_budget = runtime.memory_budget;
+  options.budget_counts_process = runtime.budget_counts_process;
+  options.threads = runtime.threads;
+  options.temp_dir = runtime.temp_dir;
+  options.progress = runtime.progress;
+  options.release_memory = runtime.release_memory;
+  options.floating.spill_compression = runtime.floating.spill_compression;
   if (!read_part_options(manifest.options, &options))
     throw InputError(work_dir + "/" + part_file_name(0, manifest.parts) + ": its options are malformed");
   run_to_files(manifest.input, outputs, options, st, [&](MeshInput& input) {
@@ -588,7 +597,8 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
       record_grid(manifest.grid, &st);
       mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
     } else if (parts.has_first_pass()) {
-      mesh = OutputMesh::of(simplify_to_target_after_parts(input, options, parts.first_pass(), &st));
+      mesh = OutputMesh::of(
+          simplify_to_target_after_parts(input, options, parts.first_pass(input.attributes.size()), &st));
     } else {  // the parts found no pass to spread: the run whole
       mesh = OutputMesh::of(simplify_to_target(input, options, &st));
     }

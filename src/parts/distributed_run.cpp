@@ -115,7 +115,8 @@ void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartMa
   if (spread) writer.plan(plan);
   writer.commit(0, 0, plan.skipped);
   if (stats) {
-    stats->input_triangles = plan.input_triangles;
+    // A run with no pass to spread reads the input's count from its header.
+    stats->input_triangles = spread ? plan.input_triangles : input.info.face_count;
     stats->skipped = plan.skipped;
     stats->refine.collapses = plan.collapses;  // the part's own
   }
@@ -180,6 +181,9 @@ PartSet::PartSet(const std::string& dir) : dir_(dir) {
     if (m.part != i || m.parts != count)
       throw InputError(it->second + ": byte 12: it says it is part " + std::to_string(m.part) + " of " +
                        std::to_string(m.parts));
+    if (m.build != part_file_build())
+      throw InputError(it->second + ": stale: it was written by another build (" + m.build + "), not this one (" +
+                       part_file_build() + "): run the part again with the merge's oocsimp");
     const std::string difference = i == 0 ? "" : manifest_difference(parts_[0]->manifest(), m);
     if (!difference.empty())
       throw InputError(it->second + ": stale: " + difference + " (as " + parts_[0]->path() +
@@ -193,15 +197,19 @@ PartSet::PartSet(const std::string& dir) : dir_(dir) {
     throw InputError(m.input + ": the input changed since the parts read it: run them again, then merge");
 }
 
-bool PartSet::has_first_pass() const { return parts_[0]->has_plan(); }
+bool PartSet::has_first_pass() const {
+  for (const std::unique_ptr<PartReader>& part : parts_)
+    if (part->has_plan() != parts_[0]->has_plan())
+      throw InputError(part->path() + ": stale: it " + (part->has_plan() ? "holds" : "holds no") +
+                       " first pass of the collapse, where " + parts_[0]->path() +
+                       (part->has_plan() ? " holds none" : " does") + ": run the part again, then merge");
+  return parts_[0]->has_plan();
+}
 
-FirstPassParts PartSet::first_pass() const {
+FirstPassParts PartSet::first_pass(std::size_t attributes) const {
   FirstPassParts out;
   FirstPassPlan& sum = out.plan;
   for (const std::unique_ptr<PartReader>& part : parts_) {
-    if (!part->has_plan())
-      throw InputError(part->path() + ": stale: it holds no first pass of the collapse, where " + parts_[0]->path() +
-                       " does: run the part again, then merge");
     const FirstPassPlan p = part->plan();
     if (&part == &parts_[0]) {
       sum = p;
@@ -215,8 +223,8 @@ FirstPassParts PartSet::first_pass() const {
     sum.largest_cost = std::max(sum.largest_cost, p.largest_cost);
     sum.largest_error = std::max(sum.largest_error, p.largest_error);
   }
-  out.tiles = [this](const TileOutputSink& sink) {
-    for (const std::unique_ptr<PartReader>& part : parts_) part->tiles(sink);
+  out.tiles = [this, attributes](const TileOutputSink& sink) {
+    for (const std::unique_ptr<PartReader>& part : parts_) part->tiles(attributes, sink);
   };
   return out;
 }

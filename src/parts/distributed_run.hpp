@@ -52,11 +52,11 @@ class PartSet {
   const PartManifest& manifest() const { return parts_[0]->manifest(); }
   /// Chunk j of each pass from the part that holds it.
   UniformChunkSource chunks() const;
-  /// Whether the parts hold the first pass of an edge collapse; then their plans,
-  /// checked to agree, combined, and their tiles. Throws InputError naming a part
-  /// whose plan differs.
+  /// Whether the parts hold the first pass of an edge collapse (all or none: a part
+  /// that differs is stale); then their plans, checked to agree, combined, and their
+  /// tiles with `attributes` values per vertex. Throws InputError naming the part.
   bool has_first_pass() const;
-  FirstPassParts first_pass() const;
+  FirstPassParts first_pass(std::size_t attributes) const;
 
  private:
   std::string dir_;

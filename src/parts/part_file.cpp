@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -42,6 +43,7 @@ std::string manifest_text(const PartManifest& m) {
   s << "input_mtime_ns " << m.key.mtime_ns << "\n";
   s << "input_sample " << m.key.sample << "\n";
   s << "options " << m.options << "\n";
+  s << "build " << part_file_build() << "\n";
   s << "grid " << hex_double(m.grid.origin.x) << ' ' << hex_double(m.grid.origin.y) << ' '
     << hex_double(m.grid.origin.z) << ' ' << hex_double(m.grid.cell) << ' ' << m.grid.dims[0] << ' ' << m.grid.dims[1]
     << ' ' << m.grid.dims[2] << "\n";
@@ -68,6 +70,8 @@ bool parse_manifest(const std::string& text, PartManifest* m) {
       v >> m->key.sample;
     } else if (key == "options") {
       m->options = value;
+    } else if (key == "build") {
+      m->build = value;
     } else if (key == "grid") {
       std::string x, y, z, c;
       v >> x >> y >> z >> c >> m->grid.dims[0] >> m->grid.dims[1] >> m->grid.dims[2];
@@ -80,7 +84,7 @@ bool parse_manifest(const std::string& text, PartManifest* m) {
     if (v.fail()) return false;
     ++found;
   }
-  return found == 6;
+  return found == 7;
 }
 
 // Resized, then copied: vector::insert of a few bytes draws a false
@@ -133,6 +137,16 @@ InputKey input_key(const std::string& path) {
   ::close(fd);
   key.sample = hash.digest();
   return key;
+}
+
+#ifndef OOCSIMP_VERSION
+#error "OOCSIMP_VERSION comes from the CMake project version"
+#endif
+
+std::string part_file_build() {
+  return std::string("oocsimp ") + OOCSIMP_VERSION + " records " + std::to_string(sizeof(VertexSum)) + " " +
+         std::to_string(sizeof(Quadric)) + " " + std::to_string(sizeof(PassFace)) + " " +
+         std::to_string(sizeof(PassVertex)) + " " + std::to_string(sizeof(FirstPassPlan));
 }
 
 std::string part_file_name(std::uint32_t part, std::uint32_t parts) {
@@ -320,7 +334,7 @@ PartReader::PartReader(const std::string& path) : path_(path) {
       if (kind == kTile ? chunk != tile_at_.size() : (plan_at_ != 0 || chunk != 0 || bytes != sizeof(FirstPassPlan)))
         throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
       if (kind == kTile)
-        tile_at_.push_back(c.at());
+        tile_at_.push_back({c.at(), bytes});
       else
         plan_at_ = c.at();
       c.skip(bytes);
@@ -366,16 +380,27 @@ void PartReader::faces(std::uint64_t chunk, FaceChunkSums* out) const {
 
 FirstPassPlan PartReader::plan() const {
   PartCursor c(path_, map_->data(), map_->size() - 8, plan_at_);
-  return c.get<FirstPassPlan>();
+  const FirstPassPlan plan = c.get<FirstPassPlan>();
+  if (!(plan.side > 0 && std::isfinite(plan.side)) || !(plan.threshold >= 0 && std::isfinite(plan.threshold)) ||
+      plan.tiles == 0)
+    c.fail("the first pass's plan is malformed");
+  return plan;
 }
 
-void PartReader::tiles(const TileOutputSink& sink) const {
+void PartReader::tiles(std::size_t attributes, const TileOutputSink& sink) const {
   TileOutput tile;
-  for (std::uint64_t at : tile_at_) {
-    PartCursor c(path_, map_->data(), map_->size() - 8, at);
+  auto finite = [](const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
+  for (const RecordPlace& r : tile_at_) {
+    PartCursor c(path_, map_->data(), r.at + r.bytes, r.at);
     c.array(c.get<std::uint64_t>(), &tile.faces);
     c.array(c.get<std::uint64_t>(), &tile.owned);
     c.array(c.get<std::uint64_t>(), &tile.attributes);
+    if (c.at() != r.at + r.bytes || tile.attributes.size() != tile.owned.size() * attributes)
+      c.fail("a collapsed tile's record does not hold what it says (another build of oocsimp?)");
+    for (const PassFace& f : tile.faces)
+      if (!finite(f.p[0]) || !finite(f.p[1]) || !finite(f.p[2])) c.fail("a collapsed tile holds a position not finite");
+    for (const PassVertex& v : tile.owned)
+      if (!finite(v.position)) c.fail("a collapsed tile holds a position not finite");
     sink(tile);
   }
 }

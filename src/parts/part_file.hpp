@@ -52,7 +52,13 @@ struct PartManifest {
   InputKey key;         ///< of the input when the part read it
   std::string options;  ///< the options that shape the output, as text (part_options_text)
   GridSpec grid;        ///< the grid the part chose
+  /// The build that wrote the part: its version and the sizes of the records it
+  /// writes as they are in memory (part_file_build()). Set by PartWriter.
+  std::string build;
 };
+
+/// This build, as a part file's manifest records it.
+std::string part_file_build();
 
 /// "part-I-of-K.oocpart".
 std::string part_file_name(std::uint32_t part, std::uint32_t parts);
@@ -101,10 +107,11 @@ class PartReader {
   void vertices(std::uint64_t chunk, VertexChunkSums* out) const;
   void faces(std::uint64_t chunk, FaceChunkSums* out) const;
   /// Whether the part holds the first pass of an edge collapse; its plan, and each of
-  /// its tiles handed to `sink`.
+  /// its tiles, with `attributes` values per vertex, handed to `sink`. Throws
+  /// InputError naming the byte of a record that is malformed.
   bool has_plan() const { return plan_at_ != 0; }
   FirstPassPlan plan() const;
-  void tiles(const TileOutputSink& sink) const;
+  void tiles(std::size_t attributes, const TileOutputSink& sink) const;
 
  private:
   std::string path_;
@@ -114,8 +121,11 @@ class PartReader {
   SkippedFaces skipped_;
   // Per chunk the part owns (chunk / parts), the offset of its payload.
   std::vector<std::uint64_t> vertex_at_, face_at_;
-  std::vector<std::uint64_t> tile_at_;  // the payload of each collapsed tile
-  std::uint64_t plan_at_ = 0;           // of the plan, 0 where there is none
+  struct RecordPlace {
+    std::uint64_t at = 0, bytes = 0;  // its payload
+  };
+  std::vector<RecordPlace> tile_at_;  // each collapsed tile's
+  std::uint64_t plan_at_ = 0;         // the plan's payload, 0 where there is none
 };
 
 }  // namespace oocsimp
