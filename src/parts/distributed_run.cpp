@@ -13,16 +13,6 @@
 
 namespace oocsimp {
 
-namespace {
-
-std::string hex_double(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", v);
-  return buf;
-}
-
-}  // namespace
-
 std::string part_options_text(const SimplifyOptions& options) {
   std::string attributes;
   switch (options.attributes.mode) {
@@ -38,7 +28,7 @@ std::string part_options_text(const SimplifyOptions& options) {
   }
   const TargetOptions& t = options.target;
   return std::string("method ") + method_name(resolved_method(options)) + " target " + std::to_string(t.triangles) +
-         " ratio " + hex_double(t.ratio) + " max_error " + hex_double(t.max_error) + " weld " +
+         " ratio " + part_hex_double(t.ratio) + " max_error " + part_hex_double(t.max_error) + " weld " +
          std::to_string(int(options.weld)) + " precision " + std::to_string(int(options.precision)) + " attributes " +
          attributes;
 }

@@ -30,12 +30,6 @@ static_assert(std::is_trivially_copyable<PassFace>::value && std::is_trivially_c
                   std::is_trivially_copyable<FirstPassPlan>::value,
               "a tile's records are written as they are in memory");
 
-std::string hex_double(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%a", v);
-  return buf;
-}
-
 std::string manifest_text(const PartManifest& m) {
   std::ostringstream s;
   s << "input " << m.input << "\n";
@@ -44,9 +38,9 @@ std::string manifest_text(const PartManifest& m) {
   s << "input_sample " << m.key.sample << "\n";
   s << "options " << m.options << "\n";
   s << "build " << part_file_build() << "\n";
-  s << "grid " << hex_double(m.grid.origin.x) << ' ' << hex_double(m.grid.origin.y) << ' '
-    << hex_double(m.grid.origin.z) << ' ' << hex_double(m.grid.cell) << ' ' << m.grid.dims[0] << ' ' << m.grid.dims[1]
-    << ' ' << m.grid.dims[2] << "\n";
+  s << "grid " << part_hex_double(m.grid.origin.x) << ' ' << part_hex_double(m.grid.origin.y) << ' '
+    << part_hex_double(m.grid.origin.z) << ' ' << part_hex_double(m.grid.cell) << ' ' << m.grid.dims[0] << ' '
+    << m.grid.dims[1] << ' ' << m.grid.dims[2] << "\n";
   return s.str();
 }
 
@@ -142,6 +136,12 @@ InputKey input_key(const std::string& path) {
 #ifndef OOCSIMP_VERSION
 #error "OOCSIMP_VERSION comes from the CMake project version"
 #endif
+
+std::string part_hex_double(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
 
 std::string part_file_build() {
   return std::string("oocsimp ") + OOCSIMP_VERSION + " records " + std::to_string(sizeof(VertexSum)) + " " +

@@ -57,6 +57,9 @@ struct PartManifest {
   std::string build;
 };
 
+/// `v` exactly, as a manifest writes numbers (C's %a).
+std::string part_hex_double(double v);
+
 /// This build, as a part file's manifest records it.
 std::string part_file_build();
 
