@@ -7,8 +7,14 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <condition_variable>
 #include <cstring>
+#include <map>
+#include <mutex>
+#include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "io/content_hash.hpp"
 #include "oocsimp/oocsimp.hpp"
@@ -124,7 +130,7 @@ TEST_CASE("merge names a missing, killed, damaged or stale part and a changed in
   write_file(part_file(2), other_version);
   r = run_cli(merge);
   CHECK(r.exit_code == 3);
-  CHECK(r.err.find("version 9; this oocsimp reads version 2") != std::string::npos);
+  CHECK(r.err.find("version 9; this oocsimp reads version 3") != std::string::npos);
   write_file(part_file(2), kept);
   REQUIRE(run_cli(merge).exit_code == 0);
   CHECK(read_file(out) == read_file(d.file("one.ply")));
@@ -189,6 +195,128 @@ TEST_CASE("parts of a run to a target give one process's bytes, its first pass s
   }
 }
 
+TEST_CASE("floating parts merged give one process's bytes for 1 to 4 parts, any threads and cell options",
+          "[distributed]") {
+  ScratchDir d;
+  const std::string input = d.file("t.ply");
+  REQUIRE(run_cli("generate --shape terrain --tris 120000 --seed 8 --attributes --quiet -o " + q(input)).exit_code ==
+          0);
+  for (const char* options : {"--grid 70", "--grid 40 --cell-shape sphere --assign heaviest --rep mean --tile 0.2"}) {
+    const std::string o = std::string("--method floating ") + options;
+    REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + o).exit_code == 0);
+    for (int parts = 1; parts <= 4; ++parts) {
+      ScratchDir work;
+      for (int part = 0; part < parts; ++part) {
+        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
+                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
+                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + o);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+      }
+      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      INFO(options << ", " << parts << " parts: " << r.err);
+      REQUIRE(r.exit_code == 0);
+      CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+    }
+  }
+  // A part that tiled the input otherwise (another --tile, or another --mem) is stale.
+  ScratchDir work;
+  for (const char* part : {"0/2 --tile 0.1", "1/2 --tile 0.2"})
+    REQUIRE(run_cli("simplify " + q(input) + " -o unused.ply --quiet --method floating --grid 70 --work-dir " +
+                    q(work.path()) + " --part " + part)
+                .exit_code == 0);
+  const CliResult stale = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")));
+  CHECK(stale.exit_code == 3);
+  CHECK(stale.err.find("part-1-of-2.oocpart: stale: it tiled the input otherwise") != std::string::npos);
+}
+
+namespace {
+
+// Parts run as threads of one process, exchanging as MPI ranks do
+// (PartOptions::exchange): each all_gather waits for every part's bytes.
+class ThreadExchange {
+ public:
+  explicit ThreadExchange(std::size_t parts) : lists_(parts) {}
+  std::vector<std::vector<unsigned char>> all_gather(std::size_t part, const std::vector<unsigned char>& mine) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (failed_) throw std::runtime_error("another part failed");
+    const std::uint64_t round = round_;
+    lists_[part] = mine;
+    exchanged_ += mine.size();
+    if (++arrived_ == lists_.size()) {
+      result_ = lists_;
+      arrived_ = 0;
+      ++round_;
+      changed_.notify_all();
+    } else {
+      changed_.wait(lock, [&] { return round_ != round || failed_; });
+      if (round_ == round) throw std::runtime_error("another part failed");
+    }
+    ++rounds_[part];
+    return result_;
+  }
+  void fail() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    failed_ = true;
+    changed_.notify_all();
+  }
+  std::uint64_t rounds(std::size_t part) { return rounds_[part]; }
+  std::uint64_t bytes() const { return exchanged_; }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<std::vector<unsigned char>> lists_, result_;
+  std::size_t arrived_ = 0;
+  std::uint64_t round_ = 0, exchanged_ = 0;
+  std::map<std::size_t, std::uint64_t> rounds_;
+  bool failed_ = false;
+};
+
+}  // namespace
+
+TEST_CASE("floating parts that exchange borders while they run give one process's bytes", "[distributed]") {
+  ScratchDir d;
+  const std::string input = d.file("p.ply");
+  REQUIRE(run_cli("generate --shape parts --tris 150000 --seed 9 --attributes --quiet -o " + q(input)).exit_code == 0);
+  oocsimp::SimplifyOptions o;
+  o.method = oocsimp::ClusterMethod::floating;
+  o.sizing.grid = 90;
+  o.floating.tile_side = 0.15;  // many tiles, so that borders cross parts everywhere
+  o.threads = 1;
+  oocsimp::simplify_file(input, d.file("one.ply"), false, o, nullptr);
+  for (std::uint32_t parts = 2; parts <= 4; ++parts) {
+    ScratchDir work;
+    ThreadExchange exchange(parts);
+    std::vector<std::thread> threads;
+    std::vector<std::string> errors(parts);
+    for (std::uint32_t i = 0; i < parts; ++i)
+      threads.emplace_back([&, i] {
+        oocsimp::PartOptions part{i, parts, work.path()};
+        part.exchange = [&exchange, i](const std::vector<unsigned char>& mine) { return exchange.all_gather(i, mine); };
+        try {
+          oocsimp::simplify_part(input, o, part);
+        } catch (const std::exception& e) {
+          errors[i] = e.what();
+          exchange.fail();
+        }
+      });
+    for (std::thread& t : threads) t.join();
+    for (const std::string& e : errors) REQUIRE(e.empty());
+    // The tiling's check, the borders after grading, and at least one sweep of 8
+    // colour classes: every part met the others at each.
+    for (std::uint32_t i = 0; i < parts; ++i) CHECK(exchange.rounds(i) >= 2 + 8);
+    CHECK(exchange.bytes() > 0);
+    oocsimp::SimplifyOptions runtime;
+    runtime.threads = 2;
+    oocsimp::OutputOptions out;
+    out.mesh = d.file("merged.ply");
+    oocsimp::merge_parts(work.path(), out, runtime);
+    INFO(parts << " parts");
+    CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+  }
+}
+
 TEST_CASE("merge_parts takes only how to run from its caller's options, the rest from the parts", "[distributed]") {
   ScratchDir d, work;
   const std::string input = d.file("p.ply");
@@ -217,7 +345,8 @@ TEST_CASE("a part refuses what a distributed run cannot do yet, naming the optio
     const char* args;
     const char* says;
   };
-  for (const Case& c : {Case{" --part 0/2 --method floating", "takes --method uniform"},
+  for (const Case& c : {Case{" --part 0/2 --method curvature", "takes --method uniform, floating"},
+                        Case{" --part 0/2 --method floating --target-tris 100", "not after floating clustering"},
                         Case{" --part 0/2 --method uniform --target-tris 100", "not after uniform clustering"},
                         Case{" --part 0/2 --target-tris 100 --lock-boundary", "boundary"},
                         Case{" --part 0/2 --method uniform --thick-edges", "thick edges"},
@@ -272,7 +401,7 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
   ScratchDir d, tmp;
   const std::string input = d.file("terrain.ply");
   REQUIRE(run_cli("generate --shape terrain --tris 200000 --attributes --quiet -o " + q(input)).exit_code == 0);
-  for (const char* method : {"uniform --grid 80", "floating --grid 80", "qem --target-tris 3000"}) {
+  for (const char* method : {"uniform --grid 80", "floating --grid 80 --tile 0.1", "qem --target-tris 3000"}) {
     const std::string options =
         std::string(" --quiet --threads 1 --tmp ") + q(tmp.path()) + " --method " + method + " " + q(input) + " -o ";
     REQUIRE(run_cli("simplify" + options + q(d.file("one.ply"))).exit_code == 0);
@@ -281,9 +410,7 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
       INFO(method << ", " << ranks << " ranks: " << r.err);
       REQUIRE(r.exit_code == 0);
       CHECK(read_file(d.file("mpi.ply")) == read_file(d.file("one.ply")));
-      // A method that cannot be spread yet runs whole on rank 0, and says so.
-      if (std::string(method).rfind("floating", 0) == 0 && ranks > 1)
-        CHECK(r.err.find("rank 0 runs the job alone") != std::string::npos);
+      CHECK(r.err.find("rank 0 runs the job alone") == std::string::npos);
     }
     CHECK(tmp.entries().empty());  // the ranks' work folder is gone
   }
@@ -301,6 +428,31 @@ TEST_CASE("under mpirun a failing rank is named and no output is written", "[dis
   CHECK(r.exit_code == 4);
   for (const char* rank : {"rank 0 of 3 failed", "rank 1 of 3 failed", "rank 2 of 3 failed"})
     CHECK(r.err.find(rank) != std::string::npos);
+  CHECK_FALSE(file_exists(d.file("o.ply")));
+}
+
+TEST_CASE("under mpirun a rank that fails while the others exchange borders stops them all", "[distributed][mpi]") {
+  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  ScratchDir d;
+  const std::string input = d.file("s.ply");
+  REQUIRE(run_cli("generate --tris 60000 --quiet -o " + q(input)).exit_code == 0);
+  // Rank 1 alone is given a work folder that does not exist: it fails before it
+  // bins, while ranks 0 and 2 wait to compare their tilings with it.
+  ScratchDir work;
+  const std::string args =
+      "simplify " + q(input) + " -o " + q(d.file("o.ply")) + " --method floating --grid 50 --quiet";
+  const std::string launcher = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe ";
+  const std::string good = std::string(OOCSIMP_CLI) + " " + args + " --work-dir " + q(work.path());
+  const std::string command = launcher + "-n 1 " + good + " : -n 1 " + OOCSIMP_CLI + " " + args + " --work-dir " +
+                              q(d.file("missing")) + " : -n 1 " + good + " 2>" + q(d.file("err"));
+  const int status = std::system(command.c_str());
+  const std::string err = read_file(d.file("err"));
+  INFO(err);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) != 0);
+  CHECK(err.find("rank 1 of 3 failed") != std::string::npos);
+  CHECK(err.find("rank 0 of 3 failed") == std::string::npos);
+  CHECK(err.find("rank 2 of 3 failed") == std::string::npos);
   CHECK_FALSE(file_exists(d.file("o.ply")));
 }
 

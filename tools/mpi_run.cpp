@@ -1,9 +1,11 @@
 #include "mpi_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,12 +57,16 @@ std::string broadcast(const std::string& text, int rank) {
 // Waits for `request` without spinning. MPI's blocking calls poll at full speed, so a
 // rank waiting for rank 0's merge (or for its whole run) would take a core from the
 // ranks at work where they share the machine; 2 ms naps cost nothing next to seconds.
+// The naps grow from 20 us, so that the ranks' short exchanges (a floating run's
+// sweeps meet 8 times a sweep) are not held up by them.
 void wait_idle(MPI_Request* request) {
+  std::chrono::microseconds nap(20);
   for (;;) {
     int done = 0;
     MPI_Test(request, &done, MPI_STATUS_IGNORE);
     if (done) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::this_thread::sleep_for(nap);
+    nap = std::min(2 * nap, std::chrono::microseconds(2000));
   }
 }
 
@@ -70,6 +76,77 @@ void broadcast_idle(int* value) {
   MPI_Ibcast(value, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
   wait_idle(&request);
 }
+
+// The exchange of parts that run at once (PartOptions::exchange): every rank's bytes
+// to every rank, the sizes first (MPI_Iallgather), then the bytes (MPI_Iallgatherv),
+// waited for idly. Every rank makes the same exchanges in the same order, so a rank
+// whose part failed must not leave the others waiting in one: after its part, each
+// rank joins size rounds (finish) with a size that says whether it failed or is
+// done, until every rank says one or the other; a rank at an exchange that meets a
+// failed rank's size stops its part (throws), and comes to finish too.
+class RankExchange {
+ public:
+  std::vector<std::vector<unsigned char>> all_gather(const std::vector<unsigned char>& mine) {
+    const std::vector<unsigned long long> sizes = gather_sizes(mine.size());
+    unsigned long long total = 0;
+    for (std::size_t r = 0; r < sizes.size(); ++r) {
+      if (sizes[r] == kFailed || sizes[r] == kDone) {
+        stopped_ = true;
+        throw std::runtime_error("rank " + std::to_string(r) + " failed; this rank stops too");
+      }
+      total += sizes[r];
+    }
+    if (total > (1ull << 31) - 1)
+      throw std::runtime_error("the ranks' exchange exceeds 2 GiB: give more ranks or a coarser --grid");
+    std::vector<int> counts(sizes.size()), displacements(sizes.size());
+    int at = 0;
+    for (std::size_t r = 0; r < sizes.size(); ++r) {
+      counts[r] = int(sizes[r]);
+      displacements[r] = at;
+      at += counts[r];
+    }
+    std::vector<unsigned char> all(std::size_t(total) + 1);
+    MPI_Request request;
+    MPI_Iallgatherv(mine.data(), int(mine.size()), MPI_BYTE, all.data(), counts.data(), displacements.data(), MPI_BYTE,
+                    MPI_COMM_WORLD, &request);
+    wait_idle(&request);
+    std::vector<std::vector<unsigned char>> out(sizes.size());
+    for (std::size_t r = 0; r < sizes.size(); ++r)
+      out[r].assign(all.begin() + displacements[r], all.begin() + displacements[r] + counts[r]);
+    return out;
+  }
+
+  // After the part, whatever became of it: size rounds until every rank has ended.
+  void finish(bool failed) {
+    for (;;) {
+      const std::vector<unsigned long long> sizes = gather_sizes(failed ? kFailed : kDone);
+      bool all_ended = true;
+      for (unsigned long long s : sizes) all_ended = all_ended && (s == kFailed || s == kDone);
+      if (all_ended) return;
+    }
+  }
+
+  // Whether this rank's part stopped because another's failed (not a failure of its own).
+  bool stopped() const { return stopped_; }
+
+ private:
+  static constexpr unsigned long long kFailed = ~0ull, kDone = ~0ull - 1;
+
+  std::vector<unsigned long long> gather_sizes(unsigned long long mine) {
+    int size = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    std::vector<unsigned long long> sizes(std::size_t(size), 0);
+    MPI_Request request;
+    MPI_Iallgather(&mine, 1, MPI_UNSIGNED_LONG_LONG, sizes.data(), 1, MPI_UNSIGNED_LONG_LONG, MPI_COMM_WORLD, &request);
+    wait_idle(&request);
+    return sizes;
+  }
+
+  bool stopped_ = false;
+};
+
+// A rank's status when its part stopped because another rank's failed.
+constexpr int kStoppedByOtherRank = -2;
 
 }  // namespace
 
@@ -101,11 +178,17 @@ int run_mpi_job(const MpiJob& job) {
     if (dir.empty()) status = 4;
   }
   if (status == 0) {
+    RankExchange exchange;
     oocsimp::PartOptions part;
     part.index = std::uint32_t(rank);
     part.count = std::uint32_t(size);
     part.work_dir = dir;
+    part.exchange = [&exchange](const std::vector<unsigned char>& mine) { return exchange.all_gather(mine); };
     status = job.run_part(part);
+    exchange.finish(status != 0);
+    if (status != 0 && exchange.stopped()) status = kStoppedByOtherRank;
+  } else {
+    RankExchange().finish(true);
   }
   // Every rank's status at rank 0, which names the failed ones and merges otherwise.
   std::vector<int> statuses(std::size_t(size), 0);
@@ -115,7 +198,7 @@ int run_mpi_job(const MpiJob& job) {
   int result = 0;
   if (rank == 0) {
     for (int r = 0; r < size; ++r)
-      if (statuses[std::size_t(r)] != 0) {
+      if (statuses[std::size_t(r)] != 0 && statuses[std::size_t(r)] != kStoppedByOtherRank) {
         std::fprintf(stderr, "oocsimp: rank %d of %d failed (exit %d); no output written\n", r, size,
                      statuses[std::size_t(r)]);
         if (result == 0) result = statuses[std::size_t(r)];

@@ -64,6 +64,11 @@ struct PartOptions {
   std::uint32_t index = 0;  ///< this part, below count
   std::uint32_t count = 1;  ///< the parts of the run, each given the same input and options
   std::string work_dir;     ///< where the part's file goes; the folder merge_parts reads
+  /// Parts that run at once (MPI ranks) may exchange what they decide while they run;
+  /// floating cells then split their grading and border sweeps between the parts
+  /// instead of each part running them whole. Empty for parts that run apart (job
+  /// arrays).
+  PartExchange exchange = nullptr;
 };
 
 /// Throws UsageError naming the option when `options` ask for what a distributed run

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,11 @@ struct TargetOptions {
   double intermediate_factor = 4;
   bool given() const { return triangles != 0 || ratio != 0 || max_error != 0; }
 };
+
+/// What the parts of a distributed run that run at once (MPI ranks) exchange while
+/// they run: every part calls it with its bytes, at the same point of the run, and
+/// gets every part's bytes, by part number. Throws when another part failed.
+using PartExchange = std::function<std::vector<std::vector<unsigned char>>(const std::vector<unsigned char>&)>;
 
 struct SimplifyOptions {
   CellSizing sizing;

@@ -563,7 +563,10 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
     manifest.grid = choose_grid(input, o.sizing, o.threads);
     record_grid(manifest.grid, &st);
     input.restart_triangles();
-    run_uniform_part(input, o, manifest, part.work_dir, &st);
+    if (o.method == ClusterMethod::floating)
+      run_floating_part(input, o, manifest, part.exchange, part.work_dir, &st);
+    else
+      run_uniform_part(input, o, manifest, part.work_dir, &st);
   }
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
@@ -593,7 +596,12 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
     const PeakAnonSampler memory;
     begin_stats(input, options, &st);
     OutputMesh mesh;
-    if (options.method != ClusterMethod::qem) {
+    if (options.method == ClusterMethod::floating) {
+      record_grid(manifest.grid, &st);
+      const FloatingPartPlan plan = parts.floating_plan();
+      mesh = merge_floating_shares(input, options, manifest.grid, plan,
+                                   parts.floating_shares(AttributeLayout(input.attributes)), &st);
+    } else if (options.method != ClusterMethod::qem) {
       record_grid(manifest.grid, &st);
       mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
     } else if (parts.has_first_pass()) {

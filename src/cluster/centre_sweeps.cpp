@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
 
 namespace oocsimp {
 
@@ -21,6 +24,44 @@ bool same_centres(const std::vector<GradedVertex>& a, const std::vector<GradedVe
   for (std::size_t i = 0; i < a.size(); ++i)
     if (a[i].index != b[i].index) return false;
   return true;
+}
+
+// A list of tiles' borders as bytes: per tile, u32 tile, u32 count, its centres.
+using TileBorderList = std::vector<std::pair<std::uint32_t, const std::vector<GradedVertex>*>>;
+std::vector<unsigned char> pack_borders(const TileBorderList& list) {
+  std::size_t bytes = 0;
+  for (const auto& [tile, border] : list) bytes += 2 * sizeof(std::uint32_t) + border->size() * sizeof(GradedVertex);
+  std::vector<unsigned char> out(bytes);
+  unsigned char* at = out.data();
+  for (const auto& [tile, border] : list) {
+    const std::uint32_t head[2] = {tile, std::uint32_t(border->size())};
+    std::memcpy(at, head, sizeof head);
+    at += sizeof head;
+    if (!border->empty()) std::memcpy(at, border->data(), border->size() * sizeof(GradedVertex));
+    at += border->size() * sizeof(GradedVertex);
+  }
+  return out;
+}
+
+// f(tile, border) for each tile of every part's list. Throws std::runtime_error when
+// a list is malformed (a part of another build).
+template <class F>
+void unpack_borders(const std::vector<std::vector<unsigned char>>& lists, std::uint32_t tiles, const F& f) {
+  for (const std::vector<unsigned char>& list : lists) {
+    std::size_t at = 0;
+    while (at < list.size()) {
+      std::uint32_t head[2];
+      if (list.size() - at < sizeof head) throw std::runtime_error("a part sent malformed tile borders");
+      std::memcpy(head, list.data() + at, sizeof head);
+      at += sizeof head;
+      if (head[0] >= tiles || (list.size() - at) / sizeof(GradedVertex) < head[1])
+        throw std::runtime_error("a part sent malformed tile borders");
+      std::vector<GradedVertex> border(head[1]);
+      if (head[1]) std::memcpy(border.data(), list.data() + at, border.size() * sizeof(GradedVertex));
+      at += border.size() * sizeof(GradedVertex);
+      f(head[0], std::move(border));
+    }
+  }
 }
 
 }  // namespace
@@ -60,7 +101,17 @@ std::vector<GradedVertex> BorderDecisions::choose_first(std::uint32_t tile, cons
   return centres;
 }
 
-void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
+void BorderDecisions::gather_borders(const TileShare& share) {
+  TileBorderList mine;
+  for (std::uint32_t t = 0; t < grid_.count(); ++t)
+    if (share.owns(t)) mine.emplace_back(t, &border_[t]);
+  const std::vector<std::vector<unsigned char>> all = share.exchange(pack_borders(mine));
+  unpack_borders(all, grid_.count(), [&](std::uint32_t tile, std::vector<GradedVertex> border) {
+    if (!share.owns(tile)) border_[tile] = std::move(border);
+  });
+}
+
+void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats, const TileShare* share) {
   std::uint32_t n = grid_.count();
   // A tile runs again when the external centres it sees (its neighbours' border
   // centres near it) changed since its last run; rechoose_centres re-decides only
@@ -69,7 +120,10 @@ void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
   // before it just published (Gauss-Seidel rather than Jacobi: a chain of
   // decisions crosses several tiles in one sweep). The order depends only on the
   // tiling, not on the threads, and the end is the unique fixed point whatever
-  // the order (design note).
+  // the order (design note). Parts that run at once each run their own tiles of a
+  // class and exchange the borders that changed before the next class: every part
+  // then holds the same borders and the same stale tiles, as one process would.
+  const bool exchanging = share && share->exchanging();
   std::vector<std::vector<std::uint32_t>> adjacent(n);
   for (std::uint32_t t = 0; t < n; ++t) adjacent[t] = grid_.neighbours(t);
   std::vector<std::vector<GradedVertex>>& ext = ext_;
@@ -92,6 +146,7 @@ void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
       std::vector<std::vector<GradedVertex>> next_border(dirty.size());
       tbb::parallel_for(std::size_t(0), dirty.size(), [&](std::size_t i) {
         std::uint32_t tile = dirty[i];
+        if (exchanging && !share->owns(tile)) return;
         std::vector<GradedVertex> next_ext = external_centres(grid_, tile, border_, half_);
         if (same_centres(next_ext, ext[tile])) return;
         ++reran;
@@ -102,14 +157,21 @@ void BorderDecisions::sweep(BlockStore& blocks, FloatingStats* stats) {
         }
         ext[tile] = std::move(next_ext);  // only this tile's own slot
       });
-      for (std::size_t i = 0; i < dirty.size(); ++i) {
-        std::uint32_t tile = dirty[i];
-        stale[tile] = 0;
-        ++runs;
-        if (!border_changed[i]) continue;
-        published += next_border[i].size();
-        border_[tile] = std::move(next_border[i]);
+      auto publish = [&](std::uint32_t tile, std::vector<GradedVertex> border) {
+        published += border.size();
+        border_[tile] = std::move(border);
         for (std::uint32_t nb : adjacent[tile]) stale[nb] = 1;
+      };
+      for (std::uint32_t tile : dirty) stale[tile] = 0;
+      runs += dirty.size();
+      if (exchanging) {
+        TileBorderList changed;
+        for (std::size_t i = 0; i < dirty.size(); ++i)
+          if (border_changed[i]) changed.emplace_back(dirty[i], &next_border[i]);
+        unpack_borders(share->exchange(pack_borders(changed)), n, publish);
+      } else {
+        for (std::size_t i = 0; i < dirty.size(); ++i)
+          if (border_changed[i]) publish(dirty[i], std::move(next_border[i]));
       }
     }
     if (runs == 0) break;

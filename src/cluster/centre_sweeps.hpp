@@ -10,6 +10,7 @@
 #include "cluster/vertex_grading.hpp"
 #include "grid/tile_grid.hpp"
 #include "grid/grid_spec.hpp"
+#include "grid/work_share.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
@@ -43,10 +44,16 @@ class BorderDecisions {
   /// may call it at once.
   std::vector<GradedVertex> choose_first(std::uint32_t tile, const std::vector<GradedVertex>& sorted);
 
+  /// Parts that run at once, after each graded its own tiles: every part's borders
+  /// to every part (share.exchange), so that each holds every tile's.
+  void gather_borders(const TileShare& share);
+
   /// Sweeps by colour class until no tile's external input changes; updates the
   /// decisions in the vertex blocks of `blocks` in place. `stats` (may be null) gets
-  /// `rounds` and the per-sweep counts.
-  void sweep(BlockStore& blocks, FloatingStats* stats);
+  /// `rounds` and the per-sweep counts. With `share` exchanging, only the part's own
+  /// tiles run (and have blocks), and the parts exchange their changed borders after
+  /// each colour class; the counts are then the part's own.
+  void sweep(BlockStore& blocks, FloatingStats* stats, const TileShare* share = nullptr);
 
   /// The settled borders (after sweep()), for the assignment; the state is spent.
   TileBorders take_borders() {

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "cluster/quadric.hpp"
 #include "cluster/triangle_records.hpp"
 #include "grid/tile_memory_gate.hpp"
+#include "oocsimp/error.hpp"
 
 namespace oocsimp {
 
@@ -68,13 +70,13 @@ void append_by_bucket(StreamSpill& spill, std::vector<Record>* records, Bucket b
 
 // The stitch buckets, by triangle index: the corners of the triangles that cross
 // tiles (`corners`) and the triangles decided inside a tile (`inside`).
-void open_triangle_buckets(const BinnedTiles& tiles, const SpillSettings& spill, std::uint64_t memory_budget,
+void open_triangle_buckets(std::uint64_t triangle_count, const SpillSettings& spill, std::uint64_t memory_budget,
                            ClusterShares* out) {
   const std::uint64_t per_bucket = std::clamp<std::uint64_t>(
       memory_budget / kStitchBucketsInBudget / (3 * sizeof(CornerRecord) + sizeof(KeptTriangle)),
       kLeastTrianglesPerStitchBucket, kMostTrianglesPerStitchBucket);
-  std::size_t buckets = std::max<std::size_t>(1, std::size_t(tiles.triangle_count / per_bucket) + 1);
-  out->bucket_span = std::max<std::uint64_t>(1, (tiles.triangle_count + buckets - 1) / buckets);
+  std::size_t buckets = std::max<std::size_t>(1, std::size_t(triangle_count / per_bucket) + 1);
+  out->bucket_span = std::max<std::uint64_t>(1, (triangle_count + buckets - 1) / buckets);
   // Each stream has a buffer of its own: many buckets get smaller ones.
   const std::size_t corner_buffer = std::size_t(
       std::clamp<std::uint64_t>(memory_budget / kStitchBuffersInBudget / buckets / (2 * sizeof(CornerRecord)),
@@ -357,6 +359,10 @@ void accumulate_tiles(const TileAccumulation& accumulation, const BinnedTiles& t
   const std::uint64_t kept_scratch = work_share / 2 / threads;
   TileMemoryGate gate(work_share - kept_scratch * threads, settings.budget, settings.release_memory);
   tbb::parallel_for(std::uint32_t(0), tiles.count(), [&](std::uint32_t tile) {
+    if (settings.only && !settings.only->owns(tile)) {
+      phase.advance(1);
+      return;
+    }
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       Scratch& scratch = scratches.local();
       accumulation.run(tile, scratch);
@@ -380,7 +386,7 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
                                   const TileBorders& borders, std::uint64_t vertex_count,
                                   const AccumulationSettings& settings) {
   ClusterShares out;
-  open_triangle_buckets(tiles, settings.spill, settings.memory_budget, &out);
+  open_triangle_buckets(tiles.triangle_count, settings.spill, settings.memory_budget, &out);
   open_cluster_buckets(vertex_count, settings, &out);
   const ProgressCallback none;
   ProgressPhase phase(settings.progress ? *settings.progress : none, "cluster tiles", tiles.count(), "tile");
@@ -388,6 +394,97 @@ ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray&
   accumulate_tiles(accumulation, tiles, settings, phase);
   flush_shares(&out);
   return out;
+}
+
+std::size_t share_record_bytes(ShareKind kind, const AttributeLayout& layout) {
+  switch (kind) {
+    case ShareKind::partial:
+      return sizeof(PartialCluster);
+    case ShareKind::inside:
+      return sizeof(KeptTriangle);
+    case ShareKind::corner:
+      return sizeof(CornerRecord);
+    case ShareKind::attribute:
+      return attribute_record_bytes(layout);
+  }
+  return 0;
+}
+
+ClusterShares open_cluster_shares(std::uint64_t triangle_count, std::uint64_t vertex_count,
+                                  const AccumulationSettings& settings) {
+  ClusterShares out;
+  AccumulationSettings s = settings;
+  s.thick_edges = false;
+  open_triangle_buckets(triangle_count, s.spill, s.memory_budget, &out);
+  open_cluster_buckets(vertex_count, s, &out);
+  return out;
+}
+
+namespace {
+
+// The bucket of each record, as accumulate_clusters appends it.
+template <class Record, class Key>
+void add_by_key(StreamSpill* spill, std::uint64_t span, const void* records, std::size_t count, const Key& key,
+                const std::string& where) {
+  std::vector<Record> r(count);
+  if (count) std::memcpy(r.data(), records, count * sizeof(Record));
+  for (const Record& x : r)
+    if (key(x) / span >= spill->stream_count())
+      throw InputError(where + ": a cluster share names an index beyond the input");
+  append_by_bucket(*spill, &r, [&](const Record& x) { return key(x) / span; });
+}
+
+}  // namespace
+
+void add_share_records(ClusterShares* shares, ShareKind kind, const void* records, std::size_t count,
+                       const std::string& where) {
+  constexpr std::uint64_t kTriangleBits = (std::uint64_t(1) << KeptTriangle::kOrderShift) - 1;
+  switch (kind) {
+    case ShareKind::partial:
+      add_by_key<PartialCluster>(
+          shares->partials.get(), shares->cluster_span, records, count,
+          [](const PartialCluster& p) { return p.centre; }, where);
+      return;
+    case ShareKind::inside:
+      add_by_key<KeptTriangle>(
+          shares->inside.get(), shares->bucket_span, records, count,
+          [](const KeptTriangle& k) { return k.t_and_order & kTriangleBits; }, where);
+      return;
+    case ShareKind::corner:
+      add_by_key<CornerRecord>(
+          shares->corners.get(), shares->bucket_span, records, count,
+          [](const CornerRecord& c) { return c.t_and_slot >> 2; }, where);
+      return;
+    case ShareKind::attribute: {
+      if (!shares->attribute_shares) throw InputError(where + ": attribute shares for an input without attributes");
+      // A record: the centre's index, then the layout's fixed-point sums.
+      const std::size_t bytes = attribute_record_bytes(shares->attributes);
+      const auto* at = static_cast<const unsigned char*>(records);
+      for (std::size_t i = 0; i < count; ++i) {
+        std::uint64_t centre = 0;
+        std::memcpy(&centre, at + i * bytes, sizeof centre);
+        const std::uint64_t bucket = centre / shares->cluster_span;
+        if (bucket >= shares->attribute_shares->stream_count())
+          throw InputError(where + ": a cluster share names an index beyond the input");
+        shares->attribute_shares->append(std::uint32_t(bucket), at + i * bytes, 1);
+      }
+      return;
+    }
+  }
+  throw InputError(where + ": a cluster share of an unknown kind");
+}
+
+void for_each_share_run(const ClusterShares& shares,
+                        const std::function<void(ShareKind, const void*, std::size_t)>& f) {
+  const std::pair<ShareKind, const StreamSpill*> spills[] = {{ShareKind::partial, shares.partials.get()},
+                                                             {ShareKind::inside, shares.inside.get()},
+                                                             {ShareKind::corner, shares.corners.get()},
+                                                             {ShareKind::attribute, shares.attribute_shares.get()}};
+  for (const auto& [kind, spill] : spills) {
+    if (!spill) continue;
+    for (std::uint32_t stream = 0; stream < spill->stream_count(); ++stream)
+      spill->for_each_block(stream, [&](const void* records, std::size_t n) { f(kind, records, n); });
+  }
 }
 
 }  // namespace oocsimp

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "cluster/floating_cells.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/grid_spec.hpp"
+#include "grid/work_share.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
@@ -67,7 +69,28 @@ struct AccumulationSettings {
   const MemoryBudget* budget = nullptr;
   /// Gives the allocator's free pages back (SimplifyOptions::release_memory), or null.
   void (*release_memory)() = nullptr;
+  /// Only these tiles are accumulated (a part's own), or every tile when null.
+  const TileShare* only = nullptr;
 };
+
+/// The records of ClusterShares, by the spill they go to: what a part of a
+/// distributed run hands to its merge.
+enum class ShareKind : std::uint8_t { partial = 1, inside = 2, corner = 3, attribute = 4 };
+/// Bytes of one record of `kind` (attribute shares: with `layout`).
+std::size_t share_record_bytes(ShareKind kind, const AttributeLayout& layout);
+
+/// Empty shares for a mesh of `triangle_count` triangles and `vertex_count` vertices,
+/// bucketed as accumulate_clusters buckets them under `settings` (without thick
+/// edges), for the shares of parts to be added to.
+ClusterShares open_cluster_shares(std::uint64_t triangle_count, std::uint64_t vertex_count,
+                                  const AccumulationSettings& settings);
+/// Adds `count` records of `kind` to the bucket of each; throws InputError (naming
+/// `where`) for a record whose key is beyond the shares' buckets.
+void add_share_records(ClusterShares* shares, ShareKind kind, const void* records, std::size_t count,
+                       const std::string& where);
+/// f(kind, records, count) for every record of `shares`, a run at a time (after
+/// accumulate_clusters).
+void for_each_share_run(const ClusterShares& shares, const std::function<void(ShareKind, const void*, std::size_t)>& f);
 
 /// Per tile (in parallel): assigns the owned vertices of its block in `blocks` to the
 /// tile's centres and the neighbours' `borders`, sums vertex quadrics (Garland &

@@ -32,6 +32,10 @@ std::unique_ptr<BlockStore> grade_tiles(const BinnedTiles& tiles, const Position
       std::make_unique<BlockStore>(settings.blocks.temp_dir, "vertex-blocks", n, settings.blocks.memory_allowance);
   TileMemoryGate gate(settings.work_share, settings.budget, settings.release_memory);
   tiles.grid.for_each_by_colour([&](std::uint32_t tile) {
+    if (settings.only && !settings.only->owns(tile)) {
+      phase.advance(1);
+      return;
+    }
     gate.run(tiles.triangles->record_count(tile) * kTileBytesPerRecord, [&] {
       std::vector<std::uint64_t> boundary;
       std::vector<GradedVertex> graded =

@@ -13,6 +13,7 @@
 #include "cluster/vertex_grading.hpp"
 #include "common/flat_hash_map.hpp"
 #include "grid/tile_binning.hpp"
+#include "grid/work_share.hpp"
 #include "io/mesh_input.hpp"
 #include "runtime/memory_budget.hpp"
 #include "spill/block_store.hpp"
@@ -86,6 +87,8 @@ struct GradingSettings {
   const MemoryBudget* budget = nullptr;
   /// Gives the allocator's free pages back (SimplifyOptions::release_memory), or null.
   void (*release_memory)() = nullptr;
+  /// Only these tiles are graded (a part's own), or every tile when null.
+  const TileShare* only = nullptr;
 };
 
 /// Every tile's vertex block (TileVertexBlock) in one mapped BlockStore, as

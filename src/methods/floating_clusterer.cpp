@@ -22,6 +22,7 @@
 #include "methods/floating_clusterer.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -87,12 +88,20 @@ class FloatingRun {
   FloatingRun(const FloatingRun&) = delete;
   FloatingRun& operator=(const FloatingRun&) = delete;
 
+  /// Makes this run part `part` of `parts` (before tile_mesh): its tiles are dealt
+  /// after binning, and with `exchange` it grades and sweeps only its own.
+  void run_as_part(std::uint32_t part, std::uint32_t parts, PartExchange exchange);
   void tile_mesh();
+  void check_same_tiling() const;
   bool resumed() const { return resumed_; }
   void grade();
   void regrade(std::size_t level);
   void sweep(SimplifyStats* stats);
   ClusterShares accumulate(std::size_t level);
+  /// A part's plan: the tiling and the input's counts.
+  FloatingPartPlan part_plan() const;
+  /// The merge: empty shares bucketed for this process, which the parts' fill.
+  ClusterShares open_shares(const FloatingPartPlan& plan);
   LargeArray<KeptTriangle> stitch(std::size_t level, ClusterShares& shares);
   OutputMesh assemble(std::size_t level, LargeArray<KeptTriangle> kept, ClusterShares& shares, AssemblyCounts* counts);
   void report(std::size_t level, const ClusterShares& shares, const AssemblyCounts& counts, const OutputMesh& m,
@@ -118,6 +127,8 @@ class FloatingRun {
   FirstChoice first_;                           // the level's first greedy, by decisions_
   std::vector<std::uint64_t> locked_;           // options_.locked_vertices, sorted
   std::unique_ptr<BlockStore> blocks_;          // the level's graded vertex blocks
+  bool part_ = false;                           // run_as_part: share_ holds the part's tiles
+  TileShare share_;
 };
 
 FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
@@ -139,7 +150,16 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
   for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
 }
 
-// The tiled mesh: kept by an earlier run (--keep-tmp), or binned.
+void FloatingRun::run_as_part(std::uint32_t part, std::uint32_t parts, PartExchange exchange) {
+  part_ = true;
+  share_.part = part;
+  share_.parts = parts;
+  share_.exchange = std::move(exchange);
+  options_.floating.keep_temp = false;  // the kept tiles are one process's cache
+}
+
+// The tiled mesh: kept by an earlier run (--keep-tmp), or binned. A part's tiles are
+// dealt by their records, which every part counts alike.
 void FloatingRun::tile_mesh() {
   resumed_ = options_.floating.keep_temp && kept_.resume(coarsest_, &tiles_, &graded_);
   keeping_ = options_.floating.keep_temp && !resumed_ && kept_.start();
@@ -152,6 +172,44 @@ void FloatingRun::tile_mesh() {
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
   if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
+  if (part_) {
+    std::vector<std::uint64_t> records(tiles_.count());
+    std::vector<int> colours(tiles_.count());
+    for (std::uint32_t t = 0; t < tiles_.count(); ++t) {
+      records[t] = tiles_.triangles->record_count(t);
+      colours[t] = tiles_.grid.colour(t);
+    }
+    share_ = share_tiles(records, colours, share_.part, share_.parts, std::move(share_.exchange));
+    if (share_.exchanging()) check_same_tiling();
+  }
+}
+
+// Parts that exchange borders must have tiled alike: a part with another budget
+// (another machine's memory) may have planned other tiles.
+void FloatingRun::check_same_tiling() const {
+  const FloatingPartPlan mine = part_plan();
+  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(&mine),
+                                         reinterpret_cast<const unsigned char*>(&mine) + sizeof mine);
+  const std::vector<std::vector<unsigned char>> all = share_.exchange(bytes);
+  for (std::size_t p = 0; p < all.size(); ++p) {
+    FloatingPartPlan theirs;
+    if (all[p].size() == sizeof theirs) std::memcpy(&theirs, all[p].data(), sizeof theirs);
+    if (all[p].size() != sizeof theirs || theirs.tile_side != mine.tile_side || theirs.tiles != mine.tiles ||
+        theirs.triangles != mine.triangles)
+      throw UsageError("options.memory_budget", "part " + std::to_string(p) + " tiled " + input_.info.path +
+                                                    " otherwise than part " + std::to_string(share_.part) +
+                                                    " (another memory budget?): give every part the same --mem");
+  }
+}
+
+FloatingPartPlan FloatingRun::part_plan() const {
+  FloatingPartPlan plan;
+  plan.tile_side = tiles_.grid.side;
+  plan.tiles = tiles_.count();
+  plan.triangles = tiles_.triangle_count;
+  plan.vertices = input_.positions.count;
+  plan.skipped = tiles_.skipped;
+  return plan;
 }
 
 // Graded vertex blocks (Low & Tan 1997 §3.1, sorted as §3.2 visits them) with the
@@ -177,7 +235,9 @@ void FloatingRun::grade() {
     grading.work_share = spill_.work_share;
     grading.budget = &budget_;
     grading.release_memory = options_.release_memory;
+    grading.only = part_ && share_.exchanging() ? &share_ : nullptr;
     blocks_ = grade_tiles(tiles_, input_.positions, first_, grading);
+    if (grading.only) decisions_->gather_borders(share_);
     if (keeping_) kept_.keep(tiles_, *graded_);
   }
   release_memory(options_);  // the tiles' grading buffers
@@ -199,7 +259,7 @@ void FloatingRun::regrade(std::size_t level) {
 // The sweeps of border decisions after the first greedy, until no border changes.
 void FloatingRun::sweep(SimplifyStats* stats) {
   ProgressPhase phase(options_.progress, "rounds", 0, "round");
-  decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr);
+  decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr, part_ ? &share_ : nullptr);
 }
 
 // Cluster shares and kept triangles, per tile against the decided centres.
@@ -209,9 +269,10 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
   // The borders and the vertex blocks have grown since grading began: the fullest
   // tile must still fit next to them.
   check_fullest_tile_fits(budget_, tiles_, input_.info.path, "cluster");
-  const AccumulationSettings settings{
+  AccumulationSettings settings{
       cell(level),        options_.floating.assign, options_.memory_budget, spill_,   &options_.progress,
       &input_.attributes, spill_.work_share,        options_.thick_edges,   &budget_, options_.release_memory};
+  settings.only = part_ ? &share_ : nullptr;
   ClusterShares shares =
       accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
   // Centres live on in the cluster records; the per-tile lists are done, and the
@@ -224,6 +285,23 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
   }
   release_memory(options_);
   return shares;
+}
+
+ClusterShares FloatingRun::open_shares(const FloatingPartPlan& plan) {
+  const TileSettings tiling{options_.memory_budget, options_.floating.tile_side, false,
+                            options_.floating.spill_compression, options_.temp_dir};
+  spill_ = spill_settings(input_, tiling, sizeof(GradedVertex));
+  AccumulationSettings settings{cell(0),
+                                options_.floating.assign,
+                                options_.memory_budget,
+                                spill_,
+                                &options_.progress,
+                                &input_.attributes,
+                                spill_.work_share,
+                                false,
+                                &budget_,
+                                options_.release_memory};
+  return open_cluster_shares(plan.triangles, input_.positions.count, settings);
 }
 
 // The triangles that cross tiles joined by index to the ones decided in tiles.
@@ -327,6 +405,60 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
     clock.move_to(&stats.phases);
     sink(level, m, stats);
   }
+}
+
+void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
+                           std::uint32_t parts, const PartExchange& exchange, const ClusterShareSink& sink,
+                           FloatingPartPlan* plan, SimplifyStats* stats) {
+  PhaseTimer clock;
+  const std::vector<GridSpec> grids{grid};
+  FloatingRun run(input, options, grids, nullptr);
+  run.run_as_part(part, parts, exchange);
+  run.tile_mesh();
+  clock.end("bin");
+  run.grade();
+  clock.end("grade");
+  run.sweep(stats);
+  clock.end("rounds");
+  ClusterShares shares = run.accumulate(0);
+  clock.end("cluster");
+  for_each_share_run(shares, sink);
+  clock.end("hand on");
+  *plan = run.part_plan();
+  if (stats) {
+    stats->input_triangles = plan->triangles;
+    stats->skipped = plan->skipped;
+    clock.move_to(&stats->phases);
+  }
+}
+
+OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                 const FloatingPartPlan& plan, const ClusterShareSource& source, SimplifyStats* stats) {
+  PhaseTimer clock;
+  const std::vector<GridSpec> grids{grid};
+  FloatingRun run(input, options, grids, nullptr);
+  ClusterShares shares = run.open_shares(plan);
+  source([&](ShareKind kind, const void* records, std::size_t count) {
+    add_share_records(&shares, kind, records, count, input.info.path);
+  });
+  shares.partials->flush();
+  shares.inside->flush();
+  shares.corners->flush();
+  if (shares.attribute_shares) shares.attribute_shares->flush();
+  clock.end("gather");
+  LargeArray<KeptTriangle> kept = run.stitch(0, shares);
+  clock.end("stitch");
+  AssemblyCounts counts;
+  OutputMesh m = run.assemble(0, std::move(kept), shares, &counts);
+  clock.end("assemble");
+  stats->input_triangles = plan.triangles;
+  stats->skipped = plan.skipped;
+  stats->occupied_cells = counts.clusters;
+  stats->output_vertices = m.vertex_count();
+  stats->output_triangles = m.triangle_count();
+  stats->floating.tiles = plan.tiles;
+  clock.move_to(&stats->phases);
+  return m;
 }
 
 }  // namespace oocsimp

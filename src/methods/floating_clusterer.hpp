@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "cluster/cluster_accumulation.hpp"
 #include "cluster/quadric.hpp"
 #include "methods/cluster_methods.hpp"
 #include "grid/grid_spec.hpp"
@@ -33,5 +34,35 @@ OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, co
 void cluster_floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
                              const LevelSink& sink, const SimplifyStats& base,
                              std::vector<Quadric>* quadrics = nullptr);
+
+/// What a part of a floating run tells its merge besides its shares: the tiling
+/// every part must agree on, and the input's counts the merge buckets by.
+struct FloatingPartPlan {
+  double tile_side = 0;
+  std::uint64_t tiles = 0;
+  std::uint64_t triangles = 0;  ///< the input's, as binned
+  std::uint64_t vertices = 0;   ///< the input's
+  SkippedFaces skipped;
+};
+/// Takes a part's cluster shares, a run of records of one kind at a time.
+using ClusterShareSink = std::function<void(ShareKind, const void* records, std::size_t count)>;
+/// Hands every part's cluster shares to the sink it is given.
+using ClusterShareSource = std::function<void(const ClusterShareSink&)>;
+
+/// Part `part` of `parts` of cluster_floating (docs/cluster.md): bins the whole input
+/// as one process does, and accumulates the cluster shares of the tiles dealt to it
+/// (by triangle records), handed to `sink`. The centres need every tile's grading and
+/// the border sweeps: with `exchange` (parts running at once) each part grades and
+/// sweeps its own tiles, exchanging borders; without, each part grades and sweeps
+/// every tile itself. `plan` gets the tiling and counts; `stats` the part's phases.
+void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
+                           std::uint32_t parts, const PartExchange& exchange, const ClusterShareSink& sink,
+                           FloatingPartPlan* plan, SimplifyStats* stats);
+
+/// The merge of a floating run's parts: their shares (`shares`, of the run `plan`
+/// says) stitched and assembled as cluster_floating does; the same mesh for any
+/// number of parts. Throws InputError for a share that does not fit the input.
+OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                 const FloatingPartPlan& plan, const ClusterShareSource& shares, SimplifyStats* stats);
 
 }  // namespace oocsimp

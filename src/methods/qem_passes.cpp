@@ -41,6 +41,7 @@
 #include "grid/occupancy.hpp"
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
+#include "grid/work_share.hpp"
 #include "grid/tile_plan.hpp"
 #include "io/attribute_array.hpp"
 #include "io/temp_file.hpp"
@@ -427,19 +428,12 @@ std::vector<TileWork> pass_work(const PassSource& source) {
   return work;
 }
 
-// `work` dealt to `parts` processes: the largest first (ties in the list's order), each
-// to the process with the fewest face records so far (ties to the lower number).
-// Returns each work's process. It follows from the counts alone.
-std::vector<std::uint32_t> deal_work(std::vector<TileWork> work, std::uint32_t parts) {
-  std::stable_sort(work.begin(), work.end(), [](const TileWork& a, const TileWork& b) { return a.faces > b.faces; });
-  std::vector<std::uint64_t> load(parts, 0);
-  std::vector<std::uint32_t> owner(work.size(), 0);
-  for (const TileWork& w : work) {
-    const auto least = std::uint32_t(std::min_element(load.begin(), load.end()) - load.begin());
-    owner[w.slot] = least;
-    load[least] += std::max<std::uint64_t>(w.faces, 1);
-  }
-  return owner;
+// `work` dealt to `parts` processes by face records (deal_by_weight); each work's
+// process. It follows from the counts alone.
+std::vector<std::uint32_t> deal_work(const std::vector<TileWork>& work, std::uint32_t parts) {
+  std::vector<std::uint64_t> faces(work.size());
+  for (const TileWork& w : work) faces[w.slot] = w.faces;
+  return deal_by_weight(faces, parts);
 }
 
 // Steps 3 and 4: every tile collapsed up to settings.max_error and binned for the

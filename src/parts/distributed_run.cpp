@@ -30,23 +30,31 @@ std::string part_options_text(const SimplifyOptions& options) {
   return std::string("method ") + method_name(resolved_method(options)) + " target " + std::to_string(t.triangles) +
          " ratio " + part_hex_double(t.ratio) + " max_error " + part_hex_double(t.max_error) + " weld " +
          std::to_string(int(options.weld)) + " precision " + std::to_string(int(options.precision)) + " attributes " +
-         attributes;
+         attributes + " cells " + std::to_string(int(options.floating.cell_shape)) + " " +
+         std::to_string(int(options.floating.assign)) + " " + std::to_string(int(options.floating.representative));
 }
 
 bool read_part_options(const std::string& text, SimplifyOptions* options) {
   std::istringstream s(text);
   std::string method_key, method, target_key, ratio_key, ratio, error_key, error, weld_key, precision_key,
-      attributes_key, attributes;
+      attributes_key, attributes, cells_key;
   std::uint64_t target = 0;
-  int weld = -1, precision = -1;
+  int weld = -1, precision = -1, shape = -1, assign = -1, representative = -1;
   s >> method_key >> method >> target_key >> target >> ratio_key >> ratio >> error_key >> error >> weld_key >> weld >>
-      precision_key >> precision >> attributes_key >> attributes;
-  if (s.fail() || method_key != "method" || (method != "uniform" && method != "qem") || target_key != "target" ||
-      ratio_key != "ratio" || error_key != "max_error" || weld_key != "weld" || weld < 0 || weld > 1 ||
-      precision_key != "precision" || precision < 0 || precision > int(Precision::float64) ||
+      precision_key >> precision >> attributes_key >> attributes >> cells_key >> shape >> assign >> representative;
+  if (s.fail() || method_key != "method" || (method != "uniform" && method != "qem" && method != "floating") ||
+      cells_key != "cells" || shape < 0 || shape > int(CellShape::sphere) || assign < 0 ||
+      assign > int(AssignRule::heaviest) || representative < 0 || representative > int(RepresentativeRule::vertex) ||
+      target_key != "target" || ratio_key != "ratio" || error_key != "max_error" || weld_key != "weld" || weld < 0 ||
+      weld > 1 || precision_key != "precision" || precision < 0 || precision > int(Precision::float64) ||
       attributes_key != "attributes")
     return false;
-  options->method = method == "qem" ? ClusterMethod::qem : ClusterMethod::uniform;
+  options->method = method == "qem"        ? ClusterMethod::qem
+                    : method == "floating" ? ClusterMethod::floating
+                                           : ClusterMethod::uniform;
+  options->floating.cell_shape = CellShape(shape);
+  options->floating.assign = AssignRule(assign);
+  options->floating.representative = RepresentativeRule(representative);
   options->target.triangles = target;
   options->target.ratio = std::strtod(ratio.c_str(), nullptr);
   options->target.max_error = std::strtod(error.c_str(), nullptr);
@@ -58,15 +66,16 @@ bool read_part_options(const std::string& text, SimplifyOptions* options) {
 
 void check_part_options(const SimplifyOptions& options) {
   const ClusterMethod method = resolved_method(options);
-  if (method != ClusterMethod::uniform && method != ClusterMethod::qem)
+  if (method != ClusterMethod::uniform && method != ClusterMethod::qem && method != ClusterMethod::floating)
     throw UsageError("options.method",
-                     std::string("a distributed run (options.part) takes options.method uniform, or qem (the default "
-                                 "with a target); ") +
+                     std::string("a distributed run (options.part) takes options.method uniform, floating, or qem (the "
+                                 "default with a target); ") +
                          method_name(method) + " runs in one process for now");
-  if (method == ClusterMethod::uniform && options.target.given())
+  if (method != ClusterMethod::qem && options.target.given())
     throw UsageError("options.target",
-                     "a distributed run (options.part) takes a target with options.method qem (the default with a "
-                     "target), not after uniform clustering");
+                     std::string("a distributed run (options.part) takes a target with options.method qem (the "
+                                 "default with a target), not after ") +
+                         method_name(method) + " clustering");
   if (options.thick_edges)
     throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
   if (!options.locked_vertices.empty())
@@ -110,6 +119,21 @@ void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartMa
     stats->skipped = plan.skipped;
     stats->refine.collapses = plan.collapses;  // the part's own
   }
+}
+
+void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                       const PartExchange& exchange, const std::string& dir, SimplifyStats* stats) {
+  PartWriter writer(dir, manifest);
+  FloatingPartPlan plan;
+  const AttributeLayout layout(input.attributes);
+  cluster_floating_part(
+      input, options, manifest.grid, manifest.part, manifest.parts, exchange,
+      [&](ShareKind kind, const void* records, std::size_t count) {
+        writer.shares(kind, records, count * share_record_bytes(kind, layout));
+      },
+      &plan, stats);
+  writer.floating_plan(plan);
+  writer.commit(0, 0, plan.skipped);
 }
 
 namespace {
@@ -217,6 +241,34 @@ FirstPassParts PartSet::first_pass(std::size_t attributes) const {
     for (const std::unique_ptr<PartReader>& part : parts_) part->tiles(attributes, sink);
   };
   return out;
+}
+
+bool PartSet::has_floating() const {
+  for (const std::unique_ptr<PartReader>& part : parts_)
+    if (!part->has_floating_plan())
+      throw InputError(part->path() +
+                       ": stale: it holds no cluster shares of floating cells: run the part again, "
+                       "then merge");
+  return true;
+}
+
+FloatingPartPlan PartSet::floating_plan() const {
+  has_floating();
+  const FloatingPartPlan plan = parts_[0]->floating_plan();
+  for (const std::unique_ptr<PartReader>& part : parts_) {
+    const FloatingPartPlan p = part->floating_plan();
+    if (p.tile_side != plan.tile_side || p.tiles != plan.tiles || p.triangles != plan.triangles ||
+        p.vertices != plan.vertices || p.skipped.total() != plan.skipped.total())
+      throw InputError(part->path() + ": stale: it tiled the input otherwise than " + parts_[0]->path() +
+                       " (another --mem?): give every part the same --mem, run it again, then merge");
+  }
+  return plan;
+}
+
+ClusterShareSource PartSet::floating_shares(const AttributeLayout& layout) const {
+  return [this, layout](const ClusterShareSink& sink) {
+    for (const std::unique_ptr<PartReader>& part : parts_) part->shares(sink, layout);
+  };
 }
 
 UniformChunkSource PartSet::chunks() const {

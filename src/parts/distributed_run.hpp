@@ -26,8 +26,8 @@ std::string part_options_text(const SimplifyOptions& options);
 /// when the text is malformed.
 bool read_part_options(const std::string& text, SimplifyOptions* options);
 
-/// Throws UsageError naming the option for what a part cannot run with yet: a method
-/// other than uniform, a target, thick edges.
+/// Throws UsageError naming the option for what a part cannot run with yet: curvature
+/// cells, a target after clustering, thick edges, locks.
 void check_part_options(const SimplifyOptions& options);
 
 /// Part manifest.part of manifest.parts of a uniform run on `input` (at its start)
@@ -41,6 +41,12 @@ void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const Pa
 /// or nothing but its manifest when the run has no such pass.
 void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
                   const std::string& dir, SimplifyStats* stats);
+
+/// The same for options.method floating: the part's tiles' cluster shares
+/// (cluster_floating_part), grading and sweeping with the other parts through
+/// `exchange` when given (parts that run at once), alone otherwise.
+void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                       const PartExchange& exchange, const std::string& dir, SimplifyStats* stats);
 
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part
@@ -57,8 +63,13 @@ class PartSet {
   /// tiles with `attributes` values per vertex. Throws InputError naming the part.
   bool has_first_pass() const;
   FirstPassParts first_pass(std::size_t attributes) const;
+  /// The floating run's plan, checked to be every part's (throws InputError naming a
+  /// part without one, or with another tiling), and every part's cluster shares.
+  FloatingPartPlan floating_plan() const;
+  ClusterShareSource floating_shares(const AttributeLayout& layout) const;
 
  private:
+  bool has_floating() const;
   std::string dir_;
   std::vector<std::unique_ptr<PartReader>> parts_;  // by part number
 };

@@ -21,13 +21,22 @@ namespace oocsimp {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'O', 'C', 'S', 'P', 'A', 'R', 'T'};
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8;  // magic, version, part, parts, manifest bytes
 // A record: its kind (1 byte), the chunk (8) and the payload bytes (8), then the payload.
-enum RecordKind : std::uint8_t { kEnd = 0, kVertices = 1, kFaces = 2, kTile = 3, kPlan = 4 };
+enum RecordKind : std::uint8_t {
+  kEnd = 0,
+  kVertices = 1,
+  kFaces = 2,
+  kTile = 3,
+  kPlan = 4,
+  kShares = 5,
+  kFloatingPlan = 6
+};
 constexpr std::uint64_t kSampleBytes = 1 << 20;
 static_assert(std::is_trivially_copyable<PassFace>::value && std::is_trivially_copyable<PassVertex>::value &&
-                  std::is_trivially_copyable<FirstPassPlan>::value,
+                  std::is_trivially_copyable<FirstPassPlan>::value &&
+                  std::is_trivially_copyable<FloatingPartPlan>::value,
               "a tile's records are written as they are in memory");
 
 std::string manifest_text(const PartManifest& m) {
@@ -203,13 +212,23 @@ void PartWriter::plan(const FirstPassPlan& plan) {
   put_record(kPlan, 0, payload);
 }
 
+void PartWriter::shares(ShareKind kind, const void* records, std::size_t bytes) {
+  put_record(kShares, std::uint64_t(kind), records, bytes);
+}
+
+void PartWriter::floating_plan(const FloatingPartPlan& plan) { put_record(kFloatingPlan, 0, &plan, sizeof plan); }
+
 void PartWriter::put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload) {
+  put_record(kind, chunk, payload.data(), payload.size());
+}
+
+void PartWriter::put_record(std::uint8_t kind, std::uint64_t chunk, const void* payload, std::size_t bytes) {
   std::vector<unsigned char> head;
   append(&head, kind);
   append(&head, chunk);
-  append(&head, std::uint64_t(payload.size()));
+  append(&head, std::uint64_t(bytes));
   put(head.data(), head.size());
-  put(payload.data(), payload.size());
+  put(payload, bytes);
 }
 
 void PartWriter::put(const void* data, std::size_t bytes) {
@@ -330,6 +349,17 @@ PartReader::PartReader(const std::string& path) : path_(path) {
     }
     const auto chunk = c.get<std::uint64_t>();
     const auto bytes = c.get<std::uint64_t>();
+    if (kind == kShares || kind == kFloatingPlan) {
+      if (kind == kShares ? (chunk < std::uint64_t(ShareKind::partial) || chunk > std::uint64_t(ShareKind::attribute))
+                          : (floating_plan_at_ != 0 || chunk != 0 || bytes != sizeof(FloatingPartPlan)))
+        throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
+      if (kind == kShares)
+        share_at_.push_back({c.at(), bytes, ShareKind(chunk)});
+      else
+        floating_plan_at_ = c.at();
+      c.skip(bytes);
+      continue;
+    }
     if (kind == kTile || kind == kPlan) {
       if (kind == kTile ? chunk != tile_at_.size() : (plan_at_ != 0 || chunk != 0 || bytes != sizeof(FirstPassPlan)))
         throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
@@ -402,6 +432,25 @@ void PartReader::tiles(std::size_t attributes, const TileOutputSink& sink) const
     for (const PassVertex& v : tile.owned)
       if (!finite(v.position)) c.fail("a collapsed tile holds a position not finite");
     sink(tile);
+  }
+}
+
+FloatingPartPlan PartReader::floating_plan() const {
+  PartCursor c(path_, map_->data(), map_->size() - 8, floating_plan_at_);
+  const FloatingPartPlan plan = c.get<FloatingPartPlan>();
+  if (!(plan.tile_side > 0 && std::isfinite(plan.tile_side)) || plan.tiles == 0)
+    c.fail("the floating run's plan is malformed");
+  return plan;
+}
+
+void PartReader::shares(const ClusterShareSink& sink, const AttributeLayout& layout) const {
+  for (const ShareRecord& r : share_at_) {
+    const std::size_t bytes = share_record_bytes(r.kind, layout);
+    if (bytes == 0 || r.bytes % bytes != 0) {
+      PartCursor c(path_, map_->data(), map_->size() - 8, r.at);
+      c.fail("a cluster share's record does not hold whole shares (another build of oocsimp?)");
+    }
+    sink(r.kind, map_->data() + r.at, std::size_t(r.bytes / bytes));
   }
 }
 

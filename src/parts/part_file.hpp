@@ -1,20 +1,23 @@
 // The file a part of a distributed run leaves in the work folder: what it was run on
 // and with, and what it owns of the run's work, for `oocsimp merge` to finish the
 // run (docs/cluster.md): the uniform grid's chunk sums, or the edge collapse's first
-// pass. Format, version 2, little-endian:
+// pass. Format, version 3, little-endian:
 //
 //   "OOCSPART" u32 version u32 part u32 parts u64 manifest-bytes manifest-text
 //   records: u8 kind u64 number u64 payload-bytes payload, the kinds
 //            1 vertex chunk, 2 face chunk (numbered by chunk),
-//            3 collapsed tile (numbered 0, 1, 2, ...), 4 the first pass's plan (0)
+//            3 collapsed tile (numbered 0, 1, 2, ...), 4 the first pass's plan (0),
+//            5 floating cells' cluster shares (numbered by ShareKind), 6 the floating
+//            run's plan (0)
 //   end:     u8 0 u64 vertex-chunks u64 face-chunks, the skipped faces (3 u64)
 //   u64 XXH64 of every byte before it
 //
 // A vertex chunk's payload is u64 n, n u64 keys, n VertexSum; a face chunk's is u64
 // triangles, u64 n, n u64 keys, n Quadric, u64 m, m u32 kept, u64 a, a double
 // attribute sums. A tile's is u64 n, n PassFace, u64 m, m PassVertex, u64 a, a
-// double attribute values; the plan's a FirstPassPlan. (The structs as they are in
-// memory: a part and its merge run the same build.)
+// double attribute values; the plan's a FirstPassPlan. Cluster shares are records of
+// their kind, back to back; the floating plan a FloatingPartPlan. (The structs as
+// they are in memory: a part and its merge run the same build.)
 #pragma once
 
 #include <cstdint>
@@ -26,6 +29,7 @@
 #include "grid/grid_spec.hpp"
 #include "io/mapped_file.hpp"
 #include "io/temp_file.hpp"
+#include "methods/floating_clusterer.hpp"
 #include "methods/qem_passes.hpp"
 #include "refine/pass_tile.hpp"
 
@@ -77,12 +81,17 @@ class PartWriter {
   /// A tile of the edge collapse's first pass, and the pass's plan (once).
   void tile(const TileOutput& tile);
   void plan(const FirstPassPlan& plan);
+  /// A run of a floating part's cluster shares (`bytes` of records of `kind`), and
+  /// the run's plan (once).
+  void shares(ShareKind kind, const void* records, std::size_t bytes);
+  void floating_plan(const FloatingPartPlan& plan);
   /// The end record (the input's chunk counts and skipped faces, which every part
   /// reads) and the checksum, then the rename. Throws IoError.
   void commit(std::uint64_t vertex_chunks, std::uint64_t face_chunks, const SkippedFaces& skipped);
 
  private:
   void put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload);
+  void put_record(std::uint8_t kind, std::uint64_t chunk, const void* payload, std::size_t bytes);
   void put(const void* data, std::size_t bytes);
   void flush();
   std::string dir_, path_;
@@ -115,6 +124,11 @@ class PartReader {
   bool has_plan() const { return plan_at_ != 0; }
   FirstPassPlan plan() const;
   void tiles(std::size_t attributes, const TileOutputSink& sink) const;
+  /// Whether the part holds a floating run's cluster shares; the run's plan, and the
+  /// shares (records of `layout`'s sizes) handed to `sink` in place.
+  bool has_floating_plan() const { return floating_plan_at_ != 0; }
+  FloatingPartPlan floating_plan() const;
+  void shares(const ClusterShareSink& sink, const AttributeLayout& layout) const;
 
  private:
   std::string path_;
@@ -129,6 +143,12 @@ class PartReader {
   };
   std::vector<RecordPlace> tile_at_;  // each collapsed tile's
   std::uint64_t plan_at_ = 0;         // the plan's payload, 0 where there is none
+  struct ShareRecord {
+    std::uint64_t at = 0, bytes = 0;
+    ShareKind kind = ShareKind::partial;
+  };
+  std::vector<ShareRecord> share_at_;   // each run of cluster shares
+  std::uint64_t floating_plan_at_ = 0;  // the floating plan's payload, 0 where there is none
 };
 
 }  // namespace oocsimp

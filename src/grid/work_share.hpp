@@ -1,0 +1,67 @@
+// How the parts of a distributed run share the tiles of a pass (docs/cluster.md):
+// dealt by weight, from counts every part knows alike, so each part finds its own
+// share without asking the others.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "oocsimp/options.hpp"
+
+namespace oocsimp {
+
+/// `weights` dealt to `parts` processes: the heaviest first (ties in the list's
+/// order), each to the process with the least weight so far (ties to the lower
+/// number; a weight counts at least 1). Returns each item's process.
+inline std::vector<std::uint32_t> deal_by_weight(const std::vector<std::uint64_t>& weights, std::uint32_t parts) {
+  std::vector<std::size_t> order(weights.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return weights[a] > weights[b]; });
+  std::vector<std::uint64_t> load(std::max<std::uint32_t>(parts, 1), 0);
+  std::vector<std::uint32_t> owner(weights.size(), 0);
+  for (std::size_t i : order) {
+    const auto least = std::uint32_t(std::min_element(load.begin(), load.end()) - load.begin());
+    owner[i] = least;
+    load[least] += std::max<std::uint64_t>(weights[i], 1);
+  }
+  return owner;
+}
+
+/// The tiles one part runs, and how the parts that run at once exchange what they
+/// decide about them.
+struct TileShare {
+  std::uint32_t part = 0, parts = 1;
+  std::vector<char> owned;  ///< per tile, whether this part runs it; empty: every tile
+  PartExchange exchange;    ///< empty when the parts run apart (each then decides alone)
+  bool owns(std::uint32_t tile) const { return owned.empty() || owned[tile] != 0; }
+  bool exchanging() const { return bool(exchange); }
+};
+
+/// Part `part` of `parts`'s tiles, dealt by `records` per tile within each class of
+/// `classes` (a tile's colour class): the parts meet after every class of a sweep, so
+/// each class is balanced on its own.
+inline TileShare share_tiles(const std::vector<std::uint64_t>& records, const std::vector<int>& classes,
+                             std::uint32_t part, std::uint32_t parts, PartExchange exchange) {
+  TileShare share;
+  share.part = part;
+  share.parts = parts;
+  share.exchange = std::move(exchange);
+  share.owned.assign(records.size(), 0);
+  const int class_count = classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1;
+  for (int k = 0; k < class_count; ++k) {
+    std::vector<std::size_t> tiles;
+    std::vector<std::uint64_t> weights;
+    for (std::size_t t = 0; t < records.size(); ++t)
+      if (classes[t] == k) {
+        tiles.push_back(t);
+        weights.push_back(records[t]);
+      }
+    const std::vector<std::uint32_t> owner = deal_by_weight(weights, parts);
+    for (std::size_t i = 0; i < tiles.size(); ++i) share.owned[tiles[i]] = owner[i] == part;
+  }
+  return share;
+}
+
+}  // namespace oocsimp
