@@ -6,6 +6,8 @@
 #   GRID=256 (default) METHOD=uniform (the method the parts take)
 #   METHOD=qem RATIO=0.029 (default): the edge collapse to that share of the input,
 #   whose first out-of-core pass the parts share
+#   METHOD=floating: floating cells, whose ranks exchange tile borders under mpirun
+#   (the parts of an array each grade and sweep every tile)
 #
 # Per size, all with 1 thread per process:
 #   one      oocsimp simplify, one process;
@@ -20,9 +22,9 @@
 #   T(K) = R + S/K + M + X/B     R: what every part repeats (T(part K=1) - S),
 #                                S: the summing that splits (2 (T(part K=1) - T(2 parts))),
 #                                M: the merge, X: the part files' bytes, B: 1.25 GB/s.
-# Each output is checked against the one-process bytes. Floating cells, which are not
-# spread yet, run once in one process for the bytes their tiles hand on (per sweep,
-# per stitch) and the same model's prediction.
+# Each output is checked against the one-process bytes. Then (not for qem) floating
+# cells run once in one process for the bytes their tiles hand on (per sweep, per
+# stitch) and the same model's prediction for ranks that exchange them.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 sizes=("$@")
@@ -85,8 +87,8 @@ for n in "${sizes[@]}"; do
     printf("\n");
   }'
   [ "$method" = qem ] && continue
-  # Floating cells are not spread yet: their exchange measured in one process, and the
-  # model's prediction from it (docs/cluster.md, "A model for floating cells").
+  # Floating cells' exchange measured in one process, and the model's prediction from
+  # it for ranks that exchange borders (docs/cluster.md, "A model for floating cells").
   "$bin" simplify "$mesh" -o "$dir/one-floating.ply" --method floating --grid "$grid" --threads 1 --quiet \
     --stats "$dir/floating.json"
   python3 - "$dir/floating.json" "$n" <<'PY'
