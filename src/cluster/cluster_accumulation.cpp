@@ -372,6 +372,8 @@ void accumulate_tiles(const TileAccumulation& accumulation, const BinnedTiles& t
   });
 }
 
+}  // namespace
+
 void flush_shares(ClusterShares* out) {
   out->corners->flush();
   out->partials->flush();
@@ -379,8 +381,6 @@ void flush_shares(ClusterShares* out) {
   if (out->attribute_shares) out->attribute_shares->flush();
   if (out->edge_shares) out->edge_shares->flush();
 }
-
-}  // namespace
 
 ClusterShares accumulate_clusters(const BinnedTiles& tiles, const PositionArray& positions, const BlockStore& blocks,
                                   const TileBorders& borders, std::uint64_t vertex_count,
@@ -457,16 +457,24 @@ void add_share_records(ClusterShares* shares, ShareKind kind, const void* record
       return;
     case ShareKind::attribute: {
       if (!shares->attribute_shares) throw InputError(where + ": attribute shares for an input without attributes");
-      // A record: the centre's index, then the layout's fixed-point sums.
+      // A record: the centre's index, then the layout's fixed-point sums. A part
+      // hands them on by its own buckets, so runs of one bucket go in one append.
       const std::size_t bytes = attribute_record_bytes(shares->attributes);
       const auto* at = static_cast<const unsigned char*>(records);
-      for (std::size_t i = 0; i < count; ++i) {
+      const auto bucket = [&](std::size_t i) {
         std::uint64_t centre = 0;
         std::memcpy(&centre, at + i * bytes, sizeof centre);
-        const std::uint64_t bucket = centre / shares->cluster_span;
-        if (bucket >= shares->attribute_shares->stream_count())
+        const std::uint64_t b = centre / shares->cluster_span;
+        if (b >= shares->attribute_shares->stream_count())
           throw InputError(where + ": a cluster share names an index beyond the input");
-        shares->attribute_shares->append(std::uint32_t(bucket), at + i * bytes, 1);
+        return std::uint32_t(b);
+      };
+      for (std::size_t i = 0; i < count;) {
+        const std::uint32_t b = bucket(i);
+        std::size_t j = i + 1;
+        while (j < count && bucket(j) == b) ++j;
+        shares->attribute_shares->append(b, at + i * bytes, j - i);
+        i = j;
       }
       return;
     }

@@ -88,6 +88,8 @@ ClusterShares open_cluster_shares(std::uint64_t triangle_count, std::uint64_t ve
 /// `where`) for a record whose key is beyond the shares' buckets.
 void add_share_records(ClusterShares* shares, ShareKind kind, const void* records, std::size_t count,
                        const std::string& where);
+/// Writes every partly filled buffer of the shares' spills (after records were added).
+void flush_shares(ClusterShares* shares);
 /// f(kind, records, count) for every record of `shares`, a run at a time (after
 /// accumulate_clusters).
 void for_each_share_run(const ClusterShares& shares, const std::function<void(ShareKind, const void*, std::size_t)>& f);

@@ -39,16 +39,12 @@ struct TileShare {
   bool exchanging() const { return bool(exchange); }
 };
 
-/// Part `part` of `parts`'s tiles, dealt by `records` per tile within each class of
-/// `classes` (a tile's colour class): the parts meet after every class of a sweep, so
-/// each class is balanced on its own.
-inline TileShare share_tiles(const std::vector<std::uint64_t>& records, const std::vector<int>& classes,
-                             std::uint32_t part, std::uint32_t parts, PartExchange exchange) {
-  TileShare share;
-  share.part = part;
-  share.parts = parts;
-  share.exchange = std::move(exchange);
-  share.owned.assign(records.size(), 0);
+/// Per tile, whether part `part` of `parts` owns it: dealt by `records` per tile
+/// within each class of `classes` (a tile's colour class), since the parts meet
+/// after every class of a sweep and each class is best balanced on its own.
+inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, const std::vector<int>& classes,
+                                     std::uint32_t part, std::uint32_t parts) {
+  std::vector<char> owned(records.size(), 0);
   const int class_count = classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1;
   for (int k = 0; k < class_count; ++k) {
     std::vector<std::size_t> tiles;
@@ -59,9 +55,9 @@ inline TileShare share_tiles(const std::vector<std::uint64_t>& records, const st
         weights.push_back(records[t]);
       }
     const std::vector<std::uint32_t> owner = deal_by_weight(weights, parts);
-    for (std::size_t i = 0; i < tiles.size(); ++i) share.owned[tiles[i]] = owner[i] == part;
+    for (std::size_t i = 0; i < tiles.size(); ++i) owned[tiles[i]] = owner[i] == part;
   }
-  return share;
+  return owned;
 }
 
 }  // namespace oocsimp

@@ -127,8 +127,7 @@ class FloatingRun {
   FirstChoice first_;                           // the level's first greedy, by decisions_
   std::vector<std::uint64_t> locked_;           // options_.locked_vertices, sorted
   std::unique_ptr<BlockStore> blocks_;          // the level's graded vertex blocks
-  bool part_ = false;                           // run_as_part: share_ holds the part's tiles
-  TileShare share_;
+  TileShare share_;                             // the tiles this run owns (every tile but in a part of several)
 };
 
 FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
@@ -151,7 +150,6 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
 }
 
 void FloatingRun::run_as_part(std::uint32_t part, std::uint32_t parts, PartExchange exchange) {
-  part_ = true;
   share_.part = part;
   share_.parts = parts;
   share_.exchange = std::move(exchange);
@@ -172,16 +170,16 @@ void FloatingRun::tile_mesh() {
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
   if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
-  if (part_) {
+  if (share_.parts > 1) {
     std::vector<std::uint64_t> records(tiles_.count());
     std::vector<int> colours(tiles_.count());
     for (std::uint32_t t = 0; t < tiles_.count(); ++t) {
       records[t] = tiles_.triangles->record_count(t);
       colours[t] = tiles_.grid.colour(t);
     }
-    share_ = share_tiles(records, colours, share_.part, share_.parts, std::move(share_.exchange));
-    if (share_.exchanging()) check_same_tiling();
+    share_.owned = owned_tiles(records, colours, share_.part, share_.parts);
   }
+  if (share_.exchanging()) check_same_tiling();
 }
 
 // Parts that exchange borders must have tiled alike: a part with another budget
@@ -235,7 +233,7 @@ void FloatingRun::grade() {
     grading.work_share = spill_.work_share;
     grading.budget = &budget_;
     grading.release_memory = options_.release_memory;
-    grading.only = part_ && share_.exchanging() ? &share_ : nullptr;
+    grading.only = share_.exchanging() ? &share_ : nullptr;
     blocks_ = grade_tiles(tiles_, input_.positions, first_, grading);
     if (grading.only) decisions_->gather_borders(share_);
     if (keeping_) kept_.keep(tiles_, *graded_);
@@ -259,7 +257,7 @@ void FloatingRun::regrade(std::size_t level) {
 // The sweeps of border decisions after the first greedy, until no border changes.
 void FloatingRun::sweep(SimplifyStats* stats) {
   ProgressPhase phase(options_.progress, "rounds", 0, "round");
-  decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr, part_ ? &share_ : nullptr);
+  decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr, &share_);
 }
 
 // Cluster shares and kept triangles, per tile against the decided centres.
@@ -272,7 +270,7 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
   AccumulationSettings settings{
       cell(level),        options_.floating.assign, options_.memory_budget, spill_,   &options_.progress,
       &input_.attributes, spill_.work_share,        options_.thick_edges,   &budget_, options_.release_memory};
-  settings.only = part_ ? &share_ : nullptr;
+  settings.only = &share_;
   ClusterShares shares =
       accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
   // Centres live on in the cluster records; the per-tile lists are done, and the
@@ -441,10 +439,7 @@ OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& option
   source([&](ShareKind kind, const void* records, std::size_t count) {
     add_share_records(&shares, kind, records, count, input.info.path);
   });
-  shares.partials->flush();
-  shares.inside->flush();
-  shares.corners->flush();
-  if (shares.attribute_shares) shares.attribute_shares->flush();
+  flush_shares(&shares);
   clock.end("gather");
   LargeArray<KeptTriangle> kept = run.stitch(0, shares);
   clock.end("stitch");
