@@ -13,6 +13,7 @@
 #include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
 #include "curvature/integral_invariants.hpp"
+#include "curvature/mesh_curvatures.hpp"
 #include "curvature/vertex_curvatures.hpp"
 
 using namespace oocsimp;
@@ -367,4 +368,38 @@ TEST_CASE("curvature CLI in tiles: the same bytes as in memory, and a budget too
   CHECK(small.err.find("--mem") != std::string::npos);
   CHECK(small.err.find("give at least") != std::string::npos);
   CHECK(dir.entries() == std::vector<std::string>{"sphere.ply", "tiled.ply", "whole.ply"});
+}
+
+TEST_CASE("curvature parts: the deals of 1 to 5 parts give each finite vertex to exactly one part, in balance") {
+  // An icosphere and a far outlier (the box's blocks then hold the sphere in a corner),
+  // and a non-finite vertex, which no part estimates.
+  TestMesh m = icosphere(1, 4);
+  m.positions.push_back({40, 40, 40});
+  std::vector<float> xyz;
+  for (const Vec3d& p : m.positions) xyz.insert(xyz.end(), {float(p.x), float(p.y), float(p.z)});
+  xyz.insert(xyz.end(), {std::nanf(""), 0, 0});
+  PositionArray positions;
+  positions.base = reinterpret_cast<const unsigned char*>(xyz.data());
+  positions.count = xyz.size() / 3;
+  Box3d bounds;
+  for (std::uint64_t v = 0; v + 1 < positions.count; ++v) bounds.add(positions.get(v));
+  for (std::uint32_t parts = 1; parts <= 5; ++parts) {
+    std::vector<int> owners(positions.count, 0);
+    std::vector<std::uint64_t> share(parts, 0);
+    for (std::uint32_t part = 0; part < parts; ++part) {
+      const VertexDeal deal(positions, bounds, part, parts);
+      for (std::uint64_t v = 0; v < positions.count; ++v)
+        if (deal.owns(positions.get(v))) {
+          ++owners[v];
+          ++share[part];
+        }
+    }
+    INFO(parts << " parts");
+    for (std::uint64_t v = 0; v + 1 < positions.count; ++v) CHECK(owners[v] == 1);
+    CHECK(owners.back() == 0);
+    // Blocks of 1/32 of the box dealt by weight: no part more than a few blocks'
+    // vertices past an even share.
+    const double even = double(positions.count - 1) / parts;
+    for (std::uint64_t n : share) CHECK(double(n) <= even * 1.1 + 64);
+  }
 }

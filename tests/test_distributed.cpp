@@ -230,6 +230,65 @@ TEST_CASE("floating parts merged give one process's bytes for 1 to 4 parts, any 
   CHECK(stale.err.find("part-1-of-2.oocpart: stale: it tiled the input otherwise") != std::string::npos);
 }
 
+TEST_CASE("curvature parts merged give one process's bytes for 1 to 4 parts, any threads and curvature options",
+          "[distributed][curvature]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --shape parts --tris 60000 --seed 9 --quiet -o " + q(d.file("parts.ply"))).exit_code == 0);
+  REQUIRE(run_cli("generate --shape terrain --tris 40000 --seed 2 --attributes --quiet -o " + q(d.file("terrain.ply")))
+              .exit_code == 0);
+  struct Case {
+    const char* shape;
+    const char* options;
+  };
+  for (const Case& c : {Case{"parts", "--grid 40"}, Case{"terrain", "--grid 30 --rep vertex --max-depth 2"},
+                        Case{"parts", "--grid 30 --radius 0.02 --curvature-tolerance 0.3 --max-depth 1"},
+                        Case{"parts", "--grid 30 --max-depth 0"}}) {
+    const std::string input = d.file(std::string(c.shape) + ".ply");
+    const std::string o = std::string("--method curvature ") + c.options;
+    REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + o).exit_code == 0);
+    for (int parts = 1; parts <= 4; ++parts) {
+      ScratchDir work;
+      for (int part = 0; part < parts; ++part) {
+        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
+                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
+                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + o);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+      }
+      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      INFO(c.shape << " " << c.options << ", " << parts << " parts: " << r.err);
+      REQUIRE(r.exit_code == 0);
+      CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+    }
+  }
+  // Estimated in tiles (the library's options.curvature.tile_side): the same values,
+  // so one process's bytes.
+  oocsimp::SimplifyOptions o;
+  o.method = oocsimp::ClusterMethod::curvature;
+  o.sizing.grid = 40;
+  o.curvature.representative = oocsimp::RepresentativeRule::vertex;
+  oocsimp::simplify_file(d.file("parts.ply"), d.file("one.ply"), false, o, nullptr);
+  o.curvature.tile_side = 0.15;
+  ScratchDir work;
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    o.threads = 1 + i % 2;
+    oocsimp::simplify_part(d.file("parts.ply"), o, {i, 3, work.path()});
+  }
+  oocsimp::OutputOptions out;
+  out.mesh = d.file("merged.ply");
+  oocsimp::merge_parts(work.path(), out, oocsimp::SimplifyOptions());
+  CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+  // A part run with another radius is stale, and named.
+  ScratchDir other;
+  for (const char* part : {"0/2 --radius 0.02", "1/2 --radius 0.03"})
+    REQUIRE(run_cli("simplify " + q(d.file("parts.ply")) + " -o unused.ply --quiet --method curvature --grid 40 " +
+                    "--work-dir " + q(other.path()) + " --part " + part)
+                .exit_code == 0);
+  const CliResult stale = run_cli("merge " + q(other.path()) + " -o " + q(d.file("merged.ply")));
+  CHECK(stale.exit_code == 3);
+  CHECK(stale.err.find("part-1-of-2.oocpart: stale: its options are") != std::string::npos);
+}
+
 namespace {
 
 // Parts run as threads of one process, exchanging as MPI ranks do
@@ -345,7 +404,7 @@ TEST_CASE("a part refuses what a distributed run cannot do yet, naming the optio
     const char* args;
     const char* says;
   };
-  for (const Case& c : {Case{" --part 0/2 --method curvature", "takes --method uniform, floating"},
+  for (const Case& c : {Case{" --part 0/2 --method curvature --target-tris 100", "not after curvature clustering"},
                         Case{" --part 0/2 --method floating --target-tris 100", "not after floating clustering"},
                         Case{" --part 0/2 --method uniform --target-tris 100", "not after uniform clustering"},
                         Case{" --part 0/2 --target-tris 100 --lock-boundary", "boundary"},
@@ -401,7 +460,8 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
   ScratchDir d, tmp;
   const std::string input = d.file("terrain.ply");
   REQUIRE(run_cli("generate --shape terrain --tris 200000 --attributes --quiet -o " + q(input)).exit_code == 0);
-  for (const char* method : {"uniform --grid 80", "floating --grid 80 --tile 0.1", "qem --target-tris 3000"}) {
+  for (const char* method :
+       {"uniform --grid 80", "floating --grid 80 --tile 0.1", "curvature --grid 60", "qem --target-tris 3000"}) {
     const std::string options =
         std::string(" --quiet --threads 1 --tmp ") + q(tmp.path()) + " --method " + method + " " + q(input) + " -o ";
     REQUIRE(run_cli("simplify" + options + q(d.file("one.ply"))).exit_code == 0);

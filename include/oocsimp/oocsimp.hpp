@@ -72,19 +72,21 @@ struct PartOptions {
 };
 
 /// Throws UsageError naming the option when `options` ask for what a distributed run
-/// cannot do yet: curvature cells, a target after clustering, thick edges, locks.
+/// cannot do yet: a target after clustering, thick edges, locks.
 void check_distributed_options(const SimplifyOptions& options);
 
 /// Part part.index of part.count of the run simplify_file(input_path, ..., options)
 /// would make: the share of its work the part owns, left in
 /// part.work_dir/part-I-of-K.oocpart (renamed into place when complete, so a failed
 /// part leaves nothing) for merge_parts. Every part reads the whole input from a
-/// shared path. Three runs spread for now (UsageError otherwise): options.method
+/// shared path. Four runs spread for now (UsageError otherwise): options.method
 /// uniform without a target, whose chunks the parts sum; a target with the edge
 /// collapse (options.method qem, or automatic with a target), whose first out-of-core
-/// pass the parts share; and options.method floating, whose parts each accumulate
-/// their own tiles (grading and sweeping only those with part.exchange). Fills the
-/// input counts of `stats` when given.
+/// pass the parts share; options.method floating, whose parts each accumulate their
+/// own tiles (grading and sweeping only those with part.exchange); and
+/// options.method curvature, whose parts each estimate the curvatures of their share
+/// of the vertices (the merge builds the clusters). Fills the input counts of `stats`
+/// when given.
 void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
                    SimplifyStats* stats = nullptr);
 

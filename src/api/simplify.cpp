@@ -565,6 +565,8 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
     input.restart_triangles();
     if (o.method == ClusterMethod::floating)
       run_floating_part(input, o, manifest, part.exchange, part.work_dir, &st);
+    else if (o.method == ClusterMethod::curvature)
+      run_curvature_part(input, o, manifest, part.work_dir, &st);
     else
       run_uniform_part(input, o, manifest, part.work_dir, &st);
   }
@@ -601,6 +603,10 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
       const FloatingPartPlan plan = parts.floating_plan();
       mesh = merge_floating_shares(input, options, manifest.grid, plan,
                                    parts.floating_shares(AttributeLayout(input.attributes)), &st);
+    } else if (options.method == ClusterMethod::curvature) {
+      record_grid(manifest.grid, &st);
+      parts.curvature_plan();  // a stale part is named before any work
+      mesh = merge_curvature_parts(input, options, manifest.grid, parts.curvatures(), &st);
     } else if (options.method != ClusterMethod::qem) {
       record_grid(manifest.grid, &st);
       mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);

@@ -4,12 +4,14 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "common/vec3_math.hpp"
 #include "curvature/tiled_curvatures.hpp"
+#include "grid/work_share.hpp"
 #include "oocsimp/error.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
@@ -65,7 +67,24 @@ double radius_for(const CurvatureOptions& options, const Box3d& bounds, double m
 
 }  // namespace
 
-CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions& options, float* k) {
+namespace {
+
+// Hands the values of the vertices `which` to `sink`, a bounded run at a time.
+void hand_on(const std::vector<std::uint32_t>& which, const std::vector<float>& k1, const std::vector<float>& k2,
+             const CurvatureSink& sink) {
+  constexpr std::size_t kRun = 65536;
+  std::vector<std::uint64_t> vertices;
+  for (std::size_t at = 0; at < which.size(); at += kRun) {
+    const std::size_t n = std::min(kRun, which.size() - at);
+    vertices.assign(which.begin() + std::ptrdiff_t(at), which.begin() + std::ptrdiff_t(at + n));
+    sink(vertices.data(), k1.data() + at, k2.data() + at, n);
+  }
+}
+
+// The estimate of the whole mesh (into `k`) or of the vertices `deal` gives a part
+// (to `sink`): the survey and the radius, then the values in memory or in tiles.
+CurvatureStats estimate(MeshInput& input, const CurvatureOptions& options, const VertexDeal& deal, float* k,
+                        const CurvatureSink& sink) {
   const double start = now_seconds();
   PeakAnonSampler peak_anon;
   std::unique_ptr<tbb::global_control> thread_limit;
@@ -84,7 +103,7 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
   settings.neighbourhood = options.neighbourhood;
   st.radius = settings.radius;
   if (!(settings.radius > 0)) {  // no side of any length: nothing to measure
-    st.none = st.vertices;
+    st.none = k ? st.vertices : 0;
   } else {
     ProgressPhase phase(options.progress, "curvatures", st.vertices, "vtx");
     settings.progress = &phase;
@@ -94,8 +113,17 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
       const std::vector<Vec3d> positions = load_positions(input);
       const std::vector<std::uint32_t> triangles = load_triangles(input, survey.triangles);
       std::vector<float> k1, k2;
-      counts = vertex_curvatures(positions, triangles, settings, &k1, &k2);
-      for (std::size_t v = 0; v < k1.size(); ++v) k[2 * v] = k1[v], k[2 * v + 1] = k2[v];
+      if (k) {
+        counts = vertex_curvatures(positions, triangles, settings, &k1, &k2);
+        for (std::size_t v = 0; v < k1.size(); ++v) k[2 * v] = k1[v], k[2 * v + 1] = k2[v];
+      } else {
+        std::vector<std::uint32_t> which;
+        for (std::size_t v = 0; v < positions.size(); ++v)
+          if (deal.owns(positions[v])) which.push_back(std::uint32_t(v));
+        counts = vertex_curvatures_of(positions, triangles, settings, which, &k1, &k2);
+        hand_on(which, k1, k2, sink);
+        counts.none = 0;
+      }
     } else {
       TiledCurvatureSettings tiled;
       tiled.vertex = settings;
@@ -104,7 +132,15 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
       tiled.memory_budget = budget;
       tiled.temp_dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
       const double side = curvature_tile_side(input, tiled, threads);
-      counts = tiled_vertex_curvatures(input, tiled, side, k);
+      if (k) {
+        counts = tiled_vertex_curvatures(input, tiled, side, k);
+      } else {
+        counts = tiled_vertex_curvatures(
+            input, tiled, side, [&deal](const Vec3d& p) { return deal.owns(p); },
+            [&sink](const std::vector<std::uint64_t>& vertices, const std::vector<float>& k1,
+                    const std::vector<float>& k2) { sink(vertices.data(), k1.data(), k2.data(), vertices.size()); });
+        counts.none = 0;
+      }
       st.tile_side = side;
     }
     st.invariant = counts.invariant;
@@ -115,6 +151,82 @@ CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = peak_anon.peak();
   return st;
+}
+
+}  // namespace
+
+CurvatureStats estimate_mesh_curvatures(MeshInput& input, const CurvatureOptions& options, float* k) {
+  return estimate(input, options, VertexDeal(), k, nullptr);
+}
+
+CurvatureStats estimate_dealt_curvatures(MeshInput& input, const CurvatureOptions& options, const VertexDeal& deal,
+                                         const CurvatureSink& sink) {
+  return estimate(input, options, deal, nullptr, sink);
+}
+
+VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std::uint32_t part, std::uint32_t parts) {
+  if (parts <= 1 || bounds.empty()) return;  // every vertex
+  origin_ = bounds.min;
+  const Vec3d extent = bounds.max - bounds.min;
+  fine_side_ = std::max({extent.x, extent.y, extent.z}) / (kDivisions * kSplit);
+  if (!(fine_side_ > 0)) fine_side_ = 1;
+  const auto finite = [](const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
+  constexpr std::size_t kBlocks = std::size_t(kDivisions) * kDivisions * kDivisions;
+  constexpr std::size_t kSubBlocks = std::size_t(kSplit) * kSplit * kSplit;
+  std::vector<std::uint64_t> counts(kBlocks, 0);
+  std::size_t block = 0, sub = 0;
+  std::uint64_t total = 0;
+  for (std::uint64_t v = 0; v < positions.count; ++v) {
+    const Vec3d p = positions.get(v);
+    if (!finite(p)) continue;
+    place(p, &block, &sub);
+    ++counts[block];
+    ++total;
+  }
+  // A block above a sixteenth of a part's share is cut into sub-blocks, so that the
+  // deal can balance a mesh that fills few blocks (a far outlier widens the box).
+  const std::uint64_t heavy = std::max<std::uint64_t>(1, total / (16 * std::uint64_t(parts)));
+  split_at_.assign(kBlocks, -1);
+  std::int64_t splits = 0;
+  for (std::size_t b = 0; b < kBlocks; ++b)
+    if (counts[b] > heavy) split_at_[b] = std::int64_t(kSubBlocks) * splits++;
+  std::vector<std::uint64_t> sub_counts(kSubBlocks * std::size_t(splits), 0);
+  if (splits > 0)
+    for (std::uint64_t v = 0; v < positions.count; ++v) {
+      const Vec3d p = positions.get(v);
+      if (!finite(p)) continue;
+      place(p, &block, &sub);
+      if (split_at_[block] >= 0) ++sub_counts[std::size_t(split_at_[block]) + sub];
+    }
+  // The items dealt: the blocks not cut, then the sub-blocks.
+  std::vector<std::uint64_t> weights;
+  weights.reserve(kBlocks + sub_counts.size());
+  for (std::size_t b = 0; b < kBlocks; ++b) weights.push_back(split_at_[b] < 0 ? counts[b] : 0);
+  weights.insert(weights.end(), sub_counts.begin(), sub_counts.end());
+  const std::vector<std::uint32_t> owner = deal_by_weight(weights, parts);
+  owned_.resize(kBlocks);
+  for (std::size_t b = 0; b < kBlocks; ++b) owned_[b] = owner[b] == part;
+  sub_owned_.resize(sub_counts.size());
+  for (std::size_t i = 0; i < sub_counts.size(); ++i) sub_owned_[i] = owner[kBlocks + i] == part;
+}
+
+void VertexDeal::place(const Vec3d& p, std::size_t* block, std::size_t* sub) const {
+  const double last = double(kDivisions * kSplit - 1);
+  const auto fine = [this, last](double x, double lo) {
+    return std::size_t(std::clamp(std::floor((x - lo) / fine_side_), 0.0, last));
+  };
+  const std::size_t x = fine(p.x, origin_.x), y = fine(p.y, origin_.y), z = fine(p.z, origin_.z);
+  *block = ((z / kSplit) * kDivisions + y / kSplit) * kDivisions + x / kSplit;
+  *sub = ((z % kSplit) * kSplit + y % kSplit) * kSplit + x % kSplit;
+}
+
+bool VertexDeal::owns(const Vec3d& p) const {
+  if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return false;
+  if (owned_.empty()) return true;
+  std::size_t block = 0, sub = 0;
+  place(p, &block, &sub);
+  const std::int64_t at = split_at_[block];
+  return at < 0 ? owned_[block] != 0 : sub_owned_[std::size_t(at) + sub] != 0;
 }
 
 }  // namespace oocsimp

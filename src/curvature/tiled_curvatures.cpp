@@ -130,13 +130,38 @@ double curvature_tile_side(const MeshInput& input, const TiledCurvatureSettings&
 
 VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurvatureSettings& settings, double side,
                                               float* k) {
+  const VertexCurvatureCounts counts = tiled_vertex_curvatures(
+      input, settings, side, nullptr,
+      [k](const std::vector<std::uint64_t>& vertices, const std::vector<float>& k1, const std::vector<float>& k2) {
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+          k[2 * vertices[i]] = k1[i];
+          k[2 * vertices[i] + 1] = k2[i];
+        }
+      });
+  // Vertices in no face, or at non-finite positions, were in no tile's estimate.
+  VertexCurvatureCounts total = counts;
+  total.none = input.positions.count - total.invariant - total.fitted;
+  return total;
+}
+
+VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurvatureSettings& settings, double side,
+                                              const VertexFilter& wanted, const TileValuesSink& sink) {
   const double halo = halo_of(settings);
-  // The tiles: those holding a vertex, numbered in vertex order.
+  // The tiles: those holding a vertex, numbered in vertex order; only those holding a
+  // wanted vertex are estimated.
   TileGrid grid;
   grid.side = side;
+  std::vector<char> estimated;
   for (std::uint64_t v = 0; v < input.positions.count; ++v) {
     const Vec3d p = input.positions.get(v);
-    if (finite(p) && grid.find(grid.of(p)) < 0) grid.add(grid.of(p));
+    if (!finite(p)) continue;
+    std::int64_t tile = grid.find(grid.of(p));
+    if (tile < 0) {
+      tile = std::int64_t(grid.count());
+      grid.add(grid.of(p));
+      estimated.push_back(0);
+    }
+    if (!wanted || wanted(p)) estimated[std::size_t(tile)] = 1;
   }
   // Each triangle into every tile its box, widened by the halo, meets.
   const std::uint64_t spill_memory = settings.memory_budget / 4;
@@ -160,7 +185,7 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
       if (cells > double(grid.count())) {  // a face far larger than the tiles: look at every tile
         for (std::uint32_t id = 0; id < grid.count(); ++id) {
           const GridCoord& c = grid.coord(id);
-          if (c.x >= lo.x && c.x <= hi.x && c.y >= lo.y && c.y <= hi.y && c.z >= lo.z && c.z <= hi.z)
+          if (estimated[id] && c.x >= lo.x && c.x <= hi.x && c.y >= lo.y && c.y <= hi.y && c.z >= lo.z && c.z <= hi.z)
             spill.append(id, &record, 1);
         }
         continue;
@@ -169,7 +194,7 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
         for (std::int64_t y = lo.y; y <= hi.y; ++y)
           for (std::int64_t x = lo.x; x <= hi.x; ++x) {
             const std::int64_t id = grid.find(GridCoord{x, y, z});
-            if (id >= 0) spill.append(std::uint32_t(id), &record, 1);
+            if (id >= 0 && estimated[std::size_t(id)]) spill.append(std::uint32_t(id), &record, 1);
           }
     }
   }
@@ -178,7 +203,9 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
   // Each tile: its faces as a mesh of their own, its own vertices estimated.
   VertexCurvatureCounts total;
   std::vector<TileTriangle> records;
+  std::vector<std::uint64_t> own_vertices;
   for (std::uint32_t tile = 0; tile < grid.count(); ++tile) {
+    if (!estimated[tile]) continue;
     spill.read(tile, &records);
     std::vector<std::uint64_t> global;
     global.reserve(3 * records.size());
@@ -189,7 +216,8 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
     std::vector<std::uint32_t> own;
     for (std::size_t i = 0; i < global.size(); ++i) {
       positions[i] = input.positions.get(global[i]);
-      if (finite(positions[i]) && grid.of(positions[i]) == grid.coord(tile)) own.push_back(std::uint32_t(i));
+      if (finite(positions[i]) && grid.of(positions[i]) == grid.coord(tile) && (!wanted || wanted(positions[i])))
+        own.push_back(std::uint32_t(i));
     }
     std::vector<std::uint32_t> triangles;
     triangles.reserve(3 * records.size());
@@ -199,16 +227,13 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
     std::vector<TileTriangle>().swap(records);
     std::vector<float> k1, k2;
     const VertexCurvatureCounts c = vertex_curvatures_of(positions, triangles, settings.vertex, own, &k1, &k2);
-    for (std::size_t i = 0; i < own.size(); ++i) {
-      k[2 * global[own[i]]] = k1[i];
-      k[2 * global[own[i]] + 1] = k2[i];
-    }
+    own_vertices.resize(own.size());
+    for (std::size_t i = 0; i < own.size(); ++i) own_vertices[i] = global[own[i]];
+    sink(own_vertices, k1, k2);
     total.invariant += c.invariant;
     total.fitted += c.fitted;
     total.none += c.none;
   }
-  // Vertices in no face, or at non-finite positions, were in no tile's estimate.
-  total.none = input.positions.count - total.invariant - total.fitted;
   return total;
 }
 

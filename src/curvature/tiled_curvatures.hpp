@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <string>
 
+#include <functional>
+
 #include "curvature/vertex_curvatures.hpp"
 #include "io/mesh_input.hpp"
 
@@ -45,5 +47,17 @@ double curvature_tile_side(const MeshInput& input, const TiledCurvatureSettings&
 /// count as none.
 VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurvatureSettings& settings, double side,
                                               float* k);
+
+/// Whether a vertex at a (finite) position is to be estimated; and where a tile's
+/// values go: its estimated vertices' numbers, k1 and k2.
+using VertexFilter = std::function<bool(const Vec3d& p)>;
+using TileValuesSink = std::function<void(const std::vector<std::uint64_t>& vertices, const std::vector<float>& k1,
+                                          const std::vector<float>& k2)>;
+
+/// The same for the vertices `wanted` accepts, each tile's handed to `sink`; tiles
+/// without such a vertex are not binned. The counts are those vertices' (none counts
+/// only the wanted vertices in a tile that got no estimate).
+VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurvatureSettings& settings, double side,
+                                              const VertexFilter& wanted, const TileValuesSink& sink);
 
 }  // namespace oocsimp

@@ -86,25 +86,25 @@ OutputMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const Gr
   return cluster_cells(input, options, grid, source, stats, quadrics);
 }
 
-}  // namespace
-
-OutputMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                             SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  return single_level(cluster_curvature_levels, input, options, grid, stats, quadrics);
+// Whether the run reads the curvatures: without splits and with quadric
+// representatives nothing does, and the grid cells' parts run alone, at the uniform
+// grid's pace.
+bool reads_curvatures(const SimplifyOptions& options) {
+  return options.curvature.max_depth > 0 || options.curvature.representative == RepresentativeRule::vertex;
 }
 
-void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                              const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
+// The levels, with the curvatures from `fill`.
+using BudgetedFill = std::function<CurvatureStats(float* k, const MemoryBudget& budget)>;
+void run_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics,
+                const BudgetedFill& fill) {
   const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
   PhaseTimer clock;
   const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
   MappedCurvatures k(temp, input.positions.count);
-  // Without splits and with quadric representatives nothing reads the curvatures:
-  // the grid cells' parts alone, at the uniform grid's pace.
-  const bool read = options.curvature.max_depth > 0 || options.curvature.representative == RepresentativeRule::vertex;
   CurvatureStats estimated;
-  if (read) {
-    estimated = estimate_mesh_curvatures(input, curvature_options(options, budget), k.data());
+  if (reads_curvatures(options)) {
+    estimated = fill(k.data(), budget);
     // The tiles' buffers were freed on several threads: let the allocator give them
     // back before the tables come (see SimplifyOptions::release_memory).
     if (options.release_memory) options.release_memory();
@@ -118,6 +118,52 @@ void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, 
     if (level == 0) note_estimates(estimated, &stats);
     sink(level, mesh, stats);
   }
+}
+
+}  // namespace
+
+OutputMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                             SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  return single_level(cluster_curvature_levels, input, options, grid, stats, quadrics);
+}
+
+void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+                              const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
+  run_levels(input, options, grids, sink, base, quadrics, [&](float* k, const MemoryBudget& budget) {
+    return estimate_mesh_curvatures(input, curvature_options(options, budget), k);
+  });
+}
+
+CurvaturePartPlan estimate_curvature_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part,
+                                          std::uint32_t parts, const CurvatureSink& sink, SimplifyStats* stats) {
+  CurvaturePartPlan plan;
+  plan.vertices = input.positions.count;
+  if (!reads_curvatures(options)) return plan;
+  PhaseTimer clock;
+  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+  const VertexDeal deal(input.positions, input.info.bounds, part, parts);
+  const CurvatureStats c = estimate_dealt_curvatures(input, curvature_options(options, budget), deal, sink);
+  clock.end("curvatures");
+  plan.triangles = c.triangles;
+  plan.radius = c.radius;
+  plan.invariant = c.invariant;
+  plan.fitted = c.fitted;
+  plan.estimated = 1;
+  if (stats) clock.move_to(&stats->phases);
+  return plan;
+}
+
+OutputMesh merge_curvature_parts(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+                                 const CurvatureFill& fill, SimplifyStats* stats) {
+  OutputMesh out;
+  run_levels(
+      input, options, {grid},
+      [&](std::size_t, OutputMesh& m, SimplifyStats& s) {
+        out = std::move(m);
+        if (stats) *stats = std::move(s);
+      },
+      stats ? *stats : SimplifyStats(), nullptr, [&](float* k, const MemoryBudget&) { return fill(k); });
+  return out;
 }
 
 }  // namespace oocsimp

@@ -27,31 +27,44 @@ std::string part_options_text(const SimplifyOptions& options) {
       break;
   }
   const TargetOptions& t = options.target;
+  const CurvatureClusterOptions& c = options.curvature;
   return std::string("method ") + method_name(resolved_method(options)) + " target " + std::to_string(t.triangles) +
          " ratio " + part_hex_double(t.ratio) + " max_error " + part_hex_double(t.max_error) + " weld " +
          std::to_string(int(options.weld)) + " precision " + std::to_string(int(options.precision)) + " attributes " +
          attributes + " cells " + std::to_string(int(options.floating.cell_shape)) + " " +
-         std::to_string(int(options.floating.assign)) + " " + std::to_string(int(options.floating.representative));
+         std::to_string(int(options.floating.assign)) + " " + std::to_string(int(options.floating.representative)) +
+         " curvature " + part_hex_double(c.radius) + " " + std::to_string(int(c.sphere_neighbourhood)) + " " +
+         part_hex_double(c.tolerance) + " " + std::to_string(c.max_depth) + " " + std::to_string(int(c.representative));
 }
 
 bool read_part_options(const std::string& text, SimplifyOptions* options) {
   std::istringstream s(text);
   std::string method_key, method, target_key, ratio_key, ratio, error_key, error, weld_key, precision_key,
-      attributes_key, attributes, cells_key;
+      attributes_key, attributes, cells_key, curvature_key, radius, tolerance;
   std::uint64_t target = 0;
-  int weld = -1, precision = -1, shape = -1, assign = -1, representative = -1;
+  int weld = -1, precision = -1, shape = -1, assign = -1, representative = -1, sphere = -1, depth = -1,
+      curvature_representative = -1;
   s >> method_key >> method >> target_key >> target >> ratio_key >> ratio >> error_key >> error >> weld_key >> weld >>
-      precision_key >> precision >> attributes_key >> attributes >> cells_key >> shape >> assign >> representative;
-  if (s.fail() || method_key != "method" || (method != "uniform" && method != "qem" && method != "floating") ||
-      cells_key != "cells" || shape < 0 || shape > int(CellShape::sphere) || assign < 0 ||
-      assign > int(AssignRule::heaviest) || representative < 0 || representative > int(RepresentativeRule::vertex) ||
-      target_key != "target" || ratio_key != "ratio" || error_key != "max_error" || weld_key != "weld" || weld < 0 ||
-      weld > 1 || precision_key != "precision" || precision < 0 || precision > int(Precision::float64) ||
-      attributes_key != "attributes")
+      precision_key >> precision >> attributes_key >> attributes >> cells_key >> shape >> assign >> representative >>
+      curvature_key >> radius >> sphere >> tolerance >> depth >> curvature_representative;
+  if (s.fail() || method_key != "method" ||
+      (method != "uniform" && method != "qem" && method != "floating" && method != "curvature") ||
+      curvature_key != "curvature" || sphere < 0 || sphere > 1 || depth < 0 || curvature_representative < 0 ||
+      curvature_representative > int(RepresentativeRule::vertex) || cells_key != "cells" || shape < 0 ||
+      shape > int(CellShape::sphere) || assign < 0 || assign > int(AssignRule::heaviest) || representative < 0 ||
+      representative > int(RepresentativeRule::vertex) || target_key != "target" || ratio_key != "ratio" ||
+      error_key != "max_error" || weld_key != "weld" || weld < 0 || weld > 1 || precision_key != "precision" ||
+      precision < 0 || precision > int(Precision::float64) || attributes_key != "attributes")
     return false;
-  options->method = method == "qem"        ? ClusterMethod::qem
-                    : method == "floating" ? ClusterMethod::floating
-                                           : ClusterMethod::uniform;
+  options->method = method == "qem"         ? ClusterMethod::qem
+                    : method == "floating"  ? ClusterMethod::floating
+                    : method == "curvature" ? ClusterMethod::curvature
+                                            : ClusterMethod::uniform;
+  options->curvature.radius = std::strtod(radius.c_str(), nullptr);
+  options->curvature.sphere_neighbourhood = sphere == 1;
+  options->curvature.tolerance = std::strtod(tolerance.c_str(), nullptr);
+  options->curvature.max_depth = std::uint32_t(depth);
+  options->curvature.representative = RepresentativeRule(curvature_representative);
   options->floating.cell_shape = CellShape(shape);
   options->floating.assign = AssignRule(assign);
   options->floating.representative = RepresentativeRule(representative);
@@ -66,10 +79,11 @@ bool read_part_options(const std::string& text, SimplifyOptions* options) {
 
 void check_part_options(const SimplifyOptions& options) {
   const ClusterMethod method = resolved_method(options);
-  if (method != ClusterMethod::uniform && method != ClusterMethod::qem && method != ClusterMethod::floating)
+  if (method != ClusterMethod::uniform && method != ClusterMethod::qem && method != ClusterMethod::floating &&
+      method != ClusterMethod::curvature)
     throw UsageError("options.method",
-                     std::string("a distributed run (options.part) takes options.method uniform, floating, or qem (the "
-                                 "default with a target); ") +
+                     std::string("a distributed run (options.part) takes options.method uniform, floating, curvature, "
+                                 "or qem (the default with a target); ") +
                          method_name(method) + " runs in one process for now");
   if (method != ClusterMethod::qem && options.target.given())
     throw UsageError("options.target",
@@ -134,6 +148,33 @@ void run_floating_part(MeshInput& input, const SimplifyOptions& options, const P
       &plan, stats);
   writer.floating_plan(plan);
   writer.commit(0, 0, plan.skipped);
+}
+
+void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                        const std::string& dir, SimplifyStats* stats) {
+  PartWriter writer(dir, manifest);
+  constexpr std::size_t kRunValues = 1 << 16;  // values per record
+  std::vector<VertexCurvatureValue> run;
+  run.reserve(kRunValues);
+  const CurvaturePartPlan plan = estimate_curvature_part(
+      input, options, manifest.part, manifest.parts,
+      [&](const std::uint64_t* vertices, const float* k1, const float* k2, std::size_t n) {
+        for (std::size_t i = 0; i < n; ++i) {
+          run.push_back({std::uint32_t(vertices[i]), k1[i], k2[i]});
+          if (run.size() == kRunValues) {
+            writer.curvatures(run);
+            run.clear();
+          }
+        }
+      },
+      stats);
+  if (!run.empty()) writer.curvatures(run);
+  writer.curvature_plan(plan);
+  writer.commit(0, 0, input.triangles->skipped());
+  if (stats) {
+    stats->input_triangles = plan.triangles;
+    stats->skipped = input.triangles->skipped();
+  }
 }
 
 namespace {
@@ -268,6 +309,43 @@ FloatingPartPlan PartSet::floating_plan() const {
 ClusterShareSource PartSet::floating_shares(const AttributeLayout& layout) const {
   return [this, layout](const ClusterShareSink& sink) {
     for (const std::unique_ptr<PartReader>& part : parts_) part->shares(sink, layout);
+  };
+}
+
+CurvaturePartPlan PartSet::curvature_plan() const {
+  CurvaturePartPlan sum;
+  for (const std::unique_ptr<PartReader>& part : parts_) {
+    if (!part->has_curvature_plan())
+      throw InputError(part->path() + ": stale: it holds no curvature values: run the part again, then merge");
+    const CurvaturePartPlan p = part->curvature_plan();
+    if (&part == &parts_[0]) {
+      sum = p;
+      continue;
+    }
+    if (p.vertices != sum.vertices || p.triangles != sum.triangles || p.radius != sum.radius ||
+        p.estimated != sum.estimated)
+      throw InputError(part->path() + ": stale: its curvature estimate was planned otherwise than " +
+                       parts_[0]->path() + "'s: run the part again, then merge");
+    sum.invariant += p.invariant;
+    sum.fitted += p.fitted;
+  }
+  if (sum.invariant + sum.fitted > sum.vertices)
+    throw InputError(parts_.back()->path() + ": stale: the parts estimated more vertices than the input has");
+  return sum;
+}
+
+CurvatureFill PartSet::curvatures() const {
+  return [this](float* k) {
+    const CurvaturePartPlan plan = curvature_plan();
+    CurvatureStats st;
+    st.vertices = plan.vertices;
+    st.triangles = plan.triangles;
+    st.radius = plan.radius;
+    st.invariant = plan.invariant;
+    st.fitted = plan.fitted;
+    st.none = plan.vertices - plan.invariant - plan.fitted;
+    for (const std::unique_ptr<PartReader>& part : parts_) part->curvatures(plan.vertices, k);
+    return st;
   };
 }
 

@@ -1,7 +1,8 @@
 // A run spread over parts (docs/cluster.md): part I of K sums the chunks it owns into
 // its part file; the merge checks that every part is there, whole and from the same
-// run, and finishes the run from them: the uniform grid, and the edge collapse to a
-// target (its first out-of-core pass spread).
+// run, and finishes the run from them: the uniform grid, floating cells, curvature
+// cells (their estimate spread) and the edge collapse to a target (its first
+// out-of-core pass spread).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/curvature_clusterer.hpp"
 #include "methods/multiphase.hpp"
 #include "methods/uniform_clusterer.hpp"
 #include "oocsimp/options.hpp"
@@ -26,8 +28,8 @@ std::string part_options_text(const SimplifyOptions& options);
 /// when the text is malformed.
 bool read_part_options(const std::string& text, SimplifyOptions* options);
 
-/// Throws UsageError naming the option for what a part cannot run with yet: curvature
-/// cells, a target after clustering, thick edges, locks.
+/// Throws UsageError naming the option for what a part cannot run with yet: a target
+/// after clustering, thick edges, locks.
 void check_part_options(const SimplifyOptions& options);
 
 /// Part manifest.part of manifest.parts of a uniform run on `input` (at its start)
@@ -48,6 +50,11 @@ void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartMa
 void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
                        const PartExchange& exchange, const std::string& dir, SimplifyStats* stats);
 
+/// The same for options.method curvature: the curvatures of the vertices dealt to the
+/// part (estimate_curvature_part), nearly all of the method's time, with the plan.
+void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
+                        const std::string& dir, SimplifyStats* stats);
+
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part
 /// number, and the input unchanged since. Throws InputError (exit 3) naming the
@@ -67,6 +74,11 @@ class PartSet {
   /// part without one, or with another tiling), and every part's cluster shares.
   FloatingPartPlan floating_plan() const;
   ClusterShareSource floating_shares(const AttributeLayout& layout) const;
+  /// The curvature run's plan, checked to be every part's, with the parts' counts
+  /// summed (throws InputError naming a part without one or with another); and the
+  /// fill of the curvatures from every part's values.
+  CurvaturePartPlan curvature_plan() const;
+  CurvatureFill curvatures() const;
 
  private:
   bool has_floating() const;

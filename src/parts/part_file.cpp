@@ -21,7 +21,7 @@ namespace oocsimp {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'O', 'C', 'S', 'P', 'A', 'R', 'T'};
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8;  // magic, version, part, parts, manifest bytes
 // A record: its kind (1 byte), the chunk (8) and the payload bytes (8), then the payload.
 enum RecordKind : std::uint8_t {
@@ -31,12 +31,16 @@ enum RecordKind : std::uint8_t {
   kTile = 3,
   kPlan = 4,
   kShares = 5,
-  kFloatingPlan = 6
+  kFloatingPlan = 6,
+  kCurvatures = 7,
+  kCurvaturePlan = 8
 };
 constexpr std::uint64_t kSampleBytes = 1 << 20;
 static_assert(std::is_trivially_copyable<PassFace>::value && std::is_trivially_copyable<PassVertex>::value &&
                   std::is_trivially_copyable<FirstPassPlan>::value &&
-                  std::is_trivially_copyable<FloatingPartPlan>::value,
+                  std::is_trivially_copyable<FloatingPartPlan>::value &&
+                  std::is_trivially_copyable<VertexCurvatureValue>::value &&
+                  std::is_trivially_copyable<CurvaturePartPlan>::value,
               "a tile's records are written as they are in memory");
 
 std::string manifest_text(const PartManifest& m) {
@@ -218,6 +222,12 @@ void PartWriter::shares(ShareKind kind, const void* records, std::size_t bytes) 
 
 void PartWriter::floating_plan(const FloatingPartPlan& plan) { put_record(kFloatingPlan, 0, &plan, sizeof plan); }
 
+void PartWriter::curvatures(const std::vector<VertexCurvatureValue>& values) {
+  put_record(kCurvatures, curvature_runs_++, values.data(), values.size() * sizeof(VertexCurvatureValue));
+}
+
+void PartWriter::curvature_plan(const CurvaturePartPlan& plan) { put_record(kCurvaturePlan, 0, &plan, sizeof plan); }
+
 void PartWriter::put_record(std::uint8_t kind, std::uint64_t chunk, const std::vector<unsigned char>& payload) {
   put_record(kind, chunk, payload.data(), payload.size());
 }
@@ -360,6 +370,17 @@ PartReader::PartReader(const std::string& path) : path_(path) {
       c.skip(bytes);
       continue;
     }
+    if (kind == kCurvatures || kind == kCurvaturePlan) {
+      if (kind == kCurvatures ? (chunk != curvature_at_.size() || bytes % sizeof(VertexCurvatureValue) != 0)
+                              : (curvature_plan_at_ != 0 || chunk != 0 || bytes != sizeof(CurvaturePartPlan)))
+        throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
+      if (kind == kCurvatures)
+        curvature_at_.push_back({c.at(), bytes});
+      else
+        curvature_plan_at_ = c.at();
+      c.skip(bytes);
+      continue;
+    }
     if (kind == kTile || kind == kPlan) {
       if (kind == kTile ? chunk != tile_at_.size() : (plan_at_ != 0 || chunk != 0 || bytes != sizeof(FirstPassPlan)))
         throw InputError(path + ": byte " + std::to_string(record) + ": an unexpected record");
@@ -451,6 +472,32 @@ void PartReader::shares(const ClusterShareSink& sink, const AttributeLayout& lay
       c.fail("a cluster share's record does not hold whole shares (another build of oocsimp?)");
     }
     sink(r.kind, map_->data() + r.at, std::size_t(r.bytes / bytes));
+  }
+}
+
+CurvaturePartPlan PartReader::curvature_plan() const {
+  PartCursor c(path_, map_->data(), map_->size() - 8, curvature_plan_at_);
+  const CurvaturePartPlan plan = c.get<CurvaturePartPlan>();
+  if (plan.estimated > 1 || plan.invariant + plan.fitted > plan.vertices ||
+      (plan.estimated && !(plan.radius >= 0 && std::isfinite(plan.radius))))
+    c.fail("the curvature run's plan is malformed");
+  return plan;
+}
+
+void PartReader::curvatures(std::uint64_t vertices, float* k) const {
+  for (const RecordPlace& r : curvature_at_) {
+    const unsigned char* at = map_->data() + r.at;
+    for (std::uint64_t i = 0; i < r.bytes / sizeof(VertexCurvatureValue); ++i) {
+      VertexCurvatureValue v;
+      std::memcpy(&v, at + i * sizeof v, sizeof v);
+      if (v.vertex >= vertices) {
+        PartCursor c(path_, map_->data(), map_->size() - 8, r.at + i * sizeof v);
+        c.fail("a curvature value of vertex " + std::to_string(v.vertex) + ", past the input's " +
+               std::to_string(vertices) + " vertices");
+      }
+      k[2 * std::uint64_t(v.vertex)] = v.k1;
+      k[2 * std::uint64_t(v.vertex) + 1] = v.k2;
+    }
   }
 }
 

@@ -1,14 +1,15 @@
 // The file a part of a distributed run leaves in the work folder: what it was run on
 // and with, and what it owns of the run's work, for `oocsimp merge` to finish the
 // run (docs/cluster.md): the uniform grid's chunk sums, or the edge collapse's first
-// pass. Format, version 3, little-endian:
+// pass. Format, version 4, little-endian:
 //
 //   "OOCSPART" u32 version u32 part u32 parts u64 manifest-bytes manifest-text
 //   records: u8 kind u64 number u64 payload-bytes payload, the kinds
 //            1 vertex chunk, 2 face chunk (numbered by chunk),
 //            3 collapsed tile (numbered 0, 1, 2, ...), 4 the first pass's plan (0),
 //            5 floating cells' cluster shares (numbered by ShareKind), 6 the floating
-//            run's plan (0)
+//            run's plan (0), 7 curvature values (numbered 0, 1, 2, ...), 8 the
+//            curvature run's plan (0)
 //   end:     u8 0 u64 vertex-chunks u64 face-chunks, the skipped faces (3 u64)
 //   u64 XXH64 of every byte before it
 //
@@ -16,7 +17,8 @@
 // triangles, u64 n, n u64 keys, n Quadric, u64 m, m u32 kept, u64 a, a double
 // attribute sums. A tile's is u64 n, n PassFace, u64 m, m PassVertex, u64 a, a
 // double attribute values; the plan's a FirstPassPlan. Cluster shares are records of
-// their kind, back to back; the floating plan a FloatingPartPlan. (The structs as
+// their kind, back to back; the floating plan a FloatingPartPlan. Curvature values
+// are VertexCurvatureValue records; their plan a CurvaturePartPlan. (The structs as
 // they are in memory: a part and its merge run the same build.)
 #pragma once
 
@@ -29,6 +31,7 @@
 #include "grid/grid_spec.hpp"
 #include "io/mapped_file.hpp"
 #include "io/temp_file.hpp"
+#include "methods/curvature_clusterer.hpp"
 #include "methods/floating_clusterer.hpp"
 #include "methods/qem_passes.hpp"
 #include "refine/pass_tile.hpp"
@@ -61,6 +64,12 @@ struct PartManifest {
   std::string build;
 };
 
+/// One vertex's curvatures as a part of a curvature run hands them on.
+struct VertexCurvatureValue {
+  std::uint32_t vertex = 0;
+  float k1 = 0, k2 = 0;
+};
+
 /// `v` exactly, as a manifest writes numbers (C's %a).
 std::string part_hex_double(double v);
 
@@ -85,6 +94,9 @@ class PartWriter {
   /// the run's plan (once).
   void shares(ShareKind kind, const void* records, std::size_t bytes);
   void floating_plan(const FloatingPartPlan& plan);
+  /// A run of a curvature part's values, and the run's plan (once).
+  void curvatures(const std::vector<VertexCurvatureValue>& values);
+  void curvature_plan(const CurvaturePartPlan& plan);
   /// The end record (the input's chunk counts and skipped faces, which every part
   /// reads) and the checksum, then the rename. Throws IoError.
   void commit(std::uint64_t vertex_chunks, std::uint64_t face_chunks, const SkippedFaces& skipped);
@@ -99,6 +111,7 @@ class PartWriter {
   std::vector<unsigned char> buffer_;
   std::uint64_t written_ = 0;
   std::uint64_t tiles_ = 0;
+  std::uint64_t curvature_runs_ = 0;
 };
 
 /// A part file, mapped and checked: its checksum, its records and its end. Throws
@@ -129,6 +142,12 @@ class PartReader {
   bool has_floating_plan() const { return floating_plan_at_ != 0; }
   FloatingPartPlan floating_plan() const;
   void shares(const ClusterShareSink& sink, const AttributeLayout& layout) const;
+  /// Whether the part holds a curvature run's plan; the plan, and its values written
+  /// into k[2 v], k[2 v + 1] (InputError naming the byte of a vertex at or past
+  /// `vertices`).
+  bool has_curvature_plan() const { return curvature_plan_at_ != 0; }
+  CurvaturePartPlan curvature_plan() const;
+  void curvatures(std::uint64_t vertices, float* k) const;
 
  private:
   std::string path_;
@@ -147,8 +166,10 @@ class PartReader {
     std::uint64_t at = 0, bytes = 0;
     ShareKind kind = ShareKind::partial;
   };
-  std::vector<ShareRecord> share_at_;   // each run of cluster shares
-  std::uint64_t floating_plan_at_ = 0;  // the floating plan's payload, 0 where there is none
+  std::vector<ShareRecord> share_at_;      // each run of cluster shares
+  std::uint64_t floating_plan_at_ = 0;     // the floating plan's payload, 0 where there is none
+  std::vector<RecordPlace> curvature_at_;  // each run of curvature values
+  std::uint64_t curvature_plan_at_ = 0;    // the curvature plan's payload, 0 where there is none
 };
 
 }  // namespace oocsimp
