@@ -8,6 +8,9 @@
 #   whose first out-of-core pass the parts share
 #   METHOD=floating: floating cells, whose ranks exchange tile borders under mpirun
 #   (the parts of an array each grade and sweep every tile)
+#   METHOD=curvature SHAPE=parts GRID=150 ... 2000000: curvature cells, whose parts
+#   each estimate their share of the vertices' curvatures
+#   SHAPE=sphere (default): the generated shape
 #
 # Per size, all with 1 thread per process:
 #   one      oocsimp simplify, one process;
@@ -22,7 +25,8 @@
 #   T(K) = R + S/K + M + X/B     R: what every part repeats (T(part K=1) - S),
 #                                S: the summing that splits (2 (T(part K=1) - T(2 parts))),
 #                                M: the merge, X: the part files' bytes, B: 1.25 GB/s.
-# Each output is checked against the one-process bytes. Then (not for qem) floating
+# Each output is checked against the one-process bytes. Then (not for qem or
+# curvature) floating
 # cells run once in one process for the bytes their tiles hand on (per sweep, per
 # stitch) and the same model's prediction for ranks that exchange them.
 set -euo pipefail
@@ -31,6 +35,7 @@ sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(20000000 100000000)
 grid="${GRID:-256}"
 method="${METHOD:-uniform}"
+shape="${SHAPE:-sphere}"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 work="$dir/cluster-work"
 if [ "$method" = qem ]; then
@@ -41,8 +46,8 @@ fi
 
 printf '%-10s %8s %9s %9s %9s %9s %9s %9s %10s\n' size one_s part1_s parts2_s merge_s 2proc_s mpirun2_s speedup part_MiB
 for n in "${sizes[@]}"; do
-  mesh="$dir/sphere-$n.ply"
-  [ -f "$mesh" ] || "$bin" generate --tris "$n" --shape sphere --seed 1 --quiet -o "$mesh"
+  mesh="$dir/$shape-$n.ply"
+  [ -f "$mesh" ] || "$bin" generate --tris "$n" --shape "$shape" --seed 1 --quiet -o "$mesh"
   cat "$mesh" >/dev/null
   t0=$(now)
   "$bin" simplify "$mesh" -o "$dir/one.ply" "${common[@]}"
@@ -86,7 +91,7 @@ for n in "${sizes[@]}"; do
     for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }
     printf("\n");
   }'
-  [ "$method" = qem ] && continue
+  [ "$method" = qem ] || [ "$method" = curvature ] && continue
   # Floating cells' exchange measured in one process, and the model's prediction from
   # it for ranks that exchange borders (docs/cluster.md, "A model for floating cells").
   "$bin" simplify "$mesh" -o "$dir/one-floating.ply" --method floating --grid "$grid" --threads 1 --quiet \
