@@ -10,6 +10,8 @@
 #   (the parts of an array each grade and sweep every tile)
 #   METHOD=curvature SHAPE=parts GRID=150 ... 2000000: curvature cells, whose parts
 #   each estimate their share of the vertices' curvatures
+#   METHOD=floating TARGET_RATIO=0.01: the clustering as phase 1 of a target (the
+#   parts share phase 1; the merge collapses)
 #   SHAPE=sphere (default): the generated shape
 #
 # Per size, all with 1 thread per process:
@@ -40,6 +42,8 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 work="$dir/cluster-work"
 if [ "$method" = qem ]; then
   common=(--method qem --target-ratio "${RATIO:-0.029}" --threads 1 --quiet)
+elif [ -n "${TARGET_RATIO:-}" ]; then
+  common=(--method "$method" --target-ratio "$TARGET_RATIO" --threads 1 --quiet)
 else
   common=(--method "$method" --grid "$grid" --threads 1 --quiet)
 fi
@@ -91,7 +95,7 @@ for n in "${sizes[@]}"; do
     for (i = 1; i <= 3; ++i) { k = ks[i]; t = r + s / k + m + x / b; printf(" K=%d %.2fx", k, one / t); }
     printf("\n");
   }'
-  [ "$method" = qem ] || [ "$method" = curvature ] && continue
+  [ "$method" = qem ] || [ "$method" = curvature ] || [ -n "${TARGET_RATIO:-}" ] && continue
   # Floating cells' exchange measured in one process, and the model's prediction from
   # it for ranks that exchange borders (docs/cluster.md, "A model for floating cells").
   "$bin" simplify "$mesh" -o "$dir/one-floating.ply" --method floating --grid "$grid" --threads 1 --quiet \

@@ -130,7 +130,7 @@ TEST_CASE("merge names a missing, killed, damaged or stale part and a changed in
   write_file(part_file(2), other_version);
   r = run_cli(merge);
   CHECK(r.exit_code == 3);
-  CHECK(r.err.find("version 9; this oocsimp reads version 3") != std::string::npos);
+  CHECK(r.err.find("version 9; this oocsimp reads version 4") != std::string::npos);
   write_file(part_file(2), kept);
   REQUIRE(run_cli(merge).exit_code == 0);
   CHECK(read_file(out) == read_file(d.file("one.ply")));
@@ -193,6 +193,55 @@ TEST_CASE("parts of a run to a target give one process's bytes, its first pass s
       CHECK(other.err.find("part-0-of-2.oocpart: stale: it was written by another build") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("parts of a target after clustering give one process's bytes: phase 1 spread, or the run whole",
+          "[distributed][target]") {
+  ScratchDir d;
+  const std::string input = d.file("t.ply");
+  REQUIRE(run_cli("generate --shape terrain --tris 80000 --seed 4 --attributes --quiet -o " + q(input)).exit_code == 0);
+  // Phase 1 spread, then the collapse (or nothing more) in the merge; a target near
+  // the input's count (the whole input collapsed) and one above it (the input given
+  // back) leave the parts nothing to do.
+  for (const char* options :
+       {"--method uniform --target-tris 3000", "--method floating --target-tris 2000 --intermediate-factor 6",
+        "--method curvature --target-tris 3000", "--method uniform --target-ratio 0.05 --refine none",
+        "--method floating --target-ratio 0.05 --refine none", "--method uniform --max-error 0.01",
+        "--method uniform --target-ratio 0.9", "--method floating --target-tris 500000"}) {
+    REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + options).exit_code == 0);
+    for (int parts = 1; parts <= 3; ++parts) {
+      ScratchDir work;
+      for (int part = 0; part < parts; ++part) {
+        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
+                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
+                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + options);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+      }
+      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      INFO(options << ", " << parts << " parts: " << r.err);
+      REQUIRE(r.exit_code == 0);
+      CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+      CHECK(r.err.find("phase 1 ran again") == std::string::npos);
+    }
+  }
+  // A merge given another --mem than its parts chooses another phase 1 (the
+  // intermediate, 4 x 60000 triangles here, is capped by the budget at 32M): it
+  // clusters again itself, says so, and writes what one process with its --mem writes.
+  const std::string large = d.file("large.ply");
+  REQUIRE(run_cli("generate --shape terrain --tris 400000 --seed 4 --quiet -o " + q(large)).exit_code == 0);
+  const std::string o = "--method uniform --target-tris 60000";
+  ScratchDir work;
+  for (int part = 0; part < 2; ++part)
+    REQUIRE(run_cli("simplify " + q(large) + " -o unused.ply --quiet --mem 64M --part " + std::to_string(part) +
+                    "/2 --work-dir " + q(work.path()) + " " + o)
+                .exit_code == 0);
+  REQUIRE(run_cli("simplify " + q(large) + " -o " + q(d.file("one.ply")) + " --quiet --mem 32M " + o).exit_code == 0);
+  const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --mem 32M");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.find("phase 1 ran again in the merge") != std::string::npos);
+  CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
 }
 
 TEST_CASE("floating parts merged give one process's bytes for 1 to 4 parts, any threads and cell options",
@@ -404,9 +453,7 @@ TEST_CASE("a part refuses what a distributed run cannot do yet, naming the optio
     const char* args;
     const char* says;
   };
-  for (const Case& c : {Case{" --part 0/2 --method curvature --target-tris 100", "not after curvature clustering"},
-                        Case{" --part 0/2 --method floating --target-tris 100", "not after floating clustering"},
-                        Case{" --part 0/2 --method uniform --target-tris 100", "not after uniform clustering"},
+  for (const Case& c : {Case{" --part 0/2 --method uniform --grid 20 --lods 3", "one level"},
                         Case{" --part 0/2 --target-tris 100 --lock-boundary", "boundary"},
                         Case{" --part 0/2 --method uniform --thick-edges", "thick edges"},
                         Case{" --part 2/2 --method uniform", "--part"}, Case{" --part x --method uniform", "--part"}}) {
@@ -460,8 +507,8 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
   ScratchDir d, tmp;
   const std::string input = d.file("terrain.ply");
   REQUIRE(run_cli("generate --shape terrain --tris 200000 --attributes --quiet -o " + q(input)).exit_code == 0);
-  for (const char* method :
-       {"uniform --grid 80", "floating --grid 80 --tile 0.1", "curvature --grid 60", "qem --target-tris 3000"}) {
+  for (const char* method : {"uniform --grid 80", "floating --grid 80 --tile 0.1", "curvature --grid 60",
+                             "qem --target-tris 3000", "floating --target-tris 3000 --tile 0.1"}) {
     const std::string options =
         std::string(" --quiet --threads 1 --tmp ") + q(tmp.path()) + " --method " + method + " " + q(input) + " -o ";
     REQUIRE(run_cli("simplify" + options + q(d.file("one.ply"))).exit_code == 0);

@@ -72,7 +72,7 @@ struct PartOptions {
 };
 
 /// Throws UsageError naming the option when `options` ask for what a distributed run
-/// cannot do yet: a target after clustering, thick edges, locks.
+/// cannot do yet: thick edges, locks.
 void check_distributed_options(const SimplifyOptions& options);
 
 /// Part part.index of part.count of the run simplify_file(input_path, ..., options)
@@ -85,8 +85,9 @@ void check_distributed_options(const SimplifyOptions& options);
 /// pass the parts share; options.method floating, whose parts each accumulate their
 /// own tiles (grading and sweeping only those with part.exchange); and
 /// options.method curvature, whose parts each estimate the curvatures of their share
-/// of the vertices (the merge builds the clusters). Fills the input counts of `stats`
-/// when given.
+/// of the vertices (the merge builds the clusters). A target after one of those
+/// clustering methods spreads its phase 1 (its first attempt) the same way; the
+/// collapse runs in the merge. Fills the input counts of `stats` when given.
 void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
                    SimplifyStats* stats = nullptr);
 

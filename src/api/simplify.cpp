@@ -560,15 +560,12 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
   if (o.method == ClusterMethod::qem) {
     run_qem_part(input, o, manifest, part.work_dir, &st);
   } else {
-    manifest.grid = choose_grid(input, o.sizing, o.threads);
-    record_grid(manifest.grid, &st);
-    input.restart_triangles();
-    if (o.method == ClusterMethod::floating)
-      run_floating_part(input, o, manifest, part.exchange, part.work_dir, &st);
-    else if (o.method == ClusterMethod::curvature)
-      run_curvature_part(input, o, manifest, part.work_dir, &st);
-    else
-      run_uniform_part(input, o, manifest, part.work_dir, &st);
+    if (!o.target.given()) {
+      manifest.grid = choose_grid(input, o.sizing, o.threads);
+      record_grid(manifest.grid, &st);
+      input.restart_triangles();
+    }
+    run_clustering_part(input, o, manifest, part.exchange, part.work_dir, &st);
   }
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
@@ -598,18 +595,14 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
     const PeakAnonSampler memory;
     begin_stats(input, options, &st);
     OutputMesh mesh;
-    if (options.method == ClusterMethod::floating) {
+    if (options.method != ClusterMethod::qem && !options.target.given()) {
       record_grid(manifest.grid, &st);
-      const FloatingPartPlan plan = parts.floating_plan();
-      mesh = merge_floating_shares(input, options, manifest.grid, plan,
-                                   parts.floating_shares(AttributeLayout(input.attributes)), &st);
-    } else if (options.method == ClusterMethod::curvature) {
-      record_grid(manifest.grid, &st);
-      parts.curvature_plan();  // a stale part is named before any work
-      mesh = merge_curvature_parts(input, options, manifest.grid, parts.curvatures(), &st);
-    } else if (options.method != ClusterMethod::qem) {
-      record_grid(manifest.grid, &st);
-      mesh = merge_uniform_chunks(input, options, manifest.grid, parts.chunks(), &st);
+      mesh = parts.clustering(input, options)(manifest.grid, &st, nullptr);
+    } else if (options.method != ClusterMethod::qem && manifest.grid.cell > 0) {
+      mesh = OutputMesh::of(
+          simplify_to_target_after_clustering(input, options, manifest.grid, parts.clustering(input, options), &st));
+    } else if (options.method != ClusterMethod::qem) {  // the parts clustered nothing: the run whole
+      mesh = OutputMesh::of(simplify_to_target(input, options, &st));
     } else if (parts.has_first_pass()) {
       mesh = OutputMesh::of(
           simplify_to_target_after_parts(input, options, parts.first_pass(input.attributes.size()), &st));

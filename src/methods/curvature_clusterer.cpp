@@ -154,7 +154,7 @@ CurvaturePartPlan estimate_curvature_part(MeshInput& input, const SimplifyOption
 }
 
 OutputMesh merge_curvature_parts(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const CurvatureFill& fill, SimplifyStats* stats) {
+                                 const CurvatureFill& fill, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   OutputMesh out;
   run_levels(
       input, options, {grid},
@@ -162,7 +162,7 @@ OutputMesh merge_curvature_parts(MeshInput& input, const SimplifyOptions& option
         out = std::move(m);
         if (stats) *stats = std::move(s);
       },
-      stats ? *stats : SimplifyStats(), nullptr, [&](float* k, const MemoryBudget&) { return fill(k); });
+      stats ? *stats : SimplifyStats(), quadrics, [&](float* k, const MemoryBudget&) { return fill(k); });
   return out;
 }
 

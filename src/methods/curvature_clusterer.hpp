@@ -53,8 +53,9 @@ CurvaturePartPlan estimate_curvature_part(MeshInput& input, const SimplifyOption
 using CurvatureFill = std::function<CurvatureStats(float* k)>;
 
 /// cluster_curvature with the curvatures from `fill` (the parts of a distributed run)
-/// instead of estimated here: the same bytes and stats.
+/// instead of estimated here: the same bytes and stats (and `quadrics`).
 OutputMesh merge_curvature_parts(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const CurvatureFill& fill, SimplifyStats* stats);
+                                 const CurvatureFill& fill, SimplifyStats* stats,
+                                 std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

@@ -431,10 +431,11 @@ void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, con
 }
 
 OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const FloatingPartPlan& plan, const ClusterShareSource& source, SimplifyStats* stats) {
+                                 const FloatingPartPlan& plan, const ClusterShareSource& source, SimplifyStats* stats,
+                                 std::vector<Quadric>* quadrics) {
   PhaseTimer clock;
   const std::vector<GridSpec> grids{grid};
-  FloatingRun run(input, options, grids, nullptr);
+  FloatingRun run(input, options, grids, quadrics);
   ClusterShares shares = run.open_shares(plan);
   source([&](ShareKind kind, const void* records, std::size_t count) {
     add_share_records(&shares, kind, records, count, input.info.path);

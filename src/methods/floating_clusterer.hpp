@@ -61,8 +61,10 @@ void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, con
 
 /// The merge of a floating run's parts: their shares (`shares`, of the run `plan`
 /// says) stitched and assembled as cluster_floating does; the same mesh for any
-/// number of parts. Throws InputError for a share that does not fit the input.
+/// number of parts, and with `quadrics` as for cluster_floating. Throws InputError for
+/// a share that does not fit the input.
 OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const FloatingPartPlan& plan, const ClusterShareSource& shares, SimplifyStats* stats);
+                                 const FloatingPartPlan& plan, const ClusterShareSource& shares, SimplifyStats* stats,
+                                 std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

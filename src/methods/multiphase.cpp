@@ -353,18 +353,44 @@ struct Intermediate {
 // Phase 1 (Garland & Shaffer 2002 §3): the clustering method at the cell the vertex
 // sample gives for about `want` triangles (o->sizing is set to it); with
 // `with_quadrics`, handing on each cluster's quadric.
-Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bool with_quadrics,
-                           SimplifyStats* stats) {
-  const ClusterMethodEntry& method = cluster_method(o->method);
+// The grid phase 1 clusters at for about `want` triangles (o->sizing is set to it).
+GridSpec phase_grid(MeshInput& input, SimplifyOptions* o, double want) {
   o->sizing = CellSizing();
   o->sizing.ratio = want / double(std::max<std::uint64_t>(input.info.face_count, 1));
+  return choose_grid(input, o->sizing, o->threads);
+}
+
+// Where phase 1's first attempt comes from in a merge: the parts' clustering at their
+// grid.
+struct PartsPhaseOne {
+  const GridSpec* grid = nullptr;
+  const MergedPhaseOne* merged = nullptr;
+};
+
+bool same_grid(const GridSpec& a, const GridSpec& b) {
+  return a.origin.x == b.origin.x && a.origin.y == b.origin.y && a.origin.z == b.origin.z && a.cell == b.cell &&
+         a.dims[0] == b.dims[0] && a.dims[1] == b.dims[1] && a.dims[2] == b.dims[2];
+}
+
+Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bool with_quadrics, SimplifyStats* stats,
+                           const PartsPhaseOne* parts = nullptr) {
+  const ClusterMethodEntry& method = cluster_method(o->method);
   Intermediate out;
-  out.grid = choose_grid(input, o->sizing, o->threads);
+  out.grid = phase_grid(input, o, want);
   stats->cell_size = out.grid.cell;
   for (int a = 0; a < 3; ++a) stats->grid_dims[a] = out.grid.dims[a];
   input.restart_triangles();
   const PeakAnonSampler phase1_memory;
-  out.mesh = method.run(input, *o, out.grid, stats, with_quadrics ? &out.quadrics : nullptr).take();
+  std::vector<Quadric>* quadrics = with_quadrics ? &out.quadrics : nullptr;
+  if (parts && same_grid(*parts->grid, out.grid)) {
+    out.mesh = (*parts->merged)(out.grid, stats, quadrics).take();
+  } else {
+    if (parts)
+      stats->warnings.push_back(
+          "the parts clustered phase 1 at another cell than this merge chooses (another --mem?): phase 1 ran again "
+          "in the merge");
+    out.mesh = method.run(input, *o, out.grid, stats, quadrics).take();
+  }
   stats->refine.phase1_peak_anon_bytes = phase1_memory.peak();
   return out;
 }
@@ -406,8 +432,9 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
 // short of the target or the collapse gets stuck, phase 1 runs again finer (not for a
 // closed surface one triangle short: its count is even at any cell); only the last
 // attempt's phases and warnings stay in the stats.
+// With `parts`, the first attempt's phase 1 comes from the parts of a distributed run.
 SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
-                          SimplifyStats* stats) {
+                          SimplifyStats* stats, const PartsPhaseOne* parts = nullptr) {
   const IntermediatePlan plan(input, *o, estimate);
   const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, o->locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
@@ -427,7 +454,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
       return collapse_whole(input, *o, origin, stats);
     }
     const bool finest = plan.finest(attempt);
-    Intermediate p1 = cluster_phase(input, o, want, true, stats);
+    Intermediate p1 = cluster_phase(input, o, want, true, stats, attempt == 0 ? parts : nullptr);
     const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
     if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
@@ -500,6 +527,31 @@ SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& optio
   // --refine none: phase 1 alone, at the cell for about the target itself.
   if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(run.estimate), false, stats).mesh;
   return multiphase(input, &o, run.origin, run.estimate, stats);
+}
+
+bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, GridSpec* grid) {
+  TargetRun run = prepare_target(input, options);
+  if (run.as_is || run.o.method == ClusterMethod::qem) return false;
+  double want = double(run.estimate);  // --refine none: phase 1 alone, at about the target
+  if (run.o.target.refine == RefineMethod::qem) {
+    const IntermediatePlan plan(input, run.o, run.estimate);
+    want = plan.intermediate(0);
+    if (plan.whole_instead(want, 0)) return false;
+  }
+  *grid = phase_grid(input, &run.o, want);
+  return true;
+}
+
+SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const SimplifyOptions& options,
+                                                   const GridSpec& parts_grid, const MergedPhaseOne& merged,
+                                                   SimplifyStats* stats) {
+  TargetRun run = prepare_target(input, options);
+  SimplifyOptions& o = run.o;
+  if (run.as_is) return input_as_is(input, o, run.estimate, stats);
+  const PartsPhaseOne parts{&parts_grid, &merged};
+  if (o.target.refine != RefineMethod::qem)
+    return cluster_phase(input, &o, double(run.estimate), false, stats, &parts).mesh;
+  return multiphase(input, &o, run.origin, run.estimate, stats, &parts);
 }
 
 bool simplify_to_target_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part, std::uint32_t parts,

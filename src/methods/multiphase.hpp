@@ -3,8 +3,13 @@
 // (refine/edge_collapse) as phase 2, or the collapse alone on a mesh held whole.
 #pragma once
 
+#include <functional>
+#include <vector>
+
+#include "cluster/quadric.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "io/output_mesh.hpp"
 #include "methods/qem_passes.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
@@ -33,6 +38,25 @@ bool simplify_to_target_part(MeshInput& input, const SimplifyOptions& options, s
 /// simplify_to_target's result, the same bytes and stats, from the parts' first pass.
 SimplifiedMesh simplify_to_target_after_parts(MeshInput& input, const SimplifyOptions& options,
                                               const FirstPassParts& parts, SimplifyStats* stats);
+
+/// Phase 1 of simplify_to_target with a clustering method (uniform, floating,
+/// curvature) as the parts of a distributed run share it: the grid of its first
+/// attempt into `grid`. False when the run clusters nothing there (a target at or
+/// above the input's count, or the whole input collapsed instead): the merge then runs
+/// it whole.
+bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, GridSpec* grid);
+
+/// The clustering of phase 1's first attempt as the parts left it, at `grid` (the one
+/// target_clustering_grid chose), filling the clustering fields of `stats` and, when
+/// given, each output vertex's summed quadric.
+using MergedPhaseOne =
+    std::function<OutputMesh(const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics)>;
+
+/// simplify_to_target's result, the same bytes and stats, with phase 1's first attempt
+/// from `merged` when its grid is `parts_grid` (else, as for retries, clustered here).
+SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const SimplifyOptions& options,
+                                                   const GridSpec& parts_grid, const MergedPhaseOne& merged,
+                                                   SimplifyStats* stats);
 
 /// Throws UsageError unless options.target is consistent: at most one of triangles and
 /// ratio, no CellSizing beside them, triangles at least 4, ratio in (0, 1], max_error

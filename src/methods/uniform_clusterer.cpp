@@ -152,7 +152,8 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
 }
 
 OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                const UniformChunkSource& chunks, SimplifyStats* stats) {
+                                const UniformChunkSource& chunks, SimplifyStats* stats,
+                                std::vector<Quadric>* quadrics) {
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
   const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
                            occupancy, input.positions.count);
@@ -190,7 +191,7 @@ OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options
   }
   clock.end("faces");
   ProgressPhase solve_phase(options.progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, nullptr, 0, stats);
+  OutputMesh mesh = solve(cells, options, budget, quadrics, 0, stats);
   clock.end("solve");
   if (stats) fill_stats(chunks.skipped, triangles, cells, mesh, &clock, stats);
   return mesh;

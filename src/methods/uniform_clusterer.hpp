@@ -41,9 +41,11 @@ struct UniformChunkSource {
 /// cluster_uniform with the passes' chunk sums taken from `chunks` (the parts of a
 /// distributed run, UniformCells::sum_part) instead of summed here: merged in chunk
 /// order, as cluster_uniform merges its own, so the output is the same bytes.
-/// `input` gives the attributes' layout; its triangles are not read.
+/// `input` gives the attributes' layout; its triangles are not read. With `quadrics`,
+/// as for cluster_uniform.
 OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                const UniformChunkSource& chunks, SimplifyStats* stats);
+                                const UniformChunkSource& chunks, SimplifyStats* stats,
+                                std::vector<Quadric>* quadrics = nullptr);
 
 /// cluster_uniform over the cells of `source`.
 OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,

@@ -34,22 +34,26 @@ std::string part_options_text(const SimplifyOptions& options) {
          attributes + " cells " + std::to_string(int(options.floating.cell_shape)) + " " +
          std::to_string(int(options.floating.assign)) + " " + std::to_string(int(options.floating.representative)) +
          " curvature " + part_hex_double(c.radius) + " " + std::to_string(int(c.sphere_neighbourhood)) + " " +
-         part_hex_double(c.tolerance) + " " + std::to_string(c.max_depth) + " " + std::to_string(int(c.representative));
+         part_hex_double(c.tolerance) + " " + std::to_string(c.max_depth) + " " +
+         std::to_string(int(c.representative)) + " refine " + std::to_string(int(t.refine)) + " " +
+         part_hex_double(t.intermediate_factor);
 }
 
 bool read_part_options(const std::string& text, SimplifyOptions* options) {
   std::istringstream s(text);
   std::string method_key, method, target_key, ratio_key, ratio, error_key, error, weld_key, precision_key,
-      attributes_key, attributes, cells_key, curvature_key, radius, tolerance;
+      attributes_key, attributes, cells_key, curvature_key, radius, tolerance, refine_key, factor;
   std::uint64_t target = 0;
   int weld = -1, precision = -1, shape = -1, assign = -1, representative = -1, sphere = -1, depth = -1,
-      curvature_representative = -1;
+      curvature_representative = -1, refine = -1;
   s >> method_key >> method >> target_key >> target >> ratio_key >> ratio >> error_key >> error >> weld_key >> weld >>
       precision_key >> precision >> attributes_key >> attributes >> cells_key >> shape >> assign >> representative >>
-      curvature_key >> radius >> sphere >> tolerance >> depth >> curvature_representative;
+      curvature_key >> radius >> sphere >> tolerance >> depth >> curvature_representative >> refine_key >> refine >>
+      factor;
   if (s.fail() || method_key != "method" ||
       (method != "uniform" && method != "qem" && method != "floating" && method != "curvature") ||
-      curvature_key != "curvature" || sphere < 0 || sphere > 1 || depth < 0 || curvature_representative < 0 ||
+      curvature_key != "curvature" || refine_key != "refine" || refine < 0 || refine > int(RefineMethod::none) ||
+      sphere < 0 || sphere > 1 || depth < 0 || curvature_representative < 0 ||
       curvature_representative > int(RepresentativeRule::vertex) || cells_key != "cells" || shape < 0 ||
       shape > int(CellShape::sphere) || assign < 0 || assign > int(AssignRule::heaviest) || representative < 0 ||
       representative > int(RepresentativeRule::vertex) || target_key != "target" || ratio_key != "ratio" ||
@@ -65,6 +69,8 @@ bool read_part_options(const std::string& text, SimplifyOptions* options) {
   options->curvature.tolerance = std::strtod(tolerance.c_str(), nullptr);
   options->curvature.max_depth = std::uint32_t(depth);
   options->curvature.representative = RepresentativeRule(curvature_representative);
+  options->target.refine = RefineMethod(refine);
+  options->target.intermediate_factor = std::strtod(factor.c_str(), nullptr);
   options->floating.cell_shape = CellShape(shape);
   options->floating.assign = AssignRule(assign);
   options->floating.representative = RepresentativeRule(representative);
@@ -85,11 +91,6 @@ void check_part_options(const SimplifyOptions& options) {
                      std::string("a distributed run (options.part) takes options.method uniform, floating, curvature, "
                                  "or qem (the default with a target); ") +
                          method_name(method) + " runs in one process for now");
-  if (method != ClusterMethod::qem && options.target.given())
-    throw UsageError("options.target",
-                     std::string("a distributed run (options.part) takes a target with options.method qem (the "
-                                 "default with a target), not after ") +
-                         method_name(method) + " clustering");
   if (options.thick_edges)
     throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
   if (!options.locked_vertices.empty())
@@ -174,6 +175,30 @@ void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const 
   if (stats) {
     stats->input_triangles = plan.triangles;
     stats->skipped = input.triangles->skipped();
+  }
+}
+
+void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
+                         const PartExchange& exchange, const std::string& dir, SimplifyStats* stats) {
+  if (options.target.given()) {
+    if (!target_clustering_grid(input, options, &manifest.grid)) {
+      manifest.grid = GridSpec();
+      manifest.grid.cell = 0;  // nothing clustered: the merge runs the target whole
+      PartWriter(dir, manifest).commit(0, 0, SkippedFaces());
+      if (stats) stats->input_triangles = input.info.face_count;
+      return;
+    }
+    input.restart_triangles();
+  }
+  switch (options.method) {
+    case ClusterMethod::floating:
+      run_floating_part(input, options, manifest, exchange, dir, stats);
+      break;
+    case ClusterMethod::curvature:
+      run_curvature_part(input, options, manifest, dir, stats);
+      break;
+    default:
+      run_uniform_part(input, options, manifest, dir, stats);
   }
 }
 
@@ -346,6 +371,21 @@ CurvatureFill PartSet::curvatures() const {
     st.none = plan.vertices - plan.invariant - plan.fitted;
     for (const std::unique_ptr<PartReader>& part : parts_) part->curvatures(plan.vertices, k);
     return st;
+  };
+}
+
+MergedPhaseOne PartSet::clustering(MeshInput& input, const SimplifyOptions& options) const {
+  return [this, &input, options](const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+    switch (options.method) {
+      case ClusterMethod::floating:
+        return merge_floating_shares(input, options, grid, floating_plan(),
+                                     floating_shares(AttributeLayout(input.attributes)), stats, quadrics);
+      case ClusterMethod::curvature:
+        curvature_plan();  // a stale part is named before any work
+        return merge_curvature_parts(input, options, grid, curvatures(), stats, quadrics);
+      default:
+        return merge_uniform_chunks(input, options, grid, chunks(), stats, quadrics);
+    }
   };
 }
 

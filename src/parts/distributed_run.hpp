@@ -28,8 +28,8 @@ std::string part_options_text(const SimplifyOptions& options);
 /// when the text is malformed.
 bool read_part_options(const std::string& text, SimplifyOptions* options);
 
-/// Throws UsageError naming the option for what a part cannot run with yet: a target
-/// after clustering, thick edges, locks.
+/// Throws UsageError naming the option for what a part cannot run with yet: thick
+/// edges, locks.
 void check_part_options(const SimplifyOptions& options);
 
 /// Part manifest.part of manifest.parts of a uniform run on `input` (at its start)
@@ -55,6 +55,14 @@ void run_floating_part(MeshInput& input, const SimplifyOptions& options, const P
 void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
                         const std::string& dir, SimplifyStats* stats);
 
+/// Part manifest.part of a clustering run (uniform, floating, curvature) on `input`,
+/// at manifest.grid; with a target (options.target), the part's share of phase 1's
+/// first attempt at the grid target_clustering_grid chooses (it overrides
+/// manifest.grid), or, when the run clusters nothing there, a part with no work and
+/// a grid of cell 0: the merge runs that target whole.
+void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
+                         const PartExchange& exchange, const std::string& dir, SimplifyStats* stats);
+
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part
 /// number, and the input unchanged since. Throws InputError (exit 3) naming the
@@ -79,6 +87,9 @@ class PartSet {
   /// fill of the curvatures from every part's values.
   CurvaturePartPlan curvature_plan() const;
   CurvatureFill curvatures() const;
+  /// The clustering the parts of options.method shared, merged at the grid it is
+  /// given (the manifest's), with quadrics when asked; `input` must outlive it.
+  MergedPhaseOne clustering(MeshInput& input, const SimplifyOptions& options) const;
 
  private:
   bool has_floating() const;
