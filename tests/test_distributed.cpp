@@ -465,6 +465,9 @@ TEST_CASE("a part refuses what a distributed run cannot do yet, naming the optio
   CliResult r = run_cli("simplify " + q(input) + " -o x.ply --method uniform --part 0/2");
   CHECK(r.exit_code == 2);
   CHECK(r.err.find("--work-dir") != std::string::npos);
+  r = run_cli("simplify " + q(input) + " -o x.ply --method uniform --part 0/2 --work-dir " + q(d.file("missing")));
+  CHECK(r.exit_code == 4);
+  CHECK(r.err.find("missing: the work folder does not exist") != std::string::npos);
   r = run_cli("merge " + q(d.path()) + " -o x.ply");
   CHECK(r.exit_code == 3);
   CHECK(r.err.find("no part files") != std::string::npos);
@@ -544,7 +547,7 @@ TEST_CASE("under mpirun a rank that fails while the others exchange borders stop
   const std::string input = d.file("s.ply");
   REQUIRE(run_cli("generate --tris 60000 --quiet -o " + q(input)).exit_code == 0);
   // Rank 1 alone is given a work folder that does not exist: it fails before it
-  // bins, while ranks 0 and 2 wait to compare their tilings with it.
+  // reads, while ranks 0 and 2 wait to compare their tilings with it.
   ScratchDir work;
   const std::string args =
       "simplify " + q(input) + " -o " + q(d.file("o.ply")) + " --method floating --grid 50 --quiet";
@@ -558,6 +561,7 @@ TEST_CASE("under mpirun a rank that fails while the others exchange borders stop
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) != 0);
   CHECK(err.find("rank 1 of 3 failed") != std::string::npos);
+  CHECK(err.find("the work folder does not exist") != std::string::npos);
   CHECK(err.find("rank 0 of 3 failed") == std::string::npos);
   CHECK(err.find("rank 2 of 3 failed") == std::string::npos);
   CHECK_FALSE(file_exists(d.file("o.ply")));

@@ -540,6 +540,10 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
     throw UsageError("part.index", "part.index " + std::to_string(part.index) + " must be below part.count " +
                                        std::to_string(part.count));
   if (part.work_dir.empty()) throw UsageError("part.work_dir", "part.work_dir: a distributed run needs a work folder");
+  struct stat folder;
+  if (::stat(part.work_dir.c_str(), &folder) != 0 || !S_ISDIR(folder.st_mode))
+    throw IoError(part.work_dir +
+                  ": the work folder does not exist: make it first, where every part and the merge can reach it");
   if (input_path == "-") throw UsageError("", "a distributed run reads its input from a shared path, not stdin");
   check_part_options(options);
   SimplifyStats local;
