@@ -34,6 +34,21 @@ CliResult run_part(const std::string& input, const std::string& dir, int part, i
                  " --work-dir " + q(dir) + " " + extra);
 }
 
+// Runs `parts` parts of `simplify INPUT ... OPTIONS` (1, 2, 1, ... threads) into a
+// fresh work folder, each required to succeed, then merges them into `merged` with 2
+// threads; returns the merge's result.
+CliResult parts_then_merge(const std::string& input, const std::string& options, int parts, const std::string& merged) {
+  ScratchDir work;
+  for (int part = 0; part < parts; ++part) {
+    const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
+                                std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
+                                std::to_string(parts) + " --work-dir " + q(work.path()) + " " + options);
+    INFO(options << ", part " << part << " of " << parts << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  return run_cli("merge " + q(work.path()) + " -o " + q(merged) + " --threads 2");
+}
+
 void flip_byte(const std::string& path, std::size_t at) {
   std::string bytes = read_file(path);
   REQUIRE(at < bytes.size());
@@ -210,15 +225,7 @@ TEST_CASE("parts of a target after clustering give one process's bytes: phase 1 
         "--method uniform --target-ratio 0.9", "--method floating --target-tris 500000"}) {
     REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + options).exit_code == 0);
     for (int parts = 1; parts <= 3; ++parts) {
-      ScratchDir work;
-      for (int part = 0; part < parts; ++part) {
-        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
-                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
-                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + options);
-        INFO(r.err);
-        REQUIRE(r.exit_code == 0);
-      }
-      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      const CliResult r = parts_then_merge(input, options, parts, d.file("merged.ply"));
       INFO(options << ", " << parts << " parts: " << r.err);
       REQUIRE(r.exit_code == 0);
       CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
@@ -254,15 +261,7 @@ TEST_CASE("floating parts merged give one process's bytes for 1 to 4 parts, any 
     const std::string o = std::string("--method floating ") + options;
     REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + o).exit_code == 0);
     for (int parts = 1; parts <= 4; ++parts) {
-      ScratchDir work;
-      for (int part = 0; part < parts; ++part) {
-        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
-                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
-                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + o);
-        INFO(r.err);
-        REQUIRE(r.exit_code == 0);
-      }
-      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      const CliResult r = parts_then_merge(input, o, parts, d.file("merged.ply"));
       INFO(options << ", " << parts << " parts: " << r.err);
       REQUIRE(r.exit_code == 0);
       CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
@@ -296,15 +295,7 @@ TEST_CASE("curvature parts merged give one process's bytes for 1 to 4 parts, any
     const std::string o = std::string("--method curvature ") + c.options;
     REQUIRE(run_cli("simplify " + q(input) + " -o " + q(d.file("one.ply")) + " --quiet " + o).exit_code == 0);
     for (int parts = 1; parts <= 4; ++parts) {
-      ScratchDir work;
-      for (int part = 0; part < parts; ++part) {
-        const CliResult r = run_cli("simplify " + q(input) + " -o unused.ply --quiet --threads " +
-                                    std::to_string(1 + part % 2) + " --part " + std::to_string(part) + "/" +
-                                    std::to_string(parts) + " --work-dir " + q(work.path()) + " " + o);
-        INFO(r.err);
-        REQUIRE(r.exit_code == 0);
-      }
-      const CliResult r = run_cli("merge " + q(work.path()) + " -o " + q(d.file("merged.ply")) + " --threads 2");
+      const CliResult r = parts_then_merge(input, o, parts, d.file("merged.ply"));
       INFO(c.shape << " " << c.options << ", " << parts << " parts: " << r.err);
       REQUIRE(r.exit_code == 0);
       CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
