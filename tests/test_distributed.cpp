@@ -327,6 +327,33 @@ TEST_CASE("curvature parts merged give one process's bytes for 1 to 4 parts, any
   const CliResult stale = run_cli("merge " + q(other.path()) + " -o " + q(d.file("merged.ply")));
   CHECK(stale.exit_code == 3);
   CHECK(stale.err.find("part-1-of-2.oocpart: stale: its options are") != std::string::npos);
+  // A part file whose plan claims more vertices than the input has, with a value for
+  // a vertex past the input's and its checksum made whole again: refused, never
+  // written past the curvature array.
+  ScratchDir one;
+  REQUIRE(run_cli("simplify " + q(d.file("parts.ply")) + " -o unused.ply --quiet --method curvature --grid 40 " +
+                  "--work-dir " + q(one.path()) + " --part 0/1")
+              .exit_code == 0);
+  const std::string part = one.file("part-0-of-1.oocpart");
+  std::string bytes = read_file(part);
+  std::uint64_t manifest = 0;
+  std::memcpy(&manifest, &bytes[20], 8);
+  for (std::size_t at = 28 + manifest; bytes[at] != 0;) {  // the records, to the end record
+    std::uint64_t payload = 0;
+    std::memcpy(&payload, &bytes[at + 9], 8);
+    const std::uint64_t huge = std::uint64_t(1) << 40;
+    const std::uint32_t past = 4000000000u;
+    if (bytes[at] == 8) std::memcpy(&bytes[at + 17], &huge, 8);  // the plan's vertex count
+    if (bytes[at] == 7) std::memcpy(&bytes[at + 17], &past, 4);  // the first value's vertex
+    at += 17 + payload;
+  }
+  const std::uint64_t sum = oocsimp::content_hash(bytes.data(), bytes.size() - 8);
+  std::memcpy(&bytes[bytes.size() - 8], &sum, 8);
+  write_file(part, bytes);
+  const CliResult forged = run_cli("merge " + q(one.path()) + " -o " + q(d.file("merged.ply")));
+  CHECK(forged.exit_code == 3);
+  CHECK(forged.err.find("part-0-of-1.oocpart: stale: its curvature values are of 1099511627776 vertices") !=
+        std::string::npos);
 }
 
 namespace {

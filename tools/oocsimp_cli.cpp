@@ -408,7 +408,8 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   add_curvature_options(cmd, a);
   add_given(cmd, "--part", &a.part,
             "I/K: run part I (0 to K-1) of a run spread over K processes, leaving its share in --work-dir for "
-            "oocsimp merge (--method uniform; see docs/cluster.md)")
+            "oocsimp merge (any method, with or without a target; not with thick edges, locks or --lods: see "
+            "docs/cluster.md)")
       ->group("Distributed runs");
   cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge")
       ->group("Distributed runs");

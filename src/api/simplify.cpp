@@ -603,8 +603,10 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
       record_grid(manifest.grid, &st);
       mesh = parts.clustering(input, options)(manifest.grid, &st, nullptr);
     } else if (options.method != ClusterMethod::qem && manifest.grid.cell > 0) {
-      mesh = OutputMesh::of(
-          simplify_to_target_after_clustering(input, options, manifest.grid, parts.clustering(input, options), &st));
+      // The curvature estimate serves phase 1 at any grid; the others' sums, only theirs.
+      const bool any_grid = options.method == ClusterMethod::curvature;
+      mesh = OutputMesh::of(simplify_to_target_after_clustering(input, options, manifest.grid,
+                                                                parts.clustering(input, options), any_grid, &st));
     } else if (options.method != ClusterMethod::qem) {  // the parts clustered nothing: the run whole
       mesh = OutputMesh::of(simplify_to_target(input, options, &st));
     } else if (parts.has_first_pass()) {

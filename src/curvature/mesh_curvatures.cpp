@@ -105,7 +105,7 @@ CurvatureStats estimate(MeshInput& input, const CurvatureOptions& options, const
   if (!(settings.radius > 0)) {  // no side of any length: nothing to measure
     st.none = k ? st.vertices : 0;
   } else {
-    ProgressPhase phase(options.progress, "curvatures", st.vertices, "vtx");
+    ProgressPhase phase(options.progress, "curvatures", deal.whole() ? st.vertices : deal.owned_vertices(), "vtx");
     settings.progress = &phase;
     const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
     VertexCurvatureCounts counts;
@@ -169,7 +169,7 @@ VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std:
   origin_ = bounds.min;
   const Vec3d extent = bounds.max - bounds.min;
   fine_side_ = std::max({extent.x, extent.y, extent.z}) / (kDivisions * kSplit);
-  if (!(fine_side_ > 0)) fine_side_ = 1;
+  if (!(fine_side_ > 0) || !std::isfinite(fine_side_)) fine_side_ = 1;
   const auto finite = [](const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
   constexpr std::size_t kBlocks = std::size_t(kDivisions) * kDivisions * kDivisions;
   constexpr std::size_t kSubBlocks = std::size_t(kSplit) * kSplit * kSplit;
@@ -198,16 +198,31 @@ VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std:
       place(p, &block, &sub);
       if (split_at_[block] >= 0) ++sub_counts[std::size_t(split_at_[block]) + sub];
     }
-  // The items dealt: the blocks not cut, then the sub-blocks.
+  // The items dealt: the blocks not cut that hold a vertex, then the sub-blocks that
+  // do (an item is a block below kBlocks, else kBlocks plus its place in sub_counts).
+  std::vector<std::size_t> items;
   std::vector<std::uint64_t> weights;
-  weights.reserve(kBlocks + sub_counts.size());
-  for (std::size_t b = 0; b < kBlocks; ++b) weights.push_back(split_at_[b] < 0 ? counts[b] : 0);
-  weights.insert(weights.end(), sub_counts.begin(), sub_counts.end());
+  for (std::size_t b = 0; b < kBlocks; ++b)
+    if (split_at_[b] < 0 && counts[b] > 0) {
+      items.push_back(b);
+      weights.push_back(counts[b]);
+    }
+  for (std::size_t i = 0; i < sub_counts.size(); ++i)
+    if (sub_counts[i] > 0) {
+      items.push_back(kBlocks + i);
+      weights.push_back(sub_counts[i]);
+    }
   const std::vector<std::uint32_t> owner = deal_by_weight(weights, parts);
-  owned_.resize(kBlocks);
-  for (std::size_t b = 0; b < kBlocks; ++b) owned_[b] = owner[b] == part;
-  sub_owned_.resize(sub_counts.size());
-  for (std::size_t i = 0; i < sub_counts.size(); ++i) sub_owned_[i] = owner[kBlocks + i] == part;
+  owned_.assign(kBlocks, 0);
+  sub_owned_.assign(sub_counts.size(), 0);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (owner[i] != part) continue;
+    if (items[i] < kBlocks)
+      owned_[items[i]] = 1;
+    else
+      sub_owned_[items[i] - kBlocks] = 1;
+    owned_vertices_ += weights[i];
+  }
 }
 
 void VertexDeal::place(const Vec3d& p, std::size_t* block, std::size_t* sub) const {

@@ -34,6 +34,8 @@ class VertexDeal {
   VertexDeal() = default;
   VertexDeal(const PositionArray& positions, const Box3d& bounds, std::uint32_t part, std::uint32_t parts);
   bool whole() const { return owned_.empty(); }
+  /// The finite vertices the part estimates (when not whole()).
+  std::uint64_t owned_vertices() const { return owned_vertices_; }
   /// Whether the part estimates a vertex at `p` (false for a non-finite position).
   bool owns(const Vec3d& p) const;
 
@@ -47,6 +49,7 @@ class VertexDeal {
   std::vector<char> owned_;             // per block; empty: every vertex
   std::vector<std::int64_t> split_at_;  // per block, its first entry in sub_owned_, or -1
   std::vector<char> sub_owned_;         // kSplit^3 per split block
+  std::uint64_t owned_vertices_ = 0;
 };
 
 /// Hears the values of some vertices: n vertex numbers and their k1 and k2.
@@ -54,7 +57,7 @@ using CurvatureSink =
     std::function<void(const std::uint64_t* vertices, const float* k1, const float* k2, std::size_t n)>;
 
 /// estimate_mesh_curvatures for the vertices `deal` gives the part, handed to `sink`
-/// (a tile's at a time) instead of written into an array. The stats count the part's
+/// (a tile's, or in memory a run of them, at a time) instead of written into an array. The stats count the part's
 /// vertices only: invariant and fitted are its own, none is left 0.
 CurvatureStats estimate_dealt_curvatures(MeshInput& input, const CurvatureOptions& options, const VertexDeal& deal,
                                          const CurvatureSink& sink);

@@ -138,6 +138,7 @@ CurvaturePartPlan estimate_curvature_part(MeshInput& input, const SimplifyOption
                                           std::uint32_t parts, const CurvatureSink& sink, SimplifyStats* stats) {
   CurvaturePartPlan plan;
   plan.vertices = input.positions.count;
+  plan.triangles = input.info.face_count;  // as the header says, where nothing is estimated
   if (!reads_curvatures(options)) return plan;
   PhaseTimer clock;
   const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);

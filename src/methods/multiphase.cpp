@@ -365,6 +365,7 @@ GridSpec phase_grid(MeshInput& input, SimplifyOptions* o, double want) {
 struct PartsPhaseOne {
   const GridSpec* grid = nullptr;
   const MergedPhaseOne* merged = nullptr;
+  bool any_grid = false;  ///< the parts' work serves every attempt, at any grid
 };
 
 bool same_grid(const GridSpec& a, const GridSpec& b) {
@@ -382,7 +383,7 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
   input.restart_triangles();
   const PeakAnonSampler phase1_memory;
   std::vector<Quadric>* quadrics = with_quadrics ? &out.quadrics : nullptr;
-  if (parts && same_grid(*parts->grid, out.grid)) {
+  if (parts && (parts->any_grid || same_grid(*parts->grid, out.grid))) {
     out.mesh = (*parts->merged)(out.grid, stats, quadrics).take();
   } else {
     if (parts)
@@ -454,7 +455,8 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
       return collapse_whole(input, *o, origin, stats);
     }
     const bool finest = plan.finest(attempt);
-    Intermediate p1 = cluster_phase(input, o, want, true, stats, attempt == 0 ? parts : nullptr);
+    const bool from_parts = parts && (attempt == 0 || parts->any_grid);
+    Intermediate p1 = cluster_phase(input, o, want, true, stats, from_parts ? parts : nullptr);
     const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
     if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
@@ -544,11 +546,11 @@ bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, Gr
 
 SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const SimplifyOptions& options,
                                                    const GridSpec& parts_grid, const MergedPhaseOne& merged,
-                                                   SimplifyStats* stats) {
+                                                   bool any_grid, SimplifyStats* stats) {
   TargetRun run = prepare_target(input, options);
   SimplifyOptions& o = run.o;
   if (run.as_is) return input_as_is(input, o, run.estimate, stats);
-  const PartsPhaseOne parts{&parts_grid, &merged};
+  const PartsPhaseOne parts{&parts_grid, &merged, any_grid};
   if (o.target.refine != RefineMethod::qem)
     return cluster_phase(input, &o, double(run.estimate), false, stats, &parts).mesh;
   return multiphase(input, &o, run.origin, run.estimate, stats, &parts);

@@ -53,10 +53,12 @@ using MergedPhaseOne =
     std::function<OutputMesh(const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics)>;
 
 /// simplify_to_target's result, the same bytes and stats, with phase 1's first attempt
-/// from `merged` when its grid is `parts_grid` (else, as for retries, clustered here).
+/// from `merged` when its grid is `parts_grid` (else, as for retries, clustered here);
+/// with `any_grid` (the parts' work does not depend on the grid: the curvature
+/// estimate), every attempt of phase 1 at any grid from `merged`.
 SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const SimplifyOptions& options,
                                                    const GridSpec& parts_grid, const MergedPhaseOne& merged,
-                                                   SimplifyStats* stats);
+                                                   bool any_grid, SimplifyStats* stats);
 
 /// Throws UsageError unless options.target is consistent: at most one of triangles and
 /// ratio, no CellSizing beside them, triangles at least 4, ratio in (0, 1], max_error

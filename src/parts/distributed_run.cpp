@@ -228,7 +228,7 @@ std::string manifest_difference(const PartManifest& a, const PartManifest& b) {
   const GridSpec &g = a.grid, &h = b.grid;
   if (g.origin.x != h.origin.x || g.origin.y != h.origin.y || g.origin.z != h.origin.z || g.cell != h.cell ||
       g.dims[0] != h.dims[0] || g.dims[1] != h.dims[1] || g.dims[2] != h.dims[2])
-    return "it chose another grid (other sizing options)";
+    return "it chose another grid (other sizing options, or, with a target, another --mem)";
   return "";
 }
 
@@ -359,9 +359,12 @@ CurvaturePartPlan PartSet::curvature_plan() const {
   return sum;
 }
 
-CurvatureFill PartSet::curvatures() const {
-  return [this](float* k) {
+CurvatureFill PartSet::curvatures(std::uint64_t vertices) const {
+  return [this, vertices](float* k) {
     const CurvaturePartPlan plan = curvature_plan();
+    if (plan.vertices != vertices)
+      throw InputError(parts_[0]->path() + ": stale: its curvature values are of " + std::to_string(plan.vertices) +
+                       " vertices; the input has " + std::to_string(vertices) + ": run the parts again, then merge");
     CurvatureStats st;
     st.vertices = plan.vertices;
     st.triangles = plan.triangles;
@@ -382,7 +385,7 @@ MergedPhaseOne PartSet::clustering(MeshInput& input, const SimplifyOptions& opti
                                      floating_shares(AttributeLayout(input.attributes)), stats, quadrics);
       case ClusterMethod::curvature:
         curvature_plan();  // a stale part is named before any work
-        return merge_curvature_parts(input, options, grid, curvatures(), stats, quadrics);
+        return merge_curvature_parts(input, options, grid, curvatures(input.positions.count), stats, quadrics);
       default:
         return merge_uniform_chunks(input, options, grid, chunks(), stats, quadrics);
     }

@@ -83,10 +83,11 @@ class PartSet {
   FloatingPartPlan floating_plan() const;
   ClusterShareSource floating_shares(const AttributeLayout& layout) const;
   /// The curvature run's plan, checked to be every part's, with the parts' counts
-  /// summed (throws InputError naming a part without one or with another); and the
-  /// fill of the curvatures from every part's values.
+  /// summed (throws InputError naming a part without one or with another).
   CurvaturePartPlan curvature_plan() const;
-  CurvatureFill curvatures() const;
+  /// The fill of the curvatures of `vertices` input vertices from every part's values
+  /// (throws InputError when the parts counted another number of vertices).
+  CurvatureFill curvatures(std::uint64_t vertices) const;
   /// The clustering the parts of options.method shared, merged at the grid it is
   /// given (the manifest's), with quadrics when asked; `input` must outlive it.
   MergedPhaseOne clustering(MeshInput& input, const SimplifyOptions& options) const;

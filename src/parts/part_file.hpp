@@ -1,7 +1,8 @@
 // The file a part of a distributed run leaves in the work folder: what it was run on
 // and with, and what it owns of the run's work, for `oocsimp merge` to finish the
-// run (docs/cluster.md): the uniform grid's chunk sums, or the edge collapse's first
-// pass. Format, version 4, little-endian:
+// run (docs/cluster.md): the uniform grid's chunk sums, the edge collapse's first
+// pass, floating cells' cluster shares, or curvature values. Format, version 4,
+// little-endian:
 //
 //   "OOCSPART" u32 version u32 part u32 parts u64 manifest-bytes manifest-text
 //   records: u8 kind u64 number u64 payload-bytes payload, the kinds
