@@ -542,6 +542,13 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
     }
     CHECK(tmp.entries().empty());  // the ranks' work folder is gone
   }
+  // Rank 0's summary ends with the whole job's time next to the merge's figures.
+  const CliResult r = run_launched(
+      mpirun(2), "simplify " + q(input) + " -o " + q(d.file("mpi.ply")) + " --method uniform --grid 80 --threads 1");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("output  ") != std::string::npos);
+  CHECK(r.out.find("job     2 ranks, ") != std::string::npos);
 }
 
 TEST_CASE("under mpirun a failing rank is named and no output is written", "[distributed][mpi]") {
