@@ -497,6 +497,7 @@ namespace {
 // when the CLI was built without MPI or no mpirun is installed.
 std::string mpirun(int ranks) {
   static const bool usable = [] {
+    if (!OOCSIMP_CLI_HAS_MPI) return false;  // each rank would run the whole job alone
     if (std::system("command -v mpirun >/dev/null 2>&1") != 0) return false;
     ScratchDir d;
     const std::string probe = "mpirun --oversubscribe -n 2 " + std::string(OOCSIMP_CLI) + " simplify /nonexistent -o " +

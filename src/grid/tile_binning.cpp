@@ -146,7 +146,7 @@ SpillSettings spill_settings(const MeshInput& input, const TileSettings& setting
 }
 
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
-                          const ProgressCallback& progress) {
+                          const ProgressCallback& progress, const TileFilter& keep) {
   BinnedTiles out;
   TileGrid& tiles = out.grid;
   tiles.side = tile_side;
@@ -172,10 +172,12 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
                                                 spill.compress, spill.allow.triangles);
   StreamSpill& triangles = *out.triangles;
   triangles.set_expected_bytes(spill.expected_bytes);
+  std::vector<char> kept;  // per tile, whether it keeps its records
   auto tile_id = [&](const GridCoord& c) {
     std::int64_t id = tiles.find(c);
     if (id >= 0) return std::uint32_t(id);
     triangles.add_stream();  // stream `tile` holds the tile's triangles
+    kept.push_back(!keep || keep(c));
     return tiles.add(c);
   };
 
@@ -211,9 +213,10 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
         c.group();
       },
       [&](BinChunk& c) {
-        for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g)
-          triangles.append(tile_id(c.tiles.key(g)), &c.records[c.group_start[g]],
-                           c.group_start[g + 1] - c.group_start[g]);
+        for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g) {
+          const std::uint32_t id = tile_id(c.tiles.key(g));
+          if (kept[id]) triangles.append(id, &c.records[c.group_start[g]], c.group_start[g + 1] - c.group_start[g]);
+        }
       });
   triangles.flush();
   out.triangle_count = next;

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -87,10 +88,16 @@ struct SpillSettings {
 SpillSettings spill_settings(const MeshInput& input, const TileSettings& settings, std::size_t vertex_record_bytes,
                              std::uint64_t fullest_tile_records = 0, std::uint64_t work_share = 0);
 
+/// Which tiles get their triangles' records: every occupied tile is numbered as
+/// usual, but a tile whose coordinates the filter refuses keeps no record (a part
+/// that runs only its own tiles). Null: every tile.
+using TileFilter = std::function<bool(const GridCoord& tile)>;
+
 /// Bins the triangle stream of `input` (at its start) into tiles of side
-/// `tile_side`, with buffers from a quarter of `memory_budget`. Throws IoError when
-/// the temp folder cannot hold the spill.
+/// `tile_side`, with buffers from a quarter of `memory_budget`, records only for the
+/// tiles `keep` accepts (all when null). Throws IoError when the temp folder cannot
+/// hold the spill.
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
-                          const ProgressCallback& progress);
+                          const ProgressCallback& progress, const TileFilter& keep = nullptr);
 
 }  // namespace oocsimp

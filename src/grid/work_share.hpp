@@ -4,10 +4,14 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <unordered_map>
 #include <vector>
 
+#include "grid/grid_coord.hpp"
+#include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 
 namespace oocsimp {
@@ -58,6 +62,33 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
     for (std::size_t i = 0; i < tiles.size(); ++i) owned[tiles[i]] = owner[i] == part;
   }
   return owned;
+}
+
+/// The tile coordinates part `part` of `parts` owns before any binning, for parts that
+/// run only their own tiles: every occupied tile (one holding a finite position of
+/// `positions` at tile side `side`) dealt by the positions in it within its colour
+/// class, as owned_tiles deals. Every part computes the same deal from the input.
+inline std::unordered_map<GridCoord, char, GridCoordHash> owned_tile_coords(const PositionArray& positions, double side,
+                                                                            std::uint32_t part, std::uint32_t parts) {
+  std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> counts;
+  for (std::uint64_t v = 0; v < positions.count; ++v) {
+    const Vec3d p = positions.get(v);
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ++counts[GridCoord::of(p, side)];
+  }
+  std::vector<GridCoord> coords;
+  coords.reserve(counts.size());
+  for (const auto& entry : counts) coords.push_back(entry.first);
+  std::sort(coords.begin(), coords.end());  // one order on every part
+  std::vector<std::uint64_t> records(coords.size());
+  std::vector<int> classes(coords.size());
+  for (std::size_t i = 0; i < coords.size(); ++i) {
+    records[i] = counts[coords[i]];
+    classes[i] = int(coords[i].x & 1) | int(coords[i].y & 1) << 1 | int(coords[i].z & 1) << 2;
+  }
+  const std::vector<char> owned = owned_tiles(records, classes, part, parts);
+  std::unordered_map<GridCoord, char, GridCoordHash> out;
+  for (std::size_t i = 0; i < coords.size(); ++i) out.emplace(coords[i], owned[i]);
+  return out;
 }
 
 }  // namespace oocsimp

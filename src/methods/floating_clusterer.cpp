@@ -25,6 +25,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -37,6 +38,7 @@
 #include "grid/tile_binning.hpp"
 #include "grid/tile_memory_gate.hpp"
 #include "grid/tile_plan.hpp"
+#include "grid/work_share.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
 #include "stitch/mesh_assembly.hpp"
@@ -169,8 +171,23 @@ void FloatingRun::tile_mesh() {
   const std::uint64_t fullest =
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
-  if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
-  if (share_.parts > 1) {
+  // Parts that exchange run only their own tiles: dealt before the binning, they keep
+  // only those tiles' records. (Parts that run apart grade every tile, so they bin
+  // every tile and deal by its records after.)
+  TileFilter keep;
+  std::unordered_map<GridCoord, char, GridCoordHash> owned;
+  if (!resumed_ && share_.exchanging() && share_.parts > 1) {
+    owned = owned_tile_coords(input_.positions, tile_side, share_.part, share_.parts);
+    keep = [&owned](const GridCoord& c) {
+      const auto it = owned.find(c);
+      return it != owned.end() && it->second != 0;
+    };
+  }
+  if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress, keep);
+  if (keep) {
+    share_.owned.resize(tiles_.count());
+    for (std::uint32_t t = 0; t < tiles_.count(); ++t) share_.owned[t] = keep(tiles_.grid.coord(t));
+  } else if (share_.parts > 1) {
     std::vector<std::uint64_t> records(tiles_.count());
     std::vector<int> colours(tiles_.count());
     for (std::uint32_t t = 0; t < tiles_.count(); ++t) {
