@@ -525,7 +525,10 @@ CliResult run_launched(const std::string& launcher, const std::string& args) {
 }  // namespace
 
 TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][mpi]") {
-  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  if (mpirun(1).empty()) {
+    skip_test("the CLI was built without MPI, or mpirun is missing");
+    return;
+  }
   ScratchDir d, tmp;
   const std::string input = d.file("terrain.ply");
   REQUIRE(run_cli("generate --shape terrain --tris 200000 --attributes --quiet -o " + q(input)).exit_code == 0);
@@ -553,7 +556,10 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
 }
 
 TEST_CASE("under mpirun a failing rank is named and no output is written", "[distributed][mpi]") {
-  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  if (mpirun(1).empty()) {
+    skip_test("the CLI was built without MPI, or mpirun is missing");
+    return;
+  }
   ScratchDir d;
   const std::string input = d.file("s.ply");
   REQUIRE(run_cli("generate --tris 20000 --quiet -o " + q(input)).exit_code == 0);
@@ -568,7 +574,10 @@ TEST_CASE("under mpirun a failing rank is named and no output is written", "[dis
 }
 
 TEST_CASE("under mpirun a rank that fails while the others exchange borders stops them all", "[distributed][mpi]") {
-  if (mpirun(1).empty()) skip_test("the CLI was built without MPI, or mpirun is missing");
+  if (mpirun(1).empty()) {
+    skip_test("the CLI was built without MPI, or mpirun is missing");
+    return;
+  }
   ScratchDir d;
   const std::string input = d.file("s.ply");
   REQUIRE(run_cli("generate --tris 60000 --quiet -o " + q(input)).exit_code == 0);
