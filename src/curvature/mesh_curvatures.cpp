@@ -170,7 +170,6 @@ VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std:
   const Vec3d extent = bounds.max - bounds.min;
   fine_side_ = std::max({extent.x, extent.y, extent.z}) / (kDivisions * kSplit);
   if (!(fine_side_ > 0) || !std::isfinite(fine_side_)) fine_side_ = 1;
-  const auto finite = [](const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
   constexpr std::size_t kBlocks = std::size_t(kDivisions) * kDivisions * kDivisions;
   constexpr std::size_t kSubBlocks = std::size_t(kSplit) * kSplit * kSplit;
   std::vector<std::uint64_t> counts(kBlocks, 0);
@@ -178,7 +177,7 @@ VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std:
   std::uint64_t total = 0;
   for (std::uint64_t v = 0; v < positions.count; ++v) {
     const Vec3d p = positions.get(v);
-    if (!finite(p)) continue;
+    if (!is_finite(p)) continue;
     place(p, &block, &sub);
     ++counts[block];
     ++total;
@@ -194,7 +193,7 @@ VertexDeal::VertexDeal(const PositionArray& positions, const Box3d& bounds, std:
   if (splits > 0)
     for (std::uint64_t v = 0; v < positions.count; ++v) {
       const Vec3d p = positions.get(v);
-      if (!finite(p)) continue;
+      if (!is_finite(p)) continue;
       place(p, &block, &sub);
       if (split_at_[block] >= 0) ++sub_counts[std::size_t(split_at_[block]) + sub];
     }
@@ -236,7 +235,7 @@ void VertexDeal::place(const Vec3d& p, std::size_t* block, std::size_t* sub) con
 }
 
 bool VertexDeal::owns(const Vec3d& p) const {
-  if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return false;
+  if (!is_finite(p)) return false;
   if (owned_.empty()) return true;
   std::size_t block = 0, sub = 0;
   place(p, &block, &sub);

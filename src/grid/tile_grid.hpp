@@ -63,10 +63,8 @@ class TileGrid {
   /// The colour class of a tile: the parity of its coordinates. Tiles of a class
   /// are never adjacent (a cell reaches only adjacent tiles), so they can run at
   /// once while the borders they read, their neighbours', hold still.
-  int colour(std::uint32_t tile) const {
-    const GridCoord& c = coords_[tile];
-    return int(c.x & 1) | int(c.y & 1) << 1 | int(c.z & 1) << 2;
-  }
+  int colour(std::uint32_t tile) const { return colour_of(coords_[tile]); }
+  static int colour_of(const GridCoord& c) { return int(c.x & 1) | int(c.y & 1) << 1 | int(c.z & 1) << 2; }
   static constexpr int kColours = 8;
 
   /// The tiles of colour class k, ascending; with `only`, those t with (*only)[t].

@@ -4,13 +4,14 @@
 #pragma once
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "grid/grid_coord.hpp"
+#include "grid/tile_grid.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 
@@ -64,16 +65,16 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
   return owned;
 }
 
-/// The tile coordinates part `part` of `parts` owns before any binning, for parts that
+/// The coordinates of the tiles part `part` of `parts` owns, before any binning, for parts that
 /// run only their own tiles: every occupied tile (one holding a finite position of
 /// `positions` at tile side `side`) dealt by the positions in it within its colour
 /// class, as owned_tiles deals. Every part computes the same deal from the input.
-inline std::unordered_map<GridCoord, char, GridCoordHash> owned_tile_coords(const PositionArray& positions, double side,
-                                                                            std::uint32_t part, std::uint32_t parts) {
+inline std::unordered_set<GridCoord, GridCoordHash> owned_tile_coords(const PositionArray& positions, double side,
+                                                                      std::uint32_t part, std::uint32_t parts) {
   std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> counts;
   for (std::uint64_t v = 0; v < positions.count; ++v) {
     const Vec3d p = positions.get(v);
-    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ++counts[GridCoord::of(p, side)];
+    if (is_finite(p)) ++counts[GridCoord::of(p, side)];
   }
   std::vector<GridCoord> coords;
   coords.reserve(counts.size());
@@ -83,11 +84,12 @@ inline std::unordered_map<GridCoord, char, GridCoordHash> owned_tile_coords(cons
   std::vector<int> classes(coords.size());
   for (std::size_t i = 0; i < coords.size(); ++i) {
     records[i] = counts[coords[i]];
-    classes[i] = int(coords[i].x & 1) | int(coords[i].y & 1) << 1 | int(coords[i].z & 1) << 2;
+    classes[i] = TileGrid::colour_of(coords[i]);
   }
   const std::vector<char> owned = owned_tiles(records, classes, part, parts);
-  std::unordered_map<GridCoord, char, GridCoordHash> out;
-  for (std::size_t i = 0; i < coords.size(); ++i) out.emplace(coords[i], owned[i]);
+  std::unordered_set<GridCoord, GridCoordHash> out;
+  for (std::size_t i = 0; i < coords.size(); ++i)
+    if (owned[i]) out.insert(coords[i]);
   return out;
 }
 

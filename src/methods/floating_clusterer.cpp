@@ -25,7 +25,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
-#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -175,13 +175,10 @@ void FloatingRun::tile_mesh() {
   // only those tiles' records. (Parts that run apart grade every tile, so they bin
   // every tile and deal by its records after.)
   TileFilter keep;
-  std::unordered_map<GridCoord, char, GridCoordHash> owned;
+  std::unordered_set<GridCoord, GridCoordHash> owned;
   if (!resumed_ && share_.exchanging() && share_.parts > 1) {
     owned = owned_tile_coords(input_.positions, tile_side, share_.part, share_.parts);
-    keep = [&owned](const GridCoord& c) {
-      const auto it = owned.find(c);
-      return it != owned.end() && it->second != 0;
-    };
+    keep = [&owned](const GridCoord& c) { return owned.count(c) != 0; };
   }
   if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress, keep);
   if (keep) {
