@@ -401,45 +401,108 @@ class ThreadExchange {
 
 }  // namespace
 
+// Each part's message for each part, through all_gather (PartOptions::deliver).
+std::vector<std::vector<unsigned char>> deliver_by_gather(ThreadExchange& exchange, std::size_t part,
+                                                          const std::vector<std::vector<unsigned char>>& to_each) {
+  std::vector<unsigned char> packed;
+  for (const std::vector<unsigned char>& m : to_each) {
+    const std::uint64_t size = m.size();
+    packed.insert(packed.end(), reinterpret_cast<const unsigned char*>(&size),
+                  reinterpret_cast<const unsigned char*>(&size) + sizeof size);
+    packed.insert(packed.end(), m.begin(), m.end());
+  }
+  std::vector<std::vector<unsigned char>> mine;
+  for (const std::vector<unsigned char>& theirs : exchange.all_gather(part, packed)) {
+    std::size_t at = 0;
+    for (std::size_t p = 0;; ++p) {
+      std::uint64_t size = 0;
+      std::memcpy(&size, theirs.data() + at, sizeof size);
+      at += sizeof size;
+      if (p == part) {
+        mine.emplace_back(theirs.begin() + std::ptrdiff_t(at), theirs.begin() + std::ptrdiff_t(at + size));
+        break;
+      }
+      at += std::size_t(size);
+    }
+  }
+  return mine;
+}
+
 TEST_CASE("floating parts that exchange borders while they run give one process's bytes", "[distributed]") {
   ScratchDir d;
   const std::string input = d.file("p.ply");
   REQUIRE(run_cli("generate --shape parts --tris 150000 --seed 9 --attributes --quiet -o " + q(input)).exit_code == 0);
+  // The same mesh as ascii PLY, whose faces cannot be read by range.
+  const std::string ascii = d.file("p-ascii.ply");
+  REQUIRE(
+      run_cli("generate --shape parts --tris 150000 --seed 9 --attributes --ascii --quiet -o " + q(ascii)).exit_code ==
+      0);
   oocsimp::SimplifyOptions o;
   o.method = oocsimp::ClusterMethod::floating;
   o.sizing.grid = 90;
   o.floating.tile_side = 0.15;  // many tiles, so that borders cross parts everywhere
   o.threads = 1;
+  o.memory_budget = std::uint64_t(40) << 20;  // the binary ranges in several steps
   oocsimp::simplify_file(input, d.file("one.ply"), false, o, nullptr);
-  for (std::uint32_t parts = 2; parts <= 4; ++parts) {
-    ScratchDir work;
-    ThreadExchange exchange(parts);
-    std::vector<std::thread> threads;
-    std::vector<std::string> errors(parts);
-    for (std::uint32_t i = 0; i < parts; ++i)
-      threads.emplace_back([&, i] {
-        oocsimp::PartOptions part{i, parts, work.path()};
-        part.exchange = [&exchange, i](const std::vector<unsigned char>& mine) { return exchange.all_gather(i, mine); };
-        try {
-          oocsimp::simplify_part(input, o, part);
-        } catch (const std::exception& e) {
-          errors[i] = e.what();
-          exchange.fail();
-        }
-      });
-    for (std::thread& t : threads) t.join();
-    for (const std::string& e : errors) REQUIRE(e.empty());
-    // The tiling's check, the borders after grading, and at least one sweep of 8
-    // colour classes: every part met the others at each.
-    for (std::uint32_t i = 0; i < parts; ++i) CHECK(exchange.rounds(i) >= 2 + 8);
-    CHECK(exchange.bytes() > 0);
-    oocsimp::SimplifyOptions runtime;
-    runtime.threads = 2;
-    oocsimp::OutputOptions out;
-    out.mesh = d.file("merged.ply");
-    oocsimp::merge_parts(work.path(), out, runtime);
-    INFO(parts << " parts");
-    CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+  // Ascii parts in one process convert their positions each: more memory.
+  oocsimp::SimplifyOptions o_ascii = o;
+  o_ascii.memory_budget = std::uint64_t(256) << 20;
+  oocsimp::SimplifyStats whole;
+  oocsimp::simplify_file(ascii, d.file("one-ascii.ply"), false, o_ascii, &whole);
+  const std::uint64_t faces = whole.floating.faces_read;  // one process reads every face
+  REQUIRE(faces >= whole.input_triangles);
+  // Binary: each part reads its own range of the faces (with a delivery, or through
+  // the exchange alone); ascii: each part reads every face.
+  for (const char* form : {"binary, exchange", "binary, deliver", "ascii, exchange"}) {
+    const bool binary = std::string(form).find("binary") == 0,
+               deliver = std::string(form).find("deliver") != std::string::npos;
+    for (std::uint32_t parts = 2; parts <= 4; ++parts) {
+      ScratchDir work;
+      ThreadExchange exchange(parts);
+      std::vector<std::thread> threads;
+      std::vector<std::string> errors(parts);
+      std::vector<oocsimp::SimplifyStats> stats(parts);
+      for (std::uint32_t i = 0; i < parts; ++i)
+        threads.emplace_back([&, i] {
+          oocsimp::PartOptions part{i, parts, work.path()};
+          part.exchange = [&exchange, i](const std::vector<unsigned char>& mine) {
+            return exchange.all_gather(i, mine);
+          };
+          if (deliver)
+            part.deliver = [&exchange, i](const std::vector<std::vector<unsigned char>>& to_each) {
+              return deliver_by_gather(exchange, i, to_each);
+            };
+          try {
+            oocsimp::simplify_part(binary ? input : ascii, binary ? o : o_ascii, part, &stats[i]);
+          } catch (const std::exception& e) {
+            errors[i] = e.what();
+            exchange.fail();
+          }
+        });
+      for (std::thread& t : threads) t.join();
+      INFO(form << ", " << parts << " parts");
+      for (const std::string& e : errors) REQUIRE(e == "");
+      std::uint64_t read = 0;
+      for (const oocsimp::SimplifyStats& st : stats) {
+        CHECK(st.input_triangles == whole.input_triangles);
+        if (binary)
+          CHECK(st.floating.faces_read <= faces / parts + 1);
+        else
+          CHECK(st.floating.faces_read == faces);
+        read += st.floating.faces_read;
+      }
+      CHECK(read == (binary ? faces : parts * faces));
+      // The tiling's check, the borders after grading, and at least one sweep of 8
+      // colour classes: every part met the others at each.
+      for (std::uint32_t i = 0; i < parts; ++i) CHECK(exchange.rounds(i) >= 2 + 8);
+      CHECK(exchange.bytes() > 0);
+      oocsimp::SimplifyOptions runtime;
+      runtime.threads = 2;
+      oocsimp::OutputOptions out;
+      out.mesh = d.file("merged.ply");
+      oocsimp::merge_parts(work.path(), out, runtime);
+      CHECK(read_file(d.file("merged.ply")) == read_file(d.file(binary ? "one.ply" : "one-ascii.ply")));
+    }
   }
 }
 

@@ -15,12 +15,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "io/attribute_array.hpp"
 #include "io/error_text.hpp"
+#include "io/face_range.hpp"
 #include "oocsimp/error.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/oocsimp.hpp"
@@ -2534,4 +2536,94 @@ TEST_CASE("An input replaced after opening is not read: every pass reads the fil
       CHECK(in.positions.get(1).y == -2.25);
     }
   }
+}
+
+// ---------------------------------------------------------------------------------
+// Face ranges (parts that read only their own faces)
+
+namespace {
+
+// Binary PLY with kPos and `faces` (each its own corner count).
+std::string binary_ply_with_faces(const std::vector<std::vector<int>>& faces, bool be) {
+  std::string s = binary_ply_header(be, 5, faces.size());
+  for (float f : kPos) put(s, f, be);
+  put_faces(s, faces, be);
+  return s;
+}
+
+// Every triangle of faces [first, end) of `m`, read as a range.
+std::vector<std::uint64_t> range_triangles(const oocsimp::MeshInput& m, std::uint64_t first, std::uint64_t end) {
+  std::vector<std::uint64_t> out, chunk(3 * 4);
+  const std::unique_ptr<oocsimp::TriangleStream> s = oocsimp::open_face_range(m, first, end);
+  while (const std::size_t n = s->read(chunk.data(), 4)) out.insert(out.end(), chunk.begin(), chunk.begin() + 3 * n);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("face ranges of binary PLY triangles give the whole stream's triangles, split anywhere",
+          "[readers][ply][ranges]") {
+  ScratchDir d;
+  const std::vector<std::vector<int>> faces = {{0, 1, 2}, {1, 4, 2}, {2, 2, 3}, {0, 3, 4},
+                                               {4, 3, 1}, {0, 0, 1}, {3, 2, 1}};
+  for (bool be : {false, true}) {
+    const std::string path = d.file(be ? "be.ply" : "le.ply");
+    write_file(path, binary_ply_with_faces(faces, be));
+    oocsimp::OpenOptions o;
+    o.temp_dir = d.path();
+    oocsimp::MeshInput m = oocsimp::open_mesh_input(path, o);
+    REQUIRE(m.fixed_faces.available());
+    CHECK(m.fixed_faces.count == faces.size());
+    // The stream's triangles: the faces that do not name a vertex twice.
+    const std::vector<std::uint64_t> whole = {0, 1, 2, 1, 4, 2, 0, 3, 4, 4, 3, 1, 3, 2, 1};
+    for (std::uint32_t parts = 1; parts <= 7; ++parts) {
+      std::vector<std::uint64_t> joined;
+      std::uint64_t triangles = 0, repeated = 0;
+      for (std::uint32_t p = 0; p < parts; ++p) {
+        const std::uint64_t first = oocsimp::face_range_start(faces.size(), p, parts);
+        const std::uint64_t end = oocsimp::face_range_start(faces.size(), p + 1, parts);
+        const oocsimp::FaceRangeScan scan = oocsimp::scan_face_range(m, first, end);
+        CHECK(scan.readable);
+        triangles += scan.triangles;
+        repeated += scan.skipped.repeated_index;
+        const std::vector<std::uint64_t> mine = range_triangles(m, first, end);
+        CHECK(mine.size() == 3 * scan.triangles);
+        joined.insert(joined.end(), mine.begin(), mine.end());
+      }
+      INFO(parts << " parts");
+      CHECK(joined == whole);
+      CHECK(triangles == 5);
+      CHECK(repeated == 2);
+    }
+  }
+}
+
+TEST_CASE("face ranges are refused where a face is not a triangle, and name a bad index's byte",
+          "[readers][ply][ranges]") {
+  ScratchDir d;
+  oocsimp::OpenOptions o;
+  o.temp_dir = d.path();
+  // The reference mesh's quad and triangle do not fill 13 bytes a face: no table.
+  write_file(d.file("quad.ply"), binary_ply(false));
+  CHECK_FALSE(oocsimp::open_mesh_input(d.file("quad.ply"), o).fixed_faces.available());
+  // A quad and a two-corner face fill 26 bytes: the table is there, but the range
+  // holding the quad is not readable (so no part reads alone).
+  write_file(d.file("quad2.ply"), binary_ply_with_faces({{0, 1, 2, 3}, {1, 4}}, false));
+  oocsimp::MeshInput quad = oocsimp::open_mesh_input(d.file("quad2.ply"), o);
+  REQUIRE(quad.fixed_faces.available());
+  CHECK_FALSE(oocsimp::scan_face_range(quad, 0, 2).readable);
+  CHECK_FALSE(oocsimp::scan_face_range(quad, 0, 1).readable);
+  // Ascii, and binary with data after the faces, have no table.
+  write_file(d.file("ascii.ply"), ascii_ply());
+  CHECK_FALSE(oocsimp::open_mesh_input(d.file("ascii.ply"), o).fixed_faces.available());
+  write_file(d.file("trailing.ply"), binary_ply_with_faces({{0, 1, 2}}, false) + "x");
+  CHECK_FALSE(oocsimp::open_mesh_input(d.file("trailing.ply"), o).fixed_faces.available());
+  // An index out of range: the byte of its face, as the whole stream names it.
+  const std::string bad = binary_ply_with_faces({{0, 1, 2}, {1, 9, 2}}, false);
+  write_file(d.file("bad.ply"), bad);
+  oocsimp::MeshInput m = oocsimp::open_mesh_input(d.file("bad.ply"), o);
+  const std::string byte = "byte " + std::to_string(bad.size() - 13);
+  CHECK_THAT(input_error([&] { oocsimp::scan_face_range(m, 1, 2); }),
+             Contains(byte) && Contains("vertex index 9 out of range (5 vertices)"));
+  CHECK_THAT(load_error(d.file("bad.ply"), d), Contains(byte) && Contains("vertex index 9 out of range"));
 }

@@ -116,6 +116,53 @@ class RankExchange {
     return out;
   }
 
+  // Each rank's message for each rank (PartOptions::deliver): the sizes of what every
+  // rank sends in all first (a failed rank's size says so, as for all_gather), then
+  // each pair's sizes (MPI_Ialltoall), then the messages point to point, straight
+  // from and into their own buffers.
+  std::vector<std::vector<unsigned char>> all_to_all(const std::vector<std::vector<unsigned char>>& to_each) {
+    unsigned long long total = 0;
+    for (const auto& m : to_each) total += m.size();
+    const std::vector<unsigned long long> sizes = gather_sizes(total);
+    for (std::size_t r = 0; r < sizes.size(); ++r)
+      if (sizes[r] == kFailed || sizes[r] == kDone) {
+        stopped_ = true;
+        throw std::runtime_error("rank " + std::to_string(r) + " failed; this rank stops too");
+      }
+    const std::size_t ranks = sizes.size();
+    if (to_each.size() != ranks) throw std::logic_error("a message for each rank expected");
+    int me = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &me);
+    std::vector<unsigned long long> send_sizes(ranks), receive_sizes(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) send_sizes[r] = to_each[r].size();
+    MPI_Request request;
+    MPI_Ialltoall(send_sizes.data(), 1, MPI_UNSIGNED_LONG_LONG, receive_sizes.data(), 1, MPI_UNSIGNED_LONG_LONG,
+                  MPI_COMM_WORLD, &request);
+    wait_idle(&request);
+    std::vector<std::vector<unsigned char>> out(ranks);
+    std::vector<MPI_Request> requests;
+    constexpr int kTag = 7;
+    for (std::size_t r = 0; r < ranks; ++r) {
+      if (send_sizes[r] > (1ull << 31) - 1 || receive_sizes[r] > (1ull << 31) - 1)
+        throw std::runtime_error("a message between two ranks exceeds 2 GiB: give a smaller --mem");
+      if (int(r) == me) {
+        out[r] = to_each[r];
+        continue;
+      }
+      out[r].resize(std::size_t(receive_sizes[r]));
+      if (receive_sizes[r]) {
+        requests.emplace_back();
+        MPI_Irecv(out[r].data(), int(receive_sizes[r]), MPI_BYTE, int(r), kTag, MPI_COMM_WORLD, &requests.back());
+      }
+      if (send_sizes[r]) {
+        requests.emplace_back();
+        MPI_Isend(to_each[r].data(), int(send_sizes[r]), MPI_BYTE, int(r), kTag, MPI_COMM_WORLD, &requests.back());
+      }
+    }
+    for (MPI_Request& r : requests) wait_idle(&r);
+    return out;
+  }
+
   // After the part, whatever became of it: size rounds until every rank has ended.
   void finish(bool failed) {
     for (;;) {
@@ -184,6 +231,9 @@ int run_mpi_job(const MpiJob& job) {
     part.count = std::uint32_t(size);
     part.work_dir = dir;
     part.exchange = [&exchange](const std::vector<unsigned char>& mine) { return exchange.all_gather(mine); };
+    part.deliver = [&exchange](const std::vector<std::vector<unsigned char>>& to_each) {
+      return exchange.all_to_all(to_each);
+    };
     status = job.run_part(part);
     exchange.finish(status != 0);
     if (status != 0 && exchange.stopped()) status = kStoppedByOtherRank;

@@ -69,6 +69,11 @@ struct PartOptions {
   /// instead of each part running them whole. Empty for parts that run apart (job
   /// arrays).
   PartExchange exchange = nullptr;
+  /// With `exchange`, a part's messages to each part (MPI's all-to-all), for what
+  /// one part has and another needs (floating cells: the triangles each rank reads
+  /// for the others' tiles). Optional: without it they go through `exchange`, each
+  /// part then receiving every message.
+  PartDelivery deliver = nullptr;
 };
 
 /// Throws UsageError naming the option when `options` ask for what a distributed run

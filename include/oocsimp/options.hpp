@@ -137,6 +137,19 @@ struct TargetOptions {
 /// they run: every part calls it with its bytes, at the same point of the run, and
 /// gets every part's bytes, by part number. Throws when another part failed.
 using PartExchange = std::function<std::vector<std::vector<unsigned char>>(const std::vector<unsigned char>&)>;
+/// What the parts of a distributed run that run at once send one another: every part
+/// calls it at the same point of the run with a message for each part (by part
+/// number, its own included) and gets each part's message for it, by part number.
+/// Throws when another part failed.
+using PartDelivery =
+    std::function<std::vector<std::vector<unsigned char>>(const std::vector<std::vector<unsigned char>>&)>;
+
+/// How the parts of a distributed run that run at once reach one another (both
+/// empty for parts that run apart): see PartOptions.
+struct PartChannel {
+  PartExchange exchange;
+  PartDelivery deliver;  ///< optional with `exchange`
+};
 
 struct SimplifyOptions {
   CellSizing sizing;

@@ -24,7 +24,10 @@ struct FloatingStats {
   std::uint64_t spill_raw_bytes = 0;  ///< the same before compression
   std::uint64_t spill_bytes_in_memory = 0;  ///< spill records held in memory instead (within the budget)
   bool resumed = false;                     ///< reused tiles kept by an earlier run
-  std::uint64_t largest_tile_records = 0;   ///< triangle records of the fullest tile (its working set)
+  /// Faces the binning read: the input's, or under MPI a rank's range of them when
+  /// the faces have a fixed size (docs/cluster.md, "Floating cells").
+  std::uint64_t faces_read = 0;
+  std::uint64_t largest_tile_records = 0;  ///< triangle records of the fullest tile (its working set)
   /// Per sweep of border decisions after the first greedy (the last one only
   /// confirms): the tiles looked at (a neighbour's border changed since they last ran)
   /// and, of those, the tiles re-run (their external centres had changed).

@@ -569,7 +569,7 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
       record_grid(manifest.grid, &st);
       input.restart_triangles();
     }
-    run_clustering_part(input, o, manifest, part.exchange, part.work_dir, &st);
+    run_clustering_part(input, o, manifest, PartChannel{part.exchange, part.deliver}, part.work_dir, &st);
   }
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();

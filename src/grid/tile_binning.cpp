@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 #include <utility>
 
 #include "common/flat_hash_map.hpp"
@@ -13,6 +14,7 @@
 #include "oocsimp/error.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
+#include "io/face_range.hpp"
 #include "io/temp_file.hpp"
 
 namespace oocsimp {
@@ -58,9 +60,23 @@ std::vector<TriangleRecord> BinnedTiles::load(std::uint32_t tile) const {
   std::vector<TriangleRecord> t;
   triangles->read(tile, &t);
   // Input order matters: a vertex quadric sums its faces in this order. Binning
-  // appends in input order, so this is normally sorted already.
+  // appends in input order, so this is normally sorted already; parts that read
+  // ranges append runs in input order (bin_own_face_range), merged here pairwise.
   auto by_index = [](const TriangleRecord& a, const TriangleRecord& b) { return a.index() < b.index(); };
-  if (!std::is_sorted(t.begin(), t.end(), by_index)) std::sort(t.begin(), t.end(), by_index);
+  std::vector<std::size_t> runs{0};
+  for (std::size_t i = 1; i < t.size(); ++i)
+    if (t[i].index() < t[i - 1].index()) runs.push_back(i);
+  runs.push_back(t.size());
+  while (runs.size() > 2) {
+    std::vector<std::size_t> merged{0};
+    for (std::size_t r = 0; r + 1 < runs.size(); r += 2) {
+      if (r + 2 < runs.size())
+        std::inplace_merge(t.begin() + std::ptrdiff_t(runs[r]), t.begin() + std::ptrdiff_t(runs[r + 1]),
+                           t.begin() + std::ptrdiff_t(runs[r + 2]), by_index);
+      merged.push_back(runs[std::min(r + 2, runs.size() - 1)]);
+    }
+    runs = std::move(merged);
+  }
   return t;
 }
 
@@ -145,83 +161,279 @@ SpillSettings spill_settings(const MeshInput& input, const TileSettings& setting
   return s;
 }
 
-BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
-                          const ProgressCallback& progress, const TileFilter& keep) {
-  BinnedTiles out;
-  TileGrid& tiles = out.grid;
-  tiles.side = tile_side;
-  std::uint64_t budget = memory_budget;
-  // Buffers of all tiles together take at most a quarter of the budget.
-  std::size_t est_tiles = 64;
-  {
+namespace {
+
+// Binning's steps, for a whole input or a part's range of it: the tile spill and
+// the tiles numbered in order of first use, then bin() for each run of triangles.
+class TileBinner {
+ public:
+  // Records of a tile that `keep` refuses go to the `away` of bin() (or nowhere).
+  TileBinner(const MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
+             TileFilter keep)
+      : pos_(input.positions), keep_(std::move(keep)) {
+    out_.grid.side = tile_side;
+    // Buffers of all tiles together take at most a quarter of the budget.
+    std::size_t est_tiles = 64;
     const Box3d& b = input.info.bounds;
     if (!b.empty()) {
       double n = 1;
-      for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z}) n *= std::floor(e / tiles.side) + 1;
+      for (double e : {b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z}) n *= std::floor(e / tile_side) + 1;
       est_tiles = std::size_t(std::min(n, 1e6));
     }
+    // Blocks beyond 32 KiB buy nothing: larger buffers ran no faster and only raised
+    // the peak memory.
+    const std::size_t buffer_records = std::clamp<std::size_t>(
+        std::size_t(double(memory_budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), kMinBufferRecords, 1024);
+    // Free space for the spill, checked before writing it, when some of it goes to the disk.
+    if (spill.expected_bytes > spill.allow.triangles + spill.allow.vertex_blocks)
+      require_free_space(spill.dir, spill.expected_bytes, "the tile spill");
+    out_.triangles = std::make_unique<StreamSpill>(spill.dir, "tiles", sizeof(TriangleRecord), buffer_records,
+                                                   spill.compress, spill.allow.triangles);
+    out_.triangles->set_expected_bytes(spill.expected_bytes);
   }
-  // Blocks beyond 32 KiB buy nothing: larger buffers ran no faster and only raised
-  // the peak memory.
-  std::size_t buffer_records = std::clamp<std::size_t>(
-      std::size_t(double(budget) / 4 / double(est_tiles) / sizeof(TriangleRecord)), kMinBufferRecords, 1024);
-  // Free space for the spill, checked before writing it, when some of it goes to the disk.
-  if (spill.expected_bytes > spill.allow.triangles + spill.allow.vertex_blocks)
-    require_free_space(spill.dir, spill.expected_bytes, "the tile spill");
-  out.triangles = std::make_unique<StreamSpill>(spill.dir, "tiles", sizeof(TriangleRecord), buffer_records,
-                                                spill.compress, spill.allow.triangles);
-  StreamSpill& triangles = *out.triangles;
-  triangles.set_expected_bytes(spill.expected_bytes);
-  std::vector<char> kept;  // per tile, whether it keeps its records
-  auto tile_id = [&](const GridCoord& c) {
-    std::int64_t id = tiles.find(c);
-    if (id >= 0) return std::uint32_t(id);
-    triangles.add_stream();  // stream `tile` holds the tile's triangles
-    kept.push_back(!keep || keep(c));
-    return tiles.add(c);
-  };
 
-  const PositionArray& pos = input.positions;
-  TriangleStream& stream = *input.triangles;
-  std::uint64_t next = 0;
-  ProgressPhase phase(progress, "bin tiles", input.file_size, "B");
-  run_ordered_pipeline<BinChunk>(
-      2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())),
-      [&](BinChunk& c) {
-        c.count = stream.read(c.tris.data(), kBinChunk);
-        c.first = next;
-        next += c.count;
-        phase.set(stream.bytes_consumed());
-        return c.count > 0;
-      },
-      [&](BinChunk& c) {
-        c.filed.clear();
-        c.tiles.clear();
-        for (std::size_t i = 0; i < c.count; ++i) {
-          std::uint64_t t = c.first + i;
-          TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
-          GridCoord k[3];
-          for (int j = 0; j < 3; ++j) k[j] = tiles.of(pos.get(r.v[j]));
-          for (int j = 0; j < 3; ++j) {
-            if ((j >= 1 && k[j] == k[0]) || (j == 2 && k[2] == k[1])) continue;  // tile already has it
-            std::uint64_t mask = 0;
-            for (int m = 0; m < 3; ++m) mask |= std::uint64_t(k[m] == k[j]) << m;
-            r.tm = t | mask << TriangleRecord::kMaskShift;
-            c.filed.push_back({c.local_tile(k[j]), r});
+  // The id of the tile at `c`, numbered as it comes first.
+  std::uint32_t tile_id(const GridCoord& c) {
+    const std::int64_t id = out_.grid.find(c);
+    if (id >= 0) return std::uint32_t(id);
+    out_.triangles->add_stream();  // stream `tile` holds the tile's triangles
+    kept_.push_back(!keep_ || keep_(c));
+    met_.push_back(0);
+    return out_.grid.add(c);
+  }
+  bool kept(std::uint32_t tile) const { return kept_[tile] != 0; }
+
+  // A run of records of one tile that it does not keep.
+  using AwaySink = std::function<void(std::uint32_t tile, const TriangleRecord* records, std::size_t count)>;
+
+  // Bins the triangles of `stream`, numbered from `first`: every triangle goes to the
+  // tile of each of its corners. Returns the triangles read.
+  std::uint64_t bin(TriangleStream& stream, std::uint64_t first, ProgressPhase& phase, const AwaySink& away = nullptr) {
+    std::uint64_t next = first;
+    StreamSpill& triangles = *out_.triangles;
+    run_ordered_pipeline<BinChunk>(
+        2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())),
+        [&](BinChunk& c) {
+          c.count = stream.read(c.tris.data(), kBinChunk);
+          c.first = next;
+          next += c.count;
+          phase.set(stream.bytes_consumed());
+          return c.count > 0;
+        },
+        [&](BinChunk& c) { file_records(c); },
+        [&](BinChunk& c) {
+          for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g) {
+            const std::uint32_t id = tile_id(c.tiles.key(g));
+            if (!met_[id]) {
+              met_[id] = 1;
+              met_order_.push_back(out_.grid.coord(id));
+            }
+            const TriangleRecord* records = &c.records[c.group_start[g]];
+            const std::size_t count = c.group_start[g + 1] - c.group_start[g];
+            if (kept_[id])
+              triangles.append(id, records, count);
+            else if (away)
+              away(id, records, count);
           }
-        }
-        c.group();
-      },
-      [&](BinChunk& c) {
-        for (std::size_t g = 0; g + 1 < c.group_start.size(); ++g) {
-          const std::uint32_t id = tile_id(c.tiles.key(g));
-          if (kept[id]) triangles.append(id, &c.records[c.group_start[g]], c.group_start[g + 1] - c.group_start[g]);
-        }
-      });
-  triangles.flush();
-  out.triangle_count = next;
+        });
+    return next - first;
+  }
+
+  // The tiles in the order bin() met them first (tiles only added by tile_id after
+  // another part's records left out).
+  const std::vector<GridCoord>& met_order() const { return met_order_; }
+
+  BinnedTiles& result() { return out_; }
+
+ private:
+  // A chunk's records, grouped by tile.
+  void file_records(BinChunk& c) const {
+    c.filed.clear();
+    c.tiles.clear();
+    for (std::size_t i = 0; i < c.count; ++i) {
+      const std::uint64_t t = c.first + i;
+      TriangleRecord r{t, {c.tris[3 * i], c.tris[3 * i + 1], c.tris[3 * i + 2]}};
+      GridCoord k[3];
+      for (int j = 0; j < 3; ++j) k[j] = out_.grid.of(pos_.get(r.v[j]));
+      for (int j = 0; j < 3; ++j) {
+        if ((j >= 1 && k[j] == k[0]) || (j == 2 && k[2] == k[1])) continue;  // tile already has it
+        std::uint64_t mask = 0;
+        for (int m = 0; m < 3; ++m) mask |= std::uint64_t(k[m] == k[j]) << m;
+        r.tm = t | mask << TriangleRecord::kMaskShift;
+        c.filed.push_back({c.local_tile(k[j]), r});
+      }
+    }
+    c.group();
+  }
+
+  const PositionArray& pos_;
+  TileFilter keep_;
+  BinnedTiles out_;
+  std::vector<char> kept_;  // per tile, whether it keeps its records
+  std::vector<char> met_;   // per tile, whether bin() has met it
+  std::vector<GridCoord> met_order_;
+};
+
+}  // namespace
+
+BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
+                          const ProgressCallback& progress, const TileFilter& keep) {
+  TileBinner binner(input, tile_side, memory_budget, spill, keep);
+  TriangleStream& stream = *input.triangles;
+  ProgressPhase phase(progress, "bin tiles", input.file_size, "B");
+  BinnedTiles& out = binner.result();
+  out.triangle_count = binner.bin(stream, 0, phase);
+  out.triangles->flush();
   out.skipped = stream.skipped();
-  return out;
+  out.faces_read = input.info.face_count;
+  return std::move(out);
+}
+
+namespace {
+
+// A part's message of records for another part's tiles: runs of one tile's records,
+// each after its tile's coordinates and count.
+struct AwayRun {
+  GridCoord tile;
+  std::uint64_t count = 0;
+};
+
+void append_bytes(std::vector<unsigned char>& to, const void* data, std::size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  to.insert(to.end(), p, p + bytes);
+}
+
+// What a part learns from the others' range scans: whether every range can be read
+// alone, the triangle index its range starts at, and the whole input's counts.
+struct RangePlan {
+  bool readable = true;
+  std::uint64_t first_triangle = 0, triangles = 0;
+  std::uint64_t step = 0;  // faces a part bins between two sends: the least any part asked
+  SkippedFaces skipped;
+};
+
+RangePlan plan_ranges(const MeshInput& input, const TileShare& share, std::uint64_t first, std::uint64_t end,
+                      double tile_side, std::uint64_t step) {
+  const FaceRangeScan scan = scan_face_range(input, first, end);
+  std::uint64_t side_bits = 0;
+  std::memcpy(&side_bits, &tile_side, sizeof side_bits);
+  const std::uint64_t mine[7] = {scan.readable ? 1u : 0u,
+                                 scan.triangles,
+                                 scan.skipped.short_faces,
+                                 scan.skipped.non_finite,
+                                 scan.skipped.repeated_index,
+                                 side_bits,
+                                 step};
+  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(mine),
+                                         reinterpret_cast<const unsigned char*>(mine) + sizeof mine);
+  RangePlan plan;
+  plan.step = step;
+  const std::vector<std::vector<unsigned char>> all = share.exchange(bytes);
+  for (std::size_t p = 0; p < all.size(); ++p) {
+    std::uint64_t theirs[7] = {0, 0, 0, 0, 0, 0, 0};
+    if (all[p].size() == sizeof theirs) std::memcpy(theirs, all[p].data(), sizeof theirs);
+    // Parts that tiled otherwise (another --mem) bin the whole stream, and say so after.
+    plan.readable = plan.readable && theirs[0] == 1 && theirs[5] == side_bits;
+    plan.step = std::min(plan.step, std::max<std::uint64_t>(theirs[6], 1));
+    if (p < share.part) plan.first_triangle += theirs[1];
+    plan.triangles += theirs[1];
+    plan.skipped.short_faces += theirs[2];
+    plan.skipped.non_finite += theirs[3];
+    plan.skipped.repeated_index += theirs[4];
+  }
+  return plan;
+}
+
+// Every part's tiles in the order its range met them, joined: the order one process
+// meets them in the whole stream.
+std::vector<GridCoord> tiles_in_input_order(const TileShare& share, const std::vector<GridCoord>& met) {
+  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(met.data()),
+                                         reinterpret_cast<const unsigned char*>(met.data() + met.size()));
+  std::vector<GridCoord> order;
+  std::unordered_set<GridCoord, GridCoordHash> listed;
+  for (const std::vector<unsigned char>& theirs : share.exchange(bytes)) {
+    const std::size_t n = theirs.size() / sizeof(GridCoord);
+    for (std::size_t i = 0; i < n; ++i) {
+      GridCoord c;
+      std::memcpy(&c, theirs.data() + i * sizeof c, sizeof c);
+      if (listed.insert(c).second) order.push_back(c);
+    }
+  }
+  return order;
+}
+
+}  // namespace
+
+std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side, std::uint64_t memory_budget,
+                                              const SpillSettings& spill, const ProgressCallback& progress,
+                                              const TileOwners& owners, const TileShare& share) {
+  const std::uint64_t faces = input.fixed_faces.count;
+  const std::uint64_t first = face_range_start(faces, share.part, share.parts);
+  const std::uint64_t end = face_range_start(faces, share.part + 1, share.parts);
+  // The range in steps, the other parts' records sent after each, so that what is
+  // on its way takes a sixteenth of the budget. Every part takes as many steps as
+  // the longest range.
+  const RangePlan plan = plan_ranges(
+      input, share, first, end, tile_side,
+      std::max<std::uint64_t>(kBinChunk, memory_budget / 16 / (2 * sizeof(TriangleRecord) + sizeof(AwayRun))));
+  if (!plan.readable) return std::nullopt;
+  const std::uint64_t step = plan.step;
+
+  auto owner = [&owners](const GridCoord& c) {
+    const auto it = owners.find(c);
+    return it == owners.end() ? 0u : it->second;  // every corner's tile is occupied: never
+  };
+  TileBinner binner(input, tile_side, memory_budget, spill, [&](const GridCoord& c) { return owner(c) == share.part; });
+  StreamSpill& triangles = *binner.result().triangles;
+  const std::uint64_t longest = face_range_start(faces, 1, share.parts) + 1;
+  const std::uint64_t steps = (longest + step - 1) / step;
+  std::vector<std::vector<unsigned char>> to_each(share.parts);
+  const TileBinner::AwaySink away = [&](std::uint32_t tile, const TriangleRecord* records, std::size_t count) {
+    const GridCoord& c = binner.result().grid.coord(tile);
+    std::vector<unsigned char>& message = to_each[owner(c)];
+    const AwayRun run{c, count};
+    append_bytes(message, &run, sizeof run);
+    append_bytes(message, records, count * sizeof *records);
+  };
+  ProgressPhase phase(progress, "bin tiles", (end - first) * FixedFaceTable::kStride, "B");
+  std::uint64_t next = plan.first_triangle;
+  for (std::uint64_t s = 0; s < steps; ++s) {
+    const std::uint64_t from = std::min(end, first + s * step), to = std::min(end, from + step);
+    const std::unique_ptr<TriangleStream> stream = open_face_range(input, from, to);
+    next += binner.bin(*stream, next, phase, away);
+    phase.set((to - first) * FixedFaceTable::kStride);
+    const std::vector<std::vector<unsigned char>> received = share.send(to_each);
+    for (std::vector<unsigned char>& message : to_each) message.clear();
+    for (const std::vector<unsigned char>& message : received) {
+      for (std::size_t at = 0; at + sizeof(AwayRun) <= message.size();) {
+        AwayRun run;
+        std::memcpy(&run, message.data() + at, sizeof run);
+        at += sizeof run;
+        if (run.count > (message.size() - at) / sizeof(TriangleRecord))
+          throw std::runtime_error("a part sent a damaged run of triangle records");
+        triangles.append(binner.tile_id(run.tile), message.data() + at, std::size_t(run.count));
+        at += std::size_t(run.count) * sizeof(TriangleRecord);
+      }
+    }
+  }
+  // Renumbered as one process numbers the tiles: by first use in the whole stream.
+  BinnedTiles& out = binner.result();
+  const std::vector<GridCoord> order = tiles_in_input_order(share, binner.met_order());
+  std::vector<std::uint32_t> old_of_new(order.size(), StreamSpill::kNewStream);
+  TileGrid grid;
+  grid.side = tile_side;
+  for (std::size_t t = 0; t < order.size(); ++t) {
+    const std::int64_t old = out.grid.find(order[t]);
+    if (old >= 0) old_of_new[t] = std::uint32_t(old);
+    grid.add(order[t]);
+  }
+  out.triangles->flush();
+  out.triangles->renumber_streams(old_of_new);
+  out.grid = std::move(grid);
+  out.triangle_count = plan.triangles;
+  out.skipped = plan.skipped;
+  out.faces_read = end - first;
+  return std::move(out);
 }
 
 }  // namespace oocsimp

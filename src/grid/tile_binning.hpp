@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 #include "grid/tile_plan.hpp"
+#include "grid/work_share.hpp"
 #include "spill/spill_allowances.hpp"
 #include "spill/stream_spill.hpp"
 
@@ -56,6 +59,7 @@ struct BinnedTiles {
   std::unique_ptr<StreamSpill> triangles;
   std::uint64_t triangle_count = 0;
   SkippedFaces skipped;
+  std::uint64_t faces_read = 0;  ///< the input's faces, or a part's range (bin_own_face_range)
 
   std::uint32_t count() const { return grid.count(); }
   /// The tile's triangles, sorted by input index (a vertex quadric sums its faces in
@@ -99,5 +103,19 @@ using TileFilter = std::function<bool(const GridCoord& tile)>;
 /// hold the spill.
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
                           const ProgressCallback& progress, const TileFilter& keep = nullptr);
+
+/// Each tile's part, for parts that run only their own tiles (tile_owners).
+using TileOwners = std::unordered_map<GridCoord, std::uint32_t, GridCoordHash>;
+
+/// Parts that run at once and own the tiles `owners` deals, each reading only its
+/// range of the faces (face_range.hpp): bins part share.part's range, sends every
+/// other part the records of its tiles and keeps what they send of its own. The
+/// result is what bin_triangles with the part's filter gives: the same records, the
+/// tiles numbered alike. Every part calls it at the same point; nullopt, on every
+/// part alike, when some range cannot be read alone (the input has no
+/// FixedFaceTable, a face is not a triangle, a vertex is not finite).
+std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side, std::uint64_t memory_budget,
+                                              const SpillSettings& spill, const ProgressCallback& progress,
+                                              const TileOwners& owners, const TileShare& share);
 
 }  // namespace oocsimp

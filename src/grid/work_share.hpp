@@ -4,10 +4,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cstring>
 #include <cstdint>
 #include <numeric>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "grid/grid_coord.hpp"
@@ -40,16 +40,41 @@ struct TileShare {
   std::uint32_t part = 0, parts = 1;
   std::vector<char> owned;  ///< per tile, whether this part runs it; empty: every tile
   PartExchange exchange;    ///< empty when the parts run apart (each then decides alone)
+  PartDelivery deliver;     ///< optional with `exchange` (see send)
   bool owns(std::uint32_t tile) const { return owned.empty() || owned[tile] != 0; }
   bool exchanging() const { return bool(exchange); }
+
+  /// Sends `to_each[p]` to part p, every part at once, and returns what each part
+  /// sent this one: through `deliver`, or packed into one `exchange` without it.
+  std::vector<std::vector<unsigned char>> send(const std::vector<std::vector<unsigned char>>& to_each) const {
+    if (deliver) return deliver(to_each);
+    std::vector<unsigned char> packed(to_each.size() * sizeof(std::uint64_t));
+    for (std::size_t p = 0; p < to_each.size(); ++p) {
+      const std::uint64_t size = to_each[p].size();
+      std::memcpy(packed.data() + p * sizeof size, &size, sizeof size);
+      packed.insert(packed.end(), to_each[p].begin(), to_each[p].end());
+    }
+    const std::vector<std::vector<unsigned char>> all = exchange(packed);
+    std::vector<std::vector<unsigned char>> mine(all.size());
+    for (std::size_t q = 0; q < all.size(); ++q) {
+      std::size_t at = to_each.size() * sizeof(std::uint64_t);
+      for (std::size_t p = 0; p <= part; ++p) {
+        std::uint64_t size = 0;
+        std::memcpy(&size, all[q].data() + p * sizeof size, sizeof size);
+        if (p == part) mine[q].assign(all[q].begin() + std::ptrdiff_t(at), all[q].begin() + std::ptrdiff_t(at + size));
+        at += std::size_t(size);
+      }
+    }
+    return mine;
+  }
 };
 
-/// Per tile, whether part `part` of `parts` owns it: dealt by `records` per tile
-/// within each class of `classes` (a tile's colour class), since the parts meet
-/// after every class of a sweep and each class is best balanced on its own.
-inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, const std::vector<int>& classes,
-                                     std::uint32_t part, std::uint32_t parts) {
-  std::vector<char> owned(records.size(), 0);
+/// Per tile, the part of `parts` that owns it: dealt by `records` per tile within
+/// each class of `classes` (a tile's colour class), since the parts meet after every
+/// class of a sweep and each class is best balanced on its own.
+inline std::vector<std::uint32_t> tile_owner_deal(const std::vector<std::uint64_t>& records,
+                                                  const std::vector<int>& classes, std::uint32_t parts) {
+  std::vector<std::uint32_t> owners(records.size(), 0);
   const int class_count = classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1;
   for (int k = 0; k < class_count; ++k) {
     std::vector<std::size_t> tiles;
@@ -60,17 +85,26 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
         weights.push_back(records[t]);
       }
     const std::vector<std::uint32_t> owner = deal_by_weight(weights, parts);
-    for (std::size_t i = 0; i < tiles.size(); ++i) owned[tiles[i]] = owner[i] == part;
+    for (std::size_t i = 0; i < tiles.size(); ++i) owners[tiles[i]] = owner[i];
   }
+  return owners;
+}
+
+/// Per tile, whether part `part` of `parts` owns it (tile_owner_deal).
+inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, const std::vector<int>& classes,
+                                     std::uint32_t part, std::uint32_t parts) {
+  const std::vector<std::uint32_t> owners = tile_owner_deal(records, classes, parts);
+  std::vector<char> owned(records.size(), 0);
+  for (std::size_t t = 0; t < owners.size(); ++t) owned[t] = owners[t] == part;
   return owned;
 }
 
-/// The coordinates of the tiles part `part` of `parts` owns, before any binning, for parts that
-/// run only their own tiles: every occupied tile (one holding a finite position of
-/// `positions` at tile side `side`) dealt by the positions in it within its colour
-/// class, as owned_tiles deals. Every part computes the same deal from the input.
-inline std::unordered_set<GridCoord, GridCoordHash> owned_tile_coords(const PositionArray& positions, double side,
-                                                                      std::uint32_t part, std::uint32_t parts) {
+/// Which of `parts` parts owns each tile, before any binning, for parts that run only
+/// their own tiles: every occupied tile (one holding a finite position of `positions`
+/// at tile side `side`) dealt by the positions in it within its colour class, as
+/// owned_tiles deals. Every part computes the same deal from the input.
+inline std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_owners(const PositionArray& positions,
+                                                                               double side, std::uint32_t parts) {
   std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> counts;
   for (std::uint64_t v = 0; v < positions.count; ++v) {
     const Vec3d p = positions.get(v);
@@ -86,11 +120,10 @@ inline std::unordered_set<GridCoord, GridCoordHash> owned_tile_coords(const Posi
     records[i] = counts[coords[i]];
     classes[i] = TileGrid::colour_of(coords[i]);
   }
-  const std::vector<char> owned = owned_tiles(records, classes, part, parts);
-  std::unordered_set<GridCoord, GridCoordHash> out;
-  for (std::size_t i = 0; i < coords.size(); ++i)
-    if (owned[i]) out.insert(coords[i]);
-  return out;
+  const std::vector<std::uint32_t> owner = tile_owner_deal(records, classes, parts);
+  std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> owners;
+  for (std::size_t i = 0; i < coords.size(); ++i) owners.emplace(coords[i], owner[i]);
+  return owners;
 }
 
 }  // namespace oocsimp

@@ -195,7 +195,10 @@ MeshInput open_mesh_input(const std::string& path, const OpenOptions& options_in
   if (out.positions.type == ScalarType::f64) out.info.double_precision = true;  // a double PLY read in place
   // STL stores every triangle's corners apart: without welding no two triangles
   // would share a vertex.
-  if (stl || options.weld) weld_vertices(out, options.temp_dir, options.memory_budget);
+  if (stl || options.weld) {
+    weld_vertices(out, options.temp_dir, options.memory_budget);
+    out.fixed_faces = FixedFaceTable();  // the faces now name the welded vertices
+  }
   out.restart_triangles();
   return out;
 }

@@ -73,6 +73,21 @@ class TriangleStream {
   virtual void set_primitive_sink(PrimitiveSink sink) { (void)sink; }
 };
 
+/// Where the faces of a binary file lie when every face is a triangle in a record of
+/// one size (binary PLY whose last element is the faces, "list uchar int|uint"
+/// alone): face i at base + i * kStride, if faces 0..i-1 were all triangles. Parts
+/// that run at once may then each read only their range of the faces
+/// (face_range.hpp). Empty (count 0, base null) for other inputs.
+struct FixedFaceTable {
+  static constexpr std::size_t kStride = 13;  ///< the count byte and three 4-byte indices
+  const unsigned char* base = nullptr;        ///< face 0's record, in the input's mapping
+  std::uint64_t count = 0;                    ///< face records
+  std::uint64_t file_offset = 0;              ///< face 0's byte in the file, for messages
+  bool swap = false;                          ///< big-endian indices
+  bool signed_index = false;                  ///< "int" (a negative index is an error) or "uint"
+  bool available() const { return base != nullptr; }
+};
+
 /// An opened mesh: info, positions and a triangle stream. Owns the mappings and
 /// temporary files behind them; they are released (and deleted) with it.
 class MeshInput {
@@ -90,6 +105,8 @@ class MeshInput {
   std::unique_ptr<TriangleStream> triangles;
   /// Total input size in bytes (compressed size for .zst), the denominator of progress.
   std::uint64_t file_size = 0;
+  /// The faces' records when they can be read by range (see FixedFaceTable).
+  FixedFaceTable fixed_faces;
 
   /// Reopens the triangle stream at the first triangle.
   void restart_triangles();

@@ -583,6 +583,36 @@ VertexCandidates vertex_candidates(const PlyHeader& h, const std::string& path, 
   return c;
 }
 
+// The faces as a FixedFaceTable, when they are the last element, the common binary
+// layout alone and exactly fill the file from `after_vertices` on (elements between
+// the vertices and the faces of fixed size): then, once every record is checked to
+// hold a triangle, the records are the whole stream. Empty otherwise.
+FixedFaceTable fixed_face_table(const PlyHeader& h, std::uint64_t after_vertices, const MappedFile& file) {
+  FixedFaceTable table;
+  if (h.face < 0 || std::size_t(h.face) + 1 != h.elements.size() || h.face < h.vertex) return table;
+  std::uint64_t offset = after_vertices;
+  for (int i = h.vertex + 1; i < h.face; ++i) {
+    const PlyElement& e = h.elements[i];
+    if (!e.fixed_size() ||
+        (e.record_size() != 0 && e.count > (file.size() - std::min(offset, file.size())) / e.record_size()))
+      return table;
+    offset += e.count * e.record_size();
+  }
+  const PlyElement& f = h.elements[h.face];
+  const PlyProperty& p = f.props[h.indices];
+  const bool layout =
+      f.props.size() == 1 && p.count_type == PlyType::u8 && (p.type == PlyType::i32 || p.type == PlyType::u32);
+  if (!layout || offset > file.size() || (file.size() - offset) / FixedFaceTable::kStride != f.count ||
+      (file.size() - offset) % FixedFaceTable::kStride != 0)
+    return table;
+  table.base = file.data() + offset;
+  table.count = f.count;
+  table.file_offset = offset;
+  table.swap = h.format == PlyFormat::binary_be;
+  table.signed_index = p.type == PlyType::i32;
+  return table;
+}
+
 }  // namespace
 
 void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progress, MeshInput& out) {
@@ -659,6 +689,7 @@ void open_ply(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
       }
     }
     scan_mapped_positions(out, vertex_offset);  // and the attributes' ranges
+    out.fixed_faces = fixed_face_table(*h, vertex_offset + v.count * rs, *reader_state(out).position_map);
   } else {
     ElementReader reader(src, *h);
     for (int i = 0; i < h->vertex; ++i) reader.skip(h->elements[i]);

@@ -91,11 +91,12 @@ class FloatingRun {
   FloatingRun& operator=(const FloatingRun&) = delete;
 
   /// Makes this run part `part` of `parts` (before tile_mesh): its tiles are dealt
-  /// after binning, and with `exchange` it grades and sweeps only its own.
-  void run_as_part(std::uint32_t part, std::uint32_t parts, PartExchange exchange);
+  /// after binning, and with a channel it grades and sweeps only its own.
+  void run_as_part(std::uint32_t part, std::uint32_t parts, const PartChannel& channel);
   void tile_mesh();
   void check_same_tiling() const;
   bool resumed() const { return resumed_; }
+  std::uint64_t faces_read() const { return tiles_.faces_read; }
   void grade();
   void regrade(std::size_t level);
   void sweep(SimplifyStats* stats);
@@ -151,10 +152,11 @@ FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const s
   for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
 }
 
-void FloatingRun::run_as_part(std::uint32_t part, std::uint32_t parts, PartExchange exchange) {
+void FloatingRun::run_as_part(std::uint32_t part, std::uint32_t parts, const PartChannel& channel) {
   share_.part = part;
   share_.parts = parts;
-  share_.exchange = std::move(exchange);
+  share_.exchange = channel.exchange;
+  share_.deliver = channel.deliver;
   options_.floating.keep_temp = false;  // the kept tiles are one process's cache
 }
 
@@ -174,13 +176,26 @@ void FloatingRun::tile_mesh() {
   // Parts that exchange run only their own tiles: dealt before the binning, they keep
   // only those tiles' records. (Parts that run apart grade every tile, so they bin
   // every tile and deal by its records after.)
+  // Where the faces can be read by range, each part reads only its range and sends
+  // the others their tiles' records.
   TileFilter keep;
-  std::unordered_set<GridCoord, GridCoordHash> owned;
+  TileOwners owners;
   if (!resumed_ && share_.exchanging() && share_.parts > 1) {
-    owned = owned_tile_coords(input_.positions, tile_side, share_.part, share_.parts);
-    keep = [&owned](const GridCoord& c) { return owned.count(c) != 0; };
+    owners = tile_owners(input_.positions, tile_side, share_.parts);
+    keep = [&owners, this](const GridCoord& c) {
+      const auto it = owners.find(c);
+      return it != owners.end() && it->second == share_.part;
+    };
+    std::optional<BinnedTiles> own =
+        bin_own_face_range(input_, tile_side, options_.memory_budget, spill_, options_.progress, owners, share_);
+    if (own) {
+      tiles_ = std::move(*own);
+    } else {
+      tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress, keep);
+    }
+  } else if (!resumed_) {
+    tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
   }
-  if (!resumed_) tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress, keep);
   if (keep) {
     share_.owned.resize(tiles_.count());
     for (std::uint32_t t = 0; t < tiles_.count(); ++t) share_.owned[t] = keep(tiles_.grid.coord(t));
@@ -376,6 +391,7 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
   stats->floating.tiles = tiles_.count();
   stats->floating.largest_tile_records = tiles_.largest_tile_records();
   stats->floating.resumed = resumed_;
+  stats->floating.faces_read = tiles_.faces_read;
   if (level == 0) stats->warnings.insert(stats->warnings.end(), warnings_.begin(), warnings_.end());
   // A locked vertex whose neighbours all fall in one other cluster makes no triangle
   // with two others: it is dropped, and said so.
@@ -420,12 +436,12 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
 }
 
 void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
-                           std::uint32_t parts, const PartExchange& exchange, const ClusterShareSink& sink,
+                           std::uint32_t parts, const PartChannel& channel, const ClusterShareSink& sink,
                            FloatingPartPlan* plan, SimplifyStats* stats) {
   PhaseTimer clock;
   const std::vector<GridSpec> grids{grid};
   FloatingRun run(input, options, grids, nullptr);
-  run.run_as_part(part, parts, exchange);
+  run.run_as_part(part, parts, channel);
   run.tile_mesh();
   clock.end("bin");
   run.grade();
@@ -440,6 +456,7 @@ void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, con
   if (stats) {
     stats->input_triangles = plan->triangles;
     stats->skipped = plan->skipped;
+    stats->floating.faces_read = run.faces_read();
     clock.move_to(&stats->phases);
   }
 }

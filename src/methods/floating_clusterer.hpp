@@ -52,11 +52,11 @@ using ClusterShareSource = std::function<void(const ClusterShareSink&)>;
 /// Part `part` of `parts` of cluster_floating (docs/cluster.md): bins the whole input
 /// as one process does, and accumulates the cluster shares of the tiles dealt to it
 /// (by triangle records), handed to `sink`. The centres need every tile's grading and
-/// the border sweeps: with `exchange` (parts running at once) each part grades and
+/// the border sweeps: with `channel` (parts running at once) each part grades and
 /// sweeps its own tiles, exchanging borders; without, each part grades and sweeps
 /// every tile itself. `plan` gets the tiling and counts; `stats` the part's phases.
 void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
-                           std::uint32_t parts, const PartExchange& exchange, const ClusterShareSink& sink,
+                           std::uint32_t parts, const PartChannel& channel, const ClusterShareSink& sink,
                            FloatingPartPlan* plan, SimplifyStats* stats);
 
 /// The merge of a floating run's parts: their shares (`shares`, of the run `plan`

@@ -137,12 +137,12 @@ void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartMa
 }
 
 void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                       const PartExchange& exchange, const std::string& dir, SimplifyStats* stats) {
+                       const PartChannel& channel, const std::string& dir, SimplifyStats* stats) {
   PartWriter writer(dir, manifest);
   FloatingPartPlan plan;
   const AttributeLayout layout(input.attributes);
   cluster_floating_part(
-      input, options, manifest.grid, manifest.part, manifest.parts, exchange,
+      input, options, manifest.grid, manifest.part, manifest.parts, channel,
       [&](ShareKind kind, const void* records, std::size_t count) {
         writer.shares(kind, records, count * share_record_bytes(kind, layout));
       },
@@ -179,7 +179,7 @@ void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const 
 }
 
 void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
-                         const PartExchange& exchange, const std::string& dir, SimplifyStats* stats) {
+                         const PartChannel& channel, const std::string& dir, SimplifyStats* stats) {
   if (options.target.given()) {
     if (!target_clustering_grid(input, options, &manifest.grid)) {
       manifest.grid = GridSpec();
@@ -192,7 +192,7 @@ void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartM
   }
   switch (options.method) {
     case ClusterMethod::floating:
-      run_floating_part(input, options, manifest, exchange, dir, stats);
+      run_floating_part(input, options, manifest, channel, dir, stats);
       break;
     case ClusterMethod::curvature:
       run_curvature_part(input, options, manifest, dir, stats);

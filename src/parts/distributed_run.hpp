@@ -46,9 +46,9 @@ void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartMa
 
 /// The same for options.method floating: the part's tiles' cluster shares
 /// (cluster_floating_part), grading and sweeping with the other parts through
-/// `exchange` when given (parts that run at once), alone otherwise.
+/// `channel` when given (parts that run at once), alone otherwise.
 void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                       const PartExchange& exchange, const std::string& dir, SimplifyStats* stats);
+                       const PartChannel& channel, const std::string& dir, SimplifyStats* stats);
 
 /// The same for options.method curvature: the curvatures of the vertices dealt to the
 /// part (estimate_curvature_part), nearly all of the method's time, with the plan.
@@ -61,7 +61,7 @@ void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const 
 /// manifest.grid), or, when the run clusters nothing there, a part with no work and
 /// a grid of cell 0: the merge runs that target whole.
 void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
-                         const PartExchange& exchange, const std::string& dir, SimplifyStats* stats);
+                         const PartChannel& channel, const std::string& dir, SimplifyStats* stats);
 
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part

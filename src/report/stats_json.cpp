@@ -140,13 +140,14 @@ std::string stats_to_json(const SimplifyStats& s, const std::string& input_path,
     std::snprintf(buf, sizeof buf,
                   "  \"tiles\": {\"count\": %" PRIu64 ", \"largest_tile_records\": %" PRIu64 ", \"rounds\": %" PRIu64
                   ", \"spill_bytes\": %" PRIu64 ", \"spill_raw_bytes\": %" PRIu64
-                  ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s, \"exchange\": {\"border_bytes\": %" PRIu64
-                  ", \"border_centre_bytes\": %" PRIu64 ", \"stitch_corner_bytes\": %" PRIu64
-                  ", \"inside_triangle_bytes\": %" PRIu64 ", \"cluster_share_bytes\": %" PRIu64 "}, \"sweeps\": [",
+                  ", \"spill_bytes_in_memory\": %" PRIu64 ", \"resumed\": %s, \"faces_read\": %" PRIu64
+                  ", \"exchange\": {\"border_bytes\": %" PRIu64 ", \"border_centre_bytes\": %" PRIu64
+                  ", \"stitch_corner_bytes\": %" PRIu64 ", \"inside_triangle_bytes\": %" PRIu64
+                  ", \"cluster_share_bytes\": %" PRIu64 "}, \"sweeps\": [",
                   s.floating.tiles, s.floating.largest_tile_records, s.floating.rounds, s.floating.spill_bytes,
                   s.floating.spill_raw_bytes, s.floating.spill_bytes_in_memory, s.floating.resumed ? "true" : "false",
-                  s.floating.border_bytes, s.floating.border_centre_bytes, s.floating.stitch_corner_bytes,
-                  s.floating.inside_triangle_bytes, s.floating.cluster_share_bytes);
+                  s.floating.faces_read, s.floating.border_bytes, s.floating.border_centre_bytes,
+                  s.floating.stitch_corner_bytes, s.floating.inside_triangle_bytes, s.floating.cluster_share_bytes);
     js += buf + sweeps + "]},\n";
   }
   if (options.target.given() || resolved_method(options) == ClusterMethod::qem) {

@@ -192,6 +192,13 @@ std::uint32_t StreamSpill::add_stream() {
   return std::uint32_t(streams_.size() - 1);
 }
 
+void StreamSpill::renumber_streams(const std::vector<std::uint32_t>& old_of_new) {
+  std::vector<std::unique_ptr<Stream>> renumbered(old_of_new.size());
+  for (std::size_t i = 0; i < old_of_new.size(); ++i)
+    renumbered[i] = old_of_new[i] == kNewStream ? std::make_unique<Stream>() : std::move(streams_.at(old_of_new[i]));
+  streams_ = std::move(renumbered);
+}
+
 bool StreamSpill::reserve_memory(std::size_t bytes) {
   std::lock_guard<std::mutex> lock(write_mutex_);
   if (memory_held_ + bytes > memory_allowance_) return false;

@@ -60,6 +60,11 @@ class StreamSpill {
   /// Adds an empty stream and returns its id (0, 1, 2, ...).
   std::uint32_t add_stream();
   std::uint32_t stream_count() const { return std::uint32_t(streams_.size()); }
+  /// Renumbers the streams: stream i becomes the one that was `old_of_new[i]`, or a
+  /// new empty one where that is kNewStream. A stream left out is dropped. Not
+  /// while another thread appends or reads.
+  static constexpr std::uint32_t kNewStream = ~std::uint32_t(0);
+  void renumber_streams(const std::vector<std::uint32_t>& old_of_new);
   /// Appends `count` records to stream `stream`. Throws IoError (naming the folder and
   /// the bytes written so far) when the disk is full.
   void append(std::uint32_t stream, const void* records, std::size_t count);
