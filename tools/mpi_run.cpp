@@ -56,7 +56,7 @@ std::string broadcast(const std::string& text, int rank) {
 
 // Waits for `request` without spinning. MPI's blocking calls poll at full speed, so a
 // rank waiting for rank 0's merge (or for its whole run) would take a core from the
-// ranks at work where they share the machine; 2 ms naps cost nothing next to seconds.
+// ranks at work where they share the machine; naps of at most 250 us cost little.
 // The naps grow from 20 us, so that the ranks' short exchanges (a floating run's
 // sweeps meet 8 times a sweep) are not held up by them.
 void wait_idle(MPI_Request* request) {
@@ -66,7 +66,7 @@ void wait_idle(MPI_Request* request) {
     MPI_Test(request, &done, MPI_STATUS_IGNORE);
     if (done) return;
     std::this_thread::sleep_for(nap);
-    nap = std::min(2 * nap, std::chrono::microseconds(2000));
+    nap = std::min(2 * nap, std::chrono::microseconds(250));
   }
 }
 

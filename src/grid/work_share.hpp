@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/flat_hash_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/tile_grid.hpp"
 #include "io/mesh_input.hpp"
@@ -102,27 +103,51 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
 /// Which of `parts` parts owns each tile, before any binning, for parts that run only
 /// their own tiles: every occupied tile (one holding a finite position of `positions`
 /// at tile side `side`) dealt by the positions in it within its colour class, as
-/// owned_tiles deals. Every part computes the same deal from the input.
+/// owned_tiles deals. Every part computes the same deal from the input; with
+/// `share` (parts that run at once), each counts its own range of the positions and
+/// the parts exchange their counts.
 inline std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_owners(const PositionArray& positions,
-                                                                               double side, std::uint32_t parts) {
-  std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> counts;
-  for (std::uint64_t v = 0; v < positions.count; ++v) {
+                                                                               double side, std::uint32_t parts,
+                                                                               const TileShare* share = nullptr) {
+  FlatHashMap<GridCoord, std::uint64_t, GridCoordHash> counts;
+  const bool shared = share && share->exchanging();
+  const std::uint64_t first = shared ? positions.count * share->part / share->parts : 0;
+  const std::uint64_t end = shared ? positions.count * (share->part + 1) / share->parts : positions.count;
+  for (std::uint64_t v = first; v < end; ++v) {
     const Vec3d p = positions.get(v);
-    if (is_finite(p)) ++counts[GridCoord::of(p, side)];
+    if (is_finite(p)) ++counts.value(counts.insert(GridCoord::of(p, side)));
   }
-  std::vector<GridCoord> coords;
-  coords.reserve(counts.size());
-  for (const auto& entry : counts) coords.push_back(entry.first);
-  std::sort(coords.begin(), coords.end());  // one order on every part
-  std::vector<std::uint64_t> records(coords.size());
-  std::vector<int> classes(coords.size());
-  for (std::size_t i = 0; i < coords.size(); ++i) {
-    records[i] = counts[coords[i]];
-    classes[i] = TileGrid::colour_of(coords[i]);
+  if (shared) {
+    struct TileCount {
+      GridCoord tile;
+      std::uint64_t count;
+    };
+    std::vector<unsigned char> mine(counts.size() * sizeof(TileCount));
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      const TileCount c{counts.key(i), counts.value(i)};
+      std::memcpy(mine.data() + i * sizeof c, &c, sizeof c);
+    }
+    counts.clear();
+    for (const std::vector<unsigned char>& theirs : share->exchange(mine))
+      for (std::size_t at = 0; at + sizeof(TileCount) <= theirs.size(); at += sizeof(TileCount)) {
+        TileCount c;
+        std::memcpy(&c, theirs.data() + at, sizeof c);
+        counts.value(counts.insert(c.tile)) += c.count;
+      }
+  }
+  std::vector<std::size_t> order(counts.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  // One order on every part.
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return counts.key(a) < counts.key(b); });
+  std::vector<std::uint64_t> records(order.size());
+  std::vector<int> classes(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    records[i] = counts.value(order[i]);
+    classes[i] = TileGrid::colour_of(counts.key(order[i]));
   }
   const std::vector<std::uint32_t> owner = tile_owner_deal(records, classes, parts);
   std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> owners;
-  for (std::size_t i = 0; i < coords.size(); ++i) owners.emplace(coords[i], owner[i]);
+  for (std::size_t i = 0; i < order.size(); ++i) owners.emplace(counts.key(order[i]), owner[i]);
   return owners;
 }
 

@@ -181,7 +181,7 @@ void FloatingRun::tile_mesh() {
   TileFilter keep;
   TileOwners owners;
   if (!resumed_ && share_.exchanging() && share_.parts > 1) {
-    owners = tile_owners(input_.positions, tile_side, share_.parts);
+    owners = tile_owners(input_.positions, tile_side, share_.parts, &share_);
     keep = [&owners, this](const GridCoord& c) {
       const auto it = owners.find(c);
       return it != owners.end() && it->second == share_.part;
