@@ -6,6 +6,7 @@
 #include <sys/time.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <condition_variable>
 #include <cstring>
@@ -503,6 +504,119 @@ TEST_CASE("floating parts that exchange borders while they run give one process'
       oocsimp::merge_parts(work.path(), out, runtime);
       CHECK(read_file(d.file("merged.ply")) == read_file(d.file(binary ? "one.ply" : "one-ascii.ply")));
     }
+  }
+}
+
+namespace {
+
+// Floating parts 0..parts-1 of `input` as threads exchanging as ranks do (with a
+// delivery); their errors by part, their stats in `stats`.
+std::vector<std::string> run_exchanging_parts(const std::string& input, const oocsimp::SimplifyOptions& o,
+                                              std::uint32_t parts, const std::string& work,
+                                              std::vector<oocsimp::SimplifyStats>* stats) {
+  ThreadExchange exchange(parts);
+  std::vector<std::thread> threads;
+  std::vector<std::string> errors(parts);
+  stats->assign(parts, oocsimp::SimplifyStats());
+  for (std::uint32_t i = 0; i < parts; ++i)
+    threads.emplace_back([&, i] {
+      oocsimp::PartOptions part{i, parts, work};
+      part.exchange = [&exchange, i](const std::vector<unsigned char>& mine) { return exchange.all_gather(i, mine); };
+      part.deliver = [&exchange, i](const std::vector<std::vector<unsigned char>>& to_each) {
+        return deliver_by_gather(exchange, i, to_each);
+      };
+      try {
+        oocsimp::simplify_part(input, o, part, &(*stats)[i]);
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+        exchange.fail();
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  return errors;
+}
+
+// A binary PLY of an n x n grid of vertices on a wave, little-endian, with `faces`
+// written as given (each its own corner count).
+std::string wave_grid_ply(int n, const std::vector<std::vector<std::int32_t>>& faces) {
+  std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n * n) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                  std::to_string(faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      put_le(s, float(x) / float(n));
+      put_le(s, float(y) / float(n));
+      put_le(s, 0.1f * std::sin(float(x) * 0.3f) * std::cos(float(y) * 0.2f));
+    }
+  for (const auto& f : faces) {
+    s.push_back(char(f.size()));
+    for (std::int32_t i : f) put_le(s, i);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("floating parts read their ranges only where every face is a triangle, and agree with one process",
+          "[distributed]") {
+  ScratchDir d;
+  constexpr int n = 60;
+  auto at = [](int x, int y) { return std::int32_t(y * n + x); };
+  std::vector<std::vector<std::int32_t>> quads, triangles;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      quads.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)});
+      triangles.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
+      triangles.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
+    }
+  // As many two-corner faces (skipped) as quads: 26 bytes a pair, so the faces fill
+  // 13 bytes each on average and the reader offers a FixedFaceTable; but the ranges
+  // are not all triangles, and every part must read the whole stream.
+  std::vector<std::vector<std::int32_t>> mixed = quads;
+  for (std::size_t i = 0; i < quads.size(); ++i) mixed.push_back({at(0, 0), at(1, 1)});
+  write_file(d.file("mixed.ply"), wave_grid_ply(n, mixed));
+  // Triangles with one index out of range in the last part's range.
+  std::vector<std::vector<std::int32_t>> bad = triangles;
+  bad[bad.size() - 5][1] = n * n + 7;
+  write_file(d.file("bad.ply"), wave_grid_ply(n, bad));
+  oocsimp::SimplifyOptions o;
+  o.method = oocsimp::ClusterMethod::floating;
+  o.sizing.grid = 40;
+  o.floating.tile_side = 0.2;
+  o.threads = 1;
+  oocsimp::SimplifyStats whole;
+  oocsimp::simplify_file(d.file("mixed.ply"), d.file("one.ply"), false, o, &whole);
+  REQUIRE(whole.output_triangles > 0);
+  std::string one_error;
+  try {
+    oocsimp::simplify_file(d.file("bad.ply"), d.file("bad-one.ply"), false, o, nullptr);
+  } catch (const oocsimp::InputError& e) {
+    one_error = e.what();
+  }
+  REQUIRE_THAT(one_error, Catch::Matchers::Contains("vertex index 3607 out of range (3600 vertices)"));
+  for (std::uint32_t parts = 2; parts <= 3; ++parts) {
+    INFO(parts << " parts");
+    ScratchDir work, bad_work;
+    std::vector<oocsimp::SimplifyStats> stats;
+    const std::vector<std::string> errors = run_exchanging_parts(d.file("mixed.ply"), o, parts, work.path(), &stats);
+    for (std::uint32_t i = 0; i < parts; ++i) {
+      REQUIRE(errors[i] == "");
+      CHECK(stats[i].floating.faces_read == mixed.size());  // the whole stream
+    }
+    oocsimp::OutputOptions out;
+    out.mesh = d.file("merged.ply");
+    oocsimp::merge_parts(work.path(), out, o);
+    CHECK(read_file(d.file("merged.ply")) == read_file(d.file("one.ply")));
+    // The bad index: every part reads the whole stream and fails as one process does
+    // (or stops because another part failed first).
+    const std::vector<std::string> bad_errors =
+        run_exchanging_parts(d.file("bad.ply"), o, parts, bad_work.path(), &stats);
+    bool named = false;
+    for (const std::string& e : bad_errors) {
+      CHECK((e == one_error || e == "another part failed"));
+      named = named || e == one_error;
+    }
+    CHECK(named);
   }
 }
 

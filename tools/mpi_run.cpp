@@ -131,6 +131,11 @@ class RankExchange {
       }
     const std::size_t ranks = sizes.size();
     if (to_each.size() != ranks) throw std::logic_error("a message for each rank expected");
+    // Checked on every rank alike, before any message moves: a pair's message is at
+    // most its sender's total.
+    for (unsigned long long s : sizes)
+      if (s > (1ull << 31) - 1)
+        throw std::runtime_error("a rank's messages exceed 2 GiB: give a smaller --mem or more ranks");
     int me = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &me);
     std::vector<unsigned long long> send_sizes(ranks), receive_sizes(ranks);
@@ -143,8 +148,6 @@ class RankExchange {
     std::vector<MPI_Request> requests;
     constexpr int kTag = 7;
     for (std::size_t r = 0; r < ranks; ++r) {
-      if (send_sizes[r] > (1ull << 31) - 1 || receive_sizes[r] > (1ull << 31) - 1)
-        throw std::runtime_error("a message between two ranks exceeds 2 GiB: give a smaller --mem");
       if (int(r) == me) {
         out[r] = to_each[r];
         continue;

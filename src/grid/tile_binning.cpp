@@ -303,6 +303,16 @@ void append_bytes(std::vector<unsigned char>& to, const void* data, std::size_t 
   to.insert(to.end(), p, p + bytes);
 }
 
+// What a part tells the others before the parts read their ranges: its range's scan
+// and what it planned, which must agree.
+struct RangeScanMessage {
+  std::uint64_t readable = 0;  // 1 or 0
+  std::uint64_t triangles = 0, short_faces = 0, non_finite = 0, repeated_index = 0;
+  std::uint64_t faces = 0, vertices = 0;  // the input's, as this part opened it
+  double tile_side = 0;
+  std::uint64_t step = 0;  // faces it would bin between two sends
+};
+
 // What a part learns from the others' range scans: whether every range can be read
 // alone, the triangle index its range starts at, and the whole input's counts.
 struct RangePlan {
@@ -315,31 +325,35 @@ struct RangePlan {
 RangePlan plan_ranges(const MeshInput& input, const TileShare& share, std::uint64_t first, std::uint64_t end,
                       double tile_side, std::uint64_t step) {
   const FaceRangeScan scan = scan_face_range(input, first, end);
-  std::uint64_t side_bits = 0;
-  std::memcpy(&side_bits, &tile_side, sizeof side_bits);
-  const std::uint64_t mine[7] = {scan.readable ? 1u : 0u,
-                                 scan.triangles,
-                                 scan.skipped.short_faces,
-                                 scan.skipped.non_finite,
-                                 scan.skipped.repeated_index,
-                                 side_bits,
-                                 step};
-  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(mine),
-                                         reinterpret_cast<const unsigned char*>(mine) + sizeof mine);
+  RangeScanMessage mine;
+  mine.readable = scan.readable ? 1 : 0;
+  mine.triangles = scan.triangles;
+  mine.short_faces = scan.skipped.short_faces;
+  mine.non_finite = scan.skipped.non_finite;
+  mine.repeated_index = scan.skipped.repeated_index;
+  mine.faces = input.fixed_faces.count;
+  mine.vertices = input.positions.count;
+  mine.tile_side = tile_side;
+  mine.step = step;
+  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(&mine),
+                                         reinterpret_cast<const unsigned char*>(&mine) + sizeof mine);
   RangePlan plan;
   plan.step = step;
   const std::vector<std::vector<unsigned char>> all = share.exchange(bytes);
   for (std::size_t p = 0; p < all.size(); ++p) {
-    std::uint64_t theirs[7] = {0, 0, 0, 0, 0, 0, 0};
-    if (all[p].size() == sizeof theirs) std::memcpy(theirs, all[p].data(), sizeof theirs);
-    // Parts that tiled otherwise (another --mem) bin the whole stream, and say so after.
-    plan.readable = plan.readable && theirs[0] == 1 && theirs[5] == side_bits;
-    plan.step = std::min(plan.step, std::max<std::uint64_t>(theirs[6], 1));
-    if (p < share.part) plan.first_triangle += theirs[1];
-    plan.triangles += theirs[1];
-    plan.skipped.short_faces += theirs[2];
-    plan.skipped.non_finite += theirs[3];
-    plan.skipped.repeated_index += theirs[4];
+    RangeScanMessage theirs;
+    if (all[p].size() == sizeof theirs) std::memcpy(&theirs, all[p].data(), sizeof theirs);
+    // Any range that cannot be read alone, or a part that opened another input or
+    // tiled otherwise (another --mem), and every part bins the whole stream: that
+    // reports a bad face as one process does, and the tilings are compared after.
+    plan.readable = plan.readable && theirs.readable == 1 && theirs.faces == mine.faces &&
+                    theirs.vertices == mine.vertices && theirs.tile_side == tile_side;
+    plan.step = std::min(plan.step, std::max<std::uint64_t>(theirs.step, 1));
+    if (p < share.part) plan.first_triangle += theirs.triangles;
+    plan.triangles += theirs.triangles;
+    plan.skipped.short_faces += theirs.short_faces;
+    plan.skipped.non_finite += theirs.non_finite;
+    plan.skipped.repeated_index += theirs.repeated_index;
   }
   return plan;
 }
@@ -368,14 +382,16 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
                                               const SpillSettings& spill, const ProgressCallback& progress,
                                               const TileOwners& owners, const TileShare& share) {
   const std::uint64_t faces = input.fixed_faces.count;
-  const std::uint64_t first = face_range_start(faces, share.part, share.parts);
-  const std::uint64_t end = face_range_start(faces, share.part + 1, share.parts);
+  const std::uint64_t first = even_split_start(faces, share.part, share.parts);
+  const std::uint64_t end = even_split_start(faces, share.part + 1, share.parts);
   // The range in steps, the other parts' records sent after each, so that what is
-  // on its way takes a sixteenth of the budget. Every part takes as many steps as
-  // the longest range.
+  // on its way takes a sixteenth of the budget (sent and received; through the
+  // exchange, every part receives every part's messages). Every part takes as many
+  // steps as the longest range.
+  const std::uint64_t on_the_way = share.deliver ? 2 : std::uint64_t(share.parts) + 1;
   const RangePlan plan = plan_ranges(
       input, share, first, end, tile_side,
-      std::max<std::uint64_t>(kBinChunk, memory_budget / 16 / (2 * sizeof(TriangleRecord) + sizeof(AwayRun))));
+      std::max<std::uint64_t>(kBinChunk, memory_budget / 16 / on_the_way / (sizeof(TriangleRecord) + sizeof(AwayRun))));
   if (!plan.readable) return std::nullopt;
   const std::uint64_t step = plan.step;
 
@@ -385,7 +401,7 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
   };
   TileBinner binner(input, tile_side, memory_budget, spill, [&](const GridCoord& c) { return owner(c) == share.part; });
   StreamSpill& triangles = *binner.result().triangles;
-  const std::uint64_t longest = face_range_start(faces, 1, share.parts) + 1;
+  const std::uint64_t longest = even_split_start(faces, 1, share.parts) + 1;
   const std::uint64_t steps = (longest + step - 1) / step;
   std::vector<std::vector<unsigned char>> to_each(share.parts);
   const TileBinner::AwaySink away = [&](std::uint32_t tile, const TriangleRecord* records, std::size_t count) {
@@ -399,9 +415,8 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
   std::uint64_t next = plan.first_triangle;
   for (std::uint64_t s = 0; s < steps; ++s) {
     const std::uint64_t from = std::min(end, first + s * step), to = std::min(end, from + step);
-    const std::unique_ptr<TriangleStream> stream = open_face_range(input, from, to);
+    const std::unique_ptr<TriangleStream> stream = open_face_range(input, from, to, first);
     next += binner.bin(*stream, next, phase, away);
-    phase.set((to - first) * FixedFaceTable::kStride);
     const std::vector<std::vector<unsigned char>> received = share.send(to_each);
     for (std::vector<unsigned char>& message : to_each) message.clear();
     for (const std::vector<unsigned char>& message : received) {

@@ -104,9 +104,6 @@ using TileFilter = std::function<bool(const GridCoord& tile)>;
 BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memory_budget, const SpillSettings& spill,
                           const ProgressCallback& progress, const TileFilter& keep = nullptr);
 
-/// Each tile's part, for parts that run only their own tiles (tile_owners).
-using TileOwners = std::unordered_map<GridCoord, std::uint32_t, GridCoordHash>;
-
 /// Parts that run at once and own the tiles `owners` deals, each reading only its
 /// range of the faces (face_range.hpp): bins part share.part's range, sends every
 /// other part the records of its tiles and keeps what they send of its own. The

@@ -7,12 +7,15 @@
 #include <cstring>
 #include <cstdint>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "common/flat_hash_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/tile_grid.hpp"
+#include "io/face_range.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 
@@ -59,9 +62,12 @@ struct TileShare {
     std::vector<std::vector<unsigned char>> mine(all.size());
     for (std::size_t q = 0; q < all.size(); ++q) {
       std::size_t at = to_each.size() * sizeof(std::uint64_t);
+      if (all[q].size() < at) throw std::runtime_error("part " + std::to_string(q) + " sent a damaged message");
       for (std::size_t p = 0; p <= part; ++p) {
         std::uint64_t size = 0;
         std::memcpy(&size, all[q].data() + p * sizeof size, sizeof size);
+        if (size > all[q].size() - at)
+          throw std::runtime_error("part " + std::to_string(q) + " sent a damaged message");
         if (p == part) mine[q].assign(all[q].begin() + std::ptrdiff_t(at), all[q].begin() + std::ptrdiff_t(at + size));
         at += std::size_t(size);
       }
@@ -100,19 +106,21 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
   return owned;
 }
 
+/// Each tile's part, for parts that run only their own tiles (tile_owners).
+using TileOwners = std::unordered_map<GridCoord, std::uint32_t, GridCoordHash>;
+
 /// Which of `parts` parts owns each tile, before any binning, for parts that run only
 /// their own tiles: every occupied tile (one holding a finite position of `positions`
 /// at tile side `side`) dealt by the positions in it within its colour class, as
 /// owned_tiles deals. Every part computes the same deal from the input; with
 /// `share` (parts that run at once), each counts its own range of the positions and
 /// the parts exchange their counts.
-inline std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_owners(const PositionArray& positions,
-                                                                               double side, std::uint32_t parts,
-                                                                               const TileShare* share = nullptr) {
+inline TileOwners tile_owners(const PositionArray& positions, double side, std::uint32_t parts,
+                              const TileShare* share = nullptr) {
   FlatHashMap<GridCoord, std::uint64_t, GridCoordHash> counts;
   const bool shared = share && share->exchanging();
-  const std::uint64_t first = shared ? positions.count * share->part / share->parts : 0;
-  const std::uint64_t end = shared ? positions.count * (share->part + 1) / share->parts : positions.count;
+  const std::uint64_t first = shared ? even_split_start(positions.count, share->part, share->parts) : 0;
+  const std::uint64_t end = shared ? even_split_start(positions.count, share->part + 1, share->parts) : positions.count;
   for (std::uint64_t v = first; v < end; ++v) {
     const Vec3d p = positions.get(v);
     if (is_finite(p)) ++counts.value(counts.insert(GridCoord::of(p, side)));
@@ -146,7 +154,7 @@ inline std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> tile_owners(c
     classes[i] = TileGrid::colour_of(counts.key(order[i]));
   }
   const std::vector<std::uint32_t> owner = tile_owner_deal(records, classes, parts);
-  std::unordered_map<GridCoord, std::uint32_t, GridCoordHash> owners;
+  TileOwners owners;
   for (std::size_t i = 0; i < order.size(); ++i) owners.emplace(counts.key(order[i]), owner[i]);
   return owners;
 }

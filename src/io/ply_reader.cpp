@@ -14,6 +14,7 @@
 
 #include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
+#include "io/face_range.hpp"
 #include "io/readers.hpp"
 #include "io/text_scan.hpp"
 #include "io/error_text.hpp"
@@ -379,6 +380,15 @@ void check_no_trailing_data(ByteSource& src, const PlyHeader& h) {
   }
 }
 
+// Whether the faces have the common binary layout, "property list uchar int|uint
+// vertex_indices" alone: a triangle is then a record of FixedFaceTable::kStride bytes.
+bool fixed_triangle_layout(const PlyHeader& h) {
+  if (h.format == PlyFormat::ascii || h.face < 0) return false;
+  const PlyElement& f = h.elements[h.face];
+  const PlyProperty& p = f.props[h.indices];
+  return f.props.size() == 1 && p.count_type == PlyType::u8 && (p.type == PlyType::i32 || p.type == PlyType::u32);
+}
+
 // Streams the face element's polygons as fanned triangles.
 class PlyTriangleStream : public TriangleStream {
  public:
@@ -397,13 +407,9 @@ class PlyTriangleStream : public TriangleStream {
     for (int i = 0; i < first; ++i) reader_.skip(h_->elements[i]);
     if (h_->face < 0) return;
     remaining_ = h_->elements[h_->face].count;
-    // The common binary layout, "property list uchar int|uint vertex_indices" alone,
-    // gets a direct path for its triangles (13-byte records).
-    const PlyElement& f = h_->elements[h_->face];
-    const PlyProperty& p = f.props[h_->indices];
-    fast_ = h_->format != PlyFormat::ascii && f.props.size() == 1 && p.count_type == PlyType::u8 &&
-            (p.type == PlyType::i32 || p.type == PlyType::u32);
-    fast_signed_ = p.type == PlyType::i32;
+    // The common binary layout gets a direct path for its triangles.
+    fast_ = fixed_triangle_layout(*h_);
+    fast_signed_ = h_->elements[h_->face].props[h_->indices].type == PlyType::i32;
   }
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
@@ -421,17 +427,16 @@ class PlyTriangleStream : public TriangleStream {
       }
       if (fast_) {
         const unsigned char* rec;
-        while (n < max && remaining_ > 0 && (rec = src_.peek(13)) != nullptr && rec[0] == 3) {
+        while (n < max && remaining_ > 0 && (rec = src_.peek(FixedFaceTable::kStride)) != nullptr && rec[0] == 3) {
           std::uint32_t v[3];
-          std::memcpy(v, rec + 1, 12);
+          fixed_face_indices(rec, swap, v);
           for (int k = 0; k < 3; ++k) {
-            if (swap) v[k] = __builtin_bswap32(v[k]);
-            // A negative int index reads as a huge unsigned one: both fail this test.
             if (v[k] >= vertex_count_)
-              fast_index_error(fast_signed_ ? std::int64_t(std::int32_t(v[k])) : std::int64_t(v[k]));
+              throw InputError(
+                  at_byte(src_.path(), src_.offset(), fixed_face_index_problem(v[k], fast_signed_, vertex_count_)));
             out[3 * n + k] = v[k];
           }
-          src_.consume(13);
+          src_.consume(FixedFaceTable::kStride);
           --remaining_;
           ++n;
         }
@@ -501,13 +506,6 @@ class PlyTriangleStream : public TriangleStream {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
-  }
-
-  [[noreturn]] void fast_index_error(std::int64_t v) const {
-    std::string what =
-        v < 0 ? "negative vertex index " + std::to_string(v)
-              : "vertex index " + std::to_string(v) + " out of range (" + std::to_string(vertex_count_) + " vertices)";
-    throw InputError(at_byte(src_.path(), src_.offset(), what));
   }
 
   std::shared_ptr<const PlyHeader> h_;
@@ -599,17 +597,15 @@ FixedFaceTable fixed_face_table(const PlyHeader& h, std::uint64_t after_vertices
     offset += e.count * e.record_size();
   }
   const PlyElement& f = h.elements[h.face];
-  const PlyProperty& p = f.props[h.indices];
-  const bool layout =
-      f.props.size() == 1 && p.count_type == PlyType::u8 && (p.type == PlyType::i32 || p.type == PlyType::u32);
-  if (!layout || offset > file.size() || (file.size() - offset) / FixedFaceTable::kStride != f.count ||
+  if (!fixed_triangle_layout(h) || offset > file.size() ||
+      (file.size() - offset) / FixedFaceTable::kStride != f.count ||
       (file.size() - offset) % FixedFaceTable::kStride != 0)
     return table;
   table.base = file.data() + offset;
   table.count = f.count;
   table.file_offset = offset;
   table.swap = h.format == PlyFormat::binary_be;
-  table.signed_index = p.type == PlyType::i32;
+  table.signed_index = f.props[h.indices].type == PlyType::i32;
   return table;
 }
 
