@@ -730,6 +730,17 @@ TEST_CASE("mpirun with 1 to 4 ranks gives one process's bytes", "[distributed][m
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("output  ") != std::string::npos);
   CHECK(r.out.find("job     2 ranks, ") != std::string::npos);
+  // Floating cells: each rank reads only its range of the binary PLY's faces.
+  const CliResult f = run_launched(mpirun(2), "simplify " + q(input) + " -o " + q(d.file("mpi.ply")) +
+                                                  " --method floating --grid 80 --tile 0.1 --threads 1");
+  INFO(f.err);
+  REQUIRE(f.exit_code == 0);
+  const std::size_t at = f.out.find("; rank 0 read ");
+  REQUIRE(at != std::string::npos);
+  const CliResult info = run_cli("info " + q(input));
+  const std::size_t faces_at = info.out.find("faces     ");
+  REQUIRE(faces_at != std::string::npos);
+  CHECK(std::stoull(f.out.substr(at + 14)) == std::stoull(info.out.substr(faces_at + 10)) / 2);  // rank 0's half
 }
 
 TEST_CASE("under mpirun a failing rank is named and no output is written", "[distributed][mpi]") {

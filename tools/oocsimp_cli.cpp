@@ -756,9 +756,13 @@ int run_simplify_mpi(const SimplifyArgs& a, const SimplifyPlan& p) {
         merged.floating.rounds = stats.floating.rounds;  // the ranks swept together: rank 0 counted them
         print_simplify_summary(to, shown, merged);
         const double total = seconds_since_start();
-        std::fprintf(to, "job     %u ranks, %.3f s (the parts %.3f s, then the merge %.3f s): %.2f Mtri/s\n",
+        std::fprintf(to, "job     %u ranks, %.3f s (the parts %.3f s, then the merge %.3f s): %.2f Mtri/s",
                      unsigned(ranks), total, parts_seconds, total - parts_seconds,
                      total > 0 ? double(merged.input_triangles) / total / 1e6 : 0.0);
+        // Floating cells bin by tiles: rank 0 read its range of the faces, or all.
+        if (stats.floating.faces_read > 0)
+          std::fprintf(to, "; rank 0 read %llu faces", static_cast<unsigned long long>(stats.floating.faces_read));
+        std::fprintf(to, "\n");
       }
       print_warnings(merged.warnings);
       return int(kOk);
