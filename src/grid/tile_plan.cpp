@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
+#include "common/flat_hash_map.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
 #include "grid/tile_binning.hpp"
@@ -23,12 +23,12 @@ namespace {
 // about 4M evenly spaced vertices.
 double fullest_tile_vertices(const PositionArray& pos, double side) {
   std::uint64_t stride = std::max<std::uint64_t>(1, pos.count / (std::uint64_t(1) << 22));
-  std::unordered_map<GridCoord, std::uint64_t, GridCoordHash> count;
+  FlatHashMap<GridCoord, std::uint64_t, GridCoordHash> count;
   std::uint64_t most = 0;
   for (std::uint64_t i = 0; i < pos.count; i += stride) {
-    Vec3d p = pos.get(i);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
-    most = std::max(most, ++count[GridCoord::of(p, side)]);
+    const Vec3d p = pos.get(i);
+    if (!is_finite(p)) continue;
+    most = std::max(most, ++count.value(count.insert(GridCoord::of(p, side))));
   }
   return double(most) * double(stride);
 }
