@@ -201,7 +201,6 @@ class TileBinner {
     met_.push_back(0);
     return out_.grid.add(c);
   }
-  bool kept(std::uint32_t tile) const { return kept_[tile] != 0; }
 
   // A run of records of one tile that it does not keep.
   using AwaySink = std::function<void(std::uint32_t tile, const TriangleRecord* records, std::size_t count)>;
@@ -243,7 +242,10 @@ class TileBinner {
   // another part's records left out).
   const std::vector<GridCoord>& met_order() const { return met_order_; }
 
+  /// The tiles binned so far.
   BinnedTiles& result() { return out_; }
+  /// The binned tiles, handed over: the binner is done.
+  BinnedTiles take() { return std::move(out_); }
 
  private:
   // A chunk's records, grouped by tile.
@@ -281,12 +283,13 @@ BinnedTiles bin_triangles(MeshInput& input, double tile_side, std::uint64_t memo
   TileBinner binner(input, tile_side, memory_budget, spill, keep);
   TriangleStream& stream = *input.triangles;
   ProgressPhase phase(progress, "bin tiles", input.file_size, "B");
-  BinnedTiles& out = binner.result();
-  out.triangle_count = binner.bin(stream, 0, phase);
+  const std::uint64_t triangles = binner.bin(stream, 0, phase);
+  BinnedTiles out = binner.take();
+  out.triangle_count = triangles;
   out.triangles->flush();
   out.skipped = stream.skipped();
   out.faces_read = input.info.face_count;
-  return std::move(out);
+  return out;
 }
 
 namespace {
@@ -432,8 +435,8 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
     }
   }
   // Renumbered as one process numbers the tiles: by first use in the whole stream.
-  BinnedTiles& out = binner.result();
   const std::vector<GridCoord> order = tiles_in_input_order(share, binner.met_order());
+  BinnedTiles out = binner.take();
   std::vector<std::uint32_t> old_of_new(order.size(), StreamSpill::kNewStream);
   TileGrid grid;
   grid.side = tile_side;
@@ -448,7 +451,7 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
   out.triangle_count = plan.triangles;
   out.skipped = plan.skipped;
   out.faces_read = end - first;
-  return std::move(out);
+  return out;
 }
 
 }  // namespace oocsimp
