@@ -38,9 +38,6 @@ bool face_indices(const MeshInput& input, std::uint64_t i, std::uint64_t v[3], s
   return true;
 }
 
-// As the checked stream drops them (MeshInput::triangles).
-bool repeats_a_vertex(const std::uint64_t v[3]) { return v[0] == v[1] || v[1] == v[2] || v[0] == v[2]; }
-
 class FaceRangeStream : public TriangleStream {
  public:
   FaceRangeStream(const MeshInput& input, std::uint64_t first, std::uint64_t end, std::uint64_t counted_from)
@@ -54,7 +51,7 @@ class FaceRangeStream : public TriangleStream {
       if (!face_indices(input_, next_, v, &problem))
         throw InputError(
             at_byte(input_.info.path, input_.fixed_faces.file_offset + next_ * FixedFaceTable::kStride, problem));
-      if (repeats_a_vertex(v)) {
+      if (names_a_vertex_twice(v[0], v[1], v[2])) {
         ++repeated_;
         continue;
       }
@@ -81,7 +78,7 @@ FaceRangeScan scan_face_range(const MeshInput& input, std::uint64_t first, std::
   for (std::uint64_t i = first; i < end; ++i) {
     std::uint64_t v[3];
     if (!face_indices(input, i, v, &problem)) return scan;
-    if (repeats_a_vertex(v))
+    if (names_a_vertex_twice(v[0], v[1], v[2]))
       ++scan.skipped.repeated_index;
     else
       ++scan.triangles;

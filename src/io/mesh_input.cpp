@@ -37,7 +37,7 @@ class CheckedTriangleStream : public TriangleStream {
       std::size_t kept = 0;
       for (std::size_t t = 0; t < n; ++t) {
         const std::uint64_t a = out[3 * t], b = out[3 * t + 1], c = out[3 * t + 2];
-        if (a == b || b == c || a == c) {
+        if (names_a_vertex_twice(a, b, c)) {
           ++repeated_index_;
           continue;
         }

@@ -48,6 +48,12 @@ struct LinePrimitive {
 /// Hears the thick edges and points a TriangleStream meets, a batch at a time.
 using PrimitiveSink = std::function<void(const LinePrimitive* primitives, std::size_t count)>;
 
+/// Whether a triangle names one vertex twice: no area and no edge of its own (a
+/// cluster could only ever collapse it), so MeshInput::triangles drops it.
+inline bool names_a_vertex_twice(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+  return a == b || b == c || a == c;
+}
+
 /// A sequential source of triangles as vertex-index triples, in file order.
 ///
 /// MeshInput::triangles only yields triangles with three distinct vertex indices whose
