@@ -87,15 +87,9 @@ void broadcast_idle(int* value) {
 class RankExchange {
  public:
   std::vector<std::vector<unsigned char>> all_gather(const std::vector<unsigned char>& mine) {
-    const std::vector<unsigned long long> sizes = gather_sizes(mine.size());
+    const std::vector<unsigned long long> sizes = gather_working_sizes(mine.size());
     unsigned long long total = 0;
-    for (std::size_t r = 0; r < sizes.size(); ++r) {
-      if (sizes[r] == kFailed || sizes[r] == kDone) {
-        stopped_ = true;
-        throw std::runtime_error("rank " + std::to_string(r) + " failed; this rank stops too");
-      }
-      total += sizes[r];
-    }
+    for (unsigned long long s : sizes) total += s;
     if (total > (1ull << 31) - 1)
       throw std::runtime_error("the ranks' exchange exceeds 2 GiB: give more ranks or a coarser --grid");
     std::vector<int> counts(sizes.size()), displacements(sizes.size());
@@ -123,12 +117,7 @@ class RankExchange {
   std::vector<std::vector<unsigned char>> all_to_all(const std::vector<std::vector<unsigned char>>& to_each) {
     unsigned long long total = 0;
     for (const auto& m : to_each) total += m.size();
-    const std::vector<unsigned long long> sizes = gather_sizes(total);
-    for (std::size_t r = 0; r < sizes.size(); ++r)
-      if (sizes[r] == kFailed || sizes[r] == kDone) {
-        stopped_ = true;
-        throw std::runtime_error("rank " + std::to_string(r) + " failed; this rank stops too");
-      }
+    const std::vector<unsigned long long> sizes = gather_working_sizes(total);
     const std::size_t ranks = sizes.size();
     if (to_each.size() != ranks) throw std::logic_error("a message for each rank expected");
     // Checked on every rank alike, before any message moves: a pair's message is at
@@ -146,6 +135,7 @@ class RankExchange {
     wait_idle(&request);
     std::vector<std::vector<unsigned char>> out(ranks);
     std::vector<MPI_Request> requests;
+    requests.reserve(2 * ranks);
     constexpr int kTag = 7;
     for (std::size_t r = 0; r < ranks; ++r) {
       if (int(r) == me) {
@@ -181,6 +171,18 @@ class RankExchange {
 
  private:
   static constexpr unsigned long long kFailed = ~0ull, kDone = ~0ull - 1;
+
+  // Every rank's size, once every rank is still at work: a rank whose size says it
+  // failed or is done stops this one's part (throws).
+  std::vector<unsigned long long> gather_working_sizes(unsigned long long mine) {
+    std::vector<unsigned long long> sizes = gather_sizes(mine);
+    for (std::size_t r = 0; r < sizes.size(); ++r)
+      if (sizes[r] == kFailed || sizes[r] == kDone) {
+        stopped_ = true;
+        throw std::runtime_error("rank " + std::to_string(r) + " failed; this rank stops too");
+      }
+    return sizes;
+  }
 
   std::vector<unsigned long long> gather_sizes(unsigned long long mine) {
     int size = 1;

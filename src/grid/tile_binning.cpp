@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 #include <utility>
 
 #include "common/flat_hash_map.hpp"
@@ -338,14 +337,12 @@ RangePlan plan_ranges(const MeshInput& input, const TileShare& share, std::uint6
   mine.vertices = input.positions.count;
   mine.tile_side = tile_side;
   mine.step = step;
-  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(&mine),
-                                         reinterpret_cast<const unsigned char*>(&mine) + sizeof mine);
   RangePlan plan;
   plan.step = step;
-  const std::vector<std::vector<unsigned char>> all = share.exchange(bytes);
+  const std::vector<std::vector<unsigned char>> all = share.exchange(record_bytes(&mine, 1));
   for (std::size_t p = 0; p < all.size(); ++p) {
-    RangeScanMessage theirs;
-    if (all[p].size() == sizeof theirs) std::memcpy(&theirs, all[p].data(), sizeof theirs);
+    const std::vector<RangeScanMessage> sent = records_of_bytes<RangeScanMessage>(all[p]);
+    const RangeScanMessage theirs = sent.size() == 1 ? sent[0] : RangeScanMessage();
     // Any range that cannot be read alone, or a part that opened another input or
     // tiled otherwise (another --mem), and every part bins the whole stream: that
     // reports a bad face as one process does, and the tilings are compared after.
@@ -364,18 +361,11 @@ RangePlan plan_ranges(const MeshInput& input, const TileShare& share, std::uint6
 // Every part's tiles in the order its range met them, joined: the order one process
 // meets them in the whole stream.
 std::vector<GridCoord> tiles_in_input_order(const TileShare& share, const std::vector<GridCoord>& met) {
-  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(met.data()),
-                                         reinterpret_cast<const unsigned char*>(met.data() + met.size()));
-  std::vector<GridCoord> order;
-  std::unordered_set<GridCoord, GridCoordHash> listed;
-  for (const std::vector<unsigned char>& theirs : share.exchange(bytes)) {
-    const std::size_t n = theirs.size() / sizeof(GridCoord);
-    for (std::size_t i = 0; i < n; ++i) {
-      GridCoord c;
-      std::memcpy(&c, theirs.data() + i * sizeof c, sizeof c);
-      if (listed.insert(c).second) order.push_back(c);
-    }
-  }
+  FlatHashSet<GridCoord, GridCoordHash> listed;  // numbered in the order first listed
+  for (const std::vector<unsigned char>& theirs : share.exchange(record_bytes(met.data(), met.size())))
+    for (const GridCoord& c : records_of_bytes<GridCoord>(theirs)) listed.insert(c);
+  std::vector<GridCoord> order(listed.size());
+  for (std::size_t t = 0; t < order.size(); ++t) order[t] = listed.key(t);
   return order;
 }
 
@@ -398,18 +388,15 @@ std::optional<BinnedTiles> bin_own_face_range(MeshInput& input, double tile_side
   if (!plan.readable) return std::nullopt;
   const std::uint64_t step = plan.step;
 
-  auto owner = [&owners](const GridCoord& c) {
-    const auto it = owners.find(c);
-    return it == owners.end() ? 0u : it->second;  // every corner's tile is occupied: never
-  };
-  TileBinner binner(input, tile_side, memory_budget, spill, [&](const GridCoord& c) { return owner(c) == share.part; });
+  TileBinner binner(input, tile_side, memory_budget, spill,
+                    [&](const GridCoord& c) { return tile_owner(owners, c) == share.part; });
   StreamSpill& triangles = *binner.result().triangles;
   const std::uint64_t longest = even_split_start(faces, 1, share.parts) + 1;
   const std::uint64_t steps = (longest + step - 1) / step;
   std::vector<std::vector<unsigned char>> to_each(share.parts);
   const TileBinner::AwaySink away = [&](std::uint32_t tile, const TriangleRecord* records, std::size_t count) {
     const GridCoord& c = binner.result().grid.coord(tile);
-    std::vector<unsigned char>& message = to_each[owner(c)];
+    std::vector<unsigned char>& message = to_each[tile_owner(owners, c)];
     const AwayRun run{c, count};
     append_bytes(message, &run, sizeof run);
     append_bytes(message, records, count * sizeof *records);

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -36,6 +37,24 @@ inline std::vector<std::uint32_t> deal_by_weight(const std::vector<std::uint64_t
     load[least] += std::max<std::uint64_t>(weights[i], 1);
   }
   return owner;
+}
+
+/// Plain records as the bytes parts exchange.
+template <class Record>
+std::vector<unsigned char> record_bytes(const Record* records, std::size_t count) {
+  static_assert(std::is_trivially_copyable<Record>::value, "records cross processes as bytes");
+  std::vector<unsigned char> bytes(count * sizeof(Record));
+  if (count) std::memcpy(bytes.data(), records, bytes.size());
+  return bytes;
+}
+
+/// The whole records of bytes from record_bytes.
+template <class Record>
+std::vector<Record> records_of_bytes(const std::vector<unsigned char>& bytes) {
+  static_assert(std::is_trivially_copyable<Record>::value, "records cross processes as bytes");
+  std::vector<Record> records(bytes.size() / sizeof(Record));
+  if (!records.empty()) std::memcpy(records.data(), bytes.data(), records.size() * sizeof(Record));
+  return records;
 }
 
 /// The tiles one part runs, and how the parts that run at once exchange what they
@@ -109,6 +128,13 @@ inline std::vector<char> owned_tiles(const std::vector<std::uint64_t>& records, 
 /// Each tile's part, for parts that run only their own tiles (tile_owners).
 using TileOwners = std::unordered_map<GridCoord, std::uint32_t, GridCoordHash>;
 
+/// The part that owns the tile at `c` (part 0 for a tile without positions, which
+/// no triangle reaches).
+inline std::uint32_t tile_owner(const TileOwners& owners, const GridCoord& c) {
+  const auto it = owners.find(c);
+  return it == owners.end() ? 0 : it->second;
+}
+
 /// Which of `parts` parts owns each tile, before any binning, for parts that run only
 /// their own tiles: every occupied tile (one holding a finite position of `positions`
 /// at tile side `side`) dealt by the positions in it within its colour class, as
@@ -130,18 +156,11 @@ inline TileOwners tile_owners(const PositionArray& positions, double side, std::
       GridCoord tile;
       std::uint64_t count;
     };
-    std::vector<unsigned char> mine(counts.size() * sizeof(TileCount));
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-      const TileCount c{counts.key(i), counts.value(i)};
-      std::memcpy(mine.data() + i * sizeof c, &c, sizeof c);
-    }
+    std::vector<TileCount> mine(counts.size());
+    for (std::size_t i = 0; i < counts.size(); ++i) mine[i] = {counts.key(i), counts.value(i)};
     counts.clear();
-    for (const std::vector<unsigned char>& theirs : share->exchange(mine))
-      for (std::size_t at = 0; at + sizeof(TileCount) <= theirs.size(); at += sizeof(TileCount)) {
-        TileCount c;
-        std::memcpy(&c, theirs.data() + at, sizeof c);
-        counts.value(counts.insert(c.tile)) += c.count;
-      }
+    for (const std::vector<unsigned char>& theirs : share->exchange(record_bytes(mine.data(), mine.size())))
+      for (const TileCount& c : records_of_bytes<TileCount>(theirs)) counts.value(counts.insert(c.tile)) += c.count;
   }
   std::vector<std::size_t> order(counts.size());
   std::iota(order.begin(), order.end(), std::size_t(0));

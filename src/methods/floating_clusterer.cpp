@@ -25,7 +25,6 @@
 #include <cstring>
 #include <memory>
 #include <string>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -174,18 +173,14 @@ void FloatingRun::tile_mesh() {
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
   // Parts that exchange run only their own tiles: dealt before the binning, they keep
-  // only those tiles' records. (Parts that run apart grade every tile, so they bin
-  // every tile and deal by its records after.)
-  // Where the faces can be read by range, each part reads only its range and sends
-  // the others their tiles' records.
+  // only those tiles' records, and where the faces can be read by range each reads
+  // only its range and sends the others their tiles' records. (Parts that run apart
+  // grade every tile, so they bin every tile and deal by its records after.)
   TileFilter keep;
   TileOwners owners;
   if (!resumed_ && share_.exchanging() && share_.parts > 1) {
     owners = tile_owners(input_.positions, tile_side, share_.parts, &share_);
-    keep = [&owners, this](const GridCoord& c) {
-      const auto it = owners.find(c);
-      return it != owners.end() && it->second == share_.part;
-    };
+    keep = [&owners, this](const GridCoord& c) { return tile_owner(owners, c) == share_.part; };
     std::optional<BinnedTiles> own =
         bin_own_face_range(input_, tile_side, options_.memory_budget, spill_, options_.progress, owners, share_);
     if (own) {
@@ -215,9 +210,7 @@ void FloatingRun::tile_mesh() {
 // (another machine's memory) may have planned other tiles.
 void FloatingRun::check_same_tiling() const {
   const FloatingPartPlan mine = part_plan();
-  const std::vector<unsigned char> bytes(reinterpret_cast<const unsigned char*>(&mine),
-                                         reinterpret_cast<const unsigned char*>(&mine) + sizeof mine);
-  const std::vector<std::vector<unsigned char>> all = share_.exchange(bytes);
+  const std::vector<std::vector<unsigned char>> all = share_.exchange(record_bytes(&mine, 1));
   for (std::size_t p = 0; p < all.size(); ++p) {
     FloatingPartPlan theirs;
     if (all[p].size() == sizeof theirs) std::memcpy(&theirs, all[p].data(), sizeof theirs);
