@@ -256,33 +256,6 @@ int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
   return m;
 }
 
-void CollapseState::edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) const {
-  out->clear();
-  for_each_face(v, [&](std::uint32_t f) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u != v) out->push_back(u);
-    }
-  });
-  sort_small(out);
-}
-
-namespace {
-
-// Whether a vertex's sorted edge ends (edge_ends) hold an edge of one face: the
-// vertex is on the outline.
-bool has_single_edge(const std::vector<std::uint32_t>& ends) {
-  for (std::size_t i = 0; i < ends.size();) {
-    std::size_t j = i;
-    while (j < ends.size() && ends[j] == ends[i]) ++j;
-    if (j - i == 1) return true;
-    i = j;
-  }
-  return false;
-}
-
-}  // namespace
-
 // A vertex on an edge of three or more faces, or whose faces form more than one fan
 // (two cones meeting at their apex), has no disk around it for the link condition to
 // keep. Clustering leaves many (folded sheets where coarse cells cut steep slopes), so
@@ -299,47 +272,67 @@ void CollapseState::classify_vertices() {
                       VertexScratch& s = scratch.local();
                       for (std::uint32_t v = r.begin(); v != r.end(); ++v) {
                         if (!alive_[v]) continue;
-                        edge_ends(v, &s.ends);
-                        complex_[v] = !manifold_given_ends(v, &s);
-                        boundary_[v] = has_single_edge(s.ends);
+                        const FanShape shape = fan_shape(v, &s);
+                        complex_[v] = !shape.manifold;
+                        boundary_[v] = shape.outline;
                       }
                     });
 }
 
-bool CollapseState::manifold_at(std::uint32_t v, VertexScratch* scratch) const {
-  edge_ends(v, &scratch->ends);
-  return manifold_given_ends(v, scratch);
-}
-
-bool CollapseState::manifold_given_ends(std::uint32_t v, VertexScratch* scratch) const {
-  const std::vector<std::uint32_t>& ends = scratch->ends;
-  std::vector<std::uint32_t>& ring = scratch->ring;
-  std::vector<std::uint32_t>& parent = scratch->parent;
-  bool manifold = true;
-  for (std::size_t i = 0; i + 2 < ends.size(); ++i) manifold = manifold && ends[i] != ends[i + 2];
-  // One fan: the neighbours, joined where a face joins them, form one piece (a
-  // cycle inside, a path on the boundary); two cones meeting at v make two.
-  ring = ends;
-  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-  parent.resize(ring.size());
-  for (std::size_t i = 0; i < ring.size(); ++i) parent[i] = std::uint32_t(i);
+// The other corners of v's faces, each once in `ring` with the number of faces on its
+// edge with v; the corners of one face are joined (union-find over the ring's slots).
+// A ring holds a dozen or so: a scan without early exit finds a slot faster than a
+// sort or a binary search, whose branches the processor cannot predict.
+CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch* scratch) const {
+  // Room for every corner up front: the slots are then plain stores.
+  const std::size_t room = 2 * std::size_t(face_count_[v]);
+  if (scratch->ring.size() < room) {
+    scratch->ring.resize(room);
+    scratch->count.resize(room);
+    scratch->parent.resize(room);
+  }
+  std::uint32_t* const ring = scratch->ring.data();
+  std::uint32_t* const count = scratch->count.data();
+  std::uint32_t* const parent = scratch->parent.data();
+  std::uint32_t size = 0;
+  auto slot = [&](std::uint32_t u) {
+    std::uint32_t at = size;
+    for (std::uint32_t i = 0; i < size; ++i) at = ring[i] == u ? i : at;
+    if (at == size) {
+      ring[size] = u;
+      count[size] = 0;
+      parent[size] = size;
+      ++size;
+    }
+    ++count[at];
+    return at;
+  };
   auto root = [&](std::uint32_t i) {
     while (parent[i] != i) i = parent[i] = parent[parent[i]];
     return i;
   };
-  auto slot = [&](std::uint32_t u) {
-    return std::uint32_t(std::lower_bound(ring.begin(), ring.end(), u) - ring.begin());
-  };
   for_each_face(v, [&](std::uint32_t f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
-    std::uint32_t other[2], n = 0;
+    std::uint32_t other[2], m = 0;
     for (int k = 0; k < 3; ++k)
-      if (t[k] != v && n < 2) other[n++] = t[k];
-    if (n == 2) parent[root(slot(other[0]))] = root(slot(other[1]));
+      if (t[k] != v) {
+        const std::uint32_t at = slot(t[k]);
+        if (m < 2) other[m++] = at;
+      }
+    if (m == 2) parent[root(other[0])] = root(other[1]);
   });
-  std::size_t pieces = 0;
-  for (std::size_t i = 0; i < ring.size(); ++i) pieces += root(std::uint32_t(i)) == i;
-  return manifold && pieces == 1;
+  FanShape shape;
+  std::uint32_t pieces = 0;
+  bool thin = true;  // no edge of three or more faces
+  for (std::uint32_t i = 0; i < size; ++i) {
+    pieces += root(i) == i;
+    thin = thin && count[i] <= 2;
+    shape.outline = shape.outline || count[i] == 1;
+  }
+  // One fan: the neighbours, joined where a face joins them, form one piece (a cycle
+  // inside, a path on the boundary); two cones meeting at v make two.
+  shape.manifold = thin && pieces == 1;
+  return shape;
 }
 
 // Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the
@@ -667,7 +660,7 @@ void CollapseState::collapse_one(const Candidate& c) {
     std::vector<std::uint32_t> ring;
     neighbours(a, &ring);
     for (std::uint32_t u : ring)
-      if (!complex_[u] && !manifold_at(u, &scratch_)) {
+      if (!complex_[u] && !fan_shape(u, &scratch_).manifold) {
         complex_[u] = 1;
         newly_anchored_.push_back(u);
       }

@@ -234,13 +234,16 @@ class CollapseState {
   template <class F>
   void for_each_face(std::uint32_t v, const F& f) const;
   void build_adjacency();
-  // The lists manifold_at() and classify_vertices() work in: one per thread.
+  // The lists fan_shape() works in: one per thread.
   struct VertexScratch {
-    std::vector<std::uint32_t> ends, ring, parent;
+    std::vector<std::uint32_t> ring, count, parent;
   };
-  bool manifold_at(std::uint32_t v, VertexScratch* scratch) const;
-  // manifold_at() with scratch->ends already holding v's edge_ends().
-  bool manifold_given_ends(std::uint32_t v, VertexScratch* scratch) const;
+  // What v's faces make around it: one fan with no edge of three or more faces
+  // (manifold), and whether an edge of one face (the outline) is among them.
+  struct FanShape {
+    bool manifold = false, outline = false;
+  };
+  FanShape fan_shape(std::uint32_t v, VertexScratch* scratch) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
@@ -268,8 +271,6 @@ class CollapseState {
   // new vertex is the last.
   void split_edge(std::uint32_t u, std::uint32_t w, int faces);
   void classify_vertices();
-  // The other ends of v's face edges, ascending, each as often as faces share it.
-  void edge_ends(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   void compact_adjacency();
 
   QuadricMesh mesh_;
