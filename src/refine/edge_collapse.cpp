@@ -2,7 +2,9 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <tuple>
@@ -33,6 +35,10 @@ constexpr double kPassCostSlack = 1.5;
 // A pass that takes less than 1 / this of the collapses it wanted hands the rest to the
 // lazy queue: each pass costs every edge again, the queue only those a collapse moved.
 constexpr std::uint64_t kPassLeastShare = 16;
+// A pass works out its collapses ahead (PassDriver::work_ahead) in batches of this
+// many entries, when it looks at this many or more.
+constexpr std::size_t kAheadBatch = 256;
+constexpr std::size_t kAheadLeast = 1024;
 // A texture seam's line quadric against an outline's (add_boundary_planes): the
 // outline's weight, 1000 per squared edge length, is about 2000 times a face plane's
 // (area-weighted); a seam's is about twice a face's.
@@ -168,13 +174,6 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   add_boundary_planes(settings.boundary_weight);
 }
 
-template <class F>
-void CollapseState::for_each_face(std::uint32_t v, const F& f) const {
-  const std::uint32_t* p = faces_.data() + face_start_[v];
-  for (std::uint32_t i = 0; i < face_count_[v]; ++i)
-    if (!face_dead_[p[i]]) f(p[i]);
-}
-
 void CollapseState::build_adjacency() {
   const std::size_t n = mesh_.positions.size();
   face_count_.assign(n, 0);
@@ -238,10 +237,9 @@ void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>
 }
 
 std::uint32_t CollapseState::next_stamp() const {
-  if (mark_.size() < alive_.size()) mark_.resize(alive_.size(), 0), seen_.resize(alive_.size(), 0);
+  if (mark_.size() < alive_.size()) mark_.resize(alive_.size(), 0);
   if (++stamp_ == 0) {  // wrapped: old marks could match again
     std::fill(mark_.begin(), mark_.end(), 0);
-    std::fill(seen_.begin(), seen_.end(), 0);
     stamp_ = 1;
   }
   return stamp_;
@@ -501,30 +499,46 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   if (!keeps_faces(c, blamed)) return false;
   // The link condition: the vertices next to both a and b are exactly those opposite
   // the edge in its faces, so no edge or face is doubled. The opposite ones always are
-  // next to both, so counting the common neighbours is enough: a's are marked, b's
-  // counted against the marks (no sorting: a vertex may have hundreds).
-  const std::uint32_t in_a = next_stamp();
-  std::size_t ring_a = 0;
-  for_each_face(a, [&](std::uint32_t f) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u != a && mark_[u] != in_a) mark_[u] = in_a, ++ring_a;
-    }
-  });
-  const std::uint32_t in_b = next_stamp();
-  std::size_t ring_b = 1, common = 0;  // a, then the others
-  for_each_face(b, [&](std::uint32_t f) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u == a || u == b || seen_[u] == in_b) continue;
-      seen_[u] = in_b;
-      ++ring_b;
-      common += mark_[u] == in_a;
-    }
-  });
-  if (int(common) != on_edge) return false;
+  // next to both, so counting the common neighbours is enough.
+  const LinkCounts link = link_counts(a, b);
+  if (int(link.common) != on_edge) return false;
   // A tetrahedron has no edge left to collapse.
-  return !(ring_a == 3 && ring_b == 3 && on_edge == 2);
+  return !(link.ring_a == 3 && link.ring_b == 3 && on_edge == 2);
+}
+
+// The distinct neighbours of a and of b, each sorted in a list of this thread's, and
+// those they share, counted by a merge of the lists: no per-vertex marks, so that
+// valid() may run on several threads at once.
+CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
+  thread_local std::vector<std::uint32_t> around_a, around_b;
+  const auto distinct_corners = [&](std::uint32_t v, std::vector<std::uint32_t>* out) {
+    out->clear();
+    for_each_face(v, [&](std::uint32_t f) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+        if (u != a && u != b) out->push_back(u);
+      }
+    });
+    sort_small(out);
+    out->erase(std::unique(out->begin(), out->end()), out->end());
+  };
+  distinct_corners(a, &around_a);
+  distinct_corners(b, &around_b);
+  LinkCounts link;
+  // a's ring holds b when an edge joins them; b's ring holds a, then its others.
+  link.ring_a = around_a.size() + 1;
+  link.ring_b = around_b.size() + 1;
+  std::size_t i = 0, j = 0;
+  while (i < around_a.size() && j < around_b.size()) {
+    if (around_a[i] < around_b[j]) {
+      ++i;
+    } else if (around_b[j] < around_a[i]) {
+      ++j;
+    } else {
+      ++link.common, ++i, ++j;
+    }
+  }
+  return link;
 }
 
 // Whether some face of b, moved to a, would have the corners of a face a has already.
@@ -1166,7 +1180,12 @@ class LazyQueue {
 class PassDriver {
  public:
   PassDriver(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
-      : state_(state), settings_(settings), stats_(stats), progress_(progress), touched_(state.vertex_count(), 0) {}
+      : state_(state),
+        settings_(settings),
+        stats_(stats),
+        progress_(progress),
+        touched_(state.vertex_count(), 0),
+        marks_(state.vertex_count(), 0) {}
 
   /// Passes until at most `stop_at` triangles are left, a pass takes nothing, or a
   /// collapse above settings.max_error comes up.
@@ -1212,7 +1231,19 @@ class PassDriver {
     }
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       QueueEntry* out = entries_.data() + start[block];
-      for (const auto& [a, b] : listed[block]) *out++ = {state_.evaluate(a, b).cost, a, b};
+      // The far ends' quadrics are fetched a few edges ahead: the near end's is shared
+      // by its run of edges, each far end's a miss of the caches on a large mesh.
+      const std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges = listed[block];
+      const Quadric* quadrics = state_.mesh().quadrics.data();
+      constexpr std::size_t kAhead = 8;
+      for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (i + kAhead < edges.size()) {
+          const char* q = reinterpret_cast<const char*>(quadrics + edges[i + kAhead].second);
+          __builtin_prefetch(q);
+          __builtin_prefetch(q + sizeof(Quadric) - 1);
+        }
+        *out++ = {state_.evaluate(edges[i].first, edges[i].second).cost, edges[i].first, edges[i].second};
+      }
       std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(listed[block]);
     });
     return start[blocks];
@@ -1238,38 +1269,18 @@ class PassDriver {
     bool limited = false;
     const std::uint32_t stamp = ++stamp_;
     std::uint64_t taken = 0;
-    for (const QueueEntry* e = first; e != first + look; ++e) {
-      const std::uint64_t left = state_.triangle_count();
-      if (left <= pass_to) break;
-      if (e->cost > limit) {
-        limited = true;
-        break;
-      }
-      if (touched_[e->a] == stamp || touched_[e->b] == stamp) continue;
-      const CollapseState::Candidate c = state_.evaluate(e->a, e->b);
-      CollapseState::Candidate other;
-      const bool pair = state_.mirrored(c, &other);
-      if (pair && (touched_[other.a] == stamp || touched_[other.b] == stamp)) continue;
-      if (!state_.valid(c)) continue;
-      // Never below an exact target (an edge may have many faces): the lazy queue
-      // settles the last ones.
-      if (settings_.exact_count && left - settings_.target_triangles < std::uint64_t(state_.faces_removed(c))) continue;
-      // Skipped edges may be cheaper than this one now: whether the collapse stops at
-      // max_error is for the lazy queue to say, in strict order of cost.
-      const double error = state_.error(c);
-      if (error > settings_.max_error || c.cost > settings_.max_cost) {
-        at_max_error_ = true;
-        break;
-      }
-      state_.collapse(c);
-      ++taken;
-      stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
-      stats_->largest_error = std::max(stats_->largest_error, error);
-      if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
-      touched_[e->a] = touched_[e->b] = stamp;
-      if (pair) touched_[other.a] = touched_[other.b] = stamp;
-      for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
+    const bool ahead = settings_.work_ahead && look >= kAheadLeast && !state_.has_seams() &&
+                       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
+                       tbb::this_task_arena::max_concurrency() > 1;
+    const std::size_t batch = ahead ? kAheadBatch : look;
+    Step step = Step::next;
+    for (std::size_t begin = 0; begin < look && step == Step::next; begin += batch) {
+      const std::size_t end = std::min(look, begin + batch);
+      if (ahead) work_ahead(first + begin, first + end, stamp, limit);
+      for (std::size_t i = begin; i < end && step == Step::next; ++i)
+        step = take_entry(first[i], ahead ? &ahead_[i - begin] : nullptr, pass_to, limit, stamp, &taken);
     }
+    limited = step == Step::limited;
     stats_->collapses += taken;
     // Short of the pass's count, the cheapest edges were refused or shared a vertex:
     // the next pass looks further down the list; one that met it, or stopped at the
@@ -1280,6 +1291,101 @@ class PassDriver {
     return taken;
   }
 
+  enum class Step { next, stop, limited };
+
+  // An entry's collapse as work_ahead() found it.
+  struct Ahead {
+    CollapseState::Candidate candidate;
+    int faces_removed = 0;
+    bool ready = false;  // worked out (else take_entry() works it out itself)
+    bool valid = false;
+  };
+
+  // The walk of one entry of the sorted list: its collapse taken when both ends are
+  // still untouched this pass, the collapse is valid, and it keeps to the target, the
+  // cost limit and the error bounds. `known` (or null) is what work_ahead() found for
+  // it; it is used when neither end is near a collapse taken since.
+  Step take_entry(const QueueEntry& e, const Ahead* known, std::uint64_t pass_to, double limit, std::uint32_t stamp,
+                  std::uint64_t* taken) {
+    const std::uint64_t left = state_.triangle_count();
+    if (left <= pass_to) return Step::stop;
+    if (e.cost > limit) return Step::limited;
+    if (touched_[e.a] == stamp || touched_[e.b] == stamp) return Step::next;
+    if (known && !(known->ready && marks_[e.a] != moved_mark_ && marks_[e.b] != moved_mark_)) known = nullptr;
+    const CollapseState::Candidate c = known ? known->candidate : state_.evaluate(e.a, e.b);
+    CollapseState::Candidate other;
+    const bool pair = state_.mirrored(c, &other);
+    if (pair && (touched_[other.a] == stamp || touched_[other.b] == stamp)) return Step::next;
+    if (!(known ? known->valid : state_.valid(c))) return Step::next;
+    // Never below an exact target (an edge may have many faces): the lazy queue
+    // settles the last ones.
+    const int removed = known ? known->faces_removed : state_.faces_removed(c);
+    if (settings_.exact_count && left - settings_.target_triangles < std::uint64_t(removed)) return Step::next;
+    // Skipped edges may be cheaper than this one now: whether the collapse stops at
+    // max_error is for the lazy queue to say, in strict order of cost.
+    const double error = state_.error(c);
+    if (error > settings_.max_error || c.cost > settings_.max_cost) {
+      at_max_error_ = true;
+      return Step::stop;
+    }
+    // What the collapse changes, every vertex whose faces it touches, is marked: the
+    // work done ahead for edges there is stale.
+    for (const std::uint32_t end : {c.a, c.b})
+      state_.for_each_corner(end, [&](std::uint32_t u) { marks_[u] = moved_mark_; });
+    state_.collapse(c);
+    ++*taken;
+    stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
+    stats_->largest_error = std::max(stats_->largest_error, error);
+    if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
+    touched_[e.a] = touched_[e.b] = stamp;
+    if (pair) touched_[other.a] = touched_[other.b] = stamp;
+    for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
+    return Step::next;
+  }
+
+  // What take_entry() would work out for each entry of [begin, end), found on several
+  // threads before any of them is taken: the candidate, whether it is valid and the
+  // faces it removes. It depends only on the faces around the edge's ends, so it
+  // holds at the entry's turn unless a collapse taken before then touched a face
+  // there (take_entry() marks those vertices, and works such an entry out again).
+  // Entries with an end already touched this pass, or shared with an earlier entry of
+  // the batch (which is most likely taken, touching it), are left out.
+  void work_ahead(const QueueEntry* begin, const QueueEntry* end, std::uint32_t stamp, double limit) {
+    const std::size_t n = std::size_t(end - begin);
+    ahead_.resize(n);
+    ahead_todo_.clear();
+    const std::uint32_t claimed = next_mark();
+    for (std::size_t i = 0; i < n; ++i) {
+      const QueueEntry& e = begin[i];
+      ahead_[i].ready = false;
+      if (e.cost > limit || touched_[e.a] == stamp || touched_[e.b] == stamp) continue;
+      if (marks_[e.a] == claimed || marks_[e.b] == claimed) continue;
+      marks_[e.a] = marks_[e.b] = claimed;
+      ahead_todo_.push_back(std::uint32_t(i));
+    }
+    moved_mark_ = next_mark();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_todo_.size(), 8),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                          const std::uint32_t i = ahead_todo_[j];
+                          Ahead& k = ahead_[i];
+                          k.candidate = state_.evaluate(begin[i].a, begin[i].b);
+                          k.valid = state_.valid(k.candidate);
+                          k.faces_removed = k.valid ? state_.faces_removed(k.candidate) : 0;
+                          k.ready = true;
+                        }
+                      });
+  }
+
+  // A new value for marks_, none of whose entries holds it yet.
+  std::uint32_t next_mark() {
+    if (++mark_ == 0) {
+      std::fill(marks_.begin(), marks_.end(), 0);
+      mark_ = 1;
+    }
+    return mark_;
+  }
+
   CollapseState& state_;
   const CollapseSettings& settings_;
   CollapseStats* stats_;
@@ -1288,6 +1394,12 @@ class PassDriver {
   std::vector<QueueEntry> entries_;
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
   std::uint32_t stamp_ = 0;
+  // Per vertex: claimed by an entry worked out ahead in this batch, or (moved_mark_)
+  // near a collapse taken since the batch was worked out.
+  std::vector<std::uint32_t> marks_;
+  std::uint32_t mark_ = 0, moved_mark_ = 0;
+  std::vector<Ahead> ahead_;  // the batch's entries, worked out ahead
+  std::vector<std::uint32_t> ahead_todo_;
   std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted
   bool at_max_error_ = false;
 };

@@ -116,6 +116,10 @@ struct CollapseSettings {
   /// The passes stop at this many times target_triangles; the lazy queue, in strict
   /// order of cost, takes the rest.
   double pass_share = 1.1;
+  /// A pass works out the validity of its next collapses on several threads at once,
+  /// then takes them in order (the same collapses as one thread takes). Off where
+  /// tiles collapse side by side and already keep every thread busy.
+  bool work_ahead = true;
   /// collapse_edges() returns the quadrics and input normals with the mesh (false: only
   /// its geometry and attributes, for an output).
   bool result_quadrics = true;
@@ -158,7 +162,7 @@ class CollapseState {
   /// No face: what valid() blames when a check other than a face's failed.
   static constexpr std::uint32_t kNoFace = ~std::uint32_t(0);
   /// Whether the collapse keeps the surface manifold (the link condition), flips no
-  /// face and leaves no needle. One thread at a time (it works in scratch lists).
+  /// face and leaves no needle. Any thread (its scratch lists are each thread's).
   /// When invalid, `blamed` (if given) gets the face that would flip or become a
   /// needle, or kNoFace: while keeps_face() fails on it the collapse stays invalid.
   bool valid(const Candidate& c, std::uint32_t* blamed = nullptr) const;
@@ -172,6 +176,8 @@ class CollapseState {
   /// The vertex on the other side of a texture seam at v's position, or kNoMirror
   /// (CollapseSettings::lock_coincident).
   std::uint32_t mirror(std::uint32_t v) const { return mirror_.empty() ? kNoMirror : mirror_[v]; }
+  /// Whether any vertex has a mirror (CollapseSettings::lock_coincident found seams).
+  bool has_seams() const { return !mirror_.empty(); }
   /// Whether `c` collapses a seam edge, both of whose ends have mirrors: then the
   /// mirrors' edge collapses with it, to the same placement, and *other gets that
   /// collapse.
@@ -216,6 +222,14 @@ class CollapseState {
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
   /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// Calls f(u) for each corner u of each live face of v (v itself among them, and
+  /// neighbours once per face they share with v). Any thread.
+  template <class F>
+  void for_each_corner(std::uint32_t v, const F& f) const {
+    for_each_face(v, [&](std::uint32_t face) {
+      for (int k = 0; k < 3; ++k) f(mesh_.triangles[3 * std::size_t(face) + std::size_t(k)]);
+    });
+  }
   /// The distinct vertices above v sharing a live face with v (in the order of v's
   /// faces, or ascending when there are many). Any thread.
   void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
@@ -232,7 +246,11 @@ class CollapseState {
 
  private:
   template <class F>
-  void for_each_face(std::uint32_t v, const F& f) const;
+  void for_each_face(std::uint32_t v, const F& f) const {
+    const std::uint32_t* p = faces_.data() + face_start_[v];
+    for (std::uint32_t i = 0; i < face_count_[v]; ++i)
+      if (!face_dead_[p[i]]) f(p[i]);
+  }
   void build_adjacency();
   // The lists fan_shape() works in: one per thread.
   struct VertexScratch {
@@ -245,6 +263,12 @@ class CollapseState {
   };
   FanShape fan_shape(std::uint32_t v, VertexScratch* scratch) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
+  // For edge (a, b): how many distinct vertices share a face with a (b among them),
+  // with b (a among them), and with both.
+  struct LinkCounts {
+    std::size_t ring_a = 0, ring_b = 0, common = 0;
+  };
+  LinkCounts link_counts(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   void add_boundary_planes(double weight);
   void pair_coincident_vertices();
@@ -287,7 +311,7 @@ class CollapseState {
   std::vector<std::uint32_t> newly_anchored_;
   // Marks of vertices seen, by stamp: a new stamp clears them all at once.
   std::uint32_t next_stamp() const;
-  mutable std::vector<std::uint32_t> mark_, seen_;
+  mutable std::vector<std::uint32_t> mark_;
   mutable std::uint32_t stamp_ = 0;
 };
 

@@ -91,6 +91,7 @@ TileOutput collapse_pass_tile(const TileMesh& tile, const CollapseSettings& sett
   CollapseSettings s = settings;
   s.exact_count = false;
   s.tile_faces = 0;
+  s.work_ahead = false;  // the pass's tiles keep the threads busy
   // Boundary planes join the quadrics once, in the first pass: a boundary edge of an
   // owned vertex has all its faces here, so its count of faces is the mesh's.
   if (!tile.first_pass || !tile.hold_border) s.boundary_weight = 0;

@@ -159,7 +159,8 @@ QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& setting
   per_tile.exact_count = false;
   per_tile.boundary_weight = 0;  // in the quadrics already
   per_tile.tile_faces = 0;
-  per_tile.pass_share = 1;  // a tile needs no strict order at its end: its count is approximate
+  per_tile.pass_share = 1;      // a tile needs no strict order at its end: its count is approximate
+  per_tile.work_ahead = false;  // the tiles keep the threads busy
 
   const double share = std::min(1.0, settings.tile_share * double(settings.target_triangles) / double(face_count));
   std::vector<TileResult> results(tiles);
