@@ -62,6 +62,28 @@ void sort_small(std::vector<T>* v) {
   }
 }
 
+// Drops repeats from a short list, keeping each value's first place, by scans without
+// early exit (a dozen or so values: no branch to mispredict); a long one (a hub's
+// hundreds) is sorted instead. Returns whether it was sorted.
+bool keep_distinct(std::vector<std::uint32_t>* list) {
+  constexpr std::size_t kScanned = 32;
+  if (list->size() > kScanned) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+    return true;
+  }
+  std::uint32_t* x = list->data();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    bool seen = false;
+    for (std::size_t j = 0; j < kept; ++j) seen |= x[j] == x[i];
+    x[kept] = x[i];
+    kept += !seen;
+  }
+  list->resize(kept);
+  return false;
+}
+
 // Velho 1999 eq. 4: compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a, is
 // 2 sqrt(3) |n| / s for s the sum of the squared sides. The checks compare it without
 // a square root: 12 |n|^2 / s^2 is its square.
@@ -221,19 +243,8 @@ void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>
       if (u > v) out->push_back(u);
     }
   });
-  // Each neighbour comes once or twice (once per face on the edge). A dozen or so
-  // entries are deduplicated in place, in the order of v's faces; a hub's many sorted.
-  std::vector<std::uint32_t>& list = *out;
-  if (list.size() > 32) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    return;
-  }
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < list.size(); ++i)
-    if (std::find(list.begin(), list.begin() + std::ptrdiff_t(kept), list[i]) == list.begin() + std::ptrdiff_t(kept))
-      list[kept++] = list[i];
-  list.resize(kept);
+  // Each neighbour comes once or twice (once per face on the edge).
+  keep_distinct(out);
 }
 
 std::uint32_t CollapseState::next_stamp() const {
@@ -506,12 +517,12 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   return !(link.ring_a == 3 && link.ring_b == 3 && on_edge == 2);
 }
 
-// The distinct neighbours of a and of b, each sorted in a list of this thread's, and
-// those they share, counted by a merge of the lists: no per-vertex marks, so that
-// valid() may run on several threads at once.
+// The neighbours of a and of b, each in a list of this thread's (no per-vertex marks,
+// so that valid() may run on several threads at once), made distinct, and those they
+// share counted.
 CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
   thread_local std::vector<std::uint32_t> around_a, around_b;
-  const auto distinct_corners = [&](std::uint32_t v, std::vector<std::uint32_t>* out) {
+  const auto corners = [&](std::uint32_t v, std::vector<std::uint32_t>* out) {
     out->clear();
     for_each_face(v, [&](std::uint32_t f) {
       for (int k = 0; k < 3; ++k) {
@@ -519,25 +530,36 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
         if (u != a && u != b) out->push_back(u);
       }
     });
-    sort_small(out);
-    out->erase(std::unique(out->begin(), out->end()), out->end());
   };
-  distinct_corners(a, &around_a);
-  distinct_corners(b, &around_b);
+  corners(a, &around_a);
+  corners(b, &around_b);
   LinkCounts link;
+  const bool sorted_a = keep_distinct(&around_a), sorted_b = keep_distinct(&around_b);
+  if (sorted_a && sorted_b) {
+    std::size_t i = 0, j = 0;
+    while (i < around_a.size() && j < around_b.size()) {
+      if (around_a[i] < around_b[j]) {
+        ++i;
+      } else if (around_b[j] < around_a[i]) {
+        ++j;
+      } else {
+        ++link.common, ++i, ++j;
+      }
+    }
+  } else {
+    // One list is short: each of its values looked for in the other.
+    const std::vector<std::uint32_t>& few = sorted_a ? around_b : around_a;
+    const std::vector<std::uint32_t>& many = sorted_a ? around_a : around_b;
+    if (sorted_a || sorted_b) {
+      for (const std::uint32_t u : few) link.common += std::binary_search(many.begin(), many.end(), u);
+    } else {
+      for (const std::uint32_t u : few)
+        for (const std::uint32_t w : many) link.common += u == w;
+    }
+  }
   // a's ring holds b when an edge joins them; b's ring holds a, then its others.
   link.ring_a = around_a.size() + 1;
   link.ring_b = around_b.size() + 1;
-  std::size_t i = 0, j = 0;
-  while (i < around_a.size() && j < around_b.size()) {
-    if (around_a[i] < around_b[j]) {
-      ++i;
-    } else if (around_b[j] < around_a[i]) {
-      ++j;
-    } else {
-      ++link.common, ++i, ++j;
-    }
-  }
   return link;
 }
 
