@@ -221,39 +221,20 @@ void CollapseState::build_adjacency() {
 }
 
 void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
-  out->clear();
-  const std::uint32_t stamp = next_stamp();
-  for_each_face(v, [&](std::uint32_t f) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u != v && mark_[u] != stamp) {
-        mark_[u] = stamp;
-        out->push_back(u);
-      }
-    }
-  });
+  distinct_neighbours(v, out);
   sort_small(out);
 }
 
-void CollapseState::neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+void CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
   out->clear();
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-      if (u > v) out->push_back(u);
+      if (u != v) out->push_back(u);
     }
   });
   // Each neighbour comes once or twice (once per face on the edge).
   keep_distinct(out);
-}
-
-std::uint32_t CollapseState::next_stamp() const {
-  if (mark_.size() < alive_.size()) mark_.resize(alive_.size(), 0);
-  if (++stamp_ == 0) {  // wrapped: old marks could match again
-    std::fill(mark_.begin(), mark_.end(), 0);
-    stamp_ = 1;
-  }
-  return stamp_;
 }
 
 int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
@@ -1222,39 +1203,58 @@ class PassDriver {
 
  private:
   // Each edge (a, b), a < b, that may collapse, with its cost, into the first entries
-  // of entries_ in order of a; returns their count. The edges of each block of
-  // vertices are counted, then costed into their place, both in parallel.
+  // of entries_; returns their count. An edge neither of whose ends the last pass
+  // touched keeps its entry: its cost depends only on its ends (their quadrics,
+  // positions and anchoring), unless a seam ties it to the ends' mirrors, and the
+  // edges between untouched vertices are the same (a face that went had both ends of
+  // its collapse). The edges of the touched vertices are listed again, each once,
+  // block by block in parallel, then costed into their place in parallel.
   std::size_t cost_edges() {
     constexpr std::uint32_t kBlock = 4096;
     const std::uint32_t n = std::uint32_t(state_.vertex_count());
+    const std::uint32_t last = stamp_;  // before the first pass every vertex holds it
+    const bool seams = state_.has_seams();
+    const auto touched = [&](std::uint32_t v) { return seams || touched_[v] == last; };
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < costed_; ++i) {
+      const QueueEntry& e = entries_[i];
+      if (!touched(e.a) && !touched(e.b)) entries_[kept++] = e;
+    }
     const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
-    // Each block's edges are listed once (the neighbour lists are the dearer part),
-    // then costed into their place.
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> listed(blocks);
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       std::vector<std::uint32_t>& ring = rings_.local();
       std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges = listed[block];
-      for (std::uint32_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
-        if (!state_.alive(a) || state_.locked(a)) continue;
-        state_.neighbours_above(a, &ring);
-        for (std::uint32_t b : ring)
-          if (!state_.locked(b)) edges.emplace_back(a, b);
+      for (std::uint32_t v = block * kBlock; v < std::min(n, (block + 1) * kBlock); ++v) {
+        if (!state_.alive(v) || state_.locked(v) || !touched(v)) continue;
+        state_.distinct_neighbours(v, &ring);
+        for (std::uint32_t u : ring) {
+          if (state_.locked(u)) continue;
+          if (!touched(u)) {
+            edges.emplace_back(std::min(u, v), std::max(u, v));
+          } else if (u > v) {  // both touched: listed from the lower end
+            edges.emplace_back(v, u);
+          }
+        }
       }
       start[block + 1] = edges.size();
     });
+    start[0] = kept;
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
     // entries_ only grows (the first pass has the most edges), so that it is not
     // filled with zeros again each pass before the costs overwrite them.
     if (entries_.size() < start[blocks]) {
-      entries_ = std::vector<QueueEntry>();
-      reserve_huge(&entries_, start[blocks]);
-      entries_.resize(start[blocks]);
+      std::vector<QueueEntry> grown;
+      reserve_huge(&grown, start[blocks]);
+      grown.assign(entries_.begin(), entries_.begin() + std::ptrdiff_t(kept));
+      grown.resize(start[blocks]);
+      entries_ = std::move(grown);
     }
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       QueueEntry* out = entries_.data() + start[block];
-      // The far ends' quadrics are fetched a few edges ahead: the near end's is shared
-      // by its run of edges, each far end's a miss of the caches on a large mesh.
+      // The far ends' quadrics are fetched a few edges ahead: each far end's is a
+      // miss of the caches on a large mesh.
       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges = listed[block];
       const Quadric* quadrics = state_.mesh().quadrics.data();
       constexpr std::size_t kAhead = 8;
@@ -1268,7 +1268,8 @@ class PassDriver {
       }
       std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(listed[block]);
     });
-    return start[blocks];
+    costed_ = start[blocks];
+    return costed_;
   }
 
   // The collapses that would take the count to pass_to, each removing two faces.
@@ -1414,6 +1415,7 @@ class PassDriver {
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
   std::vector<QueueEntry> entries_;
+  std::size_t costed_ = 0;  // the entries the last pass costed (in any order after it)
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
   std::uint32_t stamp_ = 0;
   // Per vertex: claimed by an entry worked out ahead in this batch, or (moved_mark_)

@@ -220,8 +220,10 @@ class CollapseState {
   /// The mesh as it is (faces dead or alive), with the boundary planes in its quadrics.
   const QuadricMesh& mesh() const { return mesh_; }
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
-  /// The distinct vertices sharing a live face with v, ascending. One thread at a time.
+  /// The distinct vertices sharing a live face with v, ascending. Any thread.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// The distinct vertices sharing a live face with v, in no set order. Any thread.
+  void distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// Calls f(u) for each corner u of each live face of v (v itself among them, and
   /// neighbours once per face they share with v). Any thread.
   template <class F>
@@ -230,9 +232,6 @@ class CollapseState {
       for (int k = 0; k < 3; ++k) f(mesh_.triangles[3 * std::size_t(face) + std::size_t(k)]);
     });
   }
-  /// The distinct vertices above v sharing a live face with v (in the order of v's
-  /// faces, or ascending when there are many). Any thread.
-  void neighbours_above(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// Each face's normal in the input.
   const std::vector<UnitNormal>& first_normals() const { return first_normal_; }
   /// The live faces, their vertices numbered by first use, in face order, with their
@@ -309,10 +308,6 @@ class CollapseState {
   mutable std::vector<std::uint32_t> scratch_a_;
   mutable VertexScratch scratch_;
   std::vector<std::uint32_t> newly_anchored_;
-  // Marks of vertices seen, by stamp: a new stamp clears them all at once.
-  std::uint32_t next_stamp() const;
-  mutable std::vector<std::uint32_t> mark_;
-  mutable std::uint32_t stamp_ = 0;
 };
 
 /// The collapses of `state` in order of cost, from a priority queue with lazy updates,
