@@ -596,6 +596,15 @@ bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
 // The faces that stay: none may flip or become a needle. Only the faces of an end
 // that moves change; the first to fail is blamed.
 bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const {
+  // Each face's corners and input normal are fetched for both ends before the first
+  // check: they are scattered over the mesh's arrays, and the checks wait on them.
+  for (const std::uint32_t end : {c.a, c.b}) {
+    const std::uint32_t* p = faces_.data() + face_start_[end];
+    for (std::uint32_t i = 0; i < face_count_[end]; ++i) {
+      __builtin_prefetch(&mesh_.triangles[3 * std::size_t(p[i])]);
+      __builtin_prefetch(&first_normal_[p[i]]);
+    }
+  }
   for (const std::uint32_t end : {c.a, c.b}) {
     if (same_point(mesh_.positions[end], c.placement)) continue;
     const std::uint32_t* p = faces_.data() + face_start_[end];
