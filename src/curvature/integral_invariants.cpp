@@ -144,7 +144,13 @@ void LocalHeightField::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d&
   t.vx = c.x - a.x;
   t.vy = c.y - a.y;
   const double area2 = t.ux * t.vy - t.uy * t.vx;
-  corners_.push_back({a, b, c});
+  {
+    Corners k{a, b, c, cross(b - a, c - a), 0, {}, {}};
+    k.normal_length = length(k.normal);
+    k.lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
+    k.hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
+    corners_.push_back(k);
+  }
   // Seen edge-on (or degenerate): it crosses no vertical line.
   if (!(std::fabs(area2) > 1e-14 * radius_ * radius_)) return;
   t.inverse_area2 = 1 / area2;
@@ -187,9 +193,15 @@ bool LocalHeightField::inside(const Vec3d& q) const {
   double nearest = HUGE_VAL, squareness = -1;
   bool in = false;
   for (const Corners& t : corners_) {
-    const Vec3d normal = cross(t.b - t.a, t.c - t.a);
-    const double normal_length = length(normal);
+    const Vec3d& normal = t.normal;
+    const double normal_length = t.normal_length;
     if (!(normal_length > 0)) continue;
+    // A triangle whose box is beyond the nearest distance (and its tie margin) is
+    // farther still: it would change nothing below.
+    const Vec3d gap{std::max({t.lo.x - q.x, q.x - t.hi.x, 0.0}), std::max({t.lo.y - q.y, q.y - t.hi.y, 0.0}),
+                    std::max({t.lo.z - q.z, q.z - t.hi.z, 0.0})};
+    const double reach = nearest * (1 + 1e-9);
+    if (squared_length(gap) > reach * reach * (1 + 1e-6)) continue;
     const Vec3d d = q - metrics::closest_point_on_triangle(q, t.a, t.b, t.c);
     const double distance = length(d);
     // Several triangles share the nearest point where it is on an edge or a corner;
