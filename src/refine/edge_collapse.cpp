@@ -1,8 +1,8 @@
 #include "refine/edge_collapse.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
 
@@ -33,7 +33,8 @@ constexpr double kNeedleSlack = 0.5;
 // factor; see PassDriver).
 constexpr double kPassCostSlack = 1.5;
 // A pass that takes less than 1 / this of the collapses it wanted hands the rest to the
-// lazy queue: each pass costs every edge again, the queue only those a collapse moved.
+// lazy queue: each pass lists and sorts every edge again, the queue only those a
+// collapse moved.
 constexpr std::uint64_t kPassLeastShare = 16;
 // A pass works out its collapses ahead (PassDriver::work_ahead) in batches of this
 // many entries, when it looks at this many or more.
@@ -885,6 +886,9 @@ void CollapseState::pair_coincident_vertices() {
     }
     i = j;
   }
+  // No pair: no seam (every mirror() is kNoMirror either way), and the passes may
+  // keep costs and work ahead (has_seams()).
+  if (std::all_of(mirror_.begin(), mirror_.end(), [](std::uint32_t m) { return m == kNoMirror; })) mirror_.clear();
 }
 
 QuadricMesh CollapseState::release_vertices() {
@@ -1170,14 +1174,16 @@ class LazyQueue {
 };
 
 // Garland & Heckbert's greedy order taken in passes, as meshoptimizer's simplifier
-// does: each pass costs every edge at once (in parallel), sorts them, and takes the
-// cheapest valid collapses in that order, each vertex in at most one collapse a pass,
-// so that every cost taken is still the edge's cost then (a collapse changes the
-// quadric and position of its two ends only, and the anchoring of neighbours it
-// leaves non-manifold, which count as moved too). A pass stops when it has halved the
-// count still to remove; the lazy queue then finishes in strict order. Where the lazy
-// queue re-costs and re-checks the neighbourhood of every collapse, one at a time, a
-// pass re-costs each edge once and checks only the collapses it takes.
+// does: each pass costs every edge (in parallel; an edge whose ends the last pass did
+// not touch keeps its cost), sorts them, and takes the cheapest valid collapses in
+// that order, each vertex in at most one collapse a pass, so that every cost taken is
+// still the edge's cost then (a collapse changes the quadric and position of its two
+// ends only, and the anchoring of neighbours it leaves non-manifold, which count as
+// moved too). A pass stops when it has halved the count still to remove; the lazy
+// queue then finishes in strict order. Where the lazy queue re-costs and re-checks
+// the neighbourhood of every collapse, one at a time, a pass re-costs each edge at
+// most once and checks only the collapses it looks at, several at once ahead of
+// taking them (work_ahead).
 //
 // A pass also stops before a collapse dearer than kPassCostSlack times the cost of the
 // edge at which the passes would end, were the cheapest edges all valid and apart
@@ -1192,12 +1198,7 @@ class LazyQueue {
 class PassDriver {
  public:
   PassDriver(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
-      : state_(state),
-        settings_(settings),
-        stats_(stats),
-        progress_(progress),
-        touched_(state.vertex_count(), 0),
-        marks_(state.vertex_count(), 0) {}
+      : state_(state), settings_(settings), stats_(stats), progress_(progress), touched_(state.vertex_count(), 0) {}
 
   /// Passes until at most `stop_at` triangles are left, a pass takes nothing, or a
   /// collapse above settings.max_error comes up.
@@ -1298,21 +1299,20 @@ class PassDriver {
     // one's, which then bounds none of them.
     const std::uint64_t goal = std::max<std::uint64_t>(1, (state_.triangle_count() - stop_at) / 2);
     const double limit = goal <= look ? kPassCostSlack * first[goal - 1].cost : HUGE_VAL;
-    bool limited = false;
     const std::uint32_t stamp = ++stamp_;
     std::uint64_t taken = 0;
-    const bool ahead = settings_.work_ahead && look >= kAheadLeast && !state_.has_seams() &&
-                       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
-                       tbb::this_task_arena::max_concurrency() > 1;
-    const std::size_t batch = ahead ? kAheadBatch : look;
+    ahead_on_ = settings_.work_ahead && look >= kAheadLeast && !state_.has_seams() &&
+                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
+                tbb::this_task_arena::max_concurrency() > 1;
+    const std::size_t batch = ahead_on_ ? kAheadBatch : look;
     Step step = Step::next;
     for (std::size_t begin = 0; begin < look && step == Step::next; begin += batch) {
       const std::size_t end = std::min(look, begin + batch);
-      if (ahead) work_ahead(first + begin, first + end, stamp, limit);
+      if (ahead_on_) work_ahead(first + begin, first + end, stamp, limit);
       for (std::size_t i = begin; i < end && step == Step::next; ++i)
-        step = take_entry(first[i], ahead ? &ahead_[i - begin] : nullptr, pass_to, limit, stamp, &taken);
+        step = take_entry(first[i], ahead_on_ ? &ahead_[i - begin] : nullptr, pass_to, limit, stamp, &taken);
     }
-    limited = step == Step::limited;
+    const bool limited = step == Step::limited;
     stats_->collapses += taken;
     // Short of the pass's count, the cheapest edges were refused or shared a vertex:
     // the next pass looks further down the list; one that met it, or stopped at the
@@ -1344,6 +1344,7 @@ class PassDriver {
     if (e.cost > limit) return Step::limited;
     if (touched_[e.a] == stamp || touched_[e.b] == stamp) return Step::next;
     if (known && !(known->ready && marks_[e.a] != moved_mark_ && marks_[e.b] != moved_mark_)) known = nullptr;
+    if (known) ++stats_->worked_ahead;
     const CollapseState::Candidate c = known ? known->candidate : state_.evaluate(e.a, e.b);
     CollapseState::Candidate other;
     const bool pair = state_.mirrored(c, &other);
@@ -1362,8 +1363,9 @@ class PassDriver {
     }
     // What the collapse changes, every vertex whose faces it touches, is marked: the
     // work done ahead for edges there is stale.
-    for (const std::uint32_t end : {c.a, c.b})
-      state_.for_each_corner(end, [&](std::uint32_t u) { marks_[u] = moved_mark_; });
+    if (ahead_on_)
+      for (const std::uint32_t end : {c.a, c.b})
+        state_.for_each_corner(end, [&](std::uint32_t u) { marks_[u] = moved_mark_; });
     state_.collapse(c);
     ++*taken;
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
@@ -1383,6 +1385,7 @@ class PassDriver {
   // Entries with an end already touched this pass, or shared with an earlier entry of
   // the batch (which is most likely taken, touching it), are left out.
   void work_ahead(const QueueEntry* begin, const QueueEntry* end, std::uint32_t stamp, double limit) {
+    if (marks_.empty()) marks_.assign(state_.vertex_count(), 0);
     const std::size_t n = std::size_t(end - begin);
     ahead_.resize(n);
     ahead_todo_.clear();
@@ -1429,8 +1432,9 @@ class PassDriver {
   std::uint32_t stamp_ = 0;
   // Per vertex: claimed by an entry worked out ahead in this batch, or (moved_mark_)
   // near a collapse taken since the batch was worked out.
-  std::vector<std::uint32_t> marks_;
+  std::vector<std::uint32_t> marks_;  // allocated by the first work_ahead()
   std::uint32_t mark_ = 0, moved_mark_ = 0;
+  bool ahead_on_ = false;     // this pass works its collapses out ahead
   std::vector<Ahead> ahead_;  // the batch's entries, worked out ahead
   std::vector<std::uint32_t> ahead_todo_;
   std::uint64_t look_factor_ = 2;  // entries sorted per collapse wanted

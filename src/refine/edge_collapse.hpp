@@ -130,6 +130,9 @@ struct CollapseStats {
   double largest_cost = 0;                  ///< the largest quadric cost of a collapse taken (area x distance^2)
   double largest_error = 0;                 ///< the largest error (model units, see max_error) of a collapse taken
   std::uint64_t non_manifold_vertices = 0;  ///< on edges of 3+ faces or fans apart, at the start: anchored
+  /// Pass entries taken on what PassDriver::work_ahead() found for them on other
+  /// threads (the rest were worked out at their turn).
+  std::uint64_t worked_ahead = 0;
   /// The target could not be met: no valid collapse was left (stuck), the next one was
   /// above max_error, or a closed surface, whose triangle count is even, was asked for an
   /// odd count (one triangle fewer is given). When every collapse left would overshoot,
@@ -176,7 +179,7 @@ class CollapseState {
   /// The vertex on the other side of a texture seam at v's position, or kNoMirror
   /// (CollapseSettings::lock_coincident).
   std::uint32_t mirror(std::uint32_t v) const { return mirror_.empty() ? kNoMirror : mirror_[v]; }
-  /// Whether any vertex has a mirror (CollapseSettings::lock_coincident found seams).
+  /// Whether any vertex has a mirror (CollapseSettings::lock_coincident found a seam).
   bool has_seams() const { return !mirror_.empty(); }
   /// Whether `c` collapses a seam edge, both of whose ends have mirrors: then the
   /// mirrors' edge collapses with it, to the same placement, and *other gets that
