@@ -144,6 +144,32 @@ TEST_CASE("one callback hears every phase of a run, balanced and one call at a t
   }
 }
 
+TEST_CASE("the curvature estimate reports its survey then its binning in tiles then its estimate", "[api][progress]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 20000);
+  for (const double tile_side : {0.0, 0.5}) {
+    INFO("tile side " << tile_side);
+    ProgressLog log;
+    CurvatureOptions o;
+    o.tile_side = tile_side;
+    o.temp_dir = tmp.path();
+    o.progress = log.callback();
+    CurvatureStats st;
+    curvature_file(in, d.file("k.ply"), false, o, &st);
+    CHECK_FALSE(log.overlapped);
+    CHECK_FALSE(log.unmatched);
+    CHECK_FALSE(log.beyond_total);
+    std::vector<std::string> expected = {"read positions", "survey", "curvatures"};
+    if (tile_side > 0) expected = {"read positions", "survey", "bin tiles", "curvatures"};
+    CHECK(log.names() == expected);
+    const ProgressLog::Phase* curvatures = log.find("curvatures");
+    REQUIRE(curvatures);
+    CHECK(curvatures->total == st.vertices);
+    CHECK(curvatures->unit == "vtx");
+    CHECK(st.vertices > 10000);
+  }
+}
+
 TEST_CASE("a callback that returns false cancels the run and leaves no file behind", "[api][progress]") {
   ScratchDir d, tmp;
   const std::string in = sphere(d, 200000);

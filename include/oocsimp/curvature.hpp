@@ -35,7 +35,9 @@ struct CurvatureOptions {
   unsigned threads = 0;             ///< 0 = all cores; the values are the same for any count
   std::uint64_t memory_budget = 0;  ///< heap bytes; 0 = default_memory_budget()
   std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
-  ProgressCallback progress;        ///< hears "read positions"; may cancel
+  /// Hears "read positions", "survey" (the pass that finds the mean edge), "bin tiles"
+  /// (in tiles) and "curvatures"; may cancel.
+  ProgressCallback progress;
 };
 
 struct CurvatureStats {

@@ -93,7 +93,7 @@ CurvatureStats estimate(MeshInput& input, const CurvatureOptions& options, const
   const unsigned threads = unsigned(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   if (input.info.vertex_count >= std::uint64_t(1) << 32)
     throw UsageError(input.info.path + ": curvature names vertices by 32-bit indices, and the mesh has 2^32 or more");
-  const MeshSurvey survey = survey_mesh(input);
+  const MeshSurvey survey = survey_mesh(input, options.progress);
   CurvatureStats st;
   st.vertices = input.positions.count;
   st.triangles = survey.triangles;
@@ -105,11 +105,12 @@ CurvatureStats estimate(MeshInput& input, const CurvatureOptions& options, const
   if (!(settings.radius > 0)) {  // no side of any length: nothing to measure
     st.none = k ? st.vertices : 0;
   } else {
-    ProgressPhase phase(options.progress, "curvatures", deal.whole() ? st.vertices : deal.owned_vertices(), "vtx");
-    settings.progress = &phase;
+    const std::uint64_t to_estimate = deal.whole() ? st.vertices : deal.owned_vertices();
     const std::uint64_t budget = options.memory_budget ? options.memory_budget : default_memory_budget();
     VertexCurvatureCounts counts;
     if (options.tile_side == 0 && in_memory_bytes(st.vertices, st.triangles, threads) <= budget) {
+      ProgressPhase phase(options.progress, "curvatures", to_estimate, "vtx");
+      settings.progress = &phase;
       const std::vector<Vec3d> positions = load_positions(input);
       const std::vector<std::uint32_t> triangles = load_triangles(input, survey.triangles);
       std::vector<float> k1, k2;
@@ -131,6 +132,8 @@ CurvatureStats estimate(MeshInput& input, const CurvatureOptions& options, const
       tiled.tile_side = options.tile_side;
       tiled.memory_budget = budget;
       tiled.temp_dir = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
+      tiled.progress = options.progress;
+      tiled.estimated_vertices = to_estimate;
       const double side = curvature_tile_side(input, tiled, threads);
       if (k) {
         counts = tiled_vertex_curvatures(input, tiled, side, k);

@@ -7,6 +7,7 @@
 #include "common/vec3_math.hpp"
 #include "grid/tile_grid.hpp"
 #include "oocsimp/error.hpp"
+#include "runtime/progress_phase.hpp"
 #include "spill/stream_spill.hpp"
 
 namespace oocsimp {
@@ -67,7 +68,8 @@ std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1 << 20) 
 
 }  // namespace
 
-MeshSurvey survey_mesh(MeshInput& input) {
+MeshSurvey survey_mesh(MeshInput& input, const ProgressCallback& progress) {
+  ProgressPhase phase(progress, "survey", input.file_size, "B");
   MeshSurvey s;
   double sum = 0;
   std::uint64_t sides = 0;
@@ -85,6 +87,7 @@ MeshSurvey survey_mesh(MeshInput& input) {
       }
     }
     s.triangles += n;
+    phase.set(input.triangles->bytes_consumed());
   }
   input.restart_triangles();
   s.mean_edge_length = sides ? sum / double(sides) : 0;
@@ -171,36 +174,44 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
   for (std::uint32_t t = 0; t < grid.count(); ++t) spill.add_stream();
   std::vector<std::uint64_t> buffer(3 * kChunkTriangles);
   std::uint64_t index = 0;
-  while (const std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles)) {
-    for (std::size_t t = 0; t < n; ++t, ++index) {
-      const TileTriangle record{index, {buffer[3 * t], buffer[3 * t + 1], buffer[3 * t + 2]}};
-      Box3d box;
-      for (std::uint64_t v : record.v) {
-        const Vec3d p = input.positions.get(v);
-        if (finite(p)) box.add(p);
-      }
-      if (box.empty()) continue;
-      const GridCoord lo = grid.of(box.min - Vec3d{halo, halo, halo}), hi = grid.of(box.max + Vec3d{halo, halo, halo});
-      const double cells = double(hi.x - lo.x + 1) * double(hi.y - lo.y + 1) * double(hi.z - lo.z + 1);
-      if (cells > double(grid.count())) {  // a face far larger than the tiles: look at every tile
-        for (std::uint32_t id = 0; id < grid.count(); ++id) {
-          const GridCoord& c = grid.coord(id);
-          if (estimated[id] && c.x >= lo.x && c.x <= hi.x && c.y >= lo.y && c.y <= hi.y && c.z >= lo.z && c.z <= hi.z)
-            spill.append(id, &record, 1);
+  {
+    ProgressPhase bin_phase(settings.progress, "bin tiles", input.file_size, "B");
+    while (const std::size_t n = input.triangles->read(buffer.data(), kChunkTriangles)) {
+      bin_phase.set(input.triangles->bytes_consumed());
+      for (std::size_t t = 0; t < n; ++t, ++index) {
+        const TileTriangle record{index, {buffer[3 * t], buffer[3 * t + 1], buffer[3 * t + 2]}};
+        Box3d box;
+        for (std::uint64_t v : record.v) {
+          const Vec3d p = input.positions.get(v);
+          if (finite(p)) box.add(p);
         }
-        continue;
-      }
-      for (std::int64_t z = lo.z; z <= hi.z; ++z)
-        for (std::int64_t y = lo.y; y <= hi.y; ++y)
-          for (std::int64_t x = lo.x; x <= hi.x; ++x) {
-            const std::int64_t id = grid.find(GridCoord{x, y, z});
-            if (id >= 0 && estimated[std::size_t(id)]) spill.append(std::uint32_t(id), &record, 1);
+        if (box.empty()) continue;
+        const GridCoord lo = grid.of(box.min - Vec3d{halo, halo, halo}),
+                        hi = grid.of(box.max + Vec3d{halo, halo, halo});
+        const double cells = double(hi.x - lo.x + 1) * double(hi.y - lo.y + 1) * double(hi.z - lo.z + 1);
+        if (cells > double(grid.count())) {  // a face far larger than the tiles: look at every tile
+          for (std::uint32_t id = 0; id < grid.count(); ++id) {
+            const GridCoord& c = grid.coord(id);
+            if (estimated[id] && c.x >= lo.x && c.x <= hi.x && c.y >= lo.y && c.y <= hi.y && c.z >= lo.z && c.z <= hi.z)
+              spill.append(id, &record, 1);
           }
+          continue;
+        }
+        for (std::int64_t z = lo.z; z <= hi.z; ++z)
+          for (std::int64_t y = lo.y; y <= hi.y; ++y)
+            for (std::int64_t x = lo.x; x <= hi.x; ++x) {
+              const std::int64_t id = grid.find(GridCoord{x, y, z});
+              if (id >= 0 && estimated[std::size_t(id)]) spill.append(std::uint32_t(id), &record, 1);
+            }
+      }
     }
   }
   input.restart_triangles();
   spill.flush();  // the streams' buffers go before the tiles' work comes
   // Each tile: its faces as a mesh of their own, its own vertices estimated.
+  ProgressPhase phase(settings.progress, "curvatures", settings.estimated_vertices, "vtx");
+  VertexCurvatureSettings vertex = settings.vertex;
+  vertex.progress = &phase;
   VertexCurvatureCounts total;
   std::vector<TileTriangle> records;
   std::vector<std::uint64_t> own_vertices;
@@ -226,7 +237,7 @@ VertexCurvatureCounts tiled_vertex_curvatures(MeshInput& input, const TiledCurva
         triangles.push_back(std::uint32_t(std::lower_bound(global.begin(), global.end(), v) - global.begin()));
     std::vector<TileTriangle>().swap(records);
     std::vector<float> k1, k2;
-    const VertexCurvatureCounts c = vertex_curvatures_of(positions, triangles, settings.vertex, own, &k1, &k2);
+    const VertexCurvatureCounts c = vertex_curvatures_of(positions, triangles, vertex, own, &k1, &k2);
     own_vertices.resize(own.size());
     for (std::size_t i = 0; i < own.size(); ++i) own_vertices[i] = global[own[i]];
     sink(own_vertices, k1, k2);

@@ -11,6 +11,7 @@
 
 #include "curvature/vertex_curvatures.hpp"
 #include "io/mesh_input.hpp"
+#include "oocsimp/progress.hpp"
 
 namespace oocsimp {
 
@@ -22,8 +23,9 @@ struct MeshSurvey {
   double longest_edge = 0;
 };
 
-/// One pass over the triangle stream of `input` (restarted after).
-MeshSurvey survey_mesh(MeshInput& input);
+/// One pass over the triangle stream of `input` (restarted after), reported as the
+/// progress phase "survey".
+MeshSurvey survey_mesh(MeshInput& input, const ProgressCallback& progress = {});
 
 struct TiledCurvatureSettings {
   VertexCurvatureSettings vertex;
@@ -31,6 +33,10 @@ struct TiledCurvatureSettings {
   double tile_side = 0;             ///< 0: from the budget
   std::uint64_t memory_budget = 0;  ///< bytes the tiles' data and the spill's memory take
   std::string temp_dir;
+  /// Where the binning ("bin tiles") and then the estimate ("curvatures", of
+  /// estimated_vertices) report their phases.
+  ProgressCallback progress;
+  std::uint64_t estimated_vertices = 0;
 };
 
 /// Heap bytes of a tile's work per vertex it holds (halo included): the triangle
