@@ -42,15 +42,16 @@ QuadricMesh generated(SyntheticShape shape, std::uint64_t triangles) {
   return mesh_of(load_mesh(d.file("m.ply")));
 }
 
-// A coarse uniform clustering of the terrain: folds, fins and non-manifold vertices,
-// as phase 1 hands them on.
-QuadricMesh clustered_terrain() {
+// A uniform clustering of the terrain (by default a coarse one): folds, fins and
+// non-manifold vertices, as phase 1 hands them on.
+QuadricMesh clustered_terrain(std::uint64_t triangles = 20000, int grid = 24) {
   ScratchDir d;
   GenerateOptions g;
   g.shape = SyntheticShape::terrain;
-  g.triangles = 20000;
+  g.triangles = triangles;
   generate_mesh(d.file("t.ply"), g);
-  REQUIRE(run_cli("simplify --quiet --method uniform --grid 24 '" + d.file("t.ply") + "' -o '" + d.file("c.ply") + "'")
+  REQUIRE(run_cli("simplify --quiet --method uniform --grid " + std::to_string(grid) + " '" + d.file("t.ply") +
+                  "' -o '" + d.file("c.ply") + "'")
               .exit_code == 0);
   return mesh_of(load_mesh(d.file("c.ply")));
 }
@@ -551,14 +552,7 @@ TEST_CASE("a pass's collapses worked out ahead on other threads are the ones it 
   // grid has folds and non-manifold vertices everywhere (collapses there check doubled
   // faces, and anchor their neighbours); the parts have flat faces and creases. The
   // run that works ahead has an arena of two threads whatever the machine's cores.
-  ScratchDir d;
-  GenerateOptions g;
-  g.shape = SyntheticShape::terrain;
-  g.triangles = 200000;
-  generate_mesh(d.file("t.ply"), g);
-  REQUIRE(run_cli("simplify --quiet --method uniform --grid 150 '" + d.file("t.ply") + "' -o '" + d.file("c.ply") + "'")
-              .exit_code == 0);
-  const QuadricMesh folded = mesh_of(load_mesh(d.file("c.ply")));
+  const QuadricMesh folded = clustered_terrain(200000, 150);
   const QuadricMesh parts = generated(SyntheticShape::parts, 60000);
   for (const QuadricMesh* mesh : {&folded, &parts}) {
     CollapseSettings s;
