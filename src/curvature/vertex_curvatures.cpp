@@ -27,6 +27,15 @@ struct VertexFaces {
   }
 };
 
+// What the estimate reads of a face, the same for every vertex near it.
+struct FaceShape {
+  Vec3d centroid;
+  double reach = 0;  // from the centroid to the farthest corner
+  Vec3d normal;      // the cross product of the edges from the first corner
+};
+// The budgets count it: in_memory_bytes (mesh_curvatures.cpp) and tile_bytes_per_vertex.
+static_assert(sizeof(FaceShape) == 56, "the curvature budgets count 56 bytes a face for its shape");
+
 // p's tangent frame: unit vectors t1, t2 and the normal n, right-handed.
 struct TangentFrame {
   Vec3d origin, t1, t2, n;
@@ -73,6 +82,7 @@ class VertexEstimator {
                   const VertexCurvatureSettings& settings)
       : positions_(positions), triangles_(triangles), settings_(settings), around_(positions.size(), triangles) {
     find_outline();
+    shape_faces();
   }
 
   enum class Outcome { invariant, fitted, none };
@@ -87,8 +97,8 @@ class VertexEstimator {
     const double r2 = settings_.radius * settings_.radius;
     Vec3d normal{0, 0, 0};
     for (const std::uint32_t f : s->faces) {
-      const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
-      if (squared_distance((a + b + c) * (1.0 / 3), p) <= r2) normal += cross(b - a, c - a);
+      const FaceShape& shape = shapes_[f];
+      if (squared_distance(shape.centroid, p) <= r2) normal += shape.normal;
     }
     const double normal_length = length(normal);
     if (!(normal_length > 0)) return Outcome::none;
@@ -115,10 +125,6 @@ class VertexEstimator {
 
  private:
   Vec3d corner(std::uint32_t f, int k) const { return positions_[triangles_[3 * std::size_t(f) + std::size_t(k)]]; }
-  Vec3d face_normal(std::uint32_t f) const {
-    const Vec3d a = corner(f, 0);
-    return cross(corner(f, 1) - a, corner(f, 2) - a);
-  }
 
   // The faces reached from v through shared vertices whose bounding spheres (about
   // the centroid) meet the ball of the height field's reach, into s->faces; the
@@ -137,12 +143,9 @@ class VertexEstimator {
         const std::uint32_t f = around_.faces[i];
         if (s->face_mark[f] == stamp) continue;
         s->face_mark[f] = stamp;
-        const Vec3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
-        const Vec3d centroid = (a + b + c) * (1.0 / 3);
-        const double reach = std::sqrt(
-            std::max({squared_distance(a, centroid), squared_distance(b, centroid), squared_distance(c, centroid)}));
+        const FaceShape& shape = shapes_[f];
         // (Written so that a face with a non-finite corner is left out.)
-        if (!(distance(centroid, p) <= reach_of_field + reach)) continue;
+        if (!(distance(shape.centroid, p) <= reach_of_field + shape.reach)) continue;
         s->faces.push_back(f);
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t w = triangles_[3 * std::size_t(f) + std::size_t(k)];
@@ -152,6 +155,25 @@ class VertexEstimator {
         }
       }
     }
+  }
+
+  // Each face's centroid, reach (to its farthest corner) and normal (the cross product
+  // of its edges from its first corner): the hundreds of vertices near a face each
+  // read them, so they are worked out once.
+  void shape_faces() {
+    shapes_.resize(triangles_.size() / 3);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, shapes_.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t f = range.begin(); f != range.end(); ++f) {
+            const Vec3d a = corner(std::uint32_t(f), 0), b = corner(std::uint32_t(f), 1),
+                        c = corner(std::uint32_t(f), 2);
+            FaceShape& shape = shapes_[f];
+            shape.centroid = (a + b + c) * (1.0 / 3);
+            shape.reach = std::sqrt(std::max({squared_distance(a, shape.centroid), squared_distance(b, shape.centroid),
+                                              squared_distance(c, shape.centroid)}));
+            shape.normal = cross(b - a, c - a);
+          }
+        });
   }
 
   // Each vertex on an edge of one face: where the surface has an outline, a line of
@@ -184,6 +206,7 @@ class VertexEstimator {
   const VertexCurvatureSettings& settings_;
   VertexFaces around_;
   std::vector<std::uint8_t> on_outline_;
+  std::vector<FaceShape> shapes_;
 };
 
 }  // namespace
