@@ -127,6 +127,7 @@ void LocalHeightField::reset(double radius) {
   bucket_size_ = -2 * lo_ / kBuckets;
   triangles_.clear();
   corners_.clear();
+  corner_shapes_.clear();
   for (std::vector<std::uint32_t>& list : bucket_lists_) list.clear();
 }
 
@@ -144,13 +145,7 @@ void LocalHeightField::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d&
   t.vx = c.x - a.x;
   t.vy = c.y - a.y;
   const double area2 = t.ux * t.vy - t.uy * t.vx;
-  {
-    Corners k{a, b, c, cross(b - a, c - a), 0, {}, {}};
-    k.normal_length = length(k.normal);
-    k.lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
-    k.hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
-    corners_.push_back(k);
-  }
+  corners_.push_back({a, b, c});
   // Seen edge-on (or degenerate): it crosses no vertical line.
   if (!(std::fabs(area2) > 1e-14 * radius_ * radius_)) return;
   t.inverse_area2 = 1 / area2;
@@ -192,14 +187,27 @@ int LocalHeightField::crossings(double x, double y, SurfaceCrossing* out) const 
 bool LocalHeightField::inside(const Vec3d& q) const {
   double nearest = HUGE_VAL, squareness = -1;
   bool in = false;
-  for (const Corners& t : corners_) {
-    const Vec3d& normal = t.normal;
-    const double normal_length = t.normal_length;
+  if (corner_shapes_.size() != corners_.size()) {
+    corner_shapes_.resize(corners_.size());
+    for (std::size_t i = 0; i < corners_.size(); ++i) {
+      const Corners& t = corners_[i];
+      CornerShape& k = corner_shapes_[i];
+      k.normal = cross(t.b - t.a, t.c - t.a);
+      k.normal_length = length(k.normal);
+      k.lo = {std::min({t.a.x, t.b.x, t.c.x}), std::min({t.a.y, t.b.y, t.c.y}), std::min({t.a.z, t.b.z, t.c.z})};
+      k.hi = {std::max({t.a.x, t.b.x, t.c.x}), std::max({t.a.y, t.b.y, t.c.y}), std::max({t.a.z, t.b.z, t.c.z})};
+    }
+  }
+  for (std::size_t i = 0; i < corners_.size(); ++i) {
+    const Corners& t = corners_[i];
+    const CornerShape& k = corner_shapes_[i];
+    const Vec3d& normal = k.normal;
+    const double normal_length = k.normal_length;
     if (!(normal_length > 0)) continue;
     // A triangle whose box is beyond the nearest distance (and its tie margin) is
     // farther still: it would change nothing below.
-    const Vec3d gap{std::max({t.lo.x - q.x, q.x - t.hi.x, 0.0}), std::max({t.lo.y - q.y, q.y - t.hi.y, 0.0}),
-                    std::max({t.lo.z - q.z, q.z - t.hi.z, 0.0})};
+    const Vec3d gap{std::max({k.lo.x - q.x, q.x - k.hi.x, 0.0}), std::max({k.lo.y - q.y, q.y - k.hi.y, 0.0}),
+                    std::max({k.lo.z - q.z, q.z - k.hi.z, 0.0})};
     const double reach = nearest * (1 + 1e-9);
     if (squared_length(gap) > reach * reach * (1 + 1e-6)) continue;
     const Vec3d d = q - metrics::closest_point_on_triangle(q, t.a, t.b, t.c);

@@ -76,17 +76,21 @@ class LocalHeightField {
   static constexpr int kBuckets = 8;  // per side of the square around the disk
   int bucket(double coordinate) const;
   double radius_ = 0, lo_ = 0, bucket_size_ = 1;
-  // A triangle for inside(): its corners, its normal (the cross product of its edges
-  // from a) and that normal's length, and its bounding box, a lower bound of the
-  // distance to it that spares most of the closest-point searches.
   struct Corners {
     Vec3d a, b, c;
+  };
+  // What inside() reads of a triangle besides its corners: its normal (the cross
+  // product of its edges from a) and that normal's length, and its bounding box, a
+  // lower bound of the distance to it that spares most closest-point searches. Worked
+  // out for every triangle at the field's first inside(), which most fields never call.
+  struct CornerShape {
     Vec3d normal;
     double normal_length = 0;
     Vec3d lo, hi;
   };
   std::vector<Projected> triangles_;
-  std::vector<Corners> corners_;  // every triangle added, edge-on ones too
+  std::vector<Corners> corners_;                    // every triangle added, edge-on ones too
+  mutable std::vector<CornerShape> corner_shapes_;  // empty until the first inside()
   std::vector<std::uint32_t> bucket_lists_[kBuckets * kBuckets];
 };
 
