@@ -158,8 +158,9 @@ void LocalHeightField::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d&
   if (x1 < lo_ || y1 < lo_ || x0 > hi || y0 > hi) return;
   const std::uint32_t index = std::uint32_t(triangles_.size());
   triangles_.push_back(t);
-  for (int by = bucket(y0); by <= bucket(y1); ++by)
-    for (int bx = bucket(x0); bx <= bucket(x1); ++bx) bucket_lists_[by * kBuckets + bx].push_back(index);
+  const int bx0 = bucket(x0), bx1 = bucket(x1), by0 = bucket(y0), by1 = bucket(y1);
+  for (int by = by0; by <= by1; ++by)
+    for (int bx = bx0; bx <= bx1; ++bx) bucket_lists_[by * kBuckets + bx].push_back(index);
 }
 
 int LocalHeightField::crossings(double x, double y, SurfaceCrossing* out) const {
