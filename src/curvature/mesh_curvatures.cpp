@@ -26,7 +26,7 @@ constexpr std::size_t kChunkTriangles = 65536;
 // Heap bytes the estimate in memory holds per vertex and per triangle: positions,
 // the faces around each vertex, the outline flags, k1 and k2, and each thread's marks.
 std::uint64_t in_memory_bytes(std::uint64_t vertices, std::uint64_t triangles, unsigned threads) {
-  const std::uint64_t per_vertex = 24 + 4 + 1 + 8 + 4 * threads;
+  const std::uint64_t per_vertex = 24 + 4 + 1 + 8 + 8 * threads;  // each thread's mark and slot
   const std::uint64_t per_triangle = 12 + 12 + 56 + 4 * threads;  // 56: the face's shape (FaceShape)
   return vertices * per_vertex + triangles * per_triangle;
 }

@@ -99,8 +99,8 @@ std::uint64_t tile_bytes_per_vertex(unsigned threads) {
   // the tile's vertices, their corners' global indices (2 x 3 x 8); the position 24,
   // the own list 4, the corners (2 x 12), the faces' shapes (2 x 56), the faces
   // around each vertex (start 4, 6 faces x 4), the outline flag 1, the results 8; and
-  // each thread's marks of vertices and faces (4 + 2 x 4).
-  return 2 * 32 + 2 * 3 * 8 + 24 + 4 + 2 * 12 + 2 * 56 + (4 + 6 * 4) + 1 + 8 + std::uint64_t(threads) * 12;
+  // each thread's marks and slots of vertices and marks of faces (4 + 4 + 2 x 4).
+  return 2 * 32 + 2 * 3 * 8 + 24 + 4 + 2 * 12 + 2 * 56 + (4 + 6 * 4) + 1 + 8 + std::uint64_t(threads) * 16;
 }
 
 double curvature_tile_side(const MeshInput& input, const TiledCurvatureSettings& settings, unsigned threads) {

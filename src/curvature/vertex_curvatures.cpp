@@ -56,17 +56,19 @@ TangentFrame frame_at(const Vec3d& origin, const Vec3d& unit_normal) {
   return {origin, u1, cross(n, u1), n};
 }
 
-// What one thread works in: marks of the faces and vertices reached, by stamp.
+// What one thread works in: marks of the faces and vertices reached, by stamp, and
+// each reached vertex's place in the queue.
 struct Scratch {
-  std::vector<std::uint32_t> face_mark, vertex_mark;
+  std::vector<std::uint32_t> face_mark, vertex_mark, vertex_slot;
   std::uint32_t stamp = 0;
   std::vector<std::uint32_t> queue, faces;
+  std::vector<Vec3d> local;  // the queue's positions in p's frame
   std::vector<Vec3d> points;
   LocalHeightField heights;
 
   std::uint32_t next_stamp(std::size_t faces, std::size_t vertices) {
     if (face_mark.size() < faces) face_mark.assign(faces, 0);
-    if (vertex_mark.size() < vertices) vertex_mark.assign(vertices, 0);
+    if (vertex_mark.size() < vertices) vertex_mark.assign(vertices, 0), vertex_slot.assign(vertices, 0);
     if (++stamp == 0) {
       std::fill(face_mark.begin(), face_mark.end(), 0);
       std::fill(vertex_mark.begin(), vertex_mark.end(), 0);
@@ -105,13 +107,16 @@ class VertexEstimator {
     const TangentFrame frame = frame_at(p, normal / normal_length);
     s->heights.reset(settings_.radius);
     s->points.clear();
+    // Each vertex reached is put in the frame once; the faces share their corners.
+    s->local.resize(s->queue.size());
+    for (std::size_t i = 0; i < s->queue.size(); ++i) s->local[i] = frame.local(positions_[s->queue[i]]);
+    const auto local_corner = [&](std::uint32_t f, int k) -> const Vec3d& {
+      return s->local[s->vertex_slot[triangles_[3 * std::size_t(f) + std::size_t(k)]]];
+    };
     for (const std::uint32_t f : s->faces)
-      s->heights.add_triangle(frame.local(corner(f, 0)), frame.local(corner(f, 1)), frame.local(corner(f, 2)));
-    for (const std::uint32_t w : s->queue) {
-      if (w == v) continue;
-      const Vec3d q = frame.local(positions_[w]);
-      if (squared_length(q) <= r2) s->points.push_back(q);
-    }
+      s->heights.add_triangle(local_corner(f, 0), local_corner(f, 1), local_corner(f, 2));
+    for (std::size_t i = 1; i < s->queue.size(); ++i)  // the queue's first is v
+      if (squared_length(s->local[i]) <= r2) s->points.push_back(s->local[i]);
     bool closed = true;
     for (const std::uint32_t w : s->queue) closed = closed && !on_outline_[w];
     const bool found = settings_.neighbourhood == CurvatureNeighbourhood::ball
@@ -137,6 +142,7 @@ class VertexEstimator {
     s->queue.clear();
     s->queue.push_back(v);
     s->vertex_mark[v] = stamp;
+    s->vertex_slot[v] = 0;
     for (std::size_t next = 0; next < s->queue.size(); ++next) {
       const std::uint32_t u = s->queue[next];
       for (std::uint32_t i = around_.start[u]; i < around_.start[u + 1]; ++i) {
@@ -151,6 +157,7 @@ class VertexEstimator {
           const std::uint32_t w = triangles_[3 * std::size_t(f) + std::size_t(k)];
           if (s->vertex_mark[w] == stamp) continue;
           s->vertex_mark[w] = stamp;
+          s->vertex_slot[w] = std::uint32_t(s->queue.size());
           s->queue.push_back(w);
         }
       }
