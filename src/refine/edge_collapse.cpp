@@ -222,11 +222,10 @@ void CollapseState::build_adjacency() {
 }
 
 void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
-  distinct_neighbours(v, out);
-  sort_small(out);
+  if (!distinct_neighbours(v, out)) sort_small(out);
 }
 
-void CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+bool CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
   out->clear();
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
@@ -235,7 +234,7 @@ void CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32
     }
   });
   // Each neighbour comes once or twice (once per face on the edge).
-  keep_distinct(out);
+  return keep_distinct(out);
 }
 
 int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
@@ -504,19 +503,11 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
 // share counted.
 CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
   thread_local std::vector<std::uint32_t> around_a, around_b;
-  const auto corners = [&](std::uint32_t v, std::vector<std::uint32_t>* out) {
-    out->clear();
-    for_each_face(v, [&](std::uint32_t f) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
-        if (u != a && u != b) out->push_back(u);
-      }
-    });
-  };
-  corners(a, &around_a);
-  corners(b, &around_b);
+  const bool sorted_a = distinct_neighbours(a, &around_a), sorted_b = distinct_neighbours(b, &around_b);
+  // Each without the other end (removing keeps a sorted list sorted).
+  around_a.erase(std::remove(around_a.begin(), around_a.end(), b), around_a.end());
+  around_b.erase(std::remove(around_b.begin(), around_b.end(), a), around_b.end());
   LinkCounts link;
-  const bool sorted_a = keep_distinct(&around_a), sorted_b = keep_distinct(&around_b);
   if (sorted_a && sorted_b) {
     std::size_t i = 0, j = 0;
     while (i < around_a.size() && j < around_b.size()) {

@@ -225,8 +225,9 @@ class CollapseState {
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
   /// The distinct vertices sharing a live face with v, ascending. Any thread.
   void neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
-  /// The distinct vertices sharing a live face with v, in no set order. Any thread.
-  void distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
+  /// The distinct vertices sharing a live face with v, in no set order (ascending when
+  /// it returns true: a hub's long list is sorted). Any thread.
+  bool distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// Calls f(u) for each corner u of each live face of v (v itself among them, and
   /// neighbours once per face they share with v). Any thread.
   template <class F>
