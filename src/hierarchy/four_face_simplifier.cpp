@@ -1,6 +1,9 @@
 #include "hierarchy/four_face_simplifier.hpp"
 
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +18,8 @@ namespace oocsimp {
 namespace {
 
 constexpr double kNoCost = std::numeric_limits<double>::infinity();
+// The queue is taken in batches of this many entries, their plans worked out ahead.
+constexpr std::size_t kAheadBatch = 256;
 
 Vec3d face_normal(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
 
@@ -128,7 +133,9 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
 
 bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   thread_local FourKMesh::Fan fan;
+  plan->neighbours.clear();
   if (!mesh_.fan(v, &fan)) return false;
+  plan->neighbours.assign(fan.ring.begin(), fan.ring.end());
   int n = int(fan.ring.size());
   const bool closed = fan.closed;
   // Inside, 3 neighbours at least; on the boundary, an ear (one face) goes only where
@@ -259,6 +266,11 @@ void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
 }
 
 void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records) {
+  // The swaps and the removal change the faces of v and of every neighbour it had,
+  // and the quadrics of some: plans made before around them are stale.
+  ++removals_;
+  changed_[v] = removals_;
+  for (const std::uint32_t u : plan.neighbours) changed_[u] = removals_;
   const float error = float(plan.cost);
   for (const std::uint32_t mid : plan.swapped) {
     HierarchyRecord swap;
@@ -294,32 +306,159 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
     for (std::size_t v = range.begin(); v != range.end(); ++v)
       if (mesh_.vertex_alive(std::uint32_t(v)) && plan_removal(std::uint32_t(v), &plan)) cost_[v] = plan.cost;
   });
-  queue_.clear();
-  for (std::uint32_t v = 0; v < n; ++v)
-    if (cost_[v] < kNoCost) queue_.push_back({cost_[v], v});
   const Entry::Later later;
-  std::make_heap(queue_.begin(), queue_.end(), later);
+  order_.clear();
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (cost_[v] < kNoCost) order_.push_back({cost_[v], v});
+  tbb::parallel_sort(order_.begin(), order_.end(), [&](const Entry& a, const Entry& b) { return later(b, a); });
+  next_ = 0;
+  returned_.clear();
+  free_slots_.clear();
+  for (std::size_t i = kept_.size(); i-- > 0;) free_slots_.push_back(std::uint32_t(i));
+  removals_ = 0;
+  changed_.assign(n, 0);
+  ahead_on_ = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
+              tbb::this_task_arena::max_concurrency() > 1;
+  ahead_.clear();
+  ahead_first_ = 0;
+  if (ahead_on_ && claimed_.size() != n) claimed_.assign(n, claim_);
 
   // Steps 2-3: the cheapest unmarked vertex first. Each vertex is in the queue once;
   // its plan is made again when it comes out (the removals around it since may have
   // changed it), and a cost that rose past the next in line goes back (lazy updates).
+  // A plan made earlier (ahead, or when its entry went back) is taken as it is where
+  // nothing it read has changed since.
   std::uint64_t removed = 0;
-  Plan plan;
+  Plan own;
   const std::uint64_t enough = std::uint64_t(options_.level_ratio * double(mesh_.live_faces()));
-  while (!queue_.empty() && mesh_.live_faces() > enough) {
-    std::pop_heap(queue_.begin(), queue_.end(), later);
-    const Entry e = queue_.back();
-    queue_.pop_back();
-    if (marked_[e.vertex] || !mesh_.vertex_alive(e.vertex) || !plan_removal(e.vertex, &plan)) continue;
-    if (plan.cost > e.cost && !queue_.empty() && later({plan.cost, e.vertex}, queue_.front())) {
-      queue_.push_back({plan.cost, e.vertex});
-      std::push_heap(queue_.begin(), queue_.end(), later);
+  Entry e;
+  const KnownPlan* known = nullptr;
+  while (mesh_.live_faces() > enough && next_entry(&e, &known)) {
+    if (e.slot != kNoSlot) free_slots_.push_back(e.slot);  // read below before any reuse
+    if (marked_[e.vertex] || !mesh_.vertex_alive(e.vertex)) continue;
+    const Plan* plan = nullptr;
+    if (known && is_fresh(e.vertex, *known)) {
+      if (known->ok) plan = &known->plan;
+    } else if (plan_removal(e.vertex, &own)) {
+      plan = &own;
+    }
+    if (!plan) continue;
+    if (plan->cost > e.cost && has_next() && later({plan->cost, e.vertex}, next_in_line())) {
+      go_back(e, *plan);
       continue;
     }
-    remove(e.vertex, plan, records);
+    remove(e.vertex, *plan, records);
     ++removed;
   }
   return removed;
+}
+
+// The next entry in the queue's order: the next sorted one, or the heap's top where
+// an entry that went back is cheaper. `known` is its plan made earlier, or null.
+bool FourFaceSimplifier::next_entry(Entry* entry, const KnownPlan** known) {
+  const Entry::Later later;
+  *known = nullptr;
+  if (next_ < order_.size() && (returned_.empty() || later(returned_.front(), order_[next_]))) {
+    if (ahead_on_) {
+      if (next_ == ahead_first_ + ahead_.size()) work_ahead();
+      const KnownPlan& k = ahead_[next_ - ahead_first_];
+      if (k.ready) *known = &k;
+    }
+    *entry = order_[next_++];
+    return true;
+  }
+  if (returned_.empty()) return false;
+  std::pop_heap(returned_.begin(), returned_.end(), later);
+  *entry = returned_.back();
+  returned_.pop_back();
+  *known = &kept_[entry->slot];
+  return true;
+}
+
+const FourFaceSimplifier::Entry& FourFaceSimplifier::next_in_line() const {
+  const Entry::Later later;
+  if (next_ == order_.size()) return returned_.front();
+  const Entry& sorted = order_[next_];
+  return !returned_.empty() && later(sorted, returned_.front()) ? returned_.front() : sorted;
+}
+
+// The entry back into the queue at the plan's cost, the plan kept for its next turn.
+// (The entry's own slot, if it had one, is free again and may be the one taken.)
+void FourFaceSimplifier::go_back(const Entry& e, const Plan& plan) {
+  std::uint32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = std::uint32_t(kept_.size());
+    kept_.emplace_back();
+  }
+  KnownPlan& k = kept_[slot];
+  if (&k.plan != &plan) k.plan = plan;
+  k.ok = k.ready = true;
+  k.made_at = removals_;
+  returned_.push_back({plan.cost, e.vertex, slot});
+  std::push_heap(returned_.begin(), returned_.end(), Entry::Later{});
+}
+
+// The plans of the next kAheadBatch sorted entries, made on several threads before
+// any is taken. An entry within two edges of an earlier one of the batch is left to
+// the walk: the earlier is likely removed, which marks the later or makes its plan
+// stale (cheap vertices come in runs of neighbours on flat patches, whose costs tie).
+void FourFaceSimplifier::work_ahead() {
+  ahead_first_ = next_;
+  ahead_.resize(std::min(kAheadBatch, order_.size() - next_));
+  auto vertex_of = [&](std::size_t i) { return order_[ahead_first_ + i].vertex; };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      KnownPlan& k = ahead_[i];
+      const std::uint32_t v = vertex_of(i);
+      k.ready = !marked_[v] && mesh_.vertex_alive(v);
+      k.plan.neighbours.clear();
+      if (k.ready)
+        for (const std::uint32_t f : mesh_.faces_of(v))
+          for (int c = 0; c < 3; ++c)
+            if (mesh_.corners(f)[c] != v) k.plan.neighbours.push_back(mesh_.corners(f)[c]);
+    }
+  });
+  const std::uint32_t claim = next_claim();
+  for (std::size_t i = 0; i < ahead_.size(); ++i) {
+    KnownPlan& k = ahead_[i];
+    if (!k.ready) continue;
+    const std::uint32_t v = vertex_of(i);
+    bool near = claimed_[v] == claim;
+    for (std::size_t j = 0; j < k.plan.neighbours.size() && !near; ++j) near = claimed_[k.plan.neighbours[j]] == claim;
+    k.ready = !near;
+    if (near) continue;
+    claimed_[v] = claim;
+    for (const std::uint32_t u : k.plan.neighbours) claimed_[u] = claim;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      KnownPlan& k = ahead_[i];
+      if (!k.ready) continue;
+      k.ok = plan_removal(vertex_of(i), &k.plan);
+      k.made_at = removals_;
+    }
+  });
+}
+
+// A new value for claimed_, none of whose entries holds it yet.
+std::uint32_t FourFaceSimplifier::next_claim() {
+  if (++claim_ == 0) {
+    std::fill(claimed_.begin(), claimed_.end(), 0);
+    claim_ = 1;
+  }
+  return claim_;
+}
+
+// Whether no removal since the plan was made changed what it read: the faces and
+// quadrics of v and of its neighbours then.
+bool FourFaceSimplifier::is_fresh(std::uint32_t v, const KnownPlan& known) const {
+  if (changed_[v] > known.made_at) return false;
+  for (const std::uint32_t u : known.plan.neighbours)
+    if (changed_[u] > known.made_at) return false;
+  return true;
 }
 
 }  // namespace oocsimp

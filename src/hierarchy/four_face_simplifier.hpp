@@ -66,6 +66,9 @@ class FourFaceSimplifier {
     int ring_count = 0;
     bool closed = false;
     double ring_cost[4];  // C_i = (Q_v + Q_i)(p_i) for each
+    /// v's neighbours when the plan was made: with v, the vertices whose faces and
+    /// quadrics it read (empty when v's faces were not one fan).
+    std::vector<std::uint32_t> neighbours;
   };
 
   bool plan_removal(std::uint32_t v, Plan* plan) const;
@@ -75,10 +78,13 @@ class FourFaceSimplifier {
   void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
   void share_quadric(std::uint32_t v, const Plan& plan);
 
+  static constexpr std::uint32_t kNoSlot = 0xffffffffu;
+
   struct Entry {
     double cost;
     std::uint32_t vertex;
-    /// The heap's order: the cheapest (then the least vertex) on top.
+    std::uint32_t slot = kNoSlot;  // an entry that went back: its plan in kept_
+    /// The queue's order: the cheapest, then the least vertex, first.
     struct Later {
       bool operator()(const Entry& a, const Entry& b) const {
         return a.cost > b.cost || (a.cost == b.cost && a.vertex > b.vertex);
@@ -86,13 +92,48 @@ class FourFaceSimplifier {
     };
   };
 
+  /// A plan made before its vertex's turn: it holds then unless a removal since
+  /// changed the faces or quadric of the vertex or of a neighbour (is_fresh()).
+  struct KnownPlan {
+    bool ready = false;  // made (else the walk plans the vertex itself)
+    bool ok = false;     // plan_removal()'s answer
+    std::uint32_t made_at = 0;  // removals_ when it was made
+    Plan plan;
+  };
+
+  // Steps 2-3, the walk of the queue (simplify_level()).
+  bool next_entry(Entry* entry, const KnownPlan** known);
+  bool has_next() const { return next_ < order_.size() || !returned_.empty(); }
+  const Entry& next_in_line() const;
+  void go_back(const Entry& e, const Plan& plan);
+  void work_ahead();
+  bool is_fresh(std::uint32_t v, const KnownPlan& known) const;
+  std::uint32_t next_claim();
+
   FourKMesh& mesh_;
   const HierarchyOptions& options_;
   std::vector<Quadric> quadrics_;
-  // Per level: marked vertices, each vertex's cost at the start, the queue.
+  // Per level: marked vertices, each vertex's cost at the start, and the queue: the
+  // entries sorted cheapest first (and the next to take), and a heap of the entries
+  // that went back with a higher cost, their plans kept (free slots in free_slots_).
   std::vector<std::uint8_t> marked_;
   std::vector<double> cost_;
-  std::vector<Entry> queue_;
+  std::vector<Entry> order_;
+  std::size_t next_ = 0;
+  std::vector<Entry> returned_;
+  std::vector<KnownPlan> kept_;
+  std::vector<std::uint32_t> free_slots_;
+  // The removals taken this level, and per vertex how many had been taken when its
+  // faces or quadric last changed.
+  std::uint32_t removals_ = 0;
+  std::vector<std::uint32_t> changed_;
+  // The plans of order_[ahead_first_, ahead_first_ + ahead_.size()), when this level
+  // works them out ahead; per vertex, the batch that claimed it (work_ahead()).
+  bool ahead_on_ = false;
+  std::vector<KnownPlan> ahead_;
+  std::size_t ahead_first_ = 0;
+  std::vector<std::uint32_t> claimed_;
+  std::uint32_t claim_ = 0;
 };
 
 }  // namespace oocsimp
