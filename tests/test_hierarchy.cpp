@@ -14,6 +14,11 @@
 #include <set>
 #include <tuple>
 
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include "hierarchy/four_face_simplifier.hpp"
+#include "hierarchy/four_k_mesh.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
@@ -390,6 +395,63 @@ TEST_CASE("the .4k file reads back as written, and the same bytes come for any t
     CHECK(x.triangles == y.triangles);
     // The view's positions are double, and the file keeps them so.
     CHECK(x.positions == y.positions);
+  }
+}
+
+TEST_CASE("plans made ahead on other threads, or kept by entries that went back, give the walk's records",
+          "[hierarchy]") {
+  // A level's walk may make the plans of its next entries on several threads, and an
+  // entry whose cost rose keeps its plan; either is taken only where nothing it read
+  // has changed since. Under one thread nothing is made ahead. The parts have flat
+  // patches whose zero costs tie (runs of neighbours in the queue), the height field
+  // and the sphere smooth costs. The run that works ahead has an arena of two
+  // threads whatever the machine's cores.
+  ScratchDir tmp;
+  const Mesh parts = generated(SyntheticShape::parts, 60000, tmp);
+  const Mesh field = height_field(150);
+  const Mesh sphere = uv_sphere(100, 120);
+  for (const Mesh* m : {&parts, &field, &sphere}) {
+    struct Run {
+      std::vector<HierarchyRecord> records;
+      FourFaceSimplifier::WalkStats stats;
+    };
+    auto run = [&] {
+      std::vector<Vec3d> positions;
+      for (std::size_t i = 0; i < m->positions.size(); i += 3)
+        positions.push_back({m->positions[i], m->positions[i + 1], m->positions[i + 2]});
+      FourKMesh mesh(std::move(positions), m->triangles);
+      const HierarchyOptions options;
+      FourFaceSimplifier simplifier(&mesh, options);
+      simplifier.assign_quadrics();
+      Run r;
+      for (int level = 0; level < 8; ++level) simplifier.simplify_level(&r.records);
+      r.stats = simplifier.walk_stats();
+      return r;
+    };
+    Run alone, ahead;
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+      alone = run();
+    }
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+      tbb::task_arena arena(2);
+      arena.execute([&] { ahead = run(); });
+    }
+    INFO(m->triangles.size() / 3 << " faces, " << alone.records.size() << " records; plans made ahead "
+                                 << ahead.stats.made_ahead << ", kept " << alone.stats.kept << " and "
+                                 << ahead.stats.kept);
+    CHECK(alone.stats.made_ahead == 0);
+    CHECK(ahead.stats.made_ahead > alone.records.size() / 8);
+    CHECK(alone.stats.kept > 0);
+    REQUIRE(alone.records.size() == ahead.records.size());
+    bool same = true;
+    for (std::size_t i = 0; i < alone.records.size() && same; ++i) {
+      const HierarchyRecord &a = alone.records[i], &b = ahead.records[i];
+      same = a.swap == b.swap && a.vertex == b.vertex && a.face_count == b.face_count && a.error == b.error &&
+             std::equal(a.faces, a.faces + 4, b.faces);
+    }
+    CHECK(same);
   }
 }
 

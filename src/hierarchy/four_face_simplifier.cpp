@@ -338,6 +338,7 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
     if (marked_[e.vertex] || !mesh_.vertex_alive(e.vertex)) continue;
     const Plan* plan = nullptr;
     if (known && is_fresh(e.vertex, *known)) {
+      ++(e.slot != kNoSlot ? walk_stats_.kept : walk_stats_.made_ahead);
       if (known->ok) plan = &known->plan;
     } else if (plan_removal(e.vertex, &own)) {
       plan = &own;
@@ -409,18 +410,19 @@ void FourFaceSimplifier::work_ahead() {
   ahead_first_ = next_;
   ahead_.resize(std::min(kAheadBatch, order_.size() - next_));
   auto vertex_of = [&](std::size_t i) { return order_[ahead_first_ + i].vertex; };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      KnownPlan& k = ahead_[i];
-      const std::uint32_t v = vertex_of(i);
-      k.ready = !marked_[v] && mesh_.vertex_alive(v);
-      k.plan.neighbours.clear();
-      if (k.ready)
-        for (const std::uint32_t f : mesh_.faces_of(v))
-          for (int c = 0; c < 3; ++c)
-            if (mesh_.corners(f)[c] != v) k.plan.neighbours.push_back(mesh_.corners(f)[c]);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        KnownPlan& k = ahead_[i];
+                        const std::uint32_t v = vertex_of(i);
+                        k.ready = !marked_[v] && mesh_.vertex_alive(v);
+                        k.plan.neighbours.clear();
+                        if (k.ready)
+                          for (const std::uint32_t f : mesh_.faces_of(v))
+                            for (int c = 0; c < 3; ++c)
+                              if (mesh_.corners(f)[c] != v) k.plan.neighbours.push_back(mesh_.corners(f)[c]);
+                      }
+                    });
   const std::uint32_t claim = next_claim();
   for (std::size_t i = 0; i < ahead_.size(); ++i) {
     KnownPlan& k = ahead_[i];
@@ -433,14 +435,15 @@ void FourFaceSimplifier::work_ahead() {
     claimed_[v] = claim;
     for (const std::uint32_t u : k.plan.neighbours) claimed_[u] = claim;
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      KnownPlan& k = ahead_[i];
-      if (!k.ready) continue;
-      k.ok = plan_removal(vertex_of(i), &k.plan);
-      k.made_at = removals_;
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ahead_.size(), 8),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        KnownPlan& k = ahead_[i];
+                        if (!k.ready) continue;
+                        k.ok = plan_removal(vertex_of(i), &k.plan);
+                        k.made_at = removals_;
+                      }
+                    });
 }
 
 // A new value for claimed_, none of whose entries holds it yet.

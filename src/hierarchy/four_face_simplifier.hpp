@@ -56,6 +56,13 @@ class FourFaceSimplifier {
   /// `records`; returns how many vertices it removed.
   std::uint64_t simplify_level(std::vector<HierarchyRecord>* records);
 
+  /// Plans the walk took as made before the vertex's turn: ahead on other threads
+  /// (none under one thread), or when its entry went back.
+  struct WalkStats {
+    std::uint64_t made_ahead = 0, kept = 0;
+  };
+  const WalkStats& walk_stats() const { return walk_stats_; }
+
  private:
   struct Plan {
     double cost = 0;                     // E(v), eq. 6
@@ -95,8 +102,8 @@ class FourFaceSimplifier {
   /// A plan made before its vertex's turn: it holds then unless a removal since
   /// changed the faces or quadric of the vertex or of a neighbour (is_fresh()).
   struct KnownPlan {
-    bool ready = false;  // made (else the walk plans the vertex itself)
-    bool ok = false;     // plan_removal()'s answer
+    bool ready = false;         // made (else the walk plans the vertex itself)
+    bool ok = false;            // plan_removal()'s answer
     std::uint32_t made_at = 0;  // removals_ when it was made
     Plan plan;
   };
@@ -134,6 +141,7 @@ class FourFaceSimplifier {
   std::size_t ahead_first_ = 0;
   std::vector<std::uint32_t> claimed_;
   std::uint32_t claim_ = 0;
+  WalkStats walk_stats_;
 };
 
 }  // namespace oocsimp
