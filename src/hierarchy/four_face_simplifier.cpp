@@ -150,18 +150,24 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   auto edge_exists = [&](std::uint32_t a, std::uint32_t b) { return mesh_.has_edge(a, b); };
 
   // Swaps, the cheapest first, until v has `keep` neighbours. Each ring position's
-  // swap is costed once; taking one changes only the two beside it.
+  // swap is costed once; taking one changes only the two beside it. Whether the new
+  // edge exists already is asked only of the cheapest (it seldom does).
   struct Swap {
-    bool valid = false;
+    bool valid = false, edge_checked = false;
     double key = 0, cost = 0;
   };
   thread_local std::vector<Swap> swaps;
+  auto ends_of = [&](int i, std::uint32_t* prev, std::uint32_t* next) {
+    *prev = ring[std::size_t((i + n - 1) % n)];
+    *next = ring[std::size_t((i + 1) % n)];
+  };
   auto cost_swap = [&](int i) {
     Swap s;
     if (!closed && (i == 0 || i == n - 1)) return s;  // the chain's ends stay
-    const std::uint32_t prev = ring[std::size_t((i + n - 1) % n)], mid = ring[std::size_t(i)],
-                        next = ring[std::size_t((i + 1) % n)];
-    if (prev == next || edge_exists(prev, next)) return s;
+    std::uint32_t prev, next;
+    ends_of(i, &prev, &next);
+    const std::uint32_t mid = ring[std::size_t(i)];
+    if (prev == next) return s;
     const std::uint32_t old_faces[6] = {v, prev, mid, v, mid, next};
     const std::uint32_t new_faces[6] = {v, prev, next, prev, mid, next};
     double least = 0;
@@ -179,13 +185,23 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   }
   while (n > keep) {
     int best = -1;
-    for (int i = 0; i < n; ++i) {
-      const Swap& s = swaps[std::size_t(i)];
-      if (!s.valid) continue;
-      const Swap* b = best < 0 ? nullptr : &swaps[std::size_t(best)];
-      if (!b || s.key < b->key || (s.key == b->key && ring[std::size_t(i)] < ring[std::size_t(best)])) best = i;
+    for (;;) {
+      best = -1;
+      for (int i = 0; i < n; ++i) {
+        const Swap& s = swaps[std::size_t(i)];
+        if (!s.valid) continue;
+        const Swap* b = best < 0 ? nullptr : &swaps[std::size_t(best)];
+        if (!b || s.key < b->key || (s.key == b->key && ring[std::size_t(i)] < ring[std::size_t(best)])) best = i;
+      }
+      if (best < 0) return false;
+      Swap& b = swaps[std::size_t(best)];
+      if (b.edge_checked) break;
+      b.edge_checked = true;
+      std::uint32_t prev, next;
+      ends_of(best, &prev, &next);
+      if (!edge_exists(prev, next)) break;
+      b.valid = false;
     }
-    if (best < 0) return false;
     plan->swapped.push_back(ring[std::size_t(best)]);
     plan->swaps += swaps[std::size_t(best)].cost;
     ring.erase(ring.begin() + best);
