@@ -434,9 +434,8 @@ void FourFaceSimplifier::work_ahead() {
                         k.ready = !marked_[v] && mesh_.vertex_alive(v);
                         k.plan.neighbours.clear();
                         if (k.ready)
-                          for (const std::uint32_t f : mesh_.faces_of(v))
-                            for (int c = 0; c < 3; ++c)
-                              if (mesh_.corners(f)[c] != v) k.plan.neighbours.push_back(mesh_.corners(f)[c]);
+                          for (const FourKMesh::Incidence& f : mesh_.around(v))
+                            k.plan.neighbours.insert(k.plan.neighbours.end(), {f.from, f.to});
                       }
                     });
   const std::uint32_t claim = next_claim();

@@ -8,51 +8,48 @@
 namespace oocsimp {
 
 FourKMesh::FourKMesh(std::vector<Vec3d> positions, std::vector<std::uint32_t> triangles)
-    : positions_(std::move(positions)), corners_(std::move(triangles)), faces_of_(positions_.size()) {
+    : positions_(std::move(positions)), corners_(std::move(triangles)), around_(positions_.size()) {
   live_faces_ = corners_.size() / 3;
-  for (std::size_t i = 0; i < corners_.size(); ++i) faces_of_[corners_[i]].push_back(std::uint32_t(i / 3));
-  for (const std::vector<std::uint32_t>& faces : faces_of_) live_vertices_ += !faces.empty();
+  for (std::size_t f = 0; f < live_faces_; ++f) link(std::uint32_t(f));
+  for (const std::vector<Incidence>& faces : around_) live_vertices_ += !faces.empty();
+}
+
+void FourKMesh::link(std::uint32_t f) {
+  const std::uint32_t* c = corners(f);
+  for (int k = 0; k < 3; ++k) around_[c[k]].push_back({f, c[(k + 1) % 3], c[(k + 2) % 3]});
 }
 
 bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
-  const std::vector<std::uint32_t>& faces = faces_of_[v];
+  const std::vector<Incidence>& faces = around_[v];
   const std::size_t n = faces.size();
   out->ring.clear();
   out->faces.clear();
   if (n == 0) return false;
-  // Each face as (v, from, to).
-  thread_local std::vector<std::uint32_t> from, to;
-  from.resize(n);
-  to.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t* c = corners(faces[i]);
-    const int at = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-    from[i] = c[(at + 1) % 3];
-    to[i] = c[(at + 2) % 3];
-  }
+  auto from = [&](std::size_t i) { return faces[i].from; };
+  auto to = [&](std::size_t i) { return faces[i].to; };
   // The start: the face whose `from` is no face's `to` (the boundary), else the face
   // with the least `from`, so that the ring is the same however the list is ordered.
   std::size_t start = n, least = 0;
   for (std::size_t i = 0; i < n; ++i) {
     bool entered = false;
-    for (std::size_t j = 0; j < n && !entered; ++j) entered = j != i && to[j] == from[i];
+    for (std::size_t j = 0; j < n && !entered; ++j) entered = j != i && to(j) == from(i);
     if (!entered) {
       if (start != n) return false;  // two boundary starts: two fans
       start = i;
     }
-    if (from[i] < from[least]) least = i;
+    if (from(i) < from(least)) least = i;
   }
   out->closed = start == n;
   if (out->closed) start = least;
-  out->ring.push_back(from[start]);
+  out->ring.push_back(from(start));
   std::size_t face = start;
   for (std::size_t step = 0; step < n; ++step) {
-    out->faces.push_back(faces[face]);
-    out->ring.push_back(to[face]);
+    out->faces.push_back(faces[face].face);
+    out->ring.push_back(to(face));
     if (step + 1 == n) break;
     std::size_t next = n;
     for (std::size_t j = 0; j < n; ++j)
-      if (from[j] == to[face]) next = j;
+      if (from(j) == to(face)) next = j;
     if (next == n) return false;
     face = next;
   }
@@ -68,29 +65,20 @@ bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
 }
 
 bool FourKMesh::has_edge(std::uint32_t a, std::uint32_t b) const {
-  for (std::uint32_t f : faces_of_[a]) {
-    const std::uint32_t* c = corners(f);
-    if (c[0] == b || c[1] == b || c[2] == b) return true;
-  }
+  for (const Incidence& i : around_[a])
+    if (i.from == b || i.to == b) return true;
   return false;
 }
 
 bool FourKMesh::has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
-  for (std::uint32_t f : faces_of_[a]) {
-    const std::uint32_t* k = corners(f);
-    const bool with_b = k[0] == b || k[1] == b || k[2] == b;
-    const bool with_c = k[0] == c || k[1] == c || k[2] == c;
-    if (with_b && with_c) return true;
-  }
+  for (const Incidence& i : around_[a])
+    if ((i.from == b && i.to == c) || (i.from == c && i.to == b)) return true;
   return false;
 }
 
 std::uint32_t FourKMesh::face_with_edge(std::uint32_t a, std::uint32_t b) const {
-  for (std::uint32_t f : faces_of_[a]) {
-    const std::uint32_t* c = corners(f);
-    for (int k = 0; k < 3; ++k)
-      if (c[k] == a && c[(k + 1) % 3] == b) return f;
-  }
+  for (const Incidence& i : around_[a])
+    if (i.from == b) return i.face;
   return HierarchyRecord::kNoFace;
 }
 
@@ -102,19 +90,20 @@ std::uint32_t FourKMesh::apply(const HierarchyRecord& record) {
   for (int i = 0; i < record.face_count; ++i) {
     const std::uint32_t f = record.faces[i];
     for (int k = 0; k < 3; ++k) {
-      std::vector<std::uint32_t>& list = faces_of_[corners(f)[k]];
-      list.erase(std::find(list.begin(), list.end(), f));
+      std::vector<Incidence>& list = around_[corners(f)[k]];
+      list.erase(std::find_if(list.begin(), list.end(), [f](const Incidence& x) { return x.face == f; }));
       if (list.empty()) --live_vertices_;
     }
   }
   const std::uint32_t first = std::uint32_t(corners_.size() / 3);
-  for (int i = 0; i < count; ++i)
+  for (int i = 0; i < count; ++i) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = made[3 * i + k];
       corners_.push_back(v);
-      if (faces_of_[v].empty()) ++live_vertices_;
-      faces_of_[v].push_back(first + std::uint32_t(i));
+      if (around_[v].empty()) ++live_vertices_;
     }
+    link(first + std::uint32_t(i));
+  }
   live_faces_ = live_faces_ - record.face_count + std::uint64_t(count);
   return first;
 }

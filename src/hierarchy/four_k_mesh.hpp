@@ -20,6 +20,11 @@ class FourKMesh {
     std::vector<std::uint32_t> ring, faces;
     bool closed = false;
   };
+  /// A live face around a vertex v: the face (v, from, to), counter-clockwise. The
+  /// lists hold the other corners so that walking a vertex's faces reads one list.
+  struct Incidence {
+    std::uint32_t face, from, to;
+  };
 
   /// The finest mesh: 3 indices per face, every edge of at most two faces wound
   /// oppositely, every vertex's faces one fan (manifold_input.hpp makes it so).
@@ -32,8 +37,9 @@ class FourKMesh {
   const std::uint32_t* corners(std::uint32_t f) const { return &corners_[3 * std::size_t(f)]; }
   std::uint64_t live_faces() const { return live_faces_; }
   std::uint64_t live_vertices() const { return live_vertices_; }
-  bool vertex_alive(std::uint32_t v) const { return !faces_of_[v].empty(); }
-  const std::vector<std::uint32_t>& faces_of(std::uint32_t v) const { return faces_of_[v]; }
+  bool vertex_alive(std::uint32_t v) const { return !around_[v].empty(); }
+  /// v's live faces, in the order they were made.
+  const std::vector<Incidence>& around(std::uint32_t v) const { return around_[v]; }
 
   /// v's fan into `out`; false when its faces are not one fan.
   bool fan(std::uint32_t v, Fan* out) const;
@@ -49,9 +55,11 @@ class FourKMesh {
   std::uint32_t apply(const HierarchyRecord& record);
 
  private:
+  void link(std::uint32_t f);  // face f into its corners' lists
+
   std::vector<Vec3d> positions_;
   std::vector<std::uint32_t> corners_;
-  std::vector<std::vector<std::uint32_t>> faces_of_;  // live faces around each vertex
+  std::vector<std::vector<Incidence>> around_;  // live faces around each vertex
   std::uint64_t live_faces_ = 0, live_vertices_ = 0;
 };
 
