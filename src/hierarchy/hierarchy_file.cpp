@@ -1,6 +1,9 @@
 #include "hierarchy/hierarchy_file.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <stdexcept>
+#include <vector>
 
 #include "hierarchy/hierarchy_steps.hpp"
 #include "io/content_hash.hpp"
@@ -53,38 +56,57 @@ bool has_hierarchy_magic(const std::string& bytes) {
 }
 
 std::string hierarchy_file_bytes(const MeshHierarchy& h) {
-  std::string body;
-  for (const HierarchyLevel& level : h.levels) {
-    put<std::uint64_t>(&body, level.end_record);
-    put<std::uint64_t>(&body, level.triangles);
-    put<std::uint64_t>(&body, level.vertices);
-    put<float>(&body, level.largest_error);
-    put<std::uint32_t>(&body, 0);
-  }
-  for (double x : h.positions)
-    if (h.precision == ScalarType::f64)
-      put<double>(&body, x);
-    else
-      put<float>(&body, float(x));
-  for (std::uint32_t v : h.triangles) put<std::uint32_t>(&body, v);
-  for (const HierarchyRecord& r : h.records) {
-    put<std::uint8_t>(&body, r.swap ? kSwapHead : r.face_count);
-    put<float>(&body, r.error);
-    put<std::uint32_t>(&body, r.vertex);
-    for (int i = 0; i < r.face_count; ++i) put<std::uint32_t>(&body, r.faces[i]);
-  }
+  // The header carries the body's size, so the body is written after it in place.
+  const bool f64 = h.precision == ScalarType::f64;
+  std::size_t body_bytes = h.levels.size() * 32 + h.positions.size() * (f64 ? 8 : 4) + h.triangles.size() * 4;
+  for (const HierarchyRecord& r : h.records) body_bytes += 9 + 4 * std::size_t(r.face_count);
+  const std::size_t blocks = (body_bytes + kBlockBytes - 1) / kBlockBytes;
   std::string out(kMagic, sizeof kMagic);
   put<std::uint32_t>(&out, kHierarchyFileVersion);
-  put<std::uint32_t>(&out, h.precision == ScalarType::f64 ? 1 : 0);
+  put<std::uint32_t>(&out, f64 ? 1 : 0);
   put<std::uint64_t>(&out, h.positions.size() / 3);
   put<std::uint64_t>(&out, h.triangles.size() / 3);
   put<std::uint64_t>(&out, h.records.size());
   put<std::uint64_t>(&out, h.levels.size());
-  put<std::uint64_t>(&out, body.size());
+  put<std::uint64_t>(&out, body_bytes);
   put<std::uint64_t>(&out, content_hash(out.data(), out.size()));
-  out += body;
-  for (std::size_t at = 0; at < body.size(); at += kBlockBytes)
-    put<std::uint64_t>(&out, content_hash(body.data() + at, std::min(kBlockBytes, body.size() - at)));
+  const std::size_t body_at = out.size();
+  out.reserve(body_at + body_bytes + 8 * blocks);
+
+  for (const HierarchyLevel& level : h.levels) {
+    put<std::uint64_t>(&out, level.end_record);
+    put<std::uint64_t>(&out, level.triangles);
+    put<std::uint64_t>(&out, level.vertices);
+    put<float>(&out, level.largest_error);
+    put<std::uint32_t>(&out, 0);
+  }
+  // The arrays through a buffer: appending value by value costs more than the rest.
+  std::vector<char> buffer(std::size_t(1) << 16);
+  std::size_t held = 0;
+  auto add = [&](auto value) {
+    if (held + sizeof value > buffer.size()) {
+      out.append(buffer.data(), held);
+      held = 0;
+    }
+    std::memcpy(buffer.data() + held, &value, sizeof value);
+    held += sizeof value;
+  };
+  for (double x : h.positions)
+    if (f64)
+      add(x);
+    else
+      add(float(x));
+  for (std::uint32_t v : h.triangles) add(v);
+  for (const HierarchyRecord& r : h.records) {
+    add(std::uint8_t(r.swap ? kSwapHead : r.face_count));
+    add(r.error);
+    add(r.vertex);
+    for (int i = 0; i < r.face_count; ++i) add(r.faces[i]);
+  }
+  out.append(buffer.data(), held);
+  if (out.size() != body_at + body_bytes) throw std::logic_error("hierarchy_file_bytes: the body's size");
+  for (std::size_t at = 0; at < body_bytes; at += kBlockBytes)
+    put<std::uint64_t>(&out, content_hash(out.data() + body_at + at, std::min(kBlockBytes, body_bytes - at)));
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "hierarchy/manifold_input.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -17,7 +19,7 @@ void check_edges(const std::vector<std::uint32_t>& triangles, const std::string&
   for (std::size_t f = 0; f < triangles.size(); f += 3)
     for (int k = 0; k < 3; ++k)
       edges.push_back(std::uint64_t(triangles[f + std::size_t(k)]) << 32 | triangles[f + std::size_t((k + 1) % 3)]);
-  std::sort(edges.begin(), edges.end());
+  tbb::parallel_sort(edges.begin(), edges.end());
   const auto twice = std::adjacent_find(edges.begin(), edges.end());
   if (twice == edges.end()) return;
   throw InputError(name + ": the edge from vertex " + std::to_string(*twice >> 32) + " to vertex " +
