@@ -512,3 +512,38 @@ TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[
   CHECK(r.exit_code == 3);
   CHECK_THAT(r.err, Catch::Contains("not an oocsimp hierarchy"));
 }
+
+TEST_CASE("an input over the budget is simplified out of core first, its quadrics kept when asked",
+          "[hierarchy][cli]") {
+  // 32 MiB hold a hierarchy of 32 MiB / 400 bytes = 83886 triangles; the sphere has
+  // 99600, so the edge collapse brings it to that count first (even, as a closed
+  // surface's count is). Either way every level stays closed, manifold and of Euler
+  // characteristic 2; starting from the collapse's quadrics changes the records.
+  ScratchDir tmp;
+  const std::string in = tmp.file("s.ply"), plain = tmp.file("plain.4k"), kept = tmp.file("kept.4k"),
+                    out = tmp.file("l.ply");
+  const Mesh sphere = uv_sphere(250, 200);
+  REQUIRE(sphere.triangles.size() / 3 == 99600);
+  std::vector<float> p(sphere.positions.begin(), sphere.positions.end());
+  write_binary_ply(in, p, sphere.triangles);
+  CliResult r = run_cli("hierarchy " + in + " -o " + plain + " --mem 32M --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("(simplified out of core to 83886 first)"));
+  r = run_cli("hierarchy " + in + " -o " + kept + " --mem 32M --reuse-quadrics --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("(simplified out of core to 83886 first, its quadrics kept)"));
+  CHECK(read_file(plain) != read_file(kept));
+  for (const std::string& h : {plain, kept}) {
+    const MeshHierarchy built = read_hierarchy(h);
+    REQUIRE(built.levels.size() > 4);
+    CHECK(built.levels[0].triangles == 83886);
+    for (std::uint32_t j = 0; j < built.levels.size(); j += 3) {
+      const SimplifiedMesh m = level(built, j);
+      const Topology t = topology(m.positions, m.triangles);
+      INFO(h << " level " << j << ": " << t.faces << " faces");
+      CHECK(t.manifold);
+      CHECK(t.boundary_edges == 0);
+      CHECK(t.euler() == 2);
+    }
+  }
+}

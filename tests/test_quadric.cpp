@@ -115,3 +115,30 @@ TEST_CASE("a plane quadric added in a shifted, scaled frame measures the same ar
   CHECK(world.error((p + q + r) / 3) == Approx(0).margin(1e-12));
   CHECK(world.error(p + n * 0.7) == Approx(area * 0.49));
 }
+
+TEST_CASE("a quadric translated by an offset measures the same distances at the moved points", "[quadric]") {
+  // Three planes and an edge quadric summed in a frame whose origin is o; in model
+  // units the same planes pass through their points plus o, so the translated
+  // quadric at x + o is the first at x, and at a moved triangle's own points it is
+  // what adding that triangle in model units gives.
+  const Vec3d o{1000.5, -250.25, 40};
+  const Vec3d p{1.5, -2, 0.25}, q{3, 1, -1}, r{-0.5, 2.5, 2}, t{0.5, 0.5, 4};
+  Quadric local, model;
+  local.add_triangle(p, q, r);
+  local.add_triangle(p, r, t);
+  model.add_triangle(p + o, q + o, r + o);
+  model.add_triangle(p + o, r + o, t + o);
+  const Quadric moved = local.translated(o);
+  for (const Vec3d& x : {Vec3d{0, 0, 0}, Vec3d{1, 2, 3}, Vec3d{-4, 0.5, 2}, p, q, t}) {
+    const double e = local.error(x);
+    CHECK(moved.error(x + o) == Approx(e).margin(1e-6 * (1 + e)));
+    CHECK(model.error(x + o) == Approx(e).margin(1e-6 * (1 + e)));
+  }
+  // A is unchanged; only the linear and constant terms move.
+  CHECK(moved.a00 == local.a00);
+  CHECK(moved.a12 == local.a12);
+  // No offset: the same quadric.
+  const Quadric same = local.translated({0, 0, 0});
+  CHECK(same.b0 == local.b0);
+  CHECK(same.c == local.c);
+}

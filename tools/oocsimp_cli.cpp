@@ -850,7 +850,7 @@ struct HierarchyArgs {
   std::string in, out;
   Given levels, threads, mem, level_ratio;
   HierarchyOptions options;
-  bool quiet = false, sequential = false;
+  bool quiet = false, sequential = false, reuse_quadrics = false;
 };
 
 CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
@@ -861,6 +861,8 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
   add_given(cmd, "--levels", &a.levels, "Levels to build (default: until a level removes nothing)");
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
+  cmd->add_flag("--reuse-quadrics", a.reuse_quadrics,
+                "After that out-of-core phase, start from its vertex quadrics rather than the reduced mesh's faces");
   cmd->add_flag("--sequential", a.sequential,
                 "A level's removals need not be independent: the cheapest first, as an edge collapse takes them "
                 "(closer to QEM, a deeper hierarchy)");
@@ -882,6 +884,7 @@ int run_hierarchy(HierarchyArgs& a) {
       bad_value("--level-ratio", a.level_ratio.text, "a number from 0 to below 1");
   }
   o.independent = !a.sequential;
+  o.reuse_quadrics = a.reuse_quadrics;
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   ProgressReporter progress(a.quiet);
@@ -889,7 +892,9 @@ int run_hierarchy(HierarchyArgs& a) {
   HierarchyStats st;
   build_hierarchy_file(a.in, a.out, o, &st);
   std::printf("hierarchy %" PRIu64 " vertices, %" PRIu64 " triangles", st.input_vertices, st.input_triangles);
-  if (st.reduced_triangles) std::printf(" (simplified out of core to %" PRIu64 " first)", st.reduced_triangles);
+  if (st.reduced_triangles)
+    std::printf(" (simplified out of core to %" PRIu64 " first%s)", st.reduced_triangles,
+                st.kept_quadrics ? ", its quadrics kept" : "");
   std::printf("\n");
   if (st.split_vertices) std::printf("split %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
   std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), file %.1f MiB\n", st.records, st.swaps,

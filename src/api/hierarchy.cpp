@@ -32,6 +32,7 @@ constexpr std::uint64_t kBuildBytesPerTriangle = 400;
 struct LoadedMesh {
   std::vector<Vec3d> positions;
   std::vector<std::uint32_t> triangles;
+  std::vector<Quadric> quadrics;  // the out-of-core phase's, one per vertex (or none)
 };
 
 LoadedMesh load(MeshInput& input) {
@@ -45,8 +46,9 @@ LoadedMesh load(MeshInput& input) {
 }
 
 // The simplified mesh as the builder takes it, freeing it on the way.
-LoadedMesh from_simplified(SimplifiedMesh s) {
+LoadedMesh from_simplified(SimplifiedMesh s, std::vector<Quadric> quadrics) {
   LoadedMesh m;
+  if (quadrics.size() == s.positions.size() / 3) m.quadrics = std::move(quadrics);
   m.positions.resize(s.positions.size() / 3);
   for (std::size_t v = 0; v < m.positions.size(); ++v)
     m.positions[v] = {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
@@ -58,9 +60,15 @@ LoadedMesh from_simplified(SimplifiedMesh s) {
 MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOptions& options, ScalarType precision,
                     HierarchyStats* stats) {
   ManifoldMesh manifold = make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
-  MeshHierarchy h = build_four_k_hierarchy(manifold.positions, manifold.triangles, options);
+  // A vertex split into fans gives each copy its whole quadric: the sum does not say
+  // which fan each plane came from.
+  if (!mesh.quadrics.empty())
+    for (const std::uint32_t v : manifold.copied_from) mesh.quadrics.push_back(mesh.quadrics[v]);
+  const bool kept_quadrics = !mesh.quadrics.empty();
+  MeshHierarchy h = build_four_k_hierarchy(manifold.positions, manifold.triangles, options, std::move(mesh.quadrics));
   h.precision = precision;
   if (stats) {
+    stats->kept_quadrics = kept_quadrics;
     stats->split_vertices = manifold.split_vertices;
     stats->records = h.records.size();
     stats->swaps = 0;
@@ -151,9 +159,10 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
     reduce.temp_dir = options.temp_dir;
     reduce.progress = options.progress;
     reduce.attributes.mode = AttributeSelection::Mode::none;
-    SimplifiedMesh reduced = simplify(input, reduce, nullptr);
+    std::vector<Quadric> quadrics;
+    SimplifiedMesh reduced = simplify(input, reduce, nullptr, options.reuse_quadrics ? &quadrics : nullptr);
     st.reduced_triangles = reduced.triangles.size() / 3;
-    h = build(from_simplified(std::move(reduced)), input_path, options, precision, &st);
+    h = build(from_simplified(std::move(reduced), std::move(quadrics)), input_path, options, precision, &st);
   } else {
     h = build(load(input), input_path, options, precision, &st);
   }

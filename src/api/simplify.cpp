@@ -194,7 +194,8 @@ void begin_stats(const MeshInput& input, const SimplifyOptions& options, Simplif
 
 // simplify(), with the output's arrays where the clusterers put them (mapped files
 // for an output large next to the budget).
-OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats) {
+OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats,
+                           std::vector<Quadric>* quadrics = nullptr) {
   SimplifyOptions options = given;
   options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
@@ -205,7 +206,7 @@ OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, Simpl
   begin_stats(input, options, &st);
   OutputMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {
-    m = OutputMesh::of(simplify_to_target(input, options, &st));
+    m = OutputMesh::of(simplify_to_target(input, options, &st, quadrics));
   } else {
     const GridSpec grid = choose_grid(input, options.sizing, options.threads);
     record_grid(grid, &st);
@@ -220,8 +221,10 @@ OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, Simpl
 
 }  // namespace
 
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
-  return simplify_output(input, options, stats).take();
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
+                        std::vector<Quadric>* quadrics) {
+  if (quadrics) quadrics->clear();
+  return simplify_output(input, options, stats, quadrics).take();
 }
 
 namespace {

@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include "cluster/quadric.hpp"
 #include "grid/grid_choice.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
@@ -21,7 +22,10 @@ namespace oocsimp {
 /// corners fall in three different clusters, each unordered triple once with the
 /// orientation of its first occurrence in file order, and the result is
 /// byte-identical for any thread count (and, for floating cells, any tiling).
-SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+/// With a target, `quadrics` (when given) receives the output vertices' quadrics
+/// where the run ends in the edge collapse (simplify_to_target); else it stays empty.
+SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
+                        std::vector<Quadric>* quadrics = nullptr);
 
 /// simplify() at K levels, finest first. Level 0 is what simplify() gives for
 /// `options`; level k clusters at cell C F^k (C the cell of level 0), and equals

@@ -62,6 +62,20 @@ struct Quadric {
     b2 += w * o.b2;
     c += w * o.c;
   }
+  /// The same planes moved by `offset`: E'(x + offset) = E(x), so that a quadric
+  /// summed in a frame with origin o serves points in model units with offset o.
+  Quadric translated(const Vec3d& offset) const {
+    // (x - o)^T A (x - o) - 2 b^T (x - o) + c = x^T A x - 2 (b + A o)^T x + (o^T A o + 2 b^T o + c).
+    Quadric q = *this;
+    const double ox = a00 * offset.x + a01 * offset.y + a02 * offset.z;
+    const double oy = a01 * offset.x + a11 * offset.y + a12 * offset.z;
+    const double oz = a02 * offset.x + a12 * offset.y + a22 * offset.z;
+    q.b0 += ox;
+    q.b1 += oy;
+    q.b2 += oz;
+    q.c += offset.x * ox + offset.y * oy + offset.z * oz + 2 * (b0 * offset.x + b1 * offset.y + b2 * offset.z);
+    return q;
+  }
   /// E(x): the area-weighted sum of squared distances from x to the planes.
   double error(const Vec3d& x) const {
     const double ax = a00 * x.x + a01 * x.y + a02 * x.z;

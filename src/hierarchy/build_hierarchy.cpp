@@ -9,7 +9,7 @@
 namespace oocsimp {
 
 MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
-                                     const HierarchyOptions& options) {
+                                     const HierarchyOptions& options, std::vector<Quadric> quadrics) {
   MeshHierarchy h;
   h.positions.reserve(3 * positions.size());
   for (const Vec3d& p : positions) h.positions.insert(h.positions.end(), {p.x, p.y, p.z});
@@ -17,7 +17,7 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
 
   FourKMesh mesh(positions, triangles);
   FourFaceSimplifier simplifier(&mesh, options);
-  simplifier.assign_quadrics();
+  simplifier.assign_quadrics(std::move(quadrics));
   h.levels.push_back({0, mesh.live_faces(), mesh.live_vertices(), 0});
   // Progress in faces gone: a level takes a share of what is left.
   ProgressPhase progress(options.progress, "4-k levels", mesh.live_faces(), "tri");

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "cluster/plane_quadric.hpp"
 #include "common/triangle_geometry.hpp"
@@ -36,8 +37,13 @@ int face_with(const std::uint32_t* faces, int count, std::uint32_t a, std::uint3
 FourFaceSimplifier::FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options)
     : mesh_(*mesh), options_(options) {}
 
-void FourFaceSimplifier::assign_quadrics() {
+void FourFaceSimplifier::assign_quadrics(std::vector<Quadric> given) {
   const std::size_t n = mesh_.vertex_count();
+  if (!given.empty()) {
+    if (given.size() != n) throw std::logic_error("FourFaceSimplifier::assign_quadrics: a quadric per vertex");
+    quadrics_ = std::move(given);
+    return;
+  }
   quadrics_.assign(n, Quadric{});
   const std::vector<std::uint32_t>& corners = mesh_.face_corners();
   const std::size_t faces = corners.size() / 3;

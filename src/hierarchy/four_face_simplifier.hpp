@@ -50,8 +50,9 @@ class FourFaceSimplifier {
   FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options);
 
   /// Q_v = sum of the area-weighted plane quadrics of v's faces (eq. 5), plus the
-  /// boundary edges' planes.
-  void assign_quadrics();
+  /// boundary edges' planes; or `given` (when not empty, one per vertex), the quadrics a
+  /// simplification that made this mesh summed, so that the error it made counts on.
+  void assign_quadrics(std::vector<Quadric> given = {});
   /// One level: rank, select and simplify (steps 1-3). Appends its records to
   /// `records`; returns how many vertices it removed.
   std::uint64_t simplify_level(std::vector<HierarchyRecord>* records);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cluster/quadric.hpp"
 #include "oocsimp/geometry.hpp"
 #include "oocsimp/hierarchy.hpp"
 
@@ -13,8 +14,10 @@ namespace oocsimp {
 /// Velho 1999 Algorithm 1 on a manifold mesh (manifold_input.hpp): the records of
 /// each level until a level removes nothing or options.levels are built, with
 /// face_corners and first_new_face filled. Positions are copied into the result.
+/// `quadrics` (one per vertex, or none) are the vertices' starting quadrics in place
+/// of their faces' and outline's (FourFaceSimplifier::assign_quadrics).
 MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles,
-                                     const HierarchyOptions& options);
+                                     const HierarchyOptions& options, std::vector<Quadric> quadrics = {});
 
 /// Fills hierarchy->face_corners and first_new_face from the finest mesh and the
 /// records. Returns the index of the first record that does not fit (a face that does

@@ -96,6 +96,7 @@ ManifoldMesh make_manifold(std::vector<Vec3d> positions, std::vector<std::uint32
       if (r == i) {
         copy_of[i] = std::uint32_t(positions.size());
         positions.push_back(positions[v]);
+        out.copied_from.push_back(v);
         ++out.split_vertices;
       } else {
         copy_of[i] = copy_of[r];

@@ -16,6 +16,9 @@ struct ManifoldMesh {
   std::vector<std::uint32_t> triangles;
   std::uint64_t split_vertices = 0;  ///< copies added where several fans met at a vertex
   std::uint64_t dropped_faces = 0;   ///< faces naming a vertex twice, or a non-finite one
+  /// For each copy appended, the vertex it copies (the input's vertices keep their
+  /// numbers).
+  std::vector<std::uint32_t> copied_from;
 };
 
 /// Drops faces that name a vertex twice or use a non-finite vertex, then splits each

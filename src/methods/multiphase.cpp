@@ -177,6 +177,8 @@ struct CollapseInput {
 struct CollapseGoal {
   std::uint64_t target = 0;
   bool last = true;  // no finer phase 1 follows: a missed count is warned of
+  /// When set, the output vertices' quadrics go there, in model units.
+  std::vector<Quadric>* quadrics = nullptr;
 };
 
 struct CollapseResult {
@@ -223,7 +225,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
-  settings.result_quadrics = false;  // the output's
+  settings.result_quadrics = goal.quadrics != nullptr;  // the output's
   settings.lock_boundary = options.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);
   CollapseStats cs;
@@ -237,6 +239,10 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   CollapseResult out;
   out.finer_may_help = note_collapse(cs, done.triangles.size() / 3, goal, options, stats);
   out.mesh = to_output(done, in.origin, *in.attributes, in.locked);
+  if (goal.quadrics) {
+    *goal.quadrics = std::move(done.quadrics);
+    for (Quadric& q : *goal.quadrics) q = q.translated(in.origin);
+  }
   stats->output_vertices = out.mesh.positions.size() / 3;
   stats->output_triangles = out.mesh.triangles.size() / 3;
   clock.end("refine");
@@ -266,7 +272,8 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
 
 // Phase 2 alone, on the whole input: --method qem, and a target so near the input's
 // count that phase 1 would keep nearly everything.
-SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats) {
+SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats,
+                              std::vector<Quadric>* quadrics) {
   PhaseTimer clock;
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
@@ -277,7 +284,7 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
   return refine({std::move(whole), origin, &input.attributes.attributes, false,
                  locked_positions(input.positions, o.locked_vertices)},
-                {target, true}, o, stats)
+                {target, true, quadrics}, o, stats)
       .mesh;
 }
 
@@ -285,8 +292,9 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
 // down to a few times the target, then whole.
 // With `parts`, the parts of a distributed run did the passes' first.
 SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t estimate,
-                            SimplifyStats* stats, const FirstPassParts* parts = nullptr) {
-  if (!collapses_in_passes(input.info.face_count, estimate)) return collapse_whole(input, o, origin, stats);
+                            SimplifyStats* stats, const FirstPassParts* parts = nullptr,
+                            std::vector<Quadric>* quadrics = nullptr) {
+  if (!collapses_in_passes(input.info.face_count, estimate)) return collapse_whole(input, o, origin, stats, quadrics);
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   CollapseInput rest;
@@ -303,7 +311,7 @@ SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Ve
   rest.boundary_planes_in_quadrics = true;
   rest.locked = locked_positions(input.positions, o.locked_vertices);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
-  SimplifiedMesh out = refine(std::move(rest), {target, true}, o, stats).mesh;
+  SimplifiedMesh out = refine(std::move(rest), {target, true, quadrics}, o, stats).mesh;
   stats->refine.collapses += pass_collapses;
   stats->refine.largest_collapse_error = std::max(stats->refine.largest_collapse_error, pass_error);
   return out;
@@ -435,7 +443,8 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
 // attempt's phases and warnings stay in the stats.
 // With `parts`, the first attempt's phase 1 comes from the parts of a distributed run.
 SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
-                          SimplifyStats* stats, const PartsPhaseOne* parts = nullptr) {
+                          SimplifyStats* stats, const PartsPhaseOne* parts = nullptr,
+                          std::vector<Quadric>* quadrics = nullptr) {
   const IntermediatePlan plan(input, *o, estimate);
   const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, o->locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
@@ -452,7 +461,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
                                 (attempt > 0 ? "clustering finer still missed the target"
                                              : "clustering to the " + std::to_string(std::uint64_t(want)) +
                                                    " triangles phase 1 aims at would keep most of it"));
-      return collapse_whole(input, *o, origin, stats);
+      return collapse_whole(input, *o, origin, stats, quadrics);
     }
     const bool finest = plan.finest(attempt);
     const bool from_parts = parts && (attempt == 0 || parts->any_grid);
@@ -460,7 +469,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
     if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
-    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest}, *o, stats);
+    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest, quadrics}, *o, stats);
     if (!out.finer_may_help || finest) return std::move(out.mesh);
   }
 }
@@ -521,14 +530,16 @@ TargetRun prepare_target(const MeshInput& input, const SimplifyOptions& options)
 
 }  // namespace
 
-SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats) {
+SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
+                                  std::vector<Quadric>* quadrics) {
+  if (quadrics) quadrics->clear();
   TargetRun run = prepare_target(input, options);
   SimplifyOptions& o = run.o;
   if (run.as_is) return input_as_is(input, o, run.estimate, stats);
-  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, run.origin, run.estimate, stats);
+  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, run.origin, run.estimate, stats, nullptr, quadrics);
   // --refine none: phase 1 alone, at the cell for about the target itself.
   if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(run.estimate), false, stats).mesh;
-  return multiphase(input, &o, run.origin, run.estimate, stats);
+  return multiphase(input, &o, run.origin, run.estimate, stats, nullptr, quadrics);
 }
 
 bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, GridSpec* grid) {

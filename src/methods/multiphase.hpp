@@ -17,15 +17,20 @@
 namespace oocsimp {
 
 /// Simplifies `input` (triangle stream at its start) to options.target:
-///  - ClusterMethod::qem: the whole mesh in memory (refused with a UsageError when it
-///    would not fit in options.memory_budget), per-vertex face quadrics, collapse;
+///  - ClusterMethod::qem: per-vertex face quadrics and the collapse, on the whole mesh
+///    in memory, or out of core in passes of tiles down to a remainder that fits
+///    options.memory_budget, then whole;
 ///  - uniform or floating: phase 1 clusters to about target.intermediate_factor x the
 ///    target at a cell chosen from the vertex sample (choose_grid), handing on each
 ///    cluster's summed quadric; phase 2 collapses that mesh, in memory, to the target.
 /// A target at or above the input's triangles gives the input back with a warning.
 /// Fills `stats` (the clustering's fields, intermediate_triangles, collapses, the
 /// largest collapse cost and error, target_missed, phase seconds "refine").
-SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats);
+/// `quadrics`, when given, receives the output vertices' quadrics (boundary planes
+/// included, in model units) where the run ends in the collapse; otherwise it is
+/// left empty.
+SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
+                                  std::vector<Quadric>* quadrics = nullptr);
 
 /// Part `part` of `parts` of simplify_to_target's run with options.method qem (the
 /// default with a target): the share of the first out-of-core pass that falls to the
