@@ -19,6 +19,9 @@
 
 #include "hierarchy/four_face_simplifier.hpp"
 #include "hierarchy/four_k_mesh.hpp"
+#include "io/attribute_array.hpp"
+#include "io/content_hash.hpp"
+#include "io/mesh_input.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
@@ -477,8 +480,8 @@ TEST_CASE("a damaged, truncated, foreign or other-version .4k file is refused na
   CHECK_THAT(refused(bytes.substr(0, 30)), Catch::Contains("byte"));
   CHECK_THAT(refused("ply\nformat binary_little_endian 1.0\n"), Catch::Contains("byte 0: not an oocsimp hierarchy"));
   std::string version = bytes;
-  version[8] = 2;
-  CHECK_THAT(refused(version), Catch::Contains("version 2") && Catch::Contains("reads version 1"));
+  version[8] = 3;
+  CHECK_THAT(refused(version), Catch::Contains("version 3") && Catch::Contains("reads versions 1 to 2"));
   std::string header = bytes;
   header[20] = char(header[20] ^ 1);
   CHECK_THAT(refused(header), Catch::Contains("byte 56") && Catch::Contains("header"));
@@ -495,7 +498,7 @@ TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[
   CHECK_THAT(r.out, Catch::Contains("records"));
   r = run_cli("info " + h);
   REQUIRE(r.exit_code == 0);
-  CHECK_THAT(r.out, Catch::Contains("4-k hierarchy, version 1"));
+  CHECK_THAT(r.out, Catch::Contains("4-k hierarchy, version 2"));
   r = run_cli("extract " + h + " -o " + out + " --level 2");
   CHECK(r.exit_code == 0);
   const LoadedMesh l = load_mesh(out);
@@ -545,5 +548,149 @@ TEST_CASE("an input over the budget is simplified out of core first, its quadric
       CHECK(t.boundary_edges == 0);
       CHECK(t.euler() == 2);
     }
+  }
+}
+
+namespace {
+
+// A coloured uv sphere: red from the height, quality x * y (as float), both functions
+// of the position, which a 4-k hierarchy never moves.
+struct ColouredSphere {
+  Mesh mesh = uv_sphere(30, 40);
+  std::vector<std::uint8_t> red;
+  std::vector<float> quality;
+  ColouredSphere() {
+    for (std::size_t v = 0; v < mesh.positions.size(); v += 3) {
+      red.push_back(red_at(mesh.positions[v + 2]));
+      quality.push_back(quality_at(mesh.positions[v], mesh.positions[v + 1]));
+    }
+  }
+  static std::uint8_t red_at(double z) { return std::uint8_t(std::lround(127.5 * (z + 1))); }
+  static float quality_at(double x, double y) { return float(x * y); }
+  MeshView view() const {
+    MeshView v = view_of(mesh);
+    v.attributes.add({"red", AttributeType::u8, 0, 255}, red.data(), 1);
+    v.attributes.add({"quality", AttributeType::f32, -1, 1}, quality.data(), sizeof(float));
+    return v;
+  }
+};
+
+// Whether every vertex of `m` carries red and quality as functions of its position.
+bool carries_sphere_values(const SimplifiedMesh& m) {
+  if (m.attributes.attributes.size() != 2 || m.attributes.attributes[0].name != "red" ||
+      m.attributes.attributes[1].name != "quality" || m.attributes.values.size() != 2 * (m.positions.size() / 3))
+    return false;
+  for (std::size_t v = 0; v < m.positions.size() / 3; ++v) {
+    const double x = m.positions[3 * v], y = m.positions[3 * v + 1], z = m.positions[3 * v + 2];
+    if (m.attributes.values[2 * v] != ColouredSphere::red_at(z)) return false;
+    if (m.attributes.values[2 * v + 1] != double(ColouredSphere::quality_at(x, y))) return false;
+  }
+  return true;
+}
+
+// The header's and the blocks' checksums made right again after `bytes` were edited,
+// with the body now `body` bytes long (the file format of docs/hierarchy.md).
+std::string with_checksums(std::string bytes, std::uint64_t body) {
+  constexpr std::size_t kHeader = 64, kBlock = std::size_t(1) << 20;
+  std::memcpy(&bytes[48], &body, 8);
+  const std::uint64_t header_hash = content_hash(bytes.data(), 56);
+  std::memcpy(&bytes[56], &header_hash, 8);
+  bytes.resize(kHeader + body);
+  for (std::size_t at = 0; at < body; at += kBlock) {
+    const std::uint64_t h = content_hash(bytes.data() + kHeader + at, std::min<std::size_t>(kBlock, body - at));
+    bytes.append(reinterpret_cast<const char*>(&h), 8);
+  }
+  return bytes;
+}
+
+}  // namespace
+
+TEST_CASE("every extracted mesh carries its vertices' attributes, through the file and the command line",
+          "[hierarchy][attributes]") {
+  ScratchDir tmp;
+  const ColouredSphere sphere;
+  const MeshHierarchy h = build_hierarchy(sphere.view(), {});
+  REQUIRE(h.attributes.attributes.size() == 2);
+  CHECK(h.attributes.attributes[0].type == AttributeType::u8);
+  const std::string path = tmp.file("c.4k");
+  write_hierarchy(h, path);
+  const MeshHierarchy back = read_hierarchy(path);
+  CHECK(back.file_version == 2);
+  CHECK(back.attributes.values == h.attributes.values);
+  CHECK(back.attributes.attributes[1].type == AttributeType::f32);
+  for (std::uint32_t j = 0; j < h.levels.size(); j += 2) {
+    INFO("level " << j);
+    CHECK(carries_sphere_values(level(h, j)));
+    CHECK(carries_sphere_values(level(back, j)));
+  }
+  HierarchyQuery region;
+  region.level = std::uint32_t(h.levels.size() - 1);
+  region.region = HierarchyQuery::Region::sphere;
+  region.centre = {0, 0, 1};
+  region.radius = 0.3;
+  CHECK(carries_sphere_values(extract_mesh(back, region)));
+
+  // The command line: a PLY with the two properties in, the same values out, and
+  // none with --attributes none.
+  const std::string in = tmp.file("c.ply"), out = tmp.file("l.ply"), bare = tmp.file("bare.4k");
+  SimplifiedMesh finest = level(h, 0);
+  write_mesh(in, finest.positions, finest.triangles, MeshFormat::ply_binary, ScalarType::f64, &finest.attributes);
+  REQUIRE(run_cli("hierarchy " + in + " -o " + path + " --quiet").exit_code == 0);
+  CliResult r = run_cli("info " + path);
+  CHECK_THAT(r.out, Catch::Contains("attributes red (uchar) quality (float)"));
+  REQUIRE(run_cli("extract " + path + " -o " + out + " --level 3").exit_code == 0);
+  MeshInput from_file = open_mesh_input(out);
+  SimplifiedMesh extracted;
+  extracted.attributes.attributes = from_file.attributes.attributes;
+  for (std::uint64_t v = 0; v < from_file.positions.count; ++v) {
+    const Vec3d p = from_file.positions.get(v);
+    extracted.positions.insert(extracted.positions.end(), {p.x, p.y, p.z});
+    for (std::size_t j = 0; j < from_file.attributes.size(); ++j)
+      extracted.attributes.values.push_back(attribute_value(from_file.attributes, v, j));
+  }
+  CHECK(extracted.positions.size() / 3 == h.levels[3].vertices);
+  CHECK(carries_sphere_values(extracted));
+  REQUIRE(run_cli("hierarchy " + in + " -o " + bare + " --attributes none --quiet").exit_code == 0);
+  CHECK(read_hierarchy(bare).attributes.empty());
+  CHECK(run_cli("hierarchy " + in + " -o " + bare + " --attributes green --quiet").exit_code == 2);
+}
+
+TEST_CASE("a version 1 .4k file (no attributes) still reads, and a damaged attribute is named", "[hierarchy][file]") {
+  ScratchDir tmp;
+  const Mesh sphere = uv_sphere(20, 24);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  const std::string path = tmp.file("h.4k");
+  write_hierarchy(h, path);
+  const std::string v2 = read_file(path);
+  std::uint64_t body;
+  std::memcpy(&body, &v2[48], 8);
+  // Version 1 is version 2 without the attribute section: here its count, 0.
+  std::string v1 = v2;
+  v1[8] = 1;
+  v1 = with_checksums(v1.substr(0, std::size_t(64 + body - 4)), body - 4);
+  write_file(path, v1);
+  const MeshHierarchy old = read_hierarchy(path);
+  CHECK(old.file_version == 1);
+  CHECK(old.records.size() == h.records.size());
+  CHECK(level(old, 3).triangles == level(h, 3).triangles);
+
+  // A coloured one whose first attribute's type byte is 9, checksums made right.
+  const ColouredSphere coloured;
+  write_hierarchy(build_hierarchy(coloured.view(), {}), path);
+  std::string bytes = read_file(path);
+  std::memcpy(&body, &bytes[48], 8);
+  // The section: the count (4 bytes), red's and quality's type, name and range (4 +
+  // name + 16 bytes each), then 1 + 4 bytes a vertex; it ends the body.
+  const std::size_t section = 4 + (4 + 3 + 16) + (4 + 7 + 16) + 5 * (coloured.mesh.positions.size() / 3);
+  const std::size_t type_at = std::size_t(64 + body) - section + 4;
+  REQUIRE(bytes[type_at] == char(AttributeType::u8));
+  bytes[type_at] = 9;
+  write_file(path, with_checksums(bytes, body));
+  try {
+    read_hierarchy(path);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK_THAT(std::string(e.what()),
+               Catch::Contains("byte " + std::to_string(type_at) + ": an attribute of no known type"));
   }
 }

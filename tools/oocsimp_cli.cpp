@@ -851,6 +851,7 @@ struct HierarchyArgs {
   Given levels, threads, mem, level_ratio;
   HierarchyOptions options;
   bool quiet = false, sequential = false, reuse_quadrics = false;
+  std::string attributes = "all";
 };
 
 CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
@@ -861,6 +862,8 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
   add_given(cmd, "--levels", &a.levels, "Levels to build (default: until a level removes nothing)");
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
+  cmd->add_option("--attributes", a.attributes,
+                  "Vertex attributes to keep: all (the default), none, or NAME,NAME... (as info lists them)");
   cmd->add_flag("--reuse-quadrics", a.reuse_quadrics,
                 "After that out-of-core phase, start from its vertex quadrics rather than the reduced mesh's faces");
   cmd->add_flag("--sequential", a.sequential,
@@ -885,6 +888,7 @@ int run_hierarchy(HierarchyArgs& a) {
   }
   o.independent = !a.sequential;
   o.reuse_quadrics = a.reuse_quadrics;
+  o.attributes = parse_attribute_selection(a.attributes);
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   ProgressReporter progress(a.quiet);
@@ -999,8 +1003,14 @@ void print_tally(const char* name, const PrimitiveTally& t) {
 int run_hierarchy_info(const InfoArgs& a) {
   const MeshHierarchy h = read_hierarchy(a.in);
   std::printf("file      %s\n", a.in.c_str());
-  std::printf("format    oocsimp 4-k hierarchy, version 1, positions %s\n",
+  std::printf("format    oocsimp 4-k hierarchy, version %u, positions %s\n", unsigned(h.file_version),
               h.precision == ScalarType::f64 ? "double" : "float");
+  if (!h.attributes.empty()) {
+    std::printf("attributes");
+    for (const VertexAttribute& v : h.attributes.attributes)
+      std::printf(" %s (%s)", v.name.c_str(), attribute_type_name(v.type));
+    std::printf("\n");
+  }
   std::printf("vertices  %zu\n", h.positions.size() / 3);
   std::printf("faces     %zu\n", h.triangles.size() / 3);
   std::size_t swaps = 0;

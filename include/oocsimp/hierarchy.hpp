@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "oocsimp/attributes.hpp"
 #include "oocsimp/geometry.hpp"
 #include "oocsimp/mesh.hpp"
 #include "oocsimp/progress.hpp"
@@ -54,6 +55,11 @@ struct MeshHierarchy {
   std::vector<double> positions;
   std::vector<std::uint32_t> triangles;
   ScalarType precision = ScalarType::f32;  ///< how the file stores the positions
+  std::uint32_t file_version = 0;          ///< the .4k version it was read from (0: built here)
+  /// The finest mesh's vertex attributes (colours, normals, ...), values per vertex.
+  /// The records keep a subset of the vertices where they are, so every extracted
+  /// mesh carries its vertices' values unchanged.
+  AttributeValues attributes;
   std::vector<HierarchyRecord> records;
   std::vector<HierarchyLevel> levels;  ///< level 0 (no record) first
   /// Derived from the above (filled by build_hierarchy and read_hierarchy): the
@@ -91,6 +97,8 @@ struct HierarchyOptions {
   /// default: it measured no better on smooth shapes and worse on CAD parts (Hausdorff
   /// up to 2.4x), docs/hierarchy.md.
   bool reuse_quadrics = false;
+  /// The input's vertex attributes the hierarchy keeps (all by default).
+  AttributeSelection attributes;
   std::string temp_dir;  ///< empty = default_temp_dir()
   unsigned threads = 0;  ///< for the out-of-core phase; the hierarchy is the same for any
   ProgressCallback progress;

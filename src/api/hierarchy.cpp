@@ -12,6 +12,7 @@
 #include "hierarchy/hierarchy_file.hpp"
 #include "hierarchy/hierarchy_steps.hpp"
 #include "hierarchy/manifold_input.hpp"
+#include "io/attribute_array.hpp"
 #include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/oocsimp.hpp"
@@ -33,6 +34,7 @@ struct LoadedMesh {
   std::vector<Vec3d> positions;
   std::vector<std::uint32_t> triangles;
   std::vector<Quadric> quadrics;  // the out-of-core phase's, one per vertex (or none)
+  AttributeValues attributes;
 };
 
 LoadedMesh load(MeshInput& input) {
@@ -42,6 +44,11 @@ LoadedMesh load(MeshInput& input) {
   std::vector<std::uint64_t> chunk(3 * 65536);
   while (const std::size_t n = input.triangles->read(chunk.data(), 65536))
     for (std::size_t i = 0; i < 3 * n; ++i) m.triangles.push_back(std::uint32_t(chunk[i]));
+  const std::size_t k = input.attributes.size();
+  m.attributes.attributes = input.attributes.attributes;
+  m.attributes.values.resize(std::size_t(input.positions.count) * k);
+  for (std::uint64_t v = 0; v < input.positions.count; ++v)
+    for (std::size_t j = 0; j < k; ++j) m.attributes.values[v * k + j] = attribute_value(input.attributes, v, j);
   return m;
 }
 
@@ -54,6 +61,7 @@ LoadedMesh from_simplified(SimplifiedMesh s, std::vector<Quadric> quadrics) {
     m.positions[v] = {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
   std::vector<double>().swap(s.positions);
   m.triangles = std::move(s.triangles);
+  m.attributes = std::move(s.attributes);
   return m;
 }
 
@@ -64,9 +72,14 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
   // which fan each plane came from.
   if (!mesh.quadrics.empty())
     for (const std::uint32_t v : manifold.copied_from) mesh.quadrics.push_back(mesh.quadrics[v]);
+  std::vector<double>& values = mesh.attributes.values;
+  const std::size_t k = mesh.attributes.attributes.size();
+  for (const std::uint32_t v : manifold.copied_from)
+    for (std::size_t j = 0; j < k; ++j) values.push_back(values[std::size_t(v) * k + j]);
   const bool kept_quadrics = !mesh.quadrics.empty();
   MeshHierarchy h = build_four_k_hierarchy(manifold.positions, manifold.triangles, options, std::move(mesh.quadrics));
   h.precision = precision;
+  h.attributes = std::move(mesh.attributes);
   if (stats) {
     stats->kept_quadrics = kept_quadrics;
     stats->split_vertices = manifold.split_vertices;
@@ -102,9 +115,7 @@ std::string read_whole_file(const std::string& path) {
 MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options) {
   check_options(options);
   const auto threads = limit_threads(options.threads);
-  AttributeSelection none;
-  none.mode = AttributeSelection::Mode::none;
-  MeshInput input = open_mesh_view(mesh, none);
+  MeshInput input = open_mesh_view(mesh, options.attributes);
   return build(load(input), input.info.path, options, mesh.position_type, nullptr);
 }
 
@@ -137,10 +148,13 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
   OpenOptions open;
   open.temp_dir = options.temp_dir;
   open.progress = options.progress;
-  open.attributes.mode = AttributeSelection::Mode::none;
+  open.attributes = options.attributes;
   MeshInput input = open_mesh_input(input_path, open);
   const std::uint64_t budget = budget_bytes(options.memory_budget);
-  const std::uint64_t fits = budget / kBuildBytesPerTriangle;
+  // Each vertex's attribute values as doubles, about half a vertex a triangle, held
+  // while loading and in the hierarchy.
+  const std::uint64_t per_triangle = kBuildBytesPerTriangle + 8 * input.attributes.size();
+  const std::uint64_t fits = budget / per_triangle;
   HierarchyStats st;
   st.input_vertices = input.info.vertex_count;
   st.input_triangles = input.info.face_count;
@@ -151,14 +165,14 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
     if (fits < 4)
       throw UsageError("options.memory_budget", "options.memory_budget " + std::to_string(budget) +
                                                     " bytes cannot hold a hierarchy of 4 triangles; give at least " +
-                                                    std::to_string(4 * kBuildBytesPerTriangle));
+                                                    std::to_string(4 * per_triangle));
     SimplifyOptions reduce;
     reduce.target.triangles = fits;
     reduce.memory_budget = budget;
     reduce.threads = options.threads;
     reduce.temp_dir = options.temp_dir;
     reduce.progress = options.progress;
-    reduce.attributes.mode = AttributeSelection::Mode::none;
+    reduce.attributes = options.attributes;
     std::vector<Quadric> quadrics;
     SimplifiedMesh reduced = simplify(input, reduce, nullptr, options.reuse_quadrics ? &quadrics : nullptr);
     st.reduced_triangles = reduced.triangles.size() / 3;
@@ -181,7 +195,7 @@ void extract_file(const std::string& hierarchy_path, const std::string& output_p
   const MeshFormat format = format_for_path(output_path, ascii);
   const MeshHierarchy h = read_hierarchy(hierarchy_path);
   const SimplifiedMesh m = extract_mesh(h, query);
-  write_mesh(output_path, m.positions, m.triangles, format, m.precision);
+  write_mesh(output_path, m.positions, m.triangles, format, m.precision, &m.attributes);
 }
 
 }  // namespace oocsimp

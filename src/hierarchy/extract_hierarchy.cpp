@@ -141,6 +141,8 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
   // no applied record replaced; vertices in their order in the finest mesh.
   SimplifiedMesh out;
   out.precision = h.precision;
+  out.attributes.attributes = h.attributes.attributes;
+  const std::size_t k_values = h.attributes.attributes.size();
   std::vector<std::uint32_t> number_of(h.positions.size() / 3, kFinest);
   auto live = [&](std::uint32_t f) { return !replaced[f] && (made_by[f] == kFinest || applied[made_by[f]]); };
   for (std::uint32_t f = 0; f < faces; ++f)
@@ -151,6 +153,8 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
     if (number_of[v] == kFinest) continue;
     number_of[v] = next++;
     out.positions.insert(out.positions.end(), {h.positions[3 * v], h.positions[3 * v + 1], h.positions[3 * v + 2]});
+    const auto first = h.attributes.values.begin() + std::ptrdiff_t(v * k_values);
+    out.attributes.values.insert(out.attributes.values.end(), first, first + std::ptrdiff_t(k_values));
   }
   out.triangles.reserve(3 * triangles);
   for (std::uint32_t f = 0; f < faces; ++f)

@@ -1,11 +1,14 @@
 #include "hierarchy/hierarchy_file.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
 
 #include "hierarchy/hierarchy_steps.hpp"
+#include "io/attribute_array.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/error.hpp"
 
@@ -49,6 +52,25 @@ class Reader {
   const std::string& name_;
 };
 
+// A value as attribute type T stores it: integers rounded and clamped to T's range.
+template <class T>
+T stored_as(double x) {
+  if (!std::numeric_limits<T>::is_integer) return T(x);
+  const double lo = double(std::numeric_limits<T>::lowest()), hi = double(std::numeric_limits<T>::max());
+  return T(std::llround(std::min(hi, std::max(lo, std::isfinite(x) ? x : 0.0))));
+}
+
+// Bytes of the attribute section (version 2): the count, each attribute's type, name
+// and range, then each vertex's values in the attributes' types.
+std::size_t attribute_section_bytes(const AttributeValues& a, std::size_t vertices) {
+  std::size_t bytes = 4, per_vertex = 0;
+  for (const VertexAttribute& attribute : a.attributes) {
+    bytes += 4 + attribute.name.size() + 16;
+    per_vertex += attribute_type_size(attribute.type);
+  }
+  return bytes + vertices * per_vertex;
+}
+
 }  // namespace
 
 bool has_hierarchy_magic(const std::string& bytes) {
@@ -60,6 +82,10 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
   const bool f64 = h.precision == ScalarType::f64;
   std::size_t body_bytes = h.levels.size() * 32 + h.positions.size() * (f64 ? 8 : 4) + h.triangles.size() * 4;
   for (const HierarchyRecord& r : h.records) body_bytes += 9 + 4 * std::size_t(r.face_count);
+  const std::size_t vertices = h.positions.size() / 3, k = h.attributes.attributes.size();
+  if (h.attributes.values.size() != vertices * k)
+    throw std::logic_error("hierarchy_file_bytes: attribute values for every vertex");
+  body_bytes += attribute_section_bytes(h.attributes, vertices);
   const std::size_t blocks = (body_bytes + kBlockBytes - 1) / kBlockBytes;
   std::string out(kMagic, sizeof kMagic);
   put<std::uint32_t>(&out, kHierarchyFileVersion);
@@ -103,6 +129,19 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
     add(r.vertex);
     for (int i = 0; i < r.face_count; ++i) add(r.faces[i]);
   }
+  add(std::uint32_t(k));
+  for (const VertexAttribute& a : h.attributes.attributes) {
+    add(std::uint8_t(a.type));
+    add(std::uint8_t(0));
+    add(std::uint16_t(a.name.size()));
+    for (const char c : a.name) add(c);
+    add(a.min);
+    add(a.max);
+  }
+  for (std::size_t v = 0; v < vertices; ++v)
+    for (std::size_t j = 0; j < k; ++j)
+      with_stored_type(h.attributes.attributes[j].type,
+                       [&](auto zero) { add(stored_as<decltype(zero)>(h.attributes.values[v * k + j])); });
   out.append(buffer.data(), held);
   if (out.size() != body_at + body_bytes) throw std::logic_error("hierarchy_file_bytes: the body's size");
   for (std::size_t at = 0; at < body_bytes; at += kBlockBytes)
@@ -110,13 +149,48 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
   return out;
 }
 
+namespace {
+
+// The attribute section (version 2), which must end by `body_end`.
+void read_attributes(Reader* in, std::uint64_t vertices, std::size_t body_end, AttributeValues* out) {
+  const std::size_t count_at = in->at();
+  const std::uint32_t k = in->get<std::uint32_t>();
+  if (k > 4096) in->fail(count_at, std::to_string(k) + " vertex attributes: more than any mesh has");
+  out->attributes.resize(k);
+  std::size_t per_vertex = 0;
+  for (VertexAttribute& a : out->attributes) {
+    const std::size_t at = in->at();
+    const std::uint8_t type = in->get<std::uint8_t>();
+    if (type > std::uint8_t(AttributeType::f64) || in->get<std::uint8_t>() != 0)
+      in->fail(at, "an attribute of no known type (" + std::to_string(type) + ")");
+    a.type = AttributeType(type);
+    const std::uint16_t length = in->get<std::uint16_t>();
+    a.name.resize(length);
+    for (char& c : a.name) c = in->get<char>();
+    a.min = in->get<double>();
+    a.max = in->get<double>();
+    per_vertex += attribute_type_size(a.type);
+  }
+  // The count must fit what is left before anything is sized by it.
+  const std::size_t left = body_end > in->at() ? body_end - in->at() : 0;
+  if (per_vertex > 0 && vertices > left / per_vertex)
+    in->fail(in->at(), "the attribute values of " + std::to_string(vertices) + " vertices do not fit the body");
+  out->values.resize(std::size_t(vertices) * k);
+  for (std::size_t v = 0; v < vertices; ++v)
+    for (std::size_t j = 0; j < k; ++j)
+      out->values[v * k + j] =
+          with_stored_type(out->attributes[j].type, [&](auto zero) { return double(in->get<decltype(zero)>()); });
+}
+
+}  // namespace
+
 MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& name) {
   if (!has_hierarchy_magic(bytes))
     throw InputError(name + ": byte 0: not an oocsimp hierarchy (.4k) file: it does not start with \"oocs-4k\"");
   Reader header(bytes, sizeof kMagic, name);
   const std::uint32_t version = header.get<std::uint32_t>();
-  if (version != kHierarchyFileVersion)
-    header.fail(8, ".4k version " + std::to_string(version) + ", but this oocsimp reads version " +
+  if (version < 1 || version > kHierarchyFileVersion)
+    header.fail(8, ".4k version " + std::to_string(version) + ", but this oocsimp reads versions 1 to " +
                        std::to_string(kHierarchyFileVersion));
   const std::uint32_t precision = header.get<std::uint32_t>();
   const std::uint64_t vertices = header.get<std::uint64_t>(), triangles = header.get<std::uint64_t>();
@@ -146,6 +220,7 @@ MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& 
   }
 
   MeshHierarchy h;
+  h.file_version = version;
   h.precision = precision == 1 ? ScalarType::f64 : ScalarType::f32;
   const std::size_t scalar = precision == 1 ? 8 : 4;
   // The counts must fit the body before anything is sized by them.
@@ -191,9 +266,12 @@ MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& 
     record.vertex = in.get<std::uint32_t>();
     for (int i = 0; i < record.face_count; ++i) record.faces[i] = in.get<std::uint32_t>();
   }
-  if (in.at() != kHeaderBytes + body_bytes)
-    in.fail(in.at(),
-            "the records end " + std::to_string(kHeaderBytes + body_bytes - in.at()) + " bytes before the body does");
+  if (version >= 2) read_attributes(&in, vertices, kHeaderBytes + body_bytes, &h.attributes);
+  const std::size_t body_end = kHeaderBytes + body_bytes;
+  const std::string last = version >= 2 ? "the attributes" : "the records";
+  if (in.at() > body_end) in.fail(body_end, last + " run past the body's end");
+  if (in.at() < body_end)
+    in.fail(in.at(), last + " end " + std::to_string(body_end - in.at()) + " bytes before the body does");
   const std::size_t bad = derive_faces(&h);
   if (bad < h.records.size())
     in.fail(record_at[bad],

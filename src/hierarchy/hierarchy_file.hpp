@@ -1,6 +1,7 @@
 // The .4k file (docs/hierarchy.md, "The .4k file"): a 64-byte header, the levels, the
 // finest mesh, the records (only the faces each replaces: the faces it makes follow
-// from them, record_faces.hpp), and an XXH64 per MiB of all that.
+// from them, record_faces.hpp), the vertex attributes (from version 2), and an XXH64
+// per MiB of all that.
 #pragma once
 
 #include <string>
@@ -9,12 +10,13 @@
 
 namespace oocsimp {
 
-constexpr std::uint32_t kHierarchyFileVersion = 1;
+/// The version written; version 1 (no attributes) is read too.
+constexpr std::uint32_t kHierarchyFileVersion = 2;
 
 /// The file's bytes.
 std::string hierarchy_file_bytes(const MeshHierarchy& hierarchy);
 /// A hierarchy from a file's bytes; `name` for the messages. InputError naming the
-/// byte where the bytes are not a version-1 .4k file or are damaged.
+/// byte where the bytes are not a version 1 or 2 .4k file or are damaged.
 MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& name);
 /// Whether `bytes` start with the .4k magic.
 bool has_hierarchy_magic(const std::string& bytes);
