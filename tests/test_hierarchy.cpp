@@ -232,18 +232,22 @@ TEST_CASE("each level of a height field keeps one outline, Euler characteristic 
   }
 }
 
-TEST_CASE("levels take at most 0.75 of the triangles before while more than 10% are left", "[hierarchy]") {
+TEST_CASE("every level holds at most 0.75 of the triangles of the level before", "[hierarchy]") {
+  // Velho reports 0.66-0.74 a level. Late levels of a rough height field remove a few
+  // vertices each (the flip and crease guards refuse the rest), so there a level
+  // takes several independent sets, and a last level that stays above 0.75 joins the
+  // one before. Also with Velho's own levels (level_ratio 0: all a set can take).
   ScratchDir tmp;
   for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts})
-    for (const bool independent : {true, false}) {
+    for (const int mode : {0, 1, 2}) {
       const Mesh m = generated(shape, 20000, tmp);
       HierarchyOptions options;
-      options.independent = independent;
+      options.independent = mode != 1;
+      if (mode == 2) options.level_ratio = 0;
       const MeshHierarchy h = build_hierarchy(view_of(m), options);
-      const double input = double(h.levels[0].triangles);
+      REQUIRE(h.levels.size() > 5);
       for (std::size_t j = 1; j < h.levels.size(); ++j) {
-        if (double(h.levels[j - 1].triangles) <= 0.1 * input) break;
-        INFO("shape " << int(shape) << ", independent " << independent << ", level " << j);
+        INFO("shape " << int(shape) << ", mode " << mode << ", level " << j << " of " << h.levels.size());
         CHECK(double(h.levels[j].triangles) <= 0.75 * double(h.levels[j - 1].triangles));
       }
       // The parts keep their topology at every level, whatever it is.
@@ -251,7 +255,7 @@ TEST_CASE("levels take at most 0.75 of the triangles before while more than 10% 
       for (std::uint32_t j = 0; j < h.levels.size(); j += 3) {
         const SimplifiedMesh l = level(h, j);
         const Topology t = topology(l.positions, l.triangles);
-        INFO("shape " << int(shape) << ", independent " << independent << ", level " << j);
+        INFO("shape " << int(shape) << ", mode " << mode << ", level " << j);
         CHECK(t.manifold);
         CHECK(t.euler() == finest.euler());
         CHECK(t.boundary_loops == finest.boundary_loops);

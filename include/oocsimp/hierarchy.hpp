@@ -72,10 +72,11 @@ struct MeshHierarchy {
 struct HierarchyOptions {
   /// Levels to build; 0 = until a level removes nothing.
   std::uint32_t levels = 0;
-  /// A level ends when its triangles are down to this fraction of the level before
+  /// A set of independent removals ends when the triangles are down to this fraction
   /// (the cheapest removals first), or when no unmarked vertex can go. Velho's levels
   /// take every vertex they can (0: about 0.68 a level); 0.7 measured 0.77x the RMS
-  /// at equal counts on the bunny (docs/hierarchy.md).
+  /// at equal counts on the bunny (docs/hierarchy.md). A level takes further sets
+  /// while it holds more than max(0.75, level_ratio) of the level before's triangles.
   double level_ratio = 0.7;
   /// Velho §4 step 2: a level's removals are independent, each marking the four
   /// vertices around it so that no other removal of the level touches them: the
