@@ -634,6 +634,24 @@ TEST_CASE("every extracted mesh carries its vertices' attributes, through the fi
   region.radius = 0.3;
   CHECK(carries_sphere_values(extract_mesh(back, region)));
 
+  // Texture coordinates too: the vertices never move, so u and v stay exact.
+  std::vector<float> u, v;
+  for (std::size_t i = 0; i < sphere.mesh.positions.size(); i += 3) {
+    u.push_back(float(sphere.mesh.positions[i]));
+    v.push_back(float(sphere.mesh.positions[i + 1]));
+  }
+  MeshView mapped = view_of(sphere.mesh);
+  mapped.attributes.add({"u", AttributeType::f32, -1, 1}, u.data(), sizeof(float));
+  mapped.attributes.add({"v", AttributeType::f32, -1, 1}, v.data(), sizeof(float));
+  const MeshHierarchy uv = build_hierarchy(mapped, {});
+  REQUIRE(uv.attributes.attributes.size() == 2);
+  const SimplifiedMesh coarse = level(uv, std::uint32_t(uv.levels.size() / 2));
+  bool exact = coarse.attributes.values.size() == 2 * (coarse.positions.size() / 3);
+  for (std::size_t i = 0; exact && i < coarse.positions.size() / 3; ++i)
+    exact = coarse.attributes.values[2 * i] == double(float(coarse.positions[3 * i])) &&
+            coarse.attributes.values[2 * i + 1] == double(float(coarse.positions[3 * i + 1]));
+  CHECK(exact);
+
   // The command line: a PLY with the two properties in, the same values out, and
   // none with --attributes none.
   const std::string in = tmp.file("c.ply"), out = tmp.file("l.ply"), bare = tmp.file("bare.4k");
@@ -690,11 +708,45 @@ TEST_CASE("a version 1 .4k file (no attributes) still reads, and a damaged attri
   REQUIRE(bytes[type_at] == char(AttributeType::u8));
   bytes[type_at] = 9;
   write_file(path, with_checksums(bytes, body));
-  try {
-    read_hierarchy(path);
-    FAIL("accepted");
-  } catch (const InputError& e) {
-    CHECK_THAT(std::string(e.what()),
-               Catch::Contains("byte " + std::to_string(type_at) + ": an attribute of no known type"));
+  auto refusal = [&] {
+    try {
+      read_hierarchy(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK_THAT(refusal(), Catch::Contains("byte " + std::to_string(type_at) + ": an attribute of no known type"));
+
+  // Names go into every extracted PLY's header: a blank, a control byte, a repeat or
+  // x, y, z is refused, naming the name's first byte.
+  const Mesh small = uv_sphere(10, 12);
+  std::vector<float> one(small.positions.size() / 3, 0.5f);
+  MeshView view = view_of(small);
+  view.attributes.add({"aaa", AttributeType::f32, 0, 1}, one.data(), sizeof(float));
+  view.attributes.add({"bbb", AttributeType::f32, 0, 1}, one.data(), sizeof(float));
+  write_hierarchy(build_hierarchy(view, {}), path);
+  const std::string named = read_file(path);
+  std::memcpy(&body, &named[48], 8);
+  const std::size_t second = named.find("bbb");
+  REQUIRE(second != std::string::npos);
+  for (const char* bad : {"a b", "a\nb", "aaa",
+                          "\x01"
+                          "bb"}) {
+    std::string edited = named;
+    edited.replace(second, 3, bad);
+    write_file(path, with_checksums(edited, body));
+    INFO(bad);
+    CHECK_THAT(refusal(), Catch::Contains("byte " + std::to_string(second) + ": the attribute name"));
   }
+  view.attributes = {};
+  view.attributes.add({"q", AttributeType::f32, 0, 1}, one.data(), sizeof(float));
+  write_hierarchy(build_hierarchy(view, {}), path);
+  std::string x = read_file(path);
+  std::memcpy(&body, &x[48], 8);
+  const std::size_t q_at = x.rfind(std::string("\x01\x00q", 3));
+  REQUIRE(q_at != std::string::npos);
+  x[q_at + 2] = 'x';
+  write_file(path, with_checksums(x, body));
+  CHECK_THAT(refusal(), Catch::Contains("\"x\" is x, y, z or an earlier attribute's"));
 }

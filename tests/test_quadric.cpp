@@ -117,10 +117,9 @@ TEST_CASE("a plane quadric added in a shifted, scaled frame measures the same ar
 }
 
 TEST_CASE("a quadric translated by an offset measures the same distances at the moved points", "[quadric]") {
-  // Three planes and an edge quadric summed in a frame whose origin is o; in model
-  // units the same planes pass through their points plus o, so the translated
-  // quadric at x + o is the first at x, and at a moved triangle's own points it is
-  // what adding that triangle in model units gives.
+  // Two triangles' planes summed in a frame whose origin is o; in model units the
+  // same planes pass through their points plus o, so the translated quadric at x + o
+  // is the first at x, and so is the quadric of the triangles added in model units.
   const Vec3d o{1000.5, -250.25, 40};
   const Vec3d p{1.5, -2, 0.25}, q{3, 1, -1}, r{-0.5, 2.5, 2}, t{0.5, 0.5, 4};
   Quadric local, model;

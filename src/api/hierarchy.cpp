@@ -90,6 +90,14 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
   return h;
 }
 
+// The attributes the hierarchy keeps: texture coordinates too, since a record keeps
+// its vertices where they are (clustering leaves them out: it merges across seams).
+AttributeSelection kept_attributes(const HierarchyOptions& options) {
+  AttributeSelection kept = options.attributes;
+  kept.texture_coordinates = true;
+  return kept;
+}
+
 void check_options(const HierarchyOptions& options) {
   if (!(options.removal_weight >= 0) || !(options.swap_weight >= 0) ||
       !(options.removal_weight + options.swap_weight > 0))
@@ -115,7 +123,7 @@ std::string read_whole_file(const std::string& path) {
 MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options) {
   check_options(options);
   const auto threads = limit_threads(options.threads);
-  MeshInput input = open_mesh_view(mesh, options.attributes);
+  MeshInput input = open_mesh_view(mesh, kept_attributes(options));
   return build(load(input), input.info.path, options, mesh.position_type, nullptr);
 }
 
@@ -148,7 +156,7 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
   OpenOptions open;
   open.temp_dir = options.temp_dir;
   open.progress = options.progress;
-  open.attributes = options.attributes;
+  open.attributes = kept_attributes(options);
   MeshInput input = open_mesh_input(input_path, open);
   const std::uint64_t budget = budget_bytes(options.memory_budget);
   // Each vertex's attribute values as doubles, about half a vertex a triangle, held
@@ -172,7 +180,7 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
     reduce.threads = options.threads;
     reduce.temp_dir = options.temp_dir;
     reduce.progress = options.progress;
-    reduce.attributes = options.attributes;
+    reduce.attributes = kept_attributes(options);
     std::vector<Quadric> quadrics;
     SimplifiedMesh reduced = simplify(input, reduce, nullptr, options.reuse_quadrics ? &quadrics : nullptr);
     st.reduced_triangles = reduced.triangles.size() / 3;

@@ -488,8 +488,9 @@ void for_each_share_run(const ClusterShares& shares,
                                                              {ShareKind::inside, shares.inside.get()},
                                                              {ShareKind::corner, shares.corners.get()},
                                                              {ShareKind::attribute, shares.attribute_shares.get()}};
-  for (const auto& [kind, spill] : spills) {
+  for (const auto& [kind_of, spill] : spills) {
     if (!spill) continue;
+    const ShareKind kind = kind_of;  // a lambda may not capture a structured binding in C++17 (clang refuses)
     for (std::uint32_t stream = 0; stream < spill->stream_count(); ++stream)
       spill->for_each_block(stream, [&](const void* records, std::size_t n) { f(kind, records, n); });
   }

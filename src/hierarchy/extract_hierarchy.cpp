@@ -143,6 +143,10 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
   out.precision = h.precision;
   out.attributes.attributes = h.attributes.attributes;
   const std::size_t k_values = h.attributes.attributes.size();
+  if (h.attributes.values.size() != k_values * (h.positions.size() / 3))
+    throw UsageError("hierarchy.attributes", "hierarchy.attributes holds " +
+                                                 std::to_string(h.attributes.values.size()) +
+                                                 " values, not one per attribute and vertex");
   std::vector<std::uint32_t> number_of(h.positions.size() / 3, kFinest);
   auto live = [&](std::uint32_t f) { return !replaced[f] && (made_by[f] == kFinest || applied[made_by[f]]); };
   for (std::uint32_t f = 0; f < faces; ++f)

@@ -477,7 +477,10 @@ std::uint32_t FourFaceSimplifier::next_claim() {
 }
 
 // Whether no removal since the plan was made changed what it read: the faces and
-// quadrics of v and of its neighbours then.
+// quadrics of v and of its neighbours then. That holds because plan.neighbours is the
+// whole fan ring (plan_removal copies it before the swaps edit the ring), and every
+// vertex whose faces or quadric a removal changes is the removed vertex or one of its
+// ring, which remove() stamps.
 bool FourFaceSimplifier::is_fresh(std::uint32_t v, const KnownPlan& known) const {
   if (changed_[v] > known.made_at) return false;
   for (const std::uint32_t u : known.plan.neighbours)

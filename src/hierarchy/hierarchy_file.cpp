@@ -29,13 +29,14 @@ void put(std::string* out, T value) {
   out->append(bytes, sizeof(T));
 }
 
-// Reads the body front to back, naming the byte of any shortfall.
+// Reads the bytes up to `end` front to back, naming the byte of any shortfall.
 class Reader {
  public:
-  Reader(const std::string& bytes, std::size_t at, const std::string& name) : bytes_(bytes), at_(at), name_(name) {}
+  Reader(const std::string& bytes, std::size_t at, const std::string& name, std::size_t end = ~std::size_t(0))
+      : bytes_(bytes), at_(at), end_(std::min(end, bytes.size())), name_(name) {}
   template <class T>
   T get() {
-    if (bytes_.size() - at_ < sizeof(T)) fail(at_, "truncated");
+    if (end_ - at_ < sizeof(T)) fail(at_, end_ < bytes_.size() ? "runs past the end of the body" : "truncated");
     T value;
     std::memcpy(&value, bytes_.data() + at_, sizeof(T));
     at_ += sizeof(T);
@@ -48,9 +49,18 @@ class Reader {
 
  private:
   const std::string& bytes_;
-  std::size_t at_;
+  std::size_t at_, end_;
   const std::string& name_;
 };
+
+// Whether an attribute name can stand in a PLY header as a property's name: not
+// empty, printable ASCII without blanks.
+bool plain_name(const std::string& name) {
+  if (name.empty()) return false;
+  for (const char c : name)
+    if (!(c > ' ' && c < 0x7f)) return false;
+  return true;
+}
 
 // A value as attribute type T stores it: integers rounded and clamped to T's range.
 template <class T>
@@ -131,6 +141,9 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
   }
   add(std::uint32_t(k));
   for (const VertexAttribute& a : h.attributes.attributes) {
+    if (a.name.size() > 0xffff)
+      throw InputError("a vertex attribute's name of " + std::to_string(a.name.size()) +
+                       " bytes: a .4k file holds names of up to 65535");
     add(std::uint8_t(a.type));
     add(std::uint8_t(0));
     add(std::uint16_t(a.name.size()));
@@ -161,12 +174,19 @@ void read_attributes(Reader* in, std::uint64_t vertices, std::size_t body_end, A
   for (VertexAttribute& a : out->attributes) {
     const std::size_t at = in->at();
     const std::uint8_t type = in->get<std::uint8_t>();
-    if (type > std::uint8_t(AttributeType::f64) || in->get<std::uint8_t>() != 0)
+    if (type > std::uint8_t(AttributeType::f64))
       in->fail(at, "an attribute of no known type (" + std::to_string(type) + ")");
+    if (in->get<std::uint8_t>() != 0) in->fail(at + 1, "an attribute's reserved byte is not 0");
     a.type = AttributeType(type);
     const std::uint16_t length = in->get<std::uint16_t>();
     a.name.resize(length);
     for (char& c : a.name) c = in->get<char>();
+    // The name goes into the header of every mesh extracted (PLY): it must be one.
+    bool repeated = a.name == "x" || a.name == "y" || a.name == "z";
+    for (const VertexAttribute* b = out->attributes.data(); b != &a && !repeated; ++b) repeated = b->name == a.name;
+    if (!plain_name(a.name) || repeated)
+      in->fail(at + 4, "the attribute name \"" + (plain_name(a.name) ? a.name : std::string("?")) + "\" is " +
+                           (repeated ? "x, y, z or an earlier attribute's" : "empty or holds blanks or control bytes"));
     a.min = in->get<double>();
     a.max = in->get<double>();
     per_vertex += attribute_type_size(a.type);
@@ -227,7 +247,7 @@ MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& 
   if (levels == 0 || levels > body_bytes / kLevelBytes || vertices > body_bytes / (3 * scalar) ||
       triangles > body_bytes / 12 || records > body_bytes / 13)
     header.fail(16, "counts that the file's " + std::to_string(body_bytes) + " bytes of body cannot hold");
-  Reader in(bytes, kHeaderBytes, name);
+  Reader in(bytes, kHeaderBytes, name, kHeaderBytes + std::size_t(body_bytes));
   h.levels.resize(std::size_t(levels));
   for (std::size_t j = 0; j < levels; ++j) {
     const std::size_t at = in.at();
