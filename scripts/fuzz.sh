@@ -4,7 +4,7 @@
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]
 #   TARGETs: fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input
-#            fuzz_simplify (default: all)
+#            fuzz_simplify fuzz_hierarchy_file (default: all)
 #
 # Installs what is missing (scripts/setup-deps.sh, clang and its fuzzer runtime).
 # Each run starts from a seed corpus written into build-fuzz/corpus/TARGET (generated
@@ -17,7 +17,8 @@
 # Reproduce a finding with: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input fuzz_simplify)
+all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input fuzz_simplify
+  fuzz_hierarchy_file)
 
 usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
@@ -60,7 +61,7 @@ OOCSIMP_BUILD_DIR="$build" "$root/scripts/build.sh" -DCMAKE_CXX_COMPILER=clang++
 corpus="$build/corpus"
 seeds="$build/seeds"  # staging: every seed once, by format
 rm -rf "$seeds"
-mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl" "$seeds/off" "$seeds/glb" "$seeds/gzip"
+mkdir -p "$seeds/ply" "$seeds/obj" "$seeds/stl" "$seeds/off" "$seeds/glb" "$seeds/gzip" "$seeds/4k"
 export ASAN_OPTIONS="detect_leaks=1" UBSAN_OPTIONS="print_stacktrace=1"
 cli="$build/oocsimp"
 
@@ -210,6 +211,22 @@ perl -e '
   put("empty.stl", pack("A80 V", "no triangles", 0));
 ' "$seeds/stl"
 
+# .4k hierarchies of small generated meshes (with and without attributes), without
+# their trailing checksums (fuzz_hierarchy_file makes them again), and a version 1
+# copy of the attribute-free ones (version byte 1, the attribute count dropped).
+for shape in sphere terrain parts; do
+  for n in 50 300 2000; do
+    "$cli" hierarchy "$seeds/ply/gen-$shape-$n.ply" -o "$seeds/h.4k" --threads 1 --quiet >/dev/null
+    head -c -8 "$seeds/h.4k" >"$seeds/4k/$shape-$n.4k"
+    { head -c 8 "$seeds/4k/$shape-$n.4k"; printf '\001'; tail -c +10 "$seeds/4k/$shape-$n.4k" | head -c -4; } \
+      >"$seeds/4k/$shape-$n-v1.4k"
+  done
+  "$cli" generate --tris 300 --shape "$shape" --seed 3 --attributes --quiet -o "$seeds/coloured.ply"
+  "$cli" hierarchy "$seeds/coloured.ply" -o "$seeds/h.4k" --threads 1 --quiet >/dev/null
+  head -c -8 "$seeds/h.4k" >"$seeds/4k/$shape-coloured.4k"
+done
+rm -f "$seeds/h.4k" "$seeds/coloured.ply"
+
 # Each reader gets its format; the simplify target gets every seed under 64 KiB behind
 # a few variant-selector bytes (see tests/fuzz/fuzz_simplify.cpp).
 for fmt in ply obj stl off glb; do
@@ -218,6 +235,8 @@ for fmt in ply obj stl off glb; do
 done
 mkdir -p "$corpus/fuzz_gzip_input"
 cp "$seeds/gzip"/* "$corpus/fuzz_gzip_input/"
+mkdir -p "$corpus/fuzz_hierarchy_file"
+cp "$seeds/4k"/* "$corpus/fuzz_hierarchy_file/"
 mkdir -p "$corpus/fuzz_simplify"
 add_simplify_seeds() {  # add_simplify_seeds FMT SELECTOR-OCTALS...
   local fmt="$1" f sel
@@ -289,6 +308,19 @@ cat >>"$dicts/fuzz_gzip_input.dict" <<'EOF'
 "\x03\x00"
 EOF
 write_dict "$dicts/fuzz_simplify.dict" $words_ply $words_obj $words_stl $words_off
+# .4k: the magic, the versions, a swap's head, a removal's, attribute types with a
+# name, and the attribute names the writers use.
+write_dict "$dicts/fuzz_hierarchy_file.dict" red green blue nx ny nz quality u v
+cat >>"$dicts/fuzz_hierarchy_file.dict" <<'EOF'
+"oocs-4k\x0A"
+"\x01\x00\x00\x00"
+"\x02\x00\x00\x00"
+"\x80"
+"\x04"
+"\x01\x00\x03\x00red"
+"\x06\x00\x02\x00nx"
+"\x07\x00\x01\x00q"
+EOF
 
 # --- runs ---------------------------------------------------------------------------
 mkdir -p "$build/logs"
