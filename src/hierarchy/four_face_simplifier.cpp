@@ -356,7 +356,9 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   Entry e;
   const KnownPlan* known = nullptr;
   while (mesh_.live_faces() > enough && next_entry(&e, &known)) {
-    if (e.slot != kNoSlot) free_slots_.push_back(e.slot);  // read below before any reuse
+    // An entry that went back frees its slot now; its plan there is read below, before
+    // go_back() can take the slot again.
+    if (e.slot != kNoSlot) free_slots_.push_back(e.slot);
     if (marked_[e.vertex] || !mesh_.vertex_alive(e.vertex)) continue;
     const Plan* plan = nullptr;
     if (known && is_fresh(e.vertex, *known)) {
