@@ -540,6 +540,12 @@ TEST_CASE("an input over the budget is simplified out of core first, its quadric
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Catch::Contains("(simplified out of core to 83886 first, its quadrics kept)"));
   CHECK(read_file(plain) != read_file(kept));
+  // On an input that fits there is nothing to reuse, and the run says so.
+  r = run_cli("hierarchy " + in + " -o " + kept + " --reuse-quadrics --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, Catch::Contains("--reuse-quadrics: the input fitted --mem"));
+  r = run_cli("hierarchy " + in + " -o " + kept + " --mem 32M --reuse-quadrics --quiet");
+  REQUIRE(r.exit_code == 0);
   for (const std::string& h : {plain, kept}) {
     const MeshHierarchy built = read_hierarchy(h);
     REQUIRE(built.levels.size() > 4);

@@ -901,6 +901,10 @@ int run_hierarchy(HierarchyArgs& a) {
                 st.kept_quadrics ? ", its quadrics kept" : "");
   std::printf("\n");
   if (st.split_vertices) std::printf("split %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
+  if (o.reuse_quadrics && !st.reduced_triangles)
+    std::fprintf(stderr,
+                 "oocsimp: warning: --reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the "
+                 "hierarchy started from the faces' quadrics\n");
   std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), file %.1f MiB\n", st.records, st.swaps,
               st.records - st.swaps, double(st.file_bytes) / 1048576.0);
   std::printf("time %.3f s: %.2f Mtri/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
