@@ -1,8 +1,6 @@
 #include "hierarchy/hierarchy_file.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -36,11 +34,16 @@ class Reader {
       : bytes_(bytes), at_(at), end_(std::min(end, bytes.size())), name_(name) {}
   template <class T>
   T get() {
-    if (end_ - at_ < sizeof(T)) fail(at_, end_ < bytes_.size() ? "runs past the end of the body" : "truncated");
     T value;
-    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
+    std::memcpy(&value, take(sizeof(T)), sizeof(T));
     return value;
+  }
+  /// The next `n` bytes, passed over.
+  const unsigned char* take(std::size_t n) {
+    if (end_ - at_ < n) fail(at_, end_ < bytes_.size() ? "runs past the end of the body" : "truncated");
+    const unsigned char* p = reinterpret_cast<const unsigned char*>(bytes_.data()) + at_;
+    at_ += n;
+    return p;
   }
   std::size_t at() const { return at_; }
   [[noreturn]] void fail(std::size_t byte, const std::string& what) const {
@@ -60,14 +63,6 @@ bool plain_name(const std::string& name) {
   for (const char c : name)
     if (!(c > ' ' && c < 0x7f)) return false;
   return true;
-}
-
-// A value as attribute type T stores it: integers rounded and clamped to T's range.
-template <class T>
-T stored_as(double x) {
-  if (!std::numeric_limits<T>::is_integer) return T(x);
-  const double lo = double(std::numeric_limits<T>::lowest()), hi = double(std::numeric_limits<T>::max());
-  return T(std::llround(std::min(hi, std::max(lo, std::isfinite(x) ? x : 0.0))));
 }
 
 // Bytes of the attribute section (version 2): the count, each attribute's type, name
@@ -119,14 +114,15 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
   // The arrays through a buffer: appending value by value costs more than the rest.
   std::vector<char> buffer(std::size_t(1) << 16);
   std::size_t held = 0;
-  auto add = [&](auto value) {
-    if (held + sizeof value > buffer.size()) {
+  auto add_bytes = [&](const void* bytes, std::size_t n) {
+    if (held + n > buffer.size()) {
       out.append(buffer.data(), held);
       held = 0;
     }
-    std::memcpy(buffer.data() + held, &value, sizeof value);
-    held += sizeof value;
+    std::memcpy(buffer.data() + held, bytes, n);
+    held += n;
   };
+  auto add = [&](auto value) { add_bytes(&value, sizeof value); };
   for (double x : h.positions)
     if (f64)
       add(x);
@@ -152,9 +148,12 @@ std::string hierarchy_file_bytes(const MeshHierarchy& h) {
     add(a.max);
   }
   for (std::size_t v = 0; v < vertices; ++v)
-    for (std::size_t j = 0; j < k; ++j)
-      with_stored_type(h.attributes.attributes[j].type,
-                       [&](auto zero) { add(stored_as<decltype(zero)>(h.attributes.values[v * k + j])); });
+    for (std::size_t j = 0; j < k; ++j) {
+      const AttributeType type = h.attributes.attributes[j].type;
+      unsigned char stored[8];
+      store_attribute(h.attributes.values[v * k + j], type, stored);
+      add_bytes(stored, attribute_type_size(type));
+    }
   out.append(buffer.data(), held);
   if (out.size() != body_at + body_bytes) throw std::logic_error("hierarchy_file_bytes: the body's size");
   for (std::size_t at = 0; at < body_bytes; at += kBlockBytes)
@@ -199,7 +198,7 @@ void read_attributes(Reader* in, std::uint64_t vertices, std::size_t body_end, A
   for (std::size_t v = 0; v < vertices; ++v)
     for (std::size_t j = 0; j < k; ++j)
       out->values[v * k + j] =
-          with_stored_type(out->attributes[j].type, [&](auto zero) { return double(in->get<decltype(zero)>()); });
+          load_value(in->take(attribute_type_size(out->attributes[j].type)), out->attributes[j].type, false);
 }
 
 }  // namespace
