@@ -58,6 +58,13 @@ void unregister_path(int slot) {
 // registered, then removes everything registered.
 std::atomic<int> g_creating{0};
 std::atomic<bool> g_dying{false};
+// Likewise a thread renaming a finished file into place (rename_unless_interrupted):
+// the handler waits for it, and it renames nothing once the handler has begun.
+std::atomic<int> g_committing{0};
+// Whether install_signal_cleanup() put the handlers in: only then does a pending
+// cleanup signal mean this process is about to end (a program that links the library
+// may take those signals itself).
+std::atomic<bool> g_handlers{false};
 
 // The signals that end a run from outside: interrupt, kill, closed terminal, quit.
 constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
@@ -67,10 +74,36 @@ void remove_registered_files() {
   g_dying.store(true);
   // A creation takes microseconds; the bound only guards against a thread that
   // stopped inside one (it cannot be this thread: it blocks the signals there).
-  for (long spin = 0; g_creating.load() > 0 && spin < 100000000L; ++spin) {
+  for (long spin = 0; (g_creating.load() > 0 || g_committing.load() > 0) && spin < 100000000L; ++spin) {
   }
   for (int i = 0; i < kSlots; ++i)
     if (g_used[i].load()) ::unlink(g_paths[i]);
+}
+
+// rename(from, to), unless a cleanup signal has been sent (pending) or is being
+// handled: then nothing is renamed, and the thread waits for that signal to end the
+// process. A run interrupted before its output is in place so never puts it there,
+// whichever thread the signal reaches and however late.
+int rename_unless_interrupted(const char* from, const char* to) {
+  sigset_t block, old, pending;
+  sigemptyset(&block);
+  for (int sig : kCleanupSignals) sigaddset(&block, sig);
+  pthread_sigmask(SIG_BLOCK, &block, &old);
+  g_committing.fetch_add(1);
+  bool interrupted = g_dying.load();
+  if (!interrupted && g_handlers.load() && sigpending(&pending) == 0)
+    for (int sig : kCleanupSignals) interrupted = interrupted || sigismember(&pending, sig) == 1;
+  int rc = 0, err = 0;
+  if (!interrupted) {
+    rc = ::rename(from, to);
+    err = errno;
+  }
+  g_committing.fetch_sub(1);
+  pthread_sigmask(interrupted ? SIG_UNBLOCK : SIG_SETMASK, interrupted ? &block : &old, nullptr);
+  if (interrupted)
+    for (;;) ::pause();
+  errno = err;
+  return rc;
 }
 
 extern "C" void cleanup_and_die(int sig) {
@@ -182,7 +215,7 @@ void TempFile::commit(const std::string& dest) {
   ::umask(mask);
   if (fd_ >= 0) ::fchmod(fd_, 0666 & ~mask);
   close();
-  if (::rename(path_.c_str(), dest.c_str()) != 0)
+  if (rename_unless_interrupted(path_.c_str(), dest.c_str()) != 0)
     throw IoError(system_error_text(dest, "cannot rename " + path_ + " to", errno));
   unregister_path(slot_);
   slot_ = -1;
@@ -315,7 +348,7 @@ void write_file_atomically(const std::string& path, const std::string& content) 
 }
 
 void TempFile::persist(const std::string& dest) {
-  if (::rename(path_.c_str(), dest.c_str()) != 0)
+  if (rename_unless_interrupted(path_.c_str(), dest.c_str()) != 0)
     throw IoError(system_error_text(dest, "cannot rename " + path_ + " to", errno));
   unregister_path(slot_);
   slot_ = -1;
@@ -350,6 +383,7 @@ void install_signal_cleanup() {
   sa.sa_handler = cleanup_and_die;
   sigemptyset(&sa.sa_mask);
   for (int sig : kCleanupSignals) sigaction(sig, &sa, nullptr);
+  g_handlers.store(true);
   struct sigaction bus;
   std::memset(&bus, 0, sizeof bus);
   bus.sa_sigaction = cleanup_after_bus_error;
