@@ -23,6 +23,7 @@
 #include "io/content_hash.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/generate.hpp"
+#include "oocsimp/measure.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
 
@@ -230,6 +231,33 @@ TEST_CASE("each level of a height field keeps one outline, Euler characteristic 
     CHECK(t.zero_area == 0);
     CHECK(turned_faces(m, [](const double*) { return std::array<double, 3>{0, 0, 1}; }) == 0);
   }
+}
+
+TEST_CASE("levels of CAD parts stay on the input's surface while it has vertices to spare", "[hierarchy]") {
+  // The generated parts are boxes and cylinders tessellated more finely than their
+  // shape needs (flat faces, straight rulings): down to a sixth of the faces, every
+  // level can remove only vertices whose faces are coplanar and stay on the surface.
+  // What is left is the .4k's float positions, about 3e-8 of the diagonal. A swap
+  // priced by the quadric of every face at an end of its new edge (not the plane of
+  // the face it replaces) took swaps across bends there: 1.6e-3 from level 1 on.
+  ScratchDir tmp;
+  const Mesh parts = generated(SyntheticShape::parts, 60000, tmp);
+  const std::string in = tmp.file("parts.ply");
+  write_mesh(in, parts.positions, parts.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
+  const MeshHierarchy h = build_hierarchy(view_of(parts), {});
+  MeasureOptions mo;
+  mo.samples = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
+  std::uint32_t checked = 0;
+  for (std::uint32_t j = 1; j < h.levels.size() && 6 * h.levels[j].triangles >= h.levels[0].triangles; ++j) {
+    const SimplifiedMesh m = level(h, j);
+    const std::string out = tmp.file("level.ply");
+    write_mesh(out, m.positions, m.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
+    const DistanceReport d = measure_surface_distance(in, out, mo);
+    INFO("level " << j << ", " << h.levels[j].triangles << " faces");
+    CHECK(d.fraction_of_diagonal(d.symmetric).max < 1e-6);
+    ++checked;
+  }
+  CHECK(checked >= 4);
 }
 
 TEST_CASE("every level holds at most 0.75 of the triangles of the level before", "[hierarchy]") {
@@ -449,7 +477,9 @@ TEST_CASE("plans made ahead on other threads, or kept by entries that went back,
                                  << ahead.stats.made_ahead << ", kept " << alone.stats.kept << " and "
                                  << ahead.stats.kept);
     CHECK(alone.stats.made_ahead == 0);
-    CHECK(ahead.stats.made_ahead > alone.records.size() / 8);
+    // (About 7% of the records on the parts, whose zero costs tie in runs of
+    // neighbours; a quarter on the others.)
+    CHECK(ahead.stats.made_ahead > alone.records.size() / 20);
     CHECK(alone.stats.kept > 0);
     REQUIRE(alone.records.size() == ahead.records.size());
     bool same = true;

@@ -31,6 +31,16 @@ inline void add_plane_quadric(Quadric* q, const TrianglePlane& plane, double d) 
   q->add_plane(plane.m, 0.5 / plane.len, d);
 }
 
+/// What the area-weighted plane quadric of a triangle (add_plane_quadric) gives at
+/// `x`, without building it: area times the squared distance of x from the plane
+/// through `corner` (any of the triangle's corners), (m.(x - corner))^2 / (2 |m|).
+/// 0 for a degenerate triangle.
+inline double plane_quadric_error(const TrianglePlane& plane, const Vec3d& corner, const Vec3d& x) {
+  if (plane.degenerate()) return 0;
+  const double d = dot(plane.m, x - corner);
+  return d * d * (0.5 / plane.len);
+}
+
 /// Garland & Heckbert 1997 §6.1: what a boundary edge u -> w of a face with unit
 /// normal `face` adds to both its ends: the plane through the edge perpendicular to
 /// the face, so that moving off the outline costs as moving off the surface does, and

@@ -72,13 +72,25 @@ void FourFaceSimplifier::assign_quadrics(std::vector<Quadric> given) {
   }
 }
 
-// Eq. 8, read symmetrically: the quadric error of each end of the new edge at the other.
-double FourFaceSimplifier::swap_cost(std::uint32_t s, std::uint32_t t) const {
-  return std::max(0.0, 0.5 * (quadrics_[s].error(mesh_.position(t)) + quadrics_[t].error(mesh_.position(s))));
+// Eq. 8: the swap of edge v-mid for prev-next costs the squared volume of the
+// tetrahedron (v, mid, prev, next), which Velho reads as Q_s(t) for the plane of the
+// face (v, mid, s) alone. Here it is that face's area-weighted plane quadric (eq. 5's
+// units, those of C(v)) at the opposite corner, read from both faces and averaged:
+// area times the squared height of the tetrahedron over it. The sums of every plane
+// at s that Q_s holds measured how far t lies from s's other faces too: on the
+// generated parts that priced a swap across a flat face like one across a bend, and
+// the levels came out 2-6x meshopt_simplify's RMS (docs/hierarchy.md).
+double FourFaceSimplifier::swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const {
+  const Vec3d pv = mesh_.position(v), pp = mesh_.position(prev), pm = mesh_.position(mid), pn = mesh_.position(next);
+  const TrianglePlane before = triangle_plane(pp - pv, pm - pv);  // face (v, prev, mid)
+  const TrianglePlane after = triangle_plane(pm - pv, pn - pv);   // face (v, mid, next)
+  return 0.5 * (plane_quadric_error(before, pv, pn) + plane_quadric_error(after, pv, pp));
 }
 
 // The new faces cover the outline the old ones did. Along each outline edge the new
-// face may not turn by 90 degrees or more from the old face it meets there (a flip);
+// face may not turn by 90 degrees or more from the old face it meets there (a flip),
+// nor lean from the old faces' area-weighted normal by more than they do (or 75
+// degrees);
 // across an edge between two new faces the crease may not be sharper than the
 // sharpest between two old faces, or than a right angle.
 bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
@@ -94,12 +106,33 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
   auto cosine = [](const Vec3d& a, const Vec3d& b) {
     return dot(a, b) / std::sqrt(squared_length(a) * squared_length(b));
   };
-  Vec3d old_normal[4], new_normal[2];
-  for (int i = 0; i < old_count; ++i) old_normal[i] = normal_of(old_faces + 3 * i);
+  Vec3d old_normal[4], new_normal[2], old_sum;
+  for (int i = 0; i < old_count; ++i) {
+    old_normal[i] = normal_of(old_faces + 3 * i);
+    old_sum += old_normal[i];
+  }
+  // Nor may a new face lean from the surface it replaces (the old faces'
+  // area-weighted normal) by more than 75 degrees and more than every old face
+  // does: where the old faces along an outline already lean, the check by edge let
+  // a face stand on its edge (three outline vertices of a height field in a row, at
+  // a coarse level). Most new faces lean by less than 75 degrees: the old faces'
+  // leans are worked out only for the others.
+  const double old_sum_length2 = squared_length(old_sum);
+  double lean_limit = 2;
+  auto leans_too_far = [&](const Vec3d& normal) {
+    const double d = dot(normal, old_sum);
+    if (d > 0 && d * d >= kLeanCosine * kLeanCosine * squared_length(normal) * old_sum_length2) return false;
+    if (lean_limit > 1) {
+      lean_limit = kLeanCosine;
+      for (int i = 0; i < old_count; ++i)
+        if (squared_length(old_normal[i]) > 0) lean_limit = std::min(lean_limit, cosine(old_normal[i], old_sum));
+    }
+    return !(cosine(normal, old_sum) >= lean_limit);
+  };
   double least = 1;
   for (int j = 0; j < new_count; ++j) {
     new_normal[j] = normal_of(new_faces + 3 * j);
-    if (!(squared_length(new_normal[j]) > 0)) return false;
+    if (!(squared_length(new_normal[j]) > 0) || leans_too_far(new_normal[j])) return false;
     least = std::min(least, compactness_of(new_faces + 3 * j));
   }
   for (int j = 0; j < new_count; ++j)
@@ -161,8 +194,17 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   struct Swap {
     bool valid = false, edge_checked = false;
     double key = 0, cost = 0;
+    double compactness = 0;  // the least of the two faces it makes
   };
   thread_local std::vector<Swap> swaps;
+  // The cheaper key; at equal keys (every swap on a flat patch costs 0) the rounder
+  // faces, then the lower vertex.
+  auto goes_first = [&](int i, int j) {
+    const Swap &a = swaps[std::size_t(i)], &b = swaps[std::size_t(j)];
+    if (a.key != b.key) return a.key < b.key;
+    if (a.compactness != b.compactness) return a.compactness > b.compactness;
+    return ring[std::size_t(i)] < ring[std::size_t(j)];
+  };
   auto ends_of = [&](int i, std::uint32_t* prev, std::uint32_t* next) {
     *prev = ring[std::size_t((i + n - 1) % n)];
     *next = ring[std::size_t((i + 1) % n)];
@@ -179,8 +221,9 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
     double least = 0;
     if (!faces_fit(old_faces, 2, new_faces, 2, &least)) return s;
     s.valid = true;
-    s.cost = swap_cost(prev, next);
+    s.cost = swap_cost(v, prev, mid, next);
     s.key = s.cost * (2 - least);
+    s.compactness = least;
     return s;
   };
   plan->swapped.clear();
@@ -193,12 +236,8 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
     int best = -1;
     for (;;) {
       best = -1;
-      for (int i = 0; i < n; ++i) {
-        const Swap& s = swaps[std::size_t(i)];
-        if (!s.valid) continue;
-        const Swap* b = best < 0 ? nullptr : &swaps[std::size_t(best)];
-        if (!b || s.key < b->key || (s.key == b->key && ring[std::size_t(i)] < ring[std::size_t(best)])) best = i;
-      }
+      for (int i = 0; i < n; ++i)
+        if (swaps[std::size_t(i)].valid && (best < 0 || goes_first(i, best))) best = i;
       if (best < 0) return false;
       Swap& b = swaps[std::size_t(best)];
       if (b.edge_checked) break;

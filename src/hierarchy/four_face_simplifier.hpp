@@ -46,6 +46,7 @@ class FourFaceSimplifier {
   static constexpr double kMinCompactness = 0.05, kNeedleSlack = 0.5;
   /// Faces whose unit normals agree to this dot product are one flat patch.
   static constexpr double kFlat = 1 - 1e-9;
+  static constexpr double kLeanCosine = 0.2588;  // cos 75 degrees: see faces_fit
 
   FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options);
 
@@ -80,7 +81,7 @@ class FourFaceSimplifier {
   };
 
   bool plan_removal(std::uint32_t v, Plan* plan) const;
-  double swap_cost(std::uint32_t s, std::uint32_t t) const;
+  double swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const;
   bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
                  double* least_compactness) const;
   void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
