@@ -90,9 +90,8 @@ double FourFaceSimplifier::swap_cost(std::uint32_t v, std::uint32_t prev, std::u
 // The new faces cover the outline the old ones did. Along each outline edge the new
 // face may not turn by 90 degrees or more from the old face it meets there (a flip),
 // nor lean from the old faces' area-weighted normal by more than they do (or 75
-// degrees);
-// across an edge between two new faces the crease may not be sharper than the
-// sharpest between two old faces, or than a right angle.
+// degrees); across an edge between two new faces the crease may not be sharper than
+// the sharpest between two old faces, or than 150 degrees.
 bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces,
                                    int new_count, double* least_compactness) const {
   // Normals as cross products: a flip is a sign, and only the rarer checks need
@@ -146,7 +145,7 @@ bool FourFaceSimplifier::faces_fit(const std::uint32_t* old_faces, int old_count
       const int other = face_with(new_faces, new_count, b, a);
       if (other <= j) continue;
       const double crease = cosine(new_normal[j], new_normal[other]);
-      if (crease >= 0) continue;
+      if (crease >= kCreaseCosine) continue;
       double old_crease = 0;
       for (int i = 0; i < old_count; ++i)
         for (int e = 0; e < 3; ++e) {
