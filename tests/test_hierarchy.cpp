@@ -264,14 +264,16 @@ TEST_CASE("every level holds at most 0.75 of the triangles of the level before",
   // Velho reports 0.66-0.74 a level. Late levels of a rough height field remove a few
   // vertices each (the flip and crease guards refuse the rest), so there a level
   // takes several independent sets, and a last level that stays above 0.75 joins the
-  // one before. Also with Velho's own levels (level_ratio 0: all a set can take).
+  // one before. Also with Velho's own levels (level_ratio 0: all a set can take), and
+  // with levels of two smaller sets.
   ScratchDir tmp;
   for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts})
-    for (const int mode : {0, 1, 2}) {
+    for (const int mode : {0, 1, 2, 3}) {
       const Mesh m = generated(shape, 20000, tmp);
       HierarchyOptions options;
       options.independent = mode != 1;
       if (mode == 2) options.level_ratio = 0;
+      if (mode == 3) options.sets_per_level = 2;
       const MeshHierarchy h = build_hierarchy(view_of(m), options);
       REQUIRE(h.levels.size() > 5);
       for (std::size_t j = 1; j < h.levels.size(); ++j) {
@@ -420,6 +422,13 @@ TEST_CASE("the .4k file reads back as written, and the same bytes come for any t
   write_hierarchy(h, a);
   write_hierarchy(build_hierarchy(view_of(sphere), two), b);
   CHECK(read_file(a) == read_file(b));
+  // Levels of two sets: the same bytes too, and other records than one set's.
+  one.sets_per_level = two.sets_per_level = 2;
+  const std::string c = tmp.file("c.4k"), d = tmp.file("d.4k");
+  write_hierarchy(build_hierarchy(view_of(sphere), one), c);
+  write_hierarchy(build_hierarchy(view_of(sphere), two), d);
+  CHECK(read_file(c) == read_file(d));
+  CHECK(read_file(c) != read_file(a));
   CHECK(is_hierarchy_file(a));
   const MeshHierarchy back = read_hierarchy(a);
   CHECK(back.face_corners == h.face_corners);
@@ -548,6 +557,12 @@ TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[
   r = run_cli("extract " + in + " -o " + out + " --level 1");
   CHECK(r.exit_code == 3);
   CHECK_THAT(r.err, Catch::Contains("not an oocsimp hierarchy"));
+  for (const char* sets : {"0", "17", "two"}) {
+    r = run_cli("hierarchy " + in + " -o " + h + " --sets " + sets + " --quiet");
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("--sets"));
+  }
+  CHECK(run_cli("hierarchy " + in + " -o " + h + " --sets 2 --quiet").exit_code == 0);
 }
 
 TEST_CASE("an input over the budget is simplified out of core first, its quadrics kept when asked",

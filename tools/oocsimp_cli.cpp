@@ -82,6 +82,7 @@ constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"query.region", "the region"},
     {"query", "extract"},
     {"options.level_ratio", "--level-ratio"},
+    {"options.sets_per_level", "--sets"},
 };
 
 // A character that continues a name or a path.
@@ -848,7 +849,7 @@ int run_merge(const MergeArgs& a) {
 
 struct HierarchyArgs {
   std::string in, out;
-  Given levels, threads, mem, level_ratio;
+  Given levels, threads, mem, level_ratio, sets;
   HierarchyOptions options;
   bool quiet = false, sequential = false, reuse_quadrics = false;
   std::string attributes = "all";
@@ -871,6 +872,9 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
                 "(closer to QEM, a deeper hierarchy)");
   add_given(cmd, "--level-ratio", &a.level_ratio,
             "A level ends at this fraction of the triangles of the level before (default 0.7; 0 = all it can)");
+  add_given(cmd, "--sets", &a.sets,
+            "Independent sets of removals a level is made of (default 1, Velho's; 2: closer to QEM, slower, a "
+            "deeper hierarchy)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   add_quiet_flag(cmd, &a.quiet);
@@ -886,6 +890,7 @@ int run_hierarchy(HierarchyArgs& a) {
     if (a.level_ratio.text.empty() || *end != '\0' || !(o.level_ratio >= 0 && o.level_ratio < 1))
       bad_value("--level-ratio", a.level_ratio.text, "a number from 0 to below 1");
   }
+  if (a.sets.given()) o.sets_per_level = std::uint32_t(whole_number("--sets", a.sets.text, 1, 16));
   o.independent = !a.sequential;
   o.reuse_quadrics = a.reuse_quadrics;
   o.attributes = parse_attribute_selection(a.attributes);

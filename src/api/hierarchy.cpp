@@ -105,6 +105,8 @@ void check_options(const HierarchyOptions& options) {
                      "options.removal_weight and options.swap_weight must be 0 or more, and not both 0");
   if (!(options.level_ratio >= 0 && options.level_ratio < 1))
     throw UsageError("options.level_ratio", "options.level_ratio must be from 0 to below 1");
+  if (options.sets_per_level < 1 || options.sets_per_level > 16)
+    throw UsageError("options.sets_per_level", "options.sets_per_level must be from 1 to 16");
   if (!(options.boundary_weight >= 0))
     throw UsageError("options.boundary_weight", "options.boundary_weight must be 0 or more");
 }

@@ -21,11 +21,12 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
   h.levels.push_back({0, mesh.live_faces(), mesh.live_vertices(), 0});
   // Progress in faces gone: a level takes a share of what is left.
   ProgressPhase progress(options.progress, "4-k levels", mesh.live_faces(), "tri");
-  // Velho's level is one independent set of removals (simplify_level). Where one set
-  // falls short of kMostLevelRatio (the late levels of rough or small meshes, whose
-  // removals the flip and crease guards mostly refuse), further sets join the level,
-  // so that every level shrinks the mesh by a useful step; a last level that still
-  // falls short, nothing more being removable, joins the one before.
+  // Velho's level is one independent set of removals (simplify_level), or
+  // options.sets_per_level smaller ones. Where they fall short of kMostLevelRatio
+  // (the late levels of rough or small meshes, whose removals the flip and crease
+  // guards mostly refuse), further sets join the level, so that every level shrinks
+  // the mesh by a useful step; a last level that still falls short, nothing more
+  // being removable, joins the one before.
   constexpr double kMostLevelRatio = 0.75;
   const double most = std::max(kMostLevelRatio, options.level_ratio);
   float largest = 0;
@@ -33,9 +34,11 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
   for (std::uint32_t level = 1; !done && (options.levels == 0 || level <= options.levels); ++level) {
     const std::uint64_t start = mesh.live_faces();
     const std::size_t first = h.records.size();
+    std::uint32_t sets = 0;
     do {
       done = simplifier.simplify_level(&h.records) == 0;
-    } while (!done && double(mesh.live_faces()) > most * double(start));
+      ++sets;
+    } while (!done && (sets < options.sets_per_level || double(mesh.live_faces()) > most * double(start)));
     if (h.records.size() == first) break;
     for (std::size_t r = first; r < h.records.size(); ++r) largest = std::max(largest, h.records[r].error);
     h.levels.push_back({h.records.size(), mesh.live_faces(), mesh.live_vertices(), largest});

@@ -390,7 +390,8 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   // nothing it read has changed since.
   std::uint64_t removed = 0;
   Plan own;
-  const std::uint64_t enough = std::uint64_t(options_.level_ratio * double(mesh_.live_faces()));
+  const double set_ratio = std::pow(options_.level_ratio, 1.0 / double(options_.sets_per_level));
+  const std::uint64_t enough = std::uint64_t(set_ratio * double(mesh_.live_faces()));
   Entry e;
   const KnownPlan* known = nullptr;
   while (mesh_.live_faces() > enough && next_entry(&e, &known)) {

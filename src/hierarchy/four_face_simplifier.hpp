@@ -58,8 +58,9 @@ class FourFaceSimplifier {
   /// boundary edges' planes; or `given` (when not empty, one per vertex), the quadrics a
   /// simplification that made this mesh summed, so that the error it made counts on.
   void assign_quadrics(std::vector<Quadric> given = {});
-  /// One level: rank, select and simplify (steps 1-3). Appends its records to
-  /// `records`; returns how many vertices it removed.
+  /// One set of removals, a level or a part of one (HierarchyOptions::sets_per_level):
+  /// rank, select and simplify (steps 1-3). Appends its records to `records`; returns
+  /// how many vertices it removed.
   std::uint64_t simplify_level(std::vector<HierarchyRecord>* records);
 
   /// Plans the walk took as made before the vertex's turn: ahead on other threads
