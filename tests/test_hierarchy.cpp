@@ -265,7 +265,7 @@ TEST_CASE("every level holds at most 0.75 of the triangles of the level before",
   // vertices each (the flip and crease guards refuse the rest), so there a level
   // takes several independent sets, and a last level that stays above 0.75 joins the
   // one before. Also with Velho's own levels (level_ratio 0: all a set can take), and
-  // with levels of two smaller sets.
+  // with Velho's levels of one set (the default has two).
   ScratchDir tmp;
   for (const SyntheticShape shape : {SyntheticShape::sphere, SyntheticShape::terrain, SyntheticShape::parts})
     for (const int mode : {0, 1, 2, 3}) {
@@ -273,7 +273,7 @@ TEST_CASE("every level holds at most 0.75 of the triangles of the level before",
       HierarchyOptions options;
       options.independent = mode != 1;
       if (mode == 2) options.level_ratio = 0;
-      if (mode == 3) options.sets_per_level = 2;
+      if (mode == 3) options.sets_per_level = 1;
       const MeshHierarchy h = build_hierarchy(view_of(m), options);
       REQUIRE(h.levels.size() > 5);
       for (std::size_t j = 1; j < h.levels.size(); ++j) {
@@ -422,8 +422,8 @@ TEST_CASE("the .4k file reads back as written, and the same bytes come for any t
   write_hierarchy(h, a);
   write_hierarchy(build_hierarchy(view_of(sphere), two), b);
   CHECK(read_file(a) == read_file(b));
-  // Levels of two sets: the same bytes too, and other records than one set's.
-  one.sets_per_level = two.sets_per_level = 2;
+  // Velho's levels of one set: the same bytes too, and other records than two sets'.
+  one.sets_per_level = two.sets_per_level = 1;
   const std::string c = tmp.file("c.4k"), d = tmp.file("d.4k");
   write_hierarchy(build_hierarchy(view_of(sphere), one), c);
   write_hierarchy(build_hierarchy(view_of(sphere), two), d);
@@ -486,10 +486,11 @@ TEST_CASE("plans made ahead on other threads, or kept by entries that went back,
                                  << ahead.stats.made_ahead << ", kept " << alone.stats.kept << " and "
                                  << ahead.stats.kept);
     CHECK(alone.stats.made_ahead == 0);
-    // (About 7% of the records on the parts, whose zero costs tie in runs of
-    // neighbours; a quarter on the others.)
-    CHECK(ahead.stats.made_ahead > alone.records.size() / 20);
-    CHECK(alone.stats.kept > 0);
+    // (About 5% of the records on the parts, whose zero costs tie in runs of
+    // neighbours; a quarter or more on the others. On the parts no cost rises past
+    // the next in line: the flat patches' removals cost 0, as their bounds say.)
+    CHECK(ahead.stats.made_ahead > alone.records.size() / 40);
+    if (m != &parts) CHECK(alone.stats.kept > 0);
     REQUIRE(alone.records.size() == ahead.records.size());
     bool same = true;
     for (std::size_t i = 0; i < alone.records.size() && same; ++i) {

@@ -81,12 +81,11 @@ struct HierarchyOptions {
   /// Independent sets a level is made of (1: Velho's). Each set ends at
   /// level_ratio^(1 / sets_per_level) of the triangles it began with, so that the
   /// level still ends near level_ratio. Smaller sets leave fewer cheap removals
-  /// waiting beside a marked vertex: at 2, RMS at levels 1-9 measured 0.64-0.94x
-  /// that of one set on the scans, 0.53-0.87x on a sphere and 0.81-0.96x on a
-  /// terrain, close to `independent = false`, for about 1.3x the build time and a
-  /// deeper dependency graph (docs/hierarchy.md).
-  /// From 1 to 16.
-  std::uint32_t sets_per_level = 1;
+  /// waiting beside a marked vertex: two sets measured 0.64-0.94x the RMS of one at
+  /// levels 1-9 on the scans, 0.53-0.87x on a sphere and 0.81-0.96x on a terrain,
+  /// close to `independent = false`, with a somewhat deeper dependency graph
+  /// (docs/hierarchy.md). From 1 to 16.
+  std::uint32_t sets_per_level = 2;
   /// Velho §4 step 2: a level's removals are independent, each marking the four
   /// vertices around it so that no other removal of the level touches them: the
   /// dependency graph stays shallow. Off (--sequential), a level takes the cheapest

@@ -306,6 +306,21 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
   return std::isfinite(plan->cost);
 }
 
+// E(v) = alpha C(v) + beta S(v) with S(v) >= 0 and C(v) = (Q_v + Q_a)(p_a) for a
+// diagonal's end a, which is one of v's neighbours now (swaps only take neighbours
+// away): alpha times the least (Q_v + Q_u)(p_u) over v's neighbours u bounds E(v)
+// from below. Infinite for a vertex without faces.
+double FourFaceSimplifier::least_cost(std::uint32_t v) const {
+  double least = kNoCost;
+  for (const FourKMesh::Incidence& f : mesh_.around(v))
+    for (const std::uint32_t u : {f.from, f.to}) {
+      Quadric q = quadrics_[v];
+      q.add(quadrics_[u]);
+      least = std::min(least, std::max(0.0, q.error(mesh_.position(u))));
+    }
+  return least < kNoCost ? options_.removal_weight * least : kNoCost;
+}
+
 // Eq. 9: Q_i += delta_i Q_v for the ends of the new edge (all three corners of the new
 // face after a valence-3 removal), delta_i = (sum C - C_i) / ((n - 1) sum C), which is
 // 1 - C_i / (C_a + C_b) for two.
@@ -360,11 +375,13 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   const std::size_t n = mesh_.vertex_count();
   marked_.assign(n, 0);
   cost_.assign(n, kNoCost);
-  // Step 1: every vertex's cost, in parallel (each reads the mesh only).
+  // Step 1: every vertex ranked by a bound of its cost from below, in parallel
+  // (each reads the mesh only). The walk plans a vertex when it comes out, and one
+  // whose cost is past the next in line goes back: a set ends long before the end of
+  // the queue, so most vertices are never planned in it.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-    Plan plan;
     for (std::size_t v = range.begin(); v != range.end(); ++v)
-      if (mesh_.vertex_alive(std::uint32_t(v)) && plan_removal(std::uint32_t(v), &plan)) cost_[v] = plan.cost;
+      if (mesh_.vertex_alive(std::uint32_t(v))) cost_[v] = least_cost(std::uint32_t(v));
   });
   const Entry::Later later;
   order_.clear();
@@ -384,8 +401,8 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   if (ahead_on_ && claimed_.size() != n) claimed_.assign(n, claim_);
 
   // Steps 2-3: the cheapest unmarked vertex first. Each vertex is in the queue once;
-  // its plan is made again when it comes out (the removals around it since may have
-  // changed it), and a cost that rose past the next in line goes back (lazy updates).
+  // its plan is made when it comes out (the removals around it since may have
+  // changed it), and a cost past the next in line goes back (lazy updates).
   // A plan made earlier (ahead, or when its entry went back) is taken as it is where
   // nothing it read has changed since.
   std::uint64_t removed = 0;

@@ -86,6 +86,7 @@ class FourFaceSimplifier {
   };
 
   bool plan_removal(std::uint32_t v, Plan* plan) const;
+  double least_cost(std::uint32_t v) const;
   double swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const;
   bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
                  double* least_compactness) const;
@@ -127,7 +128,7 @@ class FourFaceSimplifier {
   FourKMesh& mesh_;
   const HierarchyOptions& options_;
   std::vector<Quadric> quadrics_;
-  // Per level: marked vertices, each vertex's cost at the start, and the queue: the
+  // Per set: marked vertices, each vertex's least cost at the start, and the queue: the
   // entries sorted cheapest first (and the next to take), and a heap of the entries
   // that went back with a higher cost, their plans kept (free slots in free_slots_).
   std::vector<std::uint8_t> marked_;
