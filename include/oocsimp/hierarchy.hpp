@@ -72,11 +72,12 @@ struct MeshHierarchy {
 struct HierarchyOptions {
   /// Levels to build; 0 = until a level removes nothing.
   std::uint32_t levels = 0;
-  /// A set of independent removals ends when the triangles are down to this fraction
-  /// (the cheapest removals first), or when no unmarked vertex can go. Velho's levels
-  /// take every vertex they can (0: about 0.68 a level); 0.7 measured 0.77x the RMS
-  /// at equal counts on the bunny (docs/hierarchy.md). A level takes further sets
-  /// while it holds more than max(0.75, level_ratio) of the level before's triangles.
+  /// A level's sets of independent removals end when the triangles are down to this
+  /// fraction of the level before (the cheapest removals first), or when no unmarked
+  /// vertex can go. Velho's levels take every vertex they can (0 with one set: about
+  /// 0.68 a level); 0.7 measured 0.77x the RMS at equal counts on the bunny
+  /// (docs/hierarchy.md). A level takes further sets while it holds more than
+  /// max(0.75, level_ratio) of the level before's triangles.
   double level_ratio = 0.7;
   /// Independent sets a level is made of (1: Velho's). Each set ends at
   /// level_ratio^(1 / sets_per_level) of the triangles it began with, so that the
@@ -86,11 +87,11 @@ struct HierarchyOptions {
   /// close to `independent = false`, with a somewhat deeper dependency graph
   /// (docs/hierarchy.md). From 1 to 16.
   std::uint32_t sets_per_level = 2;
-  /// Velho §4 step 2: a level's removals are independent, each marking the four
-  /// vertices around it so that no other removal of the level touches them: the
-  /// dependency graph stays shallow. Off (--sequential), a level takes the cheapest
-  /// removals one after another as an edge collapse does: closer to QEM at the same
-  /// count (docs/hierarchy.md), a deeper graph.
+  /// Velho §4 step 2: a set's removals are independent, each marking the four
+  /// vertices around it so that no other removal of the set touches them: the
+  /// dependency graph stays shallow. Off (--sequential), a set takes the cheapest
+  /// removals one after another as an edge collapse does: about as close to QEM at
+  /// the same count as two sets a level (docs/hierarchy.md), a deeper graph.
   bool independent = true;
   /// Velho eq. 6's weights of the removal cost C(v) and the swap cost S(v).
   double removal_weight = 0.75, swap_weight = 0.25;
