@@ -82,8 +82,8 @@ struct HierarchyOptions {
   /// Independent sets a level is made of (1: Velho's). Each set ends at
   /// level_ratio^(1 / sets_per_level) of the triangles it began with, so that the
   /// level still ends near level_ratio. Smaller sets leave fewer cheap removals
-  /// waiting beside a marked vertex: two sets measured 0.64-0.94x the RMS of one at
-  /// levels 1-9 on the scans, 0.53-0.87x on a sphere and 0.81-0.96x on a terrain,
+  /// waiting beside a marked vertex: two sets measured 0.64-0.93x the RMS of one at
+  /// levels 1-9 on the scans, 0.53-0.87x on a sphere and 0.78-0.96x on a terrain,
   /// close to `independent = false`, with a somewhat deeper dependency graph
   /// (docs/hierarchy.md). From 1 to 16.
   std::uint32_t sets_per_level = 2;

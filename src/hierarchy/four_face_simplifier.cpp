@@ -309,7 +309,10 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
 // E(v) = alpha C(v) + beta S(v) with S(v) >= 0 and C(v) = (Q_v + Q_a)(p_a) for a
 // diagonal's end a, which is one of v's neighbours now (swaps only take neighbours
 // away): alpha times the least (Q_v + Q_u)(p_u) over v's neighbours u bounds E(v)
-// from below. Infinite for a vertex without faces.
+// from below when the set begins. A vertex that gains a neighbour during the set (an
+// end of a swap that a later swap of the same removal takes out, unmarked; with
+// --sequential, any ring vertex) can come to cost less than its key: it is then
+// taken later than its cost says, not lost. Infinite for a vertex without faces.
 double FourFaceSimplifier::least_cost(std::uint32_t v) const {
   double least = kNoCost;
   for (const FourKMesh::Incidence& f : mesh_.around(v))
@@ -375,8 +378,8 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   const std::size_t n = mesh_.vertex_count();
   marked_.assign(n, 0);
   cost_.assign(n, kNoCost);
-  // Step 1: every vertex ranked by a bound of its cost from below, in parallel
-  // (each reads the mesh only). The walk plans a vertex when it comes out, and one
+  // Step 1: every vertex ranked by a bound of its cost from below (least_cost), in
+  // parallel (each reads the mesh only). The walk plans a vertex when it comes out, and one
   // whose cost is past the next in line goes back: a set ends long before the end of
   // the queue, so most vertices are never planned in it.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {

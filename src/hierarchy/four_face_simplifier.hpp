@@ -1,16 +1,18 @@
-// Velho 1999 §4, Algorithm 1: simplification by four-face clusters. Each level ranks
-// the vertices by the cost of removing them (eq. 6-8), then, cheapest first, brings
-// each unmarked vertex to valence 4 by edge swaps, removes it by the diagonal of
-// lower cost, passes its quadric on (eq. 9) and marks the four vertices around it, so
-// that a level's clusters are independent and cover most of the mesh.
+// Velho 1999 §4, Algorithm 1: simplification by four-face clusters. Each set of
+// removals (a level is one or more, HierarchyOptions::sets_per_level) ranks the
+// vertices by the cost of removing them (eq. 6-8), bounded from below, then, cheapest
+// first, brings each unmarked vertex to valence 4 by edge swaps, removes it by the
+// diagonal of lower cost, passes its quadric on (eq. 9) and marks the four vertices
+// around it, so that a set's clusters are independent.
 //
 // What the paper leaves open, and what is chosen here:
 // - C(v) (eq. 7) is taken over the ring after the swaps: the vertices the removal's
 //   faces keep, one of which takes v's place.
-// - S(v) (eq. 8) sums the swaps' costs, each the mean of Q_s(t) and Q_t(s) for the new
-//   edge s-t. The swaps are chosen one at a time, the cheapest first by S times
-//   (2 - c), c the least compactness (eq. 4) of the two faces the swap makes: on a
-//   flat patch, where every S is 0, the swap that makes the rounder faces.
+// - S(v) (eq. 8) sums the swaps' costs, each the squared volume of the tetrahedron
+//   the swap flattens, read as the plane quadric of each face it replaces at the
+//   opposite corner (swap_cost). The swaps are chosen one at a time, the cheapest
+//   first by S times (2 - c), c the least compactness (eq. 4) of the two faces the
+//   swap makes; at equal keys (on a flat patch every S is 0) the rounder faces.
 // - The diagonal of lower C_a + C_b is kept; eq. 9 gives each of its ends a share
 //   1 - C_i / (C_a + C_b) of Q_v.
 // - A vertex of valence 3 inside is removed as it is, its three faces becoming one
@@ -24,8 +26,10 @@
 //   its faces).
 // - No record may make an edge that exists, a face of no area, a face whose normal
 //   turns by 90 degrees or more from the face it replaces along an outline edge, a
-//   crease sharper than the sharpest it replaces (or than 150 degrees), or a face
-//   less compact than both kMinCompactness and half the least compact it replaces.
+//   face that leans from the replaced faces' normal by more than 75 degrees and more
+//   than they do, a crease sharper than the sharpest it replaces (or than 150
+//   degrees), or a face less compact than both kMinCompactness and half the least
+//   compact it replaces.
 #pragma once
 
 #include <cstdint>
