@@ -468,6 +468,51 @@ TEST_CASE("a removal may make a crease up to 150 degrees where the old ones are 
   CHECK(mesh.live_faces() == 2);
 }
 
+TEST_CASE("on a flat patch, where every swap costs 0, the swap that makes the rounder faces goes first",
+          "[hierarchy]") {
+  // v of valence 5 in the plane z = 0, one ring vertex pulled in: bringing v to
+  // valence 4 takes one swap, which cuts the ring's ear at one vertex. Every choice
+  // stays in the plane (S = 0), so the rounder faces decide: the ear whose two new
+  // faces have the largest least compactness (Velho eq. 4, 4 sqrt(3) area over the
+  // sum of the squared sides), worked out here.
+  const double ring[5][2] = {{0.45, 0.05}, {0.25, 0.97}, {-0.8, 0.6}, {-0.85, -0.55}, {0.35, -0.9}};
+  std::vector<Vec3d> positions = {{0, 0, 0}};
+  for (const auto& r : ring) positions.push_back({r[0], r[1], 0});
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t i = 0; i < 5; ++i) faces.insert(faces.end(), {0, 1 + i, 1 + (i + 1) % 5});
+  auto compactness = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {  // in the plane z = 0
+    const Vec3d &a = positions[x], &b = positions[y], &c = positions[z];
+    const double area = 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+    auto d2 = [](const Vec3d& p, const Vec3d& q) { return (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y); };
+    return 4 * std::sqrt(3.0) * area / (d2(a, b) + d2(b, c) + d2(c, a));
+  };
+  std::uint32_t best_mid = 0;
+  double best = -1;
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    const std::uint32_t prev = 1 + (i + 4) % 5, mid = 1 + i, next = 1 + (i + 1) % 5;
+    const double least = std::min(compactness(0, prev, next), compactness(prev, mid, next));
+    if (least > best) {
+      best = least;
+      best_mid = mid;
+    }
+  }
+  FourKMesh mesh(positions, faces);
+  const HierarchyOptions options;
+  FourFaceSimplifier simplifier(&mesh, options);
+  simplifier.assign_quadrics();
+  std::vector<HierarchyRecord> records;
+  simplifier.simplify_level(&records);
+  REQUIRE(records.size() == 2);
+  REQUIRE(records[0].swap);
+  // Face i is (v, ring i, ring i + 1): the swap at ring vertex m replaces faces m - 1
+  // and m (ring numbers from 0).
+  const std::uint32_t m = best_mid - 1;
+  const std::set<std::uint32_t> replaced(records[0].faces, records[0].faces + 2);
+  CHECK(replaced == std::set<std::uint32_t>{(m + 4) % 5, m});
+  CHECK_FALSE(records[1].swap);
+  CHECK_FALSE(mesh.vertex_alive(0));
+}
+
 TEST_CASE("plans made ahead on other threads, or kept by entries that went back, give the walk's records",
           "[hierarchy]") {
   // A level's walk may make the plans of its next entries on several threads, and an
