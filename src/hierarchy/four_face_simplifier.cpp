@@ -260,13 +260,7 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
 
   // The removal: the fan from ring[start] of lower C_a + C_b.
   double ring_cost[4];
-  Quadric qv = quadrics_[v];
-  for (int i = 0; i < n; ++i) {
-    Quadric q = qv;
-    q.add(quadrics_[ring[i]]);
-    ring_cost[i] =
-        std::max(0.0, q.error(mesh_.position(ring[i])));  // a quadric's error is never negative but for rounding
-  }
+  for (int i = 0; i < n; ++i) ring_cost[i] = collapse_cost(v, ring[i]);
   const int faces = closed ? n : n - 1;
   std::uint32_t old_faces[12];
   for (int i = 0; i < faces; ++i) {
@@ -314,14 +308,25 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
 // --sequential, any ring vertex) can come to cost less than its key: it is then
 // taken later than its cost says, not lost. Infinite for a vertex without faces.
 double FourFaceSimplifier::least_cost(std::uint32_t v) const {
+  // v's neighbours, each once: the far corner of each of its faces and, on the
+  // boundary, the near corner of the face its fan begins with (no face ends there).
+  const std::vector<FourKMesh::Incidence>& faces = mesh_.around(v);
   double least = kNoCost;
-  for (const FourKMesh::Incidence& f : mesh_.around(v))
-    for (const std::uint32_t u : {f.from, f.to}) {
-      Quadric q = quadrics_[v];
-      q.add(quadrics_[u]);
-      least = std::min(least, std::max(0.0, q.error(mesh_.position(u))));
-    }
+  for (const FourKMesh::Incidence& f : faces) {
+    least = std::min(least, collapse_cost(v, f.to));
+    bool begins = true;
+    for (const FourKMesh::Incidence& g : faces) begins = begins && g.to != f.from;
+    if (begins) least = std::min(least, collapse_cost(v, f.from));
+  }
   return least < kNoCost ? options_.removal_weight * least : kNoCost;
+}
+
+// C_u = (Q_v + Q_u)(p_u), the half-edge collapse of v into its neighbour u (eq. 7),
+// clamped at 0: a quadric's error is never negative but for rounding.
+double FourFaceSimplifier::collapse_cost(std::uint32_t v, std::uint32_t u) const {
+  Quadric q = quadrics_[v];
+  q.add(quadrics_[u]);
+  return std::max(0.0, q.error(mesh_.position(u)));
 }
 
 // Eq. 9: Q_i += delta_i Q_v for the ends of the new edge (all three corners of the new

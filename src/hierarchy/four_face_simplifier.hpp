@@ -91,6 +91,7 @@ class FourFaceSimplifier {
 
   bool plan_removal(std::uint32_t v, Plan* plan) const;
   double least_cost(std::uint32_t v) const;
+  double collapse_cost(std::uint32_t v, std::uint32_t u) const;
   double swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const;
   bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
                  double* least_compactness) const;
