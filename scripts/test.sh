@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install what is missing, build, and run the whole test suite under ctest.
 #   scripts/test.sh             Release build in build/
-#   scripts/test.sh --sanitize  AddressSanitizer + UBSan build in build-sanitize/
+#   scripts/test.sh --sanitize  AddressSanitizer + UBSan build in build-sanitize/, with
+#                               clang (the Release build is gcc's: CI compiles with both)
 # With OOCSIMP_WERROR=1 in the environment (CI) a compiler warning fails the build
 # (-DOOCSIMP_WERROR=ON); with OOCSIMP_WERROR=0 the build dir is set back to warnings.
 set -euo pipefail
@@ -22,6 +23,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # suggests (line tables are enough for its reports); the build takes about half
   # the time of -O2 -g, which keeps .ci/run within its 30 minutes.
   "$root/scripts/build.sh" -DOOCSIMP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
     ${configure[@]+"${configure[@]}"}
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1

@@ -364,8 +364,8 @@ TEST_CASE("the weights hold for vertices numbered in any order (corners past a c
   // 300^2 triangles' chunks reference vertex numbers scattered over all 301^2 = 90601
   // (more than the window of 65536 a chunk gathers its vertices' weights in): the
   // uniform method adds those corners to their cells directly.
-  const std::uint32_t count = 301 * 301;
-  const Mesh m = uneven_plane(300, [count](std::uint32_t i) { return std::uint32_t(std::uint64_t(i) * 7919 % count); });
+  constexpr std::uint32_t kCount = 301 * 301;
+  const Mesh m = uneven_plane(300, [](std::uint32_t i) { return std::uint32_t(std::uint64_t(i) * 7919 % kCount); });
   CHECK(check_weighted_quality(d, m, 12, 1) >= 100);
   const SimplifiedMesh one = run(d.file("plane.ply"), ClusterMethod::uniform, 12, 1);
   const SimplifiedMesh two = run(d.file("plane.ply"), ClusterMethod::uniform, 12, 2);
