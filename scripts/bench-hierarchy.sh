@@ -15,7 +15,8 @@
 # a middle and the coarsest level take, file to file.
 # Environment: SHAPES, SIZE (generated inputs, cached under build/bench/), SAMPLES
 # (points `oocsimp measure` samples, default 1000000), THREADS (oocsimp's, default 2),
-# MIN_TRIS, FLAGS (more `oocsimp hierarchy` options, e.g. FLAGS=--sequential).
+# MIN_TRIS, FLAGS (more `oocsimp hierarchy` options, e.g. FLAGS=--sequential),
+# PLACEMENT (`extract --placement`: quadric, the default, or kept).
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 meshopt_bin="${MESHOPT_BENCH_BIN:-$root/build/meshopt_bench}"
@@ -23,6 +24,7 @@ samples="${SAMPLES:-1000000}"
 threads="${THREADS:-2}"
 size="${SIZE:-200000}"
 min_tris="${MIN_TRIS:-500}"
+placement="${PLACEMENT:-quadric}"
 out="$dir/hierarchy-bench"
 mkdir -p "$out"
 
@@ -43,7 +45,7 @@ rms_of() {  # rms_of MESH RESULT -> "rms hausdorff"
 for mesh in "${inputs[@]}"; do
   cat "$mesh" >/dev/null
   h="$out/h.4k"
-  echo "input $mesh, hierarchy --threads $threads ${FLAGS:-}, measure --samples $samples"
+  echo "input $mesh, hierarchy --threads $threads ${FLAGS:-}, extract --placement $placement, measure --samples $samples"
   t0=$(now)
   # shellcheck disable=SC2086
   "$bin" hierarchy "$mesh" -o "$h" --threads "$threads" --quiet ${FLAGS:-} >"$out/build.txt"
@@ -68,7 +70,7 @@ for mesh in "${inputs[@]}"; do
   for ((j = 1; j < levels; j += 2)); do
     tris=$(awk -v j="$j" '/^level/ {on = 1; next} on && $1 == j {print $2}' "$out/info.txt")
     [ "$tris" -ge "$min_tris" ] || break
-    "$bin" extract "$h" -o "$out/level.ply" --level "$j"
+    "$bin" extract "$h" -o "$out/level.ply" --level "$j" --placement "$placement"
     "$bin" simplify "$mesh" -o "$out/qem.ply" --method qem --target-tris "$tris" --threads "$threads" --quiet
     read -r r4 h4 <<<"$(rms_of "$mesh" "$out/level.ply")"
     read -r rq hq <<<"$(rms_of "$mesh" "$out/qem.ply")"
@@ -84,7 +86,7 @@ for mesh in "${inputs[@]}"; do
   done
   for j in 0 $((levels / 2)) $((levels - 1)); do
     t0=$(now)
-    "$bin" extract "$h" -o "$out/level.ply" --level "$j"
+    "$bin" extract "$h" -o "$out/level.ply" --level "$j" --placement "$placement"
     t1=$(now)
     printf 'extract --level %s: %.3f s\n' "$j" "$(calc "$t1 - $t0")"
   done

@@ -186,9 +186,11 @@ double signed_volume(const SimplifiedMesh& m) {
   return six / 6;
 }
 
-SimplifiedMesh level(const MeshHierarchy& h, std::uint32_t j) {
+SimplifiedMesh level(const MeshHierarchy& h, std::uint32_t j,
+                     HierarchyPlacement placement = HierarchyPlacement::quadric) {
   HierarchyQuery q;
   q.level = j;
+  q.placement = placement;
   return extract_mesh(h, q);
 }
 
@@ -215,6 +217,60 @@ TEST_CASE("each level of a sphere keeps it closed, manifold, of Euler characteri
     if (t.faces >= 200)
       CHECK(turned_faces(m, [](const double* c) { return std::array<double, 3>{c[0], c[1], c[2]}; }) == 0);
   }
+}
+
+// The root-mean-square distance of a mesh's surface from the unit sphere, |(|x| - 1)|
+// at 10 points of each face (its corners, edge midpoints, thirds and centroid),
+// weighted by the face's area.
+double rms_off_unit_sphere(const SimplifiedMesh& m) {
+  static const double kPoints[10][3] = {{1, 0, 0},
+                                        {0, 1, 0},
+                                        {0, 0, 1},
+                                        {.5, .5, 0},
+                                        {0, .5, .5},
+                                        {.5, 0, .5},
+                                        {2. / 3, 1. / 6, 1. / 6},
+                                        {1. / 6, 2. / 3, 1. / 6},
+                                        {1. / 6, 1. / 6, 2. / 3},
+                                        {1. / 3, 1. / 3, 1. / 3}};
+  double sum = 0, weight = 0;
+  for (std::size_t f = 0; f < m.triangles.size(); f += 3) {
+    const double* c[3];
+    for (int k = 0; k < 3; ++k) c[k] = &m.positions[3 * m.triangles[f + std::size_t(k)]];
+    const double u[3] = {c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]};
+    const double w[3] = {c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]};
+    const double area =
+        0.5 * std::sqrt(std::pow(u[1] * w[2] - u[2] * w[1], 2) + std::pow(u[2] * w[0] - u[0] * w[2], 2) +
+                        std::pow(u[0] * w[1] - u[1] * w[0], 2));
+    for (const auto& b : kPoints) {
+      double p[3];
+      for (int d = 0; d < 3; ++d) p[d] = b[0] * c[0][d] + b[1] * c[1][d] + b[2] * c[2][d];
+      const double off = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1;
+      sum += area * off * off;
+      weight += area;
+    }
+  }
+  return std::sqrt(sum / weight);
+}
+
+TEST_CASE("vertices placed at their quadrics' minima bring each level closer to the sphere it stands for",
+          "[hierarchy]") {
+  // Kept in place, every vertex lies on the unit sphere and every face is a chord
+  // inside it; the quadric of the faces a vertex stands for is least a little outside,
+  // where the faces straddle the sphere, as an edge collapse places its vertex.
+  const Mesh sphere = uv_sphere(60, 80);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
+  std::uint32_t checked = 0;
+  for (std::uint32_t j = 2; j < h.levels.size() && h.levels[j].triangles >= 200; j += 2) {
+    const SimplifiedMesh kept = level(h, j, HierarchyPlacement::kept), placed = level(h, j);
+    const double off_kept = rms_off_unit_sphere(kept), off_placed = rms_off_unit_sphere(placed);
+    INFO("level " << j << ", " << h.levels[j].triangles << " faces: " << off_kept << " kept, " << off_placed
+                  << " placed");
+    CHECK(placed.triangles == kept.triangles);
+    CHECK(off_placed < 0.8 * off_kept);
+    ++checked;
+  }
+  CHECK(checked >= 3);
 }
 
 TEST_CASE("each level of a height field keeps one outline, Euler characteristic 1 and every face up", "[hierarchy]") {
@@ -618,6 +674,23 @@ TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[
   CHECK(r.exit_code == 0);
   const LoadedMesh l = load_mesh(out);
   CHECK(topology(l.positions, std::vector<std::uint32_t>(l.triangles.begin(), l.triangles.end())).euler() == 2);
+  // --placement kept: the same faces, every vertex where the input has it (float
+  // positions, on the unit sphere to float precision); the default moves some.
+  const std::string kept = tmp.file("k.ply");
+  CHECK(run_cli("extract " + h + " -o " + kept + " --level 2 --placement kept").exit_code == 0);
+  const LoadedMesh k = load_mesh(kept);
+  CHECK(k.triangles == l.triangles);
+  double kept_off = 0, placed_off = 0;
+  for (std::size_t v = 0; v < k.positions.size(); v += 3) {
+    kept_off = std::max(kept_off, std::fabs(std::hypot(k.positions[v], k.positions[v + 1], k.positions[v + 2]) - 1));
+    placed_off =
+        std::max(placed_off, std::fabs(std::hypot(l.positions[v], l.positions[v + 1], l.positions[v + 2]) - 1));
+  }
+  CHECK(kept_off < 1e-6);
+  CHECK(placed_off > 1e-4);
+  r = run_cli("extract " + h + " -o " + out + " --level 2 --placement moved");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Catch::Contains("--placement"));
   r = run_cli("extract " + h + " -o " + out + " --level 999");
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Catch::Contains("--level 999 is beyond the last"));
@@ -745,19 +818,26 @@ TEST_CASE("every extracted mesh carries its vertices' attributes, through the fi
   CHECK(back.file_version == 2);
   CHECK(back.attributes.values == h.attributes.values);
   CHECK(back.attributes.attributes[1].type == AttributeType::f32);
+  // The values as functions of the position hold where the vertices stay; placed at
+  // their quadrics' minima, the same vertices carry the same values.
+  const HierarchyPlacement kept = HierarchyPlacement::kept;
   for (std::uint32_t j = 0; j < h.levels.size(); j += 2) {
     INFO("level " << j);
-    CHECK(carries_sphere_values(level(h, j)));
-    CHECK(carries_sphere_values(level(back, j)));
+    CHECK(carries_sphere_values(level(h, j, kept)));
+    CHECK(carries_sphere_values(level(back, j, kept)));
+    const SimplifiedMesh placed = level(back, j);
+    CHECK(placed.attributes.values == level(back, j, kept).attributes.values);
+    CHECK(placed.triangles == level(back, j, kept).triangles);
   }
   HierarchyQuery region;
   region.level = std::uint32_t(h.levels.size() - 1);
   region.region = HierarchyQuery::Region::sphere;
   region.centre = {0, 0, 1};
   region.radius = 0.3;
+  region.placement = kept;
   CHECK(carries_sphere_values(extract_mesh(back, region)));
 
-  // Texture coordinates too: the vertices never move, so u and v stay exact.
+  // Texture coordinates too: kept in place, u and v stay exact.
   std::vector<float> u, v;
   for (std::size_t i = 0; i < sphere.mesh.positions.size(); i += 3) {
     u.push_back(float(sphere.mesh.positions[i]));
@@ -768,7 +848,7 @@ TEST_CASE("every extracted mesh carries its vertices' attributes, through the fi
   mapped.attributes.add({"v", AttributeType::f32, -1, 1}, v.data(), sizeof(float));
   const MeshHierarchy uv = build_hierarchy(mapped, {});
   REQUIRE(uv.attributes.attributes.size() == 2);
-  const SimplifiedMesh coarse = level(uv, std::uint32_t(uv.levels.size() / 2));
+  const SimplifiedMesh coarse = level(uv, std::uint32_t(uv.levels.size() / 2), kept);
   bool exact = coarse.attributes.values.size() == 2 * (coarse.positions.size() / 3);
   for (std::size_t i = 0; exact && i < coarse.positions.size() / 3; ++i)
     exact = coarse.attributes.values[2 * i] == double(float(coarse.positions[3 * i])) &&
@@ -783,7 +863,7 @@ TEST_CASE("every extracted mesh carries its vertices' attributes, through the fi
   REQUIRE(run_cli("hierarchy " + in + " -o " + path + " --quiet").exit_code == 0);
   CliResult r = run_cli("info " + path);
   CHECK_THAT(r.out, Catch::Contains("attributes red (uchar) quality (float)"));
-  REQUIRE(run_cli("extract " + path + " -o " + out + " --level 3").exit_code == 0);
+  REQUIRE(run_cli("extract " + path + " -o " + out + " --level 3 --placement kept").exit_code == 0);
   MeshInput from_file = open_mesh_input(out);
   SimplifiedMesh extracted;
   extracted.attributes.attributes = from_file.attributes.attributes;

@@ -921,6 +921,7 @@ int run_hierarchy(HierarchyArgs& a) {
 struct ExtractArgs {
   std::string in, out;
   Given level, tris, error, box, sphere;
+  HierarchyPlacement placement = HierarchyPlacement::quadric;
   bool ascii = false;
 };
 
@@ -933,6 +934,9 @@ CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
   add_given(cmd, "--error", &a.error, "The coarsest state whose removals all cost at most this (see info)");
   add_given(cmd, "--box", &a.box, "x0,y0,z0,x1,y1,z1: keep the faces meeting this box at the finest level");
   add_given(cmd, "--sphere", &a.sphere, "x,y,z,r: keep the faces meeting this ball at the finest level");
+  add_enum_option(cmd, "--placement", &a.placement, hierarchy_placement_names(),
+                  "Where the kept vertices go: quadric (each at the minimum of the quadric it holds, the default) "
+                  "or kept (where the finest mesh has them)");
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY or STL");
   return cmd;
 }
@@ -982,6 +986,7 @@ int run_extract(const ExtractArgs& a) {
     q.centre = {s[0], s[1], s[2]};
     q.radius = s[3];
   }
+  q.placement = a.placement;
   extract_file(a.in, a.out, a.ascii, q);
   return kOk;
 }

@@ -1,5 +1,6 @@
 // The spellings of the option values, each written here once: the command line's
 // flags, the stats JSON and the *_name() functions all read these tables.
+#include "oocsimp/hierarchy.hpp"
 #include "oocsimp/oocsimp.hpp"
 
 namespace oocsimp {
@@ -34,6 +35,12 @@ const EnumNames<RepresentativeRule>& representative_rule_names() {
 const EnumNames<SpillCompression>& spill_compression_names() {
   static const EnumNames<SpillCompression> names = {
       {SpillCompression::automatic, "auto"}, {SpillCompression::zstd, "zstd"}, {SpillCompression::none, "none"}};
+  return names;
+}
+
+const EnumNames<HierarchyPlacement>& hierarchy_placement_names() {
+  static const EnumNames<HierarchyPlacement> names = {{HierarchyPlacement::quadric, "quadric"},
+                                                      {HierarchyPlacement::kept, "kept"}};
   return names;
 }
 

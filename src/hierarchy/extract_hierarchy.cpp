@@ -12,6 +12,7 @@
 #include "common/vec3_math.hpp"
 #include "hierarchy/hierarchy_steps.hpp"
 #include "hierarchy/record_faces.hpp"
+#include "hierarchy/vertex_placement.hpp"
 #include "oocsimp/error.hpp"
 
 namespace oocsimp {
@@ -165,6 +166,20 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
     if (live(f))
       for (int k = 0; k < 3; ++k)
         out.triangles.push_back(number_of[h.face_corners[3 * std::size_t(f) + std::size_t(k)]]);
+  if (q.placement == HierarchyPlacement::quadric) {
+    std::vector<std::uint32_t> source(next);
+    for (std::size_t v = 0; v < number_of.size(); ++v)
+      if (number_of[v] != kFinest) source[number_of[v]] = std::uint32_t(v);
+    // The region is the finest mesh's faces, exactly: their corners stay.
+    std::vector<std::uint8_t> pinned;
+    if (!region.none()) {
+      pinned.assign(next, 0);
+      for (std::uint32_t f = 0; f < finest; ++f)
+        if (live(f) && region.meets(f))
+          for (int k = 0; k < 3; ++k) pinned[number_of[h.face_corners[3 * std::size_t(f) + std::size_t(k)]]] = 1;
+    }
+    place_at_quadric_minima(h, applied, source, pinned, &out);
+  }
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include "cluster/plane_quadric.hpp"
 #include "common/triangle_geometry.hpp"
 #include "common/vec3_math.hpp"
+#include "hierarchy/hierarchy_quadrics.hpp"
 
 namespace oocsimp {
 
@@ -44,32 +45,7 @@ void FourFaceSimplifier::assign_quadrics(std::vector<Quadric> given) {
     quadrics_ = std::move(given);
     return;
   }
-  quadrics_.assign(n, Quadric{});
-  const std::vector<std::uint32_t>& corners = mesh_.face_corners();
-  const std::size_t faces = corners.size() / 3;
-  // Eq. 5: each face's plane, weighted by its area, to its three corners.
-  for (std::size_t f = 0; f < faces; ++f) {
-    const std::uint32_t* t = &corners[3 * f];
-    Quadric q;
-    q.add_triangle(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
-    for (int k = 0; k < 3; ++k) quadrics_[t[k]].add(q);
-  }
-  // The boundary edges' lines: an edge u->w whose reverse no face has.
-  if (!(options_.boundary_weight > 0)) return;
-  for (std::size_t f = 0; f < faces; ++f) {
-    const std::uint32_t* t = &corners[3 * f];
-    const Vec3d normal = face_normal(mesh_.position(t[0]), mesh_.position(t[1]), mesh_.position(t[2]));
-    const double normal_length = length(normal);
-    if (!(normal_length > 0)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
-      if (mesh_.face_with_edge(w, u) != HierarchyRecord::kNoFace) continue;
-      const Quadric line =
-          boundary_edge_quadric(mesh_.position(u), mesh_.position(w), normal / normal_length, options_.boundary_weight);
-      quadrics_[u].add(line);
-      quadrics_[w].add(line);
-    }
-  }
+  quadrics_ = finest_vertex_quadrics(mesh_.positions(), mesh_.face_corners(), options_.boundary_weight);
 }
 
 // Eq. 8: the swap of edge v-mid for prev-next costs the squared volume of the
@@ -321,31 +297,9 @@ double FourFaceSimplifier::least_cost(std::uint32_t v) const {
   return least < kNoCost ? options_.removal_weight * least : kNoCost;
 }
 
-// C_u = (Q_v + Q_u)(p_u), the half-edge collapse of v into its neighbour u (eq. 7),
-// clamped at 0: a quadric's error is never negative but for rounding.
+// C_u, eq. 7 (half_edge_collapse_cost).
 double FourFaceSimplifier::collapse_cost(std::uint32_t v, std::uint32_t u) const {
-  Quadric q = quadrics_[v];
-  q.add(quadrics_[u]);
-  return std::max(0.0, q.error(mesh_.position(u)));
-}
-
-// Eq. 9: Q_i += delta_i Q_v for the ends of the new edge (all three corners of the new
-// face after a valence-3 removal), delta_i = (sum C - C_i) / ((n - 1) sum C), which is
-// 1 - C_i / (C_a + C_b) for two.
-void FourFaceSimplifier::share_quadric(std::uint32_t v, const Plan& plan) {
-  int ends[3] = {0, plan.ring_count == 2 ? 1 : 2, 0};
-  int count = 2;
-  if (plan.closed && plan.ring_count == 3) {
-    ends[1] = 1;
-    ends[2] = 2;
-    count = 3;
-  }
-  double total = 0;
-  for (int i = 0; i < count; ++i) total += plan.ring_cost[ends[i]];
-  for (int i = 0; i < count; ++i) {
-    const double share = total > 0 ? (total - plan.ring_cost[ends[i]]) / ((count - 1) * total) : 1.0 / count;
-    quadrics_[plan.ring[ends[i]]].add_scaled(quadrics_[v], share);
-  }
+  return half_edge_collapse_cost(quadrics_[v], quadrics_[u], mesh_.position(u));
 }
 
 void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records) {
@@ -374,7 +328,7 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
   mesh_.apply(removal);
   records->push_back(removal);
 
-  share_quadric(v, plan);
+  pass_on_quadric(&quadrics_, v, plan.ring, plan.ring_cost, removal_heirs(plan.ring_count, plan.closed));
   if (options_.independent)
     for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
 }

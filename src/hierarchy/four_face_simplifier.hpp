@@ -96,7 +96,6 @@ class FourFaceSimplifier {
   bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
                  double* least_compactness) const;
   void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
-  void share_quadric(std::uint32_t v, const Plan& plan);
 
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
 

@@ -32,6 +32,7 @@ class FourKMesh {
 
   std::size_t vertex_count() const { return positions_.size(); }
   const Vec3d& position(std::uint32_t v) const { return positions_[v]; }
+  const std::vector<Vec3d>& positions() const { return positions_; }
   /// Every face made so far, alive or not: 3 corners each.
   const std::vector<std::uint32_t>& face_corners() const { return corners_; }
   const std::uint32_t* corners(std::uint32_t f) const { return &corners_[3 * std::size_t(f)]; }

@@ -31,6 +31,14 @@ inline int record_new_face_count(const HierarchyRecord& record) {
 template <class CornersOf>
 int record_new_faces(const HierarchyRecord& record, const CornersOf& corners_of, std::uint32_t out[3 * kMostNewFaces]);
 
+/// The ring around a removal's vertex, read from the faces it replaces: `*ring_count`
+/// vertices into `ring`, counter-clockwise from the one the new faces fan from, and
+/// whether it is `closed` (inside). False when the faces do not make a removal's fan
+/// (a swap, or faces that do not fit).
+template <class CornersOf>
+bool removal_ring(const HierarchyRecord& record, const CornersOf& corners_of, std::uint32_t ring[5], int* ring_count,
+                  bool* closed);
+
 // --- implementation ---------------------------------------------------------------
 
 template <class CornersOf>
@@ -53,32 +61,10 @@ int record_new_faces(const HierarchyRecord& record, const CornersOf& corners_of,
     }
     return shared == 1 ? 2 : -1;
   }
-  const int n = record.face_count;
-  if (n < 1 || n > 4) return -1;
-  const std::uint32_t v = record.vertex;
   std::uint32_t ring[5];
-  for (int i = 0; i < n; ++i) {
-    const std::uint32_t* f = corners_of(record.faces[i]);
-    int at = -1;
-    for (int k = 0; k < 3; ++k)
-      if (f[k] == v) at = k;
-    if (at < 0) return -1;
-    const std::uint32_t from = f[(at + 1) % 3], to = f[(at + 2) % 3];
-    if (i == 0)
-      ring[0] = from;
-    else if (ring[i] != from)
-      return -1;
-    ring[i + 1] = to;
-  }
-  const bool closed = ring[n] == ring[0];
-  // Inside: 3 or 4 faces around v; on the boundary: 1 or 2.
-  if (closed ? n < 3 : n > 2) return -1;
-  const int count = closed ? n : n + 1;  // ring vertices
-  for (int i = 0; i < count; ++i) {
-    if (ring[i] == v) return -1;
-    for (int j = i + 1; j < count; ++j)
-      if (ring[i] == ring[j]) return -1;
-  }
+  int count = 0;
+  bool closed = false;
+  if (!removal_ring(record, corners_of, ring, &count, &closed)) return -1;
   int made = 0;
   for (int j = 1; j + 1 < count; ++j, ++made) {
     out[3 * made] = ring[0];
@@ -86,6 +72,40 @@ int record_new_faces(const HierarchyRecord& record, const CornersOf& corners_of,
     out[3 * made + 2] = ring[j + 1];
   }
   return made;
+}
+
+template <class CornersOf>
+bool removal_ring(const HierarchyRecord& record, const CornersOf& corners_of, std::uint32_t ring[5], int* ring_count,
+                  bool* is_closed) {
+  if (record.swap) return false;
+  const int n = record.face_count;
+  if (n < 1 || n > 4) return false;
+  const std::uint32_t v = record.vertex;
+  for (int i = 0; i < n; ++i) {
+    const std::uint32_t* f = corners_of(record.faces[i]);
+    int at = -1;
+    for (int k = 0; k < 3; ++k)
+      if (f[k] == v) at = k;
+    if (at < 0) return false;
+    const std::uint32_t from = f[(at + 1) % 3], to = f[(at + 2) % 3];
+    if (i == 0)
+      ring[0] = from;
+    else if (ring[i] != from)
+      return false;
+    ring[i + 1] = to;
+  }
+  const bool closed = ring[n] == ring[0];
+  // Inside: 3 or 4 faces around v; on the boundary: 1 or 2.
+  if (closed ? n < 3 : n > 2) return false;
+  const int count = closed ? n : n + 1;  // ring vertices
+  for (int i = 0; i < count; ++i) {
+    if (ring[i] == v) return false;
+    for (int j = i + 1; j < count; ++j)
+      if (ring[i] == ring[j]) return false;
+  }
+  *ring_count = count;
+  *is_closed = closed;
+  return true;
 }
 
 }  // namespace oocsimp
