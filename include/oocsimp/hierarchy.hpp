@@ -122,7 +122,7 @@ enum class HierarchyPlacement {
   /// collapse places its vertex, unless a face around it would then turn by more than
   /// 60 degrees, lose its area or become a needle; the corners of a region's faces
   /// stay. Velho's records keep a subset of the finest vertices: placed, the levels
-  /// of the sphere, terrain and scans came to 0.83-1.25x the edge collapse's RMS at
+  /// of the sphere, terrain and scans came to 0.86-1.50x the edge collapse's RMS at
   /// the same count where in place they were 1.05-1.66x (docs/hierarchy.md). The
   /// faces and the topology are the same either way, and every vertex keeps its
   /// attribute values.
