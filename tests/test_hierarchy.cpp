@@ -456,6 +456,55 @@ TEST_CASE("queries beyond the hierarchy are refused, saying what there is", "[hi
   CHECK_THROWS_WITH(extract_mesh(h, q), Catch::Contains("meets no face") && Catch::Contains("bounds"));
   q = {};
   CHECK_THROWS_AS(extract_mesh(h, q), UsageError);
+  q.level = 1;
+  q.placement = HierarchyPlacement(7);
+  CHECK_THROWS_WITH(extract_mesh(h, q), Catch::Contains("query.placement 7"));
+}
+
+TEST_CASE("vertices that share a position stay together when the others are placed", "[hierarchy]") {
+  // A uv sphere cut along one meridian: the seam's vertices are two copies each, one
+  // per side, as a texture seam has them. Placed each at its own quadric's minimum
+  // (each side's quadric holds its own faces' planes) the two sides would part.
+  Mesh cut = uv_sphere(40, 60);
+  const std::size_t n = cut.positions.size() / 3;
+  std::vector<std::uint32_t> copy(n, 0);
+  for (std::uint32_t v = 1; v + 1 < n; ++v)
+    if ((v - 1) % 60 == 0) {  // segment 0 of each ring: phi = 0
+      copy[v] = std::uint32_t(cut.positions.size() / 3);
+      cut.positions.insert(cut.positions.end(),
+                           {cut.positions[3 * v], cut.positions[3 * v + 1], cut.positions[3 * v + 2]});
+    }
+  // The faces of the last segment (between phi = 354 and 360 degrees) take the copies.
+  for (std::size_t f = 0; f < cut.triangles.size(); f += 3) {
+    bool last_segment = false;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = cut.triangles[f + std::size_t(k)];
+      last_segment = last_segment || (v > 0 && v + 1 < n && (v - 1) % 60 == 59);
+    }
+    if (!last_segment) continue;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t& v = cut.triangles[f + std::size_t(k)];
+      if (v < n && copy[v]) v = copy[v];
+    }
+  }
+  const MeshHierarchy h = build_hierarchy(view_of(cut), {});
+  std::uint32_t moved = 0, pairs = 0;
+  for (std::uint32_t j = 1; j < h.levels.size() && h.levels[j].triangles >= 500; ++j) {
+    const SimplifiedMesh kept = level(h, j, HierarchyPlacement::kept), placed = level(h, j);
+    REQUIRE(placed.positions.size() == kept.positions.size());
+    std::map<std::array<double, 3>, std::vector<std::size_t>> at;
+    for (std::size_t v = 0; v < kept.positions.size() / 3; ++v)
+      at[{kept.positions[3 * v], kept.positions[3 * v + 1], kept.positions[3 * v + 2]}].push_back(v);
+    for (const auto& [where, vertices] : at) {
+      if (vertices.size() < 2) continue;
+      ++pairs;
+      for (std::size_t v : vertices)
+        for (int d = 0; d < 3; ++d) CHECK(placed.positions[3 * v + std::size_t(d)] == where[std::size_t(d)]);
+    }
+    moved += placed.positions != kept.positions;
+  }
+  CHECK(pairs > 100);
+  CHECK(moved > 0);
 }
 
 TEST_CASE("a vertex where two fans meet is split, an edge of three faces refused", "[hierarchy]") {

@@ -97,7 +97,8 @@ struct HierarchyOptions {
   /// Velho eq. 6's weights of the removal cost C(v) and the swap cost S(v).
   double removal_weight = 0.75, swap_weight = 0.25;
   /// Weight of the plane through each boundary edge (Garland & Heckbert §6.1), per
-  /// squared edge length, as in the edge collapse: it keeps the outline.
+  /// squared edge length, as in the edge collapse: it keeps the outline. (The file
+  /// does not store it: extraction's placement replays the quadrics with the default.)
   double boundary_weight = 1000;
   /// Heap bytes for a file input (build_hierarchy_file); 0 = default_memory_budget().
   /// A mesh whose hierarchy does not fit is first simplified out of core to the count
@@ -120,8 +121,10 @@ enum class HierarchyPlacement {
   /// Each vertex that took a share of a removed vertex's quadric (Velho eq. 9) moves
   /// to the minimum of the quadric it holds in the extracted state, as an edge
   /// collapse places its vertex, unless a face around it would then turn by more than
-  /// 60 degrees, lose its area or become a needle; the corners of a region's faces
-  /// stay. Velho's records keep a subset of the finest vertices: placed, the levels
+  /// 60 degrees, lose its area or become a needle, or a crease there grow sharper than
+  /// the builder allows; the corners of a region's faces stay, and so do vertices
+  /// that share a position (a split vertex's copies, a seam's sides). Velho's records keep a subset of the finest
+  /// vertices: placed, the levels
   /// of the sphere, terrain and scans came to 0.86-1.50x the edge collapse's RMS at
   /// the same count where in place they were 1.05-1.66x (docs/hierarchy.md). The
   /// faces and the topology are the same either way, and every vertex keeps its

@@ -90,8 +90,9 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
   return h;
 }
 
-// The attributes the hierarchy keeps: texture coordinates too, since a record keeps
-// its vertices where they are (clustering leaves them out: it merges across seams).
+// The attributes the hierarchy keeps: texture coordinates too, since a record keeps a
+// subset of the vertices, each with its own values, and a seam's copies stay apart
+// (clustering leaves them out: it merges across seams).
 AttributeSelection kept_attributes(const HierarchyOptions& options) {
   AttributeSelection kept = options.attributes;
   kept.texture_coordinates = true;

@@ -8,24 +8,11 @@
 #include <cmath>
 
 #include "common/vec3_math.hpp"
+#include "common/vertex_faces.hpp"
 
 namespace oocsimp {
 
 namespace {
-
-// The faces around each vertex, as one array in vertex order.
-struct VertexFaces {
-  std::vector<std::uint32_t> start;  // per vertex, then one past the last
-  std::vector<std::uint32_t> faces;
-
-  VertexFaces(std::size_t vertices, const std::vector<std::uint32_t>& triangles) : start(vertices + 1, 0) {
-    for (std::uint32_t v : triangles) ++start[v + 1];
-    for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
-    faces.resize(triangles.size());
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < triangles.size(); ++i) faces[fill[triangles[i]]++] = std::uint32_t(i / 3);
-  }
-};
 
 // What the estimate reads of a face, the same for every vertex near it.
 struct FaceShape {

@@ -67,6 +67,9 @@ void check_query(const MeshHierarchy& h, const HierarchyQuery& q) {
     throw UsageError("query.radius", "query.radius " + number(q.radius) + " must be positive and finite");
   if (q.region == HierarchyQuery::Region::box && q.box.empty())
     throw UsageError("query.box", "query.box is empty (a minimum above its maximum)");
+  if (!name_of(hierarchy_placement_names(), q.placement))
+    throw UsageError("query.placement",
+                     "query.placement " + std::to_string(int(q.placement)) + " is none of HierarchyPlacement's values");
 }
 
 // Which record made each face (kFinest: the finest mesh's).

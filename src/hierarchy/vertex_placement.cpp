@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "common/triangle_geometry.hpp"
+#include "common/vertex_faces.hpp"
 #include "common/vec3_math.hpp"
 #include "hierarchy/four_face_simplifier.hpp"
 #include "hierarchy/hierarchy_quadrics.hpp"
@@ -19,18 +21,6 @@ Vec3d point(const std::vector<double>& xyz, std::uint32_t v) {
   return {xyz[3 * std::size_t(v)], xyz[3 * std::size_t(v) + 1], xyz[3 * std::size_t(v) + 2]};
 }
 
-// The faces around each vertex of a mesh (3 corners per face), as lists in one array.
-struct VertexFaces {
-  std::vector<std::uint32_t> start, faces;
-  VertexFaces(std::size_t vertices, const std::vector<std::uint32_t>& corners) : start(vertices + 1, 0) {
-    for (std::uint32_t v : corners) ++start[std::size_t(v) + 1];
-    for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
-    faces.resize(corners.size());
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < corners.size(); ++i) faces[fill[corners[i]]++] = std::uint32_t(i / 3);
-  }
-};
-
 // A face as extracted: its normal (a cross product) and compactness, what a move is
 // held to.
 struct FaceShape {
@@ -42,17 +32,83 @@ FaceShape shape_of(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   return {cross(b - a, c - a), metrics::compactness(a, b, c)};
 }
 
-// Whether the face, as it was extracted (`before`) and now (a, b, c), still keeps its
-// area, its facing within kMaxTurnDegrees and the builder's needle guard.
-bool keeps_shape(const FaceShape& before, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-  const FaceShape now = shape_of(a, b, c);
+// Whether the face, as it was extracted (`before`) and now (`now`), still keeps its
+// area, its facing within kMaxTurnDegrees and its shape: compactness at least
+// kMinCompactness or kNeedleSlack times its own, the builder's bounds for a new face.
+// A face extracted with no area (a degenerate input face) has no facing to keep: its
+// corners stay.
+bool keeps_shape(const FaceShape& before, const FaceShape& now) {
   const double nn = squared_length(now.normal), bb = squared_length(before.normal);
-  if (!(nn > 0)) return false;
+  if (!(nn > 0) || !(bb > 0)) return false;
   const double cos_max = std::cos(kMaxTurnDegrees * kPi / 180);
   if (!(dot(now.normal, before.normal) >= cos_max * std::sqrt(nn * bb))) return false;
   return now.compactness >= FourFaceSimplifier::kMinCompactness ||
          now.compactness >= FourFaceSimplifier::kNeedleSlack * before.compactness;
 }
+
+double cosine(const Vec3d& a, const Vec3d& b) { return dot(a, b) / std::sqrt(squared_length(a) * squared_length(b)); }
+
+// The vertices of the finest mesh whose position another vertex has too: the copies
+// of a vertex split where several fans met (manifold_input), or the two sides of a
+// texture seam. Moved apart, each to its own quadric's minimum, they would open a gap.
+std::vector<std::uint8_t> coincident_vertices(const std::vector<double>& xyz) {
+  const std::size_t n = xyz.size() / 3;
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t v = 0; v < n; ++v) order[v] = std::uint32_t(v);
+  auto key = [&](std::uint32_t v) { return std::make_tuple(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); };
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::vector<std::uint8_t> shared(n, 0);
+  for (std::size_t i = 1; i < n; ++i)
+    if (key(order[i]) == key(order[i - 1])) shared[order[i]] = shared[order[i - 1]] = 1;
+  return shared;
+}
+
+// Where moving vertex v to x leaves its fan: every face keeps its shape (keeps_shape)
+// and no crease between two of them, across an edge at v, becomes sharper than it was
+// and than the builder allows a new one (FourFaceSimplifier::kCreaseCosine): two
+// faces each turning by less than kMaxTurnDegrees could otherwise fold an edge.
+class FanCheck {
+ public:
+  FanCheck(const VertexFaces& around, const std::vector<std::uint32_t>& corners,
+           const std::vector<FaceShape>& extracted)
+      : around_(around), corners_(corners), extracted_(extracted) {}
+
+  bool fits(const std::vector<double>& xyz, std::uint32_t v, const Vec3d& x) {
+    const std::uint32_t first = around_.start[v], count = around_.start[v + 1] - first;
+    moved_.resize(count);
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t* t = corner_of(around_.faces[first + i]);
+      Vec3d c[3];
+      for (int k = 0; k < 3; ++k) c[k] = t[k] == v ? x : point(xyz, t[k]);
+      moved_[i] = shape_of(c[0], c[1], c[2]);
+      if (!keeps_shape(extracted_[around_.faces[first + i]], moved_[i])) return false;
+    }
+    for (std::uint32_t i = 0; i < count; ++i)
+      for (std::uint32_t j = i + 1; j < count; ++j) {
+        const std::uint32_t f = around_.faces[first + i], g = around_.faces[first + j];
+        if (!share_an_edge_at(v, f, g)) continue;
+        const double before = cosine(extracted_[f].normal, extracted_[g].normal);
+        if (!(cosine(moved_[i].normal, moved_[j].normal) >= std::min(before, FourFaceSimplifier::kCreaseCosine)))
+          return false;
+      }
+    return true;
+  }
+
+ private:
+  const std::uint32_t* corner_of(std::uint32_t f) const { return &corners_[3 * std::size_t(f)]; }
+  // Whether faces f and g, both around v, have a second corner in common: an edge at v.
+  bool share_an_edge_at(std::uint32_t v, std::uint32_t f, std::uint32_t g) const {
+    const std::uint32_t *a = corner_of(f), *b = corner_of(g);
+    for (int k = 0; k < 3; ++k)
+      if (a[k] != v && (a[k] == b[0] || a[k] == b[1] || a[k] == b[2])) return true;
+    return false;
+  }
+
+  const VertexFaces& around_;
+  const std::vector<std::uint32_t>& corners_;
+  const std::vector<FaceShape>& extracted_;
+  std::vector<FaceShape> moved_;  // the fan's faces with v moved
+};
 
 }  // namespace
 
@@ -87,14 +143,16 @@ void place_at_quadric_minima(const MeshHierarchy& h, const std::vector<std::uint
                              SimplifiedMesh* mesh) {
   std::vector<std::uint8_t> heir;
   const std::vector<Quadric> quadrics = held_quadrics(h, applied, &heir);
+  const std::vector<std::uint8_t> coincident = coincident_vertices(h.positions);
   std::vector<double>& xyz = mesh->positions;
   const std::vector<std::uint32_t>& corners = mesh->triangles;
   const VertexFaces around(source.size(), corners);
   std::vector<FaceShape> extracted(corners.size() / 3);
   for (std::size_t f = 0; f < extracted.size(); ++f)
     extracted[f] = shape_of(point(xyz, corners[3 * f]), point(xyz, corners[3 * f + 1]), point(xyz, corners[3 * f + 2]));
+  FanCheck fan(around, corners, extracted);
   for (std::uint32_t v = 0; v < source.size(); ++v) {
-    if (!heir[source[v]] || (!pinned.empty() && pinned[v])) continue;
+    if (!heir[source[v]] || coincident[source[v]] || (!pinned.empty() && pinned[v])) continue;
     const Quadric& q = quadrics[source[v]];
     const Vec3d p = point(xyz, v);
     Box3d box;
@@ -106,18 +164,7 @@ void place_at_quadric_minima(const MeshHierarchy& h, const std::vector<std::uint
     // collapse's RMS; grown, 1.16x (docs/hierarchy.md).
     const Vec3d size = box.max - box.min;
     const Vec3d x = minimize_quadric(q, p, box.min - size, box.max + size);
-    if (!(q.error(x) < q.error(p))) continue;
-    bool keeps = true;
-    for (std::uint32_t i = around.start[v]; i < around.start[v + 1] && keeps; ++i) {
-      const std::uint32_t f = around.faces[i];
-      Vec3d c[3];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t u = corners[3 * std::size_t(f) + std::size_t(k)];
-        c[k] = u == v ? x : point(xyz, u);
-      }
-      keeps = keeps_shape(extracted[f], c[0], c[1], c[2]);
-    }
-    if (!keeps) continue;
+    if (!(q.error(x) < q.error(p)) || !fan.fits(xyz, v, x)) continue;
     xyz[3 * std::size_t(v)] = x.x;
     xyz[3 * std::size_t(v) + 1] = x.y;
     xyz[3 * std::size_t(v) + 2] = x.z;
