@@ -8,8 +8,11 @@
 // parse_hierarchy_file promises: indices in range, attribute values for every vertex,
 // levels in order; the finest level, the last level, a triangle count and a region
 // must then extract to meshes whose faces name three distinct vertices in range, each
-// with its attribute values. InputError is the clean outcome of the reader, and
+// with its attribute values, and finite positions where the finest are (extraction
+// places vertices at their quadrics' minima). InputError is the clean outcome of the reader, and
 // UsageError of a query the hierarchy cannot answer; anything else is a finding.
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "fuzz_common.hpp"
@@ -39,8 +42,15 @@ std::string with_checksums(const std::uint8_t* data, std::size_t size) {
   return bytes;
 }
 
+// Whether the finest positions are all finite: then so must every extracted one be,
+// the vertices placed at their quadrics' minima included.
+bool g_finite_input = true;
+
 void check_mesh(const oocsimp::SimplifiedMesh& m, std::size_t attributes, const char* what) {
   const std::size_t vertices = m.positions.size() / 3;
+  if (g_finite_input)
+    for (const double x : m.positions)
+      if (!std::isfinite(x)) finding(std::string(what) + ": a position that is not finite");
   if (m.positions.size() % 3 != 0 || m.triangles.size() % 3 != 0) finding(std::string(what) + ": ragged arrays");
   if (m.attributes.attributes.size() != attributes || m.attributes.values.size() != vertices * attributes)
     finding(std::string(what) + ": attribute values not one set per vertex");
@@ -70,6 +80,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   const std::size_t vertices = h.positions.size() / 3, k = h.attributes.attributes.size();
+  g_finite_input = std::all_of(h.positions.begin(), h.positions.end(), [](double x) { return std::isfinite(x); });
   if (h.positions.size() % 3 != 0 || h.triangles.size() % 3 != 0) finding("ragged arrays read");
   for (const std::uint32_t v : h.triangles)
     if (v >= vertices) finding("a finest face names a vertex out of range");
