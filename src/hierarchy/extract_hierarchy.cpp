@@ -169,7 +169,10 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
     if (live(f))
       for (int k = 0; k < 3; ++k)
         out.triangles.push_back(number_of[h.face_corners[3 * std::size_t(f) + std::size_t(k)]]);
-  if (q.placement == HierarchyPlacement::quadric) {
+  // With no removal applied (the finest level) no vertex took a share: nothing moves.
+  bool removed = false;
+  for (std::size_t r = 0; r < records && !removed; ++r) removed = applied[r] && !h.records[r].swap;
+  if (q.placement == HierarchyPlacement::quadric && removed) {
     std::vector<std::uint32_t> source(next);
     for (std::size_t v = 0; v < number_of.size(); ++v)
       if (number_of[v] != kFinest) source[number_of[v]] = std::uint32_t(v);
