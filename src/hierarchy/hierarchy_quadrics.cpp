@@ -4,6 +4,7 @@
 
 #include "cluster/plane_quadric.hpp"
 #include "common/vec3_math.hpp"
+#include "common/vertex_faces.hpp"
 
 namespace oocsimp {
 
@@ -18,17 +19,15 @@ std::vector<Quadric> finest_vertex_quadrics(const std::vector<Vec3d>& positions,
     for (int k = 0; k < 3; ++k) quadrics[t[k]].add(q);
   }
   if (!(boundary_weight > 0)) return quadrics;
-  // Each vertex's outgoing edges u->w, to ask whether an edge's reverse exists.
-  std::vector<std::uint32_t> start(n + 1, 0), heads(corners.size());
-  for (std::uint32_t v : corners) ++start[std::size_t(v) + 1];
-  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k)
-      heads[fill[corners[3 * f + std::size_t(k)]]++] = corners[3 * f + std::size_t((k + 1) % 3)];
+  // Whether a face has the directed edge from->to: one of from's faces has `to` next.
+  const VertexFaces around(n, corners);
   auto has_edge = [&](std::uint32_t from, std::uint32_t to) {
-    return std::find(heads.begin() + start[from], heads.begin() + start[std::size_t(from) + 1], to) !=
-           heads.begin() + start[std::size_t(from) + 1];
+    for (std::uint32_t i = around.start[from]; i < around.start[std::size_t(from) + 1]; ++i) {
+      const std::uint32_t* t = &corners[3 * std::size_t(around.faces[i])];
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == from && t[(k + 1) % 3] == to) return true;
+    }
+    return false;
   };
   for (std::size_t f = 0; f < faces; ++f) {
     const std::uint32_t* t = &corners[3 * f];

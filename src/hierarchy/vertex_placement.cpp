@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
+#include "common/coincident_runs.hpp"
 #include "common/triangle_geometry.hpp"
 #include "common/vertex_faces.hpp"
 #include "common/vec3_math.hpp"
@@ -53,13 +53,14 @@ double cosine(const Vec3d& a, const Vec3d& b) { return dot(a, b) / std::sqrt(squ
 // texture seam. Moved apart, each to its own quadric's minimum, they would open a gap.
 std::vector<std::uint8_t> coincident_vertices(const std::vector<double>& xyz) {
   const std::size_t n = xyz.size() / 3;
-  std::vector<std::uint32_t> order(n);
-  for (std::size_t v = 0; v < n; ++v) order[v] = std::uint32_t(v);
-  auto key = [&](std::uint32_t v) { return std::make_tuple(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]); };
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::vector<std::uint32_t> vertices(n);
+  for (std::size_t v = 0; v < n; ++v) vertices[v] = std::uint32_t(v);
   std::vector<std::uint8_t> shared(n, 0);
-  for (std::size_t i = 1; i < n; ++i)
-    if (key(order[i]) == key(order[i - 1])) shared[order[i]] = shared[order[i - 1]] = 1;
+  for_each_coincident_run(
+      std::move(vertices), [&](std::uint32_t v) { return point(xyz, v); },
+      [&](const std::uint32_t* group, std::size_t count) {
+        for (std::size_t k = 0; k < count; ++k) shared[group[k]] = 1;
+      });
   return shared;
 }
 

@@ -7,13 +7,13 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <tuple>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <utility>
 
 #include "cluster/plane_quadric.hpp"
+#include "common/coincident_runs.hpp"
 #include "common/huge_pages.hpp"
 #include "common/vec3_math.hpp"
 #include "runtime/progress_phase.hpp"
@@ -853,30 +853,23 @@ void CollapseState::compact_adjacency() {
 // run of two or more is locked: where three charts meet, or a tangle.
 void CollapseState::pair_coincident_vertices() {
   mirror_.assign(mesh_.positions.size(), kNoMirror);
-  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> vertices;
   for (std::uint32_t v = 0; v < std::uint32_t(mesh_.positions.size()); ++v)
-    if (alive_[v]) order.push_back(v);
-  const auto key = [&](std::uint32_t v) {
-    const Vec3d& p = mesh_.positions[v];
-    return std::make_tuple(p.x, p.y, p.z);
-  };
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return key(a) != key(b) ? key(a) < key(b) : a < b; });
-  for (std::size_t i = 0; i < order.size();) {
-    std::size_t j = i + 1;
-    while (j < order.size() && key(order[j]) == key(order[i])) ++j;
-    // Locked vertices pair too (a tile's border): a mirrored collapse needs both sides
-    // free (valid()), and a seam edge's line quadric (add_boundary_planes) must not
-    // depend on where the tiles' borders fall.
-    const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v]; };
-    if (j - i == 2 && seam_side(order[i]) && seam_side(order[i + 1])) {
-      mirror_[order[i]] = order[i + 1];
-      mirror_[order[i + 1]] = order[i];
-    } else if (j - i > 1) {
-      for (std::size_t k = i; k < j; ++k) locked_[order[k]] = 1;
-    }
-    i = j;
-  }
+    if (alive_[v]) vertices.push_back(v);
+  // Locked vertices pair too (a tile's border): a mirrored collapse needs both sides
+  // free (valid()), and a seam edge's line quadric (add_boundary_planes) must not
+  // depend on where the tiles' borders fall.
+  const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v]; };
+  for_each_coincident_run(
+      std::move(vertices), [&](std::uint32_t v) { return mesh_.positions[v]; },
+      [&](const std::uint32_t* group, std::size_t count) {
+        if (count == 2 && seam_side(group[0]) && seam_side(group[1])) {
+          mirror_[group[0]] = group[1];
+          mirror_[group[1]] = group[0];
+        } else {
+          for (std::size_t k = 0; k < count; ++k) locked_[group[k]] = 1;
+        }
+      });
   // No pair: no seam (every mirror() is kNoMirror either way), and the passes may
   // keep costs and work ahead (has_seams()).
   if (std::all_of(mirror_.begin(), mirror_.end(), [](std::uint32_t m) { return m == kNoMirror; })) mirror_.clear();
