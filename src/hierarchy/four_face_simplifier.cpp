@@ -302,13 +302,71 @@ double FourFaceSimplifier::collapse_cost(std::uint32_t v, std::uint32_t u) const
   return half_edge_collapse_cost(quadrics_[v], quadrics_[u], mesh_.position(u));
 }
 
-void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records) {
-  // The swaps and the removal change the faces of v and of every neighbour it had,
-  // and the quadrics of some: plans made before around them are stale.
+// The removal of v by `plan` is taken: the records and face numbers it will use are
+// reserved in order, and the vertices whose faces or quadrics it will change are
+// stamped and marked now, for the walk's next decisions; the mesh changes in
+// apply_taken(). The swaps and the removal change the faces of v and of every
+// neighbour it had, and the quadrics of some: plans made before around them are
+// stale. So a removal taken while others wait, whose plan is fresh, is apart from
+// theirs: no vertex of its fan is in theirs, and they may be applied at once.
+void FourFaceSimplifier::take(std::uint32_t v, const Plan& plan) {
   ++removals_;
   changed_[v] = removals_;
   for (const std::uint32_t u : plan.neighbours) changed_[u] = removals_;
+  if (options_.independent)
+    for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
+  if (taken_count_ == taken_.size()) taken_.emplace_back();
+  Taken& t = taken_[taken_count_++];
+  t.vertex = v;
+  t.plan = plan;
+  t.first_record = records_->size();
+  records_->resize(records_->size() + plan.swapped.size() + 1);
+  // Each swap makes 2 faces for its 2; the removal ring_count - 2 for the ring_count
+  // faces of a closed fan, one fewer of an open one.
+  const int replaced = plan.closed ? plan.ring_count : plan.ring_count - 1;
+  t.first_face = mesh_.add_face_numbers(2 * plan.swapped.size() + std::size_t(plan.ring_count - 2));
+  faces_after_taken_ -= std::uint64_t(replaced - (plan.ring_count - 2));
+}
+
+// The removals taken since the last call, applied to the mesh: on several threads,
+// since they are apart (take()), each writing its own records and faces.
+void FourFaceSimplifier::apply_taken() {
+  auto apply = [&](std::size_t i) {
+    Taken& t = taken_[i];
+    t.vertex_change = apply_removal(t.vertex, t.plan, t.first_face, &(*records_)[t.first_record]);
+  };
+  if (taken_count_ < 8) {
+    for (std::size_t i = 0; i < taken_count_; ++i) apply(i);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, taken_count_, 4),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) apply(i);
+                      });
+  }
+  std::int64_t vertices = 0;
+  for (std::size_t i = 0; i < taken_count_; ++i) vertices += taken_[i].vertex_change;
+  mesh_.count_applied(std::int64_t(faces_after_taken_) - std::int64_t(mesh_.live_faces()), vertices);
+  taken_count_ = 0;
+  applied_at_ = removals_;
+}
+
+// Whether planning v would read what the removals taken and not yet applied change:
+// the faces or quadric of v or of a neighbour (take() stamps them all).
+bool FourFaceSimplifier::reads_taken(std::uint32_t v) const {
+  if (taken_count_ == 0) return false;
+  if (changed_[v] > applied_at_) return true;
+  for (const FourKMesh::Incidence& f : mesh_.around(v))
+    if (changed_[f.from] > applied_at_ || changed_[f.to] > applied_at_) return true;
+  return false;
+}
+
+// The swaps, then the removal, each a record into `records` in turn, the faces they
+// make numbered from first_face; then Q_v passed on (eq. 9). Returns the change in
+// live vertices.
+int FourFaceSimplifier::apply_removal(std::uint32_t v, const Plan& plan, std::uint32_t first_face,
+                                      HierarchyRecord* records) {
   const float error = float(plan.cost);
+  int vertices = 0;
   for (const std::uint32_t mid : plan.swapped) {
     HierarchyRecord swap;
     swap.swap = true;
@@ -317,30 +375,29 @@ void FourFaceSimplifier::remove(std::uint32_t v, const Plan& plan, std::vector<H
     swap.face_count = 2;
     swap.faces[0] = mesh_.face_with_edge(mid, v);  // (v, prev, mid)
     swap.faces[1] = mesh_.face_with_edge(v, mid);  // (v, mid, next)
-    mesh_.apply(swap);
-    records->push_back(swap);
+    vertices += mesh_.apply_numbered(swap, first_face);
+    first_face += 2;
+    *records++ = swap;
   }
   HierarchyRecord removal;
   removal.vertex = v;
   removal.error = error;
   removal.face_count = std::uint8_t(plan.closed ? plan.ring_count : plan.ring_count - 1);
   for (int i = 0; i < removal.face_count; ++i) removal.faces[i] = mesh_.face_with_edge(v, plan.ring[i]);
-  mesh_.apply(removal);
-  records->push_back(removal);
+  vertices += mesh_.apply_numbered(removal, first_face);
+  *records = removal;
 
   pass_on_quadric(&quadrics_, v, plan.ring, plan.ring_cost, removal_heirs(plan.ring_count, plan.closed));
-  if (options_.independent)
-    for (int i = 0; i < plan.ring_count; ++i) marked_[plan.ring[i]] = 1;
+  return vertices;
 }
 
-std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* records) {
+// Step 1: every vertex ranked by a bound of its cost from below (least_cost), in
+// parallel (each reads the mesh only). The walk plans a vertex when it comes out, and
+// one whose cost is past the next in line goes back: a set ends long before the end of
+// the queue, so most vertices are never planned in it.
+void FourFaceSimplifier::rank_vertices() {
   const std::size_t n = mesh_.vertex_count();
-  marked_.assign(n, 0);
   cost_.assign(n, kNoCost);
-  // Step 1: every vertex ranked by a bound of its cost from below (least_cost), in
-  // parallel (each reads the mesh only). The walk plans a vertex when it comes out, and one
-  // whose cost is past the next in line goes back: a set ends long before the end of
-  // the queue, so most vertices are never planned in it.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v)
       if (mesh_.vertex_alive(std::uint32_t(v))) cost_[v] = least_cost(std::uint32_t(v));
@@ -350,6 +407,12 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   for (std::uint32_t v = 0; v < n; ++v)
     if (cost_[v] < kNoCost) order_.push_back({cost_[v], v});
   tbb::parallel_sort(order_.begin(), order_.end(), [&](const Entry& a, const Entry& b) { return later(b, a); });
+}
+
+std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* records) {
+  const std::size_t n = mesh_.vertex_count();
+  marked_.assign(n, 0);
+  rank_vertices();
   next_ = 0;
   returned_.clear();
   free_slots_.clear();
@@ -367,13 +430,20 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
   // changed it), and a cost past the next in line goes back (lazy updates).
   // A plan made earlier (ahead, or when its entry went back) is taken as it is where
   // nothing it read has changed since.
+  // A removal is taken at once and applied with those taken after it, when the walk
+  // next reads the mesh: before it plans a vertex itself, before it works plans out
+  // ahead (next_entry()), and when the set ends.
   std::uint64_t removed = 0;
   Plan own;
   const double set_ratio = std::pow(options_.level_ratio, 1.0 / double(options_.sets_per_level));
   const std::uint64_t enough = std::uint64_t(set_ratio * double(mesh_.live_faces()));
+  records_ = records;
+  taken_count_ = 0;
+  applied_at_ = 0;
+  faces_after_taken_ = mesh_.live_faces();
   Entry e;
   const KnownPlan* known = nullptr;
-  while (mesh_.live_faces() > enough && next_entry(&e, &known)) {
+  while (faces_after_taken_ > enough && next_entry(&e, &known)) {
     // An entry that went back frees its slot now; its plan there is read below, before
     // go_back() can take the slot again.
     if (e.slot != kNoSlot) free_slots_.push_back(e.slot);
@@ -382,17 +452,20 @@ std::uint64_t FourFaceSimplifier::simplify_level(std::vector<HierarchyRecord>* r
     if (known && is_fresh(e.vertex, *known)) {
       ++(e.slot != kNoSlot ? walk_stats_.kept : walk_stats_.made_ahead);
       if (known->ok) plan = &known->plan;
-    } else if (plan_removal(e.vertex, &own)) {
-      plan = &own;
+    } else {
+      if (reads_taken(e.vertex)) apply_taken();
+      if (plan_removal(e.vertex, &own)) plan = &own;
     }
     if (!plan) continue;
-    if (plan->cost > e.cost && has_next() && later({plan->cost, e.vertex}, next_in_line())) {
+    if (plan->cost > e.cost && has_next() && Entry::Later{}({plan->cost, e.vertex}, next_in_line())) {
       go_back(e, *plan);
       continue;
     }
-    remove(e.vertex, *plan, records);
+    take(e.vertex, *plan);
     ++removed;
   }
+  apply_taken();
+  records_ = nullptr;
   return removed;
 }
 
@@ -403,7 +476,10 @@ bool FourFaceSimplifier::next_entry(Entry* entry, const KnownPlan** known) {
   *known = nullptr;
   if (next_ < order_.size() && (returned_.empty() || later(returned_.front(), order_[next_]))) {
     if (ahead_on_) {
-      if (next_ == ahead_first_ + ahead_.size()) work_ahead();
+      if (next_ == ahead_first_ + ahead_.size()) {
+        apply_taken();
+        work_ahead();
+      }
       const KnownPlan& k = ahead_[next_ - ahead_first_];
       if (k.ready) *known = &k;
     }
@@ -500,7 +576,7 @@ std::uint32_t FourFaceSimplifier::next_claim() {
 // quadrics of v and of its neighbours then. That holds because plan.neighbours is the
 // whole fan ring (plan_removal copies it before the swaps edit the ring), and every
 // vertex whose faces or quadric a removal changes is the removed vertex or one of its
-// ring, which remove() stamps.
+// ring, which take() stamps.
 bool FourFaceSimplifier::is_fresh(std::uint32_t v, const KnownPlan& known) const {
   if (changed_[v] > known.made_at) return false;
   for (const std::uint32_t u : known.plan.neighbours)

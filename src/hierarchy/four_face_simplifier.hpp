@@ -95,7 +95,11 @@ class FourFaceSimplifier {
   double swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const;
   bool faces_fit(const std::uint32_t* old_faces, int old_count, const std::uint32_t* new_faces, int new_count,
                  double* least_compactness) const;
-  void remove(std::uint32_t v, const Plan& plan, std::vector<HierarchyRecord>* records);
+  void rank_vertices();
+  void take(std::uint32_t v, const Plan& plan);
+  void apply_taken();
+  bool reads_taken(std::uint32_t v) const;
+  int apply_removal(std::uint32_t v, const Plan& plan, std::uint32_t first_face, HierarchyRecord* records);
 
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
 
@@ -146,6 +150,20 @@ class FourFaceSimplifier {
   // faces or quadric last changed.
   std::uint32_t removals_ = 0;
   std::vector<std::uint32_t> changed_;
+  // Removals taken and not yet applied to the mesh (apply_taken()): each with its plan,
+  // its first record in records_ and the number of the first face it makes. The live
+  // faces the mesh will have when they are applied.
+  struct Taken {
+    std::uint32_t vertex = 0, first_face = 0;
+    std::size_t first_record = 0;
+    int vertex_change = 0;
+    Plan plan;
+  };
+  std::vector<Taken> taken_;
+  std::size_t taken_count_ = 0;
+  std::uint32_t applied_at_ = 0;  // removals_ when apply_taken() last ran
+  std::uint64_t faces_after_taken_ = 0;
+  std::vector<HierarchyRecord>* records_ = nullptr;
   // The plans of order_[ahead_first_, ahead_first_ + ahead_.size()), when this level
   // works them out ahead; per vertex, the batch that claimed it (work_ahead()).
   bool ahead_on_ = false;

@@ -83,29 +83,46 @@ std::uint32_t FourKMesh::face_with_edge(std::uint32_t a, std::uint32_t b) const 
 }
 
 std::uint32_t FourKMesh::apply(const HierarchyRecord& record) {
+  const std::uint32_t first = add_face_numbers(std::size_t(record_new_face_count(record)));
+  const int vertices = apply_numbered(record, first);
+  count_applied(std::int64_t(record_new_face_count(record)) - record.face_count, vertices);
+  return first;
+}
+
+std::uint32_t FourKMesh::add_face_numbers(std::size_t count) {
+  const std::uint32_t first = std::uint32_t(corners_.size() / 3);
+  corners_.resize(corners_.size() + 3 * count);
+  return first;
+}
+
+int FourKMesh::apply_numbered(const HierarchyRecord& record, std::uint32_t first) {
   std::uint32_t made[3 * kMostNewFaces];
   const int count = record_new_faces(
       record, [this](std::uint32_t f) { return corners(f); }, made);
   if (count < 0) throw std::logic_error("FourKMesh::apply: a record that does not fit the mesh");
+  int vertices = 0;
   for (int i = 0; i < record.face_count; ++i) {
     const std::uint32_t f = record.faces[i];
     for (int k = 0; k < 3; ++k) {
       std::vector<Incidence>& list = around_[corners(f)[k]];
       list.erase(std::find_if(list.begin(), list.end(), [f](const Incidence& x) { return x.face == f; }));
-      if (list.empty()) --live_vertices_;
+      if (list.empty()) --vertices;
     }
   }
-  const std::uint32_t first = std::uint32_t(corners_.size() / 3);
   for (int i = 0; i < count; ++i) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = made[3 * i + k];
-      corners_.push_back(v);
-      if (around_[v].empty()) ++live_vertices_;
+      corners_[3 * std::size_t(first + std::uint32_t(i)) + std::size_t(k)] = v;
+      if (around_[v].empty()) ++vertices;
     }
     link(first + std::uint32_t(i));
   }
-  live_faces_ = live_faces_ - record.face_count + std::uint64_t(count);
-  return first;
+  return vertices;
+}
+
+void FourKMesh::count_applied(std::int64_t faces, std::int64_t vertices) {
+  live_faces_ = std::uint64_t(std::int64_t(live_faces_) + faces);
+  live_vertices_ = std::uint64_t(std::int64_t(live_vertices_) + vertices);
 }
 
 }  // namespace oocsimp

@@ -55,6 +55,16 @@ class FourKMesh {
   /// number of the first new face. The record must fit (the builder plans it so).
   std::uint32_t apply(const HierarchyRecord& record);
 
+  /// Records applied on several threads at once: add_face_numbers() numbers the faces
+  /// they will make, in the order they are taken; apply_numbered() then makes a
+  /// record's faces under its numbers, touching only the lists of its faces' corners,
+  /// so that records whose corners are apart may run at once; count_applied() brings
+  /// the live counts up to date with the sums of their changes.
+  std::uint32_t add_face_numbers(std::size_t count);
+  /// Returns the change in live vertices.
+  int apply_numbered(const HierarchyRecord& record, std::uint32_t first);
+  void count_applied(std::int64_t faces, std::int64_t vertices);
+
  private:
   void link(std::uint32_t f);  // face f into its corners' lists
 
