@@ -555,6 +555,59 @@ TEST_CASE("the .4k file reads back as written, and the same bytes come for any t
   }
 }
 
+TEST_CASE("a vertex of many faces keeps its fan in order as swaps take it down to four", "[hierarchy]") {
+  // A closed fan of 14 faces around vertex 0 (more than a vertex's faces kept in its
+  // own block), brought to valence 4 by swaps, one ring vertex at a time, then
+  // removed: after each step the fan is the ring without the vertices swapped out,
+  // and each swap's new edge exists.
+  const std::uint32_t n = 14;
+  const double pi = std::acos(-1.0);
+  std::vector<Vec3d> positions = {{0, 0, 0}};
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    positions.push_back({std::cos(2 * pi * i / n), std::sin(2 * pi * i / n), 0});
+    faces.insert(faces.end(), {0, 1 + i, 1 + (i + 1) % n});
+  }
+  FourKMesh mesh(positions, faces);
+  std::vector<std::uint32_t> ring;
+  for (std::uint32_t i = 1; i <= n; ++i) ring.push_back(i);
+  FourKMesh::Fan fan;
+  REQUIRE(mesh.fan(0, &fan));
+  CHECK(fan.closed);
+  CHECK(fan.ring == ring);
+  while (ring.size() > 4) {
+    // Every other ring vertex, so that the remaining ring stays convex.
+    const std::size_t at = ring.size() % 2 == 0 ? 1 : 2;
+    const std::uint32_t prev = ring[at - 1], mid = ring[at], next = ring[at + 1];
+    HierarchyRecord swap;
+    swap.swap = true;
+    swap.vertex = 0;
+    swap.face_count = 2;
+    swap.faces[0] = mesh.face_with_edge(mid, 0);
+    swap.faces[1] = mesh.face_with_edge(0, mid);
+    REQUIRE(swap.faces[0] != HierarchyRecord::kNoFace);
+    REQUIRE(swap.faces[1] != HierarchyRecord::kNoFace);
+    CHECK_FALSE(mesh.has_edge(prev, next));
+    mesh.apply(swap);
+    ring.erase(ring.begin() + std::ptrdiff_t(at));
+    CHECK(mesh.has_edge(prev, next));
+    CHECK(mesh.has_face(prev, mid, next));
+    REQUIRE(mesh.fan(0, &fan));
+    CHECK(fan.ring == ring);
+    CHECK(mesh.around(0).size() == ring.size());
+    CHECK(mesh.live_faces() == n);
+  }
+  HierarchyRecord removal;
+  removal.vertex = 0;
+  removal.face_count = 4;
+  for (int i = 0; i < 4; ++i) removal.faces[i] = mesh.face_with_edge(0, ring[std::size_t(i)]);
+  mesh.apply(removal);
+  CHECK_FALSE(mesh.vertex_alive(0));
+  CHECK(mesh.live_faces() == n - 2);
+  CHECK(mesh.live_vertices() == n);
+  for (std::uint32_t v = 1; v <= n; ++v) CHECK(mesh.vertex_alive(v));
+}
+
 TEST_CASE("a removal may make a crease up to 150 degrees where the old ones are milder", "[hierarchy]") {
   // v at the centre of a saddle: a and c at height 1, b and d at -1, on the unit
   // circle. Its four faces meet at creases of acos(1/3) = 70.5 degrees; either

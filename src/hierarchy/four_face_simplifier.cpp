@@ -286,7 +286,7 @@ bool FourFaceSimplifier::plan_removal(std::uint32_t v, Plan* plan) const {
 double FourFaceSimplifier::least_cost(std::uint32_t v) const {
   // v's neighbours, each once: the far corner of each of its faces and, on the
   // boundary, the near corner of the face its fan begins with (no face ends there).
-  const std::vector<FourKMesh::Incidence>& faces = mesh_.around(v);
+  const FourKMesh::Incidences faces = mesh_.around(v);
   double least = kNoCost;
   for (const FourKMesh::Incidence& f : faces) {
     least = std::min(least, collapse_cost(v, f.to));

@@ -8,19 +8,51 @@
 namespace oocsimp {
 
 FourKMesh::FourKMesh(std::vector<Vec3d> positions, std::vector<std::uint32_t> triangles)
-    : positions_(std::move(positions)), corners_(std::move(triangles)), around_(positions_.size()) {
+    : positions_(std::move(positions)),
+      corners_(std::move(triangles)),
+      around_(positions_.size()),
+      overflow_(positions_.size()) {
   live_faces_ = corners_.size() / 3;
   for (std::size_t f = 0; f < live_faces_; ++f) link(std::uint32_t(f));
-  for (const std::vector<Incidence>& faces : around_) live_vertices_ += !faces.empty();
+  for (const Around& a : around_) live_vertices_ += a.count > 0;
 }
 
 void FourKMesh::link(std::uint32_t f) {
   const std::uint32_t* c = corners(f);
-  for (int k = 0; k < 3; ++k) around_[c[k]].push_back({f, c[(k + 1) % 3], c[(k + 2) % 3]});
+  for (int k = 0; k < 3; ++k) {
+    const Incidence incidence = {f, c[(k + 1) % 3], c[(k + 2) % 3]};
+    Around& a = around_[c[k]];
+    std::vector<Incidence>& more = overflow_[c[k]];
+    if (a.count < kInline) {
+      a.faces[a.count] = incidence;
+    } else {
+      if (a.count == kInline) more.assign(a.faces, a.faces + kInline);
+      more.push_back(incidence);
+    }
+    ++a.count;
+  }
+}
+
+// Face f out of v's list, the others kept in order.
+void FourKMesh::unlink(std::uint32_t v, std::uint32_t f) {
+  Around& a = around_[v];
+  if (a.count <= kInline) {
+    Incidence* end = a.faces + a.count;
+    Incidence* at = std::find_if(a.faces, end, [f](const Incidence& x) { return x.face == f; });
+    std::copy(at + 1, end, at);
+  } else {
+    std::vector<Incidence>& more = overflow_[v];
+    more.erase(std::find_if(more.begin(), more.end(), [f](const Incidence& x) { return x.face == f; }));
+    if (more.size() == kInline) {
+      std::copy(more.begin(), more.end(), a.faces);
+      more.clear();
+    }
+  }
+  --a.count;
 }
 
 bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
-  const std::vector<Incidence>& faces = around_[v];
+  const Incidences faces = around(v);
   const std::size_t n = faces.size();
   out->ring.clear();
   out->faces.clear();
@@ -65,19 +97,19 @@ bool FourKMesh::fan(std::uint32_t v, Fan* out) const {
 }
 
 bool FourKMesh::has_edge(std::uint32_t a, std::uint32_t b) const {
-  for (const Incidence& i : around_[a])
+  for (const Incidence& i : around(a))
     if (i.from == b || i.to == b) return true;
   return false;
 }
 
 bool FourKMesh::has_face(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
-  for (const Incidence& i : around_[a])
+  for (const Incidence& i : around(a))
     if ((i.from == b && i.to == c) || (i.from == c && i.to == b)) return true;
   return false;
 }
 
 std::uint32_t FourKMesh::face_with_edge(std::uint32_t a, std::uint32_t b) const {
-  for (const Incidence& i : around_[a])
+  for (const Incidence& i : around(a))
     if (i.from == b) return i.face;
   return HierarchyRecord::kNoFace;
 }
@@ -104,16 +136,16 @@ int FourKMesh::apply_numbered(const HierarchyRecord& record, std::uint32_t first
   for (int i = 0; i < record.face_count; ++i) {
     const std::uint32_t f = record.faces[i];
     for (int k = 0; k < 3; ++k) {
-      std::vector<Incidence>& list = around_[corners(f)[k]];
-      list.erase(std::find_if(list.begin(), list.end(), [f](const Incidence& x) { return x.face == f; }));
-      if (list.empty()) --vertices;
+      const std::uint32_t v = corners(f)[k];
+      unlink(v, f);
+      if (around_[v].count == 0) --vertices;
     }
   }
   for (int i = 0; i < count; ++i) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = made[3 * i + k];
       corners_[3 * std::size_t(first + std::uint32_t(i)) + std::size_t(k)] = v;
-      if (around_[v].empty()) ++vertices;
+      if (around_[v].count == 0) ++vertices;
     }
     link(first + std::uint32_t(i));
   }

@@ -25,6 +25,20 @@ class FourKMesh {
   struct Incidence {
     std::uint32_t face, from, to;
   };
+  /// A vertex's live faces, a view into the mesh valid until the next change.
+  class Incidences {
+   public:
+    Incidences(const Incidence* first, std::size_t count) : first_(first), count_(count) {}
+    const Incidence* begin() const { return first_; }
+    const Incidence* end() const { return first_ + count_; }
+    std::size_t size() const { return count_; }
+    bool empty() const { return count_ == 0; }
+    const Incidence& operator[](std::size_t i) const { return first_[i]; }
+
+   private:
+    const Incidence* first_;
+    std::size_t count_;
+  };
 
   /// The finest mesh: 3 indices per face, every edge of at most two faces wound
   /// oppositely, every vertex's faces one fan (manifold_input.hpp makes it so).
@@ -38,9 +52,12 @@ class FourKMesh {
   const std::uint32_t* corners(std::uint32_t f) const { return &corners_[3 * std::size_t(f)]; }
   std::uint64_t live_faces() const { return live_faces_; }
   std::uint64_t live_vertices() const { return live_vertices_; }
-  bool vertex_alive(std::uint32_t v) const { return !around_[v].empty(); }
+  bool vertex_alive(std::uint32_t v) const { return around_[v].count > 0; }
   /// v's live faces, in the order they were made.
-  const std::vector<Incidence>& around(std::uint32_t v) const { return around_[v]; }
+  Incidences around(std::uint32_t v) const {
+    const Around& a = around_[v];
+    return {a.count > kInline ? overflow_[v].data() : a.faces, a.count};
+  }
 
   /// v's fan into `out`; false when its faces are not one fan.
   bool fan(std::uint32_t v, Fan* out) const;
@@ -67,10 +84,21 @@ class FourKMesh {
 
  private:
   void link(std::uint32_t f);  // face f into its corners' lists
+  void unlink(std::uint32_t v, std::uint32_t f);
+
+  // Each vertex's live faces, in a block of its own while they fit (one read of two
+  // cache lines: the builder asks about neighbours' faces in no order it can predict),
+  // else all in overflow_[v].
+  static constexpr std::uint32_t kInline = 10;
+  struct alignas(64) Around {
+    std::uint32_t count = 0;
+    Incidence faces[kInline];
+  };
 
   std::vector<Vec3d> positions_;
   std::vector<std::uint32_t> corners_;
-  std::vector<std::vector<Incidence>> around_;  // live faces around each vertex
+  std::vector<Around> around_;
+  std::vector<std::vector<Incidence>> overflow_;
   std::uint64_t live_faces_ = 0, live_vertices_ = 0;
 };
 
