@@ -536,8 +536,10 @@ void FourFaceSimplifier::work_ahead() {
                         k.ready = !marked_[v] && mesh_.vertex_alive(v);
                         k.plan.neighbours.clear();
                         if (k.ready)
-                          for (const FourKMesh::Incidence& f : mesh_.around(v))
+                          for (const FourKMesh::Incidence& f : mesh_.around(v)) {
                             k.plan.neighbours.insert(k.plan.neighbours.end(), {f.from, f.to});
+                            prefetch_neighbour(f.to);
+                          }
                       }
                     });
   const std::uint32_t claim = next_claim();
@@ -561,6 +563,17 @@ void FourFaceSimplifier::work_ahead() {
                         k.made_at = removals_;
                       }
                     });
+}
+
+// What a plan reads of a ring vertex u (its position, quadric and faces), asked of
+// memory before the batch is planned: a plan reads them in an order no prefetcher
+// can guess, one cache miss after another, where these requests overlap.
+void FourFaceSimplifier::prefetch_neighbour(std::uint32_t u) const {
+  __builtin_prefetch(&mesh_.position(u));
+  const char* quadric = reinterpret_cast<const char*>(&quadrics_[u]);
+  __builtin_prefetch(quadric);
+  __builtin_prefetch(quadric + sizeof(Quadric) - 1);
+  mesh_.prefetch_faces(u);
 }
 
 // A new value for claimed_, none of whose entries holds it yet.

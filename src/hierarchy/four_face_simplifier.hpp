@@ -130,6 +130,7 @@ class FourFaceSimplifier {
   const Entry& next_in_line() const;
   void go_back(const Entry& e, const Plan& plan);
   void work_ahead();
+  void prefetch_neighbour(std::uint32_t u) const;
   bool is_fresh(std::uint32_t v, const KnownPlan& known) const;
   std::uint32_t next_claim();
 
