@@ -873,8 +873,8 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
   add_given(cmd, "--level-ratio", &a.level_ratio,
             "A level ends at this fraction of the triangles of the level before (default 0.7; 0 = all it can)");
   add_given(cmd, "--sets", &a.sets,
-            "Independent sets of removals a level is made of (default 2; 1: Velho's, farther from QEM, a "
-            "shallower hierarchy)");
+            "Independent sets of removals a level is made of (default 3; fewer build faster, farther from QEM; 1: "
+            "Velho's, a shallower hierarchy)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   add_quiet_flag(cmd, &a.quiet);
