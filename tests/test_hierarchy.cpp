@@ -194,6 +194,26 @@ SimplifiedMesh level(const MeshHierarchy& h, std::uint32_t j,
   return extract_mesh(h, q);
 }
 
+// A generated mesh, and the PLY in `tmp` it is written to for the distance measure.
+struct WrittenMesh {
+  Mesh mesh;
+  std::string path;
+};
+WrittenMesh written(SyntheticShape shape, std::uint64_t triangles, const ScratchDir& tmp) {
+  WrittenMesh w{generated(shape, triangles, tmp), tmp.file("input.ply")};
+  write_mesh(w.path, w.mesh.positions, w.mesh.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
+  return w;
+}
+
+// The symmetric distance between the meshes at two paths, as fractions of the first's
+// bounding-box diagonal (fewer samples under the sanitizers).
+DistanceStats distance_between(const std::string& a, const std::string& b) {
+  MeasureOptions mo;
+  mo.samples = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
+  const DistanceReport d = measure_surface_distance(a, b, mo);
+  return d.fraction_of_diagonal(d.symmetric);
+}
+
 }  // namespace
 
 TEST_CASE("each level of a sphere keeps it closed, manifold, of Euler characteristic 2 and facing out", "[hierarchy]") {
@@ -298,20 +318,15 @@ TEST_CASE("levels of CAD parts stay on the input's surface while it has vertices
   // priced by the quadric of every face at an end of its new edge (not the plane of
   // the face it replaces) took swaps across bends there: 1.6e-3 from level 1 on.
   ScratchDir tmp;
-  const Mesh parts = generated(SyntheticShape::parts, 60000, tmp);
-  const std::string in = tmp.file("parts.ply");
-  write_mesh(in, parts.positions, parts.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
-  const MeshHierarchy h = build_hierarchy(view_of(parts), {});
-  MeasureOptions mo;
-  mo.samples = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
+  const WrittenMesh parts = written(SyntheticShape::parts, 60000, tmp);
+  const MeshHierarchy h = build_hierarchy(view_of(parts.mesh), {});
   std::uint32_t checked = 0;
   for (std::uint32_t j = 1; j < h.levels.size() && 6 * h.levels[j].triangles >= h.levels[0].triangles; ++j) {
     const SimplifiedMesh m = level(h, j);
     const std::string out = tmp.file("level.ply");
     write_mesh(out, m.positions, m.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
-    const DistanceReport d = measure_surface_distance(in, out, mo);
     INFO("level " << j << ", " << h.levels[j].triangles << " faces");
-    CHECK(d.fraction_of_diagonal(d.symmetric).max < 1e-6);
+    CHECK(distance_between(parts.path, out).max < 1e-6);
     ++checked;
   }
   CHECK(checked >= 4);
@@ -325,16 +340,8 @@ TEST_CASE("a sphere's levels are within 1.3x of the edge collapse's RMS at their
   // cheap ones waiting beside those it took): on this 20k sphere two sets a level came
   // to 1.32x there, the default three to 1.12x.
   ScratchDir tmp;
-  const Mesh sphere = generated(SyntheticShape::sphere, 20000, tmp);
-  const std::string in = tmp.file("sphere.ply");
-  write_mesh(in, sphere.positions, sphere.triangles, MeshFormat::ply_binary, ScalarType::f64, nullptr);
-  const MeshHierarchy h = build_hierarchy(view_of(sphere), {});
-  MeasureOptions mo;
-  mo.samples = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
-  auto rms_of = [&](const std::string& path) {
-    const DistanceReport d = measure_surface_distance(in, path, mo);
-    return d.fraction_of_diagonal(d.symmetric).rms;
-  };
+  const WrittenMesh sphere = written(SyntheticShape::sphere, 20000, tmp);
+  const MeshHierarchy h = build_hierarchy(view_of(sphere.mesh), {});
   for (const std::uint32_t j : {1u, 2u, 3u, 5u}) {
     REQUIRE(j < h.levels.size());
     const SimplifiedMesh m = level(h, j);
@@ -343,8 +350,8 @@ TEST_CASE("a sphere's levels are within 1.3x of the edge collapse's RMS at their
     SimplifyOptions o;
     o.method = ClusterMethod::qem;
     o.target.triangles = m.triangles.size() / 3;
-    simplify_file(in, qem, false, o, nullptr);
-    const double ours = rms_of(out), collapse = rms_of(qem);
+    simplify_file(sphere.path, qem, false, o, nullptr);
+    const double ours = distance_between(sphere.path, out).rms, collapse = distance_between(sphere.path, qem).rms;
     INFO("level " << j << ", " << m.triangles.size() / 3 << " faces: RMS " << ours << " against " << collapse);
     CHECK(ours < 1.3 * collapse);
   }
