@@ -76,24 +76,22 @@ struct HierarchyOptions {
   /// A level's sets of independent removals end when the triangles are down to this
   /// fraction of the level before (the cheapest removals first), or when no unmarked
   /// vertex can go. Velho's levels take every vertex they can (0 with one set: about
-  /// 0.68 a level); 0.7 measured 0.77x the RMS at equal counts on the bunny
-  /// (docs/hierarchy.md). A level takes further sets while it holds more than
-  /// max(0.75, level_ratio) of the level before's triangles.
+  /// 0.68 a level); stopping a little earlier leaves the dearer removals to the next
+  /// level, nearer QEM at equal counts (docs/hierarchy.md). A level takes further sets
+  /// while it holds more than max(0.75, level_ratio) of the level before's triangles.
   double level_ratio = 0.7;
   /// Independent sets a level is made of (1: Velho's). Each set ends at
   /// level_ratio^(1 / sets_per_level) of the triangles it began with, so that the
   /// level still ends near level_ratio. Smaller sets leave fewer cheap removals
-  /// waiting beside a marked vertex: two sets measured 0.64-0.93x the RMS of one at
-  /// levels 1-9 on the scans, 0.53-0.87x on a sphere and 0.78-0.96x on a terrain,
-  /// close to `independent = false`, with a somewhat deeper dependency graph; three
-  /// bring the first level of a sphere from 1.50x to 1.19x QEM's RMS, for about 10%
-  /// more build time (docs/hierarchy.md). From 1 to 16.
+  /// waiting beside a marked vertex, and come close to `independent = false`'s
+  /// quality with a shallower dependency graph; each set ranks the vertices again, so
+  /// more sets build more slowly (docs/hierarchy.md). From 1 to 16.
   std::uint32_t sets_per_level = 3;
   /// Velho §4 step 2: a set's removals are independent, each marking the four
   /// vertices around it so that no other removal of the set touches them: the
   /// dependency graph stays shallow. Off (--sequential), a set takes the cheapest
   /// removals one after another as an edge collapse does: about as close to QEM at
-  /// the same count as two sets a level (docs/hierarchy.md), a deeper graph.
+  /// the same count as the default's sets (docs/hierarchy.md), a deeper graph.
   bool independent = true;
   /// Velho eq. 6's weights of the removal cost C(v) and the swap cost S(v).
   double removal_weight = 0.75, swap_weight = 0.25;
@@ -107,8 +105,7 @@ struct HierarchyOptions {
   std::uint64_t memory_budget = 0;
   /// After that out-of-core phase, start from the vertex quadrics its edge collapse
   /// summed (the error it made counts on) instead of the reduced mesh's faces. Off by
-  /// default: it measured no better (RMS within 4%, Hausdorff 0.90-1.25x),
-  /// docs/hierarchy.md.
+  /// default: it measured no better (docs/hierarchy.md).
   bool reuse_quadrics = false;
   /// The input's vertex attributes the hierarchy keeps (all by default).
   AttributeSelection attributes;
@@ -124,12 +121,11 @@ enum class HierarchyPlacement {
   /// collapse places its vertex, unless a face around it would then turn by more than
   /// 60 degrees, lose its area or become a needle, or a crease there grow sharper than
   /// the builder allows; the corners of a region's faces stay, and so do vertices
-  /// that share a position (a split vertex's copies, a seam's sides). Velho's records keep a subset of the finest
-  /// vertices: placed, the levels
-  /// of the sphere, terrain and scans came to 0.86-1.50x the edge collapse's RMS at
-  /// the same count where in place they were 1.05-1.66x (docs/hierarchy.md). The
-  /// faces and the topology are the same either way, and every vertex keeps its
-  /// attribute values.
+  /// that share a position (a split vertex's copies, a seam's sides). Velho's records
+  /// keep a subset of the finest vertices, which costs what an edge collapse gains by
+  /// moving its vertex; placed, the levels come near the edge collapse's error at the
+  /// same count (docs/hierarchy.md). The faces and the topology are the same either
+  /// way, and every vertex keeps its attribute values.
   quadric,
   /// Every vertex where the finest mesh has it.
   kept,

@@ -53,9 +53,8 @@ void FourFaceSimplifier::assign_quadrics(std::vector<Quadric> given) {
 // face (v, mid, s) alone. Here it is that face's area-weighted plane quadric (eq. 5's
 // units, those of C(v)) at the opposite corner, read from both faces and averaged:
 // area times the squared height of the tetrahedron over it. The sums of every plane
-// at s that Q_s holds measured how far t lies from s's other faces too: on the
-// generated parts that priced a swap across a flat face like one across a bend, and
-// the levels came out 2-6x meshopt_simplify's RMS (docs/hierarchy.md).
+// at s that Q_s holds measured how far t lies from s's other faces too: on CAD that
+// priced a swap across a flat face like one across a bend (docs/hierarchy.md).
 double FourFaceSimplifier::swap_cost(std::uint32_t v, std::uint32_t prev, std::uint32_t mid, std::uint32_t next) const {
   const Vec3d pv = mesh_.position(v), pp = mesh_.position(prev), pm = mesh_.position(mid), pn = mesh_.position(next);
   const TrianglePlane before = triangle_plane(pp - pv, pm - pv);  // face (v, prev, mid)

@@ -22,8 +22,7 @@
 //   quadrics make that cost as leaving the outline does. A boundary vertex of one
 //   face (an ear) is removed with its face, when the face's inner edge has a face
 //   beyond: the outline then runs along that edge. Without it the outline's
-//   vertices stall the coarse levels of open meshes (the terrain stopped at 5% of
-//   its faces).
+//   vertices stall the coarse levels of open meshes.
 // - No record may make an edge that exists, a face of no area, a face whose normal
 //   turns by 90 degrees or more from the face it replaces along an outline edge, a
 //   face that leans from the replaced faces' normal by more than 75 degrees and more
@@ -45,15 +44,15 @@ class FourFaceSimplifier {
  public:
   /// A new face may not be less compact than this unless a face it replaces was
   /// nearly as bad: the least new compactness must be at least kNeedleSlack times the
-  /// least old one. Without the slack, a mesh of slivers (the poles of the generated
-  /// sphere) stalls: the 1M sphere stopped at 0.6% of its faces, with it at 4 faces.
+  /// least old one. Without the slack, a mesh of slivers (the poles of a
+  /// latitude-longitude sphere) stalls: no removal there makes faces compact enough.
   static constexpr double kMinCompactness = 0.05, kNeedleSlack = 0.5;
   /// Faces whose unit normals agree to this dot product are one flat patch.
   static constexpr double kFlat = 1 - 1e-9;
   static constexpr double kLeanCosine = 0.2588;  // cos 75 degrees: see faces_fit
   /// A new crease up to 150 degrees is allowed; a sharper one only where an old
   /// crease was as sharp. (A right angle kept a rough terrain's sharp places from
-  /// going at the coarse levels: 2.0x meshopt_simplify's RMS at level 9, 1.6x now.)
+  /// going at the coarse levels, and dearer removals went instead: docs/hierarchy.md.)
   static constexpr double kCreaseCosine = -0.866;
 
   FourFaceSimplifier(FourKMesh* mesh, const HierarchyOptions& options);

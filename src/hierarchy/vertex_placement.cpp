@@ -160,9 +160,8 @@ void place_at_quadric_minima(const MeshHierarchy& h, const std::vector<std::uint
     for (std::uint32_t i = around.start[v]; i < around.start[v + 1]; ++i)
       for (int k = 0; k < 3; ++k) box.add(point(xyz, corners[3 * std::size_t(around.faces[i]) + std::size_t(k)]));
     // The box of its neighbours, grown by its size each way: as far as an edge
-    // collapse looks (two edge lengths from the edge's middle). Clamped to the
-    // neighbours' box itself, the terrain's level 7 came out 1.27x the edge
-    // collapse's RMS; grown, 1.16x (docs/hierarchy.md).
+    // collapse looks (two edge lengths from the edge's middle). The box itself held
+    // the vertices of rough levels back from their minima (docs/hierarchy.md).
     const Vec3d size = box.max - box.min;
     const Vec3d x = minimize_quadric(q, p, box.min - size, box.max + size);
     if (!(q.error(x) < q.error(p)) || !fan.fits(xyz, v, x)) continue;

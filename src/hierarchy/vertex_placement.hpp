@@ -38,9 +38,8 @@ void place_at_quadric_minima(const MeshHierarchy& hierarchy, const std::vector<s
                              SimplifiedMesh* mesh);
 
 /// A face may turn by at most this as its vertices move to their quadrics' minima.
-/// The edge collapse allows 90 degrees; 89 placed the sphere's and terrain's levels
-/// at the same RMS as 60 (docs/hierarchy.md), so the stricter bound costs nothing
-/// measured and keeps a margin against folds.
+/// The edge collapse allows 90 degrees; a bound of 89 gave the same levels' error as
+/// 60 (docs/hierarchy.md), so the stricter one keeps a margin against folds.
 constexpr double kMaxTurnDegrees = 60;
 
 }  // namespace oocsimp
