@@ -4,7 +4,7 @@
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]
 #   TARGETs: fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input
-#            fuzz_simplify fuzz_hierarchy_file (default: all)
+#            fuzz_simplify fuzz_hierarchy_file fuzz_hierarchy_build (default: all)
 #
 # Installs what is missing (scripts/setup-deps.sh, clang and its fuzzer runtime).
 # Each run starts from a seed corpus written into build-fuzz/corpus/TARGET (generated
@@ -18,7 +18,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input fuzz_simplify
-  fuzz_hierarchy_file)
+  fuzz_hierarchy_file fuzz_hierarchy_build)
 
 usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
 [ $# -ge 1 ] || usage
@@ -251,6 +251,18 @@ add_simplify_seeds() {  # add_simplify_seeds FMT SELECTOR-OCTALS...
 add_simplify_seeds ply 000 007 054 330  # plain; zst+tiles; tiles+sphere+centre; ascii out+sphere+heaviest+mean
 add_simplify_seeds obj 001 125          # plain; tiles+heaviest+mean
 add_simplify_seeds stl 002 216          # plain; tiles+sphere+ascii out
+# The hierarchy's builder gets the PLY and OBJ seeds behind its selector byte (see
+# tests/fuzz/fuzz_hierarchy_build.cpp): bit 0 the format, bits 1-2 the sets a level.
+mkdir -p "$corpus/fuzz_hierarchy_build"
+for f in "$seeds/ply"/* "$seeds/obj"/*; do
+  [ "$(stat -c %s "$f")" -lt 65536 ] || continue
+  obj=0
+  [[ "$f" == *.obj ]] && obj=1
+  for sets in 0 2 4 6; do  # one, two, three sets a level; sequential
+    sel=$(printf '%03o' $((obj | sets)))
+    { printf "\\$sel"; cat "$f"; } >"$corpus/fuzz_hierarchy_build/$sel-$(basename "$f")"
+  done
+done
 
 # Dictionaries of the formats' keywords (libFuzzer -dict), so mutations speak them.
 dicts="$build/dict"
@@ -308,6 +320,7 @@ cat >>"$dicts/fuzz_gzip_input.dict" <<'EOF'
 "\x03\x00"
 EOF
 write_dict "$dicts/fuzz_simplify.dict" $words_ply $words_obj $words_stl $words_off
+write_dict "$dicts/fuzz_hierarchy_build.dict" $words_ply $words_obj
 # .4k: the magic, the versions, a swap's head, a removal's, attribute types with a
 # name, and the attribute names the writers use.
 write_dict "$dicts/fuzz_hierarchy_file.dict" red green blue nx ny nz quality u v
@@ -332,7 +345,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$art" "$build/tmp/$t"
   log="$build/logs/$t.log"
   extra=()
-  [ "$t" = fuzz_simplify ] && extra=(-max_len=65537)
+  [ "$t" = fuzz_simplify ] || [ "$t" = fuzz_hierarchy_build ] && extra=(-max_len=65537)
   timefile="$build/logs/$t.time"
   set +e
   TIMEFORMAT='%R %U %S'

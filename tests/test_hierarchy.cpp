@@ -104,59 +104,6 @@ Mesh generated(SyntheticShape shape, std::uint64_t triangles, const ScratchDir& 
   return m;
 }
 
-// What a mesh's faces say of its surface, counted here from the faces alone.
-struct Topology {
-  bool manifold = true;  // every directed edge once; every vertex one fan
-  std::size_t vertices = 0, edges = 0, faces = 0, boundary_edges = 0, boundary_loops = 0;
-  std::size_t zero_area = 0;
-  long euler() const { return long(vertices) - long(edges) + long(faces); }
-};
-
-Topology topology(const std::vector<double>& p, const std::vector<std::uint32_t>& t) {
-  Topology out;
-  out.faces = t.size() / 3;
-  std::set<std::pair<std::uint32_t, std::uint32_t>> directed;
-  std::set<std::uint32_t> used;
-  for (std::size_t f = 0; f < t.size(); f += 3) {
-    for (int k = 0; k < 3; ++k) {
-      used.insert(t[f + std::size_t(k)]);
-      if (!directed.insert({t[f + std::size_t(k)], t[f + std::size_t((k + 1) % 3)]}).second) out.manifold = false;
-    }
-    const double* a = &p[3 * t[f]];
-    const double* b = &p[3 * t[f + 1]];
-    const double* c = &p[3 * t[f + 2]];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0)) ++out.zero_area;
-  }
-  out.vertices = used.size();
-  std::map<std::uint32_t, std::uint32_t> boundary_next;
-  for (const auto& [a, b] : directed) {
-    if (!directed.count({b, a})) {
-      ++out.boundary_edges;
-      ++out.edges;
-      if (!boundary_next.insert({a, b}).second) out.manifold = false;  // two outlines through a
-    } else if (a < b) {
-      ++out.edges;
-    }
-  }
-  std::set<std::uint32_t> seen;
-  for (const auto& [start, next] : boundary_next) {
-    if (seen.count(start)) continue;
-    ++out.boundary_loops;
-    for (std::uint32_t v = start; !seen.count(v);) {
-      seen.insert(v);
-      const auto it = boundary_next.find(v);
-      if (it == boundary_next.end()) {
-        out.manifold = false;
-        break;
-      }
-      v = it->second;
-    }
-  }
-  return out;
-}
-
 // Every face's normal along `outward(centroid)` (positive dot product).
 template <class Outward>
 std::size_t turned_faces(const SimplifiedMesh& m, const Outward& outward) {
@@ -599,7 +546,8 @@ TEST_CASE("a vertex of many faces keeps its fan in order as swaps take it down t
   // A closed fan of 14 faces around vertex 0 (more than a vertex's faces kept in its
   // own block), brought to valence 4 by swaps, one ring vertex at a time, then
   // removed: after each step the fan is the ring without the vertices swapped out,
-  // and each swap's new edge exists.
+  // each swap's new edge exists, and every vertex's faces are listed in the order
+  // they were made (faces are numbered as made: ascending numbers).
   const std::uint32_t n = 14;
   const double pi = std::acos(-1.0);
   std::vector<Vec3d> positions = {{0, 0, 0}};
@@ -636,6 +584,10 @@ TEST_CASE("a vertex of many faces keeps its fan in order as swaps take it down t
     CHECK(fan.ring == ring);
     CHECK(mesh.around(0).size() == ring.size());
     CHECK(mesh.live_faces() == n);
+    for (std::uint32_t v = 0; v <= n; ++v) {
+      const FourKMesh::Incidences faces = mesh.around(v);
+      for (std::size_t i = 1; i < faces.size(); ++i) CHECK(faces[i - 1].face < faces[i].face);
+    }
   }
   HierarchyRecord removal;
   removal.vertex = 0;
@@ -798,6 +750,26 @@ TEST_CASE("a damaged, truncated, foreign or other-version .4k file is refused na
   std::string header = bytes;
   header[20] = char(header[20] ^ 1);
   CHECK_THAT(refused(header), Catch::Contains("byte 56") && Catch::Contains("header"));
+}
+
+TEST_CASE("an attribute whose name a .4k file cannot hold is refused before the work", "[hierarchy][cli]") {
+  // The .4k reader takes an attribute's name only as a PLY property name (printable
+  // ASCII without blanks). A PLY whose property name has other bytes reads, and a
+  // hierarchy built from it would not read back: the build refuses it up front (exit
+  // 3, naming the input and the way out), leaving no file; without attributes it runs.
+  ScratchDir tmp;
+  const std::string in = tmp.file("t.ply"), h = tmp.file("t.4k");
+  write_file(in,
+             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+             "property uchar t\xe9mp\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+             "0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  CliResult r = run_cli("hierarchy " + in + " -o " + h + " --quiet");
+  CHECK(r.exit_code == 3);
+  CHECK_THAT(r.err, Catch::Contains(in) && Catch::Contains("t?mp") && Catch::Contains("--attributes"));
+  CHECK_FALSE(file_exists(h));
+  r = run_cli("hierarchy " + in + " -o " + h + " --quiet --attributes none");
+  CHECK(r.exit_code == 0);
+  CHECK(run_cli("info " + h).exit_code == 0);
 }
 
 TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[hierarchy][cli]") {

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <set>
+#include <map>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -192,6 +194,51 @@ void write_cube_ply(const std::string& path, int n) {
       }
   }
   write_binary_ply(path, v, t);
+}
+
+Topology topology(const std::vector<double>& p, const std::vector<std::uint32_t>& t) {
+  Topology out;
+  out.faces = t.size() / 3;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> directed;
+  std::set<std::uint32_t> used;
+  for (std::size_t f = 0; f < t.size(); f += 3) {
+    for (int k = 0; k < 3; ++k) {
+      used.insert(t[f + std::size_t(k)]);
+      if (!directed.insert({t[f + std::size_t(k)], t[f + std::size_t((k + 1) % 3)]}).second) out.manifold = false;
+    }
+    const double* a = &p[3 * t[f]];
+    const double* b = &p[3 * t[f + 1]];
+    const double* c = &p[3 * t[f + 2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    if (!(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 0)) ++out.zero_area;
+  }
+  out.vertices = used.size();
+  std::map<std::uint32_t, std::uint32_t> boundary_next;
+  for (const auto& [a, b] : directed) {
+    if (!directed.count({b, a})) {
+      ++out.boundary_edges;
+      ++out.edges;
+      if (!boundary_next.insert({a, b}).second) out.manifold = false;  // two outlines through a
+    } else if (a < b) {
+      ++out.edges;
+    }
+  }
+  std::set<std::uint32_t> seen;
+  for (const auto& [start, next] : boundary_next) {
+    if (seen.count(start)) continue;
+    ++out.boundary_loops;
+    for (std::uint32_t v = start; !seen.count(v);) {
+      seen.insert(v);
+      const auto it = boundary_next.find(v);
+      if (it == boundary_next.end()) {
+        out.manifold = false;
+        break;
+      }
+      v = it->second;
+    }
+  }
+  return out;
 }
 
 }  // namespace oocsimp_test

@@ -107,4 +107,15 @@ void write_ascii_stl(const std::string& path, const std::vector<float>& position
 void write_plane_ply(const std::string& path, int n, double a, double b, double c);
 void write_cube_ply(const std::string& path, int n);
 
+/// What a mesh's faces say of its surface, counted from the faces alone (every
+/// vertex the faces use, every edge once).
+struct Topology {
+  bool manifold = true;  ///< every directed edge once; every vertex one fan
+  std::size_t vertices = 0, edges = 0, faces = 0, boundary_edges = 0, boundary_loops = 0;
+  std::size_t zero_area = 0;
+  long euler() const { return long(vertices) - long(edges) + long(faces); }
+};
+/// The topology of the faces `t` (3 corners each) over positions `p` (3 per vertex).
+Topology topology(const std::vector<double>& p, const std::vector<std::uint32_t>& t);
+
 }  // namespace oocsimp_test

@@ -162,7 +162,7 @@ SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery
 /// height): how far a region's refinement can reach beyond it.
 std::uint64_t hierarchy_height(const MeshHierarchy& hierarchy);
 
-/// Writes `hierarchy` to a .4k file (docs/hierarchy.md: the format, version 1), under
+/// Writes `hierarchy` to a .4k file (docs/hierarchy.md: the format, version 2), under
 /// a temporary name renamed into place when complete. IoError.
 void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path);
 /// Reads a .4k file. InputError naming the byte for a damaged, truncated or foreign

@@ -99,6 +99,21 @@ AttributeSelection kept_attributes(const HierarchyOptions& options) {
   return kept;
 }
 
+// Every attribute kept goes into the file under its name, which the reader takes only
+// as a PLY property name (storable_attribute_name): checked before the work, so that
+// no file is written that does not read back.
+void check_attribute_names(const MeshInput& input) {
+  for (const VertexAttribute& a : input.attributes.attributes) {
+    if (storable_attribute_name(a.name)) continue;
+    std::string shown = a.name;
+    for (char& c : shown)
+      if (!(c > ' ' && c < 0x7f)) c = '?';
+    throw InputError(input.info.path + ": the vertex attribute \"" + shown +
+                     "\" has a name a .4k file cannot hold (blanks, control or non-ASCII bytes); leave it out with "
+                     "--attributes");
+  }
+}
+
 void check_options(const HierarchyOptions& options) {
   if (!(options.removal_weight >= 0) || !(options.swap_weight >= 0) ||
       !(options.removal_weight + options.swap_weight > 0))
@@ -127,6 +142,7 @@ MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& opti
   check_options(options);
   const auto threads = limit_threads(options.threads);
   MeshInput input = open_mesh_view(mesh, kept_attributes(options));
+  check_attribute_names(input);
   return build(load(input), input.info.path, options, mesh.position_type, nullptr);
 }
 
@@ -161,6 +177,7 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
   open.progress = options.progress;
   open.attributes = kept_attributes(options);
   MeshInput input = open_mesh_input(input_path, open);
+  check_attribute_names(input);
   const std::uint64_t budget = budget_bytes(options.memory_budget);
   // Each vertex's attribute values as doubles, about half a vertex a triangle, held
   // while loading and in the hierarchy.

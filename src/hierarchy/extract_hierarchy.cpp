@@ -120,20 +120,34 @@ SimplifiedMesh extract_from_hierarchy(const MeshHierarchy& h, const HierarchyQue
   const std::vector<std::uint32_t> made_by = records_making_faces(h);
   const std::size_t end = q.level != HierarchyQuery::kNoLevel ? h.levels[q.level].end_record : records;
   std::vector<std::uint8_t> applied(records, 0), replaced(faces, 0);
+  // A removal takes its vertex away with the faces it replaces, which were all the
+  // vertex's faces when it was made. Out of the records' order (a region, an error
+  // bound) a vertex on the boundary can still have others: the records that took
+  // them were held back. Such a removal would cut the surface there (a boundary
+  // ear's face would go and leave the vertex's other faces hanging), so it waits
+  // too: it applies only where the vertex's live faces are those it replaces.
+  std::vector<std::uint32_t> live_around(h.positions.size() / 3, 0);
+  for (std::size_t c = 0; c < 3 * finest; ++c) ++live_around[h.face_corners[c]];
   std::uint64_t triangles = finest;
   for (std::size_t r = 0; r < end; ++r) {
     if (q.triangles > 0 && triangles <= q.triangles) break;
     const HierarchyRecord& record = h.records[r];
     if (q.error >= 0 && !(record.error <= q.error)) continue;
-    bool take = true;
+    bool take = record.swap || live_around[record.vertex] == record.face_count;
     for (int i = 0; i < record.face_count && take; ++i) {
       const std::uint32_t f = record.faces[i];
       take = (made_by[f] == kFinest || applied[made_by[f]]) && (region.none() || !region.meets(f));
     }
     if (!take) continue;
     applied[r] = 1;
-    for (int i = 0; i < record.face_count; ++i) replaced[record.faces[i]] = 1;
     const int count = record_new_face_count(record);
+    for (int i = 0; i < record.face_count; ++i) {
+      replaced[record.faces[i]] = 1;
+      for (int k = 0; k < 3; ++k) --live_around[h.face_corners[3 * std::size_t(record.faces[i]) + std::size_t(k)]];
+    }
+    for (int i = 0; i < count; ++i)
+      for (int k = 0; k < 3; ++k)
+        ++live_around[h.face_corners[3 * std::size_t(h.first_new_face[r] + i) + std::size_t(k)]];
     triangles = triangles + std::uint64_t(count) - record.face_count;
   }
   if (q.triangles > 0 && triangles > q.triangles)

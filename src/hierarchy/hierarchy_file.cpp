@@ -56,15 +56,6 @@ class Reader {
   const std::string& name_;
 };
 
-// Whether an attribute name can stand in a PLY header as a property's name: not
-// empty, printable ASCII without blanks.
-bool plain_name(const std::string& name) {
-  if (name.empty()) return false;
-  for (const char c : name)
-    if (!(c > ' ' && c < 0x7f)) return false;
-  return true;
-}
-
 // Bytes of the attribute section (version 2): the count, each attribute's type, name
 // and range, then each vertex's values in the attributes' types.
 std::size_t attribute_section_bytes(const AttributeValues& a, std::size_t vertices) {
@@ -77,6 +68,13 @@ std::size_t attribute_section_bytes(const AttributeValues& a, std::size_t vertic
 }
 
 }  // namespace
+
+bool storable_attribute_name(const std::string& name) {
+  if (name.empty()) return false;
+  for (const char c : name)
+    if (!(c > ' ' && c < 0x7f)) return false;
+  return true;
+}
 
 bool has_hierarchy_magic(const std::string& bytes) {
   return bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0;
@@ -183,8 +181,9 @@ void read_attributes(Reader* in, std::uint64_t vertices, std::size_t body_end, A
     // The name goes into the header of every mesh extracted (PLY): it must be one.
     bool repeated = a.name == "x" || a.name == "y" || a.name == "z";
     for (const VertexAttribute* b = out->attributes.data(); b != &a && !repeated; ++b) repeated = b->name == a.name;
-    if (!plain_name(a.name) || repeated)
-      in->fail(at + 4, "the attribute name \"" + (plain_name(a.name) ? a.name : std::string("?")) + "\" is " +
+    if (!storable_attribute_name(a.name) || repeated)
+      in->fail(at + 4, "the attribute name \"" + (storable_attribute_name(a.name) ? a.name : std::string("?")) +
+                           "\" is " +
                            (repeated ? "x, y, z or an earlier attribute's" : "empty or holds blanks or control bytes"));
     a.min = in->get<double>();
     a.max = in->get<double>();

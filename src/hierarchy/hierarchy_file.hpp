@@ -20,5 +20,9 @@ std::string hierarchy_file_bytes(const MeshHierarchy& hierarchy);
 MeshHierarchy parse_hierarchy_file(const std::string& bytes, const std::string& name);
 /// Whether `bytes` start with the .4k magic.
 bool has_hierarchy_magic(const std::string& bytes);
+/// Whether the file can hold an attribute of this name: one that can stand in a PLY
+/// header as a property's name (not empty, printable ASCII without blanks), since it
+/// goes into the header of every mesh extracted. The reader refuses any other.
+bool storable_attribute_name(const std::string& name);
 
 }  // namespace oocsimp

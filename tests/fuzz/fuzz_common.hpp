@@ -79,12 +79,12 @@ class Scratch {
   std::string path_;
 };
 
-// Once per process: one thread (deterministic, and cheap on a shared machine), and
-// a cap on the size of any file written (temporary position arrays, spill files), so
-// a tiny input that declares a huge mesh fails with an IoError instead of filling
-// the disk.
-inline void init_process() {
-  static tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+// Once per process: `threads` worker threads at most (one, deterministic and cheap on
+// a shared machine, but where a target compares thread counts), and a cap on the
+// size of any file written (temporary position arrays, spill files), so a tiny input
+// that declares a huge mesh fails with an IoError instead of filling the disk.
+inline void init_process(unsigned threads = 1) {
+  static tbb::global_control cap(tbb::global_control::max_allowed_parallelism, threads);
   static bool done = [] {
     ::signal(SIGXFSZ, SIG_IGN);  // writes past the limit then fail with EFBIG
     struct rlimit lim;
