@@ -13,8 +13,9 @@
 //   opposite corner (swap_cost). The swaps are chosen one at a time, the cheapest
 //   first by S times (2 - c), c the least compactness (eq. 4) of the two faces the
 //   swap makes; at equal keys (on a flat patch every S is 0) the rounder faces.
-// - The diagonal of lower C_a + C_b is kept; eq. 9 gives each of its ends a share
-//   1 - C_i / (C_a + C_b) of Q_v.
+// - The removal is the half-edge collapse of v into an end of the new diagonal (Velho
+//   §3): C(v) is the cheaper end's C_i, and the diagonal with the cheapest end is
+//   kept; eq. 9 gives each of its ends a share 1 - C_i / (C_a + C_b) of Q_v.
 // - A vertex of valence 3 inside is removed as it is, its three faces becoming one
 //   (its quadric shared by the three, eq. 9 for three ends). A vertex on the boundary
 //   is brought to two faces by swaps and removed, the two faces becoming one along
