@@ -3,6 +3,7 @@
 // .4k files.
 #include "oocsimp/hierarchy.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -106,8 +107,8 @@ void check_attribute_names(const MeshInput& input) {
   for (const VertexAttribute& a : input.attributes.attributes) {
     if (storable_attribute_name(a.name)) continue;
     std::string shown = a.name;
-    for (char& c : shown)
-      if (!(c > ' ' && c < 0x7f)) c = '?';
+    std::replace_if(
+        shown.begin(), shown.end(), [](char c) { return !storable_name_byte(c); }, '?');
     throw InputError(input.info.path + ": the vertex attribute \"" + shown +
                      "\" has a name a .4k file cannot hold (blanks, control or non-ASCII bytes); leave it out with "
                      "--attributes");

@@ -14,6 +14,7 @@
 #include "common/triangle_geometry.hpp"
 #include "common/vec3_math.hpp"
 #include "hierarchy/hierarchy_quadrics.hpp"
+#include "hierarchy/record_faces.hpp"
 
 namespace oocsimp {
 
@@ -320,11 +321,11 @@ void FourFaceSimplifier::take(std::uint32_t v, const Plan& plan) {
   t.plan = plan;
   t.first_record = records_->size();
   records_->resize(records_->size() + plan.swapped.size() + 1);
-  // Each swap makes 2 faces for its 2; the removal ring_count - 2 for the ring_count
-  // faces of a closed fan, one fewer of an open one.
-  const int replaced = plan.closed ? plan.ring_count : plan.ring_count - 1;
-  t.first_face = mesh_.add_face_numbers(2 * plan.swapped.size() + std::size_t(plan.ring_count - 2));
-  faces_after_taken_ -= std::uint64_t(replaced - (plan.ring_count - 2));
+  // Each swap makes 2 faces for its 2; the removal fewer than it replaces.
+  const HierarchyRecord removal = plan.removal_record();
+  const int made = record_new_face_count(removal);
+  t.first_face = mesh_.add_face_numbers(2 * plan.swapped.size() + std::size_t(made));
+  faces_after_taken_ -= std::uint64_t(removal.face_count - made);
 }
 
 // The removals taken since the last call, applied to the mesh: on several threads,
@@ -378,10 +379,9 @@ int FourFaceSimplifier::apply_removal(std::uint32_t v, const Plan& plan, std::ui
     first_face += 2;
     *records++ = swap;
   }
-  HierarchyRecord removal;
+  HierarchyRecord removal = plan.removal_record();
   removal.vertex = v;
   removal.error = error;
-  removal.face_count = std::uint8_t(plan.closed ? plan.ring_count : plan.ring_count - 1);
   for (int i = 0; i < removal.face_count; ++i) removal.faces[i] = mesh_.face_with_edge(v, plan.ring[i]);
   vertices += mesh_.apply_numbered(removal, first_face);
   *records = removal;

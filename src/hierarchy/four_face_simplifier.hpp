@@ -87,6 +87,13 @@ class FourFaceSimplifier {
     /// v's neighbours when the plan was made: with v, the vertices whose faces and
     /// quadrics it read (empty when v's faces were not one fan).
     std::vector<std::uint32_t> neighbours;
+    /// The removal's record, with the faces it replaces (its fan's: closed, one per
+    /// ring vertex; open, one fewer) yet to be named.
+    HierarchyRecord removal_record() const {
+      HierarchyRecord r;
+      r.face_count = std::uint8_t(closed ? ring_count : ring_count - 1);
+      return r;
+    }
   };
 
   bool plan_removal(std::uint32_t v, Plan* plan) const;

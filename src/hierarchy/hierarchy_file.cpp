@@ -71,9 +71,7 @@ std::size_t attribute_section_bytes(const AttributeValues& a, std::size_t vertic
 
 bool storable_attribute_name(const std::string& name) {
   if (name.empty()) return false;
-  for (const char c : name)
-    if (!(c > ' ' && c < 0x7f)) return false;
-  return true;
+  return std::all_of(name.begin(), name.end(), storable_name_byte);
 }
 
 bool has_hierarchy_magic(const std::string& bytes) {

@@ -24,5 +24,7 @@ bool has_hierarchy_magic(const std::string& bytes);
 /// header as a property's name (not empty, printable ASCII without blanks), since it
 /// goes into the header of every mesh extracted. The reader refuses any other.
 bool storable_attribute_name(const std::string& name);
+/// Whether such a name may hold this byte: printable ASCII, not a blank.
+inline bool storable_name_byte(char c) { return c > ' ' && c < 0x7f; }
 
 }  // namespace oocsimp
