@@ -4,17 +4,27 @@
 #
 #   scripts/bench-lods.sh [TRIANGLES ...]       default 2000000 (generated spheres)
 #   METHODS="floating uniform" GRID=256 LEVELS=3 FACTOR=2 RUNS=3 SHAPES=sphere
+#   TARGET=40000 [METHODS=qem] [MEM=128M]     levels to a target, halved per level
 #
-# Per method and size: the median wall time of the finest level alone (`--grid GRID`)
-# and of `--lods LEVELS --lod-factor FACTOR` (each run after a warm-up), the ratio,
-# input Mtri/s and peak RSS of the --lods run. The goal is LEVELS=3 in at most 1.6x
-# the finest level's time.
+# Per method and size: the median wall time of the finest level alone (`--grid GRID`,
+# or `--target-tris TARGET`) and of `--lods LEVELS --lod-factor FACTOR` (each run
+# after a warm-up), the ratio, input Mtri/s and peak RSS of the --lods run. The goal
+# is LEVELS=3 in at most 1.6x the finest level's time. With TARGET the methods
+# default to qem (the default with a target), and the coarser levels go on from the
+# finest level's collapse.
 set -euo pipefail
 source "$(dirname "$0")/bench-setup.sh"
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(2000000)
-methods=${METHODS:-"floating uniform"}
-grid=${GRID:-256}
+target=${TARGET:-}
+if [ -n "$target" ]; then
+  methods=${METHODS:-qem}
+  sizing=(--target-tris "$target")
+else
+  methods=${METHODS:-"floating uniform"}
+  sizing=(--grid "${GRID:-256}")
+fi
+[ -z "${MEM:-}" ] || sizing+=(--mem "$MEM")
 levels=${LEVELS:-3}
 factor=${FACTOR:-2}
 runs=${RUNS:-3}
@@ -35,9 +45,9 @@ for shape in $shapes; do
     [ -f "$mesh" ] || "$bin" generate --shape "$shape" --tris "$n" --seed 1 --quiet -o "$mesh"
     tris=$("$bin" info "$mesh" | awk '/^faces/ {print $2}')
     for method in $methods; do
-      one=(simplify "$mesh" -o "$tmp/one.ply" --method "$method" --grid "$grid" --quiet)
-      many=(simplify "$mesh" -o "$tmp/lod.ply" --method "$method" --grid "$grid" --lods "$levels" --lod-factor "$factor"
-        --quiet)
+      one=(simplify "$mesh" -o "$tmp/one.ply" --method "$method" "${sizing[@]}" --quiet)
+      many=(simplify "$mesh" -o "$tmp/lod.ply" --method "$method" "${sizing[@]}" --lods "$levels" --quiet)
+      [ -n "$target" ] || many+=(--lod-factor "$factor")
       "$bin" "${one[@]}" # warm the page cache
       : >"$tmp/one.s"
       : >"$tmp/many.s"

@@ -942,7 +942,8 @@ TEST_CASE("messages show the flag of each option field they name, and leave path
   // The option at fault first, then advice naming another field.
   CliResult r = run_cli("simplify --quiet --lods 2 --method qem " + q(d.file("s.ply")) + " -o " + q(d.file("o.ply")));
   CHECK(r.exit_code == 2);
-  CHECK(r.err == "oocsimp: --lods needs a clustering method (--method floating, uniform or curvature)\n");
+  CHECK(r.err ==
+        "oocsimp: --lods with --method qem needs a target to halve per level (--target-tris or --target-ratio)\n");
   // A file whose name spells a field keeps its name.
   const std::string odd = d.file("outputs.mesh.ply");
   r = run_cli("simplify --quiet " + q(d.file("s.ply")) + " -o " + q(odd) + " --stats " + q(odd));

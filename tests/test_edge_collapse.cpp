@@ -377,6 +377,44 @@ TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler character
     }
 }
 
+TEST_CASE("levels going on from one collapse meet each count, closed and manifold, the same for any threads",
+          "[refine][collapse][lods]") {
+  const QuadricMesh sphere = generated(SyntheticShape::sphere, 20000);
+  const std::vector<std::uint64_t> coarser = {3000, 1000, 250};
+  for (std::uint64_t passes : {0, 4096}) {
+    INFO("tiles and passes from " << passes << " faces");
+    CollapseSettings s;
+    s.target_triangles = 6000;
+    s.pass_faces = s.tile_faces = passes;
+    s.tile_min_faces = 4 * passes;
+    std::vector<std::vector<std::uint32_t>> triangles[2];
+    std::vector<std::uint64_t> collapses;
+    for (int threads : {1, 2}) {
+      tbb::task_arena arena(threads);
+      arena.execute([&] {
+        collapse_edges_to_levels(sphere, s, coarser, nullptr,
+                                 [&](std::size_t k, QuadricMesh m, const CollapseStats& st) {
+                                   INFO("level " << k << ", threads " << threads);
+                                   const std::uint64_t target = k == 0 ? s.target_triangles : coarser[k - 1];
+                                   CHECK(m.triangles.size() / 3 == target);
+                                   // A closed surface loses two faces a collapse, from the start.
+                                   CHECK(st.collapses == (sphere.triangles.size() / 3 - target) / 2);
+                                   const auto edges = edge_faces(m);
+                                   bool two_each = true;
+                                   for (const auto& e : edges) two_each = two_each && e.second == 2;
+                                   CHECK(two_each);
+                                   CHECK(long(m.positions.size()) - long(edges.size()) + long(target) == 2);
+                                   triangles[threads - 1].push_back(m.triangles);
+                                 });
+      });
+    }
+    CHECK(triangles[0] == triangles[1]);
+    // The first level is collapse_edges' own result.
+    REQUIRE(!triangles[0].empty());
+    CHECK(triangles[0].front() == collapse_edges(sphere, s, nullptr).triangles);
+  }
+}
+
 TEST_CASE("no face turns against the original surface's local normal", "[refine][collapse]") {
   // The sphere: each face of the result against the input face nearest to its
   // centre; a faithful simplification never faces the other way. (Not the parts mesh:

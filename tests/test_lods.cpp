@@ -11,6 +11,7 @@
 
 #include "oocsimp/generate.hpp"
 #include "oocsimp/lod.hpp"
+#include "oocsimp/measure.hpp"
 #include "api/simplify.hpp"
 #include "test_support.hpp"
 
@@ -115,6 +116,42 @@ TEST_CASE("levels of detail with thick edges, a target and --measure", "[lods]")
   CHECK(s[2].triangles == 2000);
 }
 
+TEST_CASE("levels to a target go on from the finer level's collapse, as good as their own runs", "[lods][target]") {
+  ScratchDir d;
+  GenerateOptions g;
+  g.triangles = OOCSIMP_TEST_UNDER_ASAN ? 20000 : 100000;
+  generate_mesh(d.file("sphere.ply"), g);
+  const std::string in = q(d.file("sphere.ply"));
+  for (const char* threads : {"1", "2"})
+    REQUIRE(run_cli("simplify --quiet " + in + " -o " + q(d.file(std::string("t") + threads + ".ply")) +
+                    " --method qem --target-tris 4000 --lods 3 --threads " + threads)
+                .exit_code == 0);
+  MeasureOptions mo;
+  mo.samples = 100000;
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    INFO("level " << k);
+    const std::string level = d.file("t1.lod" + std::to_string(k) + ".ply");
+    CHECK(read_file(level) == read_file(d.file("t2.lod" + std::to_string(k) + ".ply")));
+    const LoadedMesh m = load_mesh(level);
+    const std::uint64_t target = 4000 >> k;
+    CHECK(m.triangles.size() / 3 == target);
+    const Topology t = topology(m.positions, std::vector<std::uint32_t>(m.triangles.begin(), m.triangles.end()));
+    CHECK(t.manifold);
+    CHECK(t.boundary_edges == 0);
+    CHECK(t.euler() == 2);
+    // Against the run to the level's count on its own: level 0 is that run; the
+    // others come within a tenth of its RMS distance to the input.
+    const std::string own = d.file("own" + std::to_string(k) + ".ply");
+    REQUIRE(
+        run_cli("simplify --quiet " + in + " -o " + q(own) + " --target-tris " + std::to_string(target)).exit_code ==
+        0);
+    if (k == 0) CHECK(read_file(level) == read_file(own));
+    const double chained = measure_surface_distance(d.file("sphere.ply"), level, mo).symmetric.rms;
+    const double alone = measure_surface_distance(d.file("sphere.ply"), own, mo).symmetric.rms;
+    CHECK(chained <= 1.1 * alone);
+  }
+}
+
 TEST_CASE("bad simplify --lods requests exit 2 before writing anything", "[lods][cli]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 8);
@@ -124,7 +161,8 @@ TEST_CASE("bad simplify --lods requests exit 2 before writing anything", "[lods]
            " -o " + q(d.file("o.ply")) + " --lods 2 --lod-factor 1", " -o " + q(d.file("o.ply")) + " --lod-factor 2",
            " -o " + q(d.file("o.ply")) + " --measure", " -o - --lods 2",
            " -o " + q(d.file("o.ply")) + " --lods 2 --stats " + q(d.file("s.json")),
-           " -o " + q(d.file("o.ply")) + " --lods 2 --method qem --target-tris 10",
+           " -o " + q(d.file("o.ply")) + " --lods 2 --method qem",
+           " -o " + q(d.file("o.ply")) + " --lods 4 --target-tris 20",
            " -o " + q(d.file("o.ply")) + " --lods 2 --max-error 0.01"}) {
     INFO(args);
     const CliResult r = run_cli("simplify " + in + args);

@@ -290,7 +290,8 @@ void add_size_options(CLI::App* cmd, SimplifyArgs& a) {
                       {RefineMethod::none, "clustering alone, at a cell chosen for about the target"}}));
   add_given(cmd, "--lods", &a.lods,
             "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... and their description "
-            "OUT.lods.json (floating cells bin and grade once)");
+            "OUT.lods.json (floating cells bin and grade once); with a target, at the target halved per level, "
+            "each going on from the finer level's edge collapse");
   add_given(cmd, "--lod-factor", &a.lod_factor, "With --lods: the cell grows F times a level (default 2)");
   cmd->add_flag("--measure", a.measure,
                 "With --lods: measure each level's RMS and Hausdorff distance to the input (oocsimp measure's "

@@ -195,7 +195,7 @@ void begin_stats(const MeshInput& input, const SimplifyOptions& options, Simplif
 // simplify(), with the output's arrays where the clusterers put them (mapped files
 // for an output large next to the budget).
 OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats,
-                           std::vector<Quadric>* quadrics = nullptr) {
+                           std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
   SimplifyOptions options = given;
   options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
@@ -206,7 +206,7 @@ OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, Simpl
   begin_stats(input, options, &st);
   OutputMesh m;
   if (options.method == ClusterMethod::qem || options.target.given()) {
-    m = OutputMesh::of(simplify_to_target(input, options, &st, quadrics));
+    m = OutputMesh::of(simplify_to_target(input, options, &st, quadrics, coarser));
   } else {
     const GridSpec grid = choose_grid(input, options.sizing, options.threads);
     record_grid(grid, &st);
@@ -234,9 +234,14 @@ void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
     throw UsageError("options.lods.levels", "options.lods.levels must be 1 to 16");
   if (!(lods.factor > 1) || !std::isfinite(lods.factor))
     throw UsageError("options.lods.factor", "options.lods.factor must be a number above 1");
-  if (options.method == ClusterMethod::qem)
+  if (options.method == ClusterMethod::qem && !options.target.given())
     throw UsageError("options.lods",
-                     "options.lods needs a clustering method (options.method floating, uniform or curvature)");
+                     "options.lods with options.method qem needs a target to halve per level "
+                     "(options.target.triangles or options.target.ratio)");
+  if (options.target.triangles != 0 && (options.target.triangles >> (lods.levels - 1)) < 4)
+    throw UsageError("options.lods",
+                     "options.lods halves options.target.triangles per level: " + std::to_string(lods.levels) +
+                         " levels need a target of at least " + std::to_string(std::uint64_t(4) << (lods.levels - 1)));
   if (options.target.max_error > 0)
     throw UsageError("options.lods",
                      "options.lods halves a triangle target per level; it does not take options.target.max_error");
@@ -268,13 +273,39 @@ void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const 
   if (!options.target.given()) options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
   if (options.target.given()) {
-    // Each level a run of its own, at half the previous level's target.
-    for (std::uint32_t k = 0; k < lods.levels; ++k) {
-      SimplifyOptions o = options;
-      o.target.triangles = std::max<std::uint64_t>(options.target.triangles >> k, options.target.triangles ? 1 : 0);
-      o.target.ratio = std::ldexp(options.target.ratio, -int(k));
+    // Level k aims at the target halved k times. The edge collapse that meets level
+    // 0's target goes on to the coarser ones; a run that ends in no collapse (the
+    // input given back, a clustering without refine) leaves them to runs of their own.
+    std::vector<SimplifyOptions> at(lods.levels, options);
+    std::vector<CoarserLevel> coarser(lods.levels - 1);
+    for (std::uint32_t k = 1; k < lods.levels; ++k) {
+      at[k].target.triangles >>= k;
+      at[k].target.ratio = std::ldexp(options.target.ratio, -int(k));
+      coarser[k - 1].target = resolve_target(at[k].target, input.info.face_count);
+    }
+    SimplifyStats first;
+    OutputMesh m = simplify_output(input, at[0], &first, nullptr, &coarser);
+    for (CoarserLevel& level : coarser)
+      if (level.done) {
+        for (const PhaseTime& phase : level.stats.phases) level.stats.seconds_total += phase.seconds;
+        first.seconds_total -= level.stats.seconds_total;  // level 0's own time
+      }
+    first.lod_cell = equivalent_cell(m);
+    sink(0, m, first);
+    for (std::uint32_t k = 1; k < lods.levels; ++k) {
+      CoarserLevel& level = coarser[k - 1];
       SimplifyStats st;
-      OutputMesh m = simplify_output(input, o, &st);
+      if (level.done) {
+        const PeakAnonSampler memory;
+        m = OutputMesh::of(std::move(level.mesh));
+        st = std::move(level.stats);
+        finish_run(input, at[k], memory, m, st);
+        st.peak_rss_bytes = first.peak_rss_bytes;  // reached within level 0's run
+        st.peak_anon_bytes = first.peak_anon_bytes;
+      } else {
+        input.restart_triangles();
+        m = simplify_output(input, at[k], &st);
+      }
       st.lod_cell = equivalent_cell(m);
       sink(k, m, st);
     }
@@ -514,9 +545,13 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
     st.push_back(level);
     SimplifyStats& s = st.back();
     if (k == 0) s.phases.insert(s.phases.begin(), {"open", open_seconds});
+    const double write_start = now_seconds();
     write_output(*files[k], format, outputs, mesh, options, s);
     const double now = now_seconds();
-    s.seconds_total = now - level_start + (k == 0 ? open_seconds : 0);
+    // A level whose run timed itself (a target's levels, worked out before level 0
+    // is handed on) keeps its time; the others took the time since the last.
+    const double work = level.seconds_total > 0 ? level.seconds_total + (now - write_start) : now - level_start;
+    s.seconds_total = work + (k == 0 ? open_seconds : 0);
     level_start = now;
   });
   for (auto& f : files) f->commit();

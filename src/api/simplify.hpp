@@ -33,9 +33,10 @@ SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, Simpli
 /// input once for all levels (binning and grading do not depend on the cell; the
 /// tiles fit the coarsest); the uniform grid, which neither bins nor grades, reads
 /// the input twice per level. With a target (triangles or ratio, not max_error),
-/// level k aims at the target halved k times, each a run of its own (its
-/// SimplifyStats::lod_cell an equivalent cell). Throws
-/// UsageError for a bad `lods`, `qem` or options.target.max_error.
+/// level k aims at the target halved k times, the edge collapse of level 0 going on
+/// to each coarser level (its SimplifyStats::lod_cell an equivalent cell). Throws
+/// UsageError for a bad `lods`, `qem` without a target, options.target.max_error,
+/// or a triangle target that the levels halve below 4.
 void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOptions& lods, const LodSink& sink);
 
 /// The precision `options` ask for on `input` (resolves Precision::automatic).

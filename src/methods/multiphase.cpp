@@ -58,12 +58,16 @@ constexpr double kWholeInsteadShare = 0.75;
 // Triangles per read of the input when it is loaded whole.
 constexpr std::size_t kLoadChunkTriangles = 65536;
 
+}  // namespace
+
 std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangles) {
   if (t.triangles) return t.triangles;
   if (t.ratio)
     return std::max<std::uint64_t>(kLeastTarget, std::uint64_t(std::llround(t.ratio * double(input_triangles))));
   return kLeastTarget;  // max_error alone: as far as the error allows
 }
+
+namespace {
 
 // Whether the whole input fits in the budget for the collapse, next to what the run holds.
 bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
@@ -179,6 +183,8 @@ struct CollapseGoal {
   bool last = true;  // no finer phase 1 follows: a missed count is warned of
   /// When set, the output vertices' quadrics go there, in model units.
   std::vector<Quadric>* quadrics = nullptr;
+  /// When set, the collapse goes on to each of these levels' targets in turn.
+  std::vector<CoarserLevel>* coarser = nullptr;
 };
 
 struct CollapseResult {
@@ -213,13 +219,17 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
 }
 
 // Phase 2 (Garland & Shaffer 2002 §3): quadric edge collapse of `in`, held whole, down
-// to the target; fills the collapse's stats and the phase "refine".
+// to the target; fills the collapse's stats and the phase "refine". With
+// goal.coarser, the collapse then goes on to each coarser level, whose stats are
+// `stats` as they were before phase 2 with that level's collapse and output, and as
+// its only phase "refine", the time since the finer level.
 CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const SimplifyOptions& options,
                       SimplifyStats* stats) {
   PhaseTimer clock;
   const PeakAnonSampler memory;
   QuadricMesh& m = in.mesh;
   stats->refine.intermediate_triangles = m.triangles.size() / 3;
+  const SimplifyStats before = *stats;
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
   CollapseSettings settings;
   settings.target_triangles = goal.target;
@@ -228,26 +238,44 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.result_quadrics = goal.quadrics != nullptr;  // the output's
   settings.lock_boundary = options.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);
-  CollapseStats cs;
-  QuadricMesh done;
-  {
-    ProgressPhase phase(
-        options.progress, "collapse",
-        stats->refine.intermediate_triangles - std::min(stats->refine.intermediate_triangles, goal.target), "tri");
-    done = collapse_edges(std::move(m), settings, &cs, &phase);
-  }
+  std::vector<std::uint64_t> coarser;
+  if (goal.coarser)
+    for (const CoarserLevel& level : *goal.coarser) coarser.push_back(level.target);
+  const std::uint64_t last_target = coarser.empty() ? goal.target : coarser.back();
   CollapseResult out;
-  out.finer_may_help = note_collapse(cs, done.triangles.size() / 3, goal, options, stats);
-  out.mesh = to_output(done, in.origin, *in.attributes, in.locked);
-  if (goal.quadrics) {
-    *goal.quadrics = std::move(done.quadrics);
-    for (Quadric& q : *goal.quadrics) q = q.translated(in.origin);
-  }
-  stats->output_vertices = out.mesh.positions.size() / 3;
-  stats->output_triangles = out.mesh.triangles.size() / 3;
-  clock.end("refine");
-  clock.move_to(&stats->phases);
-  stats->refine.phase2_peak_anon_bytes = memory.peak();
+  CollapseStats cs;
+  ProgressPhase phase(
+      options.progress, "collapse",
+      stats->refine.intermediate_triangles - std::min(stats->refine.intermediate_triangles, last_target), "tri");
+  collapse_edges_to_levels(
+      std::move(m), settings, coarser, &cs,
+      [&](std::size_t k, QuadricMesh done, const CollapseStats& so_far) {
+        SimplifyStats* st = stats;
+        if (k > 0) {
+          CoarserLevel& level = (*goal.coarser)[k - 1];
+          level.stats = before;
+          level.stats.phases.clear();  // the finer level's: this one adds its collapse only
+          level.done = true;
+          st = &level.stats;
+        }
+        const std::uint64_t target = k > 0 ? coarser[k - 1] : goal.target;
+        const bool missed = note_collapse(so_far, done.triangles.size() / 3, {target, goal.last}, options, st);
+        SimplifiedMesh mesh = to_output(done, in.origin, *in.attributes, in.locked);
+        if (k == 0) {
+          out.finer_may_help = missed;
+          if (goal.quadrics) {
+            *goal.quadrics = std::move(done.quadrics);
+            for (Quadric& q : *goal.quadrics) q = q.translated(in.origin);
+          }
+        }
+        st->output_vertices = mesh.positions.size() / 3;
+        st->output_triangles = mesh.triangles.size() / 3;
+        clock.end("refine");
+        clock.move_to(&st->phases);
+        st->refine.phase2_peak_anon_bytes = memory.peak();
+        (k > 0 ? (*goal.coarser)[k - 1].mesh : out.mesh) = std::move(mesh);
+      },
+      &phase);
   return out;
 }
 
@@ -273,7 +301,7 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
 // Phase 2 alone, on the whole input: --method qem, and a target so near the input's
 // count that phase 1 would keep nearly everything.
 SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats,
-                              std::vector<Quadric>* quadrics) {
+                              std::vector<Quadric>* quadrics, std::vector<CoarserLevel>* coarser) {
   PhaseTimer clock;
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
@@ -284,7 +312,7 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
   whole.quadrics = face_quadrics(whole.positions, whole.triangles);
   return refine({std::move(whole), origin, &input.attributes.attributes, false,
                  locked_positions(input.positions, o.locked_vertices)},
-                {target, true, quadrics}, o, stats)
+                {target, true, quadrics, coarser}, o, stats)
       .mesh;
 }
 
@@ -293,8 +321,9 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
 // With `parts`, the parts of a distributed run did the passes' first.
 SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t estimate,
                             SimplifyStats* stats, const FirstPassParts* parts = nullptr,
-                            std::vector<Quadric>* quadrics = nullptr) {
-  if (!collapses_in_passes(input.info.face_count, estimate)) return collapse_whole(input, o, origin, stats, quadrics);
+                            std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
+  if (!collapses_in_passes(input.info.face_count, estimate))
+    return collapse_whole(input, o, origin, stats, quadrics, coarser);
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   CollapseInput rest;
@@ -311,9 +340,14 @@ SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Ve
   rest.boundary_planes_in_quadrics = true;
   rest.locked = locked_positions(input.positions, o.locked_vertices);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
-  SimplifiedMesh out = refine(std::move(rest), {target, true, quadrics}, o, stats).mesh;
+  SimplifiedMesh out = refine(std::move(rest), {target, true, quadrics, coarser}, o, stats).mesh;
   stats->refine.collapses += pass_collapses;
   stats->refine.largest_collapse_error = std::max(stats->refine.largest_collapse_error, pass_error);
+  if (coarser)
+    for (CoarserLevel& level : *coarser) {
+      level.stats.refine.collapses += pass_collapses;
+      level.stats.refine.largest_collapse_error = std::max(level.stats.refine.largest_collapse_error, pass_error);
+    }
   return out;
 }
 
@@ -444,7 +478,7 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
 // With `parts`, the first attempt's phase 1 comes from the parts of a distributed run.
 SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
                           SimplifyStats* stats, const PartsPhaseOne* parts = nullptr,
-                          std::vector<Quadric>* quadrics = nullptr) {
+                          std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
   const IntermediatePlan plan(input, *o, estimate);
   const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, o->locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
@@ -461,7 +495,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
                                 (attempt > 0 ? "clustering finer still missed the target"
                                              : "clustering to the " + std::to_string(std::uint64_t(want)) +
                                                    " triangles phase 1 aims at would keep most of it"));
-      return collapse_whole(input, *o, origin, stats, quadrics);
+      return collapse_whole(input, *o, origin, stats, quadrics, coarser);
     }
     const bool finest = plan.finest(attempt);
     const bool from_parts = parts && (attempt == 0 || parts->any_grid);
@@ -469,7 +503,7 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
     if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
-    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest, quadrics}, *o, stats);
+    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest, quadrics, coarser}, *o, stats);
     if (!out.finer_may_help || finest) return std::move(out.mesh);
   }
 }
@@ -531,15 +565,18 @@ TargetRun prepare_target(const MeshInput& input, const SimplifyOptions& options)
 }  // namespace
 
 SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
-                                  std::vector<Quadric>* quadrics) {
+                                  std::vector<Quadric>* quadrics, std::vector<CoarserLevel>* coarser) {
   if (quadrics) quadrics->clear();
+  if (coarser)
+    for (CoarserLevel& level : *coarser) level.done = false;
   TargetRun run = prepare_target(input, options);
   SimplifyOptions& o = run.o;
   if (run.as_is) return input_as_is(input, o, run.estimate, stats);
-  if (o.method == ClusterMethod::qem) return collapse_qem(input, o, run.origin, run.estimate, stats, nullptr, quadrics);
+  if (o.method == ClusterMethod::qem)
+    return collapse_qem(input, o, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
   // --refine none: phase 1 alone, at the cell for about the target itself.
   if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(run.estimate), false, stats).mesh;
-  return multiphase(input, &o, run.origin, run.estimate, stats, nullptr, quadrics);
+  return multiphase(input, &o, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
 }
 
 bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, GridSpec* grid) {

@@ -16,6 +16,24 @@
 
 namespace oocsimp {
 
+/// The triangle count target `t` asks of an input of `input_triangles`: the count, or
+/// the ratio's share (at least 4), or 4 for max_error alone.
+std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangles);
+
+/// A level of detail below the run's target that simplify_to_target() reaches by going
+/// on with the target's edge collapse (levels of detail to halved targets).
+struct CoarserLevel {
+  std::uint64_t target = 0;  ///< the triangles asked, below the run's and the finer level's
+  /// Reached by going on: `mesh` and `stats` hold the level. A run that ends in no
+  /// collapse (the input given back, --refine none) leaves it false, for the caller
+  /// to run the level on its own.
+  bool done = false;
+  SimplifiedMesh mesh;
+  /// The run's stats with this level's collapse fields, output counts, warnings and
+  /// "refine" seconds (the time since the finer level).
+  SimplifyStats stats;
+};
+
 /// Simplifies `input` (triangle stream at its start) to options.target:
 ///  - ClusterMethod::qem: per-vertex face quadrics and the collapse, on the whole mesh
 ///    in memory, or out of core in passes of tiles down to a remainder that fits
@@ -28,9 +46,11 @@ namespace oocsimp {
 /// largest collapse cost and error, target_missed, phase seconds "refine").
 /// `quadrics`, when given, receives the output vertices' quadrics (boundary planes
 /// included, in model units) where the run ends in the collapse; otherwise it is
-/// left empty.
+/// left empty. `coarser`, when given, lists levels the collapse goes on to (targets
+/// descending, below the run's): see CoarserLevel.
 SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
-                                  std::vector<Quadric>* quadrics = nullptr);
+                                  std::vector<Quadric>* quadrics = nullptr,
+                                  std::vector<CoarserLevel>* coarser = nullptr);
 
 /// Part `part` of `parts` of simplify_to_target's run with options.method qem (the
 /// default with a target): the share of the first out-of-core pass that falls to the

@@ -1446,8 +1446,10 @@ void collapse_state(CollapseState& state, const CollapseSettings& settings, Coll
 // tiles' borders stay as they were in a round, and the next round's tiles, cut from
 // the fewer faces, fall elsewhere. The whole mesh then collapses, in passes and in
 // order of cost, from the tiles' result (the boundary planes already in its quadrics).
-QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
-                           ProgressPhase* progress) {
+// Each coarser level goes on from the state the finer one left.
+void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings,
+                              const std::vector<std::uint64_t>& coarser, CollapseStats* stats,
+                              const CollapseLevelSink& each, ProgressPhase* progress) {
   CollapseStats local;
   CollapseStats& st = stats ? *stats : local;
   CollapseState state(std::move(mesh), settings);
@@ -1463,22 +1465,38 @@ QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, C
     round.boundary_weight = 0;
     state = CollapseState(std::move(tiled), round);
   }
-  // A mesh already below an exact target (the out-of-core passes took the free
-  // collapses of a flat mesh past it): edges split up to it, the surface unchanged.
-  if (settings.exact_count && state.triangle_count() < settings.target_triangles &&
-      !state.split_up_to(settings.target_triangles))
-    st.parity = st.stuck = state.triangle_count() + 1 == settings.target_triangles;
-  collapse_state(state, settings, &st, progress);
-  // Every collapse left would make a needle: on the generated sphere to a low target
-  // the collapse jammed well short of it, every edge refused, most by the needle
-  // guard. The count asked wins over the guard: the rest go without it.
-  if (st.stuck && !st.stopped_by_error && !st.parity && settings.exact_count &&
-      state.triangle_count() > settings.target_triangles && settings.min_compactness > 0) {
-    st.stuck = false;
-    state.drop_needle_guard();
-    collapse_in_order(state, settings, &st, progress);
+  CollapseSettings level = settings;
+  for (std::size_t k = 0; k <= coarser.size(); ++k) {
+    if (k > 0) {
+      level.target_triangles = coarser[k - 1];
+      st.stuck = st.stopped_by_error = st.parity = false;
+    }
+    // A mesh already below an exact target (the out-of-core passes took the free
+    // collapses of a flat mesh past it): edges split up to it, the surface unchanged.
+    if (level.exact_count && state.triangle_count() < level.target_triangles &&
+        !state.split_up_to(level.target_triangles))
+      st.parity = st.stuck = state.triangle_count() + 1 == level.target_triangles;
+    collapse_state(state, level, &st, progress);
+    // Every collapse left would make a needle: on the generated sphere to a low target
+    // the collapse jammed well short of it, every edge refused, most by the needle
+    // guard. The count asked wins over the guard: the rest go without it.
+    if (st.stuck && !st.stopped_by_error && !st.parity && level.exact_count &&
+        state.triangle_count() > level.target_triangles && level.min_compactness > 0) {
+      st.stuck = false;
+      state.drop_needle_guard();
+      collapse_in_order(state, level, &st, progress);
+    }
+    each(k, state.result(nullptr, !settings.result_quadrics), st);
   }
-  return state.result(nullptr, !settings.result_quadrics);
+}
+
+QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
+                           ProgressPhase* progress) {
+  QuadricMesh out;
+  collapse_edges_to_levels(
+      std::move(mesh), settings, {}, stats,
+      [&](std::size_t, QuadricMesh level, const CollapseStats&) { out = std::move(level); }, progress);
+  return out;
 }
 
 }  // namespace oocsimp

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -341,5 +342,19 @@ QuadricMesh collapse_tiles(CollapseState& state, const CollapseSettings& setting
 /// Reports the collapses taken to `progress` when given (which may cancel).
 QuadricMesh collapse_edges(QuadricMesh mesh, const CollapseSettings& settings, CollapseStats* stats,
                            ProgressPhase* progress = nullptr);
+
+/// Where collapse_edges_to_levels() hands each level: its number (0 the finest), the
+/// mesh as collapse_edges() returns it, and the stats so far.
+using CollapseLevelSink = std::function<void(std::size_t level, QuadricMesh mesh, const CollapseStats& stats)>;
+
+/// collapse_edges() down to settings.target_triangles, then on from there down to each
+/// of `coarser` (descending) in turn, each level handed to `each` as it is reached.
+/// A coarser level continues the finer one's collapse, in passes and in order of cost
+/// as for one target, so that a chain of levels costs about one collapse. The stats
+/// count from the start (the collapses taken to reach a level, the largest cost and
+/// error among them); stuck, stopped_by_error and parity are each level's own.
+void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings,
+                              const std::vector<std::uint64_t>& coarser, CollapseStats* stats,
+                              const CollapseLevelSink& each, ProgressPhase* progress = nullptr);
 
 }  // namespace oocsimp
