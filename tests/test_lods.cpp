@@ -152,6 +152,44 @@ TEST_CASE("levels to a target go on from the finer level's collapse, as good as 
   }
 }
 
+TEST_CASE("levels to a target: ratios of fanned polygons, and a level a floating phase 1 leaves short",
+          "[lods][target]") {
+  ScratchDir d;
+  // 60 x 80 quads: 9600 triangles once fanned. Each level's ratio counts those.
+  std::string obj;
+  for (int y = 0; y <= 80; ++y)
+    for (int x = 0; x <= 60; ++x) obj += "v " + std::to_string(x) + " " + std::to_string(y) + " 0\n";
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 60; ++x) {
+      const int a = y * 61 + x + 1;
+      obj += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 62) + " " +
+             std::to_string(a + 61) + "\n";
+    }
+  write_file(d.file("quads.obj"), obj);
+  REQUIRE(run_cli("simplify --quiet " + q(d.file("quads.obj")) + " -o " + q(d.file("r.ply")) +
+                  " --target-ratio 0.25 --lods 3")
+              .exit_code == 0);
+  const std::vector<LodLevel> r = read_lod_levels(d.file("r.lods.json"));
+  REQUIRE(r.size() == 3);
+  CHECK(r[0].triangles == 2400);
+  CHECK(r[1].triangles == 1200);
+  CHECK(r[2].triangles == 600);
+
+  // Floating cells at a cell for the first target leave the coarser parts' levels
+  // stuck short of their counts; those levels run on their own and meet them.
+  GenerateOptions g;
+  g.shape = SyntheticShape::parts;
+  g.triangles = 100000;
+  generate_mesh(d.file("parts.ply"), g);
+  const CliResult run = run_cli("simplify " + q(d.file("parts.ply")) + " -o " + q(d.file("p.ply")) +
+                                " --method floating --target-tris 6400 --lods 4");
+  REQUIRE(run.exit_code == 0);
+  const std::vector<LodLevel> p = read_lod_levels(d.file("p.lods.json"));
+  REQUIRE(p.size() == 4);
+  for (std::size_t k = 0; k < 4; ++k) CHECK(p[k].triangles == std::uint64_t(6400 >> k));
+  CHECK(run.err.find("was not met") == std::string::npos);
+}
+
 TEST_CASE("bad simplify --lods requests exit 2 before writing anything", "[lods][cli]") {
   ScratchDir d;
   write_cube_ply(d.file("cube.ply"), 8);

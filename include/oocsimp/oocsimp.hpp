@@ -129,6 +129,8 @@ using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, co
 
 /// simplify_lods_file into memory: each level of the file at `input_path`, finest
 /// first, handed to `sink` when it is done (the levels simplify_lods_file writes).
+/// With a target, the levels that go on from level 0's collapse are all done before
+/// level 0 is handed on.
 void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options, const LodOptions& lods,
                            const LodSink& sink);
 

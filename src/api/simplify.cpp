@@ -281,7 +281,7 @@ void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const 
     for (std::uint32_t k = 1; k < lods.levels; ++k) {
       at[k].target.triangles >>= k;
       at[k].target.ratio = std::ldexp(options.target.ratio, -int(k));
-      coarser[k - 1].target = resolve_target(at[k].target, input.info.face_count);
+      coarser[k - 1].target = at[k].target;
     }
     SimplifyStats first;
     OutputMesh m = simplify_output(input, at[0], &first, nullptr, &coarser);

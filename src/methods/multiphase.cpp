@@ -238,28 +238,41 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.result_quadrics = goal.quadrics != nullptr;  // the output's
   settings.lock_boundary = options.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);
+  // Each coarser level's count, from the input's triangles as the run's own (never
+  // above the finer level's).
   std::vector<std::uint64_t> coarser;
   if (goal.coarser)
-    for (const CoarserLevel& level : *goal.coarser) coarser.push_back(level.target);
+    for (const CoarserLevel& level : *goal.coarser)
+      coarser.push_back(std::min(resolve_target(level.target, stats->input_triangles),
+                                 coarser.empty() ? goal.target : coarser.back()));
   const std::uint64_t last_target = coarser.empty() ? goal.target : coarser.back();
   CollapseResult out;
   CollapseStats cs;
   ProgressPhase phase(
       options.progress, "collapse",
       stats->refine.intermediate_triangles - std::min(stats->refine.intermediate_triangles, last_target), "tri");
+  // A coarser level that missed its count where a finer phase 1 could meet it is left
+  // to a run of its own, and so are the levels after it.
+  bool going_on = true;
   collapse_edges_to_levels(
       std::move(m), settings, coarser, &cs,
       [&](std::size_t k, QuadricMesh done, const CollapseStats& so_far) {
         SimplifyStats* st = stats;
         if (k > 0) {
           CoarserLevel& level = (*goal.coarser)[k - 1];
+          level.done = false;
+          if (!going_on) return;
           level.stats = before;
           level.stats.phases.clear();  // the finer level's: this one adds its collapse only
-          level.done = true;
           st = &level.stats;
         }
         const std::uint64_t target = k > 0 ? coarser[k - 1] : goal.target;
         const bool missed = note_collapse(so_far, done.triangles.size() / 3, {target, goal.last}, options, st);
+        if (k > 0 && missed && !goal.last) {
+          going_on = false;
+          return;
+        }
+        if (k > 0) (*goal.coarser)[k - 1].done = true;
         SimplifiedMesh mesh = to_output(done, in.origin, *in.attributes, in.locked);
         if (k == 0) {
           out.finer_may_help = missed;
@@ -486,6 +499,9 @@ SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& ori
     const double want = plan.intermediate(attempt);
     stats->phases.resize(phases_before);
     stats->warnings.resize(warnings_before);
+    if (coarser)
+      for (CoarserLevel& level : *coarser) level.done = false;  // an earlier attempt's go
+
     if (plan.whole_instead(want, attempt)) {
       stats->refine.phase1_peak_anon_bytes = 0;
       // The method asked for did not run: say so, and why.

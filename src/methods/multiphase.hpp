@@ -23,10 +23,13 @@ std::uint64_t resolve_target(const TargetOptions& t, std::uint64_t input_triangl
 /// A level of detail below the run's target that simplify_to_target() reaches by going
 /// on with the target's edge collapse (levels of detail to halved targets).
 struct CoarserLevel {
-  std::uint64_t target = 0;  ///< the triangles asked, below the run's and the finer level's
+  /// The level's target (a count or a ratio of the input's triangles), at or below
+  /// the run's and the finer level's.
+  TargetOptions target;
   /// Reached by going on: `mesh` and `stats` hold the level. A run that ends in no
-  /// collapse (the input given back, --refine none) leaves it false, for the caller
-  /// to run the level on its own.
+  /// collapse (the input given back, --refine none), or a level that missed its count
+  /// where a finer phase 1 could meet it, leaves it false for this level and the
+  /// coarser ones, for the caller to run them on their own.
   bool done = false;
   SimplifiedMesh mesh;
   /// The run's stats with this level's collapse fields, output counts, warnings and

@@ -1470,6 +1470,7 @@ void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings
     if (k > 0) {
       level.target_triangles = coarser[k - 1];
       st.stuck = st.stopped_by_error = st.parity = false;
+      state.restore_needle_guard(level.min_compactness);
     }
     // A mesh already below an exact target (the out-of-core passes took the free
     // collapses of a flat mesh past it): edges split up to it, the surface unchanged.

@@ -221,6 +221,8 @@ class CollapseState {
   bool locked(std::uint32_t v) const { return locked_[v] != 0; }
   /// Drops the needle guard (CollapseSettings::min_compactness) from here on.
   void drop_needle_guard() { min_compactness_ = 0; }
+  /// Sets the needle guard again (after drop_needle_guard, for another target).
+  void restore_needle_guard(double min_compactness) { min_compactness_ = min_compactness; }
   /// The mesh as it is (faces dead or alive), with the boundary planes in its quadrics.
   const QuadricMesh& mesh() const { return mesh_; }
   bool face_alive(std::uint32_t f) const { return face_dead_[f] == 0; }
@@ -350,9 +352,11 @@ using CollapseLevelSink = std::function<void(std::size_t level, QuadricMesh mesh
 /// collapse_edges() down to settings.target_triangles, then on from there down to each
 /// of `coarser` (descending) in turn, each level handed to `each` as it is reached.
 /// A coarser level continues the finer one's collapse, in passes and in order of cost
-/// as for one target, so that a chain of levels costs about one collapse. The stats
-/// count from the start (the collapses taken to reach a level, the largest cost and
-/// error among them); stuck, stopped_by_error and parity are each level's own.
+/// as for one target, so that a chain of levels costs about one collapse; each starts
+/// with the needle guard of `settings`. Edges a finer level split to meet its count
+/// stay, and may collapse in the next. The stats count from the start (the collapses
+/// taken to reach a level, the largest cost and error among them); stuck,
+/// stopped_by_error and parity are each level's own.
 void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings,
                               const std::vector<std::uint64_t>& coarser, CollapseStats* stats,
                               const CollapseLevelSink& each, ProgressPhase* progress = nullptr);
