@@ -17,8 +17,8 @@ constexpr double kPi = 3.14159265358979323846;
 // On the icosphere of the tests (edges 0.23 r) the worst error is 2.48% with 8 x 32
 // nodes, 2.53% with 6 x 24 and 2.54% with 4 x 16: the mesh's facets, not the rule,
 // set it.
-constexpr int kRadialNodes = 6;
-constexpr int kAngularNodes = 24;
+constexpr int kRadialNodes = LocalHeightField::kBallRadii;
+constexpr int kAngularNodes = LocalHeightField::kBallAngles;
 // The sphere's azimuths, and the fixed-point steps that find where the surface meets
 // the sphere along each (the height moves the meeting point inwards by z^2 / 2r).
 constexpr int kAzimuths = 64;
@@ -120,15 +120,49 @@ bool finish(double k1, double k2, PrincipalCurvatures* out) {
 
 // --- The height field --------------------------------------------------------------
 
-void LocalHeightField::reset(double radius) {
+void LocalHeightField::reset(double radius, Lines lines) {
   radius_ = radius;
+  lines_ = lines;
   // The square around the disk and the margin the surface is gathered in.
   lo_ = -kHeightFieldReach * radius;
   bucket_size_ = -2 * lo_ / kBuckets;
+  per_line_bucket_ = kLineBuckets / (-2 * lo_);
   triangles_.clear();
   corners_.clear();
   corner_shapes_.clear();
   for (std::vector<std::uint32_t>& list : bucket_lists_) list.clear();
+  if (lines_ == Lines::of_the_ball) {
+    if (lines_radius_ != radius) place_ball_lines();
+    for (BallLine& line : ball_lines_) line.count = 0;
+  }
+}
+
+// The lines at the nodes of ball_curvatures' rule, and their buckets. A run's fields
+// share one radius, so this is done once per thread.
+void LocalHeightField::place_ball_lines() {
+  const double r = radius_;
+  const GaussLegendre& rule = gauss_legendre();
+  const EvenAngles<kAngularNodes>& angles = even_angles<kAngularNodes>();
+  std::array<int, kBallLines> bucket_of{};
+  line_bucket_start_.fill(0);
+  for (int i = 0; i < kRadialNodes; ++i) {
+    const double rho = 0.5 * r * (rule.node[std::size_t(i)] + 1);
+    for (int j = 0; j < kAngularNodes; ++j) {
+      const int l = i * kAngularNodes + j;
+      BallLine& line = ball_lines_[std::size_t(l)];
+      line.x = rho * angles.cos[std::size_t(j)];
+      line.y = rho * angles.sin[std::size_t(j)];
+      bucket_of[std::size_t(l)] = line_bucket(line.y) * kLineBuckets + line_bucket(line.x);
+      ++line_bucket_start_[std::size_t(bucket_of[std::size_t(l)]) + 1];
+    }
+  }
+  for (std::size_t b = 0; b + 1 < line_bucket_start_.size(); ++b) line_bucket_start_[b + 1] += line_bucket_start_[b];
+  std::array<std::uint16_t, kLineBuckets * kLineBuckets> fill{};
+  for (int l = 0; l < kBallLines; ++l) {
+    const std::size_t b = std::size_t(bucket_of[std::size_t(l)]);
+    line_bucket_lines_[line_bucket_start_[b] + fill[b]++] = std::uint16_t(l);
+  }
+  lines_radius_ = r;
 }
 
 int LocalHeightField::bucket(double coordinate) const {
@@ -156,6 +190,20 @@ void LocalHeightField::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d&
   const double y0 = std::min({a.y, b.y, c.y}), y1 = std::max({a.y, b.y, c.y});
   const double hi = -lo_;
   if (x1 < lo_ || y1 < lo_ || x0 > hi || y0 > hi) return;
+  if (lines_ == Lines::of_the_ball) {
+    // The lines in the buckets its box covers, each in the order triangles come.
+    const int bx0 = line_bucket(x0), bx1 = line_bucket(x1), by0 = line_bucket(y0), by1 = line_bucket(y1);
+    for (int by = by0; by <= by1; ++by)
+      for (int bx = bx0; bx <= bx1; ++bx) {
+        const std::size_t cell = std::size_t(by * kLineBuckets + bx);
+        for (std::uint16_t i = line_bucket_start_[cell]; i < line_bucket_start_[cell + 1]; ++i) {
+          BallLine& line = ball_lines_[line_bucket_lines_[i]];
+          SurfaceCrossing crossing;
+          if (meets(t, line.x, line.y, &crossing)) insert_crossing(crossing, line.crossings, &line.count);
+        }
+      }
+    return;
+  }
   const std::uint32_t index = std::uint32_t(triangles_.size());
   triangles_.push_back(t);
   const int bx0 = bucket(x0), bx1 = bucket(x1), by0 = bucket(y0), by1 = bucket(y1);
@@ -163,24 +211,31 @@ void LocalHeightField::add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d&
     for (int bx = bx0; bx <= bx1; ++bx) bucket_lists_[by * kBuckets + bx].push_back(index);
 }
 
-int LocalHeightField::crossings(double x, double y, SurfaceCrossing* out) const {
+bool LocalHeightField::meets(const Projected& t, double x, double y, SurfaceCrossing* c) {
   // Barycentric coordinates with a little slack, so that a line through a shared edge
   // meets one of its triangles whatever the rounding (it may meet both: the solid is
   // then the same on either account, see ball_curvatures).
   constexpr double kSlack = 1e-9;
+  const double dx = x - t.ax, dy = y - t.ay;
+  const double beta = (dx * t.vy - dy * t.vx) * t.inverse_area2;
+  const double gamma = (t.ux * dy - t.uy * dx) * t.inverse_area2;
+  if (beta < -kSlack || gamma < -kSlack || beta + gamma > 1 + kSlack) return false;
+  *c = {t.za + beta * t.zu + gamma * t.zv, t.inverse_area2 > 0};
+  return true;
+}
+
+void LocalHeightField::insert_crossing(const SurfaceCrossing& c, SurfaceCrossing* out, int* n) {
+  int at = *n < kMostCrossings ? (*n)++ : kMostCrossings - 1;
+  if (at == kMostCrossings - 1 && *n == kMostCrossings && c.z >= out[at].z) return;
+  for (; at > 0 && out[at - 1].z > c.z; --at) out[at] = out[at - 1];
+  out[at] = c;
+}
+
+int LocalHeightField::crossings(double x, double y, SurfaceCrossing* out) const {
   int n = 0;
   for (const std::uint32_t i : bucket_lists_[bucket(y) * kBuckets + bucket(x)]) {
-    const Projected& t = triangles_[i];
-    const double dx = x - t.ax, dy = y - t.ay;
-    const double beta = (dx * t.vy - dy * t.vx) * t.inverse_area2;
-    const double gamma = (t.ux * dy - t.uy * dx) * t.inverse_area2;
-    if (beta < -kSlack || gamma < -kSlack || beta + gamma > 1 + kSlack) continue;
-    SurfaceCrossing c{t.za + beta * t.zu + gamma * t.zv, t.inverse_area2 > 0};
-    // Insertion by height; past capacity the highest goes.
-    int at = n < kMostCrossings ? n++ : kMostCrossings - 1;
-    if (at == kMostCrossings - 1 && n == kMostCrossings && c.z >= out[at].z) continue;
-    for (; at > 0 && out[at - 1].z > c.z; --at) out[at] = out[at - 1];
-    out[at] = c;
+    SurfaceCrossing c;
+    if (meets(triangles_[i], x, y, &c)) insert_crossing(c, out, &n);
   }
   return n;
 }
@@ -251,14 +306,23 @@ bool ball_curvatures(const LocalHeightField& heights, bool closed, PrincipalCurv
   // lowest crossing is inside when that one leaves.
   const double angle_weight = 2 * kPi / kAngularNodes;
   const EvenAngles<kAngularNodes>& angles = even_angles<kAngularNodes>();
-  SurfaceCrossing line[LocalHeightField::kMostCrossings];
+  SurfaceCrossing found[LocalHeightField::kMostCrossings];
   for (int i = 0; i < kRadialNodes; ++i) {
     const double rho = 0.5 * r * (rule.node[std::size_t(i)] + 1);
     const double s = std::sqrt(std::max(r * r - rho * rho, 0.0));
     const double w = 0.5 * r * rule.weight[std::size_t(i)] * angle_weight * rho;
     for (std::size_t j = 0; j < kAngularNodes; ++j) {
       const double x = rho * angles.cos[j], y = rho * angles.sin[j];
-      const int n = heights.crossings(x, y, line);
+      // The field found the crossings of its ball lines (these) as the triangles came.
+      const SurfaceCrossing* line = found;
+      int n = 0;
+      if (heights.has_ball_lines()) {
+        const LocalHeightField::BallLine& l = heights.ball_line(i * kAngularNodes + int(j));
+        line = l.crossings;
+        n = l.count;
+      } else {
+        n = heights.crossings(x, y, found);
+      }
       if (n == 0 && !closed) return false;
       // int z^k dz over [lo, hi], k = 0, 1, 2, summed over the solid's intervals.
       double c0 = 0, c1 = 0, c2 = 0, from = -s;

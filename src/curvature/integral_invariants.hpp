@@ -19,6 +19,7 @@
 //   direction; the other two give M1 and M2.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -51,13 +52,32 @@ class LocalHeightField {
   /// within the ball; beyond this, the lowest are kept).
   static constexpr int kMostCrossings = 16;
 
+  /// The ball's quadrature lines (ball_curvatures): at the nodes of a Gauss-Legendre
+  /// rule of this many points in the radius, and this many even angles.
+  static constexpr int kBallRadii = 6;
+  static constexpr int kBallAngles = 24;
+  static constexpr int kBallLines = kBallRadii * kBallAngles;
+
+  /// Which lines the field answers for: the ball's quadrature lines only, whose
+  /// crossings are found as each triangle is added (ball_line()), or any line
+  /// (crossings(), height(): the sphere's azimuths move with the surface).
+  enum class Lines { of_the_ball, any };
   /// Empties the field for a disk of radius `radius`.
-  void reset(double radius);
+  void reset(double radius, Lines lines = Lines::any);
   /// Adds triangle (a, b, c), in the frame, wound counter-clockwise seen from outside.
   void add_triangle(const Vec3d& a, const Vec3d& b, const Vec3d& c);
   /// The surface's crossings of the vertical line through (x, y), lowest first, into
-  /// `out` (room for kMostCrossings); returns their count.
+  /// `out` (room for kMostCrossings); returns their count. Only for Lines::any.
   int crossings(double x, double y, SurfaceCrossing* out) const;
+  /// A quadrature line of the ball (Lines::of_the_ball): radial node i and angle j
+  /// at index i * kBallAngles + j, its place, and its crossings, lowest first.
+  struct BallLine {
+    double x = 0, y = 0;
+    int count = 0;
+    SurfaceCrossing crossings[kMostCrossings];
+  };
+  bool has_ball_lines() const { return lines_ == Lines::of_the_ball; }
+  const BallLine& ball_line(int index) const { return ball_lines_[std::size_t(index)]; }
   /// Whether point q lies in the solid by the triangle nearest it (of those nearly
   /// as near, the one q faces most squarely): for a vertical line that meets no
   /// triangle, where the surface leaves the ball above or below it.
@@ -74,8 +94,28 @@ class LocalHeightField {
     double inverse_area2;           // 1 / (u x v): negative where the outward normal points down
   };
   static constexpr int kBuckets = 8;  // per side of the square around the disk
+  // The ball's lines are found by bucket too, finer ones: a triangle then meets the
+  // lines of fewer buckets.
+  static constexpr int kLineBuckets = 16;
   int bucket(double coordinate) const;
-  double radius_ = 0, lo_ = 0, bucket_size_ = 1;
+  int line_bucket(double coordinate) const {
+    // Clamped before the conversion: a coordinate far off (or not a number) stays in range.
+    const double b = (coordinate - lo_) * per_line_bucket_;
+    return b >= 0 ? (b < kLineBuckets - 1 ? int(b) : kLineBuckets - 1) : 0;
+  }
+  // Whether the vertical line through (x, y) meets t; *c gets the crossing.
+  static bool meets(const Projected& t, double x, double y, SurfaceCrossing* c);
+  // Inserts c into the n crossings at `out`, by height; past capacity the highest goes.
+  static void insert_crossing(const SurfaceCrossing& c, SurfaceCrossing* out, int* n);
+  void place_ball_lines();
+  double radius_ = 0, lo_ = 0, bucket_size_ = 1, per_line_bucket_ = 1;
+  Lines lines_ = Lines::any;
+  // The ball's lines: where they are and what they meet, and by bucket (CSR) for
+  // the radius they were placed at.
+  std::array<BallLine, kBallLines> ball_lines_;
+  double lines_radius_ = 0;
+  std::array<std::uint16_t, kLineBuckets * kLineBuckets + 1> line_bucket_start_{};
+  std::array<std::uint16_t, kBallLines> line_bucket_lines_{};
   struct Corners {
     Vec3d a, b, c;
   };

@@ -49,7 +49,8 @@ struct Scratch {
   std::vector<std::uint32_t> face_mark, vertex_mark, vertex_slot;
   std::uint32_t stamp = 0;
   std::vector<std::uint32_t> queue, faces;
-  std::vector<Vec3d> local;  // the queue's positions in p's frame
+  std::vector<std::uint32_t> corner_slots;  // per face of `faces`, its corners' places in `queue`
+  std::vector<Vec3d> local;                 // the queue's positions in p's frame
   std::vector<Vec3d> points;
   LocalHeightField heights;
 
@@ -78,37 +79,29 @@ class VertexEstimator {
 
   Outcome estimate(std::uint32_t v, Scratch* s, PrincipalCurvatures* out) const {
     *out = {};
-    gather(v, s);
     // The normal of the surface within the radius (the faces' normals weighted by
     // area), not of v's own faces alone: on a rough scan a vertex's faces tilt at
     // random, and faces around it would face away from their normal.
+    const Vec3d normal = gather(v, s);
     const Vec3d& p = positions_[v];
     const double r2 = settings_.radius * settings_.radius;
-    Vec3d normal{0, 0, 0};
-    for (const std::uint32_t f : s->faces) {
-      const FaceShape& shape = shapes_[f];
-      if (squared_distance(shape.centroid, p) <= r2) normal += shape.normal;
-    }
     const double normal_length = length(normal);
     if (!(normal_length > 0)) return Outcome::none;
     const TangentFrame frame = frame_at(p, normal / normal_length);
-    s->heights.reset(settings_.radius);
+    const bool ball = settings_.neighbourhood == CurvatureNeighbourhood::ball;
+    s->heights.reset(settings_.radius, ball ? LocalHeightField::Lines::of_the_ball : LocalHeightField::Lines::any);
     s->points.clear();
     // Each vertex reached is put in the frame once; the faces share their corners.
     s->local.resize(s->queue.size());
     for (std::size_t i = 0; i < s->queue.size(); ++i) s->local[i] = frame.local(positions_[s->queue[i]]);
-    const auto local_corner = [&](std::uint32_t f, int k) -> const Vec3d& {
-      return s->local[s->vertex_slot[triangles_[3 * std::size_t(f) + std::size_t(k)]]];
-    };
-    for (const std::uint32_t f : s->faces)
-      s->heights.add_triangle(local_corner(f, 0), local_corner(f, 1), local_corner(f, 2));
+    const std::uint32_t* slot = s->corner_slots.data();
+    for (std::size_t i = 0; i < s->faces.size(); ++i, slot += 3)
+      s->heights.add_triangle(s->local[slot[0]], s->local[slot[1]], s->local[slot[2]]);
     for (std::size_t i = 1; i < s->queue.size(); ++i)  // the queue's first is v
       if (squared_length(s->local[i]) <= r2) s->points.push_back(s->local[i]);
     bool closed = true;
     for (const std::uint32_t w : s->queue) closed = closed && !on_outline_[w];
-    const bool found = settings_.neighbourhood == CurvatureNeighbourhood::ball
-                           ? ball_curvatures(s->heights, closed, out)
-                           : sphere_curvatures(s->heights, out);
+    const bool found = ball ? ball_curvatures(s->heights, closed, out) : sphere_curvatures(s->heights, out);
     if (found) return Outcome::invariant;
     if (quadratic_fit_curvatures(s->points, out)) return Outcome::fitted;
     *out = {};
@@ -119,13 +112,18 @@ class VertexEstimator {
   Vec3d corner(std::uint32_t f, int k) const { return positions_[triangles_[3 * std::size_t(f) + std::size_t(k)]]; }
 
   // The faces reached from v through shared vertices whose bounding spheres (about
-  // the centroid) meet the ball of the height field's reach, into s->faces; the
-  // vertices reached, v first, into s->queue.
-  void gather(std::uint32_t v, Scratch* s) const {
+  // the centroid) meet the ball of the height field's reach, into s->faces, and their
+  // corners' places in the queue into s->corner_slots; the vertices reached, v first,
+  // into s->queue. Returns the sum of the normals of the faces whose centroid is
+  // within the radius.
+  Vec3d gather(std::uint32_t v, Scratch* s) const {
     const Vec3d& p = positions_[v];
     const double reach_of_field = LocalHeightField::kHeightFieldReach * settings_.radius;
+    const double r2 = settings_.radius * settings_.radius;
     const std::uint32_t stamp = s->next_stamp(triangles_.size() / 3, positions_.size());
+    Vec3d normal{0, 0, 0};
     s->faces.clear();
+    s->corner_slots.clear();
     s->queue.clear();
     s->queue.push_back(v);
     s->vertex_mark[v] = stamp;
@@ -138,17 +136,22 @@ class VertexEstimator {
         s->face_mark[f] = stamp;
         const FaceShape& shape = shapes_[f];
         // (Written so that a face with a non-finite corner is left out.)
-        if (!(distance(shape.centroid, p) <= reach_of_field + shape.reach)) continue;
+        const double d2 = squared_distance(shape.centroid, p), meets = reach_of_field + shape.reach;
+        if (!(d2 <= meets * meets)) continue;
         s->faces.push_back(f);
+        if (d2 <= r2) normal += shape.normal;
         for (int k = 0; k < 3; ++k) {
           const std::uint32_t w = triangles_[3 * std::size_t(f) + std::size_t(k)];
-          if (s->vertex_mark[w] == stamp) continue;
-          s->vertex_mark[w] = stamp;
-          s->vertex_slot[w] = std::uint32_t(s->queue.size());
-          s->queue.push_back(w);
+          if (s->vertex_mark[w] != stamp) {
+            s->vertex_mark[w] = stamp;
+            s->vertex_slot[w] = std::uint32_t(s->queue.size());
+            s->queue.push_back(w);
+          }
+          s->corner_slots.push_back(s->vertex_slot[w]);
         }
       }
     }
+    return normal;
   }
 
   // Each face's centroid, reach (to its farthest corner) and normal (the cross product
