@@ -196,6 +196,25 @@ std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_faces(const QuadricM
   return e;
 }
 
+// Settings for `target` triangles, with tiles and passes from `passes` faces (0: the
+// strict order alone).
+CollapseSettings tiled(std::uint64_t target, std::uint64_t passes) {
+  CollapseSettings s;
+  s.target_triangles = target;
+  s.pass_faces = s.tile_faces = passes;
+  s.tile_min_faces = 4 * passes;
+  return s;
+}
+
+// Whether `m` is closed and manifold (two faces an edge) with Euler characteristic 2.
+void check_closed_sphere(const QuadricMesh& m) {
+  const auto edges = edge_faces(m);
+  bool two_each = true;
+  for (const auto& e : edges) two_each = two_each && e.second == 2;
+  CHECK(two_each);
+  CHECK(long(m.positions.size()) - long(edges.size()) + long(m.triangles.size() / 3) == 2);
+}
+
 Vec3d normal(const QuadricMesh& m, std::size_t f) {
   const Vec3d& p = m.positions[m.triangles[3 * f]];
   return cross(m.positions[m.triangles[3 * f + 1]] - p, m.positions[m.triangles[3 * f + 2]] - p);
@@ -248,10 +267,7 @@ TEST_CASE("collapse meets exact triangle counts, a closed surface's odd count on
   for (std::uint64_t target : {1000, 1001, 4000, 9999})
     for (std::uint64_t passes : {0, 4096}) {
       INFO("target " << target << ", tiles and passes from " << passes << " faces");
-      CollapseSettings s;
-      s.target_triangles = target;
-      s.pass_faces = s.tile_faces = passes;
-      s.tile_min_faces = 4 * passes;
+      CollapseSettings s = tiled(target, passes);
       CollapseStats st;
       QuadricMesh m = collapse_edges(sphere, s, &st);
       CHECK_FALSE(st.stuck);
@@ -363,17 +379,8 @@ TEST_CASE("a closed genus-0 sphere stays closed, manifold and of Euler character
   for (std::uint64_t target : {200, 2000})
     for (std::uint64_t passes : {0, 4096}) {
       INFO("target " << target << ", tiles and passes from " << passes << " faces");
-      CollapseSettings s;
-      s.target_triangles = target;
-      s.pass_faces = s.tile_faces = passes;
-      s.tile_min_faces = 4 * passes;
-      QuadricMesh m = collapse_edges(sphere, s, nullptr);
-      const auto edges = edge_faces(m);
-      bool two_each = true;
-      for (const auto& e : edges) two_each = two_each && e.second == 2;
-      CHECK(two_each);
-      const long euler = long(m.positions.size()) - long(edges.size()) + long(m.triangles.size() / 3);
-      CHECK(euler == 2);
+      CollapseSettings s = tiled(target, passes);
+      check_closed_sphere(collapse_edges(sphere, s, nullptr));
     }
 }
 
@@ -383,12 +390,8 @@ TEST_CASE("levels going on from one collapse meet each count, closed and manifol
   const std::vector<std::uint64_t> coarser = {3000, 1000, 250};
   for (std::uint64_t passes : {0, 4096}) {
     INFO("tiles and passes from " << passes << " faces");
-    CollapseSettings s;
-    s.target_triangles = 6000;
-    s.pass_faces = s.tile_faces = passes;
-    s.tile_min_faces = 4 * passes;
+    CollapseSettings s = tiled(6000, passes);
     std::vector<std::vector<std::uint32_t>> triangles[2];
-    std::vector<std::uint64_t> collapses;
     for (int threads : {1, 2}) {
       tbb::task_arena arena(threads);
       arena.execute([&] {
@@ -399,11 +402,7 @@ TEST_CASE("levels going on from one collapse meet each count, closed and manifol
                                    CHECK(m.triangles.size() / 3 == target);
                                    // A closed surface loses two faces a collapse, from the start.
                                    CHECK(st.collapses == (sphere.triangles.size() / 3 - target) / 2);
-                                   const auto edges = edge_faces(m);
-                                   bool two_each = true;
-                                   for (const auto& e : edges) two_each = two_each && e.second == 2;
-                                   CHECK(two_each);
-                                   CHECK(long(m.positions.size()) - long(edges.size()) + long(target) == 2);
+                                   check_closed_sphere(m);
                                    triangles[threads - 1].push_back(m.triangles);
                                  });
       });
@@ -435,10 +434,7 @@ TEST_CASE("no face turns against the original surface's local normal", "[refine]
   for (std::uint64_t target : {500, 2000, 5000})
     for (std::uint64_t passes : {0, 4096}) {
       INFO("target " << target << ", tiles and passes from " << passes << " faces");
-      CollapseSettings s;
-      s.target_triangles = target;
-      s.pass_faces = s.tile_faces = passes;
-      s.tile_min_faces = 4 * passes;
+      CollapseSettings s = tiled(target, passes);
       QuadricMesh m = collapse_edges(sphere, s, nullptr);
       int against = 0;
       for (std::size_t f = 0; f < m.triangles.size() / 3; ++f) {
@@ -491,10 +487,7 @@ TEST_CASE("boundary edges keep the outline of an open surface", "[refine][collap
   const QuadricMesh plane = mesh_of(load_mesh(d.file("p.ply")));
   for (std::uint64_t passes : {0, 4096}) {
     INFO("tiles and passes from " << passes << " faces");
-    CollapseSettings s;
-    s.target_triangles = 50;
-    s.pass_faces = s.tile_faces = passes;
-    s.tile_min_faces = 4 * passes;
+    CollapseSettings s = tiled(50, passes);
     CollapseStats st;
     QuadricMesh m = collapse_edges(plane, s, &st);
     CHECK(m.triangles.size() / 3 == 50);
@@ -565,10 +558,7 @@ TEST_CASE("the collapse is the same for any thread count", "[refine][collapse]")
   const QuadricMesh parts = generated(SyntheticShape::parts, 20000);
   for (std::uint64_t passes : {0, 4096}) {
     INFO("tiles and passes from " << passes << " faces");
-    CollapseSettings s;
-    s.target_triangles = 2000;
-    s.pass_faces = s.tile_faces = passes;
-    s.tile_min_faces = 4 * passes;
+    CollapseSettings s = tiled(2000, passes);
     QuadricMesh one, two;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
@@ -722,11 +712,8 @@ TEST_CASE("a texture seam collapses along itself, both sides together, and stays
   for (std::uint64_t target : {2000, 401})
     for (std::uint64_t passes : {0, 1024}) {
       INFO("target " << target << ", tiles and passes from " << passes << " faces");
-      CollapseSettings s;
-      s.target_triangles = target;
+      CollapseSettings s = tiled(target, passes);
       s.lock_coincident = true;
-      s.pass_faces = s.tile_faces = passes;
-      s.tile_min_faces = 4 * passes;
       CollapseStats st;
       const QuadricMesh m = collapse_edges(sphere, s, &st);
       CHECK(st.parity == (target % 2 == 1));

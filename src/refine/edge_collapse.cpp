@@ -238,6 +238,9 @@ bool CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32
 }
 
 int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
+  // The faces of the end with the shorter list: around a hub (a cone's apex, a fan of
+  // thousands) the count is asked for each of its edges.
+  if (face_count_[b] < face_count_[a]) std::swap(a, b);
   int m = 0;
   for_each_face(a, [&](std::uint32_t f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
