@@ -414,6 +414,31 @@ TEST_CASE("levels going on from one collapse meet each count, closed and manifol
   }
 }
 
+TEST_CASE("a cone's hubs of thousands of faces stay in place, and the cone stays closed", "[refine][collapse]") {
+  // Two fans of n triangles: the apex (0, 0, 1) over a base whose centre is (0, 0, 0).
+  constexpr std::uint32_t n = 4000;
+  QuadricMesh cone;
+  cone.positions = {{0, 0, 1}, {0, 0, 0}};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double angle = 2 * 3.14159265358979323846 * i / n;
+    cone.positions.push_back({std::cos(angle), std::sin(angle), 0});
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 + i, b = 2 + (i + 1) % n;
+    cone.triangles.insert(cone.triangles.end(), {0, a, b, 1, b, a});
+  }
+  cone.quadrics = face_quadrics(cone.positions, cone.triangles);
+  for (std::uint64_t passes : {0, 1024}) {
+    INFO("tiles and passes from " << passes << " faces");
+    const QuadricMesh m = collapse_edges(cone, tiled(500, passes), nullptr);
+    CHECK(m.triangles.size() / 3 == 500);
+    check_closed_sphere(m);
+    int hubs = 0;
+    for (const Vec3d& p : m.positions) hubs += (p.x == 0 && p.y == 0 && (p.z == 0 || p.z == 1));
+    CHECK(hubs == 2);
+  }
+}
+
 TEST_CASE("no face turns against the original surface's local normal", "[refine][collapse]") {
   // The sphere: each face of the result against the input face nearest to its
   // centre; a faithful simplification never faces the other way. (Not the parts mesh:

@@ -14,6 +14,7 @@
 
 #include "cluster/plane_quadric.hpp"
 #include "common/coincident_runs.hpp"
+#include "common/flat_hash_map.hpp"
 #include "common/huge_pages.hpp"
 #include "common/vec3_math.hpp"
 #include "runtime/progress_phase.hpp"
@@ -62,6 +63,16 @@ void sort_small(std::vector<T>* v) {
     a[j] = x;
   }
 }
+
+// A vertex with more faces than this has its ring sorted and searched (fan_shape).
+constexpr std::uint32_t kScannedRing = 64;
+// A hub of more faces than this (the centre of a finely cut fan: a cylinder's cap, a
+// cone's apex) stays where it is, as an outline vertex does: moving it would check
+// every one of its faces for each collapse tried there, which made the collapse
+// quadratic in its valence (a 64000-triangle cone took 31 s). Its edges collapse
+// onto it. No generated shape nor scan of the benchmarks has a vertex of more than
+// 168 faces.
+constexpr std::size_t kStillHub = 1024;
 
 // Drops repeats from a short list, keeping each value's first place, by scans without
 // early exit (a dozen or so values: no branch to mispredict); a long one (a hub's
@@ -249,6 +260,20 @@ int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
   return m;
 }
 
+void CollapseState::edge_faces(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  if (face_count_[b] < face_count_[a]) std::swap(a, b);
+  for_each_face(a, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    if (t[0] == b || t[1] == b || t[2] == b) out->push_back(f);
+  });
+}
+
+void CollapseState::live_faces(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) { out->push_back(f); });
+}
+
 // A vertex on an edge of three or more faces, or whose faces form more than one fan
 // (two cones meeting at their apex), has no disk around it for the link condition to
 // keep. Clustering leaves many (folded sheets where coarse cells cut steep slopes), so
@@ -259,6 +284,8 @@ int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
 void CollapseState::classify_vertices() {
   const std::size_t n = mesh_.positions.size();
   boundary_.assign(n, 0);
+  hub_.assign(n, 0);
+  for (std::size_t v = 0; v < n; ++v) hub_[v] = face_count_[v] > kStillHub;
   tbb::enumerable_thread_specific<VertexScratch> scratch;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(n), 4096),
                     [&](const tbb::blocked_range<std::uint32_t>& r) {
@@ -288,14 +315,29 @@ CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch*
   std::uint32_t* const count = scratch->count.data();
   std::uint32_t* const parent = scratch->parent.data();
   std::uint32_t size = 0;
+  // A hub's ring (a fan of thousands) is sorted once and searched: scanning it for
+  // each corner would be quadratic in its valence.
+  const bool hub = face_count_[v] > kScannedRing;
+  if (hub) {
+    for_each_corner(v, [&](std::uint32_t u) {
+      if (u != v) ring[size++] = u;
+    });
+    std::sort(ring, ring + size);
+    size = std::uint32_t(std::unique(ring, ring + size) - ring);
+    for (std::uint32_t i = 0; i < size; ++i) count[i] = 0, parent[i] = i;
+  }
   auto slot = [&](std::uint32_t u) {
     std::uint32_t at = size;
-    for (std::uint32_t i = 0; i < size; ++i) at = ring[i] == u ? i : at;
-    if (at == size) {
-      ring[size] = u;
-      count[size] = 0;
-      parent[size] = size;
-      ++size;
+    if (hub) {
+      at = std::uint32_t(std::lower_bound(ring, ring + size, u) - ring);
+    } else {
+      for (std::uint32_t i = 0; i < size; ++i) at = ring[i] == u ? i : at;
+      if (at == size) {
+        ring[size] = u;
+        count[size] = 0;
+        parent[size] = size;
+        ++size;
+      }
     }
     ++count[at];
     return at;
@@ -396,7 +438,7 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
     const Vec3d& fixed = mirror_[a] != kNoMirror ? pa : pb;
     return {clean_cost(q.error(fixed)), a, b, fixed};
   }
-  const bool anchored_a = boundary_[a] || complex_[a], anchored_b = boundary_[b] || complex_[b];
+  const bool anchored_a = boundary_[a] || complex_[a] || hub_[a], anchored_b = boundary_[b] || complex_[b] || hub_[b];
   if (anchored_a != anchored_b) {
     const Vec3d& fixed = anchored_a ? pa : pb;
     return {clean_cost(q.error(fixed)), a, b, fixed};
@@ -593,14 +635,19 @@ bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
 bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const {
   // Each face's corners and input normal are fetched for both ends before the first
   // check: they are scattered over the mesh's arrays, and the checks wait on them.
+  // Not for an end that stays: a hub's thousands would be fetched for nothing.
   for (const std::uint32_t end : {c.a, c.b}) {
+    if (same_point(mesh_.positions[end], c.placement)) continue;
     const std::uint32_t* p = faces_.data() + face_start_[end];
     for (std::uint32_t i = 0; i < face_count_[end]; ++i) {
       __builtin_prefetch(&mesh_.triangles[3 * std::size_t(p[i])]);
       __builtin_prefetch(&first_normal_[p[i]]);
     }
   }
-  for (const std::uint32_t end : {c.a, c.b}) {
+  // The end with fewer faces first: a collapse that fails there is told so before a
+  // hub's thousands are checked.
+  const bool b_first = face_count_[c.b] < face_count_[c.a];
+  for (const std::uint32_t end : {b_first ? c.b : c.a, b_first ? c.a : c.b}) {
     if (same_point(mesh_.positions[end], c.placement)) continue;
     const std::uint32_t* p = faces_.data() + face_start_[end];
     for (std::uint32_t i = 0; i < face_count_[end]; ++i)
@@ -673,6 +720,7 @@ void CollapseState::collapse_one(const Candidate& c) {
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
   boundary_[a] = boundary_[a] | boundary_[b];  // a valid collapse neither makes nor closes a boundary
+  hub_[a] = hub_[a] | (merged.size() > kStillHub);
   newly_anchored_.clear();
   if (complex_[a] || complex_[b]) {
     // Around a tangle the link condition was not checked: its neighbours may have
@@ -742,6 +790,7 @@ void CollapseState::split_edge(std::uint32_t u, std::uint32_t w, int faces) {
   if (!mirror_.empty()) mirror_.push_back(kNoMirror);
   complex_.push_back(faces > 2);  // on an edge of three or more faces
   boundary_.push_back(faces == 1);
+  hub_.push_back(0);
   face_start_.push_back(std::uint32_t(faces_.size()));
   face_count_.push_back(0);
   // Each face (p, q, r) on the edge, p q its side along it, becomes (p, m, r) and
@@ -1007,7 +1056,7 @@ class QuadHeap {
 class LazyQueue {
  public:
   LazyQueue(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats, ProgressPhase* progress)
-      : state_(state), settings_(settings), stats_(stats), progress_(progress), rejected_(state.vertex_count()) {}
+      : state_(state), settings_(settings), stats_(stats), progress_(progress), unblamed_(state.vertex_count()) {}
 
   void run() {
     fill();
@@ -1064,6 +1113,12 @@ class LazyQueue {
     }
     CollapseState::Candidate other;
     const bool pair = state_.mirrored(c, &other);
+    // The faces the collapse removes: edges blamed on them are looked at again.
+    state_.edge_faces(c.a, c.b, &removed_);
+    if (pair) {
+      state_.edge_faces(other.a, other.b, &faces_);
+      removed_.insert(removed_.end(), faces_.begin(), faces_.end());
+    }
     state_.collapse(c);
     if ((++stats_->collapses & 0xFFF) == 0 && progress_) progress_->set(2 * stats_->collapses);
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
@@ -1071,6 +1126,7 @@ class LazyQueue {
     if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
     requeue_around(c.a);
     if (pair) requeue_around(other.a);  // the other side of the seam moved too
+    for (const std::uint32_t f : removed_) requeue_blamed(f);
     // An anchored vertex does not move: the costs of all its edges changed, and their
     // entries are stale.
     for (std::uint32_t v : state_.newly_anchored()) {
@@ -1106,42 +1162,69 @@ class LazyQueue {
     return true;
   }
 
-  // A rejected edge is remembered at both ends, with the face blamed: it is looked at
-  // again when a collapse changes the faces around either end (only those edges, not
-  // all of the vertex's: a hub of a cylinder cap has hundreds).
+  // A rejected edge is remembered with the face blamed, the one that would flip or
+  // become a needle: it is looked at again when that face changes (a corner moves, or
+  // it goes), not at every change near its ends. Around a hub (a cone's apex, a fan
+  // of thousands) that keeps each collapse's work to the faces it changed; looking at
+  // every edge rejected at the hub after each collapse beside it made the collapse
+  // quadratic in the hub's valence. An edge blamed on no face (the link condition, a
+  // doubled face) is remembered at both ends and looked at again when the faces
+  // around either end change. An edge whose end moves or is anchored is costed anew
+  // anyway (requeue_around, take).
   void reject(std::uint32_t a, std::uint32_t b, std::uint32_t blamed) {
-    rejected_[a].push_back(std::uint64_t(b) << 32 | blamed);
-    rejected_[b].push_back(std::uint64_t(a) << 32 | blamed);
+    if (blamed == CollapseState::kNoFace) {
+      unblamed_[a].push_back(b);
+      unblamed_[b].push_back(a);
+    } else {
+      blamed_on_.value(blamed_on_.insert(blamed)).push_back(std::uint64_t(a) << 32 | b);
+    }
   }
 
-  // a's quadric changed: its edges get new costs. Around it the faces changed, so the
-  // edges rejected there may be valid now.
+  // a's quadric changed: its edges get new costs. Its faces moved, so the edges blamed
+  // on them may be valid now; so may the edges blamed on no face around it.
   void requeue_around(std::uint32_t a) {
     state_.neighbours(a, &ring_);
     for (std::uint32_t u : ring_) push(a, u);
-    for (std::uint32_t u : ring_) requeue_rejected(u, a);
-    requeue_rejected(a, a);
+    for (std::uint32_t u : ring_) requeue_unblamed(u, a);
+    requeue_unblamed(a, a);
+    state_.live_faces(a, &faces_);
+    for (const std::uint32_t f : faces_) requeue_blamed(f);
   }
 
-  // Each edge rejected at u goes back into the queue, once (an edge rejected from
-  // several entries must not come back as many), unless its blamed face still fails:
-  // then it is still invalid, and stays here until the next change around u. Edges
-  // with a, which requeue_around pushes anyway, and dead ones are dropped.
-  void requeue_rejected(std::uint32_t u, std::uint32_t a) {
-    std::vector<std::uint64_t>& list = rejected_[u];
+  // Each edge blamed on face f goes back into the queue, once (an edge rejected from
+  // several entries must not come back as many), unless f still fails: then it is
+  // still invalid, and stays until f changes again. Dead edges are dropped.
+  void requeue_blamed(std::uint32_t f) {
+    const std::int64_t at = blamed_on_.find(f);
+    if (at < 0) return;
+    std::vector<std::uint64_t>& list = blamed_on_.value(std::size_t(at));
     sort_small(&list);
     std::size_t kept = 0;
     for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::uint32_t x = std::uint32_t(list[i] >> 32), blamed = std::uint32_t(list[i]);
-      if (i > 0 && x == std::uint32_t(list[i - 1] >> 32)) continue;
-      if (x == a || !state_.alive(x) || !state_.alive(u)) continue;
-      const CollapseState::Candidate c = state_.evaluate(std::min(u, x), std::max(u, x));
-      if (blamed != CollapseState::kNoFace && !state_.keeps_face(c, blamed))
+      if (i > 0 && list[i] == list[i - 1]) continue;
+      const std::uint32_t a = std::uint32_t(list[i] >> 32), b = std::uint32_t(list[i]);
+      if (!state_.alive(a) || !state_.alive(b)) continue;
+      const CollapseState::Candidate c = state_.evaluate(a, b);
+      if (!state_.keeps_face(c, f))
         list[kept++] = list[i];
       else
         heap_.push({c.cost, c.a, c.b});
     }
     list.resize(kept);
+  }
+
+  // Each edge blamed on no face at u goes back into the queue, once. Edges with a,
+  // which requeue_around pushes anyway, and dead ones are dropped.
+  void requeue_unblamed(std::uint32_t u, std::uint32_t a) {
+    std::vector<std::uint32_t>& list = unblamed_[u];
+    sort_small(&list);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::uint32_t x = list[i];
+      if ((i > 0 && x == list[i - 1]) || x == a || !state_.alive(x) || !state_.alive(u)) continue;
+      const CollapseState::Candidate c = state_.evaluate(std::min(u, x), std::max(u, x));
+      heap_.push({c.cost, c.a, c.b});
+    }
+    list.clear();
   }
 
   void push(std::uint32_t u, std::uint32_t v) {
@@ -1156,8 +1239,10 @@ class LazyQueue {
   CollapseStats* stats_;
   ProgressPhase* progress_;
   QuadHeap heap_;
-  std::vector<std::vector<std::uint64_t>> rejected_;  // per vertex: the other end << 32 | the blamed face
-  std::vector<std::uint32_t> ring_;
+  // Per blamed face: its rejected edges, a << 32 | b.
+  FlatHashMap<std::uint32_t, std::vector<std::uint64_t>> blamed_on_;
+  std::vector<std::vector<std::uint32_t>> unblamed_;  // per vertex: the other ends of edges blamed on no face
+  std::vector<std::uint32_t> ring_, faces_, removed_;
 };
 
 // Garland & Heckbert's greedy order taken in passes, as meshoptimizer's simplifier
@@ -1463,10 +1548,15 @@ void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings
     CollapseSettings round = settings;
     round.target_triangles = std::uint64_t(std::max(tiles_to, 0.25 * double(state.triangle_count())));
     round.tile_share = 1;
+    const std::uint64_t before = state.triangle_count();
     QuadricMesh tiled = collapse_tiles(state, round, &st);
     if (progress) progress->set(2 * st.collapses);
     round.boundary_weight = 0;
     state = CollapseState(std::move(tiled), round);
+    // A round that took less than a quarter of what it aimed at (the tiles' borders
+    // hold most collapses, as around a hub every tile shares) would be followed by
+    // others like it: the passes of the whole mesh go on instead.
+    if (4 * (before - state.triangle_count()) < before - round.target_triangles) break;
   }
   CollapseSettings level = settings;
   for (std::size_t k = 0; k <= coarser.size(); ++k) {

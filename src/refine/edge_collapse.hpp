@@ -188,6 +188,10 @@ class CollapseState {
   bool mirrored(const Candidate& c, Candidate* other) const;
   /// The faces collapse `c` removes, its mirror's included.
   int faces_removed(const Candidate& c) const;
+  /// The live faces on edge (a, b) into *out.
+  void edge_faces(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>* out) const;
+  /// The live faces around v into *out.
+  void live_faces(std::uint32_t v, std::vector<std::uint32_t>* out) const;
   /// The error of `c` in model units (see CollapseSettings::max_error).
   double error(const Candidate& c) const;
   /// Collapses b into a (and the mirrors' edge, when mirrored()).
@@ -307,6 +311,7 @@ class CollapseState {
   double cos_max_turn_;
   double min_compactness_;
   std::vector<std::uint8_t> face_dead_, alive_, complex_, boundary_, locked_;
+  std::vector<std::uint8_t> hub_;         // more faces than kStillHub: does not move (evaluate)
   std::vector<std::uint32_t> mirror_;     // per vertex: its mirror across a seam, or kNoMirror (empty: no seams)
   std::vector<UnitNormal> first_normal_;  // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
