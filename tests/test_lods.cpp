@@ -29,6 +29,15 @@ std::string exact(double v) {
   return buf;
 }
 
+// Runs `simplify --quiet IN -o OUT ARGS`, which must succeed, and gives the triangle
+// count of each level its description lists.
+std::vector<std::uint64_t> level_triangles(const std::string& in, const std::string& out, const std::string& args) {
+  REQUIRE(run_cli("simplify --quiet " + q(in) + " -o " + q(out) + " " + args).exit_code == 0);
+  std::vector<std::uint64_t> counts;
+  for (const LodLevel& l : read_lod_levels(lod_description_path(out))) counts.push_back(l.triangles);
+  return counts;
+}
+
 }  // namespace
 
 TEST_CASE("level names and the description's name", "[lods]") {
@@ -106,14 +115,8 @@ TEST_CASE("levels of detail with thick edges, a target and --measure", "[lods]")
   GenerateOptions sphere;
   sphere.triangles = 100000;
   generate_mesh(d.file("sphere.ply"), sphere);
-  REQUIRE(run_cli("simplify --quiet " + q(d.file("sphere.ply")) + " -o " + q(d.file("s.ply")) +
-                  " --target-tris 8000 --lods 3 --measure")
-              .exit_code == 0);
-  const std::vector<LodLevel> s = read_lod_levels(d.file("s.lods.json"));
-  REQUIRE(s.size() == 3);
-  CHECK(s[0].triangles == 8000);
-  CHECK(s[1].triangles == 4000);
-  CHECK(s[2].triangles == 2000);
+  CHECK(level_triangles(d.file("sphere.ply"), d.file("s.ply"), "--target-tris 8000 --lods 3 --measure") ==
+        std::vector<std::uint64_t>{8000, 4000, 2000});
 }
 
 TEST_CASE("levels to a target go on from the finer level's collapse, as good as their own runs", "[lods][target]") {
@@ -166,14 +169,8 @@ TEST_CASE("levels to a target: ratios of fanned polygons, and a level a floating
              std::to_string(a + 61) + "\n";
     }
   write_file(d.file("quads.obj"), obj);
-  REQUIRE(run_cli("simplify --quiet " + q(d.file("quads.obj")) + " -o " + q(d.file("r.ply")) +
-                  " --target-ratio 0.25 --lods 3")
-              .exit_code == 0);
-  const std::vector<LodLevel> r = read_lod_levels(d.file("r.lods.json"));
-  REQUIRE(r.size() == 3);
-  CHECK(r[0].triangles == 2400);
-  CHECK(r[1].triangles == 1200);
-  CHECK(r[2].triangles == 600);
+  CHECK(level_triangles(d.file("quads.obj"), d.file("r.ply"), "--target-ratio 0.25 --lods 3") ==
+        std::vector<std::uint64_t>{2400, 1200, 600});
 
   // Floating cells at a cell for the first target leave the coarser parts' levels
   // stuck short of their counts; those levels run on their own and meet them.

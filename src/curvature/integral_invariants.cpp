@@ -54,6 +54,10 @@ const GaussLegendre& gauss_legendre() {
   return rule;
 }
 
+// The distance from p of the ball's quadrature lines at radial node i: the Gauss
+// rule's node mapped from [-1, 1] onto [0, r].
+double node_radius(double r, int i) { return 0.5 * r * (gauss_legendre().node[std::size_t(i)] + 1); }
+
 // cos and sin of n angles (j + 1/2) 2 pi / n.
 template <int n>
 struct EvenAngles {
@@ -140,13 +144,11 @@ void LocalHeightField::reset(double radius, Lines lines) {
 // The lines at the nodes of ball_curvatures' rule, and their buckets. A run's fields
 // share one radius, so this is done once per thread.
 void LocalHeightField::place_ball_lines() {
-  const double r = radius_;
-  const GaussLegendre& rule = gauss_legendre();
   const EvenAngles<kAngularNodes>& angles = even_angles<kAngularNodes>();
   std::array<int, kBallLines> bucket_of{};
   line_bucket_start_.fill(0);
   for (int i = 0; i < kRadialNodes; ++i) {
-    const double rho = 0.5 * r * (rule.node[std::size_t(i)] + 1);
+    const double rho = node_radius(radius_, i);
     for (int j = 0; j < kAngularNodes; ++j) {
       const int l = i * kAngularNodes + j;
       BallLine& line = ball_lines_[std::size_t(l)];
@@ -162,7 +164,7 @@ void LocalHeightField::place_ball_lines() {
     const std::size_t b = std::size_t(bucket_of[std::size_t(l)]);
     line_bucket_lines_[line_bucket_start_[b] + fill[b]++] = std::uint16_t(l);
   }
-  lines_radius_ = r;
+  lines_radius_ = radius_;
 }
 
 int LocalHeightField::bucket(double coordinate) const {
@@ -308,7 +310,7 @@ bool ball_curvatures(const LocalHeightField& heights, bool closed, PrincipalCurv
   const EvenAngles<kAngularNodes>& angles = even_angles<kAngularNodes>();
   SurfaceCrossing found[LocalHeightField::kMostCrossings];
   for (int i = 0; i < kRadialNodes; ++i) {
-    const double rho = 0.5 * r * (rule.node[std::size_t(i)] + 1);
+    const double rho = node_radius(r, i);
     const double s = std::sqrt(std::max(r * r - rho * rho, 0.0));
     const double w = 0.5 * r * rule.weight[std::size_t(i)] * angle_weight * rho;
     for (std::size_t j = 0; j < kAngularNodes; ++j) {

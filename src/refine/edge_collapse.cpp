@@ -64,8 +64,10 @@ void sort_small(std::vector<T>* v) {
   }
 }
 
-// A vertex with more faces than this has its ring sorted and searched (fan_shape).
-constexpr std::uint32_t kScannedRing = 64;
+// A list of up to this many vertices (a ring around a vertex: a dozen or so) is
+// scanned, without early exit, where a sort or a binary search would mispredict; a
+// longer one (a hub's hundreds or thousands) is sorted (keep_distinct, fan_shape).
+constexpr std::size_t kScannedList = 32;
 // A hub of more faces than this (the centre of a finely cut fan: a cylinder's cap, a
 // cone's apex) stays where it is, as an outline vertex does: moving it would check
 // every one of its faces for each collapse tried there, which made the collapse
@@ -78,8 +80,7 @@ constexpr std::size_t kStillHub = 1024;
 // early exit (a dozen or so values: no branch to mispredict); a long one (a hub's
 // hundreds) is sorted instead. Returns whether it was sorted.
 bool keep_distinct(std::vector<std::uint32_t>* list) {
-  constexpr std::size_t kScanned = 32;
-  if (list->size() > kScanned) {
+  if (list->size() > kScannedList) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
     return true;
@@ -249,24 +250,14 @@ bool CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32
 }
 
 int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
-  // The faces of the end with the shorter list: around a hub (a cone's apex, a fan of
-  // thousands) the count is asked for each of its edges.
-  if (face_count_[b] < face_count_[a]) std::swap(a, b);
   int m = 0;
-  for_each_face(a, [&](std::uint32_t f) {
-    const std::uint32_t* t = &mesh_.triangles[3 * f];
-    m += (t[0] == b || t[1] == b || t[2] == b);
-  });
+  for_each_edge_face(a, b, [&](std::uint32_t) { ++m; });
   return m;
 }
 
 void CollapseState::edge_faces(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>* out) const {
   out->clear();
-  if (face_count_[b] < face_count_[a]) std::swap(a, b);
-  for_each_face(a, [&](std::uint32_t f) {
-    const std::uint32_t* t = &mesh_.triangles[3 * f];
-    if (t[0] == b || t[1] == b || t[2] == b) out->push_back(f);
-  });
+  for_each_edge_face(a, b, [&](std::uint32_t f) { out->push_back(f); });
 }
 
 void CollapseState::live_faces(std::uint32_t v, std::vector<std::uint32_t>* out) const {
@@ -317,7 +308,7 @@ CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch*
   std::uint32_t size = 0;
   // A hub's ring (a fan of thousands) is sorted once and searched: scanning it for
   // each corner would be quadratic in its valence.
-  const bool hub = face_count_[v] > kScannedRing;
+  const bool hub = face_count_[v] > kScannedList;
   if (hub) {
     for_each_corner(v, [&](std::uint32_t u) {
       if (u != v) ring[size++] = u;
@@ -633,22 +624,24 @@ bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
 // The faces that stay: none may flip or become a needle. Only the faces of an end
 // that moves change; the first to fail is blamed.
 bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const {
-  // Each face's corners and input normal are fetched for both ends before the first
-  // check: they are scattered over the mesh's arrays, and the checks wait on them.
-  // Not for an end that stays: a hub's thousands would be fetched for nothing.
-  for (const std::uint32_t end : {c.a, c.b}) {
-    if (same_point(mesh_.positions[end], c.placement)) continue;
-    const std::uint32_t* p = faces_.data() + face_start_[end];
-    for (std::uint32_t i = 0; i < face_count_[end]; ++i) {
+  // The ends that move, the one with fewer faces first: a collapse that fails there
+  // is told so before a hub's thousands are checked.
+  const bool b_first = face_count_[c.b] < face_count_[c.a];
+  std::uint32_t moving[2];
+  int count = 0;
+  for (const std::uint32_t end : {b_first ? c.b : c.a, b_first ? c.a : c.b})
+    if (!same_point(mesh_.positions[end], c.placement)) moving[count++] = end;
+  // Each face's corners and input normal are fetched before the first check: they are
+  // scattered over the mesh's arrays, and the checks wait on them.
+  for (int e = 0; e < count; ++e) {
+    const std::uint32_t* p = faces_.data() + face_start_[moving[e]];
+    for (std::uint32_t i = 0; i < face_count_[moving[e]]; ++i) {
       __builtin_prefetch(&mesh_.triangles[3 * std::size_t(p[i])]);
       __builtin_prefetch(&first_normal_[p[i]]);
     }
   }
-  // The end with fewer faces first: a collapse that fails there is told so before a
-  // hub's thousands are checked.
-  const bool b_first = face_count_[c.b] < face_count_[c.a];
-  for (const std::uint32_t end : {b_first ? c.b : c.a, b_first ? c.a : c.b}) {
-    if (same_point(mesh_.positions[end], c.placement)) continue;
+  for (int e = 0; e < count; ++e) {
+    const std::uint32_t end = moving[e];
     const std::uint32_t* p = faces_.data() + face_start_[end];
     for (std::uint32_t i = 0; i < face_count_[end]; ++i)
       if (!keeps_face(c, p[i])) {

@@ -261,6 +261,17 @@ class CollapseState {
     for (std::uint32_t i = 0; i < face_count_[v]; ++i)
       if (!face_dead_[p[i]]) f(p[i]);
   }
+  // Calls f(face) for each live face on edge (a, b), from the list of the end with
+  // fewer faces: around a hub (a cone's apex, a fan of thousands) this is asked for
+  // each of its edges.
+  template <class F>
+  void for_each_edge_face(std::uint32_t a, std::uint32_t b, const F& f) const {
+    if (face_count_[b] < face_count_[a]) std::swap(a, b);
+    for_each_face(a, [&](std::uint32_t face) {
+      const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(face)];
+      if (t[0] == b || t[1] == b || t[2] == b) f(face);
+    });
+  }
   void build_adjacency();
   // The lists fan_shape() works in: one per thread.
   struct VertexScratch {
