@@ -1,0 +1,323 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "common/vec3_math.hpp"
+#include "refine/collapse_state.hpp"
+#include "refine/small_lists.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+// A face already below the needle guard may become at most this much thinner: with
+// "no thinner at all" the lat-long poles of the generated sphere (needles already
+// below the guard) froze, the collapse spent its count elsewhere and its error grew
+// by orders of magnitude over the result without the freeze.
+constexpr double kNeedleSlack = 0.5;
+
+// Velho 1999 eq. 4: compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a, is
+// 2 sqrt(3) |n| / s for s the sum of the squared sides. The checks compare it without
+// a square root: 12 |n|^2 / s^2 is its square.
+double sum_of_squared_sides(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
+  return squared_distance(p, q) + squared_distance(q, r) + squared_distance(r, p);
+}
+
+// Whether normal n turned to m by more than the angle whose cosine is `cos_max`:
+// dot(n, m) <= cos_max |n| |m|, from the squared lengths, without a square root.
+bool turned_too_far(const Vec3d& n, double nn, const Vec3d& m, double mm, double cos_max) {
+  const double d = dot(n, m);
+  const double bound = cos_max * cos_max * nn * mm;  // (cos_max |n| |m|)^2
+  return cos_max >= 0 ? d <= 0 || d * d <= bound : d < 0 && d * d >= bound;
+}
+
+Quadric sum(const Quadric& x, const Quadric& y) {
+  Quadric q = x;
+  q.add(y);
+  return q;
+}
+
+// A cost as the queue and the passes order it: rounding below the minimum of a sum of
+// squares is 0, and a NaN (a quadric overflowed) the last of all, so that the order
+// stays a strict one.
+double clean_cost(double cost) {
+  if (cost >= 0) return cost;
+  return cost < 0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+
+// A x = b by Cramer's rule when A is well conditioned (its determinant is not small
+// against the cube of its scale); false for the flat and linear cases, whose minimum
+// is not a point.
+bool solve(const Quadric& q, Vec3d* x) {
+  const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+  const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+  const double scale = (q.a00 + q.a11 + q.a22) / 3;
+  if (!(std::fabs(det) > 1e-6 * scale * scale * scale)) return false;
+  const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+  const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+  const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  *x = Vec3d{c00 * q.b0 + c01 * q.b1 + c02 * q.b2, c01 * q.b0 + c11 * q.b1 + c12 * q.b2,
+             c02 * q.b0 + c12 * q.b1 + c22 * q.b2} /
+       det;
+  return is_finite(*x);
+}
+
+// A times v.
+Vec3d times(const Quadric& q, const Vec3d& v) {
+  return {q.a00 * v.x + q.a01 * v.y + q.a02 * v.z, q.a01 * v.x + q.a11 * v.y + q.a12 * v.z,
+          q.a02 * v.x + q.a12 * v.y + q.a22 * v.z};
+}
+
+}  // namespace
+
+// The placement of Theoharis et al. 2008, "Graphics & Visualization: Principles and
+// Algorithms", ch. 6 ("Model Representation and Simplification"): the minimum of
+// Q = Q_a + Q_b where A is invertible; where it is not (flat and linear
+// neighbourhoods), or the minimum lies far off the edge, the best point of the edge;
+// of those and the two ends, the one with the least cost.
+// The outline keeps its own vertices: a boundary vertex does not move for an inner
+// one, and two boundary vertices merge into one of them, so the outline loses
+// vertices but never leaves its polyline.
+CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t b) const {
+  const Quadric q = sum(mesh_.quadrics[a], mesh_.quadrics[b]);
+  const Vec3d& pa = mesh_.positions[a];
+  const Vec3d& pb = mesh_.positions[b];
+  if (!mirror_.empty() && (mirror_[a] != kNoMirror || mirror_[b] != kNoMirror)) {
+    if (mirror_[a] != kNoMirror && mirror_[b] != kNoMirror) {
+      // Along a seam: both sides onto one end, costed with both sides' quadrics.
+      const Quadric both = sum(q, sum(mesh_.quadrics[mirror_[a]], mesh_.quadrics[mirror_[b]]));
+      const double ea = both.error(pa), eb = both.error(pb);
+      return eb < ea ? Candidate{clean_cost(eb), a, b, pb} : Candidate{clean_cost(ea), a, b, pa};
+    }
+    // One end on a seam: it stays, so that the seam stays closed.
+    const Vec3d& fixed = mirror_[a] != kNoMirror ? pa : pb;
+    return {clean_cost(q.error(fixed)), a, b, fixed};
+  }
+  const bool anchored_a = boundary_[a] || complex_[a] || hub_[a], anchored_b = boundary_[b] || complex_[b] || hub_[b];
+  if (anchored_a != anchored_b) {
+    const Vec3d& fixed = anchored_a ? pa : pb;
+    return {clean_cost(q.error(fixed)), a, b, fixed};
+  }
+  Candidate best{q.error(pa), a, b, pa};
+  auto consider = [&](const Vec3d& x) {
+    const double e = q.error(x);
+    if (e < best.cost) best.cost = e, best.placement = x;
+  };
+  consider(pb);
+  if (anchored_a) {
+    best.cost = clean_cost(best.cost);
+    return best;
+  }
+  const Vec3d d = pb - pa;
+  const double dad = dot(d, times(q, d));
+  if (dad > 0) {
+    // E(pa + t d) = E(pa) + 2 t (d.A pa - d.b) + t^2 d.A d
+    const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, times(q, pa))) / dad;
+    if (t > 0 && t < 1) consider(pa + d * t);
+  }
+  Vec3d x;
+  const Vec3d mid = (pa + pb) * 0.5;
+  if (solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d)) consider(x);
+  best.cost = clean_cost(best.cost);
+  return best;
+}
+
+double CollapseState::error(const Candidate& c) const {
+  const Quadric& qa = mesh_.quadrics[c.a];
+  const Quadric& qb = mesh_.quadrics[c.b];
+  // trace(A) is the total weight: each plane adds w n n^T with |n| = 1.
+  const auto trace = [](const Quadric& q) { return q.a00 + q.a11 + q.a22; };
+  double weight = trace(qa) + trace(qb);
+  Candidate other;
+  if (mirrored(c, &other)) weight += trace(mesh_.quadrics[other.a]) + trace(mesh_.quadrics[other.b]);
+  return weight > 0 ? std::sqrt(c.cost / weight) : 0;
+}
+
+bool CollapseState::mirrored(const Candidate& c, Candidate* other) const {
+  if (mirror_.empty()) return false;
+  const std::uint32_t ma = mirror_[c.a], mb = mirror_[c.b];
+  if (ma == kNoMirror || mb == kNoMirror) return false;
+  *other = {c.cost, std::min(ma, mb), std::max(ma, mb), c.placement};
+  return true;
+}
+
+int CollapseState::faces_removed(const Candidate& c) const {
+  Candidate other;
+  return faces_on_edge(c.a, c.b) + (mirrored(c, &other) ? faces_on_edge(other.a, other.b) : 0);
+}
+
+bool CollapseState::valid(const Candidate& c, std::uint32_t* blamed) const {
+  Candidate other;
+  if (!mirrored(c, &other)) return valid_one(c, blamed);
+  // A seam edge (one face) whose mirrors make one too, on the other side, apart from
+  // it; both collapses valid there.
+  if (blamed) *blamed = kNoFace;
+  if (c.b == mirror_[c.a] || other.a == c.a || other.a == c.b || other.b == c.a || other.b == c.b) return false;
+  if (!alive_[other.a] || !alive_[other.b] || locked_[other.a] || locked_[other.b]) return false;
+  if (faces_on_edge(c.a, c.b) != 1 || faces_on_edge(other.a, other.b) != 1) return false;
+  // Welded, the seam's edge is inside the surface: between two vertices of the
+  // surface's own outline it would pinch it, as an inner edge between two boundary
+  // vertices would (valid_one), e.g. join the two rims of a band.
+  if (on_outline(c.a) && on_outline(c.b)) return false;
+  return valid_one(c, blamed) && valid_one(other, nullptr);
+}
+
+bool CollapseState::on_outline(std::uint32_t v) const {
+  bool outline = false;
+  for_each_face(v, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    for (int k = 0; k < 3 && !outline; ++k) {
+      const std::uint32_t w = t[k];
+      if (w != v && faces_on_edge(v, w) == 1 && !seam_edge(v, w)) outline = true;
+    }
+  });
+  return outline;
+}
+
+bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
+  const std::uint32_t a = c.a, b = c.b;
+  std::uint32_t no_face = kNoFace;
+  if (!blamed) blamed = &no_face;
+  *blamed = kNoFace;
+  if (!alive_[a] || !alive_[b] || locked_[a] || locked_[b]) return false;
+  const int on_edge = faces_on_edge(a, b);
+  if (on_edge < 1) return false;
+  // The cheap checks first: the faces of the end that moves (often few, where the
+  // other end is a hub of hundreds), then those over both ends' faces.
+  if (complex_[a] || complex_[b]) return keeps_faces(c, blamed) && !doubles_a_face(a, b);
+  if (on_edge > 2) return false;
+  // An inner edge between two boundary vertices would pinch the surface into two.
+  if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
+  if (!keeps_faces(c, blamed)) return false;
+  // The link condition: the vertices next to both a and b are exactly those opposite
+  // the edge in its faces, so no edge or face is doubled. The opposite ones always are
+  // next to both, so counting the common neighbours is enough.
+  const LinkCounts link = link_counts(a, b);
+  if (int(link.common) != on_edge) return false;
+  // A tetrahedron has no edge left to collapse.
+  return !(link.ring_a == 3 && link.ring_b == 3 && on_edge == 2);
+}
+
+// The neighbours of a and of b, each in a list of this thread's (no per-vertex marks,
+// so that valid() may run on several threads at once), made distinct, and those they
+// share counted.
+CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
+  thread_local std::vector<std::uint32_t> around_a, around_b;
+  const bool sorted_a = distinct_neighbours(a, &around_a), sorted_b = distinct_neighbours(b, &around_b);
+  // Each without the other end (removing keeps a sorted list sorted).
+  around_a.erase(std::remove(around_a.begin(), around_a.end(), b), around_a.end());
+  around_b.erase(std::remove(around_b.begin(), around_b.end(), a), around_b.end());
+  LinkCounts link;
+  if (sorted_a && sorted_b) {
+    std::size_t i = 0, j = 0;
+    while (i < around_a.size() && j < around_b.size()) {
+      if (around_a[i] < around_b[j]) {
+        ++i;
+      } else if (around_b[j] < around_a[i]) {
+        ++j;
+      } else {
+        ++link.common, ++i, ++j;
+      }
+    }
+  } else {
+    // One list is short: each of its values looked for in the other.
+    const std::vector<std::uint32_t>& few = sorted_a ? around_b : around_a;
+    const std::vector<std::uint32_t>& many = sorted_a ? around_a : around_b;
+    if (sorted_a || sorted_b) {
+      for (const std::uint32_t u : few) link.common += std::binary_search(many.begin(), many.end(), u);
+    } else {
+      for (const std::uint32_t u : few)
+        for (const std::uint32_t w : many) link.common += u == w;
+    }
+  }
+  // a's ring holds b when an edge joins them; b's ring holds a, then its others.
+  link.ring_a = around_a.size() + 1;
+  link.ring_b = around_b.size() + 1;
+  return link;
+}
+
+// Whether some face of b, moved to a, would have the corners of a face a has already.
+bool CollapseState::doubles_a_face(std::uint32_t a, std::uint32_t b) const {
+  bool doubled = false;
+  for_each_face(b, [&](std::uint32_t f) {
+    if (doubled) return;
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    if (t[0] == a || t[1] == a || t[2] == a) return;  // removed
+    std::uint32_t x = 0, y = 0;
+    int n = 0;
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != b) (n++ == 0 ? x : y) = t[k];
+    for_each_face(a, [&](std::uint32_t g) {
+      const std::uint32_t* s = &mesh_.triangles[3 * g];
+      const bool has_x = s[0] == x || s[1] == x || s[2] == x;
+      const bool has_y = s[0] == y || s[1] == y || s[2] == y;
+      doubled = doubled || (has_x && has_y);
+    });
+  });
+  return doubled;
+}
+
+bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
+  if (face_dead_[f]) return true;
+  const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+  int moved = -1;
+  for (int k = 0; k < 3; ++k)
+    if (t[k] == c.a || t[k] == c.b) moved = moved < 0 ? k : 3;
+  if (moved < 0 || moved == 3) return true;  // not around the edge, or removed
+  Vec3d before[3], after[3];
+  for (int k = 0; k < 3; ++k) after[k] = before[k] = mesh_.positions[t[k]];
+  after[moved] = c.placement;
+  if (same_point(after[moved], before[moved])) return true;  // it passed when it last changed
+  const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
+  const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
+  const double nn0 = squared_length(n0), nn1 = squared_length(n1);
+  // Against the face as it is and as it was in the input: many small turns of one
+  // face, each allowed, must not add up to a flip of the surface it stands for.
+  const Vec3d first = first_normal_[f].vec();
+  if (!(nn1 > 0) || turned_too_far(n0, nn0, n1, nn1, cos_max_turn_) ||
+      turned_too_far(first, squared_length(first), n1, nn1, cos_max_turn_))
+    return false;
+  // A needle: compactness c1 below the guard and below kNeedleSlack times c0, the
+  // face's before (c = 2 sqrt(3) |n| / s, compared squared).
+  const double s1 = sum_of_squared_sides(after[0], after[1], after[2]);
+  if (!(12 * nn1 < min_compactness_ * min_compactness_ * s1 * s1)) return true;
+  const double s0 = sum_of_squared_sides(before[0], before[1], before[2]);
+  return !(nn1 * s0 * s0 < kNeedleSlack * kNeedleSlack * nn0 * s1 * s1);
+}
+
+// The faces that stay: none may flip or become a needle. Only the faces of an end
+// that moves change; the first to fail is blamed.
+bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const {
+  // The ends that move, the one with fewer faces first: a collapse that fails there
+  // is told so before a hub's thousands are checked.
+  const bool b_first = face_count_[c.b] < face_count_[c.a];
+  std::uint32_t moving[2];
+  int count = 0;
+  for (const std::uint32_t end : {b_first ? c.b : c.a, b_first ? c.a : c.b})
+    if (!same_point(mesh_.positions[end], c.placement)) moving[count++] = end;
+  // Each face's corners and input normal are fetched before the first check: they are
+  // scattered over the mesh's arrays, and the checks wait on them.
+  for (int e = 0; e < count; ++e) {
+    const std::uint32_t* p = faces_.data() + face_start_[moving[e]];
+    for (std::uint32_t i = 0; i < face_count_[moving[e]]; ++i) {
+      __builtin_prefetch(&mesh_.triangles[3 * std::size_t(p[i])]);
+      __builtin_prefetch(&first_normal_[p[i]]);
+    }
+  }
+  for (int e = 0; e < count; ++e) {
+    const std::uint32_t end = moving[e];
+    const std::uint32_t* p = faces_.data() + face_start_[end];
+    for (std::uint32_t i = 0; i < face_count_[end]; ++i)
+      if (!keeps_face(c, p[i])) {
+        *blamed = p[i];
+        return false;
+      }
+  }
+  return true;
+}
+
+}  // namespace oocsimp

@@ -1,0 +1,356 @@
+#include "refine/collapse_state.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "cluster/plane_quadric.hpp"
+#include "common/coincident_runs.hpp"
+#include "common/huge_pages.hpp"
+#include "common/vec3_math.hpp"
+#include "refine/small_lists.hpp"
+
+namespace oocsimp {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// A texture seam's line quadric against an outline's (add_boundary_planes): the
+// outline's weight, 1000 per squared edge length, is about 2000 times a face plane's
+// (area-weighted); a seam's is about twice a face's.
+constexpr double kSeamShare = 1e-3;
+
+}  // namespace
+
+CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
+    : mesh_(std::move(mesh)),
+      cos_max_turn_(std::cos(settings.max_normal_turn_degrees * kPi / 180)),
+      min_compactness_(settings.min_compactness) {
+  const std::size_t n = mesh_.positions.size();
+  mesh_.quadrics.resize(n);
+  alive_.assign(n, 1);
+  complex_.assign(n, 0);
+  face_dead_.assign(mesh_.triangles.size() / 3, 0);
+  live_faces_ = face_dead_.size();
+  first_normal_ = std::move(mesh_.face_normals);
+  mesh_.face_normals.clear();
+  if (first_normal_.size() != face_dead_.size()) {
+    reserve_huge(&first_normal_, face_dead_.size());
+    first_normal_.resize(face_dead_.size());
+    for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+      const std::uint32_t* t = &mesh_.triangles[3 * f];
+      const Vec3d& p = mesh_.positions[t[0]];
+      first_normal_[f] = unit_normal(cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p));
+    }
+  }
+  locked_ = std::move(mesh_.locked);
+  mesh_.locked.clear();
+  locked_.resize(n, 0);
+  build_adjacency();
+  classify_vertices();
+  if (settings.lock_boundary)
+    for (std::size_t v = 0; v < n; ++v)
+      if (boundary_[v]) locked_[v] = 1;
+  if (settings.lock_coincident) pair_coincident_vertices();
+  add_boundary_planes(settings.boundary_weight);
+}
+
+void CollapseState::build_adjacency() {
+  const std::size_t n = mesh_.positions.size();
+  face_count_.assign(n, 0);
+  for (std::uint32_t v : mesh_.triangles) ++face_count_[v];
+  face_start_.assign(n, 0);
+  std::uint32_t at = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    face_start_[v] = at;
+    at += face_count_[v];
+  }
+  reserve_huge(&faces_, at);
+  faces_.assign(at, 0);
+  std::vector<std::uint32_t> fill(n, 0);
+  for (std::size_t f = 0; f < face_dead_.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(k)];
+      faces_[face_start_[v] + fill[v]++] = std::uint32_t(f);
+    }
+  compact_at_ = 2 * std::size_t(at) + 1024;
+  // A vertex used by no face takes no part (and is not in the result).
+  for (std::size_t v = 0; v < n; ++v)
+    if (face_count_[v] == 0) alive_[v] = 0;
+}
+
+void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  if (!distinct_neighbours(v, out)) sort_small(out);
+}
+
+bool CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
+      if (u != v) out->push_back(u);
+    }
+  });
+  // Each neighbour comes once or twice (once per face on the edge).
+  return keep_distinct(out);
+}
+
+int CollapseState::faces_on_edge(std::uint32_t a, std::uint32_t b) const {
+  int m = 0;
+  for_each_edge_face(a, b, [&](std::uint32_t) { ++m; });
+  return m;
+}
+
+void CollapseState::edge_faces(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_edge_face(a, b, [&](std::uint32_t f) { out->push_back(f); });
+}
+
+void CollapseState::live_faces(std::uint32_t v, std::vector<std::uint32_t>* out) const {
+  out->clear();
+  for_each_face(v, [&](std::uint32_t f) { out->push_back(f); });
+}
+
+// A vertex on an edge of three or more faces, or whose faces form more than one fan
+// (two cones meeting at their apex), has no disk around it for the link condition to
+// keep. Clustering leaves many (folded sheets where coarse cells cut steep slopes), so
+// such a vertex is not locked but anchored: it does not move, other vertices may merge
+// into it, and collapses there are checked for doubled faces instead of by the link
+// condition. Each vertex is classified on its own, in parallel: anchored or not, on
+// the outline or not.
+void CollapseState::classify_vertices() {
+  const std::size_t n = mesh_.positions.size();
+  boundary_.assign(n, 0);
+  hub_.assign(n, 0);
+  for (std::size_t v = 0; v < n; ++v) hub_[v] = face_count_[v] > kStillHub;
+  tbb::enumerable_thread_specific<VertexScratch> scratch;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(n), 4096),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      VertexScratch& s = scratch.local();
+                      for (std::uint32_t v = r.begin(); v != r.end(); ++v) {
+                        if (!alive_[v]) continue;
+                        const FanShape shape = fan_shape(v, &s);
+                        complex_[v] = !shape.manifold;
+                        boundary_[v] = shape.outline;
+                      }
+                    });
+}
+
+// The other corners of v's faces, each once in `ring` with the number of faces on its
+// edge with v; the corners of one face are joined (union-find over the ring's slots).
+// A ring holds a dozen or so: a scan without early exit finds a slot faster than a
+// sort or a binary search, whose branches the processor cannot predict.
+CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch* scratch) const {
+  // Room for every corner up front: the slots are then plain stores.
+  const std::size_t room = 2 * std::size_t(face_count_[v]);
+  if (scratch->ring.size() < room) {
+    scratch->ring.resize(room);
+    scratch->count.resize(room);
+    scratch->parent.resize(room);
+  }
+  std::uint32_t* const ring = scratch->ring.data();
+  std::uint32_t* const count = scratch->count.data();
+  std::uint32_t* const parent = scratch->parent.data();
+  std::uint32_t size = 0;
+  // A hub's ring (a fan of thousands) is sorted once and searched: scanning it for
+  // each corner would be quadratic in its valence.
+  const bool hub = face_count_[v] > kScannedList;
+  if (hub) {
+    for_each_corner(v, [&](std::uint32_t u) {
+      if (u != v) ring[size++] = u;
+    });
+    std::sort(ring, ring + size);
+    size = std::uint32_t(std::unique(ring, ring + size) - ring);
+    for (std::uint32_t i = 0; i < size; ++i) count[i] = 0, parent[i] = i;
+  }
+  auto slot = [&](std::uint32_t u) {
+    std::uint32_t at = size;
+    if (hub) {
+      at = std::uint32_t(std::lower_bound(ring, ring + size, u) - ring);
+    } else {
+      for (std::uint32_t i = 0; i < size; ++i) at = ring[i] == u ? i : at;
+      if (at == size) {
+        ring[size] = u;
+        count[size] = 0;
+        parent[size] = size;
+        ++size;
+      }
+    }
+    ++count[at];
+    return at;
+  };
+  auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for_each_face(v, [&](std::uint32_t f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    std::uint32_t other[2], m = 0;
+    for (int k = 0; k < 3; ++k)
+      if (t[k] != v) {
+        const std::uint32_t at = slot(t[k]);
+        if (m < 2) other[m++] = at;
+      }
+    if (m == 2) parent[root(other[0])] = root(other[1]);
+  });
+  FanShape shape;
+  std::uint32_t pieces = 0;
+  bool thin = true;  // no edge of three or more faces
+  for (std::uint32_t i = 0; i < size; ++i) {
+    pieces += root(i) == i;
+    thin = thin && count[i] <= 2;
+    shape.outline = shape.outline || count[i] == 1;
+  }
+  // One fan: the neighbours, joined where a face joins them, form one piece (a cycle
+  // inside, a path on the boundary); two cones meeting at v make two.
+  shape.manifold = thin && pieces == 1;
+  return shape;
+}
+
+// Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the
+// quadric of its line (boundary_edge_quadric). A texture seam's edge (both ends
+// mirrored) is a boundary of its side only: its line is held kSeamShare as hard, about
+// as hard as a face's plane, so that a chart's outline keeps its shape as the surface
+// does, where the surface's own outline is held a thousand times harder.
+void CollapseState::add_boundary_planes(double weight) {
+  if (!(weight > 0)) return;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    const std::uint32_t* t = &mesh_.triangles[3 * f];
+    // Most faces have no two corners on the outline: nothing to add.
+    if (int(boundary_[t[0]]) + boundary_[t[1]] + boundary_[t[2]] < 2) continue;
+    const Vec3d& p0 = mesh_.positions[t[0]];
+    const Vec3d normal = cross(mesh_.positions[t[1]] - p0, mesh_.positions[t[2]] - p0);
+    const double normal_length = length(normal);
+    if (!(normal_length > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], w = t[(k + 1) % 3];
+      if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
+      const bool seam = seam_edge(u, w);
+      const Quadric line = boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length,
+                                                 seam ? kSeamShare * weight : weight);
+      mesh_.quadrics[u].add(line);
+      mesh_.quadrics[w].add(line);
+    }
+  }
+}
+
+std::uint64_t CollapseState::non_manifold_count() const {
+  std::uint64_t n = 0;
+  for (std::size_t v = 0; v < complex_.size(); ++v) n += alive_[v] && complex_[v];
+  return n;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> CollapseState::edges() const {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  std::vector<std::uint32_t> ring;
+  for (std::uint32_t a = 0; a < mesh_.positions.size(); ++a) {
+    if (!alive_[a] || locked_[a]) continue;
+    neighbours(a, &ring);
+    for (std::uint32_t b : ring)
+      if (b > a && !locked_[b]) out.emplace_back(a, b);
+  }
+  return out;
+}
+
+bool CollapseState::touches_seam(std::uint32_t u, std::uint32_t w) const {
+  return !mirror_.empty() && (mirror_[u] != kNoMirror || mirror_[w] != kNoMirror);
+}
+
+bool CollapseState::seam_edge(std::uint32_t u, std::uint32_t w) const {
+  if (mirror_.empty()) return false;
+  const std::uint32_t mu = mirror_[u], mw = mirror_[w];
+  if (mu == kNoMirror && mw == kNoMirror) return false;
+  return faces_on_edge(mu == kNoMirror ? u : mu, mw == kNoMirror ? w : mw) > 0;
+}
+
+// The merged lists are appended; once they take twice the start, the live ones are
+// copied down.
+void CollapseState::compact_adjacency() {
+  std::vector<std::uint32_t> packed;
+  reserve_huge(&packed, faces_.size() / 2);
+  for (std::size_t v = 0; v < face_start_.size(); ++v) {
+    const std::uint32_t start = std::uint32_t(packed.size());
+    if (alive_[v]) for_each_face(std::uint32_t(v), [&](std::uint32_t f) { packed.push_back(f); });
+    face_start_[v] = start;
+    face_count_[v] = std::uint32_t(packed.size() - start);
+  }
+  faces_ = std::move(packed);
+  compact_at_ = 2 * faces_.size() + 1024;
+}
+
+// Vertices sorted by position. A run of two at one position, both on a boundary of
+// their side and manifold, are mirrors: the two sides of a texture seam. Every other
+// run of two or more is locked: where three charts meet, or a tangle.
+void CollapseState::pair_coincident_vertices() {
+  mirror_.assign(mesh_.positions.size(), kNoMirror);
+  std::vector<std::uint32_t> vertices;
+  for (std::uint32_t v = 0; v < std::uint32_t(mesh_.positions.size()); ++v)
+    if (alive_[v]) vertices.push_back(v);
+  // Locked vertices pair too (a tile's border): a mirrored collapse needs both sides
+  // free (valid()), and a seam edge's line quadric (add_boundary_planes) must not
+  // depend on where the tiles' borders fall.
+  const auto seam_side = [&](std::uint32_t v) { return boundary_[v] && !complex_[v]; };
+  for_each_coincident_run(
+      std::move(vertices), [&](std::uint32_t v) { return mesh_.positions[v]; },
+      [&](const std::uint32_t* group, std::size_t count) {
+        if (count == 2 && seam_side(group[0]) && seam_side(group[1])) {
+          mirror_[group[0]] = group[1];
+          mirror_[group[1]] = group[0];
+        } else {
+          for (std::size_t k = 0; k < count; ++k) locked_[group[k]] = 1;
+        }
+      });
+  // No pair: no seam (every mirror() is kNoMirror either way), and the passes may
+  // keep costs and work ahead (has_seams()).
+  if (std::all_of(mirror_.begin(), mirror_.end(), [](std::uint32_t m) { return m == kNoMirror; })) mirror_.clear();
+}
+
+QuadricMesh CollapseState::release_vertices() {
+  QuadricMesh out = std::move(mesh_);
+  out.triangles.clear();
+  out.locked = locked_;  // the caller's locks hold in the next state too
+  return out;
+}
+
+QuadricMesh CollapseState::result(std::vector<std::uint32_t>* sources, bool geometry_only) const {
+  constexpr std::uint32_t kUnused = ~std::uint32_t(0);
+  std::vector<std::uint32_t> index(mesh_.positions.size(), kUnused);
+  // The vertices numbered by first use, counted first so that every array is
+  // allocated once.
+  std::uint32_t used = 0;
+  for (std::size_t f = 0; f < face_dead_.size(); ++f)
+    if (!face_dead_[f])
+      for (int j = 0; j < 3; ++j) {
+        std::uint32_t& slot = index[mesh_.triangles[3 * f + std::size_t(j)]];
+        if (slot == kUnused) slot = used++;
+      }
+  QuadricMesh out;
+  const std::size_t k = mesh_.attribute_count;
+  out.attribute_count = k;
+  out.positions.resize(used);
+  if (!geometry_only) out.quadrics.resize(used);
+  out.attributes.resize(std::size_t(used) * k);
+  if (sources) sources->assign(used, 0);
+  for (std::size_t v = 0; v < index.size(); ++v) {
+    const std::uint32_t i = index[v];
+    if (i == kUnused) continue;
+    if (sources) (*sources)[i] = std::uint32_t(v);
+    out.positions[i] = mesh_.positions[v];
+    if (!geometry_only) out.quadrics[i] = mesh_.quadrics[v];
+    std::copy(mesh_.attributes.begin() + std::ptrdiff_t(v * k), mesh_.attributes.begin() + std::ptrdiff_t((v + 1) * k),
+              out.attributes.begin() + std::ptrdiff_t(i * k));
+  }
+  out.triangles.reserve(3 * live_faces_);
+  if (!geometry_only) out.face_normals.reserve(live_faces_);
+  for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+    if (face_dead_[f]) continue;
+    for (int j = 0; j < 3; ++j) out.triangles.push_back(index[mesh_.triangles[3 * f + std::size_t(j)]]);
+    if (!geometry_only) out.face_normals.push_back(first_normal_[f]);
+  }
+  return out;
+}
+
+}  // namespace oocsimp
