@@ -202,10 +202,27 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   return !(link.ring_a == 3 && link.ring_b == 3 && on_edge == 2);
 }
 
-// The neighbours of a and of b, each in a list of this thread's (no per-vertex marks,
-// so that valid() may run on several threads at once), made distinct, and those they
-// share counted.
+// The neighbours of a and of b, made distinct, and those they share counted: in small
+// tables on the stack (no per-vertex marks, so that valid() may run on several threads
+// at once), or, around a hub, in sorted lists of this thread's.
 CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
+  if (2 * std::size_t(face_count_[a]) <= kScannedList && 2 * std::size_t(face_count_[b]) <= kScannedList) {
+    SmallVertexSet ring_a, ring_b;
+    LinkCounts link;
+    for_each_corner(a, [&](std::uint32_t u) {
+      if (u != a && u != b) link.ring_a += ring_a.insert(u);
+    });
+    for_each_corner(b, [&](std::uint32_t u) {
+      if (u != a && u != b && ring_b.insert(u)) {
+        ++link.ring_b;
+        link.common += ring_a.contains(u);
+      }
+    });
+    // a's ring holds b when an edge joins them; b's ring holds a, then its others.
+    ++link.ring_a;
+    ++link.ring_b;
+    return link;
+  }
   thread_local std::vector<std::uint32_t> around_a, around_b;
   const bool sorted_a = distinct_neighbours(a, &around_a), sorted_b = distinct_neighbours(b, &around_b);
   // Each without the other end (removing keeps a sorted list sorted).

@@ -28,28 +28,58 @@ void sort_small(std::vector<T>* v) {
   }
 }
 
-// A list of up to this many vertices (a ring around a vertex: a dozen or so) is
-// scanned, without early exit, where a sort or a binary search would mispredict; a
-// longer one (a hub's hundreds or thousands) is sorted (keep_distinct, fan_shape).
+// A list of up to this many vertices (a ring around a vertex: a dozen or so) is made
+// distinct in a small table on the stack (SmallVertexSet); a longer one (a hub's
+// hundreds or thousands) is sorted (keep_distinct, fan_shape).
 constexpr std::size_t kScannedList = 32;
 
-// Drops repeats from a short list, keeping each value's first place, by scans without
-// early exit (a dozen or so values: no branch to mispredict); a long one (a hub's
-// hundreds) is sorted instead. Returns whether it was sorted.
+// A set of up to kScannedList vertex indices, open-addressed in a table on the stack:
+// a dozen or so lookups where a scan of the list for each value costs a hundred
+// compares. Insertion order is kept by the caller's list, not here.
+class SmallVertexSet {
+ public:
+  SmallVertexSet() { std::fill(slot_, slot_ + kSlots, kEmpty); }
+  /// Adds u; false when it was there already.
+  bool insert(std::uint32_t u) {
+    std::uint32_t h = home(u);
+    while (slot_[h] != kEmpty) {
+      if (slot_[h] == u) return false;
+      h = (h + 1) & (kSlots - 1);
+    }
+    slot_[h] = u;
+    return true;
+  }
+  bool contains(std::uint32_t u) const {
+    for (std::uint32_t h = home(u); slot_[h] != kEmpty; h = (h + 1) & (kSlots - 1))
+      if (slot_[h] == u) return true;
+    return false;
+  }
+
+ private:
+  // Twice kScannedList's slots keep the table at most half full, so probes are short.
+  static constexpr std::uint32_t kSlots = 64;
+  static constexpr std::uint32_t kEmpty = ~std::uint32_t(0);
+  // Fibonacci hashing: neighbouring indices spread over the table.
+  static std::uint32_t home(std::uint32_t u) { return (u * 0x9E3779B1u) >> 26; }
+  static_assert(2 * kScannedList <= kSlots, "the table holds a short list at most half full");
+
+  std::uint32_t slot_[kSlots];
+};
+
+// Drops repeats from a list, keeping each value's first place; a long one (more than
+// kScannedList values: a hub's hundreds) is sorted instead. Returns whether it was
+// sorted.
 inline bool keep_distinct(std::vector<std::uint32_t>* list) {
   if (list->size() > kScannedList) {
     std::sort(list->begin(), list->end());
     list->erase(std::unique(list->begin(), list->end()), list->end());
     return true;
   }
+  SmallVertexSet seen;
   std::uint32_t* x = list->data();
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < list->size(); ++i) {
-    bool seen = false;
-    for (std::size_t j = 0; j < kept; ++j) seen |= x[j] == x[i];
-    x[kept] = x[i];
-    kept += !seen;
-  }
+  for (std::size_t i = 0; i < list->size(); ++i)
+    if (seen.insert(x[i])) x[kept++] = x[i];
   list->resize(kept);
   return false;
 }
