@@ -72,6 +72,25 @@ Vec3d times(const Quadric& q, const Vec3d& v) {
           q.a02 * v.x + q.a12 * v.y + q.a22 * v.z};
 }
 
+// Two doubles side by side (an SSE2 register): the quadric's error at two points at
+// once. Each lane takes exactly the operations, in the order, of Quadric::error, so
+// that the costs, and the collapses chosen by them, are those of the scalar code.
+typedef double DoublePair __attribute__((vector_size(16)));
+
+// The quadric error of q at points (x[0], y[0], z[0]) and (x[1], y[1], z[1]), and A
+// times each point (ax, ay, az), lane by lane.
+struct PairErrors {
+  DoublePair error, ax, ay, az;
+};
+PairErrors pair_errors(const Quadric& q, DoublePair x, DoublePair y, DoublePair z) {
+  PairErrors r;
+  r.ax = q.a00 * x + q.a01 * y + q.a02 * z;
+  r.ay = q.a01 * x + q.a11 * y + q.a12 * z;
+  r.az = q.a02 * x + q.a12 * y + q.a22 * z;
+  r.error = x * r.ax + y * r.ay + z * r.az - 2 * (q.b0 * x + q.b1 * y + q.b2 * z) + q.c;
+  return r;
+}
+
 }  // namespace
 
 // The placement of Theoharis et al. 2008, "Graphics & Visualization: Principles and
@@ -102,26 +121,41 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
     const Vec3d& fixed = anchored_a ? pa : pb;
     return {clean_cost(q.error(fixed)), a, b, fixed};
   }
-  Candidate best{q.error(pa), a, b, pa};
-  auto consider = [&](const Vec3d& x) {
-    const double e = q.error(x);
+  // The ends' errors side by side; A pa, the first lane's, serves the line's minimum.
+  const PairErrors ends = pair_errors(q, DoublePair{pa.x, pb.x}, DoublePair{pa.y, pb.y}, DoublePair{pa.z, pb.z});
+  Candidate best{ends.error[0], a, b, pa};
+  auto consider = [&](double e, const Vec3d& x) {
     if (e < best.cost) best.cost = e, best.placement = x;
   };
-  consider(pb);
+  consider(ends.error[1], pb);
   if (anchored_a) {
     best.cost = clean_cost(best.cost);
     return best;
   }
   const Vec3d d = pb - pa;
   const double dad = dot(d, times(q, d));
+  // The best point of the edge, then the minimum of Q, are considered in that order;
+  // their errors are worked out side by side when both are there.
+  Vec3d on_edge, x;
+  bool has_on_edge = false;
   if (dad > 0) {
     // E(pa + t d) = E(pa) + 2 t (d.A pa - d.b) + t^2 d.A d
-    const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, times(q, pa))) / dad;
-    if (t > 0 && t < 1) consider(pa + d * t);
+    const Vec3d a_pa{ends.ax[0], ends.ay[0], ends.az[0]};
+    const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, a_pa)) / dad;
+    if (t > 0 && t < 1) on_edge = pa + d * t, has_on_edge = true;
   }
-  Vec3d x;
   const Vec3d mid = (pa + pb) * 0.5;
-  if (solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d)) consider(x);
+  const bool has_x = solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d);
+  if (has_on_edge && has_x) {
+    const PairErrors e =
+        pair_errors(q, DoublePair{on_edge.x, x.x}, DoublePair{on_edge.y, x.y}, DoublePair{on_edge.z, x.z});
+    consider(e.error[0], on_edge);
+    consider(e.error[1], x);
+  } else if (has_on_edge) {
+    consider(q.error(on_edge), on_edge);
+  } else if (has_x) {
+    consider(q.error(x), x);
+  }
   best.cost = clean_cost(best.cost);
   return best;
 }
