@@ -88,6 +88,13 @@ void CollapseState::neighbours(std::uint32_t v, std::vector<std::uint32_t>* out)
 
 bool CollapseState::distinct_neighbours(std::uint32_t v, std::vector<std::uint32_t>* out) const {
   out->clear();
+  if (2 * std::size_t(face_count_[v]) <= kScannedList) {
+    SmallVertexSet seen;
+    for_each_corner(v, [&](std::uint32_t u) {
+      if (u != v && seen.insert(u)) out->push_back(u);
+    });
+    return false;
+  }
   for_each_face(v, [&](std::uint32_t f) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = mesh_.triangles[3 * f + std::size_t(k)];
@@ -141,8 +148,8 @@ void CollapseState::classify_vertices() {
 
 // The other corners of v's faces, each once in `ring` with the number of faces on its
 // edge with v; the corners of one face are joined (union-find over the ring's slots).
-// A ring holds a dozen or so: a scan without early exit finds a slot faster than a
-// sort or a binary search, whose branches the processor cannot predict.
+// A ring holds a dozen or so: its slots are found in a small table on the stack
+// (SmallVertexSlots); a hub's ring is sorted once and searched.
 CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch* scratch) const {
   // Room for every corner up front: the slots are then plain stores.
   const std::size_t room = 2 * std::size_t(face_count_[v]);
@@ -155,9 +162,7 @@ CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch*
   std::uint32_t* const count = scratch->count.data();
   std::uint32_t* const parent = scratch->parent.data();
   std::uint32_t size = 0;
-  // A hub's ring (a fan of thousands) is sorted once and searched: scanning it for
-  // each corner would be quadratic in its valence.
-  const bool hub = face_count_[v] > kScannedList;
+  const bool hub = room > kScannedList;
   if (hub) {
     for_each_corner(v, [&](std::uint32_t u) {
       if (u != v) ring[size++] = u;
@@ -166,14 +171,14 @@ CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch*
     size = std::uint32_t(std::unique(ring, ring + size) - ring);
     for (std::uint32_t i = 0; i < size; ++i) count[i] = 0, parent[i] = i;
   }
+  SmallVertexSlots slots;
   auto slot = [&](std::uint32_t u) {
-    std::uint32_t at = size;
+    std::uint32_t at;
     if (hub) {
       at = std::uint32_t(std::lower_bound(ring, ring + size, u) - ring);
     } else {
-      for (std::uint32_t i = 0; i < size; ++i) at = ring[i] == u ? i : at;
+      at = slots.slot(u);
       if (at == size) {
-        ring[size] = u;
         count[size] = 0;
         parent[size] = size;
         ++size;

@@ -66,6 +66,35 @@ class SmallVertexSet {
   std::uint32_t slot_[kSlots];
 };
 
+// Numbers the distinct vertices of a short list 0, 1, 2, ... in order of first
+// appearance, in an open-addressed table on the stack (as SmallVertexSet).
+class SmallVertexSlots {
+ public:
+  SmallVertexSlots() { std::fill(key_, key_ + kSlots, kEmpty); }
+  /// u's number; a vertex not seen yet gets the next one.
+  std::uint32_t slot(std::uint32_t u) {
+    std::uint32_t h = (u * 0x9E3779B1u) >> 26;
+    while (key_[h] != kEmpty) {
+      if (key_[h] == u) return value_[h];
+      h = (h + 1) & (kSlots - 1);
+    }
+    key_[h] = u;
+    value_[h] = size_;
+    return size_++;
+  }
+  /// The distinct vertices numbered so far.
+  std::uint32_t size() const { return size_; }
+
+ private:
+  static constexpr std::uint32_t kSlots = 64;
+  static constexpr std::uint32_t kEmpty = ~std::uint32_t(0);
+  static_assert(2 * kScannedList <= kSlots, "the table holds a short list at most half full");
+
+  std::uint32_t key_[kSlots];
+  std::uint32_t value_[kSlots];
+  std::uint32_t size_ = 0;
+};
+
 // Drops repeats from a list, keeping each value's first place; a long one (more than
 // kScannedList values: a hub's hundreds) is sorted instead. Returns whether it was
 // sorted.
