@@ -18,13 +18,6 @@ namespace {
 // by orders of magnitude over the result without the freeze.
 constexpr double kNeedleSlack = 0.5;
 
-// Velho 1999 eq. 4: compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a, is
-// 2 sqrt(3) |n| / s for s the sum of the squared sides. The checks compare it without
-// a square root: 12 |n|^2 / s^2 is its square.
-double sum_of_squared_sides(const Vec3d& p, const Vec3d& q, const Vec3d& r) {
-  return squared_distance(p, q) + squared_distance(q, r) + squared_distance(r, p);
-}
-
 // Whether normal n turned to m by more than the angle whose cosine is `cos_max`:
 // dot(n, m) <= cos_max |n| |m|, from the squared lengths, without a square root.
 bool turned_too_far(const Vec3d& n, double nn, const Vec3d& m, double mm, double cos_max) {
@@ -121,40 +114,31 @@ CollapseState::Candidate CollapseState::evaluate(std::uint32_t a, std::uint32_t 
     const Vec3d& fixed = anchored_a ? pa : pb;
     return {clean_cost(q.error(fixed)), a, b, fixed};
   }
+  const Vec3d d = pb - pa;
+  if (!anchored_a) {
+    // Where A is well conditioned, Q is strictly convex and x = A^-1 b its minimum: no
+    // end nor point of the edge costs less, so they need no cost of their own.
+    Vec3d x;
+    const Vec3d mid = (pa + pb) * 0.5;
+    if (solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d)) return {clean_cost(q.error(x)), a, b, x};
+  }
   // The ends' errors side by side; A pa, the first lane's, serves the line's minimum.
   const PairErrors ends = pair_errors(q, DoublePair{pa.x, pb.x}, DoublePair{pa.y, pb.y}, DoublePair{pa.z, pb.z});
   Candidate best{ends.error[0], a, b, pa};
-  auto consider = [&](double e, const Vec3d& x) {
-    if (e < best.cost) best.cost = e, best.placement = x;
-  };
-  consider(ends.error[1], pb);
-  if (anchored_a) {
-    best.cost = clean_cost(best.cost);
-    return best;
-  }
-  const Vec3d d = pb - pa;
-  const double dad = dot(d, times(q, d));
-  // The best point of the edge, then the minimum of Q, are considered in that order;
-  // their errors are worked out side by side when both are there.
-  Vec3d on_edge, x;
-  bool has_on_edge = false;
-  if (dad > 0) {
-    // E(pa + t d) = E(pa) + 2 t (d.A pa - d.b) + t^2 d.A d
-    const Vec3d a_pa{ends.ax[0], ends.ay[0], ends.az[0]};
-    const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, a_pa)) / dad;
-    if (t > 0 && t < 1) on_edge = pa + d * t, has_on_edge = true;
-  }
-  const Vec3d mid = (pa + pb) * 0.5;
-  const bool has_x = solve(q, &x) && squared_distance(x, mid) <= 4 * squared_length(d);
-  if (has_on_edge && has_x) {
-    const PairErrors e =
-        pair_errors(q, DoublePair{on_edge.x, x.x}, DoublePair{on_edge.y, x.y}, DoublePair{on_edge.z, x.z});
-    consider(e.error[0], on_edge);
-    consider(e.error[1], x);
-  } else if (has_on_edge) {
-    consider(q.error(on_edge), on_edge);
-  } else if (has_x) {
-    consider(q.error(x), x);
+  if (ends.error[1] < best.cost) best.cost = ends.error[1], best.placement = pb;
+  if (!anchored_a) {
+    // The flat and linear cases, or a minimum far off the edge: the best point of the
+    // edge, E(pa + t d) = E(pa) + 2 t (d.A pa - d.b) + t^2 d.A d.
+    const double dad = dot(d, times(q, d));
+    if (dad > 0) {
+      const Vec3d a_pa{ends.ax[0], ends.ay[0], ends.az[0]};
+      const double t = (dot(d, Vec3d{q.b0, q.b1, q.b2}) - dot(d, a_pa)) / dad;
+      if (t > 0 && t < 1) {
+        const Vec3d on_edge = pa + d * t;
+        const double e = q.error(on_edge);
+        if (e < best.cost) best.cost = e, best.placement = on_edge;
+      }
+    }
   }
   best.cost = clean_cost(best.cost);
   return best;
@@ -313,19 +297,54 @@ bool CollapseState::doubles_a_face(std::uint32_t a, std::uint32_t b) const {
 }
 
 bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
-  if (face_dead_[f]) return true;
+  return face_dead_[f] || keeps_live_face(c, f);
+}
+
+// The face as it is and as the collapse would leave it, side by side (lane 0 before,
+// lane 1 after; each lane the operations of cross() and squared_length() in their
+// order): its normal, the normal's squared length and the sum s of its squared sides.
+// Velho 1999 eq. 4: compactness 4 sqrt(3) a / (l1^2 + l2^2 + l3^2), with |n| = 2a, is
+// 2 sqrt(3) |n| / s. The checks compare it without a square root: 12 |n|^2 / s^2 is
+// its square.
+namespace {
+struct FaceBeforeAfter {
+  DoublePair nx, ny, nz, nn, sides;
+};
+FaceBeforeAfter face_before_after(const Vec3d* corner[3], int moved, const Vec3d& placement) {
+  DoublePair x[3], y[3], z[3];
+  for (int k = 0; k < 3; ++k) {
+    const Vec3d& q = k == moved ? placement : *corner[k];
+    x[k] = DoublePair{corner[k]->x, q.x};
+    y[k] = DoublePair{corner[k]->y, q.y};
+    z[k] = DoublePair{corner[k]->z, q.z};
+  }
+  FaceBeforeAfter r;
+  const DoublePair e1x = x[1] - x[0], e1y = y[1] - y[0], e1z = z[1] - z[0];
+  const DoublePair e2x = x[2] - x[0], e2y = y[2] - y[0], e2z = z[2] - z[0];
+  r.nx = e1y * e2z - e1z * e2y;
+  r.ny = e1z * e2x - e1x * e2z;
+  r.nz = e1x * e2y - e1y * e2x;
+  r.nn = r.nx * r.nx + r.ny * r.ny + r.nz * r.nz;
+  auto squared_side = [&](int i, int j) {
+    const DoublePair dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+    return dx * dx + dy * dy + dz * dz;
+  };
+  r.sides = squared_side(0, 1) + squared_side(1, 2) + squared_side(2, 0);
+  return r;
+}
+}  // namespace
+
+bool CollapseState::keeps_live_face(const Candidate& c, std::uint32_t f) const {
   const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
   int moved = -1;
   for (int k = 0; k < 3; ++k)
     if (t[k] == c.a || t[k] == c.b) moved = moved < 0 ? k : 3;
   if (moved < 0 || moved == 3) return true;  // not around the edge, or removed
-  Vec3d before[3], after[3];
-  for (int k = 0; k < 3; ++k) after[k] = before[k] = mesh_.positions[t[k]];
-  after[moved] = c.placement;
-  if (same_point(after[moved], before[moved])) return true;  // it passed when it last changed
-  const Vec3d n0 = cross(before[1] - before[0], before[2] - before[0]);
-  const Vec3d n1 = cross(after[1] - after[0], after[2] - after[0]);
-  const double nn0 = squared_length(n0), nn1 = squared_length(n1);
+  const Vec3d* corner[3] = {&mesh_.positions[t[0]], &mesh_.positions[t[1]], &mesh_.positions[t[2]]};
+  if (same_point(c.placement, *corner[moved])) return true;  // it passed when it last changed
+  const FaceBeforeAfter face = face_before_after(corner, moved, c.placement);
+  const Vec3d n0{face.nx[0], face.ny[0], face.nz[0]}, n1{face.nx[1], face.ny[1], face.nz[1]};
+  const double nn0 = face.nn[0], nn1 = face.nn[1];
   // Against the face as it is and as it was in the input: many small turns of one
   // face, each allowed, must not add up to a flip of the surface it stands for.
   const Vec3d first = first_normal_[f].vec();
@@ -334,9 +353,8 @@ bool CollapseState::keeps_face(const Candidate& c, std::uint32_t f) const {
     return false;
   // A needle: compactness c1 below the guard and below kNeedleSlack times c0, the
   // face's before (c = 2 sqrt(3) |n| / s, compared squared).
-  const double s1 = sum_of_squared_sides(after[0], after[1], after[2]);
+  const double s0 = face.sides[0], s1 = face.sides[1];
   if (!(12 * nn1 < min_compactness_ * min_compactness_ * s1 * s1)) return true;
-  const double s0 = sum_of_squared_sides(before[0], before[1], before[2]);
   return !(nn1 * s0 * s0 < kNeedleSlack * kNeedleSlack * nn0 * s1 * s1);
 }
 
@@ -363,7 +381,7 @@ bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const
     const std::uint32_t end = moving[e];
     const std::uint32_t* p = faces_.data() + face_start_[end];
     for (std::uint32_t i = 0; i < face_count_[end]; ++i)
-      if (!keeps_face(c, p[i])) {
+      if (!face_dead_[p[i]] && !keeps_live_face(c, p[i])) {
         *blamed = p[i];
         return false;
       }

@@ -171,6 +171,8 @@ class CollapseState {
   };
   LinkCounts link_counts(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
+  // keeps_face() of a face not dead.
+  bool keeps_live_face(const Candidate& c, std::uint32_t f) const;
   void add_boundary_planes(double weight);
   void pair_coincident_vertices();
   // Whether edge (u, w), of one face, is a seam's: its counterpart on the other side,
