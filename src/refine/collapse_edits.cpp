@@ -60,10 +60,8 @@ void CollapseState::collapse_one(const Candidate& c) {
       if (tr[j] == b) tr[j] = a;
     merged.push_back(f);
   });
-  face_start_[a] = std::uint32_t(faces_.size());
-  face_count_[a] = std::uint32_t(merged.size());
-  faces_.insert(faces_.end(), merged.begin(), merged.end());
   face_count_[b] = 0;
+  set_face_list(a, merged);
   alive_[b] = 0;
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
@@ -82,7 +80,6 @@ void CollapseState::collapse_one(const Candidate& c) {
         newly_anchored_.push_back(u);
       }
   }
-  if (faces_.size() > compact_at_) compact_adjacency();
 }
 
 bool CollapseState::longest_edge(int faces, std::pair<std::uint32_t, std::uint32_t>* edge) const {
@@ -138,9 +135,7 @@ void CollapseState::split_edge(std::uint32_t u, std::uint32_t w, int faces) {
     list.clear();
     for_each_face(v, [&](std::uint32_t f) { list.push_back(f == from ? to : f); });
     if (add) list.push_back(to);
-    face_start_[v] = std::uint32_t(faces_.size());
-    face_count_[v] = std::uint32_t(list.size());
-    faces_.insert(faces_.end(), list.begin(), list.end());
+    set_face_list(v, list);
   };
   for (std::uint32_t f : around) {
     int side = 0;

@@ -68,7 +68,7 @@ void CollapseState::build_adjacency() {
     face_start_[v] = at;
     at += face_count_[v];
   }
-  reserve_huge(&faces_, at);
+  reserve_huge(&faces_, list_room(at));
   faces_.assign(at, 0);
   std::vector<std::uint32_t> fill(n, 0);
   for (std::size_t f = 0; f < face_dead_.size(); ++f)
@@ -76,7 +76,6 @@ void CollapseState::build_adjacency() {
       const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(k)];
       faces_[face_start_[v] + fill[v]++] = std::uint32_t(f);
     }
-  compact_at_ = 2 * std::size_t(at) + 1024;
   // A vertex used by no face takes no part (and is not in the result).
   for (std::size_t v = 0; v < n; ++v)
     if (face_count_[v] == 0) alive_[v] = 0;
@@ -271,11 +270,22 @@ bool CollapseState::seam_edge(std::uint32_t u, std::uint32_t w) const {
   return faces_on_edge(mu == kNoMirror ? u : mu, mw == kNoMirror ? w : mw) > 0;
 }
 
-// The merged lists are appended; once they take twice the start, the live ones are
-// copied down.
-void CollapseState::compact_adjacency() {
+// A vertex's new face list is appended to the array of lists, in the room its
+// building left (list_room); once the room is full, the live lists are packed into a
+// new array with room again, so that the array never regrows (reallocated and copied,
+// its new pages faulted in) as the collapses go on.
+void CollapseState::set_face_list(std::uint32_t v, const std::vector<std::uint32_t>& list) {
+  if (faces_.size() + list.size() > faces_.capacity()) compact_adjacency(list.size());
+  face_start_[v] = std::uint32_t(faces_.size());
+  face_count_[v] = std::uint32_t(list.size());
+  faces_.insert(faces_.end(), list.begin(), list.end());
+}
+
+void CollapseState::compact_adjacency(std::size_t more) {
+  std::size_t held = 0;
+  for (std::size_t v = 0; v < face_start_.size(); ++v) held += alive_[v] ? face_count_[v] : 0;
   std::vector<std::uint32_t> packed;
-  reserve_huge(&packed, faces_.size() / 2);
+  reserve_huge(&packed, list_room(held) + more);
   for (std::size_t v = 0; v < face_start_.size(); ++v) {
     const std::uint32_t start = std::uint32_t(packed.size());
     if (alive_[v]) for_each_face(std::uint32_t(v), [&](std::uint32_t f) { packed.push_back(f); });
@@ -283,7 +293,6 @@ void CollapseState::compact_adjacency() {
     face_count_[v] = std::uint32_t(packed.size() - start);
   }
   faces_ = std::move(packed);
-  compact_at_ = 2 * faces_.size() + 1024;
 }
 
 // Vertices sorted by position. A run of two at one position, both on a boundary of

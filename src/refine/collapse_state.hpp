@@ -198,7 +198,11 @@ class CollapseState {
   // new vertex is the last.
   void split_edge(std::uint32_t u, std::uint32_t w, int faces);
   void classify_vertices();
-  void compact_adjacency();
+  // Room for the face lists of `packed` entries and the lists the collapses append:
+  // twice as many, and some for a small mesh.
+  static std::size_t list_room(std::size_t packed) { return 2 * packed + 1024; }
+  void set_face_list(std::uint32_t v, const std::vector<std::uint32_t>& list);
+  void compact_adjacency(std::size_t more);
 
   QuadricMesh mesh_;
   double cos_max_turn_;
@@ -208,7 +212,6 @@ class CollapseState {
   std::vector<std::uint32_t> mirror_;     // per vertex: its mirror across a seam, or kNoMirror (empty: no seams)
   std::vector<UnitNormal> first_normal_;  // each face's normal in the input
   std::vector<std::uint32_t> face_start_, face_count_, faces_;  // faces around each vertex
-  std::size_t compact_at_ = 0;
   std::uint64_t live_faces_ = 0;
   mutable std::vector<std::uint32_t> scratch_a_;
   mutable VertexScratch scratch_;
