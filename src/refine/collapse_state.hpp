@@ -163,6 +163,8 @@ class CollapseState {
     bool manifold = false, outline = false;
   };
   FanShape fan_shape(std::uint32_t v, VertexScratch* scratch) const;
+  // Whether v's faces form one closed fan, wound consistently (fan_shape's quick case).
+  bool closed_fan(std::uint32_t v) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
   // For edge (a, b): how many distinct vertices share a face with a (b among them),
   // with b (a among them), and with both.
