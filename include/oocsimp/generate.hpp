@@ -10,7 +10,7 @@
 
 namespace oocsimp {
 
-enum class SyntheticShape { sphere, terrain, parts, branches, boxes };
+enum class SyntheticShape { sphere, terrain, parts, branches, boxes, holes, soup };
 
 /// The branches shape's dimensions (model units): the trunk's radius, the thin
 /// branches' radius and count, the buds' radius.
@@ -58,7 +58,20 @@ struct GenerateResult {
 ///    flat faces are tessellated into long thin triangles (4 cells up the walls, top
 ///    cells 4 times longer one way than the other), with about 12 zero-area slivers a
 ///    box (three collinear corners: an edge split at its midpoint on one side, the
-///    T-junction closed by the sliver), as CAD exports leave them.
+///    T-junction closed by the sliver), as CAD exports leave them;
+///  - holes: a bumpy torus (major radius 1, minor 0.4, displaced by seeded sinusoids) of
+///    square quads with hundreds of holes, as scans have: nine in ten 3 x 3 blocks of
+///    cells lose their middle cell (half the time with the cell after it along u, v or
+///    both), and one 9 x 9 super-block in three instead holds a round hole of radius
+///    1.5 to 3.5 cells. Holes never touch: every edge has one or two faces,
+///    consistently oriented, and every vertex one fan. About a sixth of the edges are
+///    on the holes' outlines. Only vertices a face uses are written;
+///  - soup: the terrain's height field exported nearly as a triangle soup: blocks of
+///    4 x 4 cells, four in five welded (their own lattice of vertices, one cell in ten
+///    with a fin, a triangle standing on the cell's diagonal: an edge of three faces),
+///    the rest unwelded (each triangle its own three vertices, one cell in twenty with
+///    an exact unwelded copy of its first triangle, one in twenty with a jittered copy
+///    overlapping it). About half the edges have one face.
 /// With `attributes`, each vertex follows x, y, z with
 ///  - uchar red, green, blue: a linear function of position over the bounding box
 ///    [lo, hi] of the written (float) positions: red = floor(255 (x - lo_x) /
@@ -67,7 +80,9 @@ struct GenerateResult {
 ///    parametrisation: on the sphere the gradient of |p| - 1 - f(p / |p|) (f the
 ///    displacement), on the terrain (-h_x, -h_y, 1) normalised, on the parts the
 ///    normal of the box face, cylinder side or cap the vertex belongs to, on the
-///    boxes the normalised sum of the outward normals of the faces through the vertex.
+///    boxes the normalised sum of the outward normals of the faces through the vertex,
+///    on the holes the normal of the displaced torus, on the soup the terrain's at the
+///    corner's (x, y) (level across the diagonal for a fin's apex).
 /// The vertices are then computed twice (the box first), still in O(1) memory.
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
 /// complete). Throws UsageError for options.triangles 0, IoError when writing fails.

@@ -79,7 +79,7 @@ class PlyEmitter {
   template <class T>
   static char* put_text(char* p, char* end, const T (&v)[3], char last) {
     for (int k = 0; k < 3; ++k) {
-      p = std::to_chars(p, end, v[k]).ptr;
+      p = std::to_chars(p, end - 1, v[k]).ptr;  // room for the separator
       *p++ = k == 2 ? last : ' ';
     }
     return p;
@@ -126,7 +126,7 @@ class PlyEmitter {
     char buf[48] = "3 ";
     char* p = buf + 2;
     for (int k = 0; k < 3; ++k) {
-      p = std::to_chars(p, buf + sizeof buf, v[k]).ptr;
+      p = std::to_chars(p, buf + sizeof buf - 1, v[k]).ptr;  // room for the separator
       *p++ = k == 2 ? '\n' : ' ';
     }
     sink_.write(buf, std::size_t(p - buf));
@@ -808,6 +808,326 @@ GenerateResult boxes(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) 
   return {nv, nf};
 }
 
+// A hash of (seed, tag, a, b) to [0, 1): the holes and the soup's defects are drawn
+// per block or cell from their indices, so any of them is found in closed form, in
+// any order, without a list.
+double hashed(std::uint64_t seed, std::uint64_t tag, std::uint64_t a, std::uint64_t b) {
+  SplitMix64 r{seed ^ (tag * 0xD6E8FEB86659FD93ull)};
+  r.s ^= r.next() + a * 0x9E3779B97F4A7C15ull;
+  r.s ^= r.next() + b * 0xC2B2AE3D27D4EB4Full;
+  return double(r.next() >> 11) * (1.0 / 9007199254740992.0);
+}
+
+// --- holes: a bumpy torus with hundreds of holes punched in it, as scans have ---
+//
+// The torus (major radius 1, minor 0.4, displaced along its normal by a sum of seeded
+// sinusoids) is a U x V grid of quads, each two triangles, with no pole. Holes remove
+// whole cells, in two sizes:
+//  - the grid is cut into super-blocks of kBig x kBig cells; one in three holds a large
+//    round hole (radius 1.5 to 3.5 cells, centre drawn in it), which removes the
+//    cells of its interior (all but its outermost ring) whose centres it holds;
+//  - elsewhere the grid is cut into blocks of kSmall x kSmall cells, and in nine
+//    blocks in ten the middle cell is removed, and half the time the cell after it
+//    along u, along v, or both: a hole of four to eight edges.
+// Removed cells of two holes are thus at least two cells apart, so no vertex is on two
+// holes (a single round hole's cells never meet at a corner only): every vertex has
+// one fan. A vertex is written when a kept cell uses it, numbered row by row, so a
+// face's corners follow from running counts: O(1) memory.
+struct HoleyTorus {
+  static constexpr std::uint64_t kSmall = 3, kBig = 9;
+  static constexpr double kMajor = 1.0, kMinor = 0.4;
+  std::uint64_t U = 0, V = 0, seed = 1;
+  // Whether cell (i, j), wrapped, is kept.
+  bool cell_kept(std::int64_t i, std::int64_t j) const {
+    const std::uint64_t x = std::uint64_t((i % std::int64_t(U) + std::int64_t(U)) % std::int64_t(U));
+    const std::uint64_t y = std::uint64_t((j % std::int64_t(V) + std::int64_t(V)) % std::int64_t(V));
+    const std::uint64_t su = x / kBig, sv = y / kBig;
+    if (hashed(seed, 1, su, sv) < 1.0 / 3) {
+      // A super-block cut by the wrap is shorter: its hole stays inside what it has.
+      const std::uint64_t lo_u = su * kBig + 1, hi_u = std::min(U, (su + 1) * kBig) - 1;
+      const std::uint64_t lo_v = sv * kBig + 1, hi_v = std::min(V, (sv + 1) * kBig) - 1;
+      if (x < lo_u || x >= hi_u || y < lo_v || y >= hi_v) return true;
+      const double cu = double(lo_u) + hashed(seed, 2, su, sv) * double(hi_u - lo_u);
+      const double cv = double(lo_v) + hashed(seed, 3, su, sv) * double(hi_v - lo_v);
+      const double radius = 1.5 + 2.0 * hashed(seed, 4, su, sv);
+      const double dx = double(x) + 0.5 - cu, dy = double(y) + 0.5 - cv;
+      return dx * dx + dy * dy > radius * radius;
+    }
+    // The middle cell, and half the time the cell after it along u, along v, or both
+    // (not the one diagonally after: the hole is an L at most).
+    const std::uint64_t bu = x / kSmall, bv = y / kSmall, du = x % kSmall, dv = y % kSmall;
+    if (du == 0 || dv == 0 || (du == 2 && dv == 2) || hashed(seed, 5, bu, bv) >= 0.9) return true;
+    return (du == 2 && hashed(seed, 6, bu, bv) >= 0.5) || (dv == 2 && hashed(seed, 7, bu, bv) >= 0.5);
+  }
+  // Whether vertex (i, j) is used by a kept cell.
+  bool vertex_kept(std::int64_t i, std::int64_t j) const {
+    return cell_kept(i - 1, j - 1) || cell_kept(i, j - 1) || cell_kept(i - 1, j) || cell_kept(i, j);
+  }
+  std::uint64_t kept_cells() const {
+    std::uint64_t n = 0;
+    for (std::uint64_t j = 0; j < V; ++j)
+      for (std::uint64_t i = 0; i < U; ++i) n += cell_kept(std::int64_t(i), std::int64_t(j));
+    return n;
+  }
+};
+
+GenerateResult holes(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) {
+  SplitMix64 rng{o.seed};
+  SineField field(rng, 6, 2.0, 0.03);
+  HoleyTorus t;
+  t.seed = o.seed;
+  // Square cells: U / V is the ratio of the mean circumferences, 2.5. The holes take
+  // a share of the cells that depends on the draw: the grid is scaled by the share a
+  // first grid keeps, twice, and the closest count taken.
+  auto size_for = [&](double cells) {
+    t.V = std::max<std::uint64_t>(4, std::uint64_t(std::llround(std::sqrt(cells / 2.5))));
+    t.U = std::max<std::uint64_t>(6, std::uint64_t(std::llround(2.5 * double(t.V))));
+  };
+  const double want = double(o.triangles) / 2;
+  size_for(want / 0.85);
+  std::uint64_t best_u = t.U, best_v = t.V, kept = t.kept_cells();
+  for (int round = 0; round < 2 && kept > 0; ++round) {
+    size_for(double(t.U * t.V) * want / double(kept));
+    const std::uint64_t k = t.kept_cells();
+    if (std::fabs(double(k) - want) < std::fabs(double(kept) - want)) best_u = t.U, best_v = t.V, kept = k;
+  }
+  t.U = best_u, t.V = best_v;
+  std::uint64_t nv = 0;
+  for (std::uint64_t j = 0; j < t.V; ++j)
+    for (std::uint64_t i = 0; i < t.U; ++i) nv += t.vertex_kept(std::int64_t(i), std::int64_t(j));
+  const std::uint64_t nf = 2 * kept;
+  PlyEmitter out(sink, o.ascii, o.attributes, nv, nf);
+  fc.total = nf;
+  // p(u, v) = p0 + h n0: p0 on the torus, n0 its outward normal, h = f(p0). The
+  // normal is p_u x p_v, with p_u = p0_u + h_u n0 + h n0_u (the same in v) and
+  // h_u = grad f . p0_u.
+  emit_vertices(out, [&](const auto& visit) {
+    for (std::uint64_t j = 0; j < t.V; ++j)
+      for (std::uint64_t i = 0; i < t.U; ++i) {
+        if (!t.vertex_kept(std::int64_t(i), std::int64_t(j))) continue;
+        const double u = 2 * kPi * double(i) / double(t.U), v = 2 * kPi * double(j) / double(t.V);
+        const double cu = std::cos(u), su = std::sin(u), cv = std::cos(v), sv = std::sin(v);
+        const double ring = HoleyTorus::kMajor + HoleyTorus::kMinor * cv;
+        const double p0[3] = {ring * cu, ring * su, HoleyTorus::kMinor * sv}, n0[3] = {cv * cu, cv * su, sv};
+        const double h = field(p0[0], p0[1], p0[2]);
+        visit(p0[0] + h * n0[0], p0[1] + h * n0[1], p0[2] + h * n0[2], [&](double n[3]) {
+          const double p0u[3] = {-ring * su, ring * cu, 0};
+          const double p0v[3] = {-HoleyTorus::kMinor * sv * cu, -HoleyTorus::kMinor * sv * su, HoleyTorus::kMinor * cv};
+          const double n0u[3] = {-cv * su, cv * cu, 0}, n0v[3] = {-sv * cu, -sv * su, cv};
+          double g[3];
+          field.gradient(p0[0], p0[1], p0[2], g);
+          const double hu = g[0] * p0u[0] + g[1] * p0u[1] + g[2] * p0u[2];
+          const double hv = g[0] * p0v[0] + g[1] * p0v[1] + g[2] * p0v[2];
+          double pu[3], pv[3];
+          for (int a = 0; a < 3; ++a) {
+            pu[a] = p0u[a] + hu * n0[a] + h * n0u[a];
+            pv[a] = p0v[a] + hv * n0[a] + h * n0v[a];
+          }
+          n[0] = pu[1] * pv[2] - pu[2] * pv[1];
+          n[1] = pu[2] * pv[0] - pu[0] * pv[2];
+          n[2] = pu[0] * pv[1] - pu[1] * pv[0];
+          normalise(n);
+        });
+      }
+  });
+  // Row j's first vertex and each vertex's place in its row are running counts; the
+  // grid wraps, so row V is row 0 and column U column 0 (both written: a kept cell
+  // uses them).
+  auto row_count = [&](std::uint64_t j) {
+    std::uint64_t n = 0;
+    for (std::uint64_t i = 0; i < t.U; ++i) n += t.vertex_kept(std::int64_t(i), std::int64_t(j));
+    return n;
+  };
+  std::uint64_t row = 0, next_row = row_count(0);
+  for (std::uint64_t j = 0; j < t.V; ++j) {
+    const std::uint64_t up = j + 1 == t.V ? 0 : next_row;
+    const std::uint64_t up_count = j + 1 == t.V ? 0 : row_count(j + 1);
+    std::uint64_t at = 0, at_up = 0;  // kept vertices before column i in rows j and j + 1
+    for (std::uint64_t i = 0; i < t.U; ++i) {
+      const bool last = i + 1 == t.U;
+      const std::uint64_t a = row + at, d = up + at_up;
+      const std::uint64_t here = t.vertex_kept(std::int64_t(i), std::int64_t(j));
+      const std::uint64_t above = t.vertex_kept(std::int64_t(i), std::int64_t(j + 1));
+      const std::uint64_t b = last ? row : a + here, c = last ? up : d + above;
+      if (t.cell_kept(std::int64_t(i), std::int64_t(j))) {
+        out.face(a, b, c);
+        fc.tick();
+        out.face(a, c, d);
+        fc.tick();
+      }
+      at += here, at_up += above;
+    }
+    row = next_row;
+    next_row += up_count;
+  }
+  return {nv, nf};
+}
+
+// --- soup: a landscape exported nearly as a triangle soup ---
+//
+// The terrain's height field over the unit square, C x C cells, cut into blocks of
+// kSoupBlock x kSoupBlock cells. Four blocks in five (drawn per block) are welded: their
+// cells share the block's own lattice of vertices (not its neighbours', so every
+// block's outline is open), and one cell in ten carries a fin, a triangle standing on
+// the cell's diagonal, welded to it: an edge of three faces. The other blocks are a
+// soup: each triangle has three vertices of its own, one cell in twenty has its first
+// triangle written twice (an exact copy, unwelded) and one in twenty a jittered copy of
+// it (corners moved by up to 0.3 cells across and 0.1 up), overlapping it. Blocks are
+// written in order, each block's vertices then (after all vertices) its faces, so a
+// face's corners follow from a running count: O(1) memory.
+struct SoupField {
+  static constexpr std::uint64_t kSoupBlock = 4;
+  std::uint64_t C = 0, seed = 1;
+  std::uint64_t blocks() const { return (C + kSoupBlock - 1) / kSoupBlock; }
+  bool welded(std::uint64_t bx, std::uint64_t by) const { return hashed(seed, 11, bx, by) < 0.8; }
+  bool fin(std::uint64_t i, std::uint64_t j) const { return hashed(seed, 12, i, j) < 0.1; }
+  bool copied(std::uint64_t i, std::uint64_t j) const { return hashed(seed, 13, i, j) < 0.05; }
+  bool jittered(std::uint64_t i, std::uint64_t j) const { return hashed(seed, 14, i, j) < 0.05; }
+  // Calls cell(i, j) for each cell of block (bx, by), row by row.
+  template <class F>
+  void cells(std::uint64_t bx, std::uint64_t by, const F& cell) const {
+    for (std::uint64_t j = by * kSoupBlock; j < std::min(C, (by + 1) * kSoupBlock); ++j)
+      for (std::uint64_t i = bx * kSoupBlock; i < std::min(C, (bx + 1) * kSoupBlock); ++i) cell(i, j);
+  }
+  // The block's vertex and face counts.
+  void count(std::uint64_t bx, std::uint64_t by, std::uint64_t* vertices, std::uint64_t* faces) const {
+    const bool w = welded(bx, by);
+    const std::uint64_t nx = std::min(C, (bx + 1) * kSoupBlock) - bx * kSoupBlock;
+    const std::uint64_t ny = std::min(C, (by + 1) * kSoupBlock) - by * kSoupBlock;
+    *vertices = w ? (nx + 1) * (ny + 1) : 0;
+    *faces = 2 * nx * ny;
+    cells(bx, by, [&](std::uint64_t i, std::uint64_t j) {
+      if (w) {
+        *vertices += fin(i, j), *faces += fin(i, j);
+      } else {
+        const std::uint64_t extra = std::uint64_t(copied(i, j)) + jittered(i, j);
+        *vertices += 6 + 3 * extra, *faces += extra;
+      }
+    });
+  }
+  // Calls f(vertices, faces) for each block, in order.
+  template <class F>
+  void each_block(const F& f) const {
+    for (std::uint64_t by = 0; by < blocks(); ++by)
+      for (std::uint64_t bx = 0; bx < blocks(); ++bx) {
+        std::uint64_t v, t;
+        count(bx, by, &v, &t);
+        f(bx, by, v, t);
+      }
+  }
+  std::uint64_t faces() const {
+    std::uint64_t n = 0;
+    each_block([&](std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t t) { n += t; });
+    return n;
+  }
+};
+
+GenerateResult soup(ByteSink& sink, const GenerateOptions& o, FaceCounter& fc) {
+  SplitMix64 rng{o.seed};
+  SineField field(rng, 10, 4.0, 0.08);
+  SoupField s;
+  s.seed = o.seed;
+  // About 2.1 triangles a cell (fins and copies); the closest of three sizes.
+  const double want = double(o.triangles);
+  const std::uint64_t c0 = std::max<std::uint64_t>(1, std::uint64_t(std::llround(std::sqrt(want / 2.1))));
+  std::uint64_t best = c0;
+  double miss = HUGE_VAL;
+  for (std::uint64_t c : {c0 - 1, c0, c0 + 1}) {
+    if (c < 1) continue;
+    s.C = c;
+    const double m = std::fabs(double(s.faces()) - want);
+    if (m < miss) miss = m, best = c;
+  }
+  s.C = best;
+  std::uint64_t nv = 0, nf = 0;
+  s.each_block([&](std::uint64_t, std::uint64_t, std::uint64_t v, std::uint64_t t) { nv += v, nf += t; });
+  PlyEmitter out(sink, o.ascii, o.attributes, nv, nf);
+  fc.total = nf;
+  const double cell = 1.0 / double(s.C);
+  // The height and upward normal of the field at (x, y), as the terrain's.
+  auto height = [&](double x, double y) { return field(x, y, 0.5 * (x + y)); };
+  auto up_normal = [&](double x, double y, double n[3]) {
+    double g[3];
+    field.gradient(x, y, 0.5 * (x + y), g);
+    n[0] = -(g[0] + 0.5 * g[2]);
+    n[1] = -(g[1] + 0.5 * g[2]);
+    n[2] = 1;
+    normalise(n);
+  };
+  // A cell's two triangles, as the terrain's: corners (dx, dy) of the cell.
+  constexpr int kCorners[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+  // The jittered copy's corner k of cell (i, j).
+  auto jitter = [&](std::uint64_t i, std::uint64_t j, int k, double* x, double* y, double* z) {
+    *x = (double(i) + kCorners[0][k][0] + 0.6 * (hashed(s.seed, 20 + std::uint64_t(k), i, j) - 0.5)) * cell;
+    *y = (double(j) + kCorners[0][k][1] + 0.6 * (hashed(s.seed, 23 + std::uint64_t(k), i, j) - 0.5)) * cell;
+    *z = height(*x, *y) + 0.1 * cell * hashed(s.seed, 26 + std::uint64_t(k), i, j);
+  };
+  emit_vertices(out, [&](const auto& visit) {
+    auto ground = [&](double x, double y) { visit(x, y, height(x, y), [&](double n[3]) { up_normal(x, y, n); }); };
+    s.each_block([&](std::uint64_t bx, std::uint64_t by, std::uint64_t, std::uint64_t) {
+      if (s.welded(bx, by)) {
+        const std::uint64_t x1 = std::min(s.C, (bx + 1) * SoupField::kSoupBlock);
+        const std::uint64_t y1 = std::min(s.C, (by + 1) * SoupField::kSoupBlock);
+        for (std::uint64_t j = by * SoupField::kSoupBlock; j <= y1; ++j)
+          for (std::uint64_t i = bx * SoupField::kSoupBlock; i <= x1; ++i) ground(double(i) * cell, double(j) * cell);
+        // The fins' apexes: 0.7 cells above the diagonal's midpoint; the fin's normal
+        // is across the diagonal, level.
+        s.cells(bx, by, [&](std::uint64_t i, std::uint64_t j) {
+          if (!s.fin(i, j)) return;
+          const double x = (double(i) + 0.5) * cell, y = (double(j) + 0.5) * cell;
+          visit(x, y, height(x, y) + 0.7 * cell,
+                [&](double n[3]) { n[0] = std::sqrt(0.5), n[1] = -std::sqrt(0.5), n[2] = 0; });
+        });
+        return;
+      }
+      s.cells(bx, by, [&](std::uint64_t i, std::uint64_t j) {
+        for (int t = 0; t < 2; ++t)
+          for (int k = 0; k < 3; ++k)
+            ground(double(i + std::uint64_t(kCorners[t][k][0])) * cell,
+                   double(j + std::uint64_t(kCorners[t][k][1])) * cell);
+        if (s.copied(i, j))
+          for (int k = 0; k < 3; ++k)
+            ground(double(i + std::uint64_t(kCorners[0][k][0])) * cell,
+                   double(j + std::uint64_t(kCorners[0][k][1])) * cell);
+        if (s.jittered(i, j))
+          for (int k = 0; k < 3; ++k) {
+            double x, y, z;
+            jitter(i, j, k, &x, &y, &z);
+            visit(x, y, z, [&](double n[3]) { up_normal(x, y, n); });
+          }
+      });
+    });
+  });
+  std::uint64_t first = 0;  // the block's first vertex
+  auto face = [&](std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+    out.face(a, b, c);
+    fc.tick();
+  };
+  s.each_block([&](std::uint64_t bx, std::uint64_t by, std::uint64_t vertices, std::uint64_t) {
+    std::uint64_t at = first;
+    if (s.welded(bx, by)) {
+      const std::uint64_t x0 = bx * SoupField::kSoupBlock, y0 = by * SoupField::kSoupBlock;
+      const std::uint64_t side = std::min(s.C, x0 + SoupField::kSoupBlock) - x0 + 1;
+      const std::uint64_t rows = std::min(s.C, y0 + SoupField::kSoupBlock) - y0 + 1;
+      auto lattice = [&](std::uint64_t i, std::uint64_t j) { return first + (j - y0) * side + (i - x0); };
+      at += side * rows;
+      s.cells(bx, by, [&](std::uint64_t i, std::uint64_t j) {
+        const std::uint64_t v00 = lattice(i, j), v10 = lattice(i + 1, j), v11 = lattice(i + 1, j + 1),
+                            v01 = lattice(i, j + 1);
+        face(v00, v10, v11);
+        face(v00, v11, v01);
+        if (s.fin(i, j)) face(v00, v11, at++);
+      });
+    } else {
+      s.cells(bx, by, [&](std::uint64_t i, std::uint64_t j) {
+        const std::uint64_t extra = std::uint64_t(s.copied(i, j)) + s.jittered(i, j);
+        for (std::uint64_t t = 0; t < 2 + extra; ++t, at += 3) face(at, at + 1, at + 2);
+      });
+    }
+    first += vertices;
+  });
+  return {nv, nf};
+}
 }  // namespace
 
 GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options) {
@@ -834,6 +1154,12 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
       case SyntheticShape::boxes:
         r = boxes(sink, options, fc);
         break;
+      case SyntheticShape::holes:
+        r = holes(sink, options, fc);
+        break;
+      case SyntheticShape::soup:
+        r = soup(sink, options, fc);
+        break;
     }
     sink.finish();
   }
@@ -842,11 +1168,10 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
 }
 
 const EnumNames<SyntheticShape>& synthetic_shape_names() {
-  static const EnumNames<SyntheticShape> names = {{SyntheticShape::sphere, "sphere"},
-                                                  {SyntheticShape::terrain, "terrain"},
-                                                  {SyntheticShape::parts, "parts"},
-                                                  {SyntheticShape::branches, "branches"},
-                                                  {SyntheticShape::boxes, "boxes"}};
+  static const EnumNames<SyntheticShape> names = {
+      {SyntheticShape::sphere, "sphere"},     {SyntheticShape::terrain, "terrain"}, {SyntheticShape::parts, "parts"},
+      {SyntheticShape::branches, "branches"}, {SyntheticShape::boxes, "boxes"},     {SyntheticShape::holes, "holes"},
+      {SyntheticShape::soup, "soup"}};
   return names;
 }
 
