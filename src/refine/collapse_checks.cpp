@@ -206,18 +206,77 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   if (on_edge < 1) return false;
   // The cheap checks first: the faces of the end that moves (often few, where the
   // other end is a hub of hundreds), then those over both ends' faces.
-  if (complex_[a] || complex_[b]) return keeps_faces(c, blamed) && !doubles_a_face(a, b);
+  if (complex_[a] || complex_[b])
+    return keeps_faces(c, blamed) && !doubles_a_face(a, b) && !joins_into_non_manifold_edge(a, b);
   if (on_edge > 2) return false;
   // An inner edge between two boundary vertices would pinch the surface into two.
   if (on_edge == 2 && boundary_[a] && boundary_[b]) return false;
   if (!keeps_faces(c, blamed)) return false;
   // The link condition: the vertices next to both a and b are exactly those opposite
   // the edge in its faces, so no edge or face is doubled. The opposite ones always are
-  // next to both, so counting the common neighbours is enough.
+  // next to both, so counting the common neighbours is enough. A hole of three edges
+  // is the one exception: it closes (closes_hole).
   const LinkCounts link = link_counts(a, b);
-  if (int(link.common) != on_edge) return false;
-  // A tetrahedron has no edge left to collapse.
-  return !(link.ring_a == 3 && link.ring_b == 3 && on_edge == 2);
+  const bool closing = on_edge == 1 && link.common == 2 && closes_hole(a, b);
+  if (int(link.common) != on_edge && !closing) return false;
+  // A tetrahedron has no edge left to collapse (nor one with a hole for a face).
+  return !(link.ring_a == 3 && link.ring_b == 3 && (on_edge == 2 || closing));
+}
+
+// Dey et al. 1999 (Topology preserving edge contraction) check a surface with a
+// boundary as if a dummy vertex capped each hole: the link condition then keeps every
+// hole, and a surface with hundreds of small holes (a scan's) jams at about five
+// triangles a hole, each shrunk to three edges. Closing such a hole is the collapse
+// of (a, b) in the surface with the hole filled by one triangle (a, b, c): there the
+// edge has two faces and the link condition holds when c and the edge's opposite
+// corner are the only common neighbours (valid_one counts them). The filled triangle
+// must face as the edge's face does, so that a disc whose outline has shrunk to three
+// edges is not closed into a pillow.
+bool CollapseState::closes_hole(std::uint32_t a, std::uint32_t b) const {
+  std::uint32_t face = kNoFace;
+  for_each_edge_face(a, b, [&](std::uint32_t f) { face = f; });
+  if (face == kNoFace || touches_seam(a, b)) return false;
+  const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(face)];
+  const std::uint32_t x = t[0] ^ t[1] ^ t[2] ^ a ^ b;  // the corner opposite the edge
+  thread_local std::vector<std::uint32_t> around;
+  distinct_neighbours(a, &around);
+  std::uint32_t hole = kNoFace;
+  for (const std::uint32_t u : around)
+    if (u != b && u != x && faces_on_edge(a, u) == 1 && faces_on_edge(b, u) == 1) hole = u;
+  if (hole == kNoFace || mirror(hole) != kNoMirror) return false;
+  // The face runs a -> b or b -> a; the filled triangle runs the other way.
+  const bool forward = (t[0] == a && t[1] == b) || (t[1] == a && t[2] == b) || (t[2] == a && t[0] == b);
+  const Vec3d& pa = mesh_.positions[a];
+  const Vec3d& pb = mesh_.positions[b];
+  const Vec3d& pc = mesh_.positions[hole];
+  const Vec3d filled = forward ? cross(pa - pb, pc - pb) : cross(pb - pa, pc - pa);
+  const Vec3d& p0 = mesh_.positions[t[0]];
+  const Vec3d normal = cross(mesh_.positions[t[1]] - p0, mesh_.positions[t[2]] - p0);
+  return dot(filled, normal) > 0;
+}
+
+// Around an anchored (non-manifold) vertex the link condition is not checked: merging
+// b into a joins each edge (b, x) with (a, x), and two edges of at most two faces each
+// must not become one of three or more. An edge that already had three or more may
+// take more (it is no new non-manifold edge).
+bool CollapseState::joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t b) const {
+  thread_local std::vector<std::uint32_t> around;
+  distinct_neighbours(b, &around);
+  for (const std::uint32_t x : around) {
+    if (x == a) continue;
+    const int fa = faces_on_edge(a, x);
+    if (fa == 0) continue;
+    const int fb = faces_on_edge(b, x);
+    if (fa > 2 || fb > 2) continue;
+    // The faces with a, b and x go with the edge (a, b).
+    int shared = 0;
+    for_each_edge_face(a, b, [&](std::uint32_t f) {
+      const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
+      shared += t[0] == x || t[1] == x || t[2] == x;
+    });
+    if (fa + fb - 2 * shared > 2) return true;
+  }
+  return false;
 }
 
 // The neighbours of a and of b, made distinct, and those they share counted: in small

@@ -65,9 +65,25 @@ void CollapseState::collapse_one(const Candidate& c) {
   alive_[b] = 0;
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
-  boundary_[a] = boundary_[a] | boundary_[b];  // a valid collapse neither makes nor closes a boundary
+  // A valid collapse makes no boundary, and closes one only where it closes a hole of
+  // three edges (closes_hole): then a and the hole's third corner are inner vertices
+  // now, free to move, and the costs of the third corner's edges change.
+  boundary_[a] = boundary_[a] | boundary_[b];
   hub_[a] = hub_[a] | (merged.size() > kStillHub);
   newly_anchored_.clear();
+  if (boundary_[a] && !complex_[a]) {
+    const FanShape shape = fan_shape(a, &scratch_);
+    if (shape.manifold && !shape.outline) {
+      boundary_[a] = 0;
+      std::vector<std::uint32_t> ring;
+      neighbours(a, &ring);
+      for (const std::uint32_t u : ring)
+        if (boundary_[u] && !complex_[u] && !fan_shape(u, &scratch_).outline) {
+          boundary_[u] = 0;
+          newly_anchored_.push_back(u);
+        }
+    }
+  }
   if (complex_[a] || complex_[b]) {
     // Around a tangle the link condition was not checked: its neighbours may have
     // become tangled too.

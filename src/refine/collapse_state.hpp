@@ -70,8 +70,8 @@ class CollapseState {
   /// Collapses b into a (and the mirrors' edge, when mirrored()).
   void collapse(const Candidate& c);
   /// The vertices other than c.a whose edges the last collapse changed, all of whose
-  /// edges cost anew: neighbours it left non-manifold (now anchored), and the mirror
-  /// collapse's survivor.
+  /// edges cost anew: neighbours it left non-manifold (now anchored), the third corner
+  /// of a hole it closed (now free), and the mirror collapse's survivor.
   const std::vector<std::uint32_t>& newly_anchored() const { return newly_anchored_; }
   /// Splits the longest edge of `faces` faces (ties: the lowest vertices) at its
   /// midpoint, each of its faces into two: `faces` triangles more and the surface
@@ -166,6 +166,10 @@ class CollapseState {
   // Whether v's faces form one closed fan, wound consistently (fan_shape's quick case).
   bool closed_fan(std::uint32_t v) const;
   bool doubles_a_face(std::uint32_t a, std::uint32_t b) const;
+  // Whether boundary edge (a, b) is on a hole of three edges that its collapse closes.
+  bool closes_hole(std::uint32_t a, std::uint32_t b) const;
+  // Whether merging b into a would join two edges of at most two faces into one of more.
+  bool joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t b) const;
   // For edge (a, b): how many distinct vertices share a face with a (b among them),
   // with b (a among them), and with both.
   struct LinkCounts {
