@@ -1,0 +1,258 @@
+// Open meshes with many holes, and soups: the generated holes and soup shapes are what
+// they say, and the edge collapse meets its count on them without making an edge of
+// three or more faces that the input did not have. Edges are counted here, by index
+// and by position, independently of the collapse's own bookkeeping.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "oocsimp/generate.hpp"
+#include "refine/edge_collapse.hpp"
+#include "test_support.hpp"
+
+using namespace oocsimp;
+using namespace oocsimp_test;
+
+namespace {
+
+using Edge = std::pair<std::uint64_t, std::uint64_t>;
+
+// Undirected edge -> the number of faces on it.
+std::map<Edge, int> edge_faces(const std::vector<std::uint64_t>& triangles) {
+  std::map<Edge, int> e;
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = triangles[t + std::size_t(k)], b = triangles[t + std::size_t(k + 1) % 3];
+      ++e[{std::min(a, b), std::max(a, b)}];
+    }
+  return e;
+}
+
+std::size_t edges_with(const std::map<Edge, int>& e, int least, int most) {
+  std::size_t n = 0;
+  for (const auto& kv : e) n += kv.second >= least && kv.second <= most;
+  return n;
+}
+
+// The boundary loops: the components of the graph of edges of one face.
+std::size_t boundary_loops(const std::map<Edge, int>& e) {
+  std::map<std::uint64_t, std::uint64_t> parent;
+  auto root = [&](std::uint64_t x) {
+    if (!parent.count(x)) parent[x] = x;
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& kv : e)
+    if (kv.second == 1) parent[root(kv.first.first)] = root(kv.first.second);
+  std::size_t n = 0;
+  for (const auto& kv : parent) n += kv.first == kv.second;
+  return n;
+}
+
+// Vertices whose faces make more than one fan (joined across shared edges).
+std::size_t vertices_of_several_fans(const std::vector<std::uint64_t>& triangles) {
+  std::map<std::uint64_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> around;
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      around[triangles[t + std::size_t(k)]].push_back(
+          {triangles[t + std::size_t(k + 1) % 3], triangles[t + std::size_t(k + 2) % 3]});
+  std::size_t several = 0;
+  for (const auto& kv : around) {
+    std::map<std::uint64_t, std::uint64_t> parent;
+    auto root = [&](std::uint64_t x) {
+      if (!parent.count(x)) parent[x] = x;
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const auto& pq : kv.second) parent[root(pq.first)] = root(pq.second);
+    std::size_t fans = 0;
+    for (const auto& p : parent) fans += p.first == p.second;
+    several += fans > 1;
+  }
+  return several;
+}
+
+LoadedMesh generate(const ScratchDir& d, const std::string& name, SyntheticShape shape, std::uint64_t tris,
+                    std::uint64_t seed = 1) {
+  GenerateOptions o;
+  o.shape = shape;
+  o.triangles = tris;
+  o.seed = seed;
+  const GenerateResult r = generate_mesh(d.file(name), o);
+  LoadedMesh m = load_mesh(d.file(name));
+  REQUIRE(m.vertex_count() == r.vertices);
+  REQUIRE(m.triangle_count() == r.triangles);
+  return m;
+}
+
+QuadricMesh quadric_mesh(const LoadedMesh& m) {
+  QuadricMesh q;
+  for (std::size_t i = 0; i < m.vertex_count(); ++i)
+    q.positions.push_back({m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]});
+  for (std::uint64_t v : m.triangles) q.triangles.push_back(std::uint32_t(v));
+  q.quadrics = face_quadrics(q.positions, q.triangles);
+  return q;
+}
+
+std::vector<std::uint64_t> corners(const QuadricMesh& m) { return {m.triangles.begin(), m.triangles.end()}; }
+
+// A checkerboard of welded 8 x 8 patches on a bumpy height field, as an open CAD
+// assembly touching itself at points: diagonal patches share a corner vertex (two
+// fans there), and no edge has three faces.
+QuadricMesh checkerboard(int patches, int k) {
+  const int n = patches * k;
+  QuadricMesh m;
+  std::map<std::pair<int, int>, std::uint32_t> index;
+  auto vertex = [&](int i, int j) {
+    const auto it = index.find({i, j});
+    if (it != index.end()) return it->second;
+    const double x = double(i) / n, y = double(j) / n;
+    m.positions.push_back({x, y, 0.05 * std::sin(7 * x) * std::cos(5 * y) + 0.02 * std::sin(23 * x + 11 * y)});
+    return index[{i, j}] = std::uint32_t(m.positions.size() - 1);
+  };
+  for (int pi = 0; pi < patches; ++pi)
+    for (int pj = 0; pj < patches; ++pj) {
+      if ((pi + pj) % 2) continue;
+      for (int a = 0; a < k; ++a)
+        for (int b = 0; b < k; ++b) {
+          const int i = pi * k + a, j = pj * k + b;
+          const std::uint32_t p = vertex(i, j), q = vertex(i + 1, j), r = vertex(i + 1, j + 1), t = vertex(i, j + 1);
+          m.triangles.insert(m.triangles.end(), {p, q, r, p, r, t});
+        }
+    }
+  m.quadrics = face_quadrics(m.positions, m.triangles);
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("the holes shape is a torus with hundreds of holes that never touch", "[generator][open]") {
+  ScratchDir d;
+  const LoadedMesh m = generate(d, "h.ply", SyntheticShape::holes, 4400);
+  CHECK(std::fabs(double(m.triangle_count()) - 4400) <= 0.02 * 4400);
+  const auto e = edge_faces(m.triangles);
+  const std::size_t boundary = edges_with(e, 1, 1);
+  CHECK(edges_with(e, 3, 1 << 30) == 0);
+  // Consistently oriented: no directed edge twice.
+  std::set<Edge> directed;
+  for (std::size_t t = 0; t < m.triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      CHECK(directed.insert({m.triangles[t + std::size_t(k)], m.triangles[t + std::size_t(k + 1) % 3]}).second);
+  CHECK(vertices_of_several_fans(m.triangles) == 0);
+  // Every vertex written is used.
+  std::set<std::uint64_t> used(m.triangles.begin(), m.triangles.end());
+  CHECK(used.size() == m.vertex_count());
+  // Hundreds of holes, a sixth or so of the edges on them.
+  CHECK(boundary_loops(e) >= 150);
+  CHECK(double(boundary) > 0.12 * double(e.size()));
+  CHECK(double(boundary) < 0.25 * double(e.size()));
+  // Euler: V - E + F = 2 - 2g - holes, with g = 1.
+  CHECK(std::int64_t(m.vertex_count()) - std::int64_t(e.size()) + std::int64_t(m.triangle_count()) ==
+        -std::int64_t(boundary_loops(e)));
+}
+
+TEST_CASE("the soup shape is mostly unwelded, with copies and fins", "[generator][open]") {
+  ScratchDir d;
+  const LoadedMesh m = generate(d, "s.ply", SyntheticShape::soup, 20000);
+  CHECK(std::fabs(double(m.triangle_count()) - 20000) <= 0.02 * 20000);
+  const auto e = edge_faces(m.triangles);
+  CHECK(double(edges_with(e, 1, 1)) > 0.4 * double(e.size()));
+  CHECK(edges_with(e, 3, 3) > 0);         // fins on welded diagonals
+  CHECK(edges_with(e, 4, 1 << 30) == 0);  // a fin per diagonal at most
+  // Exact copies: triangles whose corner positions repeat another's.
+  std::map<std::array<double, 9>, int> seen;
+  for (std::size_t t = 0; t < m.triangles.size(); t += 3) {
+    std::array<double, 9> key;
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a)
+        key[std::size_t(3 * k + a)] = m.positions[3 * m.triangles[t + std::size_t(k)] + std::size_t(a)];
+    ++seen[key];
+  }
+  std::size_t copies = 0;
+  for (const auto& kv : seen) copies += kv.second > 1;
+  CHECK(copies > 0);
+  // The same seed gives the same mesh, another seed another.
+  const LoadedMesh again = generate(d, "s2.ply", SyntheticShape::soup, 20000);
+  CHECK(again.positions == m.positions);
+  CHECK(again.triangles == m.triangles);
+  const LoadedMesh other = generate(d, "s3.ply", SyntheticShape::soup, 20000, 2);
+  CHECK(other.triangles != m.triangles);
+}
+
+TEST_CASE("a surface with hundreds of holes meets low counts: its small holes close", "[refine][collapse][open]") {
+  ScratchDir d;
+  const LoadedMesh holes = generate(d, "h.ply", SyntheticShape::holes, 4400);
+  const QuadricMesh in = quadric_mesh(holes);
+  // Euler's formula bounds what keeping every hole allows: with h holes of at least
+  // three edges each, F >= 5 h, over 900 triangles here.
+  REQUIRE(5 * boundary_loops(edge_faces(holes.triangles)) > 900);
+  for (std::uint64_t target : {1000ull, 446ull, 201ull}) {
+    INFO("target " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    CollapseStats stats;
+    const QuadricMesh out = collapse_edges(in, s, &stats);
+    CHECK(out.triangles.size() / 3 == target);
+    CHECK_FALSE(stats.stuck);
+    const auto e = edge_faces(corners(out));
+    CHECK(edges_with(e, 3, 1 << 30) == 0);
+    CHECK(vertices_of_several_fans(corners(out)) == 0);
+  }
+}
+
+TEST_CASE("the simplify command meets 446 on the holes shape and says why it gives 88 for 89", "[refine][open][cli]") {
+  ScratchDir d;
+  generate(d, "h.ply", SyntheticShape::holes, 4400);
+  const CliResult r =
+      run_cli("simplify --quiet '" + d.file("h.ply") + "' -o '" + d.file("o.ply") + "' --target-tris 446");
+  REQUIRE(r.exit_code == 0);
+  CHECK(load_mesh(d.file("o.ply")).triangle_count() == 446);
+  // Every hole has closed by 89 triangles: a closed surface's count is even.
+  const CliResult odd =
+      run_cli("simplify --quiet '" + d.file("h.ply") + "' -o '" + d.file("p.ply") + "' --target-tris 89");
+  REQUIRE(odd.exit_code == 0);
+  const LoadedMesh p = load_mesh(d.file("p.ply"));
+  CHECK(p.triangle_count() == 88);
+  CHECK(edges_with(edge_faces(p.triangles), 1, 1) == 0);
+  CHECK(odd.err.find("triangle count is even") != std::string::npos);
+}
+
+TEST_CASE("a soup collapses to its count with no more edges of three faces than it had", "[refine][collapse][open]") {
+  ScratchDir d;
+  const QuadricMesh in = quadric_mesh(generate(d, "s.ply", SyntheticShape::soup, 20000));
+  const std::size_t before = edges_with(edge_faces(corners(in)), 3, 1 << 30);
+  REQUIRE(before > 0);
+  for (std::uint64_t target : {4000ull, 400ull}) {
+    INFO("target " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    CollapseStats stats;
+    const QuadricMesh out = collapse_edges(in, s, &stats);
+    CHECK(out.triangles.size() / 3 == target);
+    // Each edge of three faces comes of merging the input's (never of two edges of two
+    // faces or fewer), and merging makes fewer edges: never more than the input had.
+    CHECK(edges_with(edge_faces(corners(out)), 3, 1 << 30) <= before);
+  }
+}
+
+TEST_CASE("an assembly touching itself at points gets no edge of three faces", "[refine][collapse][open]") {
+  const QuadricMesh in = checkerboard(12, 8);
+  REQUIRE(vertices_of_several_fans(corners(in)) > 100);
+  REQUIRE(edges_with(edge_faces(corners(in)), 3, 1 << 30) == 0);
+  for (std::uint64_t target : {1500ull, 300ull, 60ull}) {
+    INFO("target " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    CollapseStats stats;
+    const QuadricMesh out = collapse_edges(in, s, &stats);
+    CHECK(out.triangles.size() / 3 == target);
+    CHECK(edges_with(edge_faces(corners(out)), 3, 1 << 30) == 0);
+  }
+}
