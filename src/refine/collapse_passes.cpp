@@ -89,13 +89,18 @@ class PassDriver {
       const QueueEntry& e = entries_[i];
       if (!touched(e.a) && !touched(e.b)) entries_[kept++] = e;
     }
-    const std::uint32_t blocks = (n + kBlock - 1) / kBlock;
+    // The first pass (and every pass, with seams) lists the edges of every vertex;
+    // the others only those of the vertices the last pass touched.
+    const bool every = seams || last == 0;
+    const std::uint32_t listed_vertices = every ? n : std::uint32_t(touched_list_.size());
+    const std::uint32_t blocks = (listed_vertices + kBlock - 1) / kBlock;
     std::vector<std::size_t> start(std::size_t(blocks) + 1, 0);
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> listed(blocks);
     tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t block) {
       std::vector<std::uint32_t>& ring = rings_.local();
       std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges = listed[block];
-      for (std::uint32_t v = block * kBlock; v < std::min(n, (block + 1) * kBlock); ++v) {
+      for (std::uint32_t i = block * kBlock; i < std::min(listed_vertices, (block + 1) * kBlock); ++i) {
+        const std::uint32_t v = every ? i : touched_list_[i];
         if (!state_.alive(v) || state_.locked(v) || !touched(v)) continue;
         state_.distinct_neighbours(v, &ring);
         for (std::uint32_t u : ring) {
@@ -109,6 +114,7 @@ class PassDriver {
       }
       start[block + 1] = edges.size();
     });
+    touched_list_.clear();
     start[0] = kept;
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
     // entries_ only grows (the first pass has the most edges), so that it is not
@@ -139,6 +145,13 @@ class PassDriver {
     });
     costed_ = start[blocks];
     return costed_;
+  }
+
+  // Marks v touched by this pass (its edges cost anew in the next), listing it once.
+  void touch(std::uint32_t v, std::uint32_t stamp) {
+    if (touched_[v] == stamp) return;
+    touched_[v] = stamp;
+    touched_list_.push_back(v);
   }
 
   // The collapses that would take the count to pass_to, each removing two faces.
@@ -230,9 +243,10 @@ class PassDriver {
     stats_->largest_cost = std::max(stats_->largest_cost, c.cost);
     stats_->largest_error = std::max(stats_->largest_error, error);
     if (stats_->cost_log) stats_->cost_log->push_back(c.cost);
-    touched_[e.a] = touched_[e.b] = stamp;
-    if (pair) touched_[other.a] = touched_[other.b] = stamp;
-    for (std::uint32_t v : state_.newly_anchored()) touched_[v] = stamp;
+    touch(e.a, stamp);
+    touch(e.b, stamp);
+    if (pair) touch(other.a, stamp), touch(other.b, stamp);
+    for (std::uint32_t v : state_.newly_anchored()) touch(v, stamp);
     return Step::next;
   }
 
@@ -285,6 +299,7 @@ class PassDriver {
   CollapseStats* stats_;
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
+  std::vector<std::uint32_t> touched_list_;  // the vertices the last pass touched, each once
   std::vector<QueueEntry> entries_;
   std::size_t costed_ = 0;  // the entries the last pass costed (in any order after it)
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
