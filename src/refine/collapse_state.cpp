@@ -154,18 +154,28 @@ void CollapseState::classify_vertices() {
 // classified by fan_shape's general count.
 bool CollapseState::closed_fan(std::uint32_t v) const {
   constexpr std::uint32_t kMostFaces = 16;
+  const std::uint32_t count = face_count_[v];
+  if (count > kMostFaces) return false;
   std::uint32_t x[kMostFaces], y[kMostFaces], k = 0;
-  bool turned = true;
-  if (face_count_[v] > kMostFaces) return false;
-  for_each_face(v, [&](std::uint32_t f) {
+  const std::uint32_t* list = faces_.data() + face_start_[v];
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::uint32_t f = list[i];
+    if (face_dead_[f]) continue;
     const std::uint32_t* t = &mesh_.triangles[3 * std::size_t(f)];
-    const int at = t[0] == v ? 0 : t[1] == v ? 1 : t[2] == v ? 2 : -1;
-    turned = turned && at >= 0 && int(t[0] == v) + int(t[1] == v) + int(t[2] == v) == 1;
-    x[k] = t[(at + 1) % 3];
-    y[k] = t[(at + 2) % 3];
+    const std::uint32_t t0 = t[0], t1 = t[1], t2 = t[2];
+    // v at exactly one corner; x the corner after it, y the one before.
+    if (t0 == v && t1 != v && t2 != v) {
+      x[k] = t1, y[k] = t2;
+    } else if (t1 == v && t0 != v && t2 != v) {
+      x[k] = t2, y[k] = t0;
+    } else if (t2 == v && t0 != v && t1 != v) {
+      x[k] = t0, y[k] = t1;
+    } else {
+      return false;
+    }
     ++k;
-  });
-  if (!turned || k < 3) return false;
+  }
+  if (k < 3) return false;
   // The walk from the first face's x: each step takes the face whose x is the vertex
   // reached (the last such, should there be two), which must not be taken yet.
   std::uint32_t taken = 0, at = x[0];
