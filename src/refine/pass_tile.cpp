@@ -40,7 +40,9 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
   QuadricMesh m;
   reserve_huge(&m.positions, n);
   m.positions.resize(n);
-  m.quadrics.resize(n);
+  // The first pass sums the quadrics from the faces (below); the others take the owned
+  // vertices' own.
+  if (!tile.first_pass) m.quadrics.resize(n);
   m.attribute_count = k;
   m.attributes.assign(n * k, 0.0);
   m.locked.assign(n, 1);
@@ -55,7 +57,7 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
     (*owned)[l] = 1;
     m.locked[l] = locked_ids && std::binary_search(locked_ids->begin(), locked_ids->end(), ids[l]);
     m.positions[l] = tile.owned[i].position;
-    m.quadrics[l] = tile.owned[i].quadric;
+    if (!tile.first_pass) m.quadrics[l] = tile.owned[i].quadric;
     std::copy(tile.attributes.begin() + std::ptrdiff_t(i * k), tile.attributes.begin() + std::ptrdiff_t((i + 1) * k),
               m.attributes.begin() + std::ptrdiff_t(l * k));
   }
