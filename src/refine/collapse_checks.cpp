@@ -427,9 +427,11 @@ bool CollapseState::keeps_faces(const Candidate& c, std::uint32_t* blamed) const
   int count = 0;
   for (const std::uint32_t end : {b_first ? c.b : c.a, b_first ? c.a : c.b})
     if (!same_point(mesh_.positions[end], c.placement)) moving[count++] = end;
-  // Each face's corners and input normal are fetched before the first check: they are
-  // scattered over the mesh's arrays, and the checks wait on them.
-  for (int e = 0; e < count; ++e) {
+  // Each face's corners and input normal are fetched before the first check: on a
+  // large mesh they are scattered over arrays the caches do not hold, and the checks
+  // wait on them. A small mesh (a tile, a scan) stays in the caches.
+  constexpr std::size_t kCachedFaces = std::size_t(1) << 18;
+  for (int e = 0; e < count && face_dead_.size() > kCachedFaces; ++e) {
     const std::uint32_t* p = faces_.data() + face_start_[moving[e]];
     for (std::uint32_t i = 0; i < face_count_[moving[e]]; ++i) {
       __builtin_prefetch(&mesh_.triangles[3 * std::size_t(p[i])]);
