@@ -17,6 +17,7 @@
 #include "common/vec3_math.hpp"
 #include "oocsimp/generate.hpp"
 #include "refine/edge_collapse.hpp"
+#include "collapse_test_mesh.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -24,22 +25,13 @@ using namespace oocsimp_test;
 
 namespace {
 
-QuadricMesh mesh_of(const LoadedMesh& m) {
-  QuadricMesh q;
-  for (std::size_t i = 0; i < m.vertex_count(); ++i)
-    q.positions.push_back({m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]});
-  for (std::uint64_t v : m.triangles) q.triangles.push_back(std::uint32_t(v));
-  q.quadrics = face_quadrics(q.positions, q.triangles);
-  return q;
-}
-
 QuadricMesh generated(SyntheticShape shape, std::uint64_t triangles) {
   ScratchDir d;
   GenerateOptions g;
   g.shape = shape;
   g.triangles = triangles;
   generate_mesh(d.file("m.ply"), g);
-  return mesh_of(load_mesh(d.file("m.ply")));
+  return quadric_mesh_of(load_mesh(d.file("m.ply")));
 }
 
 // A uniform clustering of the terrain (by default a coarse one): folds, fins and
@@ -53,13 +45,13 @@ QuadricMesh clustered_terrain(std::uint64_t triangles = 20000, int grid = 24) {
   REQUIRE(run_cli("simplify --quiet --method uniform --grid " + std::to_string(grid) + " '" + d.file("t.ply") +
                   "' -o '" + d.file("c.ply") + "'")
               .exit_code == 0);
-  return mesh_of(load_mesh(d.file("c.ply")));
+  return quadric_mesh_of(load_mesh(d.file("c.ply")));
 }
 
 QuadricMesh cube(int n) {
   ScratchDir d;
   write_cube_ply(d.file("c.ply"), n);
-  return mesh_of(load_mesh(d.file("c.ply")));
+  return quadric_mesh_of(load_mesh(d.file("c.ply")));
 }
 
 // Flat n x n grids of quads, each split in two, welded where their corners meet.
@@ -368,7 +360,7 @@ TEST_CASE("edge splits make up an overshoot, one short at most on a closed surfa
   // With an edge of one face, any number.
   ScratchDir d;
   write_plane_ply(d.file("p.ply"), 10, 0, 0, 0);
-  CollapseState open(mesh_of(load_mesh(d.file("p.ply"))), CollapseSettings());
+  CollapseState open(quadric_mesh_of(load_mesh(d.file("p.ply"))), CollapseSettings());
   const std::uint64_t target = open.triangle_count() + 7;
   CHECK(open.split_up_to(target));
   CHECK(open.triangle_count() == target);
@@ -509,7 +501,7 @@ TEST_CASE("a cube keeps its 8 corners", "[refine][collapse]") {
 TEST_CASE("boundary edges keep the outline of an open surface", "[refine][collapse]") {
   ScratchDir d;
   write_plane_ply(d.file("p.ply"), 100, 0.2, -0.1, 0.5);  // a tilted square with an outline of 400 edges
-  const QuadricMesh plane = mesh_of(load_mesh(d.file("p.ply")));
+  const QuadricMesh plane = quadric_mesh_of(load_mesh(d.file("p.ply")));
   for (std::uint64_t passes : {0, 4096}) {
     INFO("tiles and passes from " << passes << " faces");
     CollapseSettings s = tiled(50, passes);
@@ -637,7 +629,7 @@ TEST_CASE("attributes follow the placement along the collapsed edge", "[refine][
   // linear function exactly, wherever the vertices end up.
   ScratchDir d;
   write_plane_ply(d.file("p.ply"), 30, 0, 0, 0);
-  QuadricMesh m = mesh_of(load_mesh(d.file("p.ply")));
+  QuadricMesh m = quadric_mesh_of(load_mesh(d.file("p.ply")));
   m.attribute_count = 1;
   for (const Vec3d& p : m.positions) m.attributes.push_back(3 * p.x - 2 * p.y + 1);
   CollapseSettings s;

@@ -15,6 +15,7 @@
 
 #include "oocsimp/generate.hpp"
 #include "refine/edge_collapse.hpp"
+#include "collapse_test_mesh.hpp"
 #include "test_support.hpp"
 
 using namespace oocsimp;
@@ -90,15 +91,6 @@ LoadedMesh generate(const ScratchDir& d, const std::string& name, SyntheticShape
   REQUIRE(m.vertex_count() == r.vertices);
   REQUIRE(m.triangle_count() == r.triangles);
   return m;
-}
-
-QuadricMesh quadric_mesh(const LoadedMesh& m) {
-  QuadricMesh q;
-  for (std::size_t i = 0; i < m.vertex_count(); ++i)
-    q.positions.push_back({m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]});
-  for (std::uint64_t v : m.triangles) q.triangles.push_back(std::uint32_t(v));
-  q.quadrics = face_quadrics(q.positions, q.triangles);
-  return q;
 }
 
 std::vector<std::uint64_t> corners(const QuadricMesh& m) { return {m.triangles.begin(), m.triangles.end()}; }
@@ -189,7 +181,7 @@ TEST_CASE("the soup shape is mostly unwelded, with copies and fins", "[generator
 TEST_CASE("a surface with hundreds of holes meets low counts: its small holes close", "[refine][collapse][open]") {
   ScratchDir d;
   const LoadedMesh holes = generate(d, "h.ply", SyntheticShape::holes, 4400);
-  const QuadricMesh in = quadric_mesh(holes);
+  const QuadricMesh in = quadric_mesh_of(holes);
   // Euler's formula bounds what keeping every hole allows: with h holes of at least
   // three edges each, F >= 5 h, over 900 triangles here.
   REQUIRE(5 * boundary_loops(edge_faces(holes.triangles)) > 900);
@@ -226,7 +218,7 @@ TEST_CASE("the simplify command meets 446 on the holes shape and says why it giv
 
 TEST_CASE("a soup collapses to its count with no more edges of three faces than it had", "[refine][collapse][open]") {
   ScratchDir d;
-  const QuadricMesh in = quadric_mesh(generate(d, "s.ply", SyntheticShape::soup, 20000));
+  const QuadricMesh in = quadric_mesh_of(generate(d, "s.ply", SyntheticShape::soup, 20000));
   const std::size_t before = edges_with(edge_faces(corners(in)), 3, 1 << 30);
   REQUIRE(before > 0);
   for (std::uint64_t target : {4000ull, 400ull}) {
