@@ -45,11 +45,13 @@ void CollapseState::collapse_one(const Candidate& c) {
   // gathered apart first: appending to faces_ while reading it could move it.
   std::vector<std::uint32_t>& merged = scratch_a_;
   merged.clear();
+  int removed = 0;
   for_each_face(a, [&](std::uint32_t f) {
     const std::uint32_t* tr = &mesh_.triangles[3 * f];
     if (tr[0] == b || tr[1] == b || tr[2] == b) {
       face_dead_[f] = 1;
       --live_faces_;
+      ++removed;
     } else {
       merged.push_back(f);
     }
@@ -66,12 +68,14 @@ void CollapseState::collapse_one(const Candidate& c) {
   mesh_.positions[a] = c.placement;
   mesh_.quadrics[a].add(mesh_.quadrics[b]);
   // A valid collapse makes no boundary, and closes one only where it closes a hole of
-  // three edges (closes_hole): then a and the hole's third corner are inner vertices
-  // now, free to move, and the costs of the third corner's edges change.
+  // three edges (closes_hole), collapsing an edge of one face between two of its
+  // corners: then a and the hole's third corner are inner vertices now, free to move,
+  // and the costs of the third corner's edges change.
+  const bool may_close = removed == 1 && boundary_[a] && boundary_[b];
   boundary_[a] = boundary_[a] | boundary_[b];
   hub_[a] = hub_[a] | (merged.size() > kStillHub);
   newly_anchored_.clear();
-  if (boundary_[a] && !complex_[a]) {
+  if (may_close && !complex_[a]) {
     const FanShape shape = fan_shape(a, &scratch_);
     if (shape.manifold && !shape.outline) {
       boundary_[a] = 0;
