@@ -781,6 +781,7 @@ int run_simplify(const SimplifyArgs& a) {
   p.options.progress = progress.callback();
   p.options.release_memory = release_free_heap;
   p.options.budget_counts_process = true;
+  keep_freed_heap(p.options.memory_budget ? p.options.memory_budget : default_memory_budget());
   if (a.lods.given()) return run_simplify_lods(a, p);
   if (!p.part.work_dir.empty()) return run_simplify_part(a, p);
   if (oocsimp_cli::launched_by_mpi()) {
