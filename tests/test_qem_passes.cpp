@@ -616,7 +616,8 @@ PolledRun run_polled(const std::vector<std::string>& args, const std::string& er
     }
     std::ifstream in(status);
     for (std::string line; std::getline(in, line);)
-      if (line.rfind("RssAnon:", 0) == 0) r.peak_anon = std::max<std::uint64_t>(r.peak_anon, std::stoull(line.substr(8)) * 1024);
+      if (line.rfind("RssAnon:", 0) == 0)
+        r.peak_anon = std::max<std::uint64_t>(r.peak_anon, std::stoull(line.substr(8)) * 1024);
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }
@@ -673,8 +674,8 @@ TEST_CASE("a log of the passes has a started and a done line for each phase, and
   const std::string in = generated(d, SyntheticShape::sphere, 2000000, false);
   // stderr is a file here: the log's plain lines, not the terminal's bar.
   const CliResult r = run_cli("simplify '" + in + "' -o '" + d.file("out.ply") +
-                              "' --target-tris 20000 --mem 128M --threads 2 --stats '" + d.file("s.json") + "' --tmp '" +
-                              d.path() + "'");
+                              "' --target-tris 20000 --mem 128M --threads 2 --stats '" + d.file("s.json") +
+                              "' --tmp '" + d.path() + "'");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const std::vector<std::string> started = phase_lines(r.err, " started"), done = phase_lines(r.err, " done in ");
