@@ -14,6 +14,10 @@ struct Progress {
   const char* unit = "";   ///< what done and total count: "B" (input bytes), "tri", "tile", "vtx", ...
   std::uint64_t done = 0;
   std::uint64_t total = 0;  ///< 0 while unknown (phases without a count report only begin and end)
+  /// What the phase says of itself beside its counts, "" for most: a pass of the
+  /// out-of-core collapse tells the triangles it starts from, and at its end
+  /// "IN -> OUT triangles".
+  const char* detail = "";
 };
 
 /// The one progress-and-cancel callback of the library (SimplifyOptions::progress,

@@ -26,14 +26,15 @@ class ProgressReporter {
   /// The callback to give the library (it never cancels); valid while the reporter lives.
   ProgressCallback callback();
 
-  /// Starts a phase named `name` whose work is `total` units of `unit` ("B", "tri").
-  void begin(const std::string& name, std::uint64_t total, const char* unit);
+  /// Starts a phase named `name` whose work is `total` units of `unit` ("B", "tri"),
+  /// with what it says of itself (Progress::detail; may be null).
+  void begin(const std::string& name, std::uint64_t total, const char* unit, const char* detail = nullptr);
   /// Sets the phase's total when it becomes known after begin().
   void set_total(std::uint64_t total) { total_.store(total, std::memory_order_relaxed); }
   /// Sets the units done in the current phase (thread-safe, cheap).
   void set(std::uint64_t done) { done_.store(done, std::memory_order_relaxed); }
-  /// Ends the current phase (prints its final line).
-  void end();
+  /// Ends the current phase (prints its final line, with `detail` when given).
+  void end(const char* detail = nullptr);
 
  private:
   void loop();
@@ -47,6 +48,7 @@ class ProgressReporter {
   std::atomic<bool> active_{false};
   std::mutex mutex_;  // guards name_, unit_ and the printing state
   std::string name_;
+  std::string detail_;
   const char* unit_ = "";
   double phase_start_ = 0;
   std::thread thread_;

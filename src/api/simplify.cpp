@@ -162,6 +162,28 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
   return st;
 }
 
+// A warning when the process's peak anonymous memory went past a budget that bounds
+// the whole process: the plans that keep a run within it are estimates, and a run
+// that overran says so rather than passing for one that fits. Phase by phase where
+// the run has phases.
+void warn_of_overrun(const SimplifyOptions& options, SimplifyStats& st) {
+  if (!OOCSIMP_MEASURED_MEMORY_MEANINGFUL || !options.budget_counts_process) return;
+  const std::uint64_t budget = budget_bytes(options.memory_budget);
+  std::string over;
+  auto note = [&](const char* what, std::uint64_t peak) {
+    if (peak <= budget) return;
+    over += std::string(over.empty() ? "" : ", ") + what + " " + mib_text(peak);
+  };
+  if (st.refine.phase1_peak_anon_bytes || st.refine.phase2_peak_anon_bytes) {
+    note(st.refine.passes ? "phase 1 (out-of-core passes)" : "phase 1 (clustering)", st.refine.phase1_peak_anon_bytes);
+    note("phase 2 (collapse)", st.refine.phase2_peak_anon_bytes);
+  }
+  if (over.empty()) note("the run", st.peak_anon_bytes);
+  if (!over.empty())
+    st.warnings.push_back("the peak anonymous memory went past options.memory_budget " + whole_mib(budget) +
+                          " MiB: " + over);
+}
+
 // The output's precision and the run's peak memory.
 void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory, OutputMesh& m,
                 SimplifyStats& st) {
@@ -169,6 +191,7 @@ void finish_run(const MeshInput& input, const SimplifyOptions& options, const Pe
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
+  warn_of_overrun(options, st);
 }
 
 void record_grid(const GridSpec& grid, SimplifyStats* st) {

@@ -56,9 +56,13 @@ namespace oocsimp {
 
 namespace {
 
-// A tile's working set per face: its face records, its mesh for the collapse and
-// the collapse's state, and what it gives out (measured peak over faces, rounded up).
-constexpr std::uint64_t kTileBytesPerFace = 640;
+// A piece's working set per face: its face records, its mesh for the collapse and
+// the collapse's state, and what it gives out. The figure is the peak anonymous
+// memory a piece added to an idle process, over its faces, rounded up (measured in
+// docs/benchmarks.md, "Memory of the passes"); each carried attribute adds its value
+// in the piece's three copies of a vertex, about half a vertex a face.
+constexpr std::uint64_t kTileBytesPerFace = 448;
+constexpr std::uint64_t kTileBytesPerAttribute = 16;
 // The passes stop at this many times the target; the last collapse, in strict order
 // of cost, takes the rest. Each pass aims a little below it, as the sample's
 // threshold is an estimate and the borders held add to what is left.
@@ -80,7 +84,7 @@ constexpr double kMostTilesShare = 4;
 // first-pass tile fuller than that (a dense spot) is worked on in parts, at most
 // kMostParts (first_pass_tile), and a later pass's blocks of tiles (choose_block) stay
 // below it. Two such pieces fit the tiles' share of the budget (half of it) from
-// 2 * 2 * 1.5 * tile_faces * kTileBytesPerFace on (240 MiB by default), so that two
+// 2 * 2 * 1.5 * tile_faces * kTileBytesPerFace on (168 MiB by default), so that two
 // threads work at once; one from half that.
 constexpr double kPieceShare = 1.5;
 constexpr std::uint32_t kMostParts = 64;
@@ -319,6 +323,30 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   return m;
 }
 
+// The faces of each part of first-pass tile `t` as first_pass_tile cuts it: a face
+// goes to each part owning one of its corners. The slabs are of one width, not of one
+// count: around a dense spot (a sphere's pole) one may hold most of the tile.
+std::vector<std::uint64_t> first_pass_part_faces(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input,
+                                                 std::uint64_t most) {
+  const std::vector<TriangleRecord> records = bins.load(t);
+  const std::uint32_t n = parts_of(records.size(), most);
+  const Box3d box = bins.grid.box(t);
+  const double side = bins.grid.side / double(n);
+  std::vector<std::uint64_t> faces(n, 0);
+  for (const TriangleRecord& r : records) {
+    std::uint32_t in[3];
+    int k = 0;
+    for (int c = 0; c < 3; ++c) {
+      if (!r.owned(c)) continue;
+      const double x = input.positions.get(r.v[c]).x - box.min.x;
+      const auto part = std::uint32_t(std::clamp<std::int64_t>(GridCoord::axis(x, side), 0, std::int64_t(n) - 1));
+      if (std::find(in, in + k, part) == in + k) in[k++] = part;
+    }
+    for (int i = 0; i < k; ++i) ++faces[in[i]];
+  }
+  return faces;
+}
+
 // The faces a tile gives out: those whose first corner it owns.
 std::uint64_t faces_given(const TileMesh& tile) {
   std::uint64_t n = 0;
@@ -342,13 +370,15 @@ struct PassSource {
   std::function<TileMesh(std::uint32_t, std::uint32_t)> load;  // tile, part
   std::function<std::uint64_t(std::uint32_t)> faces;           // a tile's face records
   std::function<std::uint32_t(std::uint32_t)> parts;           // the parts it is worked on in
+  std::function<std::uint64_t(std::uint32_t, std::uint32_t)> bytes;  // a tile's or part's working set
 };
 
-// A tile, or a part of one, to collapse, with its face records.
+// A tile, or a part of one, to collapse, with its face records and its working set.
 struct TileWork {
   std::uint32_t tile = 0, part = 0;
   std::uint64_t faces = 0;
   std::size_t slot = 0;  // its place in the caller's list
+  std::uint64_t bytes = 0;
 };
 
 // f(w) for each w of `work` on every thread, the fullest first (ties in the list's
@@ -367,6 +397,19 @@ void for_each_largest_first(std::vector<TileWork> work, const F& f) {
       tbb::simple_partitioner());
 }
 
+// The sample of a pass's tiles that chooses its threshold: spread over them, part 0
+// of a tile worked on in parts.
+std::vector<TileWork> sample_work(const PassSource& source) {
+  const std::size_t n = source.order.size();
+  const std::size_t m = std::min(n, std::clamp(n / kSampleEvery, kLeastSampleTiles, kSampleTiles));
+  std::vector<TileWork> work;
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::uint32_t t = source.order[(2 * i + 1) * n / (2 * m)];
+    work.push_back({t, 0, source.faces(t) / source.parts(t), i, source.bytes(t, 0)});
+  }
+  return work;
+}
+
 // Step 2: the pass's threshold, a quadric cost. A sample of its tiles, spread over
 // them, collapses in order of cost (every vertex free, as an open patch) to below
 // `keep` of its faces, and the costs of its collapses are pooled: the threshold is
@@ -374,18 +417,13 @@ void for_each_largest_first(std::vector<TileWork> work, const F& f) {
 // Every tile of the pass then takes what the strict order of cost would take in the
 // whole mesh up to that cost.
 double sample_threshold(const PassSource& source, const CollapseSettings& settings, double keep, double share,
-                        TileMemoryGate& gate) {
-  const std::size_t n = source.order.size();
-  const std::size_t m = std::min(n, std::clamp(n / kSampleEvery, kLeastSampleTiles, kSampleTiles));
+                        TileMemoryGate& gate, ProgressPhase* progress) {
+  const std::vector<TileWork> work = sample_work(source);
+  const std::size_t m = work.size();
   std::vector<std::vector<double>> logs(m);
   std::vector<std::uint64_t> given(m, 0);
-  std::vector<TileWork> work;
-  for (std::size_t i = 0; i < m; ++i) {
-    const std::uint32_t t = source.order[(2 * i + 1) * n / (2 * m)];
-    work.push_back({t, 0, source.faces(t) / source.parts(t), i});
-  }
   for_each_largest_first(work, [&](const TileWork& w) {
-    gate.run(w.faces * kTileBytesPerFace, [&] {
+    gate.run(w.bytes, [&] {
       TileMesh tile = source.load(w.tile, 0);
       tile.hold_border = false;
       given[w.slot] = faces_given(tile);
@@ -396,6 +434,7 @@ double sample_threshold(const PassSource& source, const CollapseSettings& settin
       sample.target_triangles = tile_floor(tile, given[w.slot], share);
       collapse_pass_tile(tile, sample, &logs[w.slot]);
     });
+    if (progress) progress->advance(w.faces);
   });
   // A tile of the pass stops at its first collapse above the threshold, but costs do
   // not rise steadily along a collapse (an edge the collapses make may cost less than
@@ -423,7 +462,8 @@ std::vector<TileWork> pass_work(const PassSource& source) {
   std::vector<TileWork> work;
   for (std::uint32_t t : source.order) {
     const std::uint32_t parts = source.parts(t);
-    for (std::uint32_t part = 0; part < parts; ++part) work.push_back({t, part, source.faces(t) / parts, work.size()});
+    for (std::uint32_t part = 0; part < parts; ++part)
+      work.push_back({t, part, source.faces(t) / parts, work.size(), source.bytes(t, part)});
   }
   return work;
 }
@@ -457,7 +497,7 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
   }
   std::mutex mutex;
   for_each_largest_first(work, [&](const TileWork& w) {
-    gate.run(w.faces * kTileBytesPerFace, [&] {
+    gate.run(w.bytes, [&] {
       const TileMesh tile = source.load(w.tile, w.part);
       CollapseSettings s = settings;
       s.target_triangles = tile_floor(tile, faces_given(tile), share);
@@ -468,7 +508,7 @@ void run_pass(const PassSource& source, const CollapseSettings& settings, double
       stats->largest_cost = std::max(stats->largest_cost, out.stats.largest_cost);
       stats->largest_error = std::max(stats->largest_error, out.stats.largest_error);
     });
-    progress->advance(w.faces);
+    if (progress) progress->advance(w.faces);
   });
 }
 
@@ -608,7 +648,7 @@ class PassRun {
         budget_(budget_bytes(options.memory_budget)),
         attributes_(input.attributes.size()),
         final_faces_(kFinalShare * double(target)),
-        progress_(options.progress, "collapse passes", 0, "tri") {
+        memory_(budget_, options.budget_counts_process) {
     settings_.target_triangles = 4;
     settings_.exact_count = false;
     if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
@@ -630,6 +670,7 @@ class PassRun {
     check_last_collapse_fits();
     bin_input();
     if (!(faces_ > final_faces_)) throw std::logic_error("first_pass_part: no pass runs");
+    begin_pass_progress();
     choose_threshold();
     std::mutex mutex;
     run_pass(
@@ -638,7 +679,8 @@ class PassRun {
           std::lock_guard<std::mutex> lock(mutex);
           out(tile);
         },
-        &collapse_stats_, &progress_, mine);
+        &collapse_stats_, progress_.get(), mine);
+    progress_.reset();
     FirstPassPlan plan;
     plan.input_triangles = binned_.triangle_count;
     plan.skipped = binned_.skipped;
@@ -661,7 +703,7 @@ class PassRun {
     stats_->skipped = plan.skipped;
     const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
     spill_ = spill_settings(input_, tiling, sizeof(PassVertex), 0, work_share());
-    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share);
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, options_.release_memory);
     threshold_ = plan.threshold;
     settings_.max_cost = threshold_;
     collapse_stats_.collapses = plan.collapses;
@@ -679,9 +721,11 @@ class PassRun {
   // remainder whole.
   QuadricMesh passes() {
     while (faces_ > final_faces_ && passes_ < kMaxPasses && !held_) {
+      begin_pass_progress();
       choose_threshold();
       collapse_tiles();
       take_next_tiles();
+      end_pass_progress();
     }
     clock_.end("passes");
     clock_.move_to(&stats_->phases);
@@ -708,10 +752,15 @@ class PassRun {
     return sizes_.part_above ? sizes_.part_above : std::uint64_t(kPieceShare * sizes_.tile_faces);
   }
 
+  // The working set of a piece of `faces` face records.
+  std::uint64_t piece_bytes(std::uint64_t faces) const {
+    return faces * (kTileBytesPerFace + kTileBytesPerAttribute * attributes_);
+  }
+
   // The tiles' share of the budget (TileMemoryGate): half of it, which holds one piece
   // at least, or the run is refused up front.
   std::uint64_t work_share() const {
-    const std::uint64_t piece = piece_faces() * kTileBytesPerFace;
+    const std::uint64_t piece = piece_bytes(piece_faces());
     if (piece > budget_ / 2)
       throw UsageError("options.memory_budget", "options.memory_budget " + whole_mib(budget_) +
                                                     " MiB cannot hold a tile of the collapse in passes (about " +
@@ -731,7 +780,7 @@ class PassRun {
     stats_->input_triangles = binned_.triangle_count;
     stats_->skipped = binned_.skipped;
     faces_ = double(binned_.triangle_count);
-    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share);
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, options_.release_memory);
     for (std::uint32_t t = 0; t < binned_.count(); ++t) source_.order.push_back(t);
     std::sort(source_.order.begin(), source_.order.end(),
               [&](std::uint32_t a, std::uint32_t b) { return binned_.grid.coord(a) < binned_.grid.coord(b); });
@@ -744,25 +793,73 @@ class PassRun {
     // The binning buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
     if (options_.release_memory) options_.release_memory();
+    count_part_faces();
+    source_.bytes = [this](std::uint32_t t, std::uint32_t part) {
+      const std::uint64_t records = binned_.triangles->record_count(t);
+      const auto parts = part_faces_.find(t);
+      if (parts == part_faces_.end()) return piece_bytes(records);
+      // A part reads its whole tile's records, then keeps the faces around its own
+      // vertices.
+      return piece_bytes(parts->second[part]) + records * sizeof(TriangleRecord);
+    };
+    check_largest_piece_fits();
     clock_.end("bin");
+  }
+
+  // The faces of each part of the first pass's tiles that are worked on in parts,
+  // counted from their records (first_pass_part_faces).
+  void count_part_faces() {
+    std::vector<TileWork> dense;
+    for (std::uint32_t t : source_.order)
+      if (source_.parts(t) > 1) {
+        const std::uint64_t records = source_.faces(t);
+        dense.push_back({t, 0, records, dense.size(), records * sizeof(TriangleRecord)});
+        part_faces_[t];  // every entry made here: the threads below only fill them
+      }
+    for_each_largest_first(dense, [&](const TileWork& w) {
+      gate_->run(w.bytes, [&] { part_faces_[w.tile] = first_pass_part_faces(binned_, w.tile, input_, piece_faces()); });
+    });
+  }
+
+  // A piece of work larger than the tiles' share runs alone: refused up front when
+  // even alone it would not fit next to what the run holds and the next pass's bin
+  // buffers.
+  void check_largest_piece_fits() const {
+    std::uint64_t largest = 0;
+    std::uint32_t largest_tile = 0, largest_part = 0;
+    for (std::uint32_t t : source_.order)
+      for (std::uint32_t part = 0; part < source_.parts(t); ++part)
+        if (source_.bytes(t, part) > largest) {
+          largest = source_.bytes(t, part);
+          largest_tile = t;
+          largest_part = part;
+        }
+    const std::uint64_t held = memory_.held() + next_bin_buffers();
+    // The smallest budget that holds it: what the run holds beside the spill's
+    // records in memory stays, while the spill's allowance (an eighth of the budget
+    // here) and the bin buffers (a sixteenth) grow with the budget.
+    const std::uint64_t fixed = memory_.held() - std::min(memory_.held(), binned_.triangles->bytes_kept_in_memory());
+    const std::uint64_t least = std::max(2 * piece_bytes(piece_faces()), (fixed + largest) / 13 * 16 + 1);
+    memory_.check(held, largest,
+                  "the fullest piece of the collapse in passes (part " + std::to_string(largest_part + 1) + " of " +
+                      std::to_string(source_.parts(largest_tile)) + " of a tile of " +
+                      std::to_string(source_.faces(largest_tile)) + " face records: a dense spot of the mesh)",
+                  "give options.memory_budget " + whole_mib(std::max(least, held + largest)) + " MiB or more");
   }
 
   // Step 2: the pass's threshold, from a sample of its tiles; never lower than the last.
   void choose_threshold() {
     const double aim = std::min(1.0, kAimShare * double(target_) / faces_);
-    threshold_ = std::max(threshold_, sample_threshold(source_, settings_, aim, share(), *gate_));
+    threshold_ = std::max(threshold_, sample_threshold(source_, settings_, aim, share(), *gate_, progress_.get()));
     settings_.max_cost = threshold_;
   }
 
   // Steps 3 and 4: every tile collapsed and binned into the next pass's tiles.
   void collapse_tiles() {
-    // Progress counts the face records the tiles read, pass after pass.
-    for (std::uint32_t t : source_.order) progress_total_ += source_.faces(t);
-    progress_.set_total(progress_total_);
     start_next_bins(double(source_.order.size()));
     run_pass(
         source_, settings_, share(), *gate_, [this](const TileOutput& out) { next_->add(out); }, &collapse_stats_,
-        &progress_);
+        progress_.get());
     ++passes_;
     // The tiles' buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
@@ -799,6 +896,7 @@ class PassRun {
       for (std::uint32_t tile : (*blocks)[t]) records += b->faces_in(tile);
       return records;
     };
+    source_.bytes = [this](std::uint32_t t, std::uint32_t) { return piece_bytes(source_.faces(t)); };
     side_ = next_tiling_.side * double(block);
     const bool slow = left > (1 - kSlowPass) * faces_;
     faces_ = left;
@@ -813,6 +911,25 @@ class PassRun {
   // The share of the target a tile keeps at least (run_pass).
   double share() const { return double(target_) / faces_; }
 
+  // What the next pass's bins take in buffers (start_next_bins), planned.
+  std::uint64_t next_bin_buffers() const { return budget_ / 16; }
+
+  // A pass as a phase of its own: its sample's and its tiles' face records counted,
+  // the triangles it starts from told at its start, and those it leaves at its end.
+  void begin_pass_progress() {
+    std::uint64_t total = 0;
+    for (const TileWork& w : sample_work(source_)) total += w.faces;
+    for (std::uint32_t t : source_.order) total += source_.faces(t);
+    const std::string in = std::to_string(std::uint64_t(faces_));
+    progress_ = std::make_unique<ProgressPhase>(options_.progress, "collapse pass " + std::to_string(passes_ + 1),
+                                                total, "tri", in + " triangles in");
+    pass_in_ = in;
+  }
+  void end_pass_progress() {
+    progress_->set_detail(pass_in_ + " -> " + std::to_string(std::uint64_t(faces_)) + " triangles");
+    progress_.reset();
+  }
+
   MeshInput& input_;
   const SimplifyOptions& options_;
   const Vec3d origin_;
@@ -822,9 +939,11 @@ class PassRun {
   const std::uint64_t budget_;
   const std::size_t attributes_;
   const double final_faces_;
+  const MemoryBudget memory_;
   PhaseTimer clock_;
-  ProgressPhase progress_;
-  std::uint64_t progress_total_ = 0;
+  std::unique_ptr<ProgressPhase> progress_;  // the pass in work
+  std::string pass_in_;
+  std::map<std::uint32_t, std::vector<std::uint64_t>> part_faces_;  // first-pass tiles in parts: each part's faces
   CollapseSettings settings_;
   CollapseStats collapse_stats_;
   SpillSettings spill_;

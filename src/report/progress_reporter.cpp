@@ -31,24 +31,25 @@ ProgressCallback ProgressReporter::callback() {
   return [this](const Progress& p) {
     switch (p.event) {
       case Progress::Event::begin:
-        begin(p.phase, p.total, p.unit);
+        begin(p.phase, p.total, p.unit, p.detail);
         break;
       case Progress::Event::advance:
         if (p.total) set_total(p.total);
         set(p.done);
         break;
       case Progress::Event::end:
-        end();
+        end(p.detail);
         break;
     }
     return true;
   };
 }
 
-void ProgressReporter::begin(const std::string& name, std::uint64_t total, const char* unit) {
+void ProgressReporter::begin(const std::string& name, std::uint64_t total, const char* unit, const char* detail) {
   std::lock_guard<std::mutex> lock(mutex_);
   name_ = name;
   unit_ = unit;
+  detail_ = detail ? detail : "";
   total_ = total;
   done_ = 0;
   phase_start_ = now_seconds();
@@ -56,14 +57,15 @@ void ProgressReporter::begin(const std::string& name, std::uint64_t total, const
   // Batch logs (and whoever watches them) see when each phase starts, not only when
   // it ends.
   if (!quiet_ && !tty_) {
-    std::fprintf(stderr, "oocsimp: %s started\n", name_.c_str());
+    std::fprintf(stderr, "oocsimp: %s started%s%s\n", name_.c_str(), detail_.empty() ? "" : ": ", detail_.c_str());
     std::fflush(stderr);
   }
 }
 
-void ProgressReporter::end() {
+void ProgressReporter::end(const char* detail) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!active_) return;
+  if (detail) detail_ = detail;
   if (total_ > 0) done_ = total_.load();
   print(true);
   active_ = false;
@@ -110,6 +112,9 @@ void ProgressReporter::print(bool final_line) {
   // something no rate either: only the elapsed time is true for it.
   std::string counted;
   if (done > 0) counted = std::string(total > 0 ? "" : std::to_string(done) + " " + unit_ + ", ") + rate_text;
+  // What the phase says of itself (a pass's triangles in, then in and out), after
+  // the counts.
+  const std::string said = detail_.empty() ? "" : "  " + detail_;
   if (tty_) {
     constexpr int kWidth = 30;
     int filled = int(frac * kWidth);
@@ -117,20 +122,23 @@ void ProgressReporter::print(bool final_line) {
     for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '-';
     bar[kWidth] = '\0';
     if (total == 0)
-      std::fprintf(stderr, "\r\033[K%-16s %s%s%.2fs%s", name_.c_str(), counted.c_str(), counted.empty() ? "" : "  ",
-                   elapsed, final_line ? "\n" : "");
+      std::fprintf(stderr, "\r\033[K%-16s %s%s%.2fs%s%s", name_.c_str(), counted.c_str(), counted.empty() ? "" : "  ",
+                   elapsed, said.c_str(), final_line ? "\n" : "");
     else if (final_line)
-      std::fprintf(stderr, "\r\033[K%-16s [%s] 100%%  %s  %.2fs\n", name_.c_str(), bar, rate_text, elapsed);
+      std::fprintf(stderr, "\r\033[K%-16s [%s] 100%%  %s  %.2fs%s\n", name_.c_str(), bar, rate_text, elapsed,
+                   said.c_str());
     else if (done == 0)
-      std::fprintf(stderr, "\r\033[K%-16s [%s]   0%%  %.2fs", name_.c_str(), bar, elapsed);
+      std::fprintf(stderr, "\r\033[K%-16s [%s]   0%%  %.2fs%s", name_.c_str(), bar, elapsed, said.c_str());
     else
-      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs", name_.c_str(), bar, int(frac * 100), rate_text,
-                   eta);
+      std::fprintf(stderr, "\r\033[K%-16s [%s] %3d%%  %s  ETA %.0fs%s", name_.c_str(), bar, int(frac * 100), rate_text,
+                   eta, said.c_str());
   } else {
+    const char* colon = detail_.empty() ? "" : ": ";
     if (final_line && counted.empty())
-      std::fprintf(stderr, "oocsimp: %s done in %.2fs\n", name_.c_str(), elapsed);
+      std::fprintf(stderr, "oocsimp: %s done in %.2fs%s%s\n", name_.c_str(), elapsed, colon, detail_.c_str());
     else if (final_line)
-      std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)\n", name_.c_str(), elapsed, counted.c_str());
+      std::fprintf(stderr, "oocsimp: %s done in %.2fs (%s)%s%s\n", name_.c_str(), elapsed, counted.c_str(), colon,
+                   detail_.c_str());
     else if (total == 0 || done == 0)
       std::fprintf(stderr, "oocsimp: %s %s%s%.0fs so far\n", name_.c_str(), counted.c_str(),
                    counted.empty() ? "" : ", ", elapsed);

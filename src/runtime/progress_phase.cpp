@@ -1,6 +1,7 @@
 #include "runtime/progress_phase.hpp"
 
 #include <chrono>
+#include <utility>
 
 #include "oocsimp/error.hpp"
 
@@ -17,8 +18,13 @@ std::int64_t steady_ns() {
 
 }  // namespace
 
-ProgressPhase::ProgressPhase(const ProgressCallback& callback, const char* name, std::uint64_t total, const char* unit)
-    : callback_(callback ? &callback : nullptr), name_(name), unit_(unit), total_(total) {
+ProgressPhase::ProgressPhase(const ProgressCallback& callback, std::string name, std::uint64_t total, const char* unit,
+                             std::string detail)
+    : callback_(callback ? &callback : nullptr),
+      name_(std::move(name)),
+      unit_(unit),
+      detail_(std::move(detail)),
+      total_(total) {
   if (!callback_) return;
   std::lock_guard<std::mutex> lock(mutex_);
   if (!call(Progress::Event::begin)) cancelled_ = true;
@@ -55,8 +61,9 @@ void ProgressPhase::report_if_due() {
 bool ProgressPhase::call(Progress::Event event) {
   Progress p;
   p.event = event;
-  p.phase = name_;
+  p.phase = name_.c_str();
   p.unit = unit_;
+  p.detail = detail_.c_str();
   p.done = done_.load(std::memory_order_relaxed);
   p.total = total_.load(std::memory_order_relaxed);
   if (event == Progress::Event::end && p.total > 0) p.done = p.total;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <string>
 
 #include "oocsimp/progress.hpp"
 
@@ -16,7 +17,9 @@ namespace oocsimp {
 /// is a test of one pointer.
 class ProgressPhase {
  public:
-  ProgressPhase(const ProgressCallback& callback, const char* name, std::uint64_t total, const char* unit);
+  /// `detail`: what the phase says of itself beside its counts (Progress::detail).
+  ProgressPhase(const ProgressCallback& callback, std::string name, std::uint64_t total, const char* unit,
+                std::string detail = "");
   ~ProgressPhase();
   ProgressPhase(const ProgressPhase&) = delete;
   ProgressPhase& operator=(const ProgressPhase&) = delete;
@@ -37,6 +40,12 @@ class ProgressPhase {
     done_.fetch_add(n, std::memory_order_relaxed);
     report_if_due();
   }
+  /// Sets what the phase says of itself from the next report on, its end included.
+  void set_detail(const std::string& detail) {
+    if (!callback_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    detail_ = detail;
+  }
   /// Throws Cancelled when the callback has asked to stop.
   void check() const;
 
@@ -45,8 +54,9 @@ class ProgressPhase {
   bool call(Progress::Event event);  // with mutex_ held; false: the callback asked to stop
 
   const ProgressCallback* callback_;  // null when the caller gave none
-  const char* name_;
+  const std::string name_;
   const char* unit_;
+  std::string detail_;  // guarded by mutex_
   std::atomic<std::uint64_t> done_{0};
   std::atomic<std::uint64_t> total_{0};
   std::atomic<std::int64_t> next_report_ns_{0};
