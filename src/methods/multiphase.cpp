@@ -235,6 +235,10 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   settings.target_triangles = goal.target;
   if (options.target.max_error > 0) settings.max_error = options.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
+  // --max-error alone asks for no count: its target (the least) says nothing of which
+  // holes the output can show.
+  settings.soften_holes = options.target.triangles != 0 || options.target.ratio != 0 ||
+                          (options.method == ClusterMethod::qem && options.target.max_error == 0);
   settings.result_quadrics = goal.quadrics != nullptr;  // the output's
   settings.lock_boundary = options.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);

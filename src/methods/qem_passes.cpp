@@ -654,6 +654,12 @@ class PassRun {
     if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
     settings_.lock_boundary = options.lock_boundary;
     settings_.lock_coincident = carries_texture_coordinates(input.attributes.attributes);
+    // A hole is judged against the input and the run's target, as in the whole mesh
+    // (a tile's own count is not the mesh's); with no count asked, there are none.
+    settings_.soften_holes =
+        options.target.triangles != 0 || options.target.ratio != 0 || !(options.target.max_error > 0);
+    settings_.hole_faces = input.info.face_count;
+    settings_.hole_target = target;
     if (!options.locked_vertices.empty()) settings_.locked_ids = &options.locked_vertices;  // sorted by the caller
   }
 

@@ -49,13 +49,15 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   locked_ = std::move(mesh_.locked);
   mesh_.locked.clear();
   locked_.resize(n, 0);
+  const std::vector<std::uint8_t> partial = std::move(mesh_.partial);
+  mesh_.partial.clear();
   build_adjacency();
   classify_vertices();
   if (settings.lock_boundary)
     for (std::size_t v = 0; v < n; ++v)
       if (boundary_[v]) locked_[v] = 1;
   if (settings.lock_coincident) pair_coincident_vertices();
-  add_boundary_planes(settings.boundary_weight);
+  add_boundary_planes(settings, partial);
 }
 
 void CollapseState::build_adjacency() {
@@ -259,13 +261,36 @@ CollapseState::FanShape CollapseState::fan_shape(std::uint32_t v, VertexScratch*
   return shape;
 }
 
+std::uint64_t most_hole_edges(std::uint64_t faces, std::uint64_t target) {
+  if (target == 0) return 0;
+  const std::uint64_t bound = kHoleEdges * kHoleEdges * faces;
+  std::uint64_t m = std::uint64_t(std::sqrt(double(bound) / double(target)));
+  while (m > 0 && m * m * target >= bound) --m;
+  while ((m + 1) * (m + 1) * target < bound) ++m;
+  return m;
+}
+
 // Garland & Heckbert 1997 §6.1: each boundary edge adds, to both its ends, the
-// quadric of its line (boundary_edge_quadric). A texture seam's edge (both ends
-// mirrored) is a boundary of its side only: its line is held kSeamShare as hard, about
-// as hard as a face's plane, so that a chart's outline keeps its shape as the surface
-// does, where the surface's own outline is held a thousand times harder.
-void CollapseState::add_boundary_planes(double weight) {
+// quadric of its line (boundary_edge_quadric), weighted heavily so that the outline of
+// an open surface (a terrain's rim, an open part's) keeps its course and relief. A
+// texture seam's edge (both ends mirrored) is a boundary of its side only: its line is
+// held kSeamShare as hard, about as hard as a face's plane, so that a chart's outline
+// keeps its shape as the surface does. So is a hole's: a simple loop of the outline
+// around which the target leaves fewer than kHoleEdges edges (a scan's gaps) has no
+// shape the output could show, and held as an outline it keeps its rim's vertices at
+// the cost of the rest of the surface (docs/design.md, "Holes"). The edges are added
+// in face order whatever their weights, so that a mesh with no hole gets the quadrics
+// it got before holes were told apart.
+void CollapseState::add_boundary_planes(const CollapseSettings& settings, const std::vector<std::uint8_t>& partial) {
+  const double weight = settings.boundary_weight;
   if (!(weight > 0)) return;
+  struct BoundaryEdge {
+    std::uint32_t u, w;
+    bool seam;
+    Vec3d normal;  // its face's, unit
+  };
+  std::vector<BoundaryEdge> found;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> outline;  // the edges not a seam's
   for (std::size_t f = 0; f < face_dead_.size(); ++f) {
     const std::uint32_t* t = &mesh_.triangles[3 * f];
     // Most faces have no two corners on the outline: nothing to add.
@@ -278,12 +303,69 @@ void CollapseState::add_boundary_planes(double weight) {
       const std::uint32_t u = t[k], w = t[(k + 1) % 3];
       if (!boundary_[u] || !boundary_[w] || faces_on_edge(u, w) != 1) continue;
       const bool seam = seam_edge(u, w);
-      const Quadric line = boundary_edge_quadric(mesh_.positions[u], mesh_.positions[w], normal / normal_length,
-                                                 seam ? kSeamShare * weight : weight);
-      mesh_.quadrics[u].add(line);
-      mesh_.quadrics[w].add(line);
+      found.push_back({u, w, seam, normal / normal_length});
+      if (!seam) outline.emplace_back(u, w);
     }
   }
+  const std::uint64_t most =
+      settings.soften_holes ? most_hole_edges(settings.hole_faces ? settings.hole_faces : face_dead_.size(),
+                                              settings.hole_target ? settings.hole_target : settings.target_triangles)
+                            : 0;
+  const std::vector<std::uint8_t> hole = hole_edges(outline, most, partial);
+  std::size_t at = 0;  // in `outline`
+  for (const BoundaryEdge& e : found) {
+    const bool soft = e.seam || hole[at];
+    if (!e.seam) ++at;
+    const Quadric line = boundary_edge_quadric(mesh_.positions[e.u], mesh_.positions[e.w], e.normal,
+                                               soft ? kSeamShare * weight : weight);
+    mesh_.quadrics[e.u].add(line);
+    mesh_.quadrics[e.w].add(line);
+  }
+}
+
+// The edges' connected pieces (union-find over their ends, numbered densely): a piece
+// is a loop when each of its vertices has two of its edges, and a hole when it has at
+// most `most_edges` edges and none of its vertices is partial or non-manifold. A loop
+// through a partial vertex (one of another tile's, in the out-of-core passes) cannot be
+// told whole: it is held as an outline there, in every tile that sees a piece of it,
+// so that each of its vertices gets the same planes whichever tile owns it.
+std::vector<std::uint8_t> CollapseState::hole_edges(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges,
+                                                    std::uint64_t most_edges,
+                                                    const std::vector<std::uint8_t>& partial) const {
+  std::vector<std::uint8_t> hole(edges.size(), 0);
+  if (most_edges < 3 || edges.empty()) return hole;
+  std::vector<std::uint32_t> ends;
+  ends.reserve(2 * edges.size());
+  for (const auto& e : edges) ends.push_back(e.first), ends.push_back(e.second);
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  const auto index = [&](std::uint32_t v) {
+    return std::uint32_t(std::lower_bound(ends.begin(), ends.end(), v) - ends.begin());
+  };
+  std::vector<std::uint32_t> parent(ends.size()), degree(ends.size(), 0);
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<std::uint32_t> first(edges.size());  // each edge's first end, densely
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const std::uint32_t i = index(edges[k].first), j = index(edges[k].second);
+    first[k] = i;
+    ++degree[i];
+    ++degree[j];
+    parent[root(i)] = root(j);
+  }
+  std::vector<std::uint64_t> count(ends.size(), 0);
+  std::vector<std::uint8_t> open(ends.size(), 0);  // not a hole
+  for (std::size_t k = 0; k < edges.size(); ++k) ++count[root(first[k])];
+  for (std::uint32_t i = 0; i < ends.size(); ++i)
+    if (degree[i] != 2 || complex_[ends[i]] || (!partial.empty() && partial[ends[i]])) open[root(i)] = 1;
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const std::uint32_t r = root(first[k]);
+    hole[k] = !open[r] && count[r] <= most_edges;
+  }
+  return hole;
 }
 
 std::uint64_t CollapseState::non_manifold_count() const {

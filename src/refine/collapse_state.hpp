@@ -179,7 +179,14 @@ class CollapseState {
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
   // keeps_face() of a face not dead.
   bool keeps_live_face(const Candidate& c, std::uint32_t f) const;
-  void add_boundary_planes(double weight);
+  // The boundary planes (Garland & Heckbert 1997 §6.1), a hole's held as a face is;
+  // `partial` (or empty) marks the vertices not all of whose faces are here.
+  void add_boundary_planes(const CollapseSettings& settings, const std::vector<std::uint8_t>& partial);
+  // For each edge of `edges` (u, w), whether it is on a hole: a loop of at most
+  // `most_edges` edges, each of whose vertices has two edges of `edges`, none partial
+  // nor anchored as non-manifold.
+  std::vector<std::uint8_t> hole_edges(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges,
+                                       std::uint64_t most_edges, const std::vector<std::uint8_t>& partial) const;
   void pair_coincident_vertices();
   // Whether edge (u, w), of one face, is a seam's: its counterpart on the other side,
   // between the mirrors of its ends (or a mirror and an end both sides share, as at a

@@ -33,6 +33,10 @@ struct QuadricMesh {
   std::vector<UnitNormal> face_normals;
   /// Vertices that may neither move nor go (empty: none): a tile's border.
   std::vector<std::uint8_t> locked;
+  /// Vertices not all of whose faces are here (empty: none): the other tiles' vertices
+  /// in a tile of the out-of-core passes. A boundary loop through one is cut, and is
+  /// held as an outline (CollapseState::add_boundary_planes).
+  std::vector<std::uint8_t> partial;
 };
 
 /// What holding a mesh for the collapse takes, in bytes: per vertex its position,
@@ -47,6 +51,15 @@ inline std::uint64_t collapse_memory_bytes(std::uint64_t vertices, std::uint64_t
 /// The area-weighted plane quadrics of the faces around each vertex (Theoharis et al.
 /// 2008 ch. 6: Q_v = sum of w_T Q_T, w_T the area): the start of --method qem.
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles);
+
+/// A boundary loop that the target leaves fewer edges than this around is a hole, not
+/// outline (CollapseSettings::soften_holes): less than a hexagon, too coarse to show
+/// its shape.
+constexpr std::uint64_t kHoleEdges = 6;
+
+/// The most edges of a loop that is a hole when a mesh of `faces` faces is collapsed to
+/// `target`: the largest m with m^2 target < kHoleEdges^2 faces (0 for no target).
+std::uint64_t most_hole_edges(std::uint64_t faces, std::uint64_t target);
 
 struct CollapseSettings {
   /// Collapse until this many triangles are left (at least 4).
@@ -66,8 +79,19 @@ struct CollapseSettings {
   double min_compactness = 0.05;
   /// Weight of the constraint plane through each boundary edge, perpendicular to its
   /// face (Garland & Heckbert 1997 §6.1), per squared edge length: it keeps the outline
-  /// of open scans and terrain.
+  /// of open scans and terrain. A hole too small for the target (see soften_holes) is
+  /// held a thousand times less hard, about as hard as a face.
   double boundary_weight = 1000;
+  /// Whether boundary loops too small for the target are holes rather than outline: a
+  /// simple loop of m edges around which the target leaves fewer than kHoleEdges edges,
+  /// at the density the target gives a mesh of hole_faces faces (m^2 hole_target <
+  /// kHoleEdges^2 hole_faces; CollapseState::add_boundary_planes). Off where no count
+  /// is asked (--max-error alone), whose target says nothing of the output's density.
+  bool soften_holes = true;
+  /// The face count and the target that size the holes (0: the mesh's own count and
+  /// target_triangles). A tile of the out-of-core passes is given the input's count and
+  /// the run's target, so that a hole is judged in it as in the whole mesh.
+  std::uint64_t hole_faces = 0, hole_target = 0;
   /// Lock every vertex on a boundary edge (SimplifyOptions::lock_boundary). In a tile,
   /// a free vertex has all its faces there, so its boundary is the mesh's.
   bool lock_boundary = false;

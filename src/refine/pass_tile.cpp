@@ -78,8 +78,14 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
       for (int c = 0; c < 3; ++c) m.locked[v[c]] = 1;
   }
   // The first pass sums the quadrics from the faces: every face around an owned vertex
-  // is here, so its quadric is whole (the others' are partial, and never used).
-  if (tile.first_pass) m.quadrics = face_quadrics(m.positions, m.triangles);
+  // is here, so its quadric is whole (the others' are partial, and never used). So are
+  // the boundary edges of an owned vertex; a boundary loop through another tile's
+  // vertex is not seen whole, and stays an outline (CollapseState::hole_edges).
+  if (tile.first_pass) {
+    m.quadrics = face_quadrics(m.positions, m.triangles);
+    m.partial.resize(n);
+    for (std::size_t l = 0; l < n; ++l) m.partial[l] = !(*owned)[l];
+  }
   return m;
 }
 
