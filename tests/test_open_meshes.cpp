@@ -387,3 +387,53 @@ TEST_CASE("on a surface of small holes the collapse is as close as OpenMesh's de
   }
 #endif
 }
+
+TEST_CASE("a stuck collapse says what its edges left would do", "[refine][collapse][open][cli]") {
+  ScratchDir d;
+  // A strip of 10 unit squares: every vertex is on the outline, so with the boundary
+  // locked no collapse can go. Its edges: 11 across, 20 along, 10 diagonals.
+  std::vector<float> strip;
+  std::vector<std::uint32_t> strip_faces;
+  for (int i = 0; i <= 10; ++i) strip.insert(strip.end(), {float(i), 0, 0, float(i), 1, 0});
+  for (std::uint32_t i = 0; i < 10; ++i)
+    strip_faces.insert(strip_faces.end(), {2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1});
+  write_binary_ply(d.file("strip.ply"), strip, strip_faces);
+  const CliResult locked = run_cli("simplify --quiet '" + d.file("strip.ply") + "' -o '" + d.file("o.ply") +
+                                   "' --target-tris 4 --lock-boundary");
+  REQUIRE(locked.exit_code == 0);
+  CHECK(load_mesh(d.file("o.ply")).triangle_count() == 20);
+  CHECK(locked.err.find("all 41 edges left have a locked end") != std::string::npos);
+  CHECK(locked.err.find("1 boundary loop is left") != std::string::npos);
+
+  // Two discs of three triangles around a centre each: their outlines are loops of
+  // three edges, which no collapse closes (it would fold the disc shut), and removing
+  // the centre would leave a lone triangle, the least a disc keeps. 12 edges in all.
+  std::vector<float> fans;
+  std::vector<std::uint32_t> fan_faces;
+  for (std::uint32_t k = 0; k < 2; ++k) {
+    const float x = 3.0f * float(k);
+    fans.insert(fans.end(), {x, 0, 0, x + 1, 0, 0, x, 1, 0, x + 0.3f, 0.3f, 0.1f});
+    const std::uint32_t a = 4 * k, b = a + 1, c = a + 2, o = a + 3;
+    fan_faces.insert(fan_faces.end(), {a, b, o, b, c, o, c, a, o});
+  }
+  write_binary_ply(d.file("fans.ply"), fans, fan_faces);
+  CollapseSettings s;
+  s.target_triangles = 4;
+  CollapseStats stats;
+  QuadricMesh in;
+  for (std::size_t i = 0; i < fans.size(); i += 3) in.positions.push_back({fans[i], fans[i + 1], fans[i + 2]});
+  in.triangles = fan_faces;
+  in.quadrics = face_quadrics(in.positions, in.triangles);
+  const QuadricMesh out = collapse_edges(in, s, &stats);
+  CHECK(out.triangles.size() / 3 == 6);
+  CHECK(stats.stuck);
+  CHECK(stats.why_stuck.edges == 12);
+  CHECK(stats.why_stuck.locked == 0);
+  CHECK(stats.why_stuck.folds + stats.why_stuck.topology + stats.why_stuck.overshoot == 12);
+  CHECK(stats.why_stuck.loops == 2);
+  CHECK(stats.why_stuck.loops_of_three == 2);
+  const CliResult discs =
+      run_cli("simplify --quiet '" + d.file("fans.ply") + "' -o '" + d.file("p.ply") + "' --target-tris 4");
+  REQUIRE(discs.exit_code == 0);
+  CHECK(discs.err.find("2 of the 2 boundary loops left are down to three edges and stay open") != std::string::npos);
+}

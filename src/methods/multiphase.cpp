@@ -194,6 +194,37 @@ struct CollapseResult {
   bool finer_may_help = false;
 };
 
+// Why a stuck collapse took no more: what its edges left would do (CollapseStats::
+// why_stuck), the commonest first, and the boundary loops it kept open.
+std::string stuck_reason(const CollapseStats::StuckEdges& w) {
+  std::vector<std::pair<std::uint64_t, std::string>> parts = {
+      {w.folds, "would flip a face or leave a needle"},
+      {w.topology, "would break the link condition (the surface would stop being manifold, or pinch)"},
+      {w.locked, "have a locked end"},
+      {w.overshoot, "would take it below the target by more than edge splits make up"}};
+  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string why = "no valid collapse was left: ";
+  bool first = true;
+  for (const auto& p : parts) {
+    if (p.first == 0) continue;
+    if (first)
+      why += p.first == w.edges
+                 ? "all " + std::to_string(w.edges) + " edges left " + p.second
+                 : "of the " + std::to_string(w.edges) + " edges left, " + std::to_string(p.first) + " " + p.second;
+    else
+      why += ", " + std::to_string(p.first) + " " + p.second;
+    first = false;
+  }
+  if (first) why += "no edge is left";
+  if (w.loops_of_three)
+    why += "; " + std::to_string(w.loops_of_three) + " of the " + std::to_string(w.loops) +
+           " boundary loops left are down to three edges and stay open (closing one would fold a disc shut, leave "
+           "the surface non-manifold or move a locked vertex)";
+  else if (w.loops)
+    why += "; " + std::to_string(w.loops) + (w.loops == 1 ? " boundary loop is left" : " boundary loops are left");
+  return why;
+}
+
 // The collapse's figures in `stats`, and whether it missed the target; the warning
 // of a missed count when no finer phase 1 follows or none could help. Returns
 // CollapseResult::finer_may_help.
@@ -208,10 +239,9 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
                            (options.method == ClusterMethod::qem && options.target.max_error == 0);
   stats->refine.target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
   if (stats->refine.target_missed && count_asked && (goal.last || cs.parity)) {
-    std::string why = cs.parity ? "the surface is closed, so its triangle count is even"
-                      : cs.stopped_by_error
-                          ? "the next collapse's error was above the maximum error"
-                          : "no valid collapse was left (each would break the surface or flip a face)";
+    std::string why = cs.parity             ? "the surface is closed, so its triangle count is even"
+                      : cs.stopped_by_error ? "the next collapse's error was above the maximum error"
+                                            : stuck_reason(cs.why_stuck);
     stats->warnings.push_back("the target of " + std::to_string(goal.target) +
                               " triangles was not met: " + std::to_string(left) + " triangles (" + why + ")");
   }

@@ -150,6 +150,19 @@ struct CollapseStats {
   /// odd count (one triangle fewer is given). When every collapse left would overshoot,
   /// one is taken and edges split until the count is met (CollapseState::split_up_to).
   bool stuck = false;
+  /// What was left when the collapse was stuck (not by max_error nor parity): the live
+  /// edges, each counted under the first reason its collapse is not taken, and the
+  /// boundary loops. Zero otherwise.
+  struct StuckEdges {
+    std::uint64_t edges = 0;
+    std::uint64_t locked = 0;  ///< an end is locked (a tile's border, lock_boundary, locked_ids)
+    std::uint64_t folds = 0;   ///< it would flip a face or leave a needle
+    /// It would break the link condition, pinch the surface or make an edge of three faces.
+    std::uint64_t topology = 0;
+    std::uint64_t overshoot = 0;       ///< valid, but below the target by more than splits make up
+    std::uint64_t loops = 0;           ///< boundary loops (pieces of edges of one face) left
+    std::uint64_t loops_of_three = 0;  ///< of them, those of three edges
+  } why_stuck;
   bool stopped_by_error = false;
   bool parity = false;
   /// When given, the cost of each collapse taken is appended, in the order taken:

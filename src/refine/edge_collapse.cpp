@@ -33,6 +33,54 @@ std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const st
   return q;
 }
 
+namespace {
+
+// Why no collapse is left: every live edge under the first reason valid() gives (or
+// a locked end, or none), and the pieces of the edges of one face, by union-find over
+// their ends. Run once, when the collapse is stuck.
+CollapseStats::StuckEdges stuck_edges(const CollapseState& state) {
+  CollapseStats::StuckEdges why;
+  std::vector<std::uint32_t> ring, parent(state.vertex_count());
+  std::vector<std::uint64_t> boundary(state.vertex_count(), 0);  // edges of one face in each piece, at its root
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+  const auto root = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (std::uint32_t a = 0; a < state.vertex_count(); ++a) {
+    if (!state.alive(a)) continue;
+    state.neighbours(a, &ring);
+    for (const std::uint32_t b : ring) {
+      if (b < a) continue;
+      ++why.edges;
+      if (state.faces_on_edge(a, b) == 1) {
+        const std::uint32_t ra = root(a), rb = root(b);
+        if (ra != rb) parent[ra] = rb, boundary[rb] += boundary[ra];
+        ++boundary[rb];
+      }
+      if (state.locked(a) || state.locked(b)) {
+        ++why.locked;
+        continue;
+      }
+      std::uint32_t blamed = CollapseState::kNoFace;
+      if (state.valid(state.evaluate(a, b), &blamed))
+        ++why.overshoot;
+      else if (blamed != CollapseState::kNoFace)
+        ++why.folds;
+      else
+        ++why.topology;
+    }
+  }
+  for (std::uint32_t v = 0; v < parent.size(); ++v)
+    if (root(v) == v && boundary[v] > 0) {
+      ++why.loops;
+      why.loops_of_three += boundary[v] == 3;
+    }
+  return why;
+}
+
+}  // namespace
+
 void collapse_state(CollapseState& state, const CollapseSettings& settings, CollapseStats* stats,
                     ProgressPhase* progress) {
   const std::uint64_t passes_to =
@@ -93,6 +141,7 @@ void collapse_edges_to_levels(QuadricMesh mesh, const CollapseSettings& settings
       state.drop_needle_guard();
       collapse_in_order(state, level, &st, progress);
     }
+    st.why_stuck = st.stuck && !st.stopped_by_error && !st.parity ? stuck_edges(state) : CollapseStats::StuckEdges{};
     each(k, state.result(nullptr, !settings.result_quadrics), st);
   }
 }
