@@ -263,7 +263,8 @@ void tune_allocator_for_tiles();
 /// Lets glibc keep up to a sixty-fourth of `budget_bytes` (at most 256 MiB) freed at
 /// the top of each arena, where it gives back all above 128 KiB by default: the
 /// collapse's tiles then reuse the buffers of the tile before them instead of
-/// faulting fresh pages in. Call once the run's budget is known, before the run.
+/// faulting fresh pages in. Budgets under 512 MiB keep glibc's default. Call once the
+/// run's budget is known, before the run.
 void keep_freed_heap(std::uint64_t budget_bytes);
 
 /// Gives the allocator's free memory back to the system (malloc_trim): freed memory

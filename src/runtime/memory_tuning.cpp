@@ -20,10 +20,13 @@ void keep_freed_heap(std::uint64_t budget_bytes) {
   // (its default, fixed by tune_allocator_for_tiles's M_MMAP_THRESHOLD): every tile of
   // the collapse's passes then faulted its buffers in afresh, about a quarter of a
   // medium run's CPU in the kernel. A sixty-fourth of the budget per arena (at most
-  // 256 MiB) keeps a tile's buffers for the next tile on that thread, and stays far
-  // within the budget's margins; a budget under 8 MiB a sixty-fourth keeps the default.
+  // 256 MiB) keeps a tile's buffers for the next tile on that thread. A budget under
+  // 512 MiB keeps the default: there the few MiB kept in each arena are a share of the
+  // budget that its tightest runs need.
+  constexpr std::uint64_t kLeastBudget = std::uint64_t(512) << 20;
+  if (budget_bytes < kLeastBudget) return;
   const std::uint64_t keep = std::min<std::uint64_t>(budget_bytes / 64, std::uint64_t(256) << 20);
-  if (keep > (std::uint64_t(128) << 10)) ::mallopt(M_TRIM_THRESHOLD, int(keep));
+  ::mallopt(M_TRIM_THRESHOLD, int(keep));
 }
 
 void release_free_heap() { ::malloc_trim(0); }
