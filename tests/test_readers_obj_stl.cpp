@@ -1,0 +1,287 @@
+// Tests of the streaming mesh readers through the public open_mesh_input() API: OBJ and STL.
+// Every input is written by the test itself into a scratch folder.
+#include "reader_test_files.hpp"
+
+TEST_CASE("OBJ v and f lines", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  write_file(path, obj_text());
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "obj");
+  CHECK_FALSE(m.info.compressed);
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kTextD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s;
+  for (const char* v : kPosText) s += std::string("v ") + v + "\n";
+  s += "vt 0.5 0.5\nvt 0.25 0.75\nvn 0 0 1\n"
+       "f 1 2 3\n"
+       "f 1/1 3/2 4/1\n"
+       "f 2//1 5//1 3//1\n"
+       "f 5/2/1 4/1/1 3/2/1 2/1/1\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.face_count == 4);
+  CHECK(m.positions == kTextD);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 0, 2, 3, 1, 4, 2, 4, 3, 2, 4, 2, 1});
+}
+
+TEST_CASE("OBJ texture coordinates split a position per pair its corners name, in file order",
+          "[readers][obj][attributes]") {
+  ScratchDir dir;
+  std::string path = dir.file("seam.obj");
+  write_file(path,
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+             "vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\nvt 0.25 0.25\n"
+             "vn 0 0 1\nvn 0 1 1\n"
+             "f 1/1/1 2/2/1 3/3/1\n"  // first pairs: vertices 0 1 2
+             "f 2/5/2 4/4/2 3/6/2\n"  // 2/5 and 3/6 are new pairs: vertices 4 and 5
+             "f 2/5 1/1 2/2\n");      // pairs seen before: 4 0 1
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  REQUIRE(in.info.vertex_count == 6);
+  REQUIRE(in.positions.count == 6);
+  std::vector<std::uint64_t> tris(9);
+  REQUIRE(in.triangles->read(tris.data(), 3) == 3);
+  CHECK(tris == std::vector<std::uint64_t>{0, 1, 2, 4, 3, 5, 4, 0, 1});
+  // The split vertices sit at their positions.
+  const oocsimp::Vec3d p4 = in.positions.get(4), p5 = in.positions.get(5);
+  CHECK((p4.x == 1 && p4.y == 0 && p4.z == 0));
+  CHECK((p5.x == 0 && p5.y == 1 && p5.z == 0));
+  REQUIRE(in.attributes.size() == 5);
+  const char* names[5] = {"u", "v", "nx", "ny", "nz"};
+  for (std::size_t k = 0; k < 5; ++k) CHECK(in.attributes.attributes[k].name == names[k]);
+  const double uv[6][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}, {0.5, 0.5}, {0.25, 0.25}};
+  for (std::uint64_t i = 0; i < 6; ++i) {
+    CHECK(oocsimp::attribute_value(in.attributes, i, 0) == uv[i][0]);
+    CHECK(oocsimp::attribute_value(in.attributes, i, 1) == uv[i][1]);
+  }
+  // Normals are averaged per position (vn 1 and vn 2 at positions 2 and 3), and a split
+  // vertex has its position's.
+  const double s5 = 1 / std::sqrt(5.0), s2 = 1 / std::sqrt(2.0);
+  const double normal[6][3] = {{0, 0, 1},   {0, s5, 2 * s5}, {0, s5, 2 * s5},
+                               {0, s2, s2}, {0, s5, 2 * s5}, {0, s5, 2 * s5}};
+  for (std::uint64_t i = 0; i < 6; ++i)
+    for (std::size_t k = 0; k < 3; ++k)
+      CHECK(oocsimp::attribute_value(in.attributes, i, 2 + k) == Approx(normal[i][k]).margin(1e-6));
+  // Without texture coordinates (clustering) no position is split.
+  o.attributes.texture_coordinates = false;
+  oocsimp::MeshInput plain = oocsimp::open_mesh_input(path, o);
+  CHECK(plain.info.vertex_count == 4);
+  CHECK(plain.attributes.size() == 3);
+  // Corner indices beyond what the file has defined so far name the line.
+  const struct {
+    const char* face;
+    const char* message;
+  } bad[] = {{"f 1/7 2/1 3/1\n",
+              "line 12: texture coordinate index 7 refers to a texture coordinate not defined yet (6 so far)"},
+             {"f 1//3 2//1 3//1\n", "line 12: normal index 3 refers to a normal not defined yet (2 so far)"},
+             {"f 1/x 2/1 3/1\n", "line 12: malformed texture coordinate index \"1/x\""}};
+  for (const auto& b : bad) {
+    write_file(
+        path,
+        std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0 0\nvt 1 1\nvn 0 0 1\nvn 0 1 0\n") +
+            b.face);
+    o.attributes.texture_coordinates = true;
+    CHECK_THROWS_WITH(oocsimp::open_mesh_input(path, o), Catch::Contains(b.message));
+  }
+}
+
+TEST_CASE("OBJ positions with many texture coordinates split into as many vertices", "[readers][obj][attributes]") {
+  // Position 1 is named with 300 texture coordinates (past the chains' walk, as at the
+  // pole of a UV sphere): 299 vertices more, each corner on its own.
+  ScratchDir dir;
+  std::string s = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (int k = 0; k < 300; ++k) s += "vt " + std::to_string(k) + " 0\n";
+  for (int k = 0; k < 300; ++k) s += "f 1/" + std::to_string(k + 1) + " 2/1 3/1\n";
+  for (int k = 299; k >= 0; --k) s += "f 1/" + std::to_string(k + 1) + " 3/1 2/1\n";
+  write_file(dir.file("pole.obj"), s);
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(dir.file("pole.obj"), o);
+  REQUIRE(in.positions.count == 3 + 299);
+  std::vector<std::uint64_t> t(3 * 600);
+  REQUIRE(in.triangles->read(t.data(), 600) == 600);
+  for (int k = 0; k < 300; ++k) {
+    const std::uint64_t v = t[3 * std::size_t(k)], back = t[3 * std::size_t(599 - k)];
+    CHECK(v == back);  // the same pair, the same vertex
+    CHECK(oocsimp::attribute_value(in.attributes, v, 0) == double(k));
+  }
+}
+
+TEST_CASE("An OBJ with normals but no vertex opens with empty attribute arrays", "[readers][obj][attributes]") {
+  // Found by fuzz_obj_reader: the empty attribute file mapped to no address, and the
+  // arrays were offset from it.
+  ScratchDir dir;
+  write_file(dir.file("n.obj"), "vn 0 0 1\nvt 0 0\np 1\n");
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(dir.file("n.obj"), o);
+  CHECK(in.positions.count == 0);
+  CHECK(in.attributes.size() == 5);
+  in.triangles->set_primitive_sink([](const oocsimp::LinePrimitive*, std::size_t) {});
+  std::vector<std::uint64_t> buf(3);
+  CHECK_THROWS_WITH(in.triangles->read(buf.data(), 1), Catch::Contains("line 3: vertex index 1 refers to a vertex"));
+}
+
+TEST_CASE("OBJ v lines with extra colour values use the first three", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s =
+      "v 0 0 0 1 0 0\n"
+      "v 1.5 -2.25 0.1 0.5 0.5 0.5\n"
+      "v -3.25e7 1e-20 42 1\n"  // with w
+      "v 7.5 8.125 -9.0625 0 1 0\n"
+      "v 100 0.2 -0.3 0.1 0.2 0.3\n"
+      "f 1 2 3 4\nf 2 5 3\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.positions == kTextD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ negative indices count back from the latest vertex", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s =
+      "v 0 0 0\nv 1.5 -2.25 0.1\nv -3.25e7 1e-20 42\n"
+      "f -3 -2 -1\n"  // 0 1 2
+      "v 7.5 8.125 -9.0625\n"
+      "f -1/1/1 -4//2 -2\n"  // 3 0 2
+      "v 100 0.2 -0.3\n"
+      "f 1 -1 -3 -2\n";  // 0 4 2 3 -> (0 4 2) (0 2 3)
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.positions == kTextD);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 0, 2, 0, 4, 2, 0, 2, 3});
+}
+
+TEST_CASE("OBJ polygons are fanned", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s;
+  for (const char* v : kPosText) s += std::string("v ") + v + "\n";
+  s += "f 5 4 3 2 1\nf 2 3 4 5\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.triangles == std::vector<std::uint64_t>{4, 3, 2, 4, 2, 1, 4, 1, 0, 1, 2, 3, 1, 3, 4});
+}
+
+TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  std::string s =
+      "# exported by a test\n"
+      "mtllib scene.mtl\n"
+      "o object\n"
+      "\n"
+      "v 0 0 0\n"
+      "vn 0 0 1\n"
+      "vt 0.5 0.5\n"
+      "vp 0.1 0.2\n"
+      "  v 1.5 -2.25 0.1\n"
+      "\tv -3.25e7 1e-20 42\n"
+      "g group1\n"
+      "usemtl red\n"
+      "s off\n"
+      "v 7.5 8.125 -9.0625\r\n"
+      "v 100 0.2 -0.3\n"
+      "# f 9 9 9\n"
+      "l 1 2\n"
+      "f 1 2 3 4\r\n"
+      "  f 2 5 3\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.vertex_count == 5);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kTextD);
+  CHECK(m.triangles == kTris);
+}
+
+TEST_CASE("OBJ faces with fewer than three corners are skipped and counted", "[readers][obj]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.obj");
+  write_file(path, obj_text() + "f 1 2\nf 3\n");
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.triangles == kTris);
+  CHECK(m.skipped_faces == 2);
+}
+
+// ---------------------------------------------------------------------------------
+// STL
+
+TEST_CASE("STL ascii gives one vertex per distinct corner", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  write_file(path, ascii_stl());
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl ascii");
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == kStlTextD);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("STL binary gives one vertex per distinct corner", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  write_file(path, binary_stl("binary STL written by a test", 2, 2));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl binary");
+  CHECK_FALSE(m.info.positions_in_place);
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.face_count == 2);
+  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("STL binary whose header starts with solid is detected by its size", "[readers][stl]") {
+  ScratchDir dir;
+  // With and without the .stl extension (content detection by the "solid" prefix).
+  std::string name = GENERATE(as<std::string>{}, "mesh.stl", "mesh.STL", "mesh.dat");
+  CAPTURE(name);
+  std::string path = dir.file(name);
+  write_file(path, binary_stl("solid exported-by-cad-tool", 4, 4));
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.format == "stl binary");
+  CHECK(m.info.face_count == 4);
+  // Triangles 2 and 3 repeat the corners of 0 and 1: welded, they share their vertices.
+  CHECK(m.info.vertex_count == 6);
+  CHECK(m.info.unwelded_vertex_count == 12);
+  CHECK(m.positions == as_doubles(kStlPos));
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 4, 5});
+}
+
+TEST_CASE("STL ascii with several solids", "[readers][stl]") {
+  ScratchDir dir;
+  std::string path = dir.file("mesh.stl");
+  std::string s = ascii_stl() +
+                  "solid second\nfacet normal 0 0 1\nouter loop\nvertex 1 1 1\nvertex 2 2 2\n"
+                  "vertex 3 3 3\nendloop\nendfacet\nendsolid second\n";
+  write_file(path, s);
+  LoadedMesh m = load_mesh(path, dir.path());
+  CHECK(m.info.face_count == 3);
+  std::vector<double> expected = kStlTextD;
+  expected.insert(expected.end(), {1, 1, 1, 2, 2, 2, 3, 3, 3});
+  CHECK(m.positions == expected);
+  CHECK(m.triangles == std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6, 7, 8});
+}
+
+// ---------------------------------------------------------------------------------
+// zstd
+
+// ---------------------------------------------------------------------------------
+// glTF binary
