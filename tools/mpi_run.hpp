@@ -1,7 +1,8 @@
 // simplify under mpirun or srun (docs/cluster.md): rank R of K runs part R/K of the
-// run, and rank 0 merges the parts once every rank has succeeded. Built with Open MPI
-// when CMake finds it (OOCSIMP_WITH_MPI); without it, a program launched by mpirun is
-// K independent copies, and says so.
+// run, and rank 0 merges the parts once every rank has succeeded. The MPI side is a
+// module (mpi_ranks.cpp, built when CMake finds Open MPI) loaded only under a
+// launcher; without it, a program launched by mpirun is K independent copies, and
+// says so.
 #pragma once
 
 #include <functional>

@@ -117,10 +117,10 @@ class PassDriver {
     touched_list_.clear();
     start[0] = kept;
     for (std::uint32_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
-    // entries_ only grows (the first pass has the most edges), so that it is not
-    // filled with zeros again each pass before the costs overwrite them.
+    // entries_ only grows (the first pass has the most edges), and its new room is
+    // not cleared: the costing below writes every entry.
     if (entries_.size() < start[blocks]) {
-      std::vector<QueueEntry> grown;
+      UninitialisedVector<QueueEntry> grown;
       reserve_huge(&grown, start[blocks]);
       grown.assign(entries_.begin(), entries_.begin() + std::ptrdiff_t(kept));
       grown.resize(start[blocks]);
@@ -300,7 +300,7 @@ class PassDriver {
   ProgressPhase* progress_;
   std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
   std::vector<std::uint32_t> touched_list_;  // the vertices the last pass touched, each once
-  std::vector<QueueEntry> entries_;
+  UninitialisedVector<QueueEntry> entries_;  // the costed entries, each written before it is read
   std::size_t costed_ = 0;  // the entries the last pass costed (in any order after it)
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
   std::uint32_t stamp_ = 0;

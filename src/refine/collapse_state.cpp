@@ -40,11 +40,14 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   if (first_normal_.size() != face_dead_.size()) {
     reserve_huge(&first_normal_, face_dead_.size());
     first_normal_.resize(face_dead_.size());
-    for (std::size_t f = 0; f < face_dead_.size(); ++f) {
-      const std::uint32_t* t = &mesh_.triangles[3 * f];
-      const Vec3d& p = mesh_.positions[t[0]];
-      first_normal_[f] = unit_normal(cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p));
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, face_dead_.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                          const std::uint32_t* t = &mesh_.triangles[3 * f];
+                          const Vec3d& p = mesh_.positions[t[0]];
+                          first_normal_[f] = unit_normal(cross(mesh_.positions[t[1]] - p, mesh_.positions[t[2]] - p));
+                        }
+                      });
   }
   locked_ = std::move(mesh_.locked);
   mesh_.locked.clear();

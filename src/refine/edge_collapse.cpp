@@ -1,5 +1,8 @@
 #include "refine/edge_collapse.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -18,18 +21,35 @@ UnitNormal unit_normal(const Vec3d& normal) {
   return {float(normal.x / l), float(normal.y / l), float(normal.z / l)};
 }
 
+// Each vertex's sum takes its faces in the order of the list, as one thread would, so
+// the bits do not depend on the threads: the vertices are cut into one range per
+// thread, and each range's thread walks every face, adding those with a corner in it.
+// A face's plane is found once per range its corners fall in (mostly one: a mesh's
+// faces use nearby indices).
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
   std::vector<Quadric> q;
   reserve_huge(&q, positions.size());
   q.resize(positions.size());
-  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
-    const Vec3d& p = positions[triangles[f]];
-    const TrianglePlane plane = triangle_plane(positions[triangles[f + 1]] - p, positions[triangles[f + 2]] - p);
-    if (plane.degenerate()) continue;
-    Quadric t;
-    add_plane_quadric(&t, plane, dot(plane.m, p));
-    for (int k = 0; k < 3; ++k) q[triangles[f + std::size_t(k)]].add(t);
-  }
+  const std::size_t n = positions.size();
+  const std::size_t ranges = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  tbb::parallel_for(
+      std::size_t(0), ranges,
+      [&](std::size_t r) {
+        const std::uint32_t lo = std::uint32_t(n * r / ranges), hi = std::uint32_t(n * (r + 1) / ranges);
+        const auto inside = [&](std::uint32_t v) { return v >= lo && v < hi; };
+        for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
+          const std::uint32_t t[3] = {triangles[f], triangles[f + 1], triangles[f + 2]};
+          if (!inside(t[0]) && !inside(t[1]) && !inside(t[2])) continue;
+          const Vec3d& p = positions[t[0]];
+          const TrianglePlane plane = triangle_plane(positions[t[1]] - p, positions[t[2]] - p);
+          if (plane.degenerate()) continue;
+          Quadric face;
+          add_plane_quadric(&face, plane, dot(plane.m, p));
+          for (const std::uint32_t v : t)
+            if (inside(v)) q[v].add(face);
+        }
+      },
+      tbb::simple_partitioner());
   return q;
 }
 
