@@ -32,7 +32,7 @@ unsigned char* MemorySlabs::allocate(std::size_t bytes) {
   // instead of a page fault per page (this shortens binning, whose serial stage
   // copies the blocks). Where the kernel has no MADV_POPULATE_WRITE (before Linux
   // 5.14) the pages fault in as they are written.
-  if (next_ > populated_) {
+  if (populate_ && next_ > populated_) {
     const std::size_t to_end = std::size_t(next_ + left_ - populated_);  // whole pages: so is a slab
     const std::size_t ahead = std::max(kPopulateBytes, std::size_t(next_ - populated_));
     const std::size_t n = std::min((ahead + kPage - 1) / kPage * kPage, to_end);

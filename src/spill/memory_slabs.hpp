@@ -20,7 +20,10 @@ class MemorySlabs {
   /// most that is resident and unused.
   static constexpr std::size_t kPopulateBytes = std::size_t(1) << 20;
 
-  MemorySlabs() = default;
+  /// `populate`: fault pages in ahead of the blocks (blocks written whole, at once);
+  /// without it, a page is resident only once written (buffers filled bit by bit,
+  /// many of them partly).
+  explicit MemorySlabs(bool populate = true) : populate_(populate) {}
   MemorySlabs(const MemorySlabs&) = delete;
   MemorySlabs& operator=(const MemorySlabs&) = delete;
   ~MemorySlabs() { release(); }
@@ -37,6 +40,7 @@ class MemorySlabs {
   unsigned char* next_ = nullptr;
   unsigned char* populated_ = nullptr;  // pages before it are faulted in
   std::size_t left_ = 0;
+  bool populate_ = true;
 };
 
 }  // namespace oocsimp

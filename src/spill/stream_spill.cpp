@@ -56,8 +56,8 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 }  // namespace
 
 struct StreamSpill::Stream {
-  std::vector<unsigned char> buffer;
-  std::size_t buffered = 0;  // records in buffer
+  unsigned char* buffer = nullptr;  // in buffers_, once the stream has had a record
+  std::size_t buffered = 0;         // records in buffer
   // Blocks kept in memory (in memory_), in append order, as (where, bytes): the
   // first records of the stream.
   std::vector<std::pair<const unsigned char*, std::size_t>> memory;
@@ -252,7 +252,7 @@ void StreamSpill::write_block(Stream& t) {
   const std::size_t raw = t.buffered * record_size_;
   if (!t.to_disk && reserve_memory(raw)) {
     unsigned char* block = memory_.allocate(raw);
-    std::memcpy(block, t.buffer.data(), raw);
+    std::memcpy(block, t.buffer, raw);
     t.memory.emplace_back(block, raw);
     t.memory_bytes += raw;
     t.buffered = 0;
@@ -261,7 +261,7 @@ void StreamSpill::write_block(Stream& t) {
     return;
   }
   t.to_disk = true;
-  const auto payload = pack(t.buffer.data(), raw);  // outside the lock: threads compress at once
+  const auto payload = pack(t.buffer, raw);  // outside the lock: threads compress at once
   std::lock_guard<std::mutex> lock(write_mutex_);
   create_file();
   t.last_block = write_disk_block(fd_, &end_, t.last_block, payload, raw);
@@ -279,9 +279,9 @@ void StreamSpill::append(std::uint32_t stream, const void* records, std::size_t 
     appended_ += count * record_size_;
   }
   while (count > 0) {
-    if (t.buffer.empty()) t.buffer.resize(buffer_records_ * record_size_);
+    if (!t.buffer) t.buffer = buffers_.allocate(buffer_records_ * record_size_);
     std::size_t k = std::min(count, buffer_records_ - t.buffered);
-    std::memcpy(t.buffer.data() + t.buffered * record_size_, p, k * record_size_);
+    std::memcpy(t.buffer + t.buffered * record_size_, p, k * record_size_);
     t.buffered += k;
     p += k * record_size_;
     count -= k;
@@ -294,8 +294,9 @@ void StreamSpill::flush() {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     if (t.buffered > 0) write_block(t);
-    std::vector<unsigned char>().swap(t.buffer);
+    t.buffer = nullptr;
   }
+  buffers_.release();
 }
 
 void StreamSpill::discard() {
@@ -303,9 +304,10 @@ void StreamSpill::discard() {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     std::vector<std::pair<const unsigned char*, std::size_t>>().swap(t.memory);
-    std::vector<unsigned char>().swap(t.buffer);
+    t.buffer = nullptr;
     t.buffered = 0;
   }
+  buffers_.release();
   std::lock_guard<std::mutex> lock(write_mutex_);
   memory_.release();
   memory_held_ = 0;
@@ -360,7 +362,7 @@ void StreamSpill::read_into(std::uint32_t stream, void* dest, std::size_t bytes)
   }
   const std::size_t tail = t.buffered * record_size_;
   read_disk_part(t, out, pos, bytes - tail);
-  if (tail) std::memcpy(out + bytes - tail, t.buffer.data(), tail);
+  if (tail) std::memcpy(out + bytes - tail, t.buffer, tail);
 }
 
 void StreamSpill::for_each_block(std::uint32_t stream, const std::function<void(const void*, std::size_t)>& f) const {
@@ -375,7 +377,7 @@ void StreamSpill::for_each_block(std::uint32_t stream, const std::function<void(
     read_disk_part(t, run.data(), 0, on_disk);
     f(run.data(), on_disk / record_size_);
   }
-  if (tail) f(t.buffer.data(), t.buffered);
+  if (tail) f(t.buffer, t.buffered);
 }
 
 std::uint64_t StreamSpill::record_count(std::uint32_t stream) const { return streams_[stream]->records; }
