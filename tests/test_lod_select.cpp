@@ -1,4 +1,4 @@
-// LOD selection (Low & Tan 1997 §4, src/render/lod_select.cpp): R = 2 D tan(FOV/2) / H
+// LOD selection (Low & Tan 1997 §4, src/lod/lod_levels.cpp): R = 2 D tan(FOV/2) / H
 // and the coarsest level whose cell is at most X R, on hand-computed cases.
 #include <catch2/catch.hpp>
 

@@ -190,7 +190,7 @@ struct SimplifyOptions {
   ProgressCallback progress;
   /// Floating: called between the phases of a run, whose tiles' buffers were just
   /// freed on several threads, so the process's allocator can give them back to the
-  /// system (the CLI passes release_free_heap(), see oocsimp/memory_tuning.hpp).
+  /// system (the CLI passes release_free_heap(), declared in oocsimp/oocsimp.hpp).
   /// Process-wide allocator settings are the program's business, not the library's.
   void (*release_memory)() = nullptr;
 };
