@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/math_constants.hpp"
 #include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/generate.hpp"
@@ -25,8 +26,6 @@ using namespace oocsimp;
 using namespace oocsimp_test;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The colour channels and the quality as linear functions of position.
 double red_of(const double* p) { return 255 * (0.5 + 0.4 * p[0]); }

@@ -9,6 +9,7 @@
 
 #include <sstream>
 
+#include "common/math_constants.hpp"
 #include "common/vec3_math.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "test_support.hpp"
@@ -19,8 +20,6 @@
 using namespace oocsimp;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct TestMesh {
   std::vector<Vec3d> positions;

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/math_constants.hpp"
 #include "io/attribute_array.hpp"
 #include "io/content_hash.hpp"
 #include "oocsimp/generate.hpp"
@@ -54,8 +55,6 @@ std::map<std::pair<std::uint64_t, std::uint64_t>, int> directed_edges(const Load
     for (int k = 0; k < 3; ++k) ++e[{m.triangles[i + k], m.triangles[i + (k + 1) % 3]}];
   return e;
 }
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A mesh generated with attributes, read back through oocsimp's reader: the geometry,
 // the attributes' names and types, and their values (6 per vertex).

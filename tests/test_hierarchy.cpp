@@ -17,6 +17,7 @@
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
+#include "common/math_constants.hpp"
 #include "hierarchy/four_face_simplifier.hpp"
 #include "hierarchy/four_k_mesh.hpp"
 #include "io/attribute_array.hpp"
@@ -31,8 +32,6 @@ using namespace oocsimp;
 using namespace oocsimp_test;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Mesh {
   std::vector<double> positions;

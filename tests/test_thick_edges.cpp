@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/math_constants.hpp"
 #include "oocsimp/generate.hpp"
 #include "oocsimp/oocsimp.hpp"
 #include "oocsimp/render.hpp"
@@ -20,8 +21,6 @@ using namespace oocsimp;
 using namespace oocsimp_test;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "common/math_constants.hpp"
 #include "common/symmetric_eigen.hpp"
 #include "common/triangle_geometry.hpp"
 #include "common/vec3_math.hpp"
@@ -12,7 +13,6 @@ namespace oocsimp {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // The ball's quadrature: Gauss-Legendre nodes in the radius, even ones in the angle.
 // On the icosphere of the tests (edges 0.23 r) the worst error is 2.48% with 8 x 32
 // nodes, 2.53% with 6 x 24 and 2.54% with 4 x 16: the mesh's facets, not the rule,

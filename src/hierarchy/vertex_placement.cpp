@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/coincident_runs.hpp"
+#include "common/math_constants.hpp"
 #include "common/triangle_geometry.hpp"
 #include "common/vertex_faces.hpp"
 #include "common/vec3_math.hpp"
@@ -14,8 +15,6 @@
 namespace oocsimp {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Vec3d point(const std::vector<double>& xyz, std::uint32_t v) {
   return {xyz[3 * std::size_t(v)], xyz[3 * std::size_t(v) + 1], xyz[3 * std::size_t(v) + 2]};

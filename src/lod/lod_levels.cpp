@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/math_constants.hpp"
 #include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
 #include "oocsimp/lod.hpp"
@@ -14,8 +15,6 @@
 namespace oocsimp {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void bad(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
 

@@ -10,6 +10,7 @@
 #include "cluster/plane_quadric.hpp"
 #include "common/coincident_runs.hpp"
 #include "common/huge_pages.hpp"
+#include "common/math_constants.hpp"
 #include "common/vec3_math.hpp"
 #include "refine/small_lists.hpp"
 
@@ -17,7 +18,6 @@ namespace oocsimp {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A texture seam's line quadric against an outline's (add_boundary_planes): the
 // outline's weight, 1000 per squared edge length, is about 2000 times a face plane's
 // (area-weighted); a seam's is about twice a face's.

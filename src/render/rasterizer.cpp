@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/math_constants.hpp"
 #include "common/vec3_math.hpp"
 #include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
@@ -16,7 +17,6 @@ namespace oocsimp {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFraming = 1.05;  // the bounding sphere's diameter over the shorter side
 // A surface faces one way when its area-weighted normals sum to at least this share of
 // its area (a closed surface's sum to 0, a plane's to 1).

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/math_constants.hpp"
 #include "io/byte_sink.hpp"
 #include "oocsimp/error.hpp"
 #include "io/temp_file.hpp"
@@ -24,8 +25,6 @@
 namespace oocsimp {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct SplitMix64 {
   std::uint64_t s;
