@@ -18,7 +18,7 @@ constexpr std::size_t kChunkTriangles = 65536;
 // The mesh with k1 and k2 as PLY, streamed: positions from the input, the values from
 // k, the faces read again.
 void write_curvature_ply(OutputFile& out, MeshInput& input, const float* k, std::uint64_t triangles, bool ascii) {
-  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  ByteSink sink(out.fd(), out.path(), compression_for_path(out.path()));
   const std::vector<VertexAttribute> attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0},
                                                    VertexAttribute{"k2", AttributeType::f32, 0, 0}};
   PlyStreamWriter ply(sink, ascii, input.info.double_precision ? ScalarType::f64 : ScalarType::f32,
