@@ -219,16 +219,19 @@ TEST_CASE("every phase of every subcommand that works on a mesh is logged as sta
     std::vector<std::string> phases;  // each must be among the logged ones
   } runs[] = {
       {"generate --tris 20000 -o " + s, {"generate"}},
-      {"simplify " + s + " -o " + q(d.file("f.ply")) + " --grid 16", {"read positions", "write"}},
+      {"simplify " + s + " -o " + q(d.file("f.ply")) + " --grid 16", {"read positions", "plan tiles", "write"}},
       {"simplify " + s + " -o " + q(d.file("u.ply")) + " --grid 16 --method uniform", {"read positions", "write"}},
-      {"simplify " + s + " -o " + q(d.file("t.ply")) + " --target-tris 1000", {"read positions", "collapse", "write"}},
+      {"simplify " + s + " -o " + q(d.file("t.ply")) + " --target-tris 1000",
+       {"read positions", "load mesh", "face quadrics", "collapse", "write"}},
+      {"simplify " + s + " -o " + lods + " --grid 16 --lods 2", {"plan tiles", "regrade tiles", "write"}},
       {"hierarchy " + s + " -o " + q(d.file("h.4k")),
-       {"read positions", "load mesh", "manifold", "4-k levels", "write"}},
+       {"read positions", "load mesh", "manifold", "4-k mesh", "4-k levels", "write"}},
       {"extract " + q(d.file("h.4k")) + " -o " + q(d.file("e.ply")) + " --level 2",
        {"read hierarchy", "extract", "write"}},
       {"info " + s, {"read positions"}},
-      {"measure " + s + " " + q(d.file("t.ply")) + " --samples 2000", {}},
-      {"curvature " + s + " -o " + q(d.file("k.ply")), {"read positions", "curvatures"}},
+      {"measure " + s + " " + q(d.file("t.ply")) + " --samples 2000", {"bound B->A", "index samples of B"}},
+      {"curvature " + s + " -o " + q(d.file("k.ply")), {"read positions", "curvatures", "write"}},
+      {"render " + s + " -o " + q(d.file("r.png")) + " --size 64x48", {"read positions", "render", "write"}},
   };
   for (const Run& run : runs) {
     const CliResult r = run_cli(run.args);  // stderr a file: the batch log's lines

@@ -8,6 +8,7 @@
 #include "io/mesh_input.hpp"
 #include "io/mesh_writer_output.hpp"
 #include "oocsimp/oocsimp.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -67,8 +68,11 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
   OutputFile out(output_path);
   MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
   const CurvatureStats st = estimate_mesh_curvatures(input, options, k.data());
-  write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);
-  out.commit();
+  {
+    ProgressPhase phase(options.progress, "write", 0, "B");
+    write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);
+    out.commit();
+  }
   if (stats) *stats = st;
 }
 
