@@ -325,7 +325,7 @@ TEST_CASE("every subcommand that runs long takes --quiet, which leaves its summa
         std::string::npos);
 }
 
-TEST_CASE("--mem below the minimum echoes what was typed", "[cli][options]") {
+TEST_CASE("a --mem below the minimum echoes what was typed", "[cli][options]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --quiet --tris 1000 -o " + q(d.file("s.ply"))).exit_code == 0);
   for (const char* mem : {"1K", "1000", "31M"}) {
@@ -367,7 +367,7 @@ TEST_CASE("a run whose output is not smaller than its input warns, naming the op
   CHECK(small.err.find("nothing was removed") == std::string::npos);
 }
 
-TEST_CASE("--max-error as a percentage of the diagonal is the length it stands for", "[cli][options]") {
+TEST_CASE("a --max-error given as a percentage of the diagonal is the length it stands for", "[cli][options]") {
   ScratchDir d;
   REQUIRE(run_cli("generate --quiet --tris 20000 -o " + q(d.file("s.ply"))).exit_code == 0);
   const CliResult info = run_cli("info --json " + q(d.file("s.ply")));
