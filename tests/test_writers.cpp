@@ -230,9 +230,8 @@ TEST_CASE("format_for_path picks the format from the name", "[writers]") {
 }
 
 TEST_CASE("format_for_path refuses a name it cannot write, listing what it can", "[writers]") {
-  for (const char* name :
-       {"a.gltf", "noextension", "obj", "a.obj.gzip", "a.objx", "", ".zst", "a.zst", "a.gz", "a.ply.zst.zst",
-        "a.ply.gz.zst", "a.3ds"}) {
+  for (const char* name : {"a.gltf", "noextension", "obj", "a.obj.gzip", "a.objx", "", ".zst", "a.zst", "a.gz",
+                           "a.ply.zst.zst", "a.ply.gz.zst", "a.3ds"}) {
     CAPTURE(name);
     try {
       format_for_path(name, false);
