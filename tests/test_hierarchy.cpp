@@ -777,7 +777,7 @@ TEST_CASE("hierarchy, extract and info on the command line, with exit codes", "[
   const Mesh sphere = uv_sphere(30, 40);
   std::vector<float> p(sphere.positions.begin(), sphere.positions.end());
   write_binary_ply(in, p, sphere.triangles);
-  CliResult r = run_cli("hierarchy " + in + " -o " + h + " --quiet");
+  CliResult r = run_cli("hierarchy " + in + " -o " + h);
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Catch::Contains("records"));
   r = run_cli("info " + h);
@@ -836,10 +836,10 @@ TEST_CASE("an input over the budget is simplified out of core first, its quadric
   REQUIRE(sphere.triangles.size() / 3 == 99600);
   std::vector<float> p(sphere.positions.begin(), sphere.positions.end());
   write_binary_ply(in, p, sphere.triangles);
-  CliResult r = run_cli("hierarchy " + in + " -o " + plain + " --mem 32M --quiet");
+  CliResult r = run_cli("hierarchy " + in + " -o " + plain + " --mem 32M");
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Catch::Contains("(simplified out of core to 83886 first)"));
-  r = run_cli("hierarchy " + in + " -o " + kept + " --mem 32M --reuse-quadrics --quiet");
+  r = run_cli("hierarchy " + in + " -o " + kept + " --mem 32M --reuse-quadrics");
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Catch::Contains("(simplified out of core to 83886 first, its quadrics kept)"));
   CHECK(read_file(plain) != read_file(kept));

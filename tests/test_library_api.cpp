@@ -159,8 +159,8 @@ TEST_CASE("the curvature estimate reports its survey then its binning in tiles t
     CHECK_FALSE(log.overlapped);
     CHECK_FALSE(log.unmatched);
     CHECK_FALSE(log.beyond_total);
-    std::vector<std::string> expected = {"read positions", "survey", "curvatures"};
-    if (tile_side > 0) expected = {"read positions", "survey", "bin tiles", "curvatures"};
+    std::vector<std::string> expected = {"read positions", "survey", "curvatures", "write"};
+    if (tile_side > 0) expected = {"read positions", "survey", "bin tiles", "curvatures", "write"};
     CHECK(log.names() == expected);
     const ProgressLog::Phase* curvatures = log.find("curvatures");
     REQUIRE(curvatures);
@@ -307,7 +307,7 @@ TEST_CASE("library errors name option fields, the CLI shows its flags instead", 
 
   CliResult cli = run_cli("simplify --quiet --mem 1M '" + in + "' -o '" + d.file("o.ply") + "'");
   CHECK(cli.exit_code == 2);
-  CHECK(cli.err.find("--mem 1 MiB") != std::string::npos);
+  CHECK(cli.err.find("--mem \"1M\"") != std::string::npos);
   CHECK(cli.err.find("options.") == std::string::npos);
   cli = run_cli("simplify --quiet --attributes nosuch '" + in + "' -o '" + d.file("o.ply") + "'");
   CHECK(cli.exit_code == 2);

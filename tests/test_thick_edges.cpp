@@ -222,7 +222,7 @@ TEST_CASE("thick edges and points are written to PLY and OBJ and read back", "[t
              "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
              "element edge 1\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\nend_header\n"
              "0 0 0\n1 0 0\n0 5 0.1\n");
-  const CliResult ply = run_cli("info " + q(d.file("bad.ply")));
+  const CliResult ply = run_cli("info --quiet " + q(d.file("bad.ply")));
   CHECK(ply.exit_code == 3);
   CHECK_THAT(ply.err, Catch::Contains(d.file("bad.ply") + ": line 14"));  // 11 header lines, 2 vertices
   CHECK(std::count(ply.err.begin(), ply.err.end(), '\n') == 1);

@@ -230,8 +230,8 @@ TEST_CASE("format_for_path picks the format from the name", "[writers]") {
 }
 
 TEST_CASE("format_for_path refuses a name it cannot write, listing what it can", "[writers]") {
-  for (const char* name :
-       {"a.gltf", "noextension", "obj", "a.obj.gz", "a.objx", "", ".zst", "a.zst", "a.ply.zst.zst", "a.3ds"}) {
+  for (const char* name : {"a.gltf", "noextension", "obj", "a.obj.gzip", "a.objx", "", ".zst", "a.zst", "a.gz",
+                           "a.ply.zst.zst", "a.ply.gz.zst", "a.3ds"}) {
     CAPTURE(name);
     try {
       format_for_path(name, false);
@@ -549,7 +549,7 @@ TEST_CASE("simplify writes the format its output's extension names, and refuses 
   }
   REQUIRE(oocsimp_test::run_cli(base + q(d.file("o.off"))).exit_code == 0);
   CHECK(oocsimp_test::read_file(d.file("o.off")).compare(0, 4, "OFF\n") == 0);
-  for (const char* name : {"o.gltf", "o.off.gz", "noext"}) {
+  for (const char* name : {"o.gltf", "o.off.bz2", "noext"}) {
     CAPTURE(name);
     oocsimp_test::CliResult r = oocsimp_test::run_cli(base + q(d.file(name)));
     CHECK(r.exit_code == 2);

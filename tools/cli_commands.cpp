@@ -5,6 +5,10 @@
 
 namespace oocsimp_cli {
 
+// The units of a 4-k record's error (HierarchyRecord::error), which info, hierarchy
+// and extract --error share.
+const char* const kHierarchyErrorUnits = "area x squared distance, model units^4";
+
 // --- merge
 
 CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
@@ -12,10 +16,12 @@ CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
       "merge", "Finish a run spread over parts (simplify --part I/K --work-dir DIR): the same output as one process");
   cmd->add_option("work-dir", a.dir, "The parts' work folder")->required();
   cmd->add_option("-o,--output", a.outputs.mesh, "Output mesh, as for simplify")->required();
-  cmd->add_option("--stats", a.outputs.stats, "Write statistics as JSON to this file (- for stdout)");
+  cmd->add_option("--stats", a.outputs.stats,
+                  "Write statistics as JSON to this file (- for stdout; default: none written)");
   cmd->add_flag("--ascii", a.outputs.ascii, "Write ascii PLY or STL instead of binary");
   cmd->add_flag("--normals", a.outputs.normals, "Write per-vertex normals nx, ny, nz, as for simplify");
-  add_given(cmd, "--mem", &a.mem, "Memory budget of the whole process, as for simplify");
+  add_given(cmd, "--mem", &a.mem,
+            "Memory budget of the whole process, as for simplify (default: a quarter of physical memory)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
@@ -25,7 +31,7 @@ CLI::App* add_merge_command(CLI::App& app, MergeArgs& a) {
 int run_merge(const MergeArgs& a) {
   SimplifyOptions o = a.options;
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem, minimum_memory_budget());
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   o.release_memory = release_free_heap;
@@ -46,7 +52,7 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
       "hierarchy", "Build Velho's 4-k hierarchy (four-face clusters) of a manifold mesh into a .4k file");
   cmd->add_option("input", a.in, "Input mesh")->required();
   cmd->add_option("-o,--output", a.out, "Output .4k file")->required();
-  add_given(cmd, "--levels", &a.levels, "Levels to build (default: until a level removes nothing)");
+  add_given(cmd, "--levels", &a.levels, "Levels to build, 1 to 1000 (default: until a level removes nothing)");
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
   cmd->add_option("--attributes", a.attributes,
@@ -59,11 +65,11 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
   add_given(cmd, "--level-ratio", &a.level_ratio,
             "A level ends at this fraction of the triangles of the level before (default 0.7; 0 = all it can)");
   add_given(cmd, "--sets", &a.sets,
-            "Independent sets of removals a level is made of (default 3; fewer build faster, farther from QEM; 1: "
-            "Velho's, a shallower hierarchy)");
+            "Independent sets of removals a level is made of, 1 to 16 (default 3; fewer build faster, farther from "
+            "QEM; 1: Velho's, a shallower hierarchy)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
-  add_quiet_flag(cmd, &a.quiet);
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
 
@@ -86,37 +92,46 @@ int run_hierarchy(HierarchyArgs& a) {
   o.progress = progress.callback();
   HierarchyStats st;
   build_hierarchy_file(a.in, a.out, o, &st);
-  std::printf("hierarchy %" PRIu64 " vertices, %" PRIu64 " triangles", st.input_vertices, st.input_triangles);
-  if (st.reduced_triangles)
-    std::printf(" (simplified out of core to %" PRIu64 " first%s)", st.reduced_triangles,
-                st.kept_quadrics ? ", its quadrics kept" : "");
-  std::printf("\n");
-  if (st.split_vertices) std::printf("split %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
   if (o.reuse_quadrics && !st.reduced_triangles)
     std::fprintf(stderr,
                  "oocsimp: warning: --reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the "
                  "hierarchy started from the faces' quadrics\n");
-  std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), file %.1f MiB\n", st.records, st.swaps,
-              st.records - st.swaps, double(st.file_bytes) / 1048576.0);
-  std::printf("time %.3f s: %.2f Mtri/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
-              st.seconds > 0 ? double(st.input_triangles) / st.seconds / 1e6 : 0.0,
-              double(st.peak_rss_bytes) / 1048576.0, double(st.peak_anon_bytes) / 1048576.0);
+  if (a.quiet) return kOk;
+  char reduced[96] = "";
+  if (st.reduced_triangles)
+    std::snprintf(reduced, sizeof reduced, " (simplified out of core to %" PRIu64 " first%s)", st.reduced_triangles,
+                  st.kept_quadrics ? ", its quadrics kept" : "");
+  print_input_line(stdout, st.input_vertices, st.input_triangles, reduced);
+  if (st.split_vertices)
+    std::printf("split   %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
+  std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), largest error %.6g (%s)\n", st.records,
+              st.swaps, st.records - st.swaps, st.largest_error, kHierarchyErrorUnits);
+  std::printf("output  %s, %.1f MiB\n", a.out.c_str(), double(st.file_bytes) / 1048576.0);
+  std::printf("time    %.3f s: %.2f Mtri/s\n", st.seconds,
+              st.seconds > 0 ? double(st.input_triangles) / st.seconds / 1e6 : 0.0);
+  print_memory_line(stdout, st.peak_rss_bytes, st.peak_anon_bytes);
   return kOk;
 }
 
 CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
   CLI::App* cmd = app.add_subcommand("extract", "Extract a conforming mesh from a .4k hierarchy");
   cmd->add_option("input", a.in, "Input .4k file (written by oocsimp hierarchy)")->required();
-  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF, glTF .glb; .zst compresses)")->required();
-  add_given(cmd, "--level", &a.level, "Level J: 0 is the finest, higher is coarser");
-  add_given(cmd, "--tris", &a.tris, "The finest state with at most this many triangles");
-  add_given(cmd, "--error", &a.error, "The coarsest state whose removals all cost at most this (see info)");
-  add_given(cmd, "--box", &a.box, "x0,y0,z0,x1,y1,z1: keep the faces meeting this box at the finest level");
-  add_given(cmd, "--sphere", &a.sphere, "x,y,z,r: keep the faces meeting this ball at the finest level");
+  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF, glTF .glb; .zst or .gz compresses)")
+      ->required();
+  add_given(cmd, "--level", &a.level, "Level J: 0 is the finest, higher is coarser (give one of the three)");
+  add_given(cmd, "--tris", &a.tris, "The finest state with at most this many triangles (give one of the three)");
+  add_given(cmd, "--error", &a.error,
+            std::string("The coarsest state whose removals all cost at most this, in ") + kHierarchyErrorUnits +
+                " (info lists each level's; give one of the three)");
+  add_given(cmd, "--box", &a.box,
+            "x0,y0,z0,x1,y1,z1: keep the faces meeting this box at the finest level (default: no region)");
+  add_given(cmd, "--sphere", &a.sphere,
+            "x,y,z,r: keep the faces meeting this ball at the finest level (default: no region)");
   add_enum_option(cmd, "--placement", &a.placement, hierarchy_placement_names(),
                   "Where the kept vertices go: quadric (each at the minimum of the quadric it holds, the default) "
                   "or kept (where the finest mesh has them)");
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY or STL");
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
 
@@ -166,16 +181,130 @@ int run_extract(const ExtractArgs& a) {
     q.radius = s[3];
   }
   q.placement = a.placement;
-  extract_file(a.in, a.out, a.ascii, q);
+  ProgressReporter progress(a.quiet);
+  ExtractStats st;
+  extract_file(a.in, a.out, a.ascii, q, progress.callback(), &st);
+  if (a.quiet) return kOk;
+  std::FILE* to = a.out == "-" ? stderr : stdout;
+  print_input_line(to, st.finest_vertices, st.finest_triangles, " (the hierarchy's finest level)");
+  std::fprintf(to, "output  %" PRIu64 " vertices, %" PRIu64 " triangles\n", st.output_vertices, st.output_triangles);
+  std::fprintf(to, "time    %.3f s\n", st.seconds);
+  print_memory_line(to, st.peak_rss_bytes, st.peak_anon_bytes);
   return kOk;
 }
 
 // --- info
 
+// A string as a JSON string: quoted, with quotes, backslashes and control bytes escaped.
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned(static_cast<unsigned char>(c)));
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+// A number as JSON has it: 17 significant digits, and null where JSON has no number.
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+std::string json_strings(const std::vector<std::string>& list) {
+  std::string out = "[";
+  for (std::size_t k = 0; k < list.size(); ++k) out += (k ? ", " : "") + json_string(list[k]);
+  return out + "]";
+}
+
+std::string json_tally(const PrimitiveTally& t) {
+  std::string out = "{\"count\": " + std::to_string(t.count);
+  if (t.count > 0)
+    out += ", \"thickness\": {\"least\": " + json_number(t.least) + ", \"most\": " + json_number(t.most) +
+           ", \"mean\": " + json_number(t.sum / double(t.count)) + "}";
+  return out + "}";
+}
+
+// info --json: what info prints, as one object whose fields scripts can read.
+std::string mesh_info_json(const MeshSummary& m) {
+  const MeshInfo& i = m.info;
+  std::string js = "{\"file\": " + json_string(i.path) + ", \"format\": " + json_string(i.format);
+  js += ", \"compression\": " + (i.compressed ? json_string(i.compression) : std::string("null"));
+  js += ", \"vertices\": " + std::to_string(i.vertex_count);
+  if (i.unwelded_vertex_count) js += ", \"stored_vertices\": " + std::to_string(i.unwelded_vertex_count);
+  js += ", \"faces\": " + std::to_string(i.face_count);
+  js += ", \"edges\": " + json_tally(m.edges) + ", \"points\": " + json_tally(m.points);
+  js += ", \"elements\": " + json_strings(i.elements) + ", \"header_comments\": " + json_strings(i.comments);
+  js += std::string(", \"positions_in_place\": ") + (i.positions_in_place ? "true" : "false");
+  js += ", \"attributes\": [";
+  for (std::size_t k = 0; k < m.attributes.size(); ++k) {
+    const VertexAttribute& v = m.attributes[k];
+    js += std::string(k ? ", " : "") + "{\"name\": " + json_string(v.name) +
+          ", \"type\": " + json_string(attribute_type_name(v.type)) + ", \"min\": " + json_number(v.min) +
+          ", \"max\": " + json_number(v.max) +
+          ", \"carried_by_clustering\": " + (is_texture_coordinate(v.name) ? "false" : "true") + "}";
+  }
+  js += "], \"not_carried\": " + json_strings(i.not_carried);
+  if (i.bounds.empty()) {
+    js += ", \"bounds\": null, \"diagonal\": null";
+  } else {
+    const Box3d& b = i.bounds;
+    js += ", \"bounds\": {\"min\": [" + json_number(b.min.x) + ", " + json_number(b.min.y) + ", " +
+          json_number(b.min.z) + "], \"max\": [" + json_number(b.max.x) + ", " + json_number(b.max.y) + ", " +
+          json_number(b.max.z) + "]}, \"diagonal\": " + json_number(b.diagonal());
+  }
+  js += ", \"non_finite_vertices\": " + std::to_string(i.non_finite_vertices);
+  if (i.non_finite_vertices > 0)
+    js += ", \"first_non_finite_vertex\": {\"index\": " + std::to_string(i.first_non_finite_vertex) +
+          ", \"at\": " + json_string(i.first_non_finite_position) + "}";
+  return js + "}\n";
+}
+
+// info --json of a .4k hierarchy: its counts and levels, errors in kHierarchyErrorUnits.
+int print_hierarchy_info_json(const InfoArgs& a) {
+  const MeshHierarchy h = read_hierarchy(a.in);
+  std::size_t swaps = 0;
+  for (const HierarchyRecord& r : h.records) swaps += r.swap;
+  std::string js = "{\"file\": " + json_string(a.in) +
+                   ", \"format\": \"oocsimp 4-k hierarchy\", \"version\": " + std::to_string(h.file_version) +
+                   ", \"positions\": " + (h.precision == ScalarType::f64 ? "\"double\"" : "\"float\"");
+  js += ", \"attributes\": [";
+  for (std::size_t k = 0; k < h.attributes.attributes.size(); ++k) {
+    const VertexAttribute& v = h.attributes.attributes[k];
+    js += std::string(k ? ", " : "") + "{\"name\": " + json_string(v.name) +
+          ", \"type\": " + json_string(attribute_type_name(v.type)) + "}";
+  }
+  js += "], \"vertices\": " + std::to_string(h.positions.size() / 3) +
+        ", \"faces\": " + std::to_string(h.triangles.size() / 3) +
+        ", \"records\": " + std::to_string(h.records.size()) + ", \"swaps\": " + std::to_string(swaps) +
+        ", \"height\": " + std::to_string(hierarchy_height(h)) +
+        ", \"error_units\": " + json_string(kHierarchyErrorUnits) + ", \"levels\": [";
+  for (std::size_t j = 0; j < h.levels.size(); ++j) {
+    const HierarchyLevel& l = h.levels[j];
+    js += std::string(j ? ", " : "") + "{\"triangles\": " + std::to_string(l.triangles) +
+          ", \"vertices\": " + std::to_string(l.vertices) +
+          ", \"largest_error\": " + json_number(double(l.largest_error)) + "}";
+  }
+  std::fputs((js + "]}\n").c_str(), stdout);
+  return kOk;
+}
+
 CLI::App* add_info_command(CLI::App& app, InfoArgs& a) {
   CLI::App* cmd = app.add_subcommand("info", "Print format, element counts, properties and bounding box");
   cmd->add_option("input", a.in, "Input mesh, or a .4k hierarchy")->required();
   add_tmp_option(cmd, &a.tmp);
+  cmd->add_flag("--json", a.json, "Print the description as one JSON object");
+  add_quiet_flag(cmd, &a.quiet, "No progress (the description is printed all the same)");
   return cmd;
 }
 
@@ -206,6 +335,7 @@ int run_hierarchy_info(const InfoArgs& a) {
   for (const HierarchyRecord& r : h.records) swaps += r.swap;
   std::printf("records   %zu (%zu swaps, %zu removals), height %" PRIu64 "\n", h.records.size(), swaps,
               h.records.size() - swaps, hierarchy_height(h));
+  std::printf("errors    in %s\n", kHierarchyErrorUnits);
   std::printf("level  triangles   vertices  ratio  largest error\n");
   for (std::size_t j = 0; j < h.levels.size(); ++j) {
     const HierarchyLevel& l = h.levels[j];
@@ -217,8 +347,16 @@ int run_hierarchy_info(const InfoArgs& a) {
 }
 
 int run_info(const InfoArgs& a) {
-  if (is_hierarchy_file(a.in)) return run_hierarchy_info(a);
-  const MeshSummary m = describe_mesh(a.in, a.tmp);
+  if (is_hierarchy_file(a.in)) return a.json ? print_hierarchy_info_json(a) : run_hierarchy_info(a);
+  MeshSummary m;
+  {
+    ProgressReporter progress(a.quiet);
+    m = describe_mesh(a.in, a.tmp, progress.callback());
+  }
+  if (a.json) {
+    std::fputs(mesh_info_json(m).c_str(), stdout);
+    return kOk;
+  }
   const MeshInfo& i = m.info;
   std::printf("file      %s\n", i.path.c_str());
   std::printf("format    %s%s%s%s\n", i.format.c_str(), i.compressed ? " (" : "", i.compression.c_str(),
@@ -264,7 +402,8 @@ CLI::App* add_generate_command(CLI::App& app, GenerateArgs& a) {
                       name_of(shapes, SyntheticShape::boxes) +
                       ": a city block of closed boxes, long thin triangles and zero-area slivers)");
   add_given(cmd, "--seed", &a.seed, "Random seed (default 1)");
-  cmd->add_option("-o,--output", a.out, "Output PLY: .ply or .ply.zst (compressed), - for stdout")->required();
+  cmd->add_option("-o,--output", a.out, "Output PLY: .ply, or .ply.zst or .ply.gz (compressed), - for stdout")
+      ->required();
   cmd->add_flag("--ascii", a.options.ascii, "Write ascii PLY");
   cmd->add_flag("--attributes", a.options.attributes,
                 "Also write uchar red, green, blue (linear in x, y, z over the bounding box) and float nx, ny, nz (the "
@@ -280,8 +419,9 @@ void check_generate_output(const std::string& out) {
   auto ends_with = [&](const std::string& ext) {
     return name.size() >= ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0;
   };
-  if (out != "-" && !ends_with(".ply") && !ends_with(".ply.zst"))
-    throw UsageError(out + ": generate writes PLY only: give a name ending in .ply or .ply.zst (or - for stdout)");
+  if (out != "-" && !ends_with(".ply") && !ends_with(".ply.zst") && !ends_with(".ply.gz"))
+    throw UsageError(out +
+                     ": generate writes PLY only: give a name ending in .ply, .ply.zst or .ply.gz (or - for stdout)");
 }
 
 int run_generate(const GenerateArgs& a) {
@@ -355,7 +495,8 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   cmd->add_option("-o,--output", a.out, "Output PLY: the mesh with float vertex properties k1 and k2")->required();
   add_given(cmd, "--radius", &a.radius, "Radius of the ball or sphere (default 5 mean edge lengths)");
   cmd->add_option("--neighbourhood", a.neighbourhood,
-                  "ball: the ball cut by the solid (Hua et al. eq. 13-14); sphere: the sphere cut by it (eq. 17-18)")
+                  "ball: the ball cut by the solid (Hua et al. eq. 13-14, the default); sphere: the sphere cut by it "
+                  "(eq. 17-18)")
       ->check(CLI::IsMember({"ball", "sphere"}));
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a mesh larger than it is estimated in tiles with a halo (default: a quarter of memory)");
@@ -363,7 +504,7 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
-  add_quiet_flag(cmd, &a.quiet);
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
 
@@ -385,14 +526,16 @@ int run_curvature(CurvatureArgs& a) {
                  "outline, a hole or a soup) were fitted with a quadric instead, and %" PRIu64
                  " with no face, area or neighbours within it got 0\n",
                  st.fitted, st.radius, st.none);
-  std::printf("curvature %" PRIu64 " vertices, %" PRIu64 " triangles, radius %g (mean edge %g), %s\n", st.vertices,
-              st.triangles, st.radius, st.mean_edge_length, a.neighbourhood.c_str());
+  if (a.quiet) return kOk;
+  print_input_line(stdout, st.vertices, st.triangles);
+  std::printf("radius  %g (mean edge %g), %s\n", st.radius, st.mean_edge_length, a.neighbourhood.c_str());
   std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
               st.invariant, st.fitted, st.none,
               st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
-  std::printf("time %.3f s: %.2f M vertices/s; peak RSS %.1f MiB, peak anonymous %.1f MiB\n", st.seconds,
-              st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0, double(st.peak_rss_bytes) / 1048576.0,
-              double(st.peak_anon_bytes) / 1048576.0);
+  std::printf("output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.out.c_str(), st.vertices);
+  std::printf("time    %.3f s: %.2f M vertices/s\n", st.seconds,
+              st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0);
+  print_memory_line(stdout, st.peak_rss_bytes, st.peak_anon_bytes);
   return kOk;
 }
 
@@ -412,11 +555,12 @@ CLI::App* add_lod_select_command(CLI::App& app, LodSelectArgs& a) {
 // Low & Tan §4: the level for a viewing distance. X defaults to 5, the accurate end of
 // the paper's 5-10 (a higher X trades visual accuracy for speed).
 int run_lod_select(const LodSelectArgs& a) {
-  const std::vector<LodLevel> levels = read_lod_levels(a.lods);
+  // The numbers first: a mistyped one is refused before the file is read.
   const double r = pixel_size_at(positive_number("--distance", a.distance), positive_number("--fov", a.fov, 179.999),
                                  double(whole_number("--height", a.height, 1, 1u << 20)));
   const double x = a.factor.empty() ? 5.0 : positive_number("--factor", a.factor);
   if (x < 1) bad_value("--factor", a.factor, "a number of at least 1");
+  const std::vector<LodLevel> levels = read_lod_levels(a.lods);
   const LodChoice c = choose_lod(levels, r, x);
   const LodLevel& l = levels[c.level];
   if (a.json) {

@@ -26,11 +26,12 @@ struct ExtractArgs {
   std::string in, out;
   Given level, tris, error, box, sphere;
   HierarchyPlacement placement = HierarchyPlacement::quadric;
-  bool ascii = false;
+  bool ascii = false, quiet = false;
 };
 
 struct InfoArgs {
   std::string in, tmp;
+  bool json = false, quiet = false;
 };
 
 struct GenerateArgs {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <sys/ioctl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -18,7 +20,9 @@
 #include <fstream>
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <new>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -131,6 +135,13 @@ inline std::string with_flags(const std::string& text) {
   throw UsageError(flag + " \"" + text + "\": expected " + expected);
 }
 
+// A byte count as the user would write it: "1 KiB", "48 MiB", "1000 bytes".
+inline std::string byte_size_text(std::uint64_t bytes) {
+  if (bytes >= (1u << 20) && bytes % (1u << 20) == 0) return std::to_string(bytes >> 20) + " MiB";
+  if (bytes >= 1024 && bytes % 1024 == 0) return std::to_string(bytes >> 10) + " KiB";
+  return std::to_string(bytes) + (bytes == 1 ? " byte" : " bytes");
+}
+
 inline double positive_number(const std::string& flag, const std::string& text, double max = HUGE_VAL) {
   char* end = nullptr;
   double v = std::strtod(text.c_str(), &end);
@@ -237,14 +248,87 @@ inline void add_quiet_flag(CLI::App* app, bool* quiet, const std::string& help =
   app->add_flag("--quiet", *quiet, help);
 }
 
-// The bytes --mem gives; a bad size exits 2 naming --mem.
-inline std::uint64_t memory_budget_of(const Given& mem) {
+// The bytes --mem gives; a bad size, or one below `minimum` (the least a run can hold
+// its buffers in), exits 2 naming --mem and what was typed.
+inline std::uint64_t memory_budget_of(const Given& mem, std::uint64_t minimum = 1) {
+  std::uint64_t bytes = 0;
   try {
-    return parse_byte_size(mem.text);
+    bytes = parse_byte_size(mem.text);
   } catch (const UsageError& e) {
     throw UsageError(std::string("--mem: ") + e.what());
   }
+  if (bytes < minimum)
+    bad_value("--mem", mem.text,
+              "at least " + std::to_string(minimum >> 20) + "M (" + std::to_string(minimum >> 20) + " MiB); it is " +
+                  byte_size_text(bytes));
+  return bytes;
 }
+
+// --- Help
+
+// The columns help is wrapped to: the terminal's width when stdout is one, else 80.
+inline std::size_t help_width() {
+  constexpr std::size_t kNotTerminal = 80, kNarrowest = 40;
+  if (::isatty(STDOUT_FILENO) != 1) return kNotTerminal;
+  winsize size{};
+  if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &size) != 0 || size.ws_col == 0) return kNotTerminal;
+  return std::max<std::size_t>(size.ws_col, kNarrowest);
+}
+
+// `words` filled into lines of at most `width` columns, each after the first starting
+// with `indent` spaces; a word longer than a line stands alone on its own.
+inline std::string fill_words(const std::string& words, std::size_t first_column, std::size_t indent,
+                              std::size_t width) {
+  std::string out;
+  std::size_t column = first_column;
+  std::istringstream in(words);
+  bool line_empty = true;
+  for (std::string word; in >> word;) {
+    if (!line_empty && column + 1 + word.size() > width) {
+      out += "\n" + std::string(indent, ' ');
+      column = indent;
+      line_empty = true;
+    }
+    if (!line_empty) {
+      out += ' ';
+      ++column;
+    }
+    out += word;
+    column += word.size();
+    line_empty = false;
+  }
+  return out;
+}
+
+// CLI11's help with every line wrapped to the width: an option's or a subcommand's
+// description goes on under its own column, a paragraph from the left margin.
+class WrappingFormatter : public CLI::Formatter {
+ public:
+  explicit WrappingFormatter(std::size_t width) : width_(width) {}
+
+  std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override {
+    std::istringstream lines(CLI::Formatter::make_help(app, std::move(name), mode));
+    std::string out;
+    for (std::string line; std::getline(lines, line);) out += wrapped(line) + "\n";
+    return out;
+  }
+
+ private:
+  std::string wrapped(const std::string& line) const {
+    if (line.size() <= width_) return line;
+    const std::size_t column = get_column_width();
+    // An option's line: its name (or blanks, on a line that goes on from one) in the
+    // first column, its description after.
+    const bool in_columns = line.compare(0, 2, "  ") == 0 && line.size() > column && line[column - 1] == ' ' &&
+                            line[column] != ' ' && column + 20 <= width_;
+    if (in_columns) return line.substr(0, column) + fill_words(line.substr(column), column, column, width_);
+    const std::size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos) return line;
+    return line.substr(0, indent) + fill_words(line.substr(indent), indent, indent, width_);
+  }
+
+  std::size_t width_;
+};
 
 // --- simplify
 
@@ -278,14 +362,34 @@ inline void print_tiles(std::FILE* to, const SimplifyStats& stats) {
                stats.floating.resumed ? " (kept by an earlier run)" : "", stats.floating.rounds, disk, memory);
 }
 
+// --- The run summary: input, then the work, then the output, then time and memory,
+// each line led by its name in a column of eight.
+
+inline void print_input_line(std::FILE* to, std::uint64_t vertices, std::uint64_t triangles, const char* more = "") {
+  std::fprintf(to, "input   %" PRIu64 " vertices, %" PRIu64 " triangles%s\n", vertices, triangles, more);
+}
+
+inline void print_memory_line(std::FILE* to, std::uint64_t peak_rss_bytes, std::uint64_t peak_anon_bytes) {
+  std::fprintf(to, "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n", double(peak_rss_bytes) / 1048576.0,
+               double(peak_anon_bytes) / 1048576.0);
+}
+
 inline void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, const SimplifyStats& stats) {
   const ClusterMethod method = resolved_method(o);
+  const bool collapsed = o.target.given() || method == ClusterMethod::qem;
+  print_input_line(to, stats.input_vertices, stats.input_triangles);
   if (method == ClusterMethod::floating) print_tiles(to, stats);
-  if (o.target.given() || method == ClusterMethod::qem)
-    std::fprintf(
-        to, "refine  %" PRIu64 " intermediate triangles, %" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n",
-        stats.refine.intermediate_triangles, stats.refine.collapses, stats.refine.largest_collapse_error,
-        stats.refine.largest_collapse_cost, stats.refine.target_missed ? ", target missed" : "");
+  if (collapsed) {
+    // With no clustering before it, the collapse starts from the input itself: no
+    // intermediate mesh to count.
+    char intermediate[64] = "";
+    if (stats.grid_dims[0] != 0)
+      std::snprintf(intermediate, sizeof intermediate, "%" PRIu64 " intermediate triangles, ",
+                    stats.refine.intermediate_triangles);
+    std::fprintf(to, "refine  %s%" PRIu64 " collapses, largest error %.3g (cost %.3g)%s\n", intermediate,
+                 stats.refine.collapses, stats.refine.largest_collapse_error, stats.refine.largest_collapse_cost,
+                 stats.refine.target_missed ? ", target missed" : "");
+  }
   if (stats.refine.passes) {
     std::string counts = std::to_string(stats.input_triangles);
     for (std::uint64_t n : stats.refine.pass_triangles) counts += " -> " + std::to_string(n);
@@ -304,20 +408,17 @@ inline void print_simplify_summary(std::FILE* to, const SimplifyOptions& o, cons
   // A collapse with no clustering before it has no grid to show.
   char how[160];
   if (stats.grid_dims[0] == 0)
-    std::snprintf(how, sizeof how, "%s", o.target.given() || method == ClusterMethod::qem ? "edge collapse" : "as is");
+    std::snprintf(how, sizeof how, "%s", collapsed ? "edge collapse" : "as is");
   else
     std::snprintf(how, sizeof how, "%s, grid %ux%ux%u, cell %.6g", method_name(method), stats.grid_dims[0],
                   stats.grid_dims[1], stats.grid_dims[2], stats.cell_size);
   std::fprintf(to,
-               "input   %" PRIu64 " vertices, %" PRIu64
-               " triangles\n"
                "output  %" PRIu64 " vertices, %" PRIu64
                " triangles%s (%s)\n"
-               "time    %.3f s (%s): %.2f Mtri/s\n"
-               "memory  peak RSS %.1f MiB, peak anonymous %.1f MiB\n",
-               stats.input_vertices, stats.input_triangles, stats.output_vertices, stats.output_triangles,
-               thick.c_str(), how, stats.seconds_total, phase_times(stats.phases).c_str(), mtri,
-               double(stats.peak_rss_bytes) / 1048576.0, double(stats.peak_anon_bytes) / 1048576.0);
+               "time    %.3f s (%s): %.2f Mtri/s\n",
+               stats.output_vertices, stats.output_triangles, thick.c_str(), how, stats.seconds_total,
+               phase_times(stats.phases).c_str(), mtri);
+  print_memory_line(to, stats.peak_rss_bytes, stats.peak_anon_bytes);
 }
 
 }  // namespace oocsimp_cli

@@ -37,18 +37,21 @@ struct SimplifyArgs {
 
 // The size of the output: cell, grid or ratio, or an exact target, and levels of detail.
 void add_size_options(CLI::App* cmd, SimplifyArgs& a) {
-  add_given(cmd, "--cell", &a.cell, "Cell side in model units");
+  add_given(cmd, "--cell", &a.cell, "Cell side in model units (default: from --ratio)");
   add_given(cmd, "--grid", &a.grid,
-            "Cells along the longest bounding-box axis, 1 to " + std::to_string(kMaxGridDivisions));
+            "Cells along the longest bounding-box axis, 1 to " + std::to_string(kMaxGridDivisions) +
+                " (default: from --ratio)");
   add_given(cmd, "--ratio", &a.ratio, "Approximate fraction of the triangles to keep, in (0, 1] (default 0.1)");
   a.cell.option->excludes(a.grid.option)->excludes(a.ratio.option);
   a.grid.option->excludes(a.ratio.option);
   add_given(cmd, "--target-tris", &a.target_tris,
-            "Exactly this many output triangles (at least 4): clustering to a few times that, then quadric edge "
-            "collapse");
-  add_given(cmd, "--target-ratio", &a.target_ratio, "Exactly this fraction of the input's triangles");
+            "Exactly this many output triangles (at least 4), by quadric edge collapse; with --method floating, "
+            "uniform or curvature, clustering to a few times that first (default: no target)");
+  add_given(cmd, "--target-ratio", &a.target_ratio,
+            "Exactly this fraction of the input's triangles (default: no target)");
   add_given(cmd, "--max-error", &a.max_error,
-            "Stop collapsing before an error above this, in model units (with or without a count)");
+            "Stop collapsing before an error above this (with or without a count): in model units, or with % a "
+            "percentage of the bounding box's diagonal (0.1%; default: no limit)");
   a.refine = add_enum_option(
       cmd, "--refine", &a.options.target.refine, refine_method_names(),
       "With a target: " +
@@ -58,7 +61,7 @@ void add_size_options(CLI::App* cmd, SimplifyArgs& a) {
   add_given(cmd, "--lods", &a.lods,
             "Write K levels of detail OUT.lod0 ... OUT.lod{K-1} at cells C, C*F, C*F^2, ... and their description "
             "OUT.lods.json (floating cells bin and grade once); with a target, at the target halved per level, "
-            "each going on from the finer level's edge collapse");
+            "each going on from the finer level's edge collapse (default: one output, no levels)");
   add_given(cmd, "--lod-factor", &a.lod_factor, "With --lods: the cell grows F times a level (default 2)");
   cmd->add_flag("--measure", a.measure,
                 "With --lods: measure each level's RMS and Hausdorff distance to the input (oocsimp measure's "
@@ -142,7 +145,8 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                                "default share, exactly"}}));
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
-  cmd->add_option("--stats", a.outputs.stats, "Write statistics as JSON to this file (- for stdout)");
+  cmd->add_option("--stats", a.outputs.stats,
+                  "Write statistics as JSON to this file (- for stdout; default: none written)");
   cmd->add_flag("--force", a.outputs.replace_input,
                 "Allow the output to be the input (replaced only after a successful run)");
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
@@ -156,7 +160,7 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
                 "one)");
   cmd->add_option("--lock-vertices", a.lock_vertices,
                   "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) that stay "
-                  "where they are: fixed in the edge collapse, each its own cluster in clustering");
+                  "where they are: fixed in the edge collapse, each its own cluster in clustering (default: none)");
   cmd->add_flag("--thick-edges", a.options.thick_edges,
                 "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
                 "edge and point with a thickness, OBJ l and p lines)");
@@ -178,9 +182,9 @@ CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
   add_given(cmd, "--part", &a.part,
             "I/K: run part I (0 to K-1) of a run spread over K processes, leaving its share in --work-dir for "
             "oocsimp merge (any method, with or without a target; not with thick edges, locks or --lods: see "
-            "docs/cluster.md)")
+            "docs/cluster.md; default: the whole run in this process)")
       ->group("Distributed runs");
-  cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge")
+  cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge (default: none)")
       ->group("Distributed runs");
   return cmd;
 }
@@ -254,13 +258,28 @@ std::vector<std::uint64_t> read_vertex_list(const std::string& path) {
   return out;
 }
 
+// --max-error: a length in model units, or "0.1%", a percentage of the bounding
+// box's diagonal, which the library turns into a length once it has read the input.
+void set_max_error(const std::string& text, TargetOptions* target) {
+  if (!text.empty() && text.back() == '%') {
+    const std::string number = text.substr(0, text.size() - 1);
+    char* end = nullptr;
+    const double percent = std::strtod(number.c_str(), &end);
+    if (number.empty() || *end != '\0' || !(percent > 0 && percent <= 100))
+      bad_value("--max-error", text, "a length in model units, or a percentage above 0 and at most 100 (0.1%)");
+    target->max_error_of_diagonal = percent / 100;
+  } else {
+    target->max_error = positive_number("--max-error", text);
+  }
+}
+
 SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   SimplifyPlan p{a.options, {}, {}};
   SimplifyOptions& o = p.options;
   if (a.target_tris.given()) o.target.triangles = whole_number("--target-tris", a.target_tris.text, 4, kMost);
   if (a.target_ratio.given()) o.target.ratio = positive_number("--target-ratio", a.target_ratio.text, 1.0);
   if (!a.lock_vertices.empty()) o.locked_vertices = read_vertex_list(a.lock_vertices);
-  if (a.max_error.given()) o.target.max_error = positive_number("--max-error", a.max_error.text);
+  if (a.max_error.given()) set_max_error(a.max_error.text, &o.target);
   if (resolved_method(o) != ClusterMethod::floating) refuse_floating_only(a.floating_only, o);
   if (resolved_method(o) != ClusterMethod::curvature) refuse_curvature_only(a.curvature_only, o);
   set_representative(a, &o);
@@ -290,7 +309,7 @@ SimplifyPlan check_simplify_args(const SimplifyArgs& a) {
   if (a.ratio.given()) o.sizing.ratio = positive_number("--ratio", a.ratio.text, 1.0);
   if (a.tile.given()) o.floating.tile_side = positive_number("--tile", a.tile.text);
   if (a.threads.given()) o.threads = threads_of(a.threads);
-  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
+  if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem, minimum_memory_budget());
   if (a.lods.given()) p.lod.levels = std::uint32_t(whole_number("--lods", a.lods.text, 1, 16));
   if (a.lod_factor.given()) {
     if (!a.lods.given()) throw UsageError("--lod-factor applies with --lods");
@@ -583,41 +602,26 @@ int report_failure() {
 }  // namespace
 
 // What each option's value is, for --help: every value is taken as text and checked
-// later, which CLI11 would show as TEXT.
+// later, which CLI11 would show as TEXT. Every positional argument is a path.
 void show_value_types(CLI::App& app) {
   static const std::pair<const char*, const char*> kTypeOfOption[] = {
-      {"threads", "INT"},
-      {"target-tris", "INT"},
-      {"tris", "INT"},
-      {"grid", "INT"},
-      {"lods", "INT"},
-      {"levels", "INT"},
-      {"samples", "INT"},
-      {"seed", "INT"},
-      {"level", "INT"},
-      {"max-depth", "INT"},
-      {"height", "INT"},
-      {"mem", "SIZE"},
-      {"part", "I/K"},
-      {"box", "X0,Y0,Z0,X1,Y1,Z1"},
-      {"sphere", "X,Y,Z,R"},
-      {"size", "WxH"},
-      {"view", "AZ,EL"},
-      {"attributes", "NAMES"},
-      {"tmp", "PATH"},
-      {"work-dir", "PATH"},
-      {"output", "PATH"},
-      {"stats", "PATH"},
+      {"threads", "INT"},        {"sets", "INT"},      {"max-error", "FLOAT[%]"}, {"target-tris", "INT"},
+      {"tris", "INT"},           {"grid", "INT"},      {"lods", "INT"},           {"levels", "INT"},
+      {"samples", "INT"},        {"seed", "INT"},      {"level", "INT"},          {"max-depth", "INT"},
+      {"height", "INT"},         {"mem", "SIZE"},      {"part", "I/K"},           {"box", "X0,Y0,Z0,X1,Y1,Z1"},
+      {"sphere", "X,Y,Z,R"},     {"size", "WxH"},      {"view", "AZ,EL"},         {"attributes", "NAMES"},
+      {"tmp", "PATH"},           {"work-dir", "PATH"}, {"output", "PATH"},        {"stats", "PATH"},
       {"lock-vertices", "PATH"},
-      {"input", "PATH"},
-      {"a", "PATH"},
-      {"b", "PATH"},
   };
   for (CLI::App* command : app.get_subcommands({}))
     for (CLI::Option* option : command->get_options()) {
       const std::string shown = option->get_type_name();
       if (option->get_type_size() == 0 || shown.empty()) continue;  // a flag
-      const std::string name = option->get_lnames().empty() ? option->get_name() : option->get_lnames().front();
+      if (option->get_lnames().empty() && option->get_snames().empty()) {
+        option->type_name("PATH");
+        continue;
+      }
+      const std::string name = option->get_lnames().front();
       const char* type = shown.find(':') != std::string::npos ? "NAME" : "FLOAT";  // a choice, or a number
       for (const auto& [n, t] : kTypeOfOption)
         if (name == n) type = t;
@@ -629,6 +633,8 @@ int main(int argc, char** argv) {
   install_signal_cleanup();
   tune_allocator_for_tiles();
   CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
+  // Before the subcommands: each takes its parent's formatter when it is added.
+  app.formatter(std::make_shared<WrappingFormatter>(help_width()));
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("oocsimp ") + version());
   SimplifyArgs simplify;

@@ -178,6 +178,9 @@ struct HierarchyStats {
   bool kept_quadrics = false;
   std::uint64_t split_vertices = 0;  ///< vertices added where fans met
   std::uint64_t records = 0, swaps = 0;
+  /// The largest record error up to the coarsest level (HierarchyRecord::error's
+  /// units: area times squared distance, model units to the fourth power).
+  double largest_error = 0;
   std::uint64_t file_bytes = 0;
   double seconds = 0;
   std::uint64_t peak_rss_bytes = 0, peak_anon_bytes = 0;
@@ -187,10 +190,19 @@ struct HierarchyStats {
 void build_hierarchy_file(const std::string& input_path, const std::string& output_path,
                           const HierarchyOptions& options, HierarchyStats* stats = nullptr);
 
+/// What extract_file read, made and wrote.
+struct ExtractStats {
+  std::uint64_t finest_vertices = 0, finest_triangles = 0;  ///< the hierarchy's level 0
+  std::uint64_t output_vertices = 0, output_triangles = 0;
+  double seconds = 0;
+  std::uint64_t peak_rss_bytes = 0, peak_anon_bytes = 0;
+};
+
 /// Reads the .4k file at `hierarchy_path`, extracts `query` and writes the mesh to
-/// `output_path` (any format write_mesh writes).
+/// `output_path` (any format write_mesh writes), each a phase `progress` hears: "read
+/// hierarchy", "extract", "write".
 void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
-                  const HierarchyQuery& query);
+                  const HierarchyQuery& query, const ProgressCallback& progress = {}, ExtractStats* stats = nullptr);
 
 /// Whether the file at `path` starts like a .4k file (its magic bytes).
 bool is_hierarchy_file(const std::string& path);

@@ -140,7 +140,10 @@ void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions&
 /// default_temp_dir()) and summarises it. The tallies of thick edges and points need a
 /// pass over the faces, taken only when the file has some. Throws InputError for a
 /// malformed file, IoError when it cannot be read.
-MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string());
+/// `progress` hears its phases: "read positions", and "read edges and points" when the
+/// faces are read through.
+MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string(),
+                          const ProgressCallback& progress = {});
 
 // --- Writing -------------------------------------------------------------------
 
@@ -208,6 +211,11 @@ std::string lod_description_path(const std::string& mesh_path);
 
 /// A quarter of physical memory: the default working-set budget.
 std::uint64_t default_memory_budget();
+
+/// The least memory budget a simplify run takes (32 MiB): below it a run cannot hold
+/// its I/O buffers, one tile's spill buffers and the pipeline's chunks, whatever the
+/// input.
+std::uint64_t minimum_memory_budget();
 
 /// Parses a byte size with an optional binary suffix: "256M", "2G", "512k", "1048576".
 /// Throws UsageError.

@@ -127,10 +127,14 @@ struct TargetOptions {
   /// stands for) exceeds this, in model units; alone it lets the collapse go as far as
   /// it stays below. 0 = not given.
   double max_error = 0;
+  /// max_error as a fraction of the input's bounding-box diagonal (0.001 for 0.1%), as
+  /// meshoptimizer's target_error: the same figure means the same on a model in
+  /// millimetres and one in metres. Give at most one of the two. 0 = not given.
+  double max_error_of_diagonal = 0;
   RefineMethod refine = RefineMethod::qem;
   /// Phase 1 aims at this many times the target's triangles (see README, "Exact targets").
   double intermediate_factor = 4;
-  bool given() const { return triangles != 0 || ratio != 0 || max_error != 0; }
+  bool given() const { return triangles != 0 || ratio != 0 || max_error != 0 || max_error_of_diagonal != 0; }
 };
 
 /// What the parts of a distributed run that run at once (MPI ranks) exchange while

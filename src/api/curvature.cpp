@@ -8,6 +8,7 @@
 #include "io/mesh_input.hpp"
 #include "io/mesh_writer_output.hpp"
 #include "oocsimp/oocsimp.hpp"
+#include "runtime/progress_phase.hpp"
 
 namespace oocsimp {
 
@@ -18,7 +19,7 @@ constexpr std::size_t kChunkTriangles = 65536;
 // The mesh with k1 and k2 as PLY, streamed: positions from the input, the values from
 // k, the faces read again.
 void write_curvature_ply(OutputFile& out, MeshInput& input, const float* k, std::uint64_t triangles, bool ascii) {
-  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  ByteSink sink(out.fd(), out.path(), compression_for_path(out.path()));
   const std::vector<VertexAttribute> attributes = {VertexAttribute{"k1", AttributeType::f32, 0, 0},
                                                    VertexAttribute{"k2", AttributeType::f32, 0, 0}};
   PlyStreamWriter ply(sink, ascii, input.info.double_precision ? ScalarType::f64 : ScalarType::f32,
@@ -67,8 +68,11 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
   OutputFile out(output_path);
   MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
   const CurvatureStats st = estimate_mesh_curvatures(input, options, k.data());
-  write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);
-  out.commit();
+  {
+    ProgressPhase phase(options.progress, "write", 0, "B");
+    write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);
+    out.commit();
+  }
   if (stats) *stats = st;
 }
 

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "io/mesh_input.hpp"
+#include "runtime/progress_phase.hpp"
 #include "oocsimp/oocsimp.hpp"
 
 namespace oocsimp {
@@ -19,9 +20,10 @@ void add(PrimitiveTally* t, float thickness) {
 
 }  // namespace
 
-MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir) {
+MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir, const ProgressCallback& progress) {
   OpenOptions open;
   open.temp_dir = temp_dir;
+  open.progress = progress;
   // As the edge collapse reads the file: texture coordinates too (OBJ's split at seams).
   open.attributes.texture_coordinates = true;
   MeshInput m = open_mesh_input(path, open);
@@ -29,6 +31,7 @@ MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir) 
   // The thick edges and points come with the triangle stream: it is read through only
   // when the file has some.
   if (m.info.edge_count > 0 || m.info.point_count > 0) {
+    ProgressPhase phase(progress, "read edges and points", 0, "B");
     m.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) {
       for (std::size_t k = 0; k < n; ++k) add(p[k].a == p[k].b ? &s.points : &s.edges, p[k].thickness);
     });

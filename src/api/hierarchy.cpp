@@ -19,6 +19,7 @@
 #include "oocsimp/oocsimp.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
+#include "runtime/progress_phase.hpp"
 #include "runtime/thread_limit.hpp"
 
 namespace oocsimp {
@@ -68,7 +69,10 @@ LoadedMesh from_simplified(SimplifiedMesh s, std::vector<Quadric> quadrics) {
 
 MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOptions& options, ScalarType precision,
                     HierarchyStats* stats) {
-  ManifoldMesh manifold = make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
+  ManifoldMesh manifold = [&] {
+    ProgressPhase phase(options.progress, "manifold", 0, "tri");
+    return make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
+  }();
   // A vertex split into fans gives each copy its whole quadric: the sum does not say
   // which fan each plane came from.
   if (!mesh.quadrics.empty())
@@ -207,11 +211,21 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
     st.reduced_triangles = reduced.triangles.size() / 3;
     h = build(from_simplified(std::move(reduced), std::move(quadrics)), input_path, options, precision, &st);
   } else {
-    h = build(load(input), input_path, options, precision, &st);
+    LoadedMesh loaded;
+    {
+      ProgressPhase phase(options.progress, "load mesh", 0, "tri");
+      loaded = load(input);
+    }
+    h = build(std::move(loaded), input_path, options, precision, &st);
   }
-  const std::string bytes = hierarchy_file_bytes(h);
-  out.write_all(bytes);
-  out.commit();
+  st.largest_error = h.levels.empty() ? 0 : h.levels.back().largest_error;
+  std::string bytes;
+  {
+    ProgressPhase phase(options.progress, "write", 0, "B");
+    bytes = hierarchy_file_bytes(h);
+    out.write_all(bytes);
+    out.commit();
+  }
   st.file_bytes = bytes.size();
   st.seconds = now_seconds() - start;
   st.peak_rss_bytes = peak_rss_bytes();
@@ -220,11 +234,32 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
 }
 
 void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
-                  const HierarchyQuery& query) {
+                  const HierarchyQuery& query, const ProgressCallback& progress, ExtractStats* stats) {
+  const double start = now_seconds();
+  PeakAnonSampler peak_anon;
   const MeshFormat format = format_for_path(output_path, ascii);
-  const MeshHierarchy h = read_hierarchy(hierarchy_path);
-  const SimplifiedMesh m = extract_mesh(h, query);
-  write_mesh(output_path, m.positions, m.triangles, format, m.precision, &m.attributes);
+  MeshHierarchy h;
+  {
+    ProgressPhase phase(progress, "read hierarchy", 0, "B");
+    h = read_hierarchy(hierarchy_path);
+  }
+  SimplifiedMesh m;
+  {
+    ProgressPhase phase(progress, "extract", 0, "record");
+    m = extract_mesh(h, query);
+  }
+  {
+    ProgressPhase phase(progress, "write", 0, "B");
+    write_mesh(output_path, m.positions, m.triangles, format, m.precision, &m.attributes);
+  }
+  if (!stats) return;
+  stats->finest_vertices = h.positions.size() / 3;
+  stats->finest_triangles = h.triangles.size() / 3;
+  stats->output_vertices = m.positions.size() / 3;
+  stats->output_triangles = m.triangles.size() / 3;
+  stats->seconds = now_seconds() - start;
+  stats->peak_rss_bytes = peak_rss_bytes();
+  stats->peak_anon_bytes = peak_anon.peak();
 }
 
 }  // namespace oocsimp

@@ -114,13 +114,14 @@ void check_method_options(const MeshInput& input, const SimplifyOptions& options
 // What every run checks and records before its work: the budget's minimum, thick
 // edges' methods, the float range, the input's counts and notes.
 SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) {
-  // Below this a run cannot hold its buffers (I/O buffers, one tile's spill
-  // buffers, the pipeline's chunks), whatever the input: say so before starting.
-  constexpr std::uint64_t kMinimumBudget = 32u << 20;
-  if (options.memory_budget != 0 && options.memory_budget < kMinimumBudget)
-    throw UsageError("options.memory_budget", "options.memory_budget " + std::to_string(options.memory_budget >> 20) +
-                                                  " MiB is below the minimum of " +
-                                                  std::to_string(kMinimumBudget >> 20) + " MiB");
+  // Said before starting, in bytes when it is no whole MiB ("0 MiB" for 1K would
+  // not be what was given).
+  const std::uint64_t minimum = minimum_memory_budget(), budget = options.memory_budget;
+  if (budget != 0 && budget < minimum)
+    throw UsageError("options.memory_budget", "options.memory_budget " +
+                                                  (budget % (1u << 20) == 0 ? std::to_string(budget >> 20) + " MiB"
+                                                                            : std::to_string(budget) + " bytes") +
+                                                  " is below the minimum of " + std::to_string(minimum >> 20) + " MiB");
   // Thick edges come from clustering; a collapse to a target does not make them (yet),
   // and saying so beats dropping them.
   if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
@@ -184,9 +185,33 @@ void warn_of_overrun(const SimplifyOptions& options, SimplifyStats& st) {
                           " MiB: " + over);
 }
 
+// A run whose output is not smaller than its input says so, naming the option that
+// would make it smaller: a run that removes nothing looks like one that worked. A
+// target at or above the input's count has its own warning (input_as_is).
+void warn_if_nothing_removed(const SimplifyOptions& options, std::uint64_t output_triangles, SimplifyStats& st) {
+  if (st.input_triangles == 0 || output_triangles < st.input_triangles) return;
+  const TargetOptions& t = options.target;
+  if (t.triangles != 0 || t.ratio != 0) return;
+  const CellSizing& s = options.sizing;
+  std::ostringstream advice;
+  if (t.max_error != 0)
+    advice << "a larger options.target.max_error (now " << t.max_error << ")";
+  else if (s.cell != 0)
+    advice << "a larger options.sizing.cell (now " << s.cell << ")";
+  else if (s.grid != 0)
+    advice << "a smaller options.sizing.grid (now " << s.grid << ")";
+  else
+    advice << "a smaller options.sizing.ratio (now " << (s.ratio != 0 ? s.ratio : kDefaultRatio)
+           << "), or options.target.triangles for an exact count";
+  st.warnings.push_back("the output has " + std::to_string(output_triangles) +
+                        " triangles, not fewer than the input's " + std::to_string(st.input_triangles) +
+                        ": nothing was removed; " + advice.str() + " would remove some");
+}
+
 // The output's precision and the run's peak memory.
 void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory, OutputMesh& m,
                 SimplifyStats& st) {
+  warn_if_nothing_removed(options, m.triangle_count(), st);
   m.precision = ScalarType::f64;
   if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
   st.peak_rss_bytes = peak_rss_bytes();
@@ -215,11 +240,35 @@ void begin_stats(const MeshInput& input, const SimplifyOptions& options, Simplif
   st->warnings = std::move(warnings);
 }
 
+// `options` with a max_error given as a fraction of the bounding box's diagonal
+// turned into the length it stands for on this input, which is what the collapse
+// compares its errors with.
+SimplifyOptions with_error_in_units(const MeshInput& input, SimplifyOptions options) {
+  TargetOptions& t = options.target;
+  if (t.max_error_of_diagonal == 0) return options;
+  if (t.max_error != 0)
+    throw UsageError("options.target.max_error",
+                     "give options.target.max_error in model units or as a fraction of the diagonal, not both");
+  if (!(t.max_error_of_diagonal > 0 && t.max_error_of_diagonal <= 1))
+    throw UsageError("options.target.max_error",
+                     "options.target.max_error as a fraction of the bounding box's diagonal must be above 0 and at "
+                     "most 1 (100%)");
+  const double diagonal = input.info.bounds.empty() ? 0 : input.info.bounds.diagonal();
+  t.max_error = t.max_error_of_diagonal * diagonal;
+  if (!(t.max_error > 0))
+    throw UsageError("options.target.max_error",
+                     input.info.path +
+                         ": the bounding box has no diagonal to take "
+                         "options.target.max_error as a fraction of; give it in model units");
+  t.max_error_of_diagonal = 0;
+  return options;
+}
+
 // simplify(), with the output's arrays where the clusterers put them (mapped files
 // for an output large next to the budget).
 OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats,
                            std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
-  SimplifyOptions options = given;
+  SimplifyOptions options = with_error_in_units(input, given);
   options.method = resolved_method(given);
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
@@ -265,7 +314,7 @@ void check_lods(const SimplifyOptions& options, const LodOptions& lods) {
     throw UsageError("options.lods",
                      "options.lods halves options.target.triangles per level: " + std::to_string(lods.levels) +
                          " levels need a target of at least " + std::to_string(std::uint64_t(4) << (lods.levels - 1)));
-  if (options.target.max_error > 0)
+  if (options.target.max_error > 0 || options.target.max_error_of_diagonal > 0)
     throw UsageError("options.lods",
                      "options.lods halves a triangle target per level; it does not take options.target.max_error");
 }
@@ -377,19 +426,16 @@ void simplify_lods(MeshInput& input, const SimplifyOptions& options, const LodOp
 
 namespace {
 
-// "out.ply" -> ("out", ".ply"); "a/b.obj.zst" -> ("a/b", ".obj.zst"); no extension: ("x", "").
+// "out.ply" -> ("out", ".ply"); "a/b.obj.zst" -> ("a/b", ".obj.zst"), and so with .gz; no
+// extension: ("x", "").
 std::pair<std::string, std::string> split_extension(const std::string& path) {
-  std::string p = path;
-  std::string zst;
-  if (has_zst_suffix(p)) {
-    zst = p.substr(p.size() - 4);
-    p.resize(p.size() - 4);
-  }
+  const std::string p = without_compression_suffix(path);
+  const std::string compressed = path.substr(p.size());
   const std::size_t slash = p.rfind('/'), dot = p.rfind('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash) || dot == 0 ||
       (slash != std::string::npos && dot == slash + 1))
-    return {p, zst};
-  return {p.substr(0, dot), p.substr(dot) + zst};
+    return {p, compressed};
+  return {p.substr(0, dot), p.substr(dot) + compressed};
 }
 
 }  // namespace
@@ -615,6 +661,7 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
   SimplifyOptions o = options;
   o.method = resolved_method(options);
   MeshInput input = open_input(input_path, o);
+  o = with_error_in_units(input, o);
   st = begin_run(input, o);
   PartManifest manifest;
   manifest.part = part.index;
@@ -731,6 +778,8 @@ std::string skipped_input_summary(const std::string& input_path, const SimplifyS
             " at " + s.first_non_finite_position;
   return text;
 }
+
+std::uint64_t minimum_memory_budget() { return std::uint64_t(32) << 20; }
 
 std::uint64_t parse_byte_size(const std::string& text) {
   std::size_t used = 0;

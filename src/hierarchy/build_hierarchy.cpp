@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <optional>
 
 #include "hierarchy/four_face_simplifier.hpp"
 #include "hierarchy/four_k_mesh.hpp"
@@ -15,9 +16,13 @@ MeshHierarchy build_four_k_hierarchy(const std::vector<Vec3d>& positions, const 
   for (const Vec3d& p : positions) h.positions.insert(h.positions.end(), {p.x, p.y, p.z});
   h.triangles = triangles;
 
+  // The mesh's adjacency and its vertices' quadrics: seconds on a large mesh, a phase
+  // of its own so that a log does not fall silent.
+  std::optional<ProgressPhase> setup(std::in_place, options.progress, "4-k mesh", 0, "tri");
   FourKMesh mesh(positions, triangles);
   FourFaceSimplifier simplifier(&mesh, options);
   simplifier.assign_quadrics(std::move(quadrics));
+  setup.reset();
   h.levels.push_back({0, mesh.live_faces(), mesh.live_vertices(), 0});
   // Progress in faces gone: a level takes a share of what is left.
   ProgressPhase progress(options.progress, "4-k levels", mesh.live_faces(), "tri");

@@ -1,4 +1,5 @@
-// Sequential, buffered writing to a file descriptor, compressing with zstd on demand.
+// Sequential, buffered writing to a file descriptor, compressing with zstd or gzip on
+// demand.
 #pragma once
 
 #include <cstddef>
@@ -9,14 +10,22 @@
 #include <vector>
 
 typedef struct ZSTD_CCtx_s ZSTD_CCtx;
+struct z_stream_s;
 
 namespace oocsimp {
 
+/// How a ByteSink compresses what it writes.
+enum class SinkCompression : std::uint8_t { none, zstd, gzip };
+
 /// Writes through a 1 MiB buffer to `fd` (not owned). `path` only names the file in
-/// errors. With `compress`, the content is written as one zstd frame.
+/// errors. With zstd the content is written as one zstd frame, with gzip as one gzip
+/// member (RFC 1952); `level` is zstd's (gzip takes zlib's default).
 class ByteSink {
  public:
-  ByteSink(int fd, const std::string& path, bool compress, int level = 3);
+  ByteSink(int fd, const std::string& path, SinkCompression compression, int level = 3);
+  /// With `compress`, zstd; uncompressed otherwise (temporary files).
+  ByteSink(int fd, const std::string& path, bool compress, int level = 3)
+      : ByteSink(fd, path, compress ? SinkCompression::zstd : SinkCompression::none, level) {}
   ~ByteSink();
   ByteSink(const ByteSink&) = delete;
   ByteSink& operator=(const ByteSink&) = delete;
@@ -30,7 +39,8 @@ class ByteSink {
     }
   }
   void write(const std::string& s) { write(s.data(), s.size()); }
-  /// Flushes everything (ends the zstd frame) and fsyncs nothing; throws IoError.
+  /// Flushes everything (ends the zstd frame or gzip member) and fsyncs nothing;
+  /// throws IoError.
   void finish();
   /// Content bytes written so far (before compression).
   std::uint64_t bytes_written() const { return total_ + used_; }
@@ -52,12 +62,21 @@ class ByteSink {
   std::size_t used_ = 0;
   std::uint64_t total_ = 0;
   std::uint64_t on_disk_ = 0;
+  void deflate_buffer(bool end);
+
   ZSTD_CCtx* zstd_ = nullptr;
+  z_stream_s* gzip_ = nullptr;
   std::vector<unsigned char> zout_;
   std::function<std::string(std::uint64_t, int)> describe_error_;
 };
 
 /// True when `path` ends with ".zst".
 bool has_zst_suffix(const std::string& path);
+/// True when `path` ends with ".gz".
+bool has_gz_suffix(const std::string& path);
+/// The compression a file's name asks for: ".zst" zstd, ".gz" gzip, else none.
+SinkCompression compression_for_path(const std::string& path);
+/// `path` without its ".zst" or ".gz" suffix, if it has one.
+std::string without_compression_suffix(const std::string& path);
 
 }  // namespace oocsimp

@@ -510,8 +510,7 @@ void PlyStreamWriter::flush_text_past(std::size_t bytes) {
 }
 
 MeshFormat format_for_path(const std::string& path, bool ascii) {
-  std::string p = path;
-  if (has_zst_suffix(p)) p.resize(p.size() - 4);
+  const std::string p = without_compression_suffix(path);
   std::string ext = p.size() >= 4 ? p.substr(p.size() - 4) : "";
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".ply") return ascii ? MeshFormat::ply_ascii : MeshFormat::ply_binary;
@@ -521,7 +520,7 @@ MeshFormat format_for_path(const std::string& path, bool ascii) {
   if (ext == ".glb") return MeshFormat::glb;
   throw UsageError("cannot write \"" + path +
                    "\": the output format comes from the extension, one of .ply, .obj, .stl, .off or .glb, "
-                   "optionally followed by .zst");
+                   "optionally followed by .zst or .gz");
 }
 
 void write_mesh(const std::string& path, const std::vector<double>& positions,
@@ -560,7 +559,7 @@ namespace {
 void write_arrays(OutputFile& out, const MeshArrays& m, MeshFormat format) {
   if (m.points() + m.edges() > 0 && m.vertices() > 0x7FFFFFFFu)
     throw IoError(out.path() + ": thick edges and points name vertices as int, and there are more than 2^31");
-  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  ByteSink sink(out.fd(), out.path(), compression_for_path(out.path()));
   write_body(sink, m, format, out.path());
   sink.finish();
 }

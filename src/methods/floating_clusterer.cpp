@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -168,10 +169,13 @@ void FloatingRun::tile_mesh() {
   // when resumed); the spills' allowances come after it.
   const TileSettings tiling{options_.memory_budget, options_.floating.tile_side, options_.floating.keep_temp,
                             options_.floating.spill_compression, options_.temp_dir};
+  // Planning reads every position (a pass of its own on a large input): a phase.
+  std::optional<ProgressPhase> planning(std::in_place, options_.progress, "plan tiles", 0, "vtx");
   const double tile_side = resumed_ ? 0 : plan_tile_side(input_, tiling, coarsest_);
   const std::uint64_t fullest =
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex), fullest);
+  planning.reset();
   // Parts that exchange run only their own tiles: dealt before the binning, they keep
   // only those tiles' records, and where the faces can be read by range each reads
   // only its range and sends the others their tiles' records. (Parts that run apart
@@ -265,6 +269,7 @@ void FloatingRun::grade() {
 
 // A later level's first greedy over the graded vertices of the level before.
 void FloatingRun::regrade(std::size_t level) {
+  ProgressPhase phase(options_.progress, "regrade tiles", 0, "tile");
   const FloatingCellShape c = cell(level);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, c);
   // Both levels' blocks exist at once: the new ones get what the old ones leave

@@ -356,7 +356,10 @@ SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const 
   clock.end("load");
   clock.move_to(&stats->phases);
   const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
-  whole.quadrics = face_quadrics(whole.positions, whole.triangles);
+  {
+    ProgressPhase phase(o.progress, "face quadrics", 0, "tri");
+    whole.quadrics = face_quadrics(whole.positions, whole.triangles);
+  }
   return refine({std::move(whole), origin, &input.attributes.attributes, false,
                  locked_positions(input.positions, o.locked_vertices)},
                 {target, true, quadrics, coarser}, o, stats)

@@ -48,6 +48,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "runtime/ordered_pipeline.hpp"
@@ -297,6 +298,8 @@ std::vector<double> distances2_to(const InMemorySurface& surface, const std::vec
 // For every query point, the squared distance to the nearest of `sites` (step 3a).
 std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std::vector<Vec3d>& queries,
                                             const ProgressCallback& progress) {
+  // The phase spans the tree's building too, a good part of its time.
+  Phase phase(progress, "bound B->A", queries.size(), "pt");
   BoxTree tree(sites.size(), kPointLeaf, [&](std::uint32_t i) {
     Box3d b;
     b.min = b.max = sites[i];
@@ -305,7 +308,6 @@ std::vector<double> nearest_site_distances2(std::vector<Vec3d> sites, const std:
   sites = permuted(sites, tree.order());
   tree.release_order();
   std::vector<double> result(queries.size());
-  Phase phase(progress, "bound B->A", queries.size(), "pt");
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, queries.size(), kQueryGrain), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
@@ -442,8 +444,10 @@ class StreamedDistanceSearch {
 // `bounds2`, squared distances to points on A; in an order fixed by the points.
 std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d> points, std::vector<double> bounds2,
                                            const ProgressCallback& progress) {
+  std::optional<Phase> indexing(std::in_place, progress, "index samples of B", 0, "pt");
   StreamedDistanceSearch search(points, std::move(bounds2));
   std::vector<Vec3d>().swap(points);
+  indexing.reset();
   stream_triangles(
       input, progress, "distance B->A", [&](StreamChunk& c) { search.lower_by(c, input.positions, c.reached_leaves); },
       [](StreamChunk&) {});

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "io/temp_file.hpp"
+#include "runtime/progress_phase.hpp"
 #include "oocsimp/error.hpp"
 #include "render/rasterizer.hpp"
 
@@ -53,9 +54,11 @@ RenderStats render_file(const std::string& input, const std::string& output, con
   OutputFile file(output);
   OpenOptions open;
   open.temp_dir = temp_dir;
+  open.progress = options.progress;
   MeshInput mesh = open_mesh_input(input, open);
   RenderStats stats;
   const Image image = render_mesh(mesh, options, &stats);
+  ProgressPhase phase(options.progress, "write", 0, "B");
   file.write_all(encode_png(image));
   file.commit();
   return stats;

@@ -258,7 +258,10 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
   RenderStats local;
   RenderStats& st = stats ? *stats : local;
   RenderOptions view = options;
-  if (view.up == UpAxis::automatic) view.up = choose_up_axis(input);
+  if (view.up == UpAxis::automatic) {
+    ProgressPhase phase(options.progress, "choose up axis", 0, "B");
+    view.up = choose_up_axis(input);
+  }
   st.up = view.up;
   const Camera camera(input.info.bounds, view);
   st.pixel_size = camera.pixel;

@@ -67,6 +67,8 @@ std::string options_json(const SimplifyOptions& o, const OutputOptions& outputs)
     if (o.target.ratio != 0) s += "\"ratio\": " + number(o.target.ratio) + ", ";
     if (!o.target.given()) s += "\"ratio\": " + number(kDefaultRatio) + ", ";
     if (o.target.max_error != 0) s += "\"max_error\": " + number(o.target.max_error) + ", ";
+    if (o.target.max_error_of_diagonal != 0)
+      s += "\"max_error_of_diagonal\": " + number(o.target.max_error_of_diagonal) + ", ";
     s += "\"refine\": " + quoted(refine_name(o.target.refine)) +
          ", \"intermediate_factor\": " + number(o.target.intermediate_factor) + "}";
   }

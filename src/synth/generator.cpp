@@ -1136,7 +1136,7 @@ GenerateResult generate_mesh(const std::string& path, const GenerateOptions& opt
   ProgressPhase phase(options.progress, "generate", options.triangles, "tri");
   FaceCounter fc{0, 0, &phase};
   {
-    ByteSink sink(out.fd(), path, has_zst_suffix(path), 1);
+    ByteSink sink(out.fd(), path, compression_for_path(path), 1);
     switch (options.shape) {
       case SyntheticShape::sphere:
         r = sphere(sink, options, fc);

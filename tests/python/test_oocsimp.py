@@ -173,6 +173,26 @@ class Simplify(unittest.TestCase):
         np.testing.assert_allclose(attrs["colors"][:, 3], 0.5, atol=1e-6)
 
 
+class Warnings(unittest.TestCase):
+    def test_a_run_that_removes_nothing_warns_naming_the_keyword(self):
+        v, f = grid(30, wavy)
+        with self.assertWarnsRegex(UserWarning, "nothing was removed; a smaller grid"):
+            v2, f2 = oocsimp.simplify(v, f, method="uniform", grid=512)
+        self.assertEqual(len(f2), len(f))
+        import warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            oocsimp.simplify(v, f, method="uniform", grid=8)  # removes some: no warning
+
+    def test_max_error_as_a_percentage_of_the_diagonal(self):
+        v, f = grid(60, wavy)
+        diagonal = float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))
+        v1, f1 = oocsimp.simplify(v, f, max_error="0.5%")
+        v2, f2 = oocsimp.simplify(v, f, max_error=0.5 / 100 * diagonal)
+        self.assertLess(len(f1), len(f))
+        self.assertTrue(np.array_equal(f1, f2) and np.array_equal(v1, v2))
+
+
 class Errors(unittest.TestCase):
     def setUp(self):
         self.v, self.f = grid(20)
@@ -190,6 +210,18 @@ class Errors(unittest.TestCase):
             oocsimp.simplify(self.v, self.f, target_triangles=10)
         with self.assertRaisesRegex(ValueError, "uvs"):
             oocsimp.simplify(self.v, self.f, grid=8, uvs=np.zeros((len(self.v), 2)))
+
+    def test_a_zero_that_would_mean_no_target_is_refused_as_the_cli_refuses_it(self):
+        # The command line's --target-tris 0 exits 2; here each such zero is a ValueError
+        # naming its keyword, not a run of the default.
+        for keyword, value in [("target_tris", 0), ("target_tris", 3), ("target_ratio", 0), ("max_error", 0),
+                               ("grid", 0), ("cell", 0), ("ratio", 0), ("max_error", "0%"), ("max_error", "0.1")]:
+            with self.subTest(keyword=keyword, value=value):
+                with self.assertRaisesRegex(ValueError, "^" + keyword):
+                    oocsimp.simplify(self.v, self.f, **{keyword: value})
+        cli = subprocess.run([CLI, "simplify", "in.ply", "-o", "out.ply", "--target-tris", "0"],
+                             capture_output=True, text=True)
+        self.assertEqual(cli.returncode, 2)
 
     def test_bad_arrays(self):
         with self.assertRaisesRegex(ValueError, r"vertices must have shape \(n, 3\)"):

@@ -116,6 +116,26 @@ std::vector<std::uint64_t> vertex_list(const py::handle& value) {
   return out;
 }
 
+// max_error=: a length in model units, or a string "0.1%", a percentage of the input's
+// bounding-box diagonal.
+void set_max_error(const py::handle& value, oocsimp::TargetOptions* target) {
+  if (!py::isinstance<py::str>(value)) {
+    target->max_error = real_number("max_error", value);
+    if (!(target->max_error > 0 && std::isfinite(target->max_error)))
+      throw py::value_error("max_error must be above 0, not " + std::string(py::str(value)));
+    return;
+  }
+  const std::string text = value.cast<std::string>();
+  char* end = nullptr;
+  const double percent = std::strtod(text.c_str(), &end);
+  if (text.empty() || text.back() != '%' || end != text.c_str() + text.size() - 1 || !(percent > 0 && percent <= 100))
+    throw py::value_error(
+        "max_error must be a length in model units or a percentage of the diagonal such as "
+        "\"0.1%\", not \"" +
+        text + "\"");
+  target->max_error_of_diagonal = percent / 100;
+}
+
 // The keywords simplify() and simplify_file() share, into `o`; each one used is
 // removed from `kw`, so that what is left is unknown.
 void read_options(py::dict& kw, oocsimp::SimplifyOptions* o) {
@@ -126,13 +146,32 @@ void read_options(py::dict& kw, oocsimp::SimplifyOptions* o) {
     return !value->is_none();
   };
   py::object v;
-  if (take("target_tris", &v)) o->target.triangles = whole_number("target_tris", v);
-  if (take("target_ratio", &v)) o->target.ratio = real_number("target_ratio", v);
-  if (take("max_error", &v)) o->target.max_error = real_number("max_error", v);
+  // A value the library reads as "not given" (0) would quietly run without the target
+  // asked for: refused, as the command line refuses it.
+  if (take("target_tris", &v)) {
+    o->target.triangles = whole_number("target_tris", v);
+    if (o->target.triangles < 4)
+      throw py::value_error("target_tris must be at least 4, not " + std::to_string(o->target.triangles));
+  }
+  if (take("target_ratio", &v)) {
+    o->target.ratio = real_number("target_ratio", v);
+    if (!(o->target.ratio > 0 && o->target.ratio <= 1))
+      throw py::value_error("target_ratio must be above 0 and at most 1, not " + std::string(py::str(v)));
+  }
+  if (take("max_error", &v)) set_max_error(v, &o->target);
   if (take("method", &v)) o->method = enum_value("method", oocsimp::cluster_method_names(), v);
-  if (take("grid", &v)) o->sizing.grid = std::uint32_t(whole_number("grid", v));
-  if (take("cell", &v)) o->sizing.cell = real_number("cell", v);
-  if (take("ratio", &v)) o->sizing.ratio = real_number("ratio", v);
+  if (take("grid", &v)) {
+    o->sizing.grid = std::uint32_t(whole_number("grid", v));
+    if (o->sizing.grid == 0) throw py::value_error("grid must be at least 1, not 0");
+  }
+  if (take("cell", &v)) {
+    o->sizing.cell = real_number("cell", v);
+    if (!(o->sizing.cell > 0)) throw py::value_error("cell must be above 0, not " + std::string(py::str(v)));
+  }
+  if (take("ratio", &v)) {
+    o->sizing.ratio = real_number("ratio", v);
+    if (!(o->sizing.ratio > 0)) throw py::value_error("ratio must be above 0, not " + std::string(py::str(v)));
+  }
   if (take("mem", &v)) {
     if (!py::isinstance<py::str>(v)) {
       o->memory_budget = whole_number("mem", v);
@@ -233,6 +272,14 @@ py::array group_result(const AttributeGroup& g, const oocsimp::SimplifiedMesh& m
 
 // --- functions
 
+// The run's warnings (what the output lost, an option that did nothing) as Python
+// warnings, each naming keywords where the library names fields: the command line
+// prints the same lines on stderr.
+void warn_of(const oocsimp::SimplifyStats& stats) {
+  for (const std::string& w : stats.warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, with_keywords(w).c_str(), 1) != 0) throw py::error_already_set();
+}
+
 py::object simplify(py::array vertices, py::array faces, py::kwargs kwargs) {
   py::dict kw(kwargs);
   oocsimp::SimplifyOptions options;
@@ -295,10 +342,12 @@ py::object simplify(py::array vertices, py::array faces, py::kwargs kwargs) {
   options.progress = python_signals();
 
   oocsimp::SimplifiedMesh mesh;
+  oocsimp::SimplifyStats stats;
   {
     py::gil_scoped_release released;
-    mesh = oocsimp::simplify_mesh(view, options);
+    mesh = oocsimp::simplify_mesh(view, options, &stats);
   }
+  warn_of(stats);
   const std::size_t n = mesh.positions.size() / 3, m = mesh.triangles.size() / 3;
   py::array_t<double> v({n, std::size_t(3)}, mesh.positions.data());
   py::array_t<std::uint32_t> t({m, std::size_t(3)}, mesh.triangles.data());
@@ -336,6 +385,7 @@ py::object simplify_file(const std::string& input, const std::string& output, py
     oocsimp::simplify_file(input, outputs, options, &stats);
     json = oocsimp::stats_to_json(stats, input, outputs, options);
   }
+  warn_of(stats);
   return py::module_::import("json").attr("loads")(json);
 }
 
