@@ -412,7 +412,7 @@ void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const st
 
 PlyStreamWriter::PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precision, std::uint64_t vertices,
                                  std::uint64_t triangles, const std::vector<VertexAttribute>& attributes,
-                                 std::uint64_t edges, std::uint64_t points)
+                                 std::uint64_t edges, std::uint64_t points, const std::vector<std::string>& comments)
     : sink_(sink),
       ascii_(ascii),
       precision_(precision),
@@ -420,9 +420,11 @@ PlyStreamWriter::PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precisio
       triangles_(triangles),
       attributes_(attributes) {
   const char* type = precision == ScalarType::f32 ? "float" : "double";
-  std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
-                       " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(vertices) + "\nproperty " + type +
-                       " x\nproperty " + type + " y\nproperty " + type + " z\n";
+  std::string header =
+      std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") + " 1.0\ncomment oocsimp\n";
+  for (const std::string& c : comments) header += "comment " + c + "\n";
+  header += "element vertex " + std::to_string(vertices) + "\nproperty " + type + " x\nproperty " + type +
+            " y\nproperty " + type + " z\n";
   // The attributes under their names and types, after x, y, z.
   for (const VertexAttribute& a : attributes)
     header += std::string("property ") + attribute_type_name(a.type) + " " + a.name + "\n";
