@@ -51,6 +51,9 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
   cmd->add_option("--attributes", a.attributes,
                   "Vertex attributes to keep: all (the default), none, or NAME,NAME... (as info lists them)");
+  cmd->add_flag("--repair,!--no-repair", a.repair,
+                "Make a mesh that is not a manifold surface wound consistently one, with a warning: turn faces to "
+                "agree, cut edges of three or more faces, split vertices (the default); --no-repair refuses it");
   cmd->add_flag("--reuse-quadrics", a.reuse_quadrics,
                 "After that out-of-core phase, start from its vertex quadrics rather than the reduced mesh's faces");
   cmd->add_flag("--sequential", a.sequential,
@@ -79,6 +82,7 @@ int run_hierarchy(HierarchyArgs& a) {
   if (a.sets.given()) o.sets_per_level = std::uint32_t(whole_number("--sets", a.sets.text, 1, 16));
   o.independent = !a.sequential;
   o.reuse_quadrics = a.reuse_quadrics;
+  o.repair = a.repair;
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
@@ -92,6 +96,12 @@ int run_hierarchy(HierarchyArgs& a) {
                 st.kept_quadrics ? ", its quadrics kept" : "");
   std::printf("\n");
   if (st.split_vertices) std::printf("split %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
+  if (st.flipped_faces + st.cut_edges + st.detached_faces > 0)
+    std::fprintf(stderr,
+                 "oocsimp: warning: %s is not a manifold surface wound consistently; repaired: %" PRIu64
+                 " faces turned to agree with their neighbours, %" PRIu64 " edges of three or more faces (or that could "
+                 "not agree) cut, %" PRIu64 " faces given vertices of their own (--no-repair refuses such a mesh)\n",
+                 a.in.c_str(), st.flipped_faces, st.cut_edges, st.detached_faces);
   if (o.reuse_quadrics && !st.reduced_triangles)
     std::fprintf(stderr,
                  "oocsimp: warning: --reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the "

@@ -68,7 +68,7 @@ LoadedMesh from_simplified(SimplifiedMesh s, std::vector<Quadric> quadrics) {
 
 MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOptions& options, ScalarType precision,
                     HierarchyStats* stats) {
-  ManifoldMesh manifold = make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
+  ManifoldMesh manifold = make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name, options.repair);
   // A vertex split into fans gives each copy its whole quadric: the sum does not say
   // which fan each plane came from.
   if (!mesh.quadrics.empty())
@@ -84,6 +84,9 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
   if (stats) {
     stats->kept_quadrics = kept_quadrics;
     stats->split_vertices = manifold.split_vertices;
+    stats->flipped_faces = manifold.flipped_faces;
+    stats->cut_edges = manifold.cut_edges;
+    stats->detached_faces = manifold.detached_faces;
     stats->records = h.records.size();
     stats->swaps = 0;
     for (const HierarchyRecord& r : h.records) stats->swaps += r.swap;
