@@ -494,8 +494,7 @@ TEST_CASE("vertices that share a position stay together when the others are plac
   CHECK(moved > 0);
 }
 
-TEST_CASE("a vertex where two fans meet is split, an edge of three faces cut (refused without repair)",
-          "[hierarchy]") {
+TEST_CASE("a vertex where two fans meet is split, an edge of three faces cut (refused without repair)", "[hierarchy]") {
   // Two tetrahedra sharing vertex 0.
   Mesh m;
   m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1};
@@ -582,7 +581,7 @@ TEST_CASE("hierarchy repairs a soup's winding and non-manifold edges, and says s
   const Topology pt = topology(pair.positions, pair.triangles);
   CHECK(pt.manifold);
   CHECK(pt.euler() == 4);  // two closed surfaces again
-  Mesh strip;  // a band of 4 quads whose ends meet with a half twist
+  Mesh strip;              // a band of 4 quads whose ends meet with a half twist
   strip.positions = {0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 1, 2, 1, 1, 1, 0, 2, 1, 1, 2};
   strip.triangles = {0, 2, 1, 1, 2, 3, 2, 4, 3, 3, 4, 5, 4, 6, 5, 5, 6, 7, 6, 1, 7, 7, 1, 0};
   const SimplifiedMesh band = level(build_hierarchy(view_of(strip), {}), 0);

@@ -295,7 +295,8 @@ namespace {
 std::string two_material_obj(int n) {
   std::string s = "mtllib scene.mtl\n";
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s += "v " + std::to_string(double(i) / n) + " " + std::to_string(double(j) / n) + " 0\n";
+    for (int i = 0; i <= n; ++i)
+      s += "v " + std::to_string(double(i) / n) + " " + std::to_string(double(j) / n) + " 0\n";
   const auto face = [&](int i, int j) {
     const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
     return "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + "\nf " + std::to_string(a) +
@@ -392,14 +393,17 @@ TEST_CASE("OBJ materials: mtllib and usemtl groups survive the edge collapse and
   check(d.file("qem.obj"), 0);
   // Clustering merges across the seam: a face takes the material its corners carry
   // most of, so a face is never more than a cell away from its material's side.
-  const oocsimp_test::CliResult grid = oocsimp_test::run_cli("simplify --quiet " + d.file("in.obj") + " -o " + d.file("grid.obj") + " --grid 6");
+  const oocsimp_test::CliResult grid =
+      oocsimp_test::run_cli("simplify --quiet " + d.file("in.obj") + " -o " + d.file("grid.obj") + " --grid 6");
   REQUIRE(grid.exit_code == 0);
   check(d.file("grid.obj"), 1.0 / 6);
   // Formats without materials say what they drop.
-  const oocsimp_test::CliResult ply = oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.ply") + " --target-tris 64");
+  const oocsimp_test::CliResult ply =
+      oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.ply") + " --target-tris 64");
   REQUIRE(ply.exit_code == 0);
   CHECK_THAT(ply.err, Catch::Contains("only OBJ has materials") && Catch::Contains("mtllib scene.mtl"));
-  const oocsimp_test::CliResult glb = oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.glb") + " --target-tris 64");
+  const oocsimp_test::CliResult glb =
+      oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.glb") + " --target-tris 64");
   REQUIRE(glb.exit_code == 0);
   CHECK_THAT(glb.err, Catch::Contains("only OBJ has materials"));
 }

@@ -67,9 +67,9 @@ TEST_CASE("render frames the projected outline, not the bounding sphere", "[rend
   // the short side a quarter of that, centred; the bounding sphere (diameter sqrt 17)
   // would leave it 3% short along the long side and far from filling a wide image.
   write_binary_ply(d.file("strip.ply"), {0, 0, 0, 4, 0, 0, 4, 1, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 3});
-  REQUIRE(run_cli("render --quiet " + q(d.file("strip.ply")) + " -o " + q(d.file("s.png")) +
-                  " --size 400x400 --view 0,90")
-              .exit_code == 0);
+  REQUIRE(
+      run_cli("render --quiet " + q(d.file("strip.ply")) + " -o " + q(d.file("s.png")) + " --size 400x400 --view 0,90")
+          .exit_code == 0);
   const Image image = read_png(d.file("s.png"));
   const PixelBox b = covered_box(image);
   const double long_side = 400 / 1.05, short_side = long_side / 4;
@@ -80,9 +80,9 @@ TEST_CASE("render frames the projected outline, not the bounding sphere", "[rend
   CHECK(std::abs(int(b.y0) - int(image.height - 1 - b.y1)) <= 1);
   // Seen from the side, a flat plate fills the width of a wide picture.
   write_plane_ply(d.file("plate.ply"), 8, 0, 0, 0);
-  REQUIRE(run_cli("render --quiet " + q(d.file("plate.ply")) + " -o " + q(d.file("p.png")) +
-                  " --size 600x200 --view 45,10")
-              .exit_code == 0);
+  REQUIRE(
+      run_cli("render --quiet " + q(d.file("plate.ply")) + " -o " + q(d.file("p.png")) + " --size 600x200 --view 45,10")
+          .exit_code == 0);
   const Image plate = read_png(d.file("p.png"));
   const PixelBox pb = covered_box(plate);
   CHECK(std::fabs(double(pb.x1 - pb.x0 + 1) - 600 / 1.05) <= 2);

@@ -99,7 +99,8 @@ int run_hierarchy(HierarchyArgs& a) {
   if (st.flipped_faces + st.cut_edges + st.detached_faces > 0)
     std::fprintf(stderr,
                  "oocsimp: warning: %s is not a manifold surface wound consistently; repaired: %" PRIu64
-                 " faces turned to agree with their neighbours, %" PRIu64 " edges of three or more faces (or that could "
+                 " faces turned to agree with their neighbours, %" PRIu64
+                 " edges of three or more faces (or that could "
                  "not agree) cut, %" PRIu64 " faces given vertices of their own (--no-repair refuses such a mesh)\n",
                  a.in.c_str(), st.flipped_faces, st.cut_edges, st.detached_faces);
   if (o.reuse_quadrics && !st.reduced_triangles)
@@ -451,8 +452,7 @@ int run_lod_select(const LodSelectArgs& a) {
 // --- render
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
-  CLI::App* cmd =
-      app.add_subcommand("render", "Draw a mesh file into a PNG or JPEG (software rasteriser, streamed)");
+  CLI::App* cmd = app.add_subcommand("render", "Draw a mesh file into a PNG or JPEG (software rasteriser, streamed)");
   cmd->add_option("input", a.in, "Mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)")->required();
   cmd->add_option("-o,--output", a.out, "Picture file: .png, or .jpg / .jpeg for JPEG")->required();
   cmd->add_option("--size", a.size, "Image size WIDTHxHEIGHT (default 1024x768)");

@@ -36,7 +36,7 @@ struct MeshInfo {
   /// OBJ's mtllib and usemtl (see Materials); the names are carried only with the
   /// material_K attributes.
   Materials materials;
-  bool positions_in_place = false;    ///< true when positions are read from the input through mmap
+  bool positions_in_place = false;  ///< true when positions are read from the input through mmap
   /// Positions carry more than float precision: the file stores them as double (PLY
   /// double), or a text coordinate has more digits than a float keeps ("451234.567",
   /// where "0.1" or a float written with %.9g does not count). They are then read as

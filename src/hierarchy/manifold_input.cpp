@@ -75,9 +75,8 @@ std::uint64_t orient(std::vector<std::uint32_t>& triangles, std::uint64_t* cut) 
     i = j;
   }
   std::vector<EdgeSide>().swap(sides);
-  std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) {
-    return a.face < b.face || (a.face == b.face && a.other < b.other);
-  });
+  std::sort(links.begin(), links.end(),
+            [](const Link& a, const Link& b) { return a.face < b.face || (a.face == b.face && a.other < b.other); });
   std::vector<std::uint32_t> first(faces + 1, 0);
   for (const Link& l : links) ++first[l.face + 1];
   for (std::size_t f = 0; f < faces; ++f) first[f + 1] += first[f];
@@ -143,7 +142,8 @@ std::uint64_t detach_faces_of_bad_edges(std::vector<Vec3d>& positions, std::vect
   for (const std::uint32_t f : detach)
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& v = triangles[3 * std::size_t(f) + std::size_t(k)];
-      const std::uint32_t original = v < positions.size() - copied_from.size() ? v : copied_from[v - (positions.size() - copied_from.size())];
+      const std::uint32_t original =
+          v < positions.size() - copied_from.size() ? v : copied_from[v - (positions.size() - copied_from.size())];
       copied_from.push_back(original);
       positions.push_back(positions[v]);
       v = std::uint32_t(positions.size() - 1);

@@ -612,20 +612,20 @@ void write_arrays(OutputFile& out, const MeshArrays& m, MeshFormat format) {
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
                 MeshFormat format, ScalarType precision, const AttributeValues* attributes,
                 const ThickPrimitives* primitives) {
-  write_arrays(out,
-               MeshArrays{positions.data(), positions.size() / 3, triangles.data(), triangles.size() / 3, precision,
-                          attributes ? &attributes->attributes : nullptr,
-                          attributes ? attributes->values.data() : nullptr, primitives,
-                          attributes ? &attributes->materials : nullptr},
-               format);
+  write_arrays(
+      out,
+      MeshArrays{positions.data(), positions.size() / 3, triangles.data(), triangles.size() / 3, precision,
+                 attributes ? &attributes->attributes : nullptr, attributes ? attributes->values.data() : nullptr,
+                 primitives, attributes ? &attributes->materials : nullptr},
+      format);
 }
 
 void write_mesh(OutputFile& out, const OutputMesh& mesh, MeshFormat format) {
-  write_arrays(out,
-               MeshArrays{mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(),
-                          mesh.precision, &mesh.attributes, mesh.attribute_values.data(), &mesh.primitives,
-                          &mesh.materials},
-               format);
+  write_arrays(
+      out,
+      MeshArrays{mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(),
+                 mesh.precision, &mesh.attributes, mesh.attribute_values.data(), &mesh.primitives, &mesh.materials},
+      format);
 }
 
 }  // namespace oocsimp

@@ -547,8 +547,7 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
                                    " carried; the faces' materials are dropped");
   } else {
     for (std::size_t k = 0; k < material_count; ++k) material_names.push_back(material_attribute_name(k));
-    for (std::size_t k = 0; k < material_count; ++k)
-      offer(material_names[k].c_str(), ObjSource::material, int(k));
+    for (std::size_t k = 0; k < material_count; ++k) offer(material_names[k].c_str(), ObjSource::material, int(k));
   }
   const std::vector<std::size_t> carried =
       carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);

@@ -81,9 +81,9 @@ std::string label(double value, double diagonal) {
 
 // The widest label's characters, for the legend's width: "-1.23e-05 (1.23e-05%)".
 constexpr std::uint32_t kLabelChars = 21;
-constexpr std::uint32_t kBar = 16;     // the bar's width, font pixels
-constexpr std::uint32_t kMargin = 8;   // around the legend, font pixels
-constexpr std::uint32_t kTick = 4;     // the ticks' length, font pixels
+constexpr std::uint32_t kBar = 16;    // the bar's width, font pixels
+constexpr std::uint32_t kMargin = 8;  // around the legend, font pixels
+constexpr std::uint32_t kTick = 4;    // the ticks' length, font pixels
 
 }  // namespace
 

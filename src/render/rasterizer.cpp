@@ -69,8 +69,8 @@ struct Camera {
     half_w = 0.5 * width;
     pixel = 0;
     if (!outline.empty()) {
-      centre = box_centre + right * (0.5 * (outline.min.x + outline.max.x)) +
-               up * (0.5 * (outline.min.y + outline.max.y));
+      centre =
+          box_centre + right * (0.5 * (outline.min.x + outline.max.x)) + up * (0.5 * (outline.min.y + outline.max.y));
       pixel = kFraming * std::max((outline.max.x - outline.min.x) / width, (outline.max.y - outline.min.y) / height);
     }
     if (!(pixel > 0) || !std::isfinite(pixel)) pixel = diameter > 0 ? kFraming * diameter / std::min(width, height) : 1;
@@ -367,8 +367,8 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
   const bool error_map = ramp.found && colours.present();
   const std::uint32_t legend = error_map ? legend_width(options.width, options.height) : 0;
   Camera camera(view);
-  camera.frame(input.info.bounds, projected_outline(input, camera, options.thick_edges),
-               double(options.width - legend), double(options.height));
+  camera.frame(input.info.bounds, projected_outline(input, camera, options.thick_edges), double(options.width - legend),
+               double(options.height));
   st.pixel_size = camera.pixel;
   Rasterizer raster(options, error_map);
   const VertexNormals normals(input.attributes);
