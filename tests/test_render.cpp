@@ -354,13 +354,14 @@ TEST_CASE("measure --error-colours writes each vertex's distance, render draws i
   CHECK(red > 0);
   CHECK(blue > 0);
   CHECK(ramp_top_row < ramp_bottom_row);
-  // The model fills the width the legend leaves: B's square, seen from above.
+  // The model fills the width the legend leaves (narrower than the height): B's
+  // square, seen from above.
   Image left = image;
   for (std::uint32_t y = 0; y < image.height; ++y)
     for (std::uint32_t x = image.width - strip; x < image.width; ++x)
       for (int k = 0; k < 3; ++k) left.rgb[3 * (std::size_t(y) * image.width + x) + std::size_t(k)] = 255;
   const PixelBox b = covered_box(left);
-  CHECK(std::fabs(double(b.y1 - b.y0 + 1) - 600 / 1.05) <= 2);
+  CHECK(std::fabs(double(b.x1 - b.x0 + 1) - (800 - strip) / 1.05) <= 2);
   CHECK(b.x1 < image.width - strip);
   // A plain mesh gets no legend and its one surface colour.
   REQUIRE(run_cli("render --quiet " + q(d.file("b.ply")) + " -o " + q(d.file("b.png")) + " --size 800x600").exit_code ==
