@@ -339,7 +339,7 @@ TEST_CASE("measure --error-colours writes each vertex's distance, render draws i
   REQUIRE(pic.exit_code == 0);
   CHECK_THAT(pic.err, Catch::Contains("legend"));
   const Image image = read_png(d.file("err.png"));
-  const std::uint32_t strip = legend_width(800, 600);
+  const std::uint32_t strip = legend_width(800, 600, ramp);
   REQUIRE(strip > 0);
   auto pixel = [&](std::uint32_t x, std::uint32_t y) {
     const std::uint8_t* p = &image.rgb[3 * (std::size_t(y) * image.width + x)];

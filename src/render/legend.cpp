@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 
 #include "oocsimp/measure.hpp"
@@ -28,7 +29,7 @@ constexpr Glyph kFont[] = {
     {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}}, {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}},
     {'a', {0x00, 0x00, 0x0E, 0x01, 0x0F, 0x11, 0x0F}}, {'c', {0x00, 0x00, 0x0E, 0x10, 0x10, 0x11, 0x0E}},
     {'d', {0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F}}, {'e', {0x00, 0x00, 0x0E, 0x11, 0x1F, 0x10, 0x0E}},
-    {'f', {0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08}}, {'g', {0x00, 0x0F, 0x11, 0x11, 0x0F, 0x01, 0x0E}},
+    {'f', {0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08}}, {'g', {0x00, 0x00, 0x0F, 0x11, 0x0F, 0x01, 0x0E}},
     {'i', {0x04, 0x00, 0x0C, 0x04, 0x04, 0x04, 0x0E}}, {'l', {0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
     {'n', {0x00, 0x00, 0x16, 0x19, 0x11, 0x11, 0x11}}, {'o', {0x00, 0x00, 0x0E, 0x11, 0x11, 0x11, 0x0E}},
     {'p', {0x00, 0x00, 0x1E, 0x11, 0x1E, 0x10, 0x10}}, {'r', {0x00, 0x00, 0x16, 0x19, 0x10, 0x10, 0x10}},
@@ -79,8 +80,7 @@ std::string label(double value, double diagonal) {
   return buf;
 }
 
-// The widest label's characters, for the legend's width: "-1.23e-05 (1.23e-05%)".
-constexpr std::uint32_t kLabelChars = 21;
+constexpr const char* kTitle[2] = {"distance to input", "(% of diagonal)"};
 constexpr std::uint32_t kBar = 16;    // the bar's width, font pixels
 constexpr std::uint32_t kMargin = 8;  // around the legend, font pixels
 constexpr std::uint32_t kTick = 4;    // the ticks' length, font pixels
@@ -103,26 +103,26 @@ ErrorRamp find_error_ramp(const std::vector<std::string>& comments) {
   return ramp;
 }
 
-std::uint32_t text_width(const std::string& text, std::uint32_t scale) {
-  return std::uint32_t(text.size()) * kAdvance * scale;
-}
-
-std::uint32_t legend_width(std::uint32_t width, std::uint32_t height) {
+std::uint32_t legend_width(std::uint32_t width, std::uint32_t height, const ErrorRamp& ramp) {
   const std::uint32_t s = font_scale(height);
-  const std::uint32_t w = (2 * kMargin + kBar + kTick + 2 + kLabelChars * kAdvance) * s;
+  std::size_t label_chars = 0;
+  for (int k = 0; k <= 4; ++k) label_chars = std::max(label_chars, label(k / 4.0 * ramp.top, ramp.diagonal).size());
+  const std::uint32_t title = std::uint32_t(std::max(std::strlen(kTitle[0]), std::strlen(kTitle[1])));
+  const std::uint32_t w =
+      (2 * kMargin + std::max(title * kAdvance, kBar + kTick + 2 + std::uint32_t(label_chars) * kAdvance)) * s;
   // The legend needs its lines, and should leave the model most of the picture.
   if (height < 12 * kLines * s || 2 * w > width) return 0;
   return w;
 }
 
 void draw_error_legend(Image* image, const ErrorRamp& ramp) {
-  const std::uint32_t w = legend_width(image->width, image->height);
+  const std::uint32_t w = legend_width(image->width, image->height, ramp);
   if (w == 0) return;
   const std::uint32_t s = font_scale(image->height);
   const std::int64_t left = std::int64_t(image->width - w + kMargin * s);
   // The title's two lines, then the bar from there to a margin above the bottom.
-  draw_text(image, "distance to input", left, std::int64_t(kMargin * s), s);
-  draw_text(image, "(% of diagonal)", left, std::int64_t((kMargin + kLines) * s), s);
+  draw_text(image, kTitle[0], left, std::int64_t(kMargin * s), s);
+  draw_text(image, kTitle[1], left, std::int64_t((kMargin + kLines) * s), s);
   const std::int64_t bar_top = std::int64_t((kMargin + 2 * kLines + 6) * s);
   const std::int64_t bar_bottom = std::int64_t(image->height) - std::int64_t((kMargin + 6) * s);
   const std::int64_t bar_w = std::int64_t(kBar * s);

@@ -19,16 +19,14 @@ struct ErrorRamp {
 };
 ErrorRamp find_error_ramp(const std::vector<std::string>& comments);
 
-/// Pixels the legend takes at the right of an image `width` x `height` (0 when the
-/// image is too small to hold it: then none is drawn).
-std::uint32_t legend_width(std::uint32_t width, std::uint32_t height);
+/// Pixels the legend of `ramp` takes at the right of an image `width` x `height`: its
+/// widest line and the bar (0 when the image is too small to hold it: then none is
+/// drawn).
+std::uint32_t legend_width(std::uint32_t width, std::uint32_t height, const ErrorRamp& ramp);
 
 /// Draws the legend into the rightmost legend_width() columns of `image`: a title, a
 /// bar of the ramp (0 at the bottom, ramp.top at the top) and five labels "VALUE
 /// (PERCENT%)" along it.
 void draw_error_legend(Image* image, const ErrorRamp& ramp);
-
-/// The pixel width of `text` in the legend's font at `scale`.
-std::uint32_t text_width(const std::string& text, std::uint32_t scale);
 
 }  // namespace oocsimp

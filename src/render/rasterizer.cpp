@@ -365,7 +365,7 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
   const ErrorRamp ramp = find_error_ramp(input.info.comments);
   const VertexColours colours(input.attributes);
   const bool error_map = ramp.found && colours.present();
-  const std::uint32_t legend = error_map ? legend_width(options.width, options.height) : 0;
+  const std::uint32_t legend = error_map ? legend_width(options.width, options.height, ramp) : 0;
   Camera camera(view);
   camera.frame(input.info.bounds, projected_outline(input, camera, options.thick_edges), double(options.width - legend),
                double(options.height));
