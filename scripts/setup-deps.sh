@@ -4,7 +4,7 @@
 # sanitizer suite of scripts/test.sh --sanitize, so CI compiles with both compilers.
 set -euo pipefail
 
-packages=(cmake g++ clang libclang-rt-14-dev make pkg-config libtbb-dev libopenmesh-dev libzstd-dev zlib1g-dev libcli11-dev catch2 libmeshoptimizer-dev libxxhash-dev libpng-dev nlohmann-json3-dev libopenmpi-dev openmpi-bin slurm-wlm munge pybind11-dev python3-dev python3-numpy)
+packages=(cmake g++ clang libclang-rt-14-dev make pkg-config libtbb-dev libopenmesh-dev libzstd-dev zlib1g-dev libcli11-dev catch2 libmeshoptimizer-dev libxxhash-dev libpng-dev libjpeg62-turbo-dev nlohmann-json3-dev libopenmpi-dev openmpi-bin slurm-wlm munge pybind11-dev python3-dev python3-numpy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -493,7 +493,7 @@ TEST_CASE("vertices that share a position stay together when the others are plac
   CHECK(moved > 0);
 }
 
-TEST_CASE("a vertex where two fans meet is split, an edge of three faces refused", "[hierarchy]") {
+TEST_CASE("a vertex where two fans meet is split, an edge of three faces cut (refused without repair)", "[hierarchy]") {
   // Two tetrahedra sharing vertex 0.
   Mesh m;
   m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1};
@@ -506,7 +506,101 @@ TEST_CASE("a vertex where two fans meet is split, an edge of three faces refused
   Mesh fin;
   fin.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
   fin.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
-  CHECK_THROWS_WITH(build_hierarchy(view_of(fin), {}), Catch::Contains("edge from vertex"));
+  HierarchyOptions strict;
+  strict.repair = false;
+  CHECK_THROWS_WITH(build_hierarchy(view_of(fin), strict),
+                    Catch::Contains("edge from vertex") && Catch::Contains("--repair"));
+  const MeshHierarchy repaired = build_hierarchy(view_of(fin), {});
+  const SimplifiedMesh fin_finest = level(repaired, 0);
+  CHECK(fin_finest.triangles.size() == 9);
+  CHECK(topology(fin_finest.positions, fin_finest.triangles).manifold);
+}
+
+namespace {
+
+// The unit cube, 12 faces wound outwards.
+Mesh unit_cube() {
+  Mesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  m.triangles = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                 3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+  return m;
+}
+
+// Six times the signed volume the faces enclose: positive when they face out.
+double six_volume(const std::vector<double>& p, const std::vector<std::uint32_t>& t) {
+  double v = 0;
+  for (std::size_t f = 0; f < t.size(); f += 3) {
+    const double* a = &p[3 * t[f]];
+    const double* b = &p[3 * t[f + 1]];
+    const double* c = &p[3 * t[f + 2]];
+    v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("hierarchy repairs a soup's winding and non-manifold edges, and says so", "[hierarchy][cli]") {
+  // A cube with two faces wound inwards, as CAD exports often have: the two turn, the
+  // other ten keep their winding, and the cube stays closed (Euler characteristic 2).
+  Mesh cube = unit_cube();
+  for (std::size_t f : {2, 7}) std::swap(cube.triangles[3 * f + 1], cube.triangles[3 * f + 2]);
+  HierarchyOptions strict;
+  strict.repair = false;
+  CHECK_THROWS_WITH(build_hierarchy(view_of(cube), strict), Catch::Contains("--repair"));
+  const SimplifiedMesh turned = level(build_hierarchy(view_of(cube), {}), 0);
+  const Topology t = topology(turned.positions, turned.triangles);
+  CHECK(t.manifold);
+  CHECK(t.euler() == 2);
+  CHECK(t.boundary_edges == 0);
+  CHECK(six_volume(turned.positions, turned.triangles) == Approx(6.0));  // facing out: volume 1
+  // The same cube wound inwards everywhere but two faces: the majority's winding wins.
+  Mesh inside = unit_cube();
+  for (std::size_t f = 0; f < 12; ++f)
+    if (f != 2 && f != 7) std::swap(inside.triangles[3 * f + 1], inside.triangles[3 * f + 2]);
+  const SimplifiedMesh in = level(build_hierarchy(view_of(inside), {}), 0);
+  CHECK(six_volume(in.positions, in.triangles) == Approx(-6.0));
+
+  // Two cubes sharing an edge (four faces on it) and a Moebius-like strip: each side
+  // of a cut edge gets its own copies of the edge's ends; every face is kept.
+  // The second is the first moved by (1, 1, 0): its edge from vertex 0 to 4 is the
+  // first's from 2 (1, 1, 0) to 6 (1, 1, 1); its other six vertices are new.
+  Mesh two = unit_cube();
+  const Mesh second = unit_cube();
+  const std::uint32_t renumber[8] = {2, 8, 9, 10, 6, 11, 12, 13};
+  for (const std::uint32_t v : {1, 2, 3, 5, 6, 7}) {
+    two.positions.push_back(second.positions[3 * v] + 1);
+    two.positions.push_back(second.positions[3 * v + 1] + 1);
+    two.positions.push_back(second.positions[3 * v + 2]);
+  }
+  for (const std::uint32_t v : second.triangles) two.triangles.push_back(renumber[v]);
+  const SimplifiedMesh pair = level(build_hierarchy(view_of(two), {}), 0);
+  CHECK(pair.triangles.size() == 72);
+  const Topology pt = topology(pair.positions, pair.triangles);
+  CHECK(pt.manifold);
+  CHECK(pt.euler() == 4);  // two closed surfaces again
+  Mesh strip;              // a band of 4 quads whose ends meet with a half twist
+  strip.positions = {0, 0, 0, 0, 1, 0, 1, 0, 0, 1, 1, 0, 2, 0, 1, 2, 1, 1, 1, 0, 2, 1, 1, 2};
+  strip.triangles = {0, 2, 1, 1, 2, 3, 2, 4, 3, 3, 4, 5, 4, 6, 5, 5, 6, 7, 6, 1, 7, 7, 1, 0};
+  const SimplifiedMesh band = level(build_hierarchy(view_of(strip), {}), 0);
+  CHECK(band.triangles.size() == 24);
+  CHECK(topology(band.positions, band.triangles).manifold);
+
+  // The command line: repaired with a warning by default, refused with --no-repair
+  // (exit 3, one line naming the file and the option).
+  ScratchDir d;
+  std::vector<float> p(cube.positions.begin(), cube.positions.end());
+  write_binary_ply(d.file("cad.ply"), p, cube.triangles);
+  const CliResult r = run_cli("hierarchy --quiet " + d.file("cad.ply") + " -o " + d.file("c.4k"));
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.err, Catch::Contains("warning") && Catch::Contains("repaired: 2 faces turned"));
+  CHECK(file_exists(d.file("c.4k")));
+  const CliResult no = run_cli("hierarchy --quiet --no-repair " + d.file("cad.ply") + " -o " + d.file("n.4k"));
+  CHECK(no.exit_code == 3);
+  CHECK(std::count(no.err.begin(), no.err.end(), '\n') == 1);
+  CHECK_THAT(no.err, Catch::Contains("cad.ply") && Catch::Contains("--repair"));
+  CHECK_FALSE(file_exists(d.file("n.4k")));
 }
 
 TEST_CASE("the .4k file reads back as written, and the same bytes come for any thread count", "[hierarchy][file]") {

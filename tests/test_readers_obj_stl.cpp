@@ -1,5 +1,7 @@
 // Tests of the streaming mesh readers through the public open_mesh_input() API: OBJ and STL.
 // Every input is written by the test itself into a scratch folder.
+#include <sstream>
+
 #include "reader_test_files.hpp"
 
 TEST_CASE("OBJ v and f lines", "[readers][obj]") {
@@ -285,3 +287,123 @@ TEST_CASE("STL ascii with several solids", "[readers][stl]") {
 
 // ---------------------------------------------------------------------------------
 // glTF binary
+
+namespace {
+
+// An n x n grid over [0, 1]^2 as OBJ: the faces left of x = 0.5 of material "left",
+// the rest of "right", the two groups each written in two runs; with `mtllib`.
+std::string two_material_obj(int n) {
+  std::string s = "mtllib scene.mtl\n";
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      s += "v " + std::to_string(double(i) / n) + " " + std::to_string(double(j) / n) + " 0\n";
+  const auto face = [&](int i, int j) {
+    const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
+    return "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + "\nf " + std::to_string(a) +
+           " " + std::to_string(d) + " " + std::to_string(c) + "\n";
+  };
+  for (int half = 0; half < 2; ++half)
+    for (const char* material : {"left", "right"}) {
+      s += std::string("usemtl ") + material + "\n";
+      for (int j = half * n / 2; j < (half + 1) * n / 2; ++j)
+        for (int i = 0; i < n; ++i)
+          if ((i < n / 2) == (material[0] == 'l')) s += face(i, j);
+    }
+  return s;
+}
+
+// The faces of an OBJ file written by oocsimp, each with the material of the usemtl
+// line before it ("" before any) and its corners' positions.
+struct ObjFace {
+  std::string material;
+  double x[3];
+};
+std::vector<ObjFace> obj_faces(const std::string& text, std::vector<std::string>* libraries) {
+  std::vector<double> xs;
+  std::vector<ObjFace> faces;
+  std::string material;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream l(line);
+    std::string key;
+    l >> key;
+    if (key == "v") {
+      double x = 0;
+      l >> x;
+      xs.push_back(x);
+    } else if (key == "usemtl") {
+      l >> material;
+    } else if (key == "mtllib") {
+      std::string name;
+      l >> name;
+      libraries->push_back(name);
+    } else if (key == "f") {
+      ObjFace f{material, {0, 0, 0}};
+      for (double& x : f.x) {
+        std::string corner;
+        l >> corner;
+        x = xs[std::stoul(corner.substr(0, corner.find('/'))) - 1];
+      }
+      faces.push_back(f);
+    }
+  }
+  return faces;
+}
+
+}  // namespace
+
+TEST_CASE("OBJ materials: mtllib and usemtl groups survive the edge collapse and clustering", "[readers][obj][cli]") {
+  ScratchDir d;
+  const int n = 16;
+  write_file(d.file("in.obj"), two_material_obj(n));
+  // Read: the library, the names in order of first use, one attribute each, and the
+  // vertices on x = 0.5 split, one per material.
+  {
+    oocsimp::MeshInput m = oocsimp::open_mesh_input(d.file("in.obj"));
+    CHECK(m.info.materials.libraries == std::vector<std::string>{"scene.mtl"});
+    CHECK(m.info.materials.names == std::vector<std::string>{"left", "right"});
+    REQUIRE(m.attributes.size() == 2);
+    CHECK(m.attributes.attributes[0].name == "material_0");
+    CHECK(m.positions.count == std::uint64_t((n + 1) * (n + 1) + n + 1));
+  }
+  // The collapse keeps the seam between the materials as it keeps a texture seam: each
+  // face stays on its material's side of x = 0.5.
+  const auto check = [&](const std::string& out, double slack) {
+    std::vector<std::string> libraries;
+    const std::vector<ObjFace> faces = obj_faces(oocsimp_test::read_file(out), &libraries);
+    CHECK(libraries == std::vector<std::string>{"scene.mtl"});
+    REQUIRE_FALSE(faces.empty());
+    std::size_t left = 0, right = 0, wrong = 0;
+    for (const ObjFace& f : faces) {
+      const double centre = (f.x[0] + f.x[1] + f.x[2]) / 3;
+      left += f.material == "left";
+      right += f.material == "right";
+      wrong += (f.material == "left" && centre > 0.5 + slack) || (f.material == "right" && centre < 0.5 - slack) ||
+               f.material.empty();
+    }
+    CHECK(left > 0);
+    CHECK(right > 0);
+    CHECK(wrong == 0);
+  };
+  const oocsimp_test::CliResult qem =
+      oocsimp_test::run_cli("simplify --quiet " + d.file("in.obj") + " -o " + d.file("qem.obj") + " --target-tris 64");
+  REQUIRE(qem.exit_code == 0);
+  CHECK(qem.err.empty());  // no warning: OBJ keeps the materials
+  check(d.file("qem.obj"), 0);
+  // Clustering merges across the seam: a face takes the material its corners carry
+  // most of, so a face is never more than a cell away from its material's side.
+  const oocsimp_test::CliResult grid =
+      oocsimp_test::run_cli("simplify --quiet " + d.file("in.obj") + " -o " + d.file("grid.obj") + " --grid 6");
+  REQUIRE(grid.exit_code == 0);
+  check(d.file("grid.obj"), 1.0 / 6);
+  // Formats without materials say what they drop.
+  const oocsimp_test::CliResult ply =
+      oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.ply") + " --target-tris 64");
+  REQUIRE(ply.exit_code == 0);
+  CHECK_THAT(ply.err, Catch::Contains("only OBJ has materials") && Catch::Contains("mtllib scene.mtl"));
+  const oocsimp_test::CliResult glb =
+      oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.glb") + " --target-tris 64");
+  REQUIRE(glb.exit_code == 0);
+  CHECK_THAT(glb.err, Catch::Contains("only OBJ has materials"));
+}

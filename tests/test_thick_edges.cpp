@@ -237,8 +237,10 @@ TEST_CASE("render draws edges T/R pixels wide and points as discs", "[thick][ren
              "element edge 1\nproperty int vertex1\nproperty int vertex2\nproperty float thickness\n"
              "element point 1\nproperty int vertex\nproperty float thickness\nend_header\n"
              "0 0 0\n1 0 0\n0.5 0.5 0\n0 1 0.1\n2 0.2\n");
-  // The bounding box's diagonal is sqrt(1.25); x 1.05 over 400 pixels.
-  const double pixel = 1.05 * std::sqrt(1.25) / 400;
+  // The outline reaches past the vertices by the widths: x from -0.05 to 1.05 (the
+  // edge's round ends), y from -0.05 to 0.6 (the edge, the point's disc); the wider,
+  // 1.1, x 1.05 over 400 pixels.
+  const double pixel = 1.05 * 1.1 / 400;
   const double w = 0.1 / pixel, disc = 0.2 / pixel;
   // A capsule: the line's rectangle and its two half-disc caps; the point's disc.
   const double thick_pixels = (1 / pixel) * w + kPi * w * w / 4 + kPi * disc * disc / 4;
@@ -246,10 +248,11 @@ TEST_CASE("render draws edges T/R pixels wide and points as discs", "[thick][ren
                               " --size 400x400 --view 0,90");
   REQUIRE(r.exit_code == 0);
   CHECK(std::fabs(double(non_white(read_png(d.file("t.png")))) - thick_pixels) <= 0.03 * thick_pixels);
-  // Without --thick-edges: one pixel wide, the point one pixel.
+  // Without --thick-edges: one pixel wide, the point one pixel; the outline is the
+  // vertices', 1 wide.
   REQUIRE(run_cli("render --quiet " + q(d.file("e.ply")) + " -o " + q(d.file("n.png")) + " --size 400x400 --view 0,90")
               .exit_code == 0);
-  const double thin = 1 / pixel;
+  const double thin = 400 / 1.05;
   CHECK(std::fabs(double(non_white(read_png(d.file("n.png")))) - thin) <= 4);
   // Through the library, the counts.
   MeshInput m = open_mesh_input(d.file("e.ply"));

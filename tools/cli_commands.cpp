@@ -57,6 +57,9 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
             "Heap budget; a larger input is first simplified out of core to what fits (default: a quarter of memory)");
   cmd->add_option("--attributes", a.attributes,
                   "Vertex attributes to keep: all (the default), none, or NAME,NAME... (as info lists them)");
+  cmd->add_flag("--repair,!--no-repair", a.repair,
+                "Make a mesh that is not a manifold surface wound consistently one, with a warning: turn faces to "
+                "agree, cut edges of three or more faces, split vertices (the default); --no-repair refuses it");
   cmd->add_flag("--reuse-quadrics", a.reuse_quadrics,
                 "After that out-of-core phase, start from its vertex quadrics rather than the reduced mesh's faces");
   cmd->add_flag("--sequential", a.sequential,
@@ -85,6 +88,7 @@ int run_hierarchy(HierarchyArgs& a) {
   if (a.sets.given()) o.sets_per_level = std::uint32_t(whole_number("--sets", a.sets.text, 1, 16));
   o.independent = !a.sequential;
   o.reuse_quadrics = a.reuse_quadrics;
+  o.repair = a.repair;
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
@@ -92,6 +96,13 @@ int run_hierarchy(HierarchyArgs& a) {
   o.progress = progress.callback();
   HierarchyStats st;
   build_hierarchy_file(a.in, a.out, o, &st);
+  if (st.flipped_faces + st.cut_edges + st.detached_faces > 0)
+    std::fprintf(stderr,
+                 "oocsimp: warning: %s is not a manifold surface wound consistently; repaired: %" PRIu64
+                 " faces turned to agree with their neighbours, %" PRIu64
+                 " edges of three or more faces (or that could "
+                 "not agree) cut, %" PRIu64 " faces given vertices of their own (--no-repair refuses such a mesh)\n",
+                 a.in.c_str(), st.flipped_faces, st.cut_edges, st.detached_faces);
   if (o.reuse_quadrics && !st.reduced_triangles)
     std::fprintf(stderr,
                  "oocsimp: warning: --reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the "
@@ -449,6 +460,9 @@ CLI::App* add_measure_command(CLI::App& app, MeasureArgs& a) {
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_flag("--json", a.json, "Print the report as JSON");
+  cmd->add_option("--error-colours", a.options.error_colours,
+                  "Write B to this PLY with each vertex's distance to A as property quality and as colours (blue 0 "
+                  "to red the largest); render draws it with a legend");
   add_quiet_flag(cmd, &a.quiet);
   return cmd;
 }
@@ -466,6 +480,11 @@ void print_distance_report(const MeasureArgs& a, const DistanceReport& r) {
     DistanceStats f = r.fraction_of_diagonal(s);
     std::printf("%-10s %9" PRIu64 " %13.6e %13.6e %13.6e %11.4e %11.4e %11.4e\n", row.first, s.samples, s.max, s.mean,
                 s.rms, f.max, f.mean, f.rms);
+  }
+  if (!a.options.error_colours.empty()) {
+    const DistanceStats f = r.fraction_of_diagonal(r.b_vertices);
+    std::printf("colours    %s: B's %" PRIu64 " vertices by distance to A, 0 to %.6e (%.4e of the diagonal)\n",
+                a.options.error_colours.c_str(), r.b_vertices.samples, r.b_vertices.max, f.max);
   }
   std::printf("time %.3f s, peak RSS %.1f MiB, peak anonymous %.1f MiB\n", r.seconds,
               double(r.peak_rss_bytes) / 1048576.0, double(r.peak_anon_bytes) / 1048576.0);
@@ -577,9 +596,9 @@ int run_lod_select(const LodSelectArgs& a) {
 // --- render
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
-  CLI::App* cmd = app.add_subcommand("render", "Draw a mesh file into a PNG (software rasteriser, streamed)");
+  CLI::App* cmd = app.add_subcommand("render", "Draw a mesh file into a PNG or JPEG (software rasteriser, streamed)");
   cmd->add_option("input", a.in, "Mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)")->required();
-  cmd->add_option("-o,--output", a.out, "PNG file")->required();
+  cmd->add_option("-o,--output", a.out, "Picture file: .png, or .jpg / .jpeg for JPEG")->required();
   cmd->add_option("--size", a.size, "Image size WIDTHxHEIGHT (default 1024x768)");
   cmd->add_option("--view", a.view,
                   "Camera direction AZIMUTH,ELEVATION in degrees (default 30,20; 0,90 looks straight down)");
@@ -630,9 +649,10 @@ int run_render(const RenderArgs& a) {
   if (!a.quiet)
     std::fprintf(stderr,
                  "render  %" PRIu64 " triangles, %" PRIu64 " edges, %" PRIu64 " points, %ux%u pixels (%" PRIu64
-                 " covered, %.3g model units each), %s up%s, %.3f s\n",
+                 " covered, %.3g model units each), %s up%s%s, %.3f s\n",
                  s.triangles, s.edges, s.points, o.width, o.height, s.covered_pixels, s.pixel_size,
-                 name_of(up_axis_names(), s.up), o.up == UpAxis::automatic ? " (auto)" : "", seconds);
+                 name_of(up_axis_names(), s.up), o.up == UpAxis::automatic ? " (auto)" : "",
+                 s.legend ? ", error colours with their legend" : "", seconds);
   return kOk;
 }
 

@@ -18,7 +18,7 @@ struct HierarchyArgs {
   std::string in, out;
   Given levels, threads, mem, level_ratio, sets;
   HierarchyOptions options;
-  bool quiet = false, sequential = false, reuse_quadrics = false;
+  bool quiet = false, sequential = false, reuse_quadrics = false, repair = true;
   std::string attributes = "all";
 };
 

@@ -72,9 +72,33 @@ struct AttributeArray {
 
 /// The attributes of a simplified mesh: `values` holds attributes.size() values per
 /// output vertex, in the attributes' order; integer types hold whole numbers in range.
+/// OBJ's materials: the library files its `mtllib` lines name, as written, and the
+/// materials its `usemtl` lines use, in the order of first use. A mesh carries them
+/// as one float vertex attribute per material, "material_K" for names[K]: 1 on the
+/// vertices of that material's faces, 0 elsewhere (a vertex where materials meet is
+/// split, one per material, as at a texture seam, and the edge collapse keeps such
+/// seams as it keeps texture seams). An output face takes the material whose
+/// attribute its three corners sum highest, the first on a tie: the material of its
+/// corners when they agree, and after clustering (which averages the attributes by
+/// area) the one that covers the most area around them. A face whose corners carry
+/// none (the input's faces before its first usemtl) keeps the material of the face
+/// written before it.
+struct Materials {
+  std::vector<std::string> libraries;
+  std::vector<std::string> names;
+  bool empty() const { return names.empty() && libraries.empty(); }
+};
+
+/// "material_K": the vertex attribute of material K (Materials).
+std::string material_attribute_name(std::size_t k);
+/// Whether `name` is a material's vertex attribute, "material_" and digits.
+bool is_material_attribute(const std::string& name);
+
 struct AttributeValues {
   std::vector<VertexAttribute> attributes;
   std::vector<double> values;
+  /// The materials the material_K attributes stand for (empty: none).
+  Materials materials;
   bool empty() const { return attributes.empty(); }
 };
 

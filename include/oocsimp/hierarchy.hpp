@@ -107,6 +107,12 @@ struct HierarchyOptions {
   /// summed (the error it made counts on) instead of the reduced mesh's faces. Off by
   /// default: it measured no better (docs/hierarchy.md).
   bool reuse_quadrics = false;
+  /// The hierarchy needs a manifold surface wound consistently. With repair (the
+  /// default) a mesh that is not is made so: faces turned to agree with their
+  /// neighbours, edges of three or more faces cut, every vertex split into one per
+  /// fan (docs/hierarchy.md); HierarchyStats says what it did. Off, such a mesh throws
+  /// InputError naming the first bad edge.
+  bool repair = true;
   /// The input's vertex attributes the hierarchy keeps (all by default).
   AttributeSelection attributes;
   std::string temp_dir;  ///< empty = default_temp_dir()
@@ -177,6 +183,10 @@ struct HierarchyStats {
   /// collapse's sums) rather than from the reduced mesh's faces.
   bool kept_quadrics = false;
   std::uint64_t split_vertices = 0;  ///< vertices added where fans met
+  /// What the repair did (all 0 for a manifold surface wound consistently): faces
+  /// flipped to agree with their neighbours, edges cut (of three or more faces, or of
+  /// two that could not agree), and faces given vertices of their own.
+  std::uint64_t flipped_faces = 0, cut_edges = 0, detached_faces = 0;
   std::uint64_t records = 0, swaps = 0;
   /// The largest record error up to the coarsest level (HierarchyRecord::error's
   /// units: area times squared distance, model units to the fourth power).

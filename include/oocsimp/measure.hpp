@@ -23,7 +23,36 @@ struct MeasureOptions {
   unsigned threads = 0;             ///< 0 = all cores; results are identical for any count
   std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
   ProgressCallback progress;        ///< progress reports, and cancellation (see ProgressCallback)
+  /// When not empty, a PLY file (.ply or .ply.zst) to write B into with each vertex's
+  /// exact distance to surface A as float "quality" and as a colour (uchar red, green,
+  /// blue) on error_ramp_colour from 0 to the largest vertex distance, as MeshLab's
+  /// Hausdorff filter with "colour by quality" does. Two header comments name A and
+  /// give the ramp's end and A's diagonal ("error_ramp MAX diagonal D"), which render
+  /// draws as a legend. It costs one more pass over A.
+  std::string error_colours;
 };
+
+/// The colour of `t` (0 to 1, clamped) on the error ramp, 0xRRGGBB: blue at 0, then
+/// cyan, green, yellow, to red at 1, linear between those five, so that no error
+/// reads cold and the largest hot.
+inline std::uint32_t error_ramp_colour(double t) {
+  static const std::uint32_t stops[5] = {0x0000FF, 0x00FFFF, 0x00FF00, 0xFFFF00, 0xFF0000};
+  t = t > 0 ? (t < 1 ? t : 1) : 0;  // NaN to 0
+  const double at = t * 4;
+  const int i = at >= 4 ? 3 : int(at);
+  const double f = at - i;
+  std::uint32_t out = 0;
+  for (int shift : {16, 8, 0}) {
+    const double a = double((stops[i] >> shift) & 0xFF), b = double((stops[i + 1] >> shift) & 0xFF);
+    out |= std::uint32_t(a + (b - a) * f + 0.5) << shift;
+  }
+  return out;
+}
+
+/// The words of the PLY comment measure writes with the error colours, "error_ramp MAX
+/// diagonal D", and render reads back.
+constexpr const char* kErrorRampComment = "error_ramp";
+constexpr const char* kErrorDiagonalWord = "diagonal";
 
 /// Statistics of the distances of one set of sample points to a surface, in model units.
 struct DistanceStats {
@@ -41,6 +70,9 @@ struct DistanceReport {
   /// (not its square) over each surface divided by its area, i.e. a_to_b.mean +
   /// b_to_a.mean; with equal sample counts symmetric.mean is half of it.
   DistanceStats symmetric;
+  /// With MeasureOptions::error_colours, the exact distances of B's vertices to A
+  /// (their largest is the colour ramp's end); all zero without.
+  DistanceStats b_vertices;
   double a_diagonal = 0;                           ///< length of A's bounding-box diagonal, the scale of the fractions
   double a_area = 0, b_area = 0;                   ///< surface areas, model units squared
   std::uint64_t a_triangles = 0, b_triangles = 0;  ///< triangles read (polygons fanned), degenerate ones included

@@ -33,7 +33,10 @@ struct MeshInfo {
   std::uint64_t unwelded_vertex_count = 0;
   std::vector<std::string> elements;  ///< "vertex 100 (x float, y float, ...)" per element
   std::vector<std::string> comments;  ///< PLY comment / obj_info lines
-  bool positions_in_place = false;    ///< true when positions are read from the input through mmap
+  /// OBJ's mtllib and usemtl (see Materials); the names are carried only with the
+  /// material_K attributes.
+  Materials materials;
+  bool positions_in_place = false;  ///< true when positions are read from the input through mmap
   /// Positions carry more than float precision: the file stores them as double (PLY
   /// double), or a text coordinate has more digits than a float keeps ("451234.567",
   /// where "0.1" or a float written with %.9g does not count). They are then read as

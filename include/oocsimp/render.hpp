@@ -57,19 +57,38 @@ struct RenderStats {
   std::uint64_t triangles = 0;          ///< triangles read
   std::uint64_t edges = 0, points = 0;  ///< thick edges and points read
   std::uint64_t covered_pixels = 0;     ///< pixels the surface covers
-  /// The size of a pixel in model units: the camera frames the bounding box's
-  /// circumscribed sphere, its diameter x 1.05 across the image's shorter side.
+  /// The size of a pixel in model units: the camera frames the model's projected
+  /// outline (its vertices as seen, and with thick edges their widths), centred, x 1.05
+  /// across the image's width or height, whichever it fills first.
   double pixel_size = 0;
   UpAxis up = UpAxis::z;  ///< the up axis drawn: the one asked for, or the one chosen
+  /// The input was a mesh coloured by its error (measure --error-colours: vertex
+  /// colours and the "error_ramp" comment), drawn in its colours with the ramp's
+  /// legend at the right: the ramp, its values in model units and as a percentage of
+  /// the input's diagonal. Faces are then lit 0.5 + 0.5 |cos|, and the model is framed
+  /// in the width the legend leaves.
+  bool legend = false;
 };
 
 /// `image` as PNG bytes (8-bit RGB, through libpng).
 std::string encode_png(const Image& image);
+/// `image` as baseline JPEG bytes (JFIF, 8-bit YCbCr, through libjpeg) at `quality`,
+/// 1 to 100 (UsageError otherwise).
+std::string encode_jpeg(const Image& image, int quality = 90);
+
+enum class ImageFormat : std::uint8_t { png, jpeg };
+
+/// The format a picture at `path` is written in, by its extension (any case): .png,
+/// or .jpg and .jpeg for JPEG; stdout ("-") and an existing device or FIFO get PNG.
+/// Throws UsageError for any other name, so that no file's bytes contradict its name.
+ImageFormat image_format_for_path(const std::string& path);
 
 /// Opens `input` (converted positions and stream copies go under `temp_dir`, empty:
-/// the default temporary directory), renders it and writes the PNG to `output` under a
+/// the default temporary directory), renders it and writes the picture, PNG or JPEG by
+/// image_format_for_path (checked before anything is opened), to `output` under a
 /// temporary name, renamed when complete (the output is opened first: a bad folder
-/// fails before the work). Throws UsageError (output = input), InputError, IoError.
+/// fails before the work). Throws UsageError (output = input, a name of neither
+/// format), InputError, IoError.
 RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
                         const std::string& temp_dir = {});
 

@@ -71,7 +71,7 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
                     HierarchyStats* stats) {
   ManifoldMesh manifold = [&] {
     ProgressPhase phase(options.progress, "manifold", 0, "tri");
-    return make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name);
+    return make_manifold(std::move(mesh.positions), std::move(mesh.triangles), name, options.repair);
   }();
   // A vertex split into fans gives each copy its whole quadric: the sum does not say
   // which fan each plane came from.
@@ -88,6 +88,9 @@ MeshHierarchy build(LoadedMesh mesh, const std::string& name, const HierarchyOpt
   if (stats) {
     stats->kept_quadrics = kept_quadrics;
     stats->split_vertices = manifold.split_vertices;
+    stats->flipped_faces = manifold.flipped_faces;
+    stats->cut_edges = manifold.cut_edges;
+    stats->detached_faces = manifold.detached_faces;
     stats->records = h.records.size();
     stats->swaps = 0;
     for (const HierarchyRecord& r : h.records) stats->swaps += r.swap;

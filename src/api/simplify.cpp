@@ -500,6 +500,7 @@ std::string attributes_not_written(const std::string& path, MeshFormat format,
         (is(a, {"red", "green", "blue", "nx", "ny", "nz"}) || is_texture_coordinate(a.name)))
       continue;
     if (format == MeshFormat::glb && a.name == "alpha") continue;
+    if (format == MeshFormat::obj && is_material_attribute(a.name)) continue;  // usemtl groups
     names += (names.empty() ? "" : ", ") + a.name;
   }
   const char* what =
@@ -507,6 +508,19 @@ std::string attributes_not_written(const std::string& path, MeshFormat format,
       : format == MeshFormat::glb ? "glTF keeps only the colours (with alpha), the normals and texture coordinates"
                                   : "STL and OFF keep no vertex attributes";
   return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
+}
+
+// The warning for an output format that has no materials: OBJ's mtllib and usemtl.
+std::string materials_not_written(const std::string& path, MeshFormat format, const Materials& materials) {
+  std::string what;
+  if (!materials.libraries.empty()) what = "the material library (mtllib " + materials.libraries.front() + ")";
+  if (!materials.names.empty())
+    what += std::string(what.empty() ? "" : " and ") + "the faces' " + std::to_string(materials.names.size()) +
+            " materials (usemtl)";
+  const bool ply = format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii;
+  return path + ": only OBJ has materials; " + what +
+         (ply && !materials.names.empty() ? " kept only as the vertex properties material_0..." : " not written") +
+         " (write .obj to keep them)";
 }
 
 // Opens the input as `options` say (welding, attributes, budget, progress).
@@ -529,8 +543,10 @@ void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outp
     add_vertex_normals(&mesh, ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir));
   const double t0 = now_seconds();
   ProgressPhase phase(options.progress, "write", 0, "B");
-  if (!format_keeps_attributes(format, AttributeValues{mesh.attributes, {}}))
+  if (!format_keeps_attributes(format, AttributeValues{mesh.attributes, {}, mesh.materials}))
     st.warnings.push_back(attributes_not_written(file.path(), format, mesh.attributes));
+  if (!mesh.materials.empty() && !format_keeps_materials(format))
+    st.warnings.push_back(materials_not_written(file.path(), format, mesh.materials));
   if (!mesh.primitives.empty() && !format_keeps_primitives(format))
     st.warnings.push_back(file.path() + ": " +
                           (format == MeshFormat::obj
@@ -565,6 +581,7 @@ void run_to_files(const std::string& input_path, const OutputOptions& outputs, c
   MeshInput input = open_input(input_path, options);
   st.phases.push_back({"open", now_seconds() - t0});
   OutputMesh mesh = produce(input);
+  mesh.materials = input.info.materials;
   write_output(mesh_file, format, outputs, mesh, options, st);
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
@@ -615,6 +632,7 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
     SimplifyStats& s = st.back();
     if (k == 0) s.phases.insert(s.phases.begin(), {"open", open_seconds});
     const double write_start = now_seconds();
+    mesh.materials = input.info.materials;
     write_output(*files[k], format, outputs, mesh, options, s);
     const double now = now_seconds();
     // A level whose run timed itself (a target's levels, worked out before level 0

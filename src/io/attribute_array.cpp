@@ -75,9 +75,19 @@ bool is_texture_coordinate(const std::string& name) {
   return false;
 }
 
+std::string material_attribute_name(std::size_t k) { return "material_" + std::to_string(k); }
+
+bool is_material_attribute(const std::string& name) {
+  constexpr std::size_t kPrefix = 9;  // "material_"
+  if (name.size() <= kPrefix || name.compare(0, kPrefix, "material_") != 0) return false;
+  return std::all_of(name.begin() + kPrefix, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 bool carries_texture_coordinates(const std::vector<VertexAttribute>& attributes) {
+  // Material attributes have seams as texture coordinates do, where faces of two
+  // materials meet: the edge collapse keeps both kinds closed.
   for (const VertexAttribute& a : attributes)
-    if (is_texture_coordinate(a.name)) return true;
+    if (is_texture_coordinate(a.name) || is_material_attribute(a.name)) return true;
   return false;
 }
 

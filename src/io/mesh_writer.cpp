@@ -59,6 +59,7 @@ struct MeshArrays {
   const std::vector<VertexAttribute>* attribute_names;  // null or empty: positions only
   const double* attribute_values;                       // attribute_count() per vertex
   const ThickPrimitives* primitives;                    // null or empty: triangles only
+  const Materials* materials;                           // null or empty: none
   std::size_t edges() const { return primitives ? primitives->edge_count() : 0; }
   std::size_t points() const { return primitives ? primitives->point_count() : 0; }
   std::size_t attribute_count() const { return attribute_names ? attribute_names->size() : 0; }
@@ -152,9 +153,29 @@ double colour_scale(AttributeType t) {
   }
 }
 
+// The material_K attributes of `m` that name one of its materials: for each, K and
+// the attribute's column.
+std::vector<std::pair<std::size_t, std::size_t>> material_columns(const MeshArrays& m) {
+  std::vector<std::pair<std::size_t, std::size_t>> columns;
+  if (!m.materials) return columns;
+  for (std::size_t c = 0; c < m.attribute_count(); ++c) {
+    const std::string& name = m.attribute_info(c).name;
+    if (!is_material_attribute(name)) continue;
+    const std::size_t k = std::size_t(std::stoull(name.substr(9)));
+    if (k < m.materials->names.size()) columns.push_back({k, c});
+  }
+  return columns;
+}
+
 void write_obj(ByteSink& sink, const MeshArrays& m) {
   TextOut out(sink);
   out.text() = "# oocsimp\n";
+  // The material library, and per face the material its corners carry most of (the
+  // rule in Materials), a usemtl line where it changes.
+  const std::vector<std::pair<std::size_t, std::size_t>> materials = material_columns(m);
+  if (m.materials)
+    for (const std::string& library : m.materials->libraries) out.text() += "mtllib " + library + "\n";
+  std::size_t current_material = ~std::size_t(0);
   // "v x y z r g b", the colour extension MeshLab and most scanners read.
   const int rgb[3] = {m.colour_index("red"), m.colour_index("green"), m.colour_index("blue")};
   const bool colours = rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0;
@@ -189,6 +210,19 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
     out.maybe_flush();
   }
   for (std::size_t t = 0; t < m.triangles(); ++t) {
+    if (!materials.empty()) {
+      double best = 0;
+      std::size_t chosen = current_material;
+      for (const auto& [k, column] : materials) {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c) sum += m.attribute(m.tri[3 * t + std::size_t(c)], column);
+        if (sum > best) best = sum, chosen = k;
+      }
+      if (chosen != current_material) {
+        out.text() += "usemtl " + m.materials->names[chosen] + "\n";
+        current_material = chosen;
+      }
+    }
     out.text() += "f ";
     if (normals || texture) {
       for (int k = 0; k < 3; ++k) {
@@ -412,7 +446,7 @@ void write_body(ByteSink& sink, const MeshArrays& m, MeshFormat format, const st
 
 PlyStreamWriter::PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precision, std::uint64_t vertices,
                                  std::uint64_t triangles, const std::vector<VertexAttribute>& attributes,
-                                 std::uint64_t edges, std::uint64_t points)
+                                 std::uint64_t edges, std::uint64_t points, const std::vector<std::string>& comments)
     : sink_(sink),
       ascii_(ascii),
       precision_(precision),
@@ -420,9 +454,11 @@ PlyStreamWriter::PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precisio
       triangles_(triangles),
       attributes_(attributes) {
   const char* type = precision == ScalarType::f32 ? "float" : "double";
-  std::string header = std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") +
-                       " 1.0\ncomment oocsimp\nelement vertex " + std::to_string(vertices) + "\nproperty " + type +
-                       " x\nproperty " + type + " y\nproperty " + type + " z\n";
+  std::string header =
+      std::string("ply\nformat ") + (ascii ? "ascii" : "binary_little_endian") + " 1.0\ncomment oocsimp\n";
+  for (const std::string& c : comments) header += "comment " + c + "\n";
+  header += "element vertex " + std::to_string(vertices) + "\nproperty " + type + " x\nproperty " + type +
+            " y\nproperty " + type + " z\n";
   // The attributes under their names and types, after x, y, z.
   for (const VertexAttribute& a : attributes)
     header += std::string("property ") + attribute_type_name(a.type) + " " + a.name + "\n";
@@ -539,6 +575,10 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
   if (attributes.empty()) return true;
   if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
   if (format != MeshFormat::obj && format != MeshFormat::glb) return false;
+  // OBJ keeps the materials as usemtl groups (format_keeps_materials).
+  std::size_t material = 0;
+  if (format == MeshFormat::obj && !attributes.materials.names.empty())
+    for (const VertexAttribute& a : attributes.attributes) material += is_material_attribute(a.name);
   // OBJ keeps colours ("v x y z r g b"), normals ("vn") and one pair of texture
   // coordinates ("vt"), each whole, and nothing else; glTF the same (COLOR_0 with
   // alpha when there is one, NORMAL, TEXCOORD_0).
@@ -551,8 +591,10 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
   if (colours != 3) alpha = 0;  // alpha goes with the colours
   const std::size_t texture = texture_coordinate_pair(attributes.attributes) ? 2 : 0;
   return (colours == 0 || colours == 3) && (normals == 0 || normals == 3) &&
-         std::size_t(colours + normals + alpha) + texture == attributes.attributes.size();
+         std::size_t(colours + normals + alpha) + texture + material == attributes.attributes.size();
 }
+
+bool format_keeps_materials(MeshFormat format) { return format == MeshFormat::obj; }
 
 namespace {
 
@@ -569,18 +611,20 @@ void write_arrays(OutputFile& out, const MeshArrays& m, MeshFormat format) {
 void write_mesh(OutputFile& out, const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles,
                 MeshFormat format, ScalarType precision, const AttributeValues* attributes,
                 const ThickPrimitives* primitives) {
-  write_arrays(out,
-               MeshArrays{positions.data(), positions.size() / 3, triangles.data(), triangles.size() / 3, precision,
-                          attributes ? &attributes->attributes : nullptr,
-                          attributes ? attributes->values.data() : nullptr, primitives},
-               format);
+  write_arrays(
+      out,
+      MeshArrays{positions.data(), positions.size() / 3, triangles.data(), triangles.size() / 3, precision,
+                 attributes ? &attributes->attributes : nullptr, attributes ? attributes->values.data() : nullptr,
+                 primitives, attributes ? &attributes->materials : nullptr},
+      format);
 }
 
 void write_mesh(OutputFile& out, const OutputMesh& mesh, MeshFormat format) {
-  write_arrays(out,
-               MeshArrays{mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(),
-                          mesh.precision, &mesh.attributes, mesh.attribute_values.data(), &mesh.primitives},
-               format);
+  write_arrays(
+      out,
+      MeshArrays{mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(),
+                 mesh.precision, &mesh.attributes, mesh.attribute_values.data(), &mesh.primitives, &mesh.materials},
+      format);
 }
 
 }  // namespace oocsimp

@@ -23,11 +23,13 @@ void write_mesh(OutputFile& out, const OutputMesh& mesh, MeshFormat format);
 /// writes, byte for byte, without holding the mesh. The header comes first, so the
 /// counts are known up front; finish() checks they were met (IoError otherwise) and
 /// writes what is buffered. Thick edges and points, when counted, follow the faces,
-/// written by the caller.
+/// written by the caller. `comments` go into the header as "comment" lines after
+/// oocsimp's own (one line each).
 class PlyStreamWriter {
  public:
   PlyStreamWriter(ByteSink& sink, bool ascii, ScalarType precision, std::uint64_t vertices, std::uint64_t triangles,
-                  const std::vector<VertexAttribute>& attributes, std::uint64_t edges = 0, std::uint64_t points = 0);
+                  const std::vector<VertexAttribute>& attributes, std::uint64_t edges = 0, std::uint64_t points = 0,
+                  const std::vector<std::string>& comments = {});
   /// The next vertex: its position and its attributes' values (attributes.size()).
   void vertex(const Vec3d& p, const double* attributes);
   /// The next face.

@@ -7,10 +7,12 @@
 // format's definition, so forward references are rejected.
 //
 // OBJ gives texture coordinates (`vt`) and normals (`vn`) to face corners, not to
-// vertices. When they are carried, a corner pass between the two reads them onto
-// vertices:
-// - a position whose corners name several texture coordinates (a texture seam) is
-//   split, one vertex per pair, so that the seam stays sharp (CornerVertices);
+// vertices, and materials (`usemtl`) to faces. When they are carried, a corner pass
+// between the two reads them onto vertices:
+// - a position whose corners name several texture coordinates (a texture seam), or
+//   whose faces have several materials, is split, one vertex per pair, so that the
+//   seam stays sharp (CornerVertices); a material becomes a vertex attribute
+//   material_K, 1 on its faces' vertices (Materials in oocsimp/attributes.hpp);
 // - the normals of a position's corners are averaged: splitting at every hard edge
 //   would cut the surface open there, and the simplifier would treat each cut as a
 //   border.
@@ -59,6 +61,32 @@ std::string_view trim_front(std::string_view line) {
 
 // A corner's texture coordinate: its `vt` index, or kNoTexture when it names none.
 constexpr std::uint64_t kNoTexture = ~std::uint64_t(0);
+// A corner's material: 0 for none (before the first usemtl), K + 1 for material K.
+// It takes the top bits of a corner's key, the texture coordinate the rest.
+constexpr int kMaterialShift = 40;
+constexpr std::uint64_t kTextureKeyMask = (std::uint64_t(1) << kMaterialShift) - 1;
+// Materials past this many are not carried: each is an attribute of every vertex.
+constexpr std::size_t kMostMaterials = 64;
+
+// The rest of `line` after `keyword` and blanks when the line is that statement
+// ("usemtl wood"), trailing blanks removed; false otherwise.
+bool statement(std::string_view line, std::string_view keyword, std::string_view* rest) {
+  if (line.size() < keyword.size() || line.substr(0, keyword.size()) != keyword) return false;
+  if (line.size() > keyword.size() && !TokenScanner::is_space(line[keyword.size()])) return false;
+  std::string_view r = line.substr(keyword.size());
+  while (!r.empty() && TokenScanner::is_space(r.front())) r.remove_prefix(1);
+  while (!r.empty() && (TokenScanner::is_space(r.back()) || r.back() == '\r')) r.remove_suffix(1);
+  *rest = r;
+  return true;
+}
+
+using MaterialIndex = std::map<std::string, std::uint32_t, std::less<>>;
+
+// The material a usemtl line switches to (K + 1), 0 for a name not carried.
+std::uint64_t material_of_line(const MaterialIndex& index, std::string_view name) {
+  const auto found = index.find(name);
+  return found == index.end() ? 0 : found->second + 1;
+}
 
 // The vertices that a file's corners make of its positions and texture coordinates:
 // one per (position, texture coordinate) pair they name. Position p keeps index p for
@@ -72,9 +100,10 @@ class CornerVertices {
     first_.assign_zeroed(positions, place, "obj-corners");
   }
 
-  // The vertex of the corner at position p with texture coordinate t, made if new.
-  std::uint64_t add(std::uint64_t p, std::uint64_t t) {
-    const std::uint64_t key = key_of(t);
+  // The vertex of the corner at position p with texture coordinate t and material m
+  // (0 or K + 1), made if new.
+  std::uint64_t add(std::uint64_t p, std::uint64_t t, std::uint64_t m = 0) {
+    const std::uint64_t key = key_of(t, m);
     Link* link = &first_[p];
     if (link->texture == 0) {
       link->texture = key;
@@ -107,8 +136,8 @@ class CornerVertices {
   }
 
   // The vertex of a corner that add() has seen.
-  std::uint64_t find(std::uint64_t p, std::uint64_t t) const {
-    const std::uint64_t key = key_of(t);
+  std::uint64_t find(std::uint64_t p, std::uint64_t t, std::uint64_t m = 0) const {
+    const std::uint64_t key = key_of(t, m);
     const Link* link = &first_[p];
     std::uint64_t vertex = p;
     while (link->texture != key && link->next != 0) {
@@ -126,15 +155,23 @@ class CornerVertices {
   }
   // The texture coordinate of a vertex: kNoTexture also for a position no corner names.
   std::uint64_t texture_of(std::uint64_t vertex) const {
-    const std::uint64_t key = vertex < positions_ ? first_[vertex].texture : more_[vertex - positions_].texture;
+    const std::uint64_t key = key_at(vertex) & kTextureKeyMask;
     return key < 2 ? kNoTexture : key - 2;
   }
+  // The material of a vertex: 0 for none, K + 1 for material K.
+  std::uint64_t material_of(std::uint64_t vertex) const { return key_at(vertex) >> kMaterialShift; }
 
  private:
-  // 0 marks a position no corner has named yet, 1 a corner without a texture coordinate.
-  static std::uint64_t key_of(std::uint64_t t) { return t == kNoTexture ? 1 : t + 2; }
+  std::uint64_t key_at(std::uint64_t vertex) const {
+    return vertex < positions_ ? first_[vertex].texture : more_[vertex - positions_].texture;
+  }
+  // 0 marks a position no corner has named yet, 1 a corner without a texture
+  // coordinate; the material goes above (read_corners checks that t fits below it).
+  static std::uint64_t key_of(std::uint64_t t, std::uint64_t m) {
+    return (t == kNoTexture ? 1 : t + 2) | m << kMaterialShift;
+  }
   struct Link {
-    std::uint64_t texture;   // key_of(the texture coordinate)
+    std::uint64_t texture;   // key_of(the texture coordinate, the material)
     std::uint64_t next;      // the chain's next pair: its place in more_ + 1, 0: the end
     std::uint64_t position;  // in more_: the position split
   };
@@ -190,9 +227,12 @@ inline CornerText split_corner(std::string_view tok) {
 
 class ObjTriangleStream : public TriangleStream {
  public:
-  // `corners`: the vertices of split texture seams, or null when faces name positions.
-  ObjTriangleStream(std::shared_ptr<InputFile> file, std::shared_ptr<const CornerVertices> corners)
-      : src_(std::move(file)), corners_(std::move(corners)) {}
+  // `corners`: the vertices of split texture and material seams, or null when faces
+  // name positions; `textures`: whether texture coordinates split them; `materials`:
+  // the carried materials, or null.
+  ObjTriangleStream(std::shared_ptr<InputFile> file, std::shared_ptr<const CornerVertices> corners, bool textures,
+                    std::shared_ptr<const MaterialIndex> materials)
+      : src_(std::move(file)), corners_(std::move(corners)), textures_(textures), materials_(std::move(materials)) {}
 
   std::size_t read(std::uint64_t* out, std::size_t max) override {
     std::size_t n = 0;
@@ -207,7 +247,10 @@ class ObjTriangleStream : public TriangleStream {
         break;
       }
       line = trim_front(line);
-      if (is_keyword(line, 'v')) {
+      std::string_view rest;
+      if (materials_ && statement(line, "usemtl", &rest)) {
+        material_ = material_of_line(*materials_, rest);
+      } else if (is_keyword(line, 'v')) {
         ++defined_.positions;
       } else if (line.size() > 2 && line[0] == 'v' && line[1] == 't' && TokenScanner::is_space(line[2])) {
         ++defined_.textures;
@@ -257,9 +300,10 @@ class ObjTriangleStream : public TriangleStream {
       if (corners_) {
         const auto failed = [&](const std::string& what) { fail(what); };
         const std::uint64_t texture =
-            corner.texture.empty() ? kNoTexture
-                                   : obj_index(corner.texture, tok, defined_.textures, "texture coordinate", failed);
-        v = corners_->find(v, texture);
+            !textures_ || corner.texture.empty()
+                ? kNoTexture
+                : obj_index(corner.texture, tok, defined_.textures, "texture coordinate", failed);
+        v = corners_->find(v, texture, material_);
       }
       if (poly.size() >= kMaxPolygonCorners) fail("polygon with more than 2^20 corners");
       poly.push_back(v);
@@ -276,6 +320,9 @@ class ObjTriangleStream : public TriangleStream {
 
   ByteSource src_;
   std::shared_ptr<const CornerVertices> corners_;
+  bool textures_;
+  std::shared_ptr<const MaterialIndex> materials_;
+  std::uint64_t material_ = 0;  // of the faces from here: 0 or K + 1
   PrimitiveBatch primitives_;
   DefinedSoFar defined_;
   std::uint64_t skipped_ = 0;
@@ -288,7 +335,7 @@ namespace {
 
 // Where each carried attribute of an OBJ vertex comes from: a colour channel of its
 // `v` line, a value of its corners' `vt`, or a component of their averaged `vn`.
-enum class ObjSource { colour, texture, normal };
+enum class ObjSource { colour, texture, normal, material };
 struct ObjAttribute {
   ObjSource source;
   int component;
@@ -314,18 +361,21 @@ void read_floats(TokenScanner& t, float* out, int count, const ByteSource& src) 
   }
 }
 
-// The corner pass: every face corner's texture coordinate onto the vertex it makes
-// (`corners`, when carried) and its normal into its position's sum (`normal_sums`,
-// when carried).
+// The corner pass: every face corner's texture coordinate (when `textures`) and
+// material (when `materials`) onto the vertex it makes (`corners`, when either is
+// carried) and its normal into its position's sum (`normal_sums`, when carried).
 void read_corners(const std::shared_ptr<InputFile>& file, const ObjValues& values, CornerVertices* corners,
-                  LargeArray<float>* normal_sums) {
+                  bool textures, const MaterialIndex* materials, LargeArray<float>* normal_sums) {
   ByteSource src(file);
   DefinedSoFar defined;
   const auto fail = [&](const std::string& what) { throw InputError(at_line(src.path(), src.line_number(), what)); };
-  std::string_view line;
+  std::string_view line, rest;
+  std::uint64_t material = 0;
   while (src.next_line(&line)) {
     line = trim_front(line);
-    if (is_keyword(line, 'v')) {
+    if (materials && statement(line, "usemtl", &rest)) {
+      material = material_of_line(*materials, rest);
+    } else if (is_keyword(line, 'v')) {
       ++defined.positions;
     } else if (line.size() > 2 && line[0] == 'v' && TokenScanner::is_space(line[2])) {
       defined.textures += line[1] == 't';
@@ -335,10 +385,14 @@ void read_corners(const std::shared_ptr<InputFile>& file, const ObjValues& value
       for (std::string_view tok = t.next(); !tok.empty(); tok = t.next()) {
         const CornerText corner = split_corner(tok);
         const std::uint64_t p = obj_index(corner.position, tok, defined.positions, "vertex", fail);
-        if (corners)
-          corners->add(p, corner.texture.empty()
-                              ? kNoTexture
-                              : obj_index(corner.texture, tok, defined.textures, "texture coordinate", fail));
+        if (corners) {
+          const std::uint64_t t = !textures || corner.texture.empty()
+                                      ? kNoTexture
+                                      : obj_index(corner.texture, tok, defined.textures, "texture coordinate", fail);
+          if (material != 0 && t != kNoTexture && t + 2 > kTextureKeyMask)
+            fail("more than 2^40 texture coordinates with materials");
+          corners->add(p, t, material);
+        }
         if (normal_sums && !corner.normal.empty()) {
           const std::uint64_t n = obj_index(corner.normal, tok, defined.normals, "normal", fail);
           for (std::size_t k = 0; k < 3; ++k) (*normal_sums)[3 * p + k] += values.normals[3 * n + k];
@@ -381,6 +435,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   // lines before any statement end the reading there, so a large foreign file is not
   // read to its end.
   bool any_statement = false;
+  auto material_index = std::make_shared<MaterialIndex>();
+  std::string_view rest;
   std::uint64_t foreign_line = 0, foreign_lines = 0;
   std::string foreign_word;
   const auto refuse = [&](const char* scope) {
@@ -434,6 +490,13 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
           c[0], c[1], c[2], [&] { return "line " + std::to_string(src.line_number()); }, fits_float);
     } else if (is_keyword(line, 'f')) {
       ++faces;
+    } else if (statement(line, "mtllib", &rest)) {
+      if (!rest.empty()) out.info.materials.libraries.emplace_back(rest);
+    } else if (statement(line, "usemtl", &rest)) {
+      if (material_index->find(rest) == material_index->end()) {
+        material_index->emplace(std::string(rest), std::uint32_t(out.info.materials.names.size()));
+        out.info.materials.names.emplace_back(rest);
+      }
     } else if (is_keyword(line, 'l')) {
       ++line_elements;
     } else if (is_keyword(line, 'p')) {
@@ -476,13 +539,25 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     offer("ny", ObjSource::normal, 1);
     offer("nz", ObjSource::normal, 2);
   }
+  const std::size_t material_count = out.info.materials.names.size();
+  std::vector<std::string> material_names;  // offer() keeps the pointer
+  if (any_attributes && material_count > kMostMaterials) {
+    out.info.not_carried.push_back(src.path() + ": " + std::to_string(material_count) +
+                                   " materials (usemtl), more than the " + std::to_string(kMostMaterials) +
+                                   " carried; the faces' materials are dropped");
+  } else {
+    for (std::size_t k = 0; k < material_count; ++k) material_names.push_back(material_attribute_name(k));
+    for (std::size_t k = 0; k < material_count; ++k) offer(material_names[k].c_str(), ObjSource::material, int(k));
+  }
   const std::vector<std::size_t> carried =
       carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);
-  bool carry_textures = false, carry_normals = false;
+  bool carry_textures = false, carry_normals = false, carry_materials = false;
   for (std::size_t i : carried) {
     carry_textures = carry_textures || sources[i].source == ObjSource::texture;
     carry_normals = carry_normals || sources[i].source == ObjSource::normal;
+    carry_materials = carry_materials || sources[i].source == ObjSource::material;
   }
+  if (!carry_materials) material_index.reset();
   if (uncoloured > 0)
     out.info.not_carried.push_back(src.path() + ": " + std::to_string(uncoloured) +
                                    " vertices have no colour (the first vertex has one); they count as black");
@@ -490,10 +565,11 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   const std::uint64_t positions = builder.count();
   std::shared_ptr<CornerVertices> corners;
   LargeArray<float> normal_sums;
-  if (carry_textures) corners = std::make_shared<CornerVertices>(positions, place);
+  if (carry_textures || carry_materials) corners = std::make_shared<CornerVertices>(positions, place);
   if (carry_normals) normal_sums.assign_zeroed(3 * positions, place, "obj-normal-sums");
   if (corners || carry_normals)
-    read_corners(src.input(), values, corners.get(), carry_normals ? &normal_sums : nullptr);
+    read_corners(src.input(), values, corners.get(), carry_textures, material_index.get(),
+                 carry_normals ? &normal_sums : nullptr);
   const std::uint64_t vertices = corners ? corners->vertex_count() : positions;
 
   out.info.vertex_count = vertices;
@@ -504,7 +580,8 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   if (line_elements > 0) out.info.elements.push_back("l " + std::to_string(line_elements));
   if (point_elements > 0) out.info.elements.push_back("p " + std::to_string(point_elements));
   if (vertices > positions)
-    out.info.elements.push_back("texture seams: " + std::to_string(vertices - positions) + " vertices split");
+    out.info.elements.push_back(std::string(carry_materials ? "texture and material seams: " : "texture seams: ") +
+                                std::to_string(vertices - positions) + " vertices split");
   if (vertices > positions) {
     MeshInput file_positions;
     builder.finish(file_positions);
@@ -539,6 +616,9 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
         case ObjSource::normal:
           record[k] = normal[a.component];
           break;
+        case ObjSource::material:
+          record[k] = corners->material_of(i) == std::uint64_t(a.component) + 1 ? 1.0 : 0.0;
+          break;
       }
     }
     attributes.add(record.data());
@@ -546,9 +626,11 @@ void open_obj(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   attributes.finish(out);
   std::shared_ptr<InputFile> file = src.input();
   std::shared_ptr<const CornerVertices> split = vertices > positions ? corners : nullptr;
-  reader_state(out).make_triangles = [file, split]() -> std::unique_ptr<TriangleStream> {
-    return std::make_unique<ObjTriangleStream>(file, split);
+  std::shared_ptr<const MaterialIndex> materials = split ? material_index : nullptr;
+  reader_state(out).make_triangles = [file, split, carry_textures, materials]() -> std::unique_ptr<TriangleStream> {
+    return std::make_unique<ObjTriangleStream>(file, split, carry_textures, materials);
   };
+  if (!carry_materials) out.info.materials.names.clear();
 }
 
 }  // namespace oocsimp

@@ -14,6 +14,7 @@ SimplifiedMesh OutputMesh::take() {
   m.triangles = triangles.take();
   m.attributes.attributes = std::move(attributes);
   m.attributes.values = attribute_values.take();
+  m.attributes.materials = std::move(materials);
   m.primitives = std::move(primitives);
   m.precision = precision;
   return m;
@@ -25,6 +26,7 @@ OutputMesh OutputMesh::of(SimplifiedMesh&& mesh) {
   m.triangles = LargeArray<std::uint32_t>(std::move(mesh.triangles));
   m.attributes = std::move(mesh.attributes.attributes);
   m.attribute_values = LargeArray<double>(std::move(mesh.attributes.values));
+  m.materials = std::move(mesh.attributes.materials);
   m.primitives = std::move(mesh.primitives);
   m.precision = mesh.precision;
   return m;

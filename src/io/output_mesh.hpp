@@ -21,6 +21,7 @@ struct OutputMesh {
   LargeArray<double> attribute_values;  ///< attributes.size() per vertex
   ThickPrimitives primitives;
   ScalarType precision = ScalarType::f32;
+  Materials materials;  ///< what the material_K attributes stand for
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t triangle_count() const { return triangles.size() / 3; }

@@ -44,6 +44,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -56,7 +57,10 @@
 #include "metrics/box_tree.hpp"
 #include "common/triangle_geometry.hpp"
 #include "oocsimp/error.hpp"
+#include "io/byte_sink.hpp"
 #include "io/mesh_input.hpp"
+#include "io/mesh_writer_output.hpp"
+#include "io/temp_file.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
 #include "runtime/thread_limit.hpp"
@@ -329,8 +333,9 @@ class StreamedDistanceSearch {
     Box3d box;
   };
 
-  /// Takes the samples and their squared upper bounds.
-  StreamedDistanceSearch(const std::vector<Vec3d>& points, std::vector<double> bounds2)
+  /// Takes the samples and their squared upper bounds; with `keep_order`,
+  /// distances2_in_point_order() can give the distances in the points' own order.
+  StreamedDistanceSearch(const std::vector<Vec3d>& points, std::vector<double> bounds2, bool keep_order = false)
       : tree_(points.size(), kSampleLeaf,
               [&](std::uint32_t i) {
                 Box3d b;
@@ -341,6 +346,7 @@ class StreamedDistanceSearch {
         reach2_(tree_.node_count()),
         best2_(points.size()) {
     bounds2 = permuted(bounds2, tree_.order());
+    if (keep_order) order_ = tree_.order();
     tree_.release_order();
     std::vector<double> reach2 = tree_.max_per_node([&](std::uint32_t k) { return bounds2[k]; });
     for (std::size_t i = 0; i < reach2.size(); ++i) reach2_[i].store(reach2[i], std::memory_order_relaxed);
@@ -392,6 +398,13 @@ class StreamedDistanceSearch {
     return result;
   }
 
+  /// The squared distances with point i's at i (built with keep_order).
+  std::vector<double> distances2_in_point_order() const {
+    std::vector<double> result(best2_.size());
+    for (std::size_t k = 0; k < best2_.size(); ++k) result[order_[k]] = best2_[k].load(std::memory_order_relaxed);
+    return result;
+  }
+
  private:
   // Whether anything in `box` can be closer than the bound of some sample below the
   // node. The test at a sample (lower_leaf) is at least as strict, as computed, so
@@ -438,20 +451,59 @@ class StreamedDistanceSearch {
   // the current ones (lowered as the samples' bounds are) for leaves.
   std::vector<std::atomic<double>> reach2_;
   std::vector<std::atomic<double>> best2_;
+  std::vector<std::uint32_t> order_;  // the points' leaf order, when kept
 };
 
 // Step 3: the exact squared distance to streamed surface A of every point, given
 // `bounds2`, squared distances to points on A; in an order fixed by the points.
 std::vector<double> distances2_to_streamed(MeshInput& input, std::vector<Vec3d> points, std::vector<double> bounds2,
-                                           const ProgressCallback& progress) {
+                                           const ProgressCallback& progress, bool in_point_order = false,
+                                           const char* phase_name = "distance B->A") {
   std::optional<Phase> indexing(std::in_place, progress, "index samples of B", 0, "pt");
-  StreamedDistanceSearch search(points, std::move(bounds2));
+  StreamedDistanceSearch search(points, std::move(bounds2), in_point_order);
   std::vector<Vec3d>().swap(points);
   indexing.reset();
   stream_triangles(
-      input, progress, "distance B->A", [&](StreamChunk& c) { search.lower_by(c, input.positions, c.reached_leaves); },
+      input, progress, phase_name, [&](StreamChunk& c) { search.lower_by(c, input.positions, c.reached_leaves); },
       [](StreamChunk&) {});
-  return search.distances2();
+  return in_point_order ? search.distances2_in_point_order() : search.distances2();
+}
+
+// Whether `path` names a PLY file (.ply, or .ply.zst compressed), any case.
+bool is_ply_name(const std::string& path) {
+  std::string name = path;
+  for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const auto ends_with = [&](const std::string& e) {
+    return name.size() >= e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
+  };
+  return ends_with(".ply") || ends_with(".ply.zst");
+}
+
+// B with each vertex's distance to A as float "quality" and its colour on the ramp
+// (0 to the largest of them) as uchar red, green, blue. The header's comments carry
+// the ramp's end and A's diagonal, for render's legend.
+void write_error_colours(OutputFile& out, const InMemoryMesh& b, const std::vector<double>& distance, double top,
+                         double a_diagonal, ScalarType precision, const std::string& a_path) {
+  ByteSink sink(out.fd(), out.path(), has_zst_suffix(out.path()));
+  const std::vector<VertexAttribute> attributes = {
+      VertexAttribute{"quality", AttributeType::f32, 0, 0}, VertexAttribute{"red", AttributeType::u8, 0, 0},
+      VertexAttribute{"green", AttributeType::u8, 0, 0}, VertexAttribute{"blue", AttributeType::u8, 0, 0}};
+  char ramp[160];
+  std::snprintf(ramp, sizeof ramp, "%s %.9g %s %.9g", kErrorRampComment, top, kErrorDiagonalWord, a_diagonal);
+  // A comment is one header line.
+  std::string a_name = a_path;
+  std::replace(a_name.begin(), a_name.end(), '\n', ' ');
+  std::replace(a_name.begin(), a_name.end(), '\r', ' ');
+  const std::vector<std::string> comments = {"quality: each vertex's distance to the surface of " + a_name, ramp};
+  PlyStreamWriter ply(sink, false, precision, b.positions.size(), b.triangles.size(), attributes, 0, 0, comments);
+  for (std::size_t v = 0; v < b.positions.size(); ++v) {
+    const std::uint32_t c = error_ramp_colour(top > 0 ? distance[v] / top : 0);
+    const double values[4] = {distance[v], double(c >> 16), double((c >> 8) & 0xFF), double(c & 0xFF)};
+    ply.vertex(b.positions[v], values);
+  }
+  for (const TriangleCorners& t : b.triangles) ply.triangle(t.v);
+  ply.finish();
+  sink.finish();
 }
 
 }  // namespace
@@ -470,18 +522,32 @@ DistanceReport measure_surface_distance(const std::string& a_path, const std::st
                                         const MeasureOptions& options) {
   if (options.samples == 0 || options.samples > std::numeric_limits<std::uint32_t>::max())
     throw UsageError("options.samples", "options.samples must be between 1 and 2^32 - 1");
+  const bool colours = !options.error_colours.empty();
+  if (colours && !is_ply_name(options.error_colours))
+    throw UsageError("options.error_colours", options.error_colours +
+                                                  ": the error colours are written as PLY: give a name ending in "
+                                                  ".ply or .ply.zst");
+  if (colours && (same_file(options.error_colours, a_path) || same_file(options.error_colours, b_path)))
+    throw UsageError("options.error_colours", options.error_colours + ": the error colours would overwrite an input");
   const auto thread_limit = limit_threads(options.threads);
   const PeakAnonSampler memory;
   const double t0 = now_seconds();
   DistanceReport report;
+  // Opened first, so that a bad folder fails before the work.
+  std::unique_ptr<OutputFile> colour_file = colours ? std::make_unique<OutputFile>(options.error_colours) : nullptr;
 
   MeshInput a = open_input(a_path, options, "open A");
   report.a_diagonal = a.info.bounds.diagonal();
   InMemoryMesh b_mesh;
+  ScalarType b_precision = ScalarType::f32;
   {
     MeshInput b = open_input(b_path, options, "open B");
     b_mesh = load_in_memory(b);
+    b_precision = b.info.double_precision ? ScalarType::f64 : ScalarType::f32;
   }
+  // B's own copy for the coloured output, which the surface below takes apart.
+  InMemoryMesh b_kept;
+  if (colours) b_kept = b_mesh;
   report.b_triangles = b_mesh.triangles.size();
   std::vector<Vec3d> b_samples = sample_in_memory(b_mesh, options, &report.b_area);
   if (b_samples.empty()) throw InputError(b_path + ": no triangle with nonzero area to sample");
@@ -495,9 +561,30 @@ DistanceReport measure_surface_distance(const std::string& a_path, const std::st
     InMemorySurface b_surface(std::move(b_mesh));
     a_to_b = sum_in_order(distances2_to(b_surface, a_samples, options.progress));
   }
+  std::vector<Vec3d> a_sites;
+  if (colours) a_sites = a_samples;
   std::vector<double> b_bounds2 = nearest_site_distances2(std::move(a_samples), b_samples, options.progress);
   DistanceSums b_to_a =
       sum_in_order(distances2_to_streamed(a, std::move(b_samples), std::move(b_bounds2), options.progress));
+  if (colours) {
+    // B's vertices are bounded and measured as its samples are; a vertex that is not
+    // finite is drawn by no face and gets 0.
+    std::vector<Vec3d> vertices = b_kept.positions;
+    for (Vec3d& v : vertices)
+      if (!is_finite(v)) v = a_sites.front();
+    std::vector<double> bounds2 = nearest_site_distances2(std::move(a_sites), vertices, options.progress);
+    std::vector<double> d2 = distances2_to_streamed(a, std::move(vertices), std::move(bounds2), options.progress, true,
+                                                    "distance of B's vertices");
+    DistanceSums sums;
+    std::vector<double> distance(d2.size());
+    for (std::size_t v = 0; v < d2.size(); ++v) {
+      distance[v] = is_finite(b_kept.positions[v]) ? std::sqrt(d2[v]) : 0.0;
+      sums.add(distance[v] * distance[v]);
+    }
+    report.b_vertices = sums.stats();
+    write_error_colours(*colour_file, b_kept, distance, report.b_vertices.max, report.a_diagonal, b_precision, a_path);
+    colour_file->commit();
+  }
 
   DistanceSums both = a_to_b;
   both.add(b_to_a);

@@ -1,5 +1,5 @@
 // The software rasteriser behind `oocsimp render`: an orthographic camera framing the
-// bounding box, a depth buffer, triangles streamed from the file and drawn in file
+// model's projected outline, a depth buffer, triangles streamed from the file and drawn in file
 // order (so ties in depth go to the earlier triangle, the same for every run).
 #include <algorithm>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include "common/vec3_math.hpp"
 #include "io/attribute_array.hpp"
 #include "oocsimp/error.hpp"
+#include "render/legend.hpp"
 #include "render/rasterizer.hpp"
 #include "runtime/progress_phase.hpp"
 
@@ -17,7 +18,7 @@ namespace oocsimp {
 
 namespace {
 
-constexpr double kFraming = 1.05;  // the bounding sphere's diameter over the shorter side
+constexpr double kFraming = 1.05;  // the image's extent over the outline's, along the side it fills
 // A surface faces one way when its area-weighted normals sum to at least this share of
 // its area (a closed surface's sum to 0, a plane's to 1).
 constexpr double kFacingShare = 0.1;
@@ -36,7 +37,8 @@ struct Camera {
   double pixel = 1;               // model units per pixel
   double half_w = 0, half_h = 0;  // the image's half size in pixels
 
-  Camera(const Box3d& box, const RenderOptions& o) {
+  // The axes only; frame() places the model.
+  explicit Camera(const RenderOptions& o) {
     const double az = o.azimuth_degrees * kPi / 180, el = o.elevation_degrees * kPi / 180;
     // The up axis U and the two across it, A (azimuth 0) and B, with A x B = U.
     const Vec3d x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
@@ -50,12 +52,34 @@ struct Camera {
     right = cross(world_up, towards);
     right = right / length(right);
     up = cross(towards, right);
-    centre = box.empty() ? Vec3d{} : (box.min + box.max) * 0.5;
-    const double diameter = box.empty() ? 0 : length(box.max - box.min);
-    const double shorter = double(std::min(o.width, o.height));
-    pixel = diameter > 0 ? kFraming * diameter / shorter : 1;
     half_w = 0.5 * o.width;
     half_h = 0.5 * o.height;
+  }
+
+  // Centres the outline `outline` (screen coordinates right, up relative to the box's
+  // centre, the projection of everything drawn) in the first `width` pixels of the
+  // image's width and scales it to fill that or the height, whichever it meets first,
+  // less the margin. A bounding sphere would leave the sides of a long or flat model
+  // empty. An outline of no extent (a point, a segment seen end on) falls back to the
+  // box's diagonal across the shorter side.
+  void frame(const Box3d& box, const Box3d& outline, double width, double height) {
+    const Vec3d box_centre = box.empty() ? Vec3d{} : (box.min + box.max) * 0.5;
+    const double diameter = box.empty() ? 0 : length(box.max - box.min);
+    centre = box_centre;
+    half_w = 0.5 * width;
+    pixel = 0;
+    if (!outline.empty()) {
+      centre =
+          box_centre + right * (0.5 * (outline.min.x + outline.max.x)) + up * (0.5 * (outline.min.y + outline.max.y));
+      pixel = kFraming * std::max((outline.max.x - outline.min.x) / width, (outline.max.y - outline.min.y) / height);
+    }
+    if (!(pixel > 0) || !std::isfinite(pixel)) pixel = diameter > 0 ? kFraming * diameter / std::min(width, height) : 1;
+  }
+
+  // Screen coordinates of p relative to `origin`: x right, y up, z towards the camera.
+  Vec3d screen(const Vec3d& p, const Vec3d& origin) const {
+    const Vec3d d = p - origin;
+    return {dot(d, right), dot(d, up), dot(d, towards)};
   }
 
   // Pixel coordinates (x right, y down, pixel centres at .5) and depth (larger: nearer).
@@ -64,6 +88,45 @@ struct Camera {
     return {half_w + dot(d, right) / pixel, half_h - dot(d, up) / pixel, dot(d, towards)};
   }
 };
+
+// The outline of everything render_mesh draws, in the camera's screen coordinates
+// relative to the box's centre (x, y; z unused): every finite vertex (one pass over the
+// positions), and with thick edges the widths of the lines and discs, which reach past
+// their vertices (one more pass over the stream, for their thicknesses).
+Box3d projected_outline(MeshInput& input, const Camera& camera, bool thick_edges) {
+  const Box3d& box = input.info.bounds;
+  Box3d outline;
+  if (box.empty()) return outline;
+  const Vec3d origin = (box.min + box.max) * 0.5;
+  for (std::uint64_t i = 0; i < input.positions.count; ++i) {
+    const Vec3d p = input.positions.get(i);
+    if (!is_finite(p)) continue;
+    const Vec3d s = camera.screen(p, origin);
+    outline.add(Vec3d{s.x, s.y, 0});
+  }
+  if (!thick_edges) return outline;
+  const auto reach = [&](std::uint64_t v, double radius) {
+    const Vec3d p = input.positions.get(v);
+    if (!is_finite(p) || !(radius > 0) || !std::isfinite(radius)) return;
+    const Vec3d s = camera.screen(p, origin);
+    outline.add(Vec3d{s.x - radius, s.y - radius, 0});
+    outline.add(Vec3d{s.x + radius, s.y + radius, 0});
+  };
+  input.restart_triangles();
+  input.triangles->set_primitive_sink([&](const LinePrimitive* p, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+      reach(p[k].a, 0.5 * double(p[k].thickness));
+      reach(p[k].b, 0.5 * double(p[k].thickness));
+    }
+  });
+  constexpr std::size_t kChunk = 65536;
+  std::vector<std::uint64_t> chunk(3 * kChunk);
+  while (input.triangles->read(chunk.data(), kChunk) > 0) {
+  }
+  input.triangles->set_primitive_sink(nullptr);
+  input.restart_triangles();
+  return outline;
+}
 
 // The smooth-shading normals: the input's nx, ny, nz attributes, when it has them.
 struct VertexNormals {
@@ -81,14 +144,41 @@ struct VertexNormals {
   }
 };
 
+// The vertex colours red, green, blue of a mesh coloured by its error: integer values
+// as they are (0 to 255), real ones scaled from [0, 1].
+struct VertexColours {
+  int index[3] = {-1, -1, -1};
+  double scale[3] = {1, 1, 1};
+  bool present() const { return index[0] >= 0 && index[1] >= 0 && index[2] >= 0; }
+  explicit VertexColours(const AttributeArray& a) {
+    const char* names[3] = {"red", "green", "blue"};
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        if (a.attributes[i].name == names[k]) {
+          index[k] = int(i);
+          scale[k] = is_integer_type(a.attributes[i].type) ? 1.0 : 255.0;
+        }
+  }
+  void get(const AttributeArray& a, std::uint64_t v, float out[3]) const {
+    for (int k = 0; k < 3; ++k)
+      out[k] = float(std::clamp(attribute_value(a, v, std::size_t(index[k])) * scale[k], 0.0, 255.0));
+  }
+};
+
 class Rasterizer {
  public:
-  explicit Rasterizer(const RenderOptions& o)
-      : o_(o), depth_(std::size_t(o.width) * o.height, -HUGE_VAL), shade_(std::size_t(o.width) * o.height, -1.0f) {}
+  // With `coloured`, each pixel keeps the colour its triangle interpolates from its
+  // corners' colours, instead of the one surface colour.
+  Rasterizer(const RenderOptions& o, bool coloured)
+      : o_(o),
+        depth_(std::size_t(o.width) * o.height, -HUGE_VAL),
+        shade_(std::size_t(o.width) * o.height, -1.0f),
+        colour_(coloured ? 3 * std::size_t(o.width) * o.height : 0, 0.0f) {}
 
   // Draws the triangle with pixel-space corners s[3]; `light` gives the shading
-  // (|cos| of the normal against the view) at each corner.
-  void draw(const Vec3d s[3], const double light[3]) {
+  // (|cos| of the normal against the view) at each corner; `colour` (3 per corner, 0
+  // to 255) the colours of a coloured rasteriser.
+  void draw(const Vec3d s[3], const double light[3], const float* colour = nullptr) {
     const double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
     if (!(std::fabs(area) > 0)) return;  // degenerate, or not finite
     const double w = o_.width, h = o_.height;
@@ -123,6 +213,10 @@ class Rasterizer {
         if (!(z > depth_[at])) continue;
         depth_[at] = z;
         shade_[at] = float((b[0] * light[0] + b[1] * light[1] + b[2] * light[2]) / total);
+        if (colour && !colour_.empty())
+          for (int k = 0; k < 3; ++k)
+            colour_[3 * at + std::size_t(k)] =
+                float((b[0] * colour[k] + b[1] * colour[3 + k] + b[2] * colour[6 + k]) / total);
       }
     }
   }
@@ -165,9 +259,14 @@ class Rasterizer {
     for (std::size_t i = 0; i < shade_.size(); ++i) {
       const std::uint32_t c = shade_[i] < 0 ? o_.background : o_.surface;
       const double f = shade_[i] < 0 ? 1.0 : 0.2 + 0.8 * std::clamp(double(shade_[i]), 0.0, 1.0);
+      // Colours keep more of their own light, so that the ramp still reads on faces
+      // turned away.
+      const bool coloured = !colour_.empty() && shade_[i] >= 0;
+      const double g = 0.5 + 0.5 * std::clamp(double(shade_[i]), 0.0, 1.0);
       *covered += shade_[i] >= 0;
       for (int k = 0; k < 3; ++k) {
-        const double channel = double((c >> (16 - 8 * k)) & 0xFF) * f;
+        const double channel =
+            coloured ? double(colour_[3 * i + std::size_t(k)]) * g : double((c >> (16 - 8 * k)) & 0xFF) * f;
         out.rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround(std::clamp(channel, 0.0, 255.0)));
       }
     }
@@ -177,7 +276,8 @@ class Rasterizer {
  private:
   const RenderOptions& o_;
   std::vector<double> depth_;
-  std::vector<float> shade_;  // -1: background
+  std::vector<float> shade_;   // -1: background
+  std::vector<float> colour_;  // 3 per pixel, when coloured
 };
 
 void check_size(const RenderOptions& o) {
@@ -263,9 +363,17 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
     view.up = choose_up_axis(input);
   }
   st.up = view.up;
-  const Camera camera(input.info.bounds, view);
+  // A mesh coloured by its error (measure --error-colours) is drawn in its colours,
+  // with the ramp's legend in a strip at the right that the model leaves free.
+  const ErrorRamp ramp = find_error_ramp(input.info.comments);
+  const VertexColours colours(input.attributes);
+  const bool error_map = ramp.found && colours.present();
+  const std::uint32_t legend = error_map ? legend_width(options.width, options.height, ramp) : 0;
+  Camera camera(view);
+  camera.frame(input.info.bounds, projected_outline(input, camera, options.thick_edges), double(options.width - legend),
+               double(options.height));
   st.pixel_size = camera.pixel;
-  Rasterizer raster(options);
+  Rasterizer raster(options, error_map);
   const VertexNormals normals(input.attributes);
   const bool smooth = options.shading == Shading::smooth && normals.present();
   ProgressPhase phase(options.progress, "render", input.file_size, "B");
@@ -301,6 +409,9 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
         s[k] = camera.project(p[k]);
       }
       double light[3];
+      float colour[9];
+      if (error_map)
+        for (int k = 0; k < 3; ++k) colours.get(input.attributes, chunk[3 * t + std::size_t(k)], colour + 3 * k);
       if (smooth) {
         for (int k = 0; k < 3; ++k) {
           const Vec3d nv = normals.get(input.attributes, chunk[3 * t + std::size_t(k)]);
@@ -312,12 +423,17 @@ Image render_mesh(MeshInput& input, const RenderOptions& options, RenderStats* s
         const double l = length(nf);
         light[0] = light[1] = light[2] = l > 0 ? std::fabs(dot(nf, camera.towards)) / l : 0;
       }
-      raster.draw(s, light);
+      raster.draw(s, light, error_map ? colour : nullptr);
     }
     st.triangles += n;
     phase.set(input.triangles->bytes_consumed());
   }
-  return raster.image(&st.covered_pixels);
+  Image image = raster.image(&st.covered_pixels);
+  if (legend > 0) {
+    draw_error_legend(&image, ramp);
+    st.legend = true;
+  }
+  return image;
 }
 
 const EnumNames<UpAxis>& up_axis_names() {

@@ -7,8 +7,9 @@
 namespace oocsimp {
 
 /// Draws the triangles, edges and points of `input` (one pass over its triangle
-/// stream, two when the up axis is chosen) as seen from the options' view, framing its
-/// bounding box. An empty mesh gives the background.
+/// stream, one more when the up axis is chosen and one more with thick edges) as seen
+/// from the options' view, framing its projected outline (one pass over its
+/// positions). An empty mesh gives the background.
 /// Throws UsageError on a bad size, InputError from the reader.
 /// The up axis of a surface, for UpAxis::automatic (one pass over the triangles): the
 /// axis nearest the sum of its area-weighted normals where that sum is at least a
