@@ -462,7 +462,7 @@ CLI::App* add_measure_command(CLI::App& app, MeasureArgs& a) {
   cmd->add_flag("--json", a.json, "Print the report as JSON");
   cmd->add_option("--error-colours", a.options.error_colours,
                   "Write B to this PLY with each vertex's distance to A as property quality and as colours (blue 0 "
-                  "to red the largest); render draws it with a legend");
+                  "to red the largest); render draws it with a legend (default: none written)");
   add_quiet_flag(cmd, &a.quiet);
   return cmd;
 }

@@ -605,13 +605,13 @@ int report_failure() {
 // later, which CLI11 would show as TEXT. Every positional argument is a path.
 void show_value_types(CLI::App& app) {
   static const std::pair<const char*, const char*> kTypeOfOption[] = {
-      {"threads", "INT"},        {"sets", "INT"},      {"max-error", "FLOAT[%]"}, {"target-tris", "INT"},
-      {"tris", "INT"},           {"grid", "INT"},      {"lods", "INT"},           {"levels", "INT"},
-      {"samples", "INT"},        {"seed", "INT"},      {"level", "INT"},          {"max-depth", "INT"},
-      {"height", "INT"},         {"mem", "SIZE"},      {"part", "I/K"},           {"box", "X0,Y0,Z0,X1,Y1,Z1"},
-      {"sphere", "X,Y,Z,R"},     {"size", "WxH"},      {"view", "AZ,EL"},         {"attributes", "NAMES"},
-      {"tmp", "PATH"},           {"work-dir", "PATH"}, {"output", "PATH"},        {"stats", "PATH"},
-      {"lock-vertices", "PATH"},
+      {"threads", "INT"},        {"sets", "INT"},           {"max-error", "FLOAT[%]"}, {"target-tris", "INT"},
+      {"tris", "INT"},           {"grid", "INT"},           {"lods", "INT"},           {"levels", "INT"},
+      {"samples", "INT"},        {"seed", "INT"},           {"level", "INT"},          {"max-depth", "INT"},
+      {"height", "INT"},         {"mem", "SIZE"},           {"part", "I/K"},           {"box", "X0,Y0,Z0,X1,Y1,Z1"},
+      {"sphere", "X,Y,Z,R"},     {"size", "WxH"},           {"view", "AZ,EL"},         {"attributes", "NAMES"},
+      {"tmp", "PATH"},           {"work-dir", "PATH"},      {"output", "PATH"},        {"stats", "PATH"},
+      {"lock-vertices", "PATH"}, {"error-colours", "PATH"},
   };
   for (CLI::App* command : app.get_subcommands({}))
     for (CLI::Option* option : command->get_options()) {
