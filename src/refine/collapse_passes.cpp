@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/huge_pages.hpp"
+#include "common/uninitialised_vector.hpp"
 #include "refine/collapse_queue.hpp"
 #include "runtime/progress_phase.hpp"
 
@@ -298,10 +299,10 @@ class PassDriver {
   const CollapseSettings& settings_;
   CollapseStats* stats_;
   ProgressPhase* progress_;
-  std::vector<std::uint32_t> touched_;  // the pass that last moved or removed each vertex
+  std::vector<std::uint32_t> touched_;       // the pass that last moved or removed each vertex
   std::vector<std::uint32_t> touched_list_;  // the vertices the last pass touched, each once
   UninitialisedVector<QueueEntry> entries_;  // the costed entries, each written before it is read
-  std::size_t costed_ = 0;  // the entries the last pass costed (in any order after it)
+  std::size_t costed_ = 0;                   // the entries the last pass costed (in any order after it)
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> rings_;  // a thread's neighbour list
   std::uint32_t stamp_ = 0;
   // Per vertex: claimed by an entry worked out ahead in this batch, or (moved_mark_)
