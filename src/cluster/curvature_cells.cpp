@@ -28,7 +28,7 @@ constexpr std::size_t kTriangleChunk = 65536;
 MomentLattice lattice_at(const GridSpec& grid, std::uint32_t depth) {
   MomentLattice l;
   l.origin = grid.origin;
-  l.side = std::ldexp(grid.cell, -int(depth));
+  l.side = std::ldexp(grid.cell, -int(depth));  // side_at
   for (int a = 0; a < 3; ++a) l.dims[a] = std::uint64_t(grid.dims[a]) << depth;
   return l;
 }
@@ -41,22 +41,6 @@ std::uint64_t parent_key(std::uint64_t key) {
 }
 Vec3d offset_in_parent(std::uint64_t key, double side) {
   return {side * double(key & 1), side * double((key >> 21) & 1), side * double((key >> 42) & 1)};
-}
-
-// The 27 cells around `key` (itself included) that lie in `l`.
-template <class Visit>
-void for_neighbourhood(const MomentLattice& l, std::uint64_t key, Visit visit) {
-  const std::int64_t at[3] = {std::int64_t(key & kAxisMask), std::int64_t((key >> 21) & kAxisMask),
-                              std::int64_t((key >> 42) & kAxisMask)};
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const std::int64_t x = at[0] + dx, y = at[1] + dy, z = at[2] + dz;
-        if (x < 0 || y < 0 || z < 0 || x >= std::int64_t(l.dims[0]) || y >= std::int64_t(l.dims[1]) ||
-            z >= std::int64_t(l.dims[2]))
-          continue;
-        visit(std::uint64_t(x) | (std::uint64_t(y) << 21) | (std::uint64_t(z) << 42));
-      }
 }
 
 // The side of a cell `depth` splits below the grid's.
@@ -90,76 +74,70 @@ void VertexClusters::find_leaves(MeshInput& input, const float* k, const MemoryB
   const std::uint64_t held = budget.held();
   const std::uint64_t triangles = std::max<std::uint64_t>(input.info.face_count, 1);
   // split[d]: the cells at depth d that split. Depth by depth, one pass over the faces
-  // sums the moments of the cells one depth down (the children) where the cell above,
-  // or one of its 26 neighbours, is undecided; the parents' sums are their children's.
-  // A cell splits when the curvature of one of its children, from the child's
-  // neighbourhood, is not the cell's own, from its neighbourhood (Hua et al. §3.4).
+  // sums the moments of the cells one depth down (the children) where the cell above
+  // is undecided; a cell's sums are its children's. A cell splits when the curvature
+  // of one of its children, from the child's sums, differs from its own, from its
+  // sums, by more than the tolerance over its side (Hua et al. §3.4: "go on
+  // subdividing"). A child whose faces give no slope (one face, no area) says nothing.
   std::vector<FlatHashSet<std::uint64_t>> split(depth_limit);
-  FlatHashSet<std::uint64_t> active;  // at depth d: the undecided cells and their neighbours
-  FlatHashSet<std::uint64_t> undecided;
+  FlatHashSet<std::uint64_t> undecided;  // at depth d, for d > 0
   std::uint64_t split_bytes = 0;
+  const std::string advice = "give more memory, a coarser grid or a smaller options.curvature.max_depth";
   for (std::uint32_t d = 0; d < depth_limit; ++d) {
     if (d > 0 && undecided.size() == 0) break;
-    const MomentLattice parent_lattice = lattice_at(grid_, d), child_lattice = lattice_at(grid_, d + 1);
+    const MomentLattice child_lattice = lattice_at(grid_, d + 1);
     CellMap<PatchMoments> children(1 << 12);
-    const std::string advice = "give more memory, a coarser grid or a smaller options.curvature.max_depth";
     sum_cell_moments(
         input, child_lattice,
-        d == 0 ? MomentFilter() : MomentFilter([&](std::uint64_t key) { return active.find(parent_key(key)) >= 0; }),
+        d == 0 ? MomentFilter()
+               : MomentFilter([&](std::uint64_t key) { return undecided.find(parent_key(key)) >= 0; }),
         &children,
         [&](std::uint64_t bytes, std::uint64_t read) {
-          const std::uint64_t more = bytes + split_bytes + active.bytes();
+          const std::uint64_t more = bytes + split_bytes + undecided.bytes();
           if (budget.fits(held, more)) return;
           // The table grows with the faces read: what the whole pass would take.
           const double whole = double(bytes) * double(triangles) / double(std::max<std::uint64_t>(read, 1));
           budget.check(held, more,
                        std::to_string(children.size()) + " cells of curvature moments at depth " +
                            std::to_string(d + 1) + " after " + std::to_string(read) + " triangles",
-                       "give at least " + whole_mib(held + split_bytes + active.bytes() + std::uint64_t(whole)) +
+                       "give at least " + whole_mib(held + split_bytes + undecided.bytes() + std::uint64_t(whole)) +
                            " MiB, " + advice);
         },
         progress, "curvature moments");
+    // Each parent's sums, and its children in a list after it (in the children's order).
     CellMap<PatchMoments> parents(1 << 12);
+    std::vector<std::uint32_t> parent_of(children.size());
     for (std::size_t i = 0; i < children.size(); ++i) {
       const std::uint64_t key = children.key(i);
-      parents.value(parents.insert(parent_key(key)))
-          .add(children.value(i), offset_in_parent(key, child_lattice.side));
+      parent_of[i] = parents.insert(parent_key(key));
+      parents.value(parent_of[i]).add(children.value(i), offset_in_parent(key, child_lattice.side));
     }
-    budget.check(held, children.bytes() + parents.bytes() + split_bytes + active.bytes(),
+    budget.check(held, children.bytes() + parents.bytes() + split_bytes + undecided.bytes(),
                  std::to_string(parents.size()) + " curvature cells at depth " + std::to_string(d), advice);
-    // Which cells split, each on its own (any thread), in the parents' order.
-    std::vector<std::uint8_t> splits(parents.size(), 0);
-    const double within = settings_.tolerance / parent_lattice.side;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, parents.size(), 256),
+    std::vector<PatchCurvature> own(parents.size()), child(children.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, parents.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                          const std::uint64_t key = parents.key(i);
-                          if (d > 0 && undecided.find(key) < 0) continue;
-                          const PatchCurvature own = neighbourhood_curvature(parents, parent_lattice, key);
-                          bool differs = false;
-                          for (int c = 0; c < 8 && !differs; ++c) {
-                            const std::uint64_t x = ((key & kAxisMask) << 1) | (c & 1);
-                            const std::uint64_t y = (((key >> 21) & kAxisMask) << 1) | ((c >> 1) & 1);
-                            const std::uint64_t z = (((key >> 42) & kAxisMask) << 1) | ((c >> 2) & 1);
-                            const std::uint64_t child = x | (y << 21) | (z << 42);
-                            if (children.find(child) < 0) continue;
-                            const PatchCurvature k = neighbourhood_curvature(children, child_lattice, child);
-                            differs = std::abs(k.k1 - own.k1) > within || std::abs(k.k2 - own.k2) > within;
-                          }
-                          splits[i] = differs;
-                        }
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) own[i] = patch_curvature(parents.value(i));
                       });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, children.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) child[i] = patch_curvature(children.value(i));
+                      });
+    const double within = settings_.tolerance / lattice_at(grid_, d).side;
+    std::vector<std::uint8_t> splits(parents.size(), 0);
+    for (std::size_t i = 0; i < children.size(); ++i) {
+      const PatchCurvature& k = child[i];
+      const PatchCurvature& p = own[parent_of[i]];
+      if (k.fit == PatchFit::empty || k.fit == PatchFit::single) continue;
+      if (std::abs(k.k1 - p.k1) > within || std::abs(k.k2 - p.k2) > within) splits[parent_of[i]] = 1;
+    }
     // The next depth's undecided cells: the children of the cells that split.
     undecided = FlatHashSet<std::uint64_t>(1 << 10);
     for (std::size_t i = 0; i < parents.size(); ++i)
       if (splits[i]) split[d].insert(parents.key(i));
     split_bytes += split[d].bytes();
     for (std::size_t i = 0; i < children.size(); ++i)
-      if (split[d].find(parent_key(children.key(i))) >= 0) undecided.insert(children.key(i));
-    active = FlatHashSet<std::uint64_t>(1 << 10);
-    if (d + 1 < depth_limit)
-      for (std::size_t i = 0; i < undecided.size(); ++i)
-        for_neighbourhood(child_lattice, undecided.key(i), [&](std::uint64_t n) { active.insert(n); });
+      if (splits[parent_of[i]]) undecided.insert(children.key(i));
   }
   // Each vertex to its leaf: down from its grid cell while its cell split. Leaves are
   // numbered by their first vertex.

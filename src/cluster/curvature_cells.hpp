@@ -51,10 +51,10 @@ class VertexClusters {
 
   /// Hua et al. §3.4: the octree, from the faces' moments (cluster/cell_moments.hpp).
   /// Depth by depth, one pass over the triangle stream of `input` sums the moments of
-  /// the cells one depth down, where the cell above or a neighbour of it is undecided;
-  /// a cell splits when the curvature of one of its children (from the child and its
-  /// 26 neighbours) differs from its own (from it and its neighbours) by more than the
-  /// tolerance over its side, down to the settings' depth. Then each vertex goes to its
+  /// the cells one depth down, where the cell above is undecided; a cell splits when
+  /// the curvature of one of its children (from the child's sums) differs from its own
+  /// (from its sums, its children's) by more than the tolerance over its side, down
+  /// to the settings' depth. Then each vertex goes to its
   /// leaf. With `k` (each vertex's k1, k2, mesh_curvatures.hpp), a leaf's curvatures
   /// are its vertices' means, for matches(); without, they are 0. The tables stay
   /// within `budget` or the run stops with a UsageError. Leaves are numbered by their
