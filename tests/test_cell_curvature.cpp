@@ -47,12 +47,12 @@ MomentLattice lattice_over(const Vec3d& lo, const Vec3d& hi, double side) {
 // about `centre`, wound counter-clockwise seen from outside.
 std::vector<Triangle> icosphere(const Vec3d& centre, double r, int levels) {
   const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Vec3d> v = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+  std::vector<Vec3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7}, {9, 8, 1}};
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (Vec3d& p : v) p = p / length(p);
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<int, int>, int> mid;
@@ -95,8 +95,7 @@ std::vector<Triangle> grid_surface(int n, int m, Surface s) {
 
 }  // namespace
 
-TEST_CASE("a sphere of radius R has k1 = k2 = 1/R in every cell, at cell sides R/20 to R/4",
-          "[curvature][cells]") {
+TEST_CASE("a sphere of radius R has k1 = k2 = 1/R in every cell, at cell sides R/20 to R/4", "[curvature][cells]") {
   const double r = 2.0;
   const Vec3d centre{0.123, 0.0456, -0.0789};
   const std::vector<Triangle> faces = icosphere(centre, r, 6);  // mean edge about R/53
@@ -204,7 +203,8 @@ TEST_CASE("a cell holding one flat face has no curvature, and nothing gives NaN"
   degenerate.add_triangle({0, 0, 0}, {0, 0, 0}, {0, 1, 0});
   CHECK(patch_curvature(degenerate).fit == PatchFit::empty);
   PatchMoments strip;
-  for (int i = 0; i < 8; ++i) strip.add_triangle({0.1 * i, 0, 0.01 * i * i}, {0.1 * i + 0.1, 0, 0.01 * i * i}, {0.1 * i, 0.01, 0.01 * i * i});
+  for (int i = 0; i < 8; ++i)
+    strip.add_triangle({0.1 * i, 0, 0.01 * i * i}, {0.1 * i + 0.1, 0, 0.01 * i * i}, {0.1 * i, 0.01, 0.01 * i * i});
   const PatchCurvature s = patch_curvature(strip);
   CHECK(std::isfinite(s.k1));
   CHECK(std::isfinite(s.k2));

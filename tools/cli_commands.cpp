@@ -542,7 +542,7 @@ int run_curvature(CurvatureArgs& a) {
   o.progress = progress.callback();
   CurvatureStats st;
   curvature_file(a.in, a.out, a.ascii, o, &st);
-  if (st.fitted + st.none > 0 && !a.quiet)
+  if (st.at_scale == 0 && st.fitted + st.none > 0 && !a.quiet)
     std::fprintf(stderr,
                  "oocsimp: warning: %" PRIu64
                  " vertices where the surface does not cover the disk of radius %g (an "

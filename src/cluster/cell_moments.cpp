@@ -31,8 +31,7 @@ std::size_t pipeline_tokens() { return 2 * std::max<std::size_t>(1, tbb::this_ta
 
 // Each face of the chunk to its centroid's cell, with the last cell remembered: the
 // faces of a stream come in runs through one cell.
-void sum_chunk(const PositionArray& positions, const MomentLattice& lattice, const MomentFilter& keep,
-               MomentChunk& c) {
+void sum_chunk(const PositionArray& positions, const MomentLattice& lattice, const MomentFilter& keep, MomentChunk& c) {
   c.cells.clear();
   std::uint64_t last_key = ~std::uint64_t(0);
   std::uint32_t last_index = 0;
@@ -58,8 +57,8 @@ void sum_chunk(const PositionArray& positions, const MomentLattice& lattice, con
 }  // namespace
 
 std::uint64_t sum_cell_moments(MeshInput& input, const MomentLattice& lattice, const MomentFilter& keep,
-                      CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
-                      const char* phase_name) {
+                               CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
+                               const char* phase_name) {
   TriangleStream& stream = *input.triangles;
   std::uint64_t read = 0;
   std::uint64_t largest_chunk = 0;
@@ -122,8 +121,9 @@ ScaleCurvatureCounts estimate_at_scale(MeshInput& input, double side, const Memo
   for (int a = 0; a < 3; ++a) {
     const double n = std::floor(e[a] / side) + 1;
     if (!(n < double(MomentLattice::kAxisMask)))
-      throw UsageError("options.at_scale", "options.at_scale " + std::to_string(side) + " would cut the bounding box into " +
-                                               std::to_string(n) + " cells along an axis; at most " +
+      throw UsageError("options.at_scale", "options.at_scale " + std::to_string(side) +
+                                               " would cut the bounding box into " + std::to_string(n) +
+                                               " cells along an axis; at most " +
                                                std::to_string(MomentLattice::kAxisMask) + " fit");
     lattice.dims[a] = std::uint64_t(n);
   }
@@ -136,75 +136,80 @@ ScaleCurvatureCounts estimate_at_scale(MeshInput& input, double side, const Memo
         if (budget.fits(held, bytes)) return;
         // The table grows with the faces read: what the whole input would take.
         const double whole = double(bytes) * double(triangles) / double(std::max<std::uint64_t>(read, 1));
-        budget.check(held, bytes,
-                     std::to_string(cells.size()) + " cells of curvature moments after " + std::to_string(read) +
-                         " triangles",
-                     "give at least " + whole_mib(held + std::uint64_t(whole)) + " MiB, or a larger --at-scale");
+        budget.check(
+            held, bytes,
+            std::to_string(cells.size()) + " cells of curvature moments after " + std::to_string(read) + " triangles",
+            "give at least " + whole_mib(held + std::uint64_t(whole)) + " MiB, or a larger --at-scale");
       },
       progress, "cell moments");
   counts.cells = cells.size();
   // Each cell's estimate, in the table's order.
   std::vector<PatchCurvature> estimate(cells.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) estimate[i] = neighbourhood_curvature(cells, lattice, cells.key(i));
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i)
+                        estimate[i] = neighbourhood_curvature(cells, lattice, cells.key(i));
+                    });
   for (const PatchCurvature& c : estimate) {
-    if (c.fit == PatchFit::slope) ++counts.slope;
-    else if (c.fit == PatchFit::folded) ++counts.folded;
-    else ++counts.empty;
+    if (c.fit == PatchFit::slope)
+      ++counts.slope;
+    else if (c.fit == PatchFit::folded)
+      ++counts.folded;
+    else
+      ++counts.empty;
   }
   // Each vertex from the (up to) 8 cells whose centres surround it, weighted
   // trilinearly over those with an estimate.
   std::atomic<std::uint64_t> interpolated{0};
   ProgressPhase phase(progress, "curvatures at scale", positions.count, "vtx");
-  tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, positions.count, 1 << 14),
-                    [&](const tbb::blocked_range<std::uint64_t>& r) {
-                      std::uint64_t found = 0;
-                      for (std::uint64_t v = r.begin(); v < r.end(); ++v) {
-                        const Vec3d p = positions.get(v) - lattice.origin;
-                        if (!is_finite(p)) continue;
-                        const double u[3] = {p.x / side - 0.5, p.y / side - 0.5, p.z / side - 0.5};
-                        std::int64_t base[3];
-                        double f[3];
-                        for (int a = 0; a < 3; ++a) {
-                          base[a] = std::int64_t(std::floor(u[a]));
-                          f[a] = u[a] - double(base[a]);
-                        }
-                        double w_sum = 0, s1 = 0, s2 = 0;
-                        for (int corner = 0; corner < 8; ++corner) {
-                          std::int64_t c[3];
-                          double w = 1;
-                          bool inside = true;
-                          for (int a = 0; a < 3; ++a) {
-                            const int o = (corner >> a) & 1;
-                            c[a] = base[a] + o;
-                            w *= o ? f[a] : 1 - f[a];
-                            inside = inside && c[a] >= 0 && c[a] < std::int64_t(lattice.dims[a]);
-                          }
-                          if (!inside || !(w > 0)) continue;
-                          const std::int64_t i =
-                              cells.find(std::uint64_t(c[0]) | (std::uint64_t(c[1]) << 21) | (std::uint64_t(c[2]) << 42));
-                          if (i < 0 || estimate[std::size_t(i)].fit != PatchFit::slope) continue;
-                          w_sum += w;
-                          s1 += w * estimate[std::size_t(i)].k1;
-                          s2 += w * estimate[std::size_t(i)].k2;
-                        }
-                        if (!(w_sum > 0)) {
-                          // On a cell's centre plane every weight but its own side's is 0:
-                          // the vertex's own cell, if it has one.
-                          const std::int64_t i = cells.find(lattice.key_relative(p));
-                          if (i < 0 || estimate[std::size_t(i)].fit != PatchFit::slope) continue;
-                          w_sum = 1;
-                          s1 = estimate[std::size_t(i)].k1;
-                          s2 = estimate[std::size_t(i)].k2;
-                        }
-                        k[2 * v] = float(s1 / w_sum);
-                        k[2 * v + 1] = float(s2 / w_sum);
-                        ++found;
-                      }
-                      interpolated += found;
-                      phase.advance(r.size());
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<std::uint64_t>(0, positions.count, 1 << 14), [&](const tbb::blocked_range<std::uint64_t>& r) {
+        std::uint64_t found = 0;
+        for (std::uint64_t v = r.begin(); v < r.end(); ++v) {
+          const Vec3d p = positions.get(v) - lattice.origin;
+          if (!is_finite(p)) continue;
+          const double u[3] = {p.x / side - 0.5, p.y / side - 0.5, p.z / side - 0.5};
+          std::int64_t base[3];
+          double f[3];
+          for (int a = 0; a < 3; ++a) {
+            base[a] = std::int64_t(std::floor(u[a]));
+            f[a] = u[a] - double(base[a]);
+          }
+          double w_sum = 0, s1 = 0, s2 = 0;
+          for (int corner = 0; corner < 8; ++corner) {
+            std::int64_t c[3];
+            double w = 1;
+            bool inside = true;
+            for (int a = 0; a < 3; ++a) {
+              const int o = (corner >> a) & 1;
+              c[a] = base[a] + o;
+              w *= o ? f[a] : 1 - f[a];
+              inside = inside && c[a] >= 0 && c[a] < std::int64_t(lattice.dims[a]);
+            }
+            if (!inside || !(w > 0)) continue;
+            const std::int64_t i =
+                cells.find(std::uint64_t(c[0]) | (std::uint64_t(c[1]) << 21) | (std::uint64_t(c[2]) << 42));
+            if (i < 0 || estimate[std::size_t(i)].fit != PatchFit::slope) continue;
+            w_sum += w;
+            s1 += w * estimate[std::size_t(i)].k1;
+            s2 += w * estimate[std::size_t(i)].k2;
+          }
+          if (!(w_sum > 0)) {
+            // On a cell's centre plane every weight but its own side's is 0:
+            // the vertex's own cell, if it has one.
+            const std::int64_t i = cells.find(lattice.key_relative(p));
+            if (i < 0 || estimate[std::size_t(i)].fit != PatchFit::slope) continue;
+            w_sum = 1;
+            s1 = estimate[std::size_t(i)].k1;
+            s2 = estimate[std::size_t(i)].k2;
+          }
+          k[2 * v] = float(s1 / w_sum);
+          k[2 * v + 1] = float(s2 / w_sum);
+          ++found;
+        }
+        interpolated += found;
+        phase.advance(r.size());
+      });
   counts.interpolated = interpolated;
   counts.none = positions.count - counts.interpolated;
   return counts;

@@ -25,7 +25,9 @@ struct MomentLattice {
   static constexpr std::uint64_t kAxisMask = (std::uint64_t(1) << 21) - 1;
 
   /// The cell holding a point relative to the origin; clamped to the lattice.
-  std::uint64_t key_relative(const Vec3d& d) const { return axis(d.x, 0) | (axis(d.y, 1) << 21) | (axis(d.z, 2) << 42); }
+  std::uint64_t key_relative(const Vec3d& d) const {
+    return axis(d.x, 0) | (axis(d.y, 1) << 21) | (axis(d.z, 2) << 42);
+  }
   /// The lower corner of cell `key`, relative to the origin.
   Vec3d corner(std::uint64_t key) const {
     return {side * double(key & kAxisMask), side * double((key >> 21) & kAxisMask),
@@ -57,8 +59,8 @@ using MomentCheck = std::function<void(std::uint64_t bytes, std::uint64_t triang
 /// their own and merged in input order, so the sums do not depend on the thread count.
 /// Returns the triangles read.
 std::uint64_t sum_cell_moments(MeshInput& input, const MomentLattice& lattice, const MomentFilter& keep,
-                      CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
-                      const char* phase_name);
+                               CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
+                               const char* phase_name);
 
 /// The curvature of cell `key` from the sums of it and its 26 neighbours (a cube three
 /// cells across, centred on it), as patch_curvature reads them.
@@ -67,10 +69,10 @@ PatchCurvature neighbourhood_curvature(const CellMap<PatchMoments>& cells, const
 
 /// How `estimate_at_scale` found its values.
 struct ScaleCurvatureCounts {
-  std::uint64_t cells = 0;                        ///< occupied cells
+  std::uint64_t cells = 0;                         ///< occupied cells
   std::uint64_t slope = 0, folded = 0, empty = 0;  ///< cells by PatchFit (single counts as empty)
-  std::uint64_t interpolated = 0, none = 0;       ///< vertices: from cells around them; none (0 and 0)
-  std::uint64_t triangles = 0;                    ///< read from the stream
+  std::uint64_t interpolated = 0, none = 0;        ///< vertices: from cells around them; none (0 and 0)
+  std::uint64_t triangles = 0;                     ///< read from the stream
 };
 
 /// Each vertex's k1, k2 (k[2 v], k[2 v + 1]) at the scale of cells of side `side` over

@@ -20,7 +20,7 @@ namespace {
 
 constexpr std::uint32_t kNoLeaf = std::numeric_limits<std::uint32_t>::max();
 constexpr std::uint32_t kUndecided = kNoLeaf - 1;  // an index no mesh reaches
-constexpr std::uint64_t kCheckEvery = 1 << 20;  // vertices between budget checks
+constexpr std::uint64_t kCheckEvery = 1 << 20;     // vertices between budget checks
 constexpr std::size_t kTriangleChunk = 65536;
 
 // The cells `depth` splits below the grid's: side grid.cell / 2^depth, exactly (a
@@ -89,8 +89,7 @@ void VertexClusters::find_leaves(MeshInput& input, const float* k, const MemoryB
     CellMap<PatchMoments> children(1 << 12);
     sum_cell_moments(
         input, child_lattice,
-        d == 0 ? MomentFilter()
-               : MomentFilter([&](std::uint64_t key) { return undecided.find(parent_key(key)) >= 0; }),
+        d == 0 ? MomentFilter() : MomentFilter([&](std::uint64_t key) { return undecided.find(parent_key(key)) >= 0; }),
         &children,
         [&](std::uint64_t bytes, std::uint64_t read) {
           const std::uint64_t more = bytes + split_bytes + undecided.bytes();

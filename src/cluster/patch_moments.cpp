@@ -91,8 +91,8 @@ PatchCurvature patch_curvature(const PatchMoments& m) {
   // The tangent frame of the mean normal: t0 across the axis it is least along.
   const Vec3d nu = nbar / coherence;
   const Vec3d ax = std::fabs(nu.x) <= std::fabs(nu.y) && std::fabs(nu.x) <= std::fabs(nu.z) ? Vec3d{1, 0, 0}
-                   : std::fabs(nu.y) <= std::fabs(nu.z)                                       ? Vec3d{0, 1, 0}
-                                                                                              : Vec3d{0, 0, 1};
+                   : std::fabs(nu.y) <= std::fabs(nu.z)                                     ? Vec3d{0, 1, 0}
+                                                                                            : Vec3d{0, 0, 1};
   Vec3d t[2];
   t[0] = cross(nu, ax);
   t[0] = t[0] / length(t[0]);

@@ -23,10 +23,10 @@ namespace oocsimp {
 /// (n the unit normal, so A n is half the cross product of two edges). 22 doubles.
 struct PatchMoments {
   double area = 0;
-  Vec3d first;                                         // sum A c
+  Vec3d first;                                            // sum A c
   double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;  // sum A c c^T
-  Vec3d normal;                                        // sum A n
-  double nx[9] = {};                                   // sum A n_i c_j at [3 i + j]
+  Vec3d normal;                                           // sum A n
+  double nx[9] = {};                                      // sum A n_i c_j at [3 i + j]
 
   /// A face with centroid `centroid` and area vector `area_vector` (A n). A face of
   /// zero area adds nothing; the caller skips non-finite ones.
