@@ -28,7 +28,7 @@ struct CurvatureCellSettings {
   /// by more than tolerance / s; a vertex matches a leaf of side s when both its
   /// curvatures lie within tolerance / s of the leaf's means.
   double tolerance = 0.5;
-  std::uint32_t max_depth = 3;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
+  std::uint32_t max_depth = 0;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
 };
 
 /// A leaf of the octree: a cell of side grid.cell / 2^depth and, for the vertex
