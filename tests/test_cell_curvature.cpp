@@ -9,12 +9,20 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "cluster/cell_moments.hpp"
 #include "cluster/patch_moments.hpp"
+#include "oocsimp/oocsimp.hpp"
+#include "test_support.hpp"
 
 using namespace oocsimp;
+using oocsimp_test::CliResult;
+using oocsimp_test::read_file;
+using oocsimp_test::run_cli;
+using oocsimp_test::ScratchDir;
 
 namespace {
 
@@ -43,9 +51,14 @@ MomentLattice lattice_over(const Vec3d& lo, const Vec3d& hi, double side) {
   return l;
 }
 
-// An icosahedron subdivided `levels` times, its vertices on the sphere of radius r
-// about `centre`, wound counter-clockwise seen from outside.
-std::vector<Triangle> icosphere(const Vec3d& centre, double r, int levels) {
+struct IndexedMesh {
+  std::vector<Vec3d> v;
+  std::vector<std::array<int, 3>> f;
+};
+
+// An icosahedron subdivided `levels` times, its vertices on the unit sphere, wound
+// counter-clockwise seen from outside.
+IndexedMesh unit_icosphere(int levels) {
   const double t = (1 + std::sqrt(5.0)) / 2;
   std::vector<Vec3d> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
@@ -75,9 +88,55 @@ std::vector<Triangle> icosphere(const Vec3d& centre, double r, int levels) {
     }
     f = next;
   }
+  return {v, f};
+}
+
+// The same on the sphere of radius r about `centre`, as triangles.
+std::vector<Triangle> icosphere(const Vec3d& centre, double r, int levels) {
+  const IndexedMesh m = unit_icosphere(levels);
   std::vector<Triangle> out;
-  for (const auto& g : f) out.push_back({centre + v[g[0]] * r, centre + v[g[1]] * r, centre + v[g[2]] * r});
+  for (const auto& g : m.f) out.push_back({centre + m.v[g[0]] * r, centre + m.v[g[1]] * r, centre + m.v[g[2]] * r});
   return out;
+}
+
+// ... and as a binary PLY.
+void write_icosphere(const std::string& path, double r, int levels) {
+  const IndexedMesh m = unit_icosphere(levels);
+  std::vector<float> xyz;
+  for (const Vec3d& p : m.v) xyz.insert(xyz.end(), {float(p.x * r), float(p.y * r), float(p.z * r)});
+  std::vector<std::uint32_t> tris;
+  for (const auto& g : m.f) tris.insert(tris.end(), {std::uint32_t(g[0]), std::uint32_t(g[1]), std::uint32_t(g[2])});
+  oocsimp_test::write_binary_ply(path, xyz, tris);
+}
+
+// The k1 and k2 columns of an ascii PLY that `oocsimp curvature --ascii` wrote, after
+// checking its header declares them after x, y and z.
+std::vector<std::pair<double, double>> read_k(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::vector<std::string> properties;
+  std::size_t vertices = 0;
+  while (std::getline(in, line) && line != "end_header") {
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+    if (line.rfind("property float ", 0) == 0 && properties.size() < 5) properties.push_back(line.substr(15));
+  }
+  REQUIRE(properties == std::vector<std::string>{"x", "y", "z", "k1", "k2"});
+  std::vector<std::pair<double, double>> k(vertices);
+  for (auto& [a, b] : k) {
+    std::string x, y, z, k1, k2;
+    in >> x >> y >> z >> k1 >> k2;
+    a = std::stod(k1);  // "nan" parses as NaN, which the checks below catch
+    b = std::stod(k2);
+  }
+  return k;
+}
+
+// The N of "give at least N MiB" in `text`, 0 if absent.
+std::uint64_t named_mib(const std::string& text) {
+  const std::string key = "give at least ";
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return 0;
+  return std::stoull(text.substr(at + key.size()));
 }
 
 // A grid of n x m quads over a parametric surface, two triangles each.
@@ -241,4 +300,125 @@ TEST_CASE("a cell's moments shifted to another corner give the same curvature", 
   CHECK(a.k1 == Approx(b.k1).epsilon(1e-9));
   CHECK(a.k2 == Approx(b.k2).epsilon(1e-9));
   CHECK(a.k1 == Approx(1).epsilon(0.02));
+}
+
+TEST_CASE("oocsimp curvature --at-scale: a sphere's vertices get k1 = k2 = 1/R, a generated one finite values",
+          "[curvature][cells][cli]") {
+  ScratchDir d;
+  // An icosphere of radius R = 2 (5 subdivisions, mean edge about R/27) at cells of
+  // R/8: every vertex interpolates cells whose patches lie on the sphere.
+  const double r = 2;
+  write_icosphere(d.file("ico.ply"), r, 5);
+  const CliResult ok =
+      run_cli("curvature " + d.file("ico.ply") + " -o " + d.file("k.ply") + " --ascii --at-scale 0.25");
+  INFO(ok.err);
+  REQUIRE(ok.exit_code == 0);
+  CHECK(ok.out.find("curvature 10242 vertices, 20480 triangles, at the scale of cells of side 0.25") !=
+        std::string::npos);
+  CHECK(ok.err.find("warning") == std::string::npos);
+  const auto k = read_k(d.file("k.ply"));
+  REQUIRE(k.size() == 10242);
+  for (const auto& [k1, k2] : k) {
+    REQUIRE(std::isfinite(k1));
+    REQUIRE(std::isfinite(k2));
+    CHECK(k1 * r == Approx(1).margin(0.05));
+    CHECK(k2 * r == Approx(1).margin(0.05));
+  }
+  // The generated sphere is displaced by sinusoids, so its curvature is not 1/R
+  // anywhere in particular; what holds is that every vertex gets finite values,
+  // k1 >= k2, from cells around it.
+  REQUIRE(run_cli("generate --shape sphere --tris 20000 --quiet -o " + d.file("gen.ply")).exit_code == 0);
+  const CliResult gen =
+      run_cli("curvature " + d.file("gen.ply") + " -o " + d.file("g.ply") + " --ascii --at-scale 0.1");
+  REQUIRE(gen.exit_code == 0);
+  CHECK(gen.err.find("warning") == std::string::npos);
+  const auto g = read_k(d.file("g.ply"));
+  REQUIRE(g.size() > 9000);
+  for (const auto& [k1, k2] : g) {
+    REQUIRE(std::isfinite(k1));
+    REQUIRE(std::isfinite(k2));
+    CHECK(k1 >= k2);
+  }
+}
+
+TEST_CASE("the cell-scale estimate's output bytes do not depend on threads or --mem", "[curvature][cells][cli]") {
+  ScratchDir d;
+  // More faces than one chunk of the moments pass (2^15), so that chunks' tables are
+  // merged; parts, whose edges make the octree split.
+  REQUIRE(run_cli("generate --shape sphere --tris 100000 --quiet -o " + d.file("s.ply")).exit_code == 0);
+  REQUIRE(run_cli("generate --shape parts --tris 100000 --seed 3 --quiet -o " + d.file("p.ply")).exit_code == 0);
+  const std::string scale = "curvature " + d.file("s.ply") + " --quiet --at-scale 0.05 -o ";
+  REQUIRE(run_cli(scale + d.file("a1.ply") + " --threads 1").exit_code == 0);
+  for (const std::string more : {"--threads 2", "--threads 3", "--threads 2 --mem 40M"}) {
+    INFO(more);
+    REQUIRE(run_cli(scale + d.file("a.ply") + " " + more).exit_code == 0);
+    CHECK(read_file(d.file("a.ply")) == read_file(d.file("a1.ply")));
+  }
+  const std::string octree = "simplify " + d.file("p.ply") + " --quiet --method curvature --grid 24 -o ";
+  REQUIRE(run_cli(octree + d.file("c1.ply") + " --max-depth 2 --threads 1").exit_code == 0);
+  REQUIRE(run_cli(octree + d.file("c0.ply") + " --max-depth 0").exit_code == 0);
+  CHECK(read_file(d.file("c1.ply")) != read_file(d.file("c0.ply")));  // the octree split cells
+  for (const std::string more : {"--threads 2", "--threads 3", "--threads 2 --mem 64M"}) {
+    INFO(more);
+    REQUIRE(run_cli(octree + d.file("c.ply") + " --max-depth 2 " + more).exit_code == 0);
+    CHECK(read_file(d.file("c.ply")) == read_file(d.file("c1.ply")));
+  }
+}
+
+TEST_CASE("a --mem too small for the cell tables exits 2 before reading a face, naming a budget that works",
+          "[curvature][cells][cli]") {
+  ScratchDir d;
+  REQUIRE(run_cli("generate --shape sphere --tris 100000 --quiet -o " + d.file("s.ply")).exit_code == 0);
+  const std::string in = d.file("s.ply");
+  // --at-scale: about 60k cells of side 0.02 on the sphere, some 14 MiB of tables.
+  const std::string scale = "curvature " + in + " --quiet --at-scale 0.02 -o ";
+  REQUIRE(run_cli(scale + d.file("whole.ply")).exit_code == 0);
+  const CliResult small = run_cli(scale + d.file("x.ply") + " --mem 4M");
+  INFO(small.err);
+  CHECK(small.exit_code == 2);
+  CHECK(small.err.find("--mem 4 MiB cannot hold about") != std::string::npos);
+  CHECK(small.err.find("estimated") != std::string::npos);
+  const std::uint64_t named = named_mib(small.err);
+  REQUIRE(named > 4);
+  const CliResult enough = run_cli(scale + d.file("enough.ply") + " --mem " + std::to_string(named) + "M");
+  INFO(enough.err);
+  CHECK(enough.exit_code == 0);
+  CHECK(read_file(d.file("enough.ply")) == read_file(d.file("whole.ply")));
+  // In the library: refused before the pass over the faces begins.
+  std::vector<std::string> phases;
+  CurvatureOptions o;
+  o.at_scale = 0.02;
+  o.memory_budget = 4 << 20;
+  o.progress = [&](const Progress& p) {
+    if (p.event == Progress::Event::begin) phases.push_back(p.phase);
+    return true;
+  };
+  CHECK_THROWS_AS(curvature_file(in, d.file("y.ply"), false, o, nullptr), UsageError);
+  CHECK(std::find(phases.begin(), phases.end(), std::string("cell moments")) == phases.end());
+  // The octree of --method curvature: its first depth's moments (cells of side 1/400
+  // of the box, about one a face), estimated up front. 32 MiB is the least budget a
+  // simplification takes.
+  const std::string octree = "simplify " + in + " --quiet --method curvature --grid 200 --max-depth 1 -o ";
+  REQUIRE(run_cli(octree + d.file("c.ply")).exit_code == 0);
+  const CliResult tight = run_cli(octree + d.file("x.ply") + " --mem 32M");
+  INFO(tight.err);
+  CHECK(tight.exit_code == 2);
+  CHECK(tight.err.find("cells of curvature moments at depth 1, estimated") != std::string::npos);
+  const std::uint64_t octree_named = named_mib(tight.err);
+  REQUIRE(octree_named > 32);
+  const CliResult roomy = run_cli(octree + d.file("c-enough.ply") + " --mem " + std::to_string(octree_named) + "M");
+  INFO(roomy.err);
+  CHECK(roomy.exit_code == 0);
+  CHECK(read_file(d.file("c-enough.ply")) == read_file(d.file("c.ply")));
+  SimplifyOptions s;
+  s.method = ClusterMethod::curvature;
+  s.sizing.grid = 200;
+  s.curvature.max_depth = 1;
+  s.memory_budget = 32 << 20;
+  s.temp_dir = d.path();
+  phases.clear();
+  s.progress = o.progress;
+  CHECK_THROWS_AS(simplify_file(in, d.file("z.ply"), false, s, nullptr), UsageError);
+  CHECK(std::find(phases.begin(), phases.end(), std::string("curvature moments")) == phases.end());
+  CHECK(d.entries() == std::vector<std::string>{"c-enough.ply", "c.ply", "enough.ply", "s.ply", "whole.ply"});
 }

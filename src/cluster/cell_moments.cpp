@@ -20,11 +20,13 @@ namespace oocsimp {
 namespace {
 
 constexpr std::size_t kFaceChunk = 1 << 15;
+constexpr std::size_t kChunkSlots = 1 << 10;  // a chunk's table, at first
+constexpr std::size_t kTableSlots = 1 << 12;  // a pass's table, at first
 
 struct MomentChunk {
   std::vector<std::uint64_t> tris = std::vector<std::uint64_t>(3 * kFaceChunk);
   std::size_t count = 0;
-  CellMap<PatchMoments> cells{1 << 10};
+  CellMap<PatchMoments> cells{kChunkSlots};
 };
 
 std::size_t pipeline_tokens() { return 2 * std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency()); }
@@ -55,6 +57,28 @@ void sum_chunk(const PositionArray& positions, const MomentLattice& lattice, con
 }
 
 }  // namespace
+
+std::uint64_t estimated_moment_cells(const OccupancyGrowth& occupancy, const Box3d& bounds,
+                                     const MomentLattice& lattice, std::uint64_t faces) {
+  // The occupancy's resolution counts cells along the bounding box's longest side.
+  const Vec3d e = bounds.max - bounds.min;
+  const double resolution = std::max({e.x, e.y, e.z}) / lattice.side;
+  // A face's centroid keys its cell: the faces are the points that fill the cells.
+  double cells = 1.25 * occupancy.occupied_by(std::max(resolution, 1.0), faces);
+  cells = std::min({cells, double(faces), double(lattice.dims[0]) * double(lattice.dims[1]) * double(lattice.dims[2])});
+  return std::uint64_t(std::ceil(std::max(cells, 1.0)));
+}
+
+std::uint64_t moment_table_bytes(std::uint64_t cells) {
+  return CellMap<PatchMoments>(kTableSlots).bytes_with(std::size_t(cells));
+}
+
+std::uint64_t moment_pass_bytes(std::uint64_t cells, bool worst) {
+  const std::uint64_t chunk_cells = worst ? std::min<std::uint64_t>(cells, kFaceChunk) : 1;
+  const std::uint64_t chunk =
+      3 * kFaceChunk * sizeof(std::uint64_t) + CellMap<PatchMoments>(kChunkSlots).bytes_with(std::size_t(chunk_cells));
+  return moment_table_bytes(cells) + pipeline_tokens() * chunk;
+}
 
 std::uint64_t sum_cell_moments(MeshInput& input, const MomentLattice& lattice, const MomentFilter& keep,
                                CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
@@ -129,7 +153,17 @@ ScaleCurvatureCounts estimate_at_scale(MeshInput& input, double side, const Memo
   }
   const std::uint64_t held = budget.held();
   const std::uint64_t triangles = std::max<std::uint64_t>(input.info.face_count, 1);
-  CellMap<PatchMoments> cells(1 << 12);
+  // Up front: the table and the pass's chunks, then the table and each cell's
+  // estimate, for the cells the vertices' occupancy says the faces will fill. Refused
+  // when even the least of it does not fit; the advice holds the most.
+  const std::uint64_t expected =
+      estimated_moment_cells(sampled_occupancy_growth(positions, box), box, lattice, triangles);
+  const std::uint64_t after = moment_table_bytes(expected) + expected * sizeof(PatchCurvature);
+  const std::uint64_t least = std::max(moment_pass_bytes(expected, false), after);
+  const std::uint64_t most = std::max(moment_pass_bytes(expected, true), after);
+  budget.check(held, least, "about " + std::to_string(expected) + " cells of curvature moments, estimated",
+               "give at least " + whole_mib(held + most) + " MiB, or a larger options.at_scale");
+  CellMap<PatchMoments> cells(kTableSlots);
   counts.triangles = sum_cell_moments(
       input, lattice, nullptr, &cells,
       [&](std::uint64_t bytes, std::uint64_t read) {
@@ -139,10 +173,14 @@ ScaleCurvatureCounts estimate_at_scale(MeshInput& input, double side, const Memo
         budget.check(
             held, bytes,
             std::to_string(cells.size()) + " cells of curvature moments after " + std::to_string(read) + " triangles",
-            "give at least " + whole_mib(held + std::uint64_t(whole)) + " MiB, or a larger --at-scale");
+            "give at least " + whole_mib(held + std::uint64_t(whole)) + " MiB, or a larger options.at_scale");
       },
       progress, "cell moments");
   counts.cells = cells.size();
+  budget.check(held, cells.bytes() + cells.size() * sizeof(PatchCurvature),
+               std::to_string(cells.size()) + " cells of curvature moments and their estimates",
+               "give at least " + whole_mib(held + cells.bytes() + cells.size() * sizeof(PatchCurvature)) +
+                   " MiB, or a larger options.at_scale");
   // Each cell's estimate, in the table's order.
   std::vector<PatchCurvature> estimate(cells.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 1024),

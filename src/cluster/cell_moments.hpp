@@ -9,6 +9,7 @@
 
 #include "cluster/patch_moments.hpp"
 #include "grid/cell_map.hpp"
+#include "grid/occupancy.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/progress.hpp"
 #include "runtime/memory_budget.hpp"
@@ -62,6 +63,21 @@ std::uint64_t sum_cell_moments(MeshInput& input, const MomentLattice& lattice, c
                                CellMap<PatchMoments>* cells, const MomentCheck& check, const ProgressCallback& progress,
                                const char* phase_name);
 
+/// Occupied cells of `lattice` over the faces of a mesh with `faces` faces and the
+/// bounding box `bounds`, estimated before any face is read from how the vertices'
+/// occupancy grows with the resolution (grid/occupancy.hpp), a quarter more for that
+/// estimate's error, and at most `faces` and the lattice's cells.
+std::uint64_t estimated_moment_cells(const OccupancyGrowth& occupancy, const Box3d& bounds,
+                                     const MomentLattice& lattice, std::uint64_t faces);
+/// Heap bytes of a table of `cells` cells' moments, at its largest (while it grows).
+std::uint64_t moment_table_bytes(std::uint64_t cells);
+/// Heap bytes a pass of sum_cell_moments holds when it fills a table of `cells` cells:
+/// the table, and each pipeline token's faces and table of its own. With `worst`,
+/// each token's chunk of faces falls in as many cells as it can (a soup, or faces
+/// stored in no spatial order): what the pass holds at most. Without, each chunk's
+/// faces fall in one cell: what it holds at least.
+std::uint64_t moment_pass_bytes(std::uint64_t cells, bool worst);
+
 /// The curvature of cell `key` from the sums of it and its 26 neighbours (a cube three
 /// cells across, centred on it), as patch_curvature reads them.
 PatchCurvature neighbourhood_curvature(const CellMap<PatchMoments>& cells, const MomentLattice& lattice,
@@ -78,8 +94,10 @@ struct ScaleCurvatureCounts {
 /// Each vertex's k1, k2 (k[2 v], k[2 v + 1]) at the scale of cells of side `side` over
 /// the input's bounds: the neighbourhood curvature of the cells whose centres surround
 /// it, interpolated trilinearly over those that have one. A vertex with none around it
-/// gets 0 and 0. UsageError (exit 2) for a side too small for the lattice, or when
-/// the table outgrows `budget`, naming the budget that would do.
+/// gets 0 and 0. UsageError (exit 2) for a side too small for the lattice, or, before
+/// any face is read, when the tables estimated (estimated_moment_cells) cannot fit
+/// `budget` even at their least, naming the budget that holds them at their most; the
+/// pass checks the real tables as they grow.
 ScaleCurvatureCounts estimate_at_scale(MeshInput& input, double side, const MemoryBudget& budget,
                                        const ProgressCallback& progress, float* k);
 

@@ -83,9 +83,35 @@ void VertexClusters::find_leaves(MeshInput& input, const float* k, const MemoryB
   FlatHashSet<std::uint64_t> undecided;  // at depth d, for d > 0
   std::uint64_t split_bytes = 0;
   const std::string advice = "give more memory, a coarser grid or a smaller options.curvature.max_depth";
+  const Box3d& bounds = input.info.bounds;
+  OccupancyGrowth occupancy;
+  if (depth_limit > 0) occupancy = sampled_occupancy_growth(positions, bounds);
   for (std::uint32_t d = 0; d < depth_limit; ++d) {
     if (d > 0 && undecided.size() == 0) break;
     const MomentLattice child_lattice = lattice_at(grid_, d + 1);
+    // Up front, before the pass reads a face: the children its faces will fill (from
+    // the vertices' occupancy at their side; below the first depth, at most eight for
+    // each undecided cell) in the pass's table and chunks, then beside their parents,
+    // with both's estimates.
+    std::uint64_t expected = estimated_moment_cells(occupancy, bounds, child_lattice, triangles);
+    std::uint64_t parents_expected = estimated_moment_cells(occupancy, bounds, lattice_at(grid_, d), triangles);
+    if (d > 0) {
+      expected = std::min<std::uint64_t>(expected, 8 * undecided.size());
+      parents_expected = std::min<std::uint64_t>(parents_expected, undecided.size());
+    }
+    parents_expected = std::min(parents_expected, expected);
+    // Refused when even the least of it does not fit; the advice holds the most.
+    const std::uint64_t after = moment_table_bytes(expected) + moment_table_bytes(parents_expected) +
+                                expected * (sizeof(std::uint32_t) + sizeof(PatchCurvature)) +
+                                parents_expected * (sizeof(PatchCurvature) + 1);
+    const std::uint64_t decided_bytes = split_bytes + undecided.bytes();
+    const std::uint64_t least = decided_bytes + std::max(moment_pass_bytes(expected, false), after);
+    const std::uint64_t most = decided_bytes + std::max(moment_pass_bytes(expected, true), after);
+    budget.check(
+        held, least,
+        "about " + std::to_string(expected) + " cells of curvature moments at depth " + std::to_string(d + 1) +
+            ", estimated",
+        "give at least " + whole_mib(held + most) + " MiB, a coarser grid or a smaller options.curvature.max_depth");
     CellMap<PatchMoments> children(1 << 12);
     sum_cell_moments(
         input, child_lattice,
