@@ -349,7 +349,7 @@ TEST_CASE("the cell-scale estimate's output bytes do not depend on threads or --
   REQUIRE(run_cli("generate --shape parts --tris 100000 --seed 3 --quiet -o " + d.file("p.ply")).exit_code == 0);
   const std::string scale = "curvature " + d.file("s.ply") + " --quiet --at-scale 0.05 -o ";
   REQUIRE(run_cli(scale + d.file("a1.ply") + " --threads 1").exit_code == 0);
-  for (const std::string more : {"--threads 2", "--threads 3", "--threads 2 --mem 40M"}) {
+  for (const char* more : {"--threads 2", "--threads 3", "--threads 2 --mem 40M"}) {
     INFO(more);
     REQUIRE(run_cli(scale + d.file("a.ply") + " " + more).exit_code == 0);
     CHECK(read_file(d.file("a.ply")) == read_file(d.file("a1.ply")));
@@ -358,7 +358,7 @@ TEST_CASE("the cell-scale estimate's output bytes do not depend on threads or --
   REQUIRE(run_cli(octree + d.file("c1.ply") + " --max-depth 2 --threads 1").exit_code == 0);
   REQUIRE(run_cli(octree + d.file("c0.ply") + " --max-depth 0").exit_code == 0);
   CHECK(read_file(d.file("c1.ply")) != read_file(d.file("c0.ply")));  // the octree split cells
-  for (const std::string more : {"--threads 2", "--threads 3", "--threads 2 --mem 64M"}) {
+  for (const char* more : {"--threads 2", "--threads 3", "--threads 2 --mem 64M"}) {
     INFO(more);
     REQUIRE(run_cli(octree + d.file("c.ply") + " --max-depth 2 " + more).exit_code == 0);
     CHECK(read_file(d.file("c.ply")) == read_file(d.file("c1.ply")));
