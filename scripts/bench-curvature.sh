@@ -11,7 +11,10 @@
 # count is nearest N (a bisection on --grid), meshopt_simplifySloppy is given N.
 # Environment: SHAPES, SIZE (generated inputs, cached under build/bench/), GRID,
 # SAMPLES (points `oocsimp measure` samples, default 1000000), THREADS (oocsimp's,
-# default 2; sloppy runs on one).
+# default 2; sloppy runs on one), CURVATURE_ARGS (more options of the curvature runs,
+# such as "--max-depth 1 --curvature-tolerance 0.25"), RUNS (which rows, default
+# "curvature curvature-vertex uniform floating sloppy"; curvature first), OUT (the
+# scratch folder, default build/bench/curvature-bench).
 #
 # Rows: wall seconds file to file, output triangles, RMS and Hausdorff distances
 # (symmetric, as fractions of the input's bounding-box diagonal), the output's
@@ -25,7 +28,7 @@ grid="${GRID:-60}"
 samples="${SAMPLES:-1000000}"
 threads="${THREADS:-2}"
 size="${SIZE:-200000}"
-out="$dir/curvature-bench"
+out="${OUT:-$dir/curvature-bench}"
 mkdir -p "$out"
 
 inputs=("$@")
@@ -63,15 +66,16 @@ nearest_grid() {
 
 for mesh in "${inputs[@]}"; do
   cat "$mesh" >/dev/null
-  echo "input $mesh ($(topology "$mesh") boundary/non-manifold edges), curvature --grid $grid, measure --samples $samples, oocsimp --threads $threads"
+  echo "input $mesh ($(topology "$mesh") boundary/non-manifold edges), curvature --grid $grid ${CURVATURE_ARGS:-}, measure --samples $samples, oocsimp --threads $threads"
   declare -A secs=() tris=() rms=() haus=() topo=() note=()
   runs=()
-  for r in curvature curvature-vertex uniform floating sloppy; do
+  for r in ${RUNS:-curvature curvature-vertex uniform floating sloppy}; do
     result="$out/$r.ply"
     echo "  $r ..." >&2
     case "$r" in
       curvature | curvature-vertex)
-        args=(--method curvature --grid "$grid")
+        # shellcheck disable=SC2206
+        args=(--method curvature --grid "$grid" ${CURVATURE_ARGS:-})
         [ "$r" = curvature-vertex ] && args+=(--rep vertex)
         t0=$(now)
         "$bin" simplify "$mesh" -o "$result" "${args[@]}" --threads "$threads" --quiet --stats "$out/stats.json"

@@ -330,10 +330,11 @@ TEST_CASE("curvature parts merged give one process's bytes for 1 to 4 parts, any
   CHECK(stale.err.find("part-1-of-2.oocpart: stale: its options are") != std::string::npos);
   // A part file whose plan claims more vertices than the input has, with a value for
   // a vertex past the input's and its checksum made whole again: refused, never
-  // written past the curvature array.
+  // written past the curvature array. (Only the vertex representatives read the
+  // vertices' curvatures, so only they write values.)
   ScratchDir one;
   REQUIRE(run_cli("simplify " + q(d.file("parts.ply")) + " -o unused.ply --quiet --method curvature --grid 40 " +
-                  "--work-dir " + q(one.path()) + " --part 0/1")
+                  "--rep vertex --work-dir " + q(one.path()) + " --part 0/1")
               .exit_code == 0);
   const std::string part = one.file("part-0-of-1.oocpart");
   std::string bytes = read_file(part);

@@ -520,6 +520,9 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   add_given(cmd, "--mem", &a.mem,
             "Heap budget; a mesh larger than it is estimated in tiles with a halo (default: a quarter of memory)");
   add_given(cmd, "--tile", &a.tile, "Side of the tiles, model units (default: in memory when it fits --mem)");
+  add_given(cmd, "--at-scale", &a.at_scale,
+            "Estimate at cells of this side (model units) from the faces' moments, interpolated: fast, at that "
+            "scale (default: the ball or sphere)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
@@ -533,24 +536,33 @@ int run_curvature(CurvatureArgs& a) {
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
   if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
+  if (a.at_scale.given()) o.at_scale = positive_number("--at-scale", a.at_scale.text);
   o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   CurvatureStats st;
   curvature_file(a.in, a.out, a.ascii, o, &st);
-  if (st.fitted + st.none > 0 && !a.quiet)
+  if (st.at_scale == 0 && st.fitted + st.none > 0 && !a.quiet)
     std::fprintf(stderr,
                  "oocsimp: warning: %" PRIu64
                  " vertices where the surface does not cover the disk of radius %g (an "
                  "outline, a hole or a soup) were fitted with a quadric instead, and %" PRIu64
                  " with no face, area or neighbours within it got 0\n",
                  st.fitted, st.radius, st.none);
+  if (st.at_scale > 0 && st.none > 0 && !a.quiet)
+    std::fprintf(stderr, "oocsimp: warning: %" PRIu64 " vertices with no cell around them that has an estimate got 0\n",
+                 st.none);
   if (a.quiet) return kOk;
   print_input_line(stdout, st.vertices, st.triangles);
-  std::printf("radius  %g (mean edge %g), %s\n", st.radius, st.mean_edge_length, a.neighbourhood.c_str());
-  std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
-              st.invariant, st.fitted, st.none,
-              st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
+  if (st.at_scale > 0) {
+    std::printf("scale   cells of side %g\n", st.at_scale);
+    std::printf("estimated %" PRIu64 " from the cells around them, %" PRIu64 " not at all\n", st.invariant, st.none);
+  } else {
+    std::printf("radius  %g (mean edge %g), %s\n", st.radius, st.mean_edge_length, a.neighbourhood.c_str());
+    std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
+                st.invariant, st.fitted, st.none,
+                st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
+  }
   std::printf("output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.out.c_str(), st.vertices);
   std::printf("time    %.3f s: %.2f M vertices/s\n", st.seconds,
               st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0);

@@ -51,7 +51,7 @@ struct MeasureArgs {
 
 struct CurvatureArgs {
   std::string in, out;
-  Given radius, threads, mem, tile;
+  Given radius, threads, mem, tile, at_scale;
   std::string neighbourhood = "ball";
   CurvatureOptions options;
   bool ascii = false, quiet = false;

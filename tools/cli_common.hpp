@@ -75,6 +75,7 @@ inline constexpr std::pair<const char*, const char*> kFlagOfField[] = {
     {"options.curvature.representative", "--rep"},
     {"options.floating.representative", "--rep"},
     {"options.tile_side", "--tile"},
+    {"options.at_scale", "--at-scale"},
     {"outputs.replace_input", "--force"},
     {"outputs.stats", "--stats"},
     {"outputs.mesh", "-o"},

@@ -113,9 +113,9 @@ void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
                       "ball (the default: the ball cut by the solid) or sphere (the sphere cut by it)")
           ->check(CLI::IsMember({"ball", "sphere"})),
       add_given(cmd, "--curvature-tolerance", &a.curvature_tolerance,
-                "A cell of side s is split where a vertex's curvature differs from the cell's mean by more than "
+                "A cell of side s is split where a child's curvatures differ from the cell's by more than "
                 "this / s (default 0.5)"),
-      add_given(cmd, "--max-depth", &a.max_depth, "Splits of a grid cell, 0 to 6 (default 3)"),
+      add_given(cmd, "--max-depth", &a.max_depth, "Splits of a grid cell, 0 to 6 (default 0)"),
   };
   for (CLI::Option* o : a.curvature_only) o->group("Curvature method only (--method curvature)");
 }

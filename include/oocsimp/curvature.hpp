@@ -32,6 +32,11 @@ struct CurvatureOptions {
   /// Side of the cubic tiles the mesh is estimated in, model units; 0 = in memory when
   /// it fits the budget, else tiles sized to it. The values are the same either way.
   double tile_side = 0;
+  /// The cell-scale estimate instead of the ball or sphere: each vertex takes the
+  /// curvatures of the cells of this side (model units) around it, each read from
+  /// the faces' moments in it and its 26 neighbours, interpolated (docs/curvature.md,
+  /// "The cell-scale estimate"). 0 = the integral invariants, the accurate reference.
+  double at_scale = 0;
   unsigned threads = 0;             ///< 0 = all cores; the values are the same for any count
   std::uint64_t memory_budget = 0;  ///< heap bytes; 0 = default_memory_budget()
   std::string temp_dir;             ///< for converted position arrays; empty = default_temp_dir()
@@ -50,6 +55,10 @@ struct CurvatureStats {
   /// cover the disk around the vertex (an outline, a hole, a soup); neither (no face,
   /// no area, a non-finite position or too few neighbours), written as 0 and 0.
   std::uint64_t invariant = 0, fitted = 0, none = 0;
+  /// With CurvatureOptions::at_scale: the cells' side; `invariant` then counts the
+  /// vertices interpolated from cells around them and `none` those with no cell
+  /// around them that has an estimate (0 and 0).
+  double at_scale = 0;
   double seconds = 0;
   std::uint64_t peak_rss_bytes = 0, peak_anon_bytes = 0;
 };

@@ -102,11 +102,15 @@ struct CurvatureClusterOptions {
   /// (CurvatureOptions::radius).
   double radius = 0;
   bool sphere_neighbourhood = false;  ///< the sphere variant (eq. 15-18) instead of the ball (eq. 8-14)
-  /// A vertex matches a cell of side s when each principal curvature differs from the
-  /// cell's mean by at most tolerance / s (radians of turn across the cell); a cell
-  /// where one does not is split into eight, down to max_depth.
+  /// A cell of side s is split into eight, down to max_depth, when a child's principal
+  /// curvatures (each from its faces' moments) differ from the cell's by more than
+  /// tolerance / s (radians of turn across the cell); with the vertex representative a
+  /// vertex matches its leaf when its own lie within tolerance / s of the leaf's means.
   double tolerance = 0.5;
-  std::uint32_t max_depth = 3;  ///< splits of a grid cell, 0 to 6
+  /// Splits of a grid cell, 0 to 6. 0 (the grid's cells cut into their connected
+  /// parts) measured the least error at equal counts on the parts, the terrain and the
+  /// scans (docs/curvature.md, "Quality with the cell-scale octree").
+  std::uint32_t max_depth = 0;
   /// Where a cluster's output vertex goes: quadric, the minimiser of its quadric in its
   /// cell (the default: 0.5-0.7x the RMS of vertex, docs/curvature.md), or vertex, the
   /// paper's matching input vertex.

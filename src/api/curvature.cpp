@@ -3,12 +3,16 @@
 #include <vector>
 
 #include "api/simplify.hpp"
+#include "cluster/cell_moments.hpp"
 #include "curvature/mesh_curvatures.hpp"
 #include "io/byte_sink.hpp"
 #include "io/mesh_input.hpp"
 #include "io/mesh_writer_output.hpp"
 #include "oocsimp/oocsimp.hpp"
+#include "runtime/memory_budget.hpp"
+#include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"
+#include "runtime/thread_limit.hpp"
 
 namespace oocsimp {
 
@@ -39,6 +43,27 @@ void write_curvature_ply(OutputFile& out, MeshInput& input, const float* k, std:
   sink.finish();
 }
 
+// The estimate options ask for: the integral invariants, or the cell-scale estimate
+// at options.at_scale.
+CurvatureStats estimate_any(MeshInput& input, const CurvatureOptions& options, float* k) {
+  if (options.at_scale == 0) return estimate_mesh_curvatures(input, options, k);
+  const double start = now_seconds();
+  PeakAnonSampler peak_anon;
+  const auto thread_limit = limit_threads(options.threads);
+  const MemoryBudget budget(budget_bytes(options.memory_budget), false);
+  const ScaleCurvatureCounts c = estimate_at_scale(input, options.at_scale, budget, options.progress, k);
+  CurvatureStats st;
+  st.vertices = input.positions.count;
+  st.triangles = c.triangles;
+  st.at_scale = options.at_scale;
+  st.invariant = c.interpolated;
+  st.none = c.none;
+  st.seconds = now_seconds() - start;
+  st.peak_rss_bytes = peak_rss_bytes();
+  st.peak_anon_bytes = peak_anon.peak();
+  return st;
+}
+
 }  // namespace
 
 VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options) {
@@ -47,7 +72,7 @@ VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOption
   MeshInput input = open_mesh_view(mesh, none);
   std::vector<float> k(2 * input.positions.count, 0);
   VertexCurvatures out;
-  out.stats = estimate_mesh_curvatures(input, options, k.data());
+  out.stats = estimate_any(input, options, k.data());
   out.k1.resize(input.positions.count);
   out.k2.resize(input.positions.count);
   for (std::size_t v = 0; v < out.k1.size(); ++v) out.k1[v] = k[2 * v], out.k2[v] = k[2 * v + 1];
@@ -67,7 +92,7 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
   MeshInput input = open_mesh_input(input_path, open);
   OutputFile out(output_path);
   MappedCurvatures k(options.temp_dir.empty() ? default_temp_dir() : options.temp_dir, input.positions.count);
-  const CurvatureStats st = estimate_mesh_curvatures(input, options, k.data());
+  const CurvatureStats st = estimate_any(input, options, k.data());
   {
     ProgressPhase phase(options.progress, "write", 0, "B");
     write_curvature_ply(out, input, k.data(), st.triangles, format == MeshFormat::ply_ascii);

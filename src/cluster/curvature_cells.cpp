@@ -3,10 +3,13 @@
 // tolerance, the depth, the parts) is in docs/curvature.md.
 #include "cluster/curvature_cells.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "cluster/cell_moments.hpp"
 #include "grid/cell_map.hpp"
 #include "oocsimp/error.hpp"
 #include "runtime/progress_phase.hpp"
@@ -16,53 +19,29 @@ namespace oocsimp {
 namespace {
 
 constexpr std::uint32_t kNoLeaf = std::numeric_limits<std::uint32_t>::max();
-constexpr std::uint32_t kUndecided = kNoLeaf - 1;
-constexpr std::uint64_t kCheckEvery = 1 << 20;  // vertices between budget checks
+constexpr std::uint32_t kUndecided = kNoLeaf - 1;  // an index no mesh reaches
+constexpr std::uint64_t kCheckEvery = 1 << 20;     // vertices between budget checks
 constexpr std::size_t kTriangleChunk = 65536;
 
-// What the octree sums in a cell: its vertices' curvatures (for the means) and their
-// range (for the match), and, once decided, the leaf it is.
-struct CellCurvatures {
-  double sum1 = 0, sum2 = 0;
-  float min1 = std::numeric_limits<float>::max(), max1 = -std::numeric_limits<float>::max();
-  float min2 = std::numeric_limits<float>::max(), max2 = -std::numeric_limits<float>::max();
-  std::uint32_t n = 0;
-  std::uint32_t leaf = kNoLeaf;
-
-  void add(float k1, float k2) {
-    sum1 += k1;
-    sum2 += k2;
-    min1 = std::min(min1, k1);
-    max1 = std::max(max1, k1);
-    min2 = std::min(min2, k2);
-    max2 = std::max(max2, k2);
-    ++n;
-  }
-  float mean1() const { return n ? float(sum1 / n) : 0.f; }
-  float mean2() const { return n ? float(sum2 / n) : 0.f; }
-  // Every vertex within `within` of the means, in both curvatures.
-  bool all_match(double within) const {
-    const double m1 = sum1 / n, m2 = sum2 / n;
-    return std::max({max1 - m1, m1 - min1, max2 - m2, m2 - min2}) <= within;
-  }
-};
-
-// The cell at `depth` below the grid's cells that holds the relative point p, packed
-// as GridSpec::key_relative: the grid's cell coordinate scaled by 2^depth, exactly
-// (a power of two), so a cell's children hold exactly the points it holds.
-std::uint64_t octree_key(const GridSpec& grid, const Vec3d& p, std::uint32_t depth) {
-  const double scale = double(std::uint64_t(1) << depth);
-  auto axis = [&](double d, int a) -> std::uint64_t {
-    const double q = d / grid.cell * scale;
-    const std::uint64_t n = std::uint64_t(grid.dims[a]) << depth;
-    if (!(q > 0)) return 0;
-    if (q >= double(n)) return n - 1;
-    return std::uint64_t(q);
-  };
-  return axis(p.x, 0) | (axis(p.y, 1) << 21) | (axis(p.z, 2) << 42);
+// The cells `depth` splits below the grid's: side grid.cell / 2^depth, exactly (a
+// power of two), so a cell's children hold exactly the points it holds.
+MomentLattice lattice_at(const GridSpec& grid, std::uint32_t depth) {
+  MomentLattice l;
+  l.origin = grid.origin;
+  l.side = std::ldexp(grid.cell, -int(depth));  // side_at
+  for (int a = 0; a < 3; ++a) l.dims[a] = std::uint64_t(grid.dims[a]) << depth;
+  return l;
 }
 
-constexpr std::uint64_t kAxisMask = (std::uint64_t(1) << 21) - 1;
+constexpr std::uint64_t kAxisMask = MomentLattice::kAxisMask;
+
+// The cell one depth up that holds cell `key`, and where `key`'s corner lies from its.
+std::uint64_t parent_key(std::uint64_t key) {
+  return ((key & kAxisMask) >> 1) | ((((key >> 21) & kAxisMask) >> 1) << 21) | ((((key >> 42) & kAxisMask) >> 1) << 42);
+}
+Vec3d offset_in_parent(std::uint64_t key, double side) {
+  return {side * double(key & 1), side * double((key >> 21) & 1), side * double((key >> 42) & 1)};
+}
 
 // The side of a cell `depth` splits below the grid's.
 double side_at(const GridSpec& grid, std::uint32_t depth) { return std::ldexp(grid.cell, -int(depth)); }
@@ -88,54 +67,151 @@ VertexClusters::VertexClusters(const GridSpec& grid, const CurvatureCellSettings
 
 VertexClusters::~VertexClusters() = default;
 
-void VertexClusters::find_leaves(const PositionArray& positions, const float* k, const MemoryBudget& budget,
+void VertexClusters::find_leaves(MeshInput& input, const float* k, const MemoryBudget& budget,
                                  const ProgressCallback& progress) {
-  const std::uint32_t depths = settings_.max_depth + 1;
+  const PositionArray& positions = input.positions;
+  const std::uint32_t depth_limit = settings_.max_depth;
   const std::uint64_t held = budget.held();
+  const std::uint64_t triangles = std::max<std::uint64_t>(input.info.face_count, 1);
+  // split[d]: the cells at depth d that split. Depth by depth, one pass over the faces
+  // sums the moments of the cells one depth down (the children) where the cell above
+  // is undecided; a cell's sums are its children's. A cell splits when the curvature
+  // of one of its children, from the child's sums, differs from its own, from its
+  // sums, by more than the tolerance over its side (Hua et al. §3.4: "go on
+  // subdividing"). A child whose faces give no slope (one face, no area) says nothing.
+  std::vector<FlatHashSet<std::uint64_t>> split(depth_limit);
+  FlatHashSet<std::uint64_t> undecided;  // at depth d, for d > 0
+  std::uint64_t split_bytes = 0;
+  const std::string advice = "give more memory, a coarser grid or a smaller options.curvature.max_depth";
+  const Box3d& bounds = input.info.bounds;
+  OccupancyGrowth occupancy;
+  if (depth_limit > 0) occupancy = sampled_occupancy_growth(positions, bounds);
+  for (std::uint32_t d = 0; d < depth_limit; ++d) {
+    if (d > 0 && undecided.size() == 0) break;
+    const MomentLattice child_lattice = lattice_at(grid_, d + 1);
+    // Up front, before the pass reads a face: the children its faces will fill (from
+    // the vertices' occupancy at their side; below the first depth, at most eight for
+    // each undecided cell) in the pass's table and chunks, then beside their parents,
+    // with both's estimates.
+    std::uint64_t expected = estimated_moment_cells(occupancy, bounds, child_lattice, triangles);
+    std::uint64_t parents_expected = estimated_moment_cells(occupancy, bounds, lattice_at(grid_, d), triangles);
+    if (d > 0) {
+      expected = std::min<std::uint64_t>(expected, 8 * undecided.size());
+      parents_expected = std::min<std::uint64_t>(parents_expected, undecided.size());
+    }
+    parents_expected = std::min(parents_expected, expected);
+    // Refused when even the least of it does not fit; the advice holds the most.
+    const std::uint64_t after = moment_table_bytes(expected) + moment_table_bytes(parents_expected) +
+                                expected * (sizeof(std::uint32_t) + sizeof(PatchCurvature)) +
+                                parents_expected * (sizeof(PatchCurvature) + 1);
+    const std::uint64_t decided_bytes = split_bytes + undecided.bytes();
+    const std::uint64_t least = decided_bytes + std::max(moment_pass_bytes(expected, false), after);
+    const std::uint64_t most = decided_bytes + std::max(moment_pass_bytes(expected, true), after);
+    budget.check(
+        held, least,
+        "about " + std::to_string(expected) + " cells of curvature moments at depth " + std::to_string(d + 1) +
+            ", estimated",
+        "give at least " + whole_mib(held + most) + " MiB, a coarser grid or a smaller options.curvature.max_depth");
+    CellMap<PatchMoments> children(1 << 12);
+    sum_cell_moments(
+        input, child_lattice,
+        d == 0 ? MomentFilter() : MomentFilter([&](std::uint64_t key) { return undecided.find(parent_key(key)) >= 0; }),
+        &children,
+        [&](std::uint64_t bytes, std::uint64_t read) {
+          const std::uint64_t more = bytes + split_bytes + undecided.bytes();
+          if (budget.fits(held, more)) return;
+          // The table grows with the faces read: what the whole pass would take.
+          const double whole = double(bytes) * double(triangles) / double(std::max<std::uint64_t>(read, 1));
+          budget.check(held, more,
+                       std::to_string(children.size()) + " cells of curvature moments at depth " +
+                           std::to_string(d + 1) + " after " + std::to_string(read) + " triangles",
+                       "give at least " + whole_mib(held + split_bytes + undecided.bytes() + std::uint64_t(whole)) +
+                           " MiB, " + advice);
+        },
+        progress, "curvature moments");
+    // Each parent's sums, and its children in a list after it (in the children's order).
+    CellMap<PatchMoments> parents(1 << 12);
+    std::vector<std::uint32_t> parent_of(children.size());
+    for (std::size_t i = 0; i < children.size(); ++i) {
+      const std::uint64_t key = children.key(i);
+      parent_of[i] = parents.insert(parent_key(key));
+      parents.value(parent_of[i]).add(children.value(i), offset_in_parent(key, child_lattice.side));
+    }
+    budget.check(held, children.bytes() + parents.bytes() + split_bytes + undecided.bytes(),
+                 std::to_string(parents.size()) + " curvature cells at depth " + std::to_string(d), advice);
+    std::vector<PatchCurvature> own(parents.size()), child(children.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, parents.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) own[i] = patch_curvature(parents.value(i));
+                      });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, children.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) child[i] = patch_curvature(children.value(i));
+                      });
+    const double within = settings_.tolerance / lattice_at(grid_, d).side;
+    std::vector<std::uint8_t> splits(parents.size(), 0);
+    for (std::size_t i = 0; i < children.size(); ++i) {
+      const PatchCurvature& k = child[i];
+      const PatchCurvature& p = own[parent_of[i]];
+      if (k.fit == PatchFit::empty || k.fit == PatchFit::single) continue;
+      if (std::abs(k.k1 - p.k1) > within || std::abs(k.k2 - p.k2) > within) splits[parent_of[i]] = 1;
+    }
+    // The next depth's undecided cells: the children of the cells that split.
+    undecided = FlatHashSet<std::uint64_t>(1 << 10);
+    for (std::size_t i = 0; i < parents.size(); ++i)
+      if (splits[i]) split[d].insert(parents.key(i));
+    split_bytes += split[d].bytes();
+    for (std::size_t i = 0; i < children.size(); ++i)
+      if (splits[parent_of[i]]) undecided.insert(children.key(i));
+  }
+  // Each vertex to its leaf: down from its grid cell while its cell split. Leaves are
+  // numbered by their first vertex.
   leaf_of_ = std::make_unique<MappedScratch>(temp_dir_, "curvature-leaves", 4 * vertices_);
   std::uint32_t* leaf_of = reinterpret_cast<std::uint32_t*>(leaf_of_->data());
-  std::fill(leaf_of, leaf_of + vertices_, kUndecided);
-  // Depth by depth, over the vertices not yet in a leaf: the sums of the cells at this
-  // depth that hold them, then each such vertex's cell becomes its leaf when all its
-  // vertices match (or at the deepest), and the rest go one depth down. One depth's
-  // sums are held at a time, of the cells that split above it only.
-  std::uint64_t undecided = positions.count;
-  ProgressPhase phase(progress, "curvature cells", depths * positions.count, "vtx");
-  for (std::uint32_t d = 0; d < depths && undecided > 0; ++d) {
-    const double side = side_at(grid_, d);
-    CellMap<CellCurvatures> cells(1 << 12);
-    for (std::uint64_t v = 0; v < positions.count; ++v) {
-      if (leaf_of[v] != kUndecided) continue;
-      const Vec3d q = positions.get(v);
-      if (!is_finite(q)) {
-        leaf_of[v] = kNoLeaf;
-        continue;
-      }
-      cells.value(cells.insert(octree_key(grid_, grid_.relative(q), d))).add(k[2 * v], k[2 * v + 1]);
-      if ((v + 1) % kCheckEvery == 0) {
-        budget.check(held, cells.bytes(),
-                     std::to_string(cells.size()) + " curvature cells at depth " + std::to_string(d),
-                     "give more memory, a coarser grid or a smaller options.curvature.max_depth");
-        phase.set(d * positions.count + v + 1);
-      }
+  std::vector<CellMap<std::uint32_t>> leaf_cells;
+  for (std::uint32_t d = 0; d <= depth_limit; ++d) leaf_cells.emplace_back(1 << 10);
+  std::vector<double> sums;  // with `k`: per leaf, the sums of its vertices' k1 and k2 and their count
+  std::vector<MomentLattice> lattices;
+  for (std::uint32_t d = 0; d <= depth_limit; ++d) lattices.push_back(lattice_at(grid_, d));
+  ProgressPhase phase(progress, "curvature cells", positions.count, "vtx");
+  for (std::uint64_t v = 0; v < positions.count; ++v) {
+    const Vec3d q = positions.get(v);
+    if (!is_finite(q)) {
+      leaf_of[v] = kNoLeaf;
+      continue;
     }
-    undecided = 0;
-    for (std::uint64_t v = 0; v < positions.count; ++v) {
-      if (leaf_of[v] != kUndecided) continue;
-      const std::uint64_t key = octree_key(grid_, grid_.relative(positions.get(v)), d);
-      CellCurvatures& c = cells.value(std::size_t(cells.find(key)));
-      if (d + 1 < depths && !c.all_match(settings_.tolerance / side)) {
-        ++undecided;
-        continue;
-      }
-      if (c.leaf == kNoLeaf) {
-        c.leaf = std::uint32_t(leaves_.size());
-        leaves_.push_back(LeafCell{key, d, c.mean1(), c.mean2()});
-      }
-      leaf_of[v] = c.leaf;
+    const Vec3d rel = grid_.relative(q);
+    std::uint32_t d = 0;
+    std::uint64_t key = lattices[0].key_relative(rel);
+    while (d < depth_limit && split[d].find(key) >= 0) key = lattices[++d].key_relative(rel);
+    const auto [slot, added] = leaf_cells[d].try_insert(key);
+    if (added) {
+      leaf_cells[d].value(slot) = std::uint32_t(leaves_.size());
+      leaves_.push_back(LeafCell{key, d, 0.f, 0.f});
+      if (k) sums.insert(sums.end(), {0.0, 0.0, 0.0});
     }
-    phase.set((d + 1) * positions.count);
+    const std::uint32_t leaf = leaf_cells[d].value(slot);
+    leaf_of[v] = leaf;
+    if (k) {
+      sums[3 * leaf] += k[2 * v];
+      sums[3 * leaf + 1] += k[2 * v + 1];
+      sums[3 * leaf + 2] += 1;
+    }
+    if ((v + 1) % kCheckEvery == 0) {
+      std::uint64_t bytes = split_bytes + sums.capacity() * sizeof(double) + leaves_.capacity() * sizeof(LeafCell);
+      for (const auto& m : leaf_cells) bytes += m.bytes();
+      budget.check(held, bytes, std::to_string(leaves_.size()) + " curvature cells",
+                   "give more memory, a coarser grid or a smaller options.curvature.max_depth");
+      phase.set(v + 1);
+    }
   }
+  // With the vertices' own curvatures (RepresentativeRule::vertex), a leaf's are their
+  // means, which the vertices are matched against.
+  if (k)
+    for (std::size_t l = 0; l < leaves_.size(); ++l) {
+      leaves_[l].k1 = float(sums[3 * l] / sums[3 * l + 2]);
+      leaves_[l].k2 = float(sums[3 * l + 1] / sums[3 * l + 2]);
+    }
 }
 
 void VertexClusters::join_components(MeshInput& input, const ProgressCallback& progress) {

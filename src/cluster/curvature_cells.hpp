@@ -5,7 +5,8 @@
 // sums and solves the clusters as uniform cells do (cluster/uniform_cells.hpp).
 //
 // The per-vertex arrays live in mapped temporary files, out of the heap; the heap
-// holds the octree's per-cell sums and a record per leaf and per cluster.
+// holds one depth's per-cell moments, the cells that split, and a record per leaf and
+// per cluster.
 #pragma once
 
 #include <cstdint>
@@ -23,14 +24,15 @@
 namespace oocsimp {
 
 struct CurvatureCellSettings {
-  /// A vertex matches a cell of side s when both its principal curvatures lie within
-  /// tolerance / s of the cell's means.
+  /// A cell of side s splits when a child's principal curvatures differ from its own
+  /// by more than tolerance / s; a vertex matches a leaf of side s when both its
+  /// curvatures lie within tolerance / s of the leaf's means.
   double tolerance = 0.5;
-  std::uint32_t max_depth = 3;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
+  std::uint32_t max_depth = 0;  ///< splits below a grid cell; capped where the finest grid would pass kMaxDim
 };
 
-/// A leaf of the octree: a cell of side grid.cell / 2^depth and its vertices' mean
-/// curvatures.
+/// A leaf of the octree: a cell of side grid.cell / 2^depth and, for the vertex
+/// representatives, its vertices' mean curvatures.
 struct LeafCell {
   std::uint64_t key = 0;  ///< cell coordinates at its depth, packed as GridSpec::key_relative does
   std::uint32_t depth = 0;
@@ -47,14 +49,17 @@ class VertexClusters {
   VertexClusters(const VertexClusters&) = delete;
   VertexClusters& operator=(const VertexClusters&) = delete;
 
-  /// Hua et al. §3.4: the octree. Depth by depth, two passes over the vertices not yet
-  /// in a leaf sum the curvatures of the cells that hold them, then make each cell
-  /// whose vertices all match its means a leaf; the others split, down to the
-  /// settings' depth. `k` holds k1, k2 of each vertex (mesh_curvatures.hpp). One
-  /// depth's sums stay within `budget` or the run stops with a UsageError. Leaves are
-  /// numbered by depth, then by their first vertex.
-  void find_leaves(const PositionArray& positions, const float* k, const MemoryBudget& budget,
-                   const ProgressCallback& progress);
+  /// Hua et al. §3.4: the octree, from the faces' moments (cluster/cell_moments.hpp).
+  /// Depth by depth, one pass over the triangle stream of `input` sums the moments of
+  /// the cells one depth down, where the cell above is undecided; a cell splits when
+  /// the curvature of one of its children (from the child's sums) differs from its own
+  /// (from its sums, its children's) by more than the tolerance over its side, down
+  /// to the settings' depth. Then each vertex goes to its
+  /// leaf. With `k` (each vertex's k1, k2, mesh_curvatures.hpp), a leaf's curvatures
+  /// are its vertices' means, for matches(); without, they are 0. The tables stay
+  /// within `budget` or the run stops with a UsageError. Leaves are numbered by their
+  /// first vertex.
+  void find_leaves(MeshInput& input, const float* k, const MemoryBudget& budget, const ProgressCallback& progress);
   /// The connected parts of each leaf: one pass over the triangle stream of `input`
   /// joins the two ends of every side whose ends share a leaf (union-find, each part
   /// named by its least vertex), so that two sheets passing through one cell stay two

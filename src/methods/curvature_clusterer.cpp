@@ -1,9 +1,11 @@
 // Vertex clustering by principal curvature: Hua, Huang & Li, "Mesh Simplification
 // Using Vertex Clustering Based on Principal Curvature". The steps:
-//   1. curvatures: every vertex's k1 and k2 by integral invariants (§3.4 eq. 8-18),
-//      out of core (curvature/mesh_curvatures.hpp);
-//   2. octree: the grid's N cells (§3.3 step 1), each split where its vertices'
-//      curvatures do not match the cell's (§3.4: "go on subdividing the bounding box");
+//   1. octree: the grid's N cells (§3.3 step 1), each split where the curvatures of
+//      its children do not match its own (§3.4: "go on subdividing the bounding box"),
+//      all estimated at the cells' scale from per-cell moments of the faces, summed in
+//      streaming passes like the quadrics (cluster/cell_moments.hpp);
+//   2. with vertex representatives only, every vertex's k1 and k2 by integral
+//      invariants (§3.4 eq. 8-18), out of core (curvature/mesh_curvatures.hpp);
 //   3. parts: each leaf cut into the connected parts of the surface in it, so two
 //      sheets through one cell stay apart (our rule; the paper merges them);
 //   4. clusters: OoCS's passes over them (methods/uniform_clusterer.cpp): quadrics
@@ -69,7 +71,8 @@ OutputMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const Gr
   settings.tolerance = options.curvature.tolerance;
   settings.max_depth = options.curvature.max_depth;
   VertexClusters clusters(grid, settings, input.positions.count, temp);
-  clusters.find_leaves(input.positions, k, budget, options.progress);
+  const bool vertex_rule = options.curvature.representative == RepresentativeRule::vertex;
+  clusters.find_leaves(input, vertex_rule ? k : nullptr, budget, options.progress);
   clock->end("octree");
 
   clusters.join_components(input, options.progress);
@@ -86,11 +89,10 @@ OutputMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const Gr
   return cluster_cells(input, options, grid, source, stats, quadrics);
 }
 
-// Whether the run reads the curvatures: without splits and with quadric
-// representatives nothing does, and the grid cells' parts run alone, at the uniform
-// grid's pace.
+// Whether the run reads the vertices' own curvatures: only the vertex representatives
+// do; the octree reads the cells' (find_leaves), at the uniform grid's pace.
 bool reads_curvatures(const SimplifyOptions& options) {
-  return options.curvature.max_depth > 0 || options.curvature.representative == RepresentativeRule::vertex;
+  return options.curvature.representative == RepresentativeRule::vertex;
 }
 
 // The levels, with the curvatures from `fill`.

@@ -35,7 +35,7 @@ struct CurvaturePartPlan {
   std::uint64_t vertices = 0, triangles = 0;
   double radius = 0;
   std::uint64_t invariant = 0, fitted = 0;  ///< the part's own vertices
-  /// 0 when the run reads no curvatures (no octree, quadric representatives): the
+  /// 0 when the run reads no vertex curvatures (quadric representatives): the
   /// parts estimate nothing and the merge runs it whole, at the uniform grid's pace.
   std::uint32_t estimated = 0;
   std::uint32_t reserved = 0;
