@@ -181,7 +181,7 @@ TEST_CASE("OBJ polygons are fanned", "[readers][obj]") {
   CHECK(m.triangles == std::vector<std::uint64_t>{4, 3, 2, 4, 2, 1, 4, 1, 0, 1, 2, 3, 1, 3, 4});
 }
 
-TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[readers][obj]") {
+TEST_CASE("OBJ reads v and f past vn vt vp g o s l and comment lines, and keeps mtllib and usemtl", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");
   std::string s =
@@ -210,6 +210,10 @@ TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[read
   CHECK(m.info.face_count == 2);
   CHECK(m.positions == kTextD);
   CHECK(m.triangles == kTris);
+  // The material library and the one material, which every face is of: no seam to
+  // split a vertex at.
+  CHECK(m.info.materials.libraries == std::vector<std::string>{"scene.mtl"});
+  CHECK(m.info.materials.names == std::vector<std::string>{"red"});
 }
 
 TEST_CASE("OBJ faces with fewer than three corners are skipped and counted", "[readers][obj]") {
