@@ -443,3 +443,130 @@ TEST_CASE("a .gz output is gzip, reads back as the same mesh, and is only there 
   CHECK(bad.exit_code == 3);
   CHECK(d.entries() == before);
 }
+
+namespace {
+
+// The common flags each subcommand takes: --quiet where it works on a mesh, --threads
+// where its work is parallel, --stats where a script reads the figures of a run that
+// writes a file, --json where the report is itself the output.
+struct CommonFlags {
+  const char* subcommand;
+  bool quiet, threads, stats, json;
+};
+const CommonFlags kCommonFlags[] = {
+    {"simplify", true, true, true, false},     {"merge", true, true, true, false},
+    {"hierarchy", true, true, true, false},    {"extract", true, false, true, false},
+    {"info", true, false, false, true},        {"generate", true, false, false, false},
+    {"measure", true, true, false, true},      {"curvature", true, true, true, false},
+    {"lod-select", false, false, false, true}, {"render", true, false, false, false},
+};
+
+}  // namespace
+
+TEST_CASE("every subcommand takes the common flags its work calls for", "[cli][options]") {
+  std::set<std::string> listed;
+  for (const CommonFlags& c : kCommonFlags) {
+    listed.insert(c.subcommand);
+    std::set<std::string> flags;
+    for (const ShownOption& o : shown_options(c.subcommand)) flags.insert(o.flag);
+    INFO(c.subcommand);
+    CHECK(flags.count("--quiet") == std::size_t(c.quiet));
+    CHECK(flags.count("--threads") == std::size_t(c.threads));
+    CHECK(flags.count("--stats") == std::size_t(c.stats));
+    CHECK(flags.count("--json") == std::size_t(c.json));
+  }
+  // The table covers every subcommand the program has.
+  CHECK(listed == std::set<std::string>(std::begin(kSubcommands), std::end(kSubcommands)));
+}
+
+TEST_CASE("hierarchy, extract and curvature write --stats as simplify does", "[cli][report]") {
+  ScratchDir d;
+  const std::string s = d.file("s.ply");
+  REQUIRE(run_cli("generate --quiet --tris 6000 -o " + q(s)).exit_code == 0);
+  const LoadedMesh input = load_mesh(s);
+  std::string version = run_cli("--version").out;  // "oocsimp X.Y.Z\n"
+  version = version.substr(8, version.find_last_not_of("\n") - 7);
+  struct Run {
+    std::string subcommand, in, out, args;
+  } runs[] = {
+      {"simplify", s, d.file("o.ply"), "--target-tris 1000"},
+      {"hierarchy", s, d.file("h.4k"), ""},
+      {"extract", d.file("h.4k"), d.file("e.ply"), "--level 2"},
+      {"curvature", s, d.file("k.ply"), ""},
+  };
+  for (const Run& run : runs) {
+    const std::string stats = d.file(run.subcommand + ".json");
+    const CliResult r =
+        run_cli(run.subcommand + " " + q(run.in) + " -o " + q(run.out) + " --stats " + q(stats) + " " + run.args);
+    INFO(run.subcommand << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json js = nlohmann::json::parse(read_file(stats));
+    CHECK(js.at("version").get<std::string>() == version);
+    CHECK(js.at("paths").at("input").get<std::string>() == run.in);
+    CHECK(js.at("paths").at("output").get<std::string>() == run.out);
+    CHECK(js.at("paths").at("stats").get<std::string>() == stats);
+    CHECK(js.at("options").is_object());
+    // The input is the generated mesh (for extract: the hierarchy's finest level, the same mesh).
+    CHECK(js.at("input").at("triangles").get<std::uint64_t>() == input.triangle_count());
+    CHECK(js.at("input").at("vertices").get<std::uint64_t>() == input.vertex_count());
+    if (run.subcommand != "hierarchy") {
+      const LoadedMesh out = load_mesh(run.out);
+      CHECK(js.at("output").at("triangles").get<std::uint64_t>() == out.triangle_count());
+      CHECK(js.at("output").at("vertices").get<std::uint64_t>() == out.vertex_count());
+    } else {
+      CHECK(js.at("output").at("bytes").get<std::uint64_t>() == read_file(run.out).size());
+    }
+    CHECK(js.at("warnings").is_array());
+    CHECK(js.at("seconds").at("total").get<double>() >= 0);
+    CHECK(js.at("memory").at("peak_rss_bytes").get<std::uint64_t>() > 0);
+  }
+  // extract's level 2 is coarser than the input, and simplify met its target.
+  CHECK(load_mesh(d.file("e.ply")).triangle_count() < input.triangle_count());
+  CHECK(load_mesh(d.file("o.ply")).triangle_count() == 1000);
+}
+
+TEST_CASE("a --stats of - puts the JSON on stdout and the summary on stderr, and a stats file may not be the input",
+          "[cli][report]") {
+  ScratchDir d;
+  const std::string s = d.file("s.ply");
+  REQUIRE(run_cli("generate --quiet --tris 3000 -o " + q(s)).exit_code == 0);
+  REQUIRE(run_cli("hierarchy --quiet " + q(s) + " -o " + q(d.file("h.4k"))).exit_code == 0);
+  const std::string in_bytes = read_file(s);
+  for (const std::string& args : {"hierarchy " + q(s) + " -o " + q(d.file("h2.4k")),
+                                  "extract " + q(d.file("h.4k")) + " -o " + q(d.file("e.ply")) + " --level 1",
+                                  "curvature " + q(s) + " -o " + q(d.file("k.ply"))}) {
+    CliResult r = run_cli(args + " --stats -");
+    INFO(args << "\n" << r.out << r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(nlohmann::json::parse(r.out).at("input").at("triangles").get<std::uint64_t>() > 0);
+    CHECK(r.err.find("input ") != std::string::npos);
+    CHECK(r.err.find("memory ") != std::string::npos);
+    // --quiet leaves the summary out, not the stats.
+    r = run_cli(args + " --quiet --stats -");
+    CHECK(nlohmann::json::parse(r.out).is_object());
+    CHECK(r.err.empty());
+    // A stats file that is the input is refused before anything is written.
+    const std::string first = args.substr(args.find(' ') + 1, args.find(' ', args.find(' ') + 1) - args.find(' ') - 1);
+    r = run_cli(args + " --stats " + first);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--stats") != std::string::npos);
+  }
+  CHECK(read_file(s) == in_bytes);
+  // extract with the mesh on stdout cannot put the stats there too.
+  const CliResult both = run_cli("extract " + q(d.file("h.4k")) + " -o - --level 1 --stats -");
+  CHECK(both.exit_code == 2);
+}
+
+TEST_CASE("hierarchy and curvature give the same files for any --threads", "[cli][options]") {
+  ScratchDir d;
+  const std::string s = q(d.file("s.ply"));
+  REQUIRE(run_cli("generate --quiet --tris 8000 -o " + s).exit_code == 0);
+  for (const char* threads : {"1", "2"}) {
+    const std::string t = threads;
+    REQUIRE(run_cli("hierarchy --quiet " + s + " -o " + q(d.file("h" + t + ".4k")) + " --threads " + t).exit_code == 0);
+    REQUIRE(run_cli("curvature --quiet " + s + " -o " + q(d.file("k" + t + ".ply")) + " --threads " + t).exit_code ==
+            0);
+  }
+  CHECK(read_file(d.file("h1.4k")) == read_file(d.file("h2.4k")));
+  CHECK(read_file(d.file("k1.ply")) == read_file(d.file("k2.ply")));
+}

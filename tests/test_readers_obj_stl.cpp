@@ -1,5 +1,9 @@
 // Tests of the streaming mesh readers through the public open_mesh_input() API: OBJ and STL.
 // Every input is written by the test itself into a scratch folder.
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <map>
 #include <sstream>
 
 #include "reader_test_files.hpp"
@@ -181,7 +185,7 @@ TEST_CASE("OBJ polygons are fanned", "[readers][obj]") {
   CHECK(m.triangles == std::vector<std::uint64_t>{4, 3, 2, 4, 2, 1, 4, 1, 0, 1, 2, 3, 1, 3, 4});
 }
 
-TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[readers][obj]") {
+TEST_CASE("OBJ reads v and f past vn vt vp g o s l and comment lines, and keeps mtllib and usemtl", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");
   std::string s =
@@ -210,6 +214,10 @@ TEST_CASE("OBJ ignores vn vt vp g o s usemtl mtllib l and comment lines", "[read
   CHECK(m.info.face_count == 2);
   CHECK(m.positions == kTextD);
   CHECK(m.triangles == kTris);
+  // The material library and the one material, which every face is of: no seam to
+  // split a vertex at.
+  CHECK(m.info.materials.libraries == std::vector<std::string>{"scene.mtl"});
+  CHECK(m.info.materials.names == std::vector<std::string>{"red"});
 }
 
 TEST_CASE("OBJ faces with fewer than three corners are skipped and counted", "[readers][obj]") {
@@ -401,9 +409,117 @@ TEST_CASE("OBJ materials: mtllib and usemtl groups survive the edge collapse and
   const oocsimp_test::CliResult ply =
       oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.ply") + " --target-tris 64");
   REQUIRE(ply.exit_code == 0);
-  CHECK_THAT(ply.err, Catch::Contains("only OBJ has materials") && Catch::Contains("mtllib scene.mtl"));
+  CHECK_THAT(ply.err, Catch::Contains("only OBJ and glTF have materials") && Catch::Contains("mtllib scene.mtl"));
+  // glTF keeps them (below).
   const oocsimp_test::CliResult glb =
       oocsimp_test::run_cli("simplify " + d.file("in.obj") + " -o " + d.file("out.glb") + " --target-tris 64");
   REQUIRE(glb.exit_code == 0);
-  CHECK_THAT(glb.err, Catch::Contains("only OBJ has materials"));
+  CHECK(glb.err.find("materials") == std::string::npos);
+}
+
+namespace {
+
+// The triangles of each primitive of a .glb by its material's name ("" for none), and
+// the libraries in its root's extras.mtllib, read from the JSON chunk.
+std::map<std::string, std::size_t> glb_faces_per_material(const std::string& bytes,
+                                                          std::vector<std::string>* libraries) {
+  REQUIRE(bytes.size() >= 20);
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, bytes.data() + 12, 4);
+  const nlohmann::json js = nlohmann::json::parse(bytes.substr(20, json_length));
+  std::map<std::string, std::size_t> faces;
+  for (const nlohmann::json& p : js.at("meshes").at(0).at("primitives")) {
+    std::string name;
+    if (p.contains("material"))
+      name = js.at("materials").at(p.at("material").get<std::size_t>()).at("name").get<std::string>();
+    faces[name] += js.at("accessors").at(p.at("indices").get<std::size_t>()).at("count").get<std::size_t>() / 3;
+  }
+  if (js.contains("extras"))
+    for (const nlohmann::json& library : js.at("extras").at("mtllib")) libraries->push_back(library.get<std::string>());
+  return faces;
+}
+
+std::map<std::string, std::size_t> obj_faces_per_material(const std::vector<ObjFace>& faces) {
+  std::map<std::string, std::size_t> counts;
+  for (const ObjFace& f : faces) ++counts[f.material];
+  return counts;
+}
+
+}  // namespace
+
+TEST_CASE("glTF keeps the materials: OBJ to glb to OBJ with the faces of each material", "[readers][glb][obj][cli]") {
+  ScratchDir d;
+  const int n = 16;  // 2 n^2 = 512 triangles, n^2 of each material
+  const std::size_t half = std::size_t(n) * n;
+  write_file(d.file("in.obj"), two_material_obj(n));
+  const auto simplify = [&](const std::string& in, const std::string& out, int target) {
+    const oocsimp_test::CliResult r = oocsimp_test::run_cli("simplify --quiet " + d.file(in) + " -o " + d.file(out) +
+                                                            " --target-tris " + std::to_string(target));
+    INFO(in << " -> " << out << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.find("materials") == std::string::npos);
+  };
+  // At the input's own count nothing is removed: each material keeps its n^2 faces.
+  simplify("in.obj", "full.glb", 2 * n * n);
+  std::vector<std::string> libraries;
+  const std::map<std::string, std::size_t> both{{"left", half}, {"right", half}};
+  CHECK(glb_faces_per_material(oocsimp_test::read_file(d.file("full.glb")), &libraries) == both);
+  CHECK(libraries == std::vector<std::string>{"scene.mtl"});
+  {
+    oocsimp::MeshInput m = oocsimp::open_mesh_input(d.file("full.glb"));
+    CHECK(m.info.materials.libraries == std::vector<std::string>{"scene.mtl"});
+    CHECK(m.info.materials.names == std::vector<std::string>{"left", "right"});
+    REQUIRE(m.attributes.size() == 2);
+    CHECK(m.attributes.attributes[0].name == "material_0");
+    CHECK(m.attributes.attributes[1].name == "material_1");
+    // Each primitive holds the vertices of its half: n / 2 + 1 columns of n + 1, the
+    // seam's column in both, as the OBJ reader split it.
+    CHECK(m.positions.count == std::uint64_t(2 * (n / 2 + 1) * (n + 1)));
+  }
+  // glb to OBJ: the same groups, each face on its material's side of x = 0.5.
+  simplify("full.glb", "back.obj", 2 * n * n);
+  libraries.clear();
+  const std::vector<ObjFace> back = obj_faces(oocsimp_test::read_file(d.file("back.obj")), &libraries);
+  CHECK(libraries == std::vector<std::string>{"scene.mtl"});
+  CHECK(obj_faces_per_material(back) == both);
+  for (const ObjFace& f : back) {
+    const double centre = (f.x[0] + f.x[1] + f.x[2]) / 3;
+    CHECK((f.material == "left" ? centre < 0.5 : centre > 0.5));
+  }
+  // Simplified, the glb and the OBJ of one run have the same faces of each material.
+  simplify("in.obj", "small.glb", 64);
+  simplify("in.obj", "small.obj", 64);
+  libraries.clear();
+  const std::map<std::string, std::size_t> small_glb =
+      glb_faces_per_material(oocsimp_test::read_file(d.file("small.glb")), &libraries);
+  std::vector<std::string> obj_libraries;
+  CHECK(small_glb == obj_faces_per_material(obj_faces(oocsimp_test::read_file(d.file("small.obj")), &obj_libraries)));
+  CHECK(small_glb.size() == 2);
+  CHECK(small_glb.count("left") + small_glb.count("right") == 2);
+  CHECK(small_glb.at("left") + small_glb.at("right") == 64);
+  // glb to glb keeps them too.
+  simplify("full.glb", "small2.glb", 64);
+  libraries.clear();
+  const std::map<std::string, std::size_t> small2 =
+      glb_faces_per_material(oocsimp_test::read_file(d.file("small2.glb")), &libraries);
+  CHECK(libraries == std::vector<std::string>{"scene.mtl"});
+  CHECK(small2.size() == 2);
+  CHECK(small2.count("left") + small2.count("right") == 2);
+}
+
+TEST_CASE("formats without materials warn once, naming what they drop", "[readers][obj][cli]") {
+  ScratchDir d;
+  write_file(d.file("in.obj"), two_material_obj(16));
+  for (const char* out : {"o.ply", "o.stl", "o.off"}) {
+    const oocsimp_test::CliResult r =
+        oocsimp_test::run_cli("simplify --quiet " + d.file("in.obj") + " -o " + d.file(out) + " --target-tris 64");
+    INFO(out << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    const std::string warning = "only OBJ and glTF have materials";
+    const std::size_t at = r.err.find(warning);
+    CHECK(at != std::string::npos);
+    CHECK(r.err.find(warning, at + 1) == std::string::npos);
+    CHECK_THAT(r.err, Catch::Contains("mtllib scene.mtl") && Catch::Contains("2 materials (usemtl)") &&
+                          Catch::Contains("write .obj or .glb"));
+  }
 }

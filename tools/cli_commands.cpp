@@ -3,11 +3,109 @@
 // CLI11 fills, add_<name>_command declaring its options and run_<name> doing the work.
 #include "cli_commands.hpp"
 
+#include <filesystem>
+#include <system_error>
+
 namespace oocsimp_cli {
 
 // The units of a 4-k record's error (HierarchyRecord::error), which info, hierarchy
 // and extract --error share.
 const char* const kHierarchyErrorUnits = "area x squared distance, model units^4";
+
+// --- --stats of hierarchy, extract and curvature, in the shape simplify's has: version,
+// paths, options, input, the work, output, warnings, seconds and memory.
+
+std::string json_string(const std::string& text);
+std::string json_strings(const std::vector<std::string>& list);
+
+void add_stats_option(CLI::App* cmd, std::string* path) {
+  cmd->add_option("--stats", *path, "Write statistics as JSON to this file (- for stdout; default: none written)");
+}
+
+// Whether two paths name one file: the same text, or both there and the same inode.
+bool same_path(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec) && !ec;
+}
+
+// Refused before the run (exit 2), as simplify refuses them: a stats file that is the
+// input or the output, and both on stdout.
+void check_stats_path(const std::string& stats, const std::string& input, const std::string& output) {
+  if (stats.empty()) return;
+  if (stats == "-" && output == "-") throw UsageError("-o - and --stats - cannot both write to stdout");
+  if (stats != "-" && same_path(stats, input)) throw UsageError("--stats " + stats + " is the input " + input);
+  if (stats != "-" && same_path(stats, output)) throw UsageError("--stats " + stats + " is the output " + output);
+}
+
+// `fields` ("\"name\": value" each) as one JSON object, written after the run worked:
+// to stdout for "-", else through a temporary file renamed into place, so a failed
+// write leaves no half file.
+void write_stats(const std::string& path, const std::vector<std::string>& fields) {
+  std::string js = "{\n";
+  for (std::size_t k = 0; k < fields.size(); ++k) js += "  " + fields[k] + (k + 1 < fields.size() ? ",\n" : "\n");
+  js += "}\n";
+  if (path == "-") {
+    std::fputs(js.c_str(), stdout);
+    std::fflush(stdout);
+    return;
+  }
+  const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out << js;
+    out.close();
+    if (!out) {
+      std::remove(temp.c_str());
+      throw IoError(path + ": cannot write the statistics");
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw IoError(path + ": cannot write the statistics: " + std::strerror(errno));
+  }
+}
+
+std::string json_field(const char* name, const std::string& value) { return json_string(name) + ": " + value; }
+
+std::string json_count(std::uint64_t n) { return std::to_string(n); }
+
+// The shortest text that reads back as `v`, as simplify's --stats writes numbers; null
+// where JSON has no number.
+std::string json_shortest(double v) {
+  if (!std::isfinite(v)) return "null";
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+  return std::string(text, end);
+}
+
+std::string json_bool(bool b) { return b ? "true" : "false"; }
+
+std::vector<std::string> stats_head(const std::string& input, const std::string& output, const std::string& stats) {
+  return {json_field("version", json_string(version())),
+          json_field("paths", "{\"input\": " + json_string(input) + ", \"output\": " + json_string(output) +
+                                  ", \"stats\": " + json_string(stats) + "}")};
+}
+
+// Seconds to the microsecond, as simplify's --stats writes them.
+std::string json_seconds(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6f", v);
+  return text;
+}
+
+std::vector<std::string> stats_tail(const std::vector<std::string>& warnings, double seconds,
+                                    std::uint64_t peak_rss_bytes, std::uint64_t peak_anon_bytes) {
+  return {json_field("warnings", json_strings(warnings)),
+          json_field("seconds", "{\"total\": " + json_seconds(seconds) + "}"),
+          json_field("memory", "{\"peak_rss_bytes\": " + json_count(peak_rss_bytes) +
+                                   ", \"peak_anon_bytes\": " + json_count(peak_anon_bytes) + "}")};
+}
+
+std::vector<std::string> joined(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
 
 // --- merge
 
@@ -72,6 +170,7 @@ CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a) {
             "QEM; 1: Velho's, a shallower hierarchy)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
+  add_stats_option(cmd, &a.stats);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
@@ -92,35 +191,65 @@ int run_hierarchy(HierarchyArgs& a) {
   o.attributes = parse_attribute_selection(a.attributes);
   if (a.threads.given()) o.threads = threads_of(a.threads);
   if (a.mem.given()) o.memory_budget = memory_budget_of(a.mem);
+  check_stats_path(a.stats, a.in, a.out);
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   HierarchyStats st;
   build_hierarchy_file(a.in, a.out, o, &st);
+  std::vector<std::string> warnings;
   if (st.flipped_faces + st.cut_edges + st.detached_faces > 0)
-    std::fprintf(stderr,
-                 "oocsimp: warning: %s is not a manifold surface wound consistently; repaired: %" PRIu64
-                 " faces turned to agree with their neighbours, %" PRIu64
-                 " edges of three or more faces (or that could "
-                 "not agree) cut, %" PRIu64 " faces given vertices of their own (--no-repair refuses such a mesh)\n",
-                 a.in.c_str(), st.flipped_faces, st.cut_edges, st.detached_faces);
+    warnings.push_back(
+        a.in + " is not a manifold surface wound consistently; repaired: " + std::to_string(st.flipped_faces) +
+        " faces turned to agree with their neighbours, " + std::to_string(st.cut_edges) +
+        " edges of three or more faces (or that could not agree) cut, " + std::to_string(st.detached_faces) +
+        " faces given vertices of their own (--no-repair refuses such a mesh)");
   if (o.reuse_quadrics && !st.reduced_triangles)
-    std::fprintf(stderr,
-                 "oocsimp: warning: --reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the "
-                 "hierarchy started from the faces' quadrics\n");
+    warnings.push_back(
+        "--reuse-quadrics: the input fitted --mem, so no out-of-core phase ran; the hierarchy started from the faces' "
+        "quadrics");
+  print_warnings(warnings);
+  if (!a.stats.empty()) {
+    const std::string options =
+        "{\"levels\": " + json_count(o.levels) + ", \"level_ratio\": " + json_shortest(o.level_ratio) +
+        ", \"sets\": " + json_count(o.sets_per_level) + ", \"sequential\": " + json_bool(!o.independent) +
+        ", \"reuse_quadrics\": " + json_bool(o.reuse_quadrics) + ", \"repair\": " + json_bool(o.repair) +
+        ", \"mem_bytes\": " + json_count(o.memory_budget ? o.memory_budget : default_memory_budget()) +
+        ", \"threads\": " + json_count(o.threads) +
+        ", \"tmp\": " + json_string(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir) + "}";
+    const std::string work =
+        "{\"reduced_triangles\": " + json_count(st.reduced_triangles) +
+        ", \"kept_quadrics\": " + json_bool(st.kept_quadrics) +
+        ", \"split_vertices\": " + json_count(st.split_vertices) +
+        ", \"flipped_faces\": " + json_count(st.flipped_faces) + ", \"cut_edges\": " + json_count(st.cut_edges) +
+        ", \"detached_faces\": " + json_count(st.detached_faces) + ", \"records\": " + json_count(st.records) +
+        ", \"swaps\": " + json_count(st.swaps) + ", \"removals\": " + json_count(st.records - st.swaps) +
+        ", \"largest_error\": " + json_shortest(st.largest_error) +
+        ", \"error_units\": " + json_string(kHierarchyErrorUnits) + "}";
+    write_stats(a.stats,
+                joined(joined(stats_head(a.in, a.out, a.stats),
+                              {json_field("options", options),
+                               json_field("input", "{\"vertices\": " + json_count(st.input_vertices) +
+                                                       ", \"triangles\": " + json_count(st.input_triangles) + "}"),
+                               json_field("hierarchy", work),
+                               json_field("output", "{\"bytes\": " + json_count(st.file_bytes) + "}")}),
+                       stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+  }
   if (a.quiet) return kOk;
+  // stdout may carry the stats: then the summary goes to stderr.
+  std::FILE* to = a.stats == "-" ? stderr : stdout;
   char reduced[96] = "";
   if (st.reduced_triangles)
     std::snprintf(reduced, sizeof reduced, " (simplified out of core to %" PRIu64 " first%s)", st.reduced_triangles,
                   st.kept_quadrics ? ", its quadrics kept" : "");
-  print_input_line(stdout, st.input_vertices, st.input_triangles, reduced);
+  print_input_line(to, st.input_vertices, st.input_triangles, reduced);
   if (st.split_vertices)
-    std::printf("split   %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
-  std::printf("records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), largest error %.6g (%s)\n", st.records,
-              st.swaps, st.records - st.swaps, st.largest_error, kHierarchyErrorUnits);
-  std::printf("output  %s, %.1f MiB\n", a.out.c_str(), double(st.file_bytes) / 1048576.0);
-  std::printf("time    %.3f s: %.2f Mtri/s\n", st.seconds,
-              st.seconds > 0 ? double(st.input_triangles) / st.seconds / 1e6 : 0.0);
-  print_memory_line(stdout, st.peak_rss_bytes, st.peak_anon_bytes);
+    std::fprintf(to, "split   %" PRIu64 " vertices where several fans of faces met\n", st.split_vertices);
+  std::fprintf(to, "records %" PRIu64 " (%" PRIu64 " swaps, %" PRIu64 " removals), largest error %.6g (%s)\n",
+               st.records, st.swaps, st.records - st.swaps, st.largest_error, kHierarchyErrorUnits);
+  std::fprintf(to, "output  %s, %.1f MiB\n", a.out.c_str(), double(st.file_bytes) / 1048576.0);
+  std::fprintf(to, "time    %.3f s: %.2f Mtri/s\n", st.seconds,
+               st.seconds > 0 ? double(st.input_triangles) / st.seconds / 1e6 : 0.0);
+  print_memory_line(to, st.peak_rss_bytes, st.peak_anon_bytes);
   return kOk;
 }
 
@@ -142,6 +271,7 @@ CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
                   "Where the kept vertices go: quadric (each at the minimum of the quadric it holds, the default) "
                   "or kept (where the finest mesh has them)");
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY or STL");
+  add_stats_option(cmd, &a.stats);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
@@ -192,11 +322,35 @@ int run_extract(const ExtractArgs& a) {
     q.radius = s[3];
   }
   q.placement = a.placement;
+  check_stats_path(a.stats, a.in, a.out);
   ProgressReporter progress(a.quiet);
   ExtractStats st;
   extract_file(a.in, a.out, a.ascii, q, progress.callback(), &st);
+  if (!a.stats.empty()) {
+    std::string query = "{";
+    if (a.level.given()) query += "\"level\": " + json_count(q.level);
+    if (a.tris.given()) query += "\"triangles\": " + json_count(q.triangles);
+    if (a.error.given()) query += "\"error\": " + json_shortest(q.error);
+    if (q.region == HierarchyQuery::Region::box)
+      query += ", \"box\": {\"min\": [" + json_shortest(q.box.min.x) + ", " + json_shortest(q.box.min.y) + ", " +
+               json_shortest(q.box.min.z) + "], \"max\": [" + json_shortest(q.box.max.x) + ", " +
+               json_shortest(q.box.max.y) + ", " + json_shortest(q.box.max.z) + "]}";
+    if (q.region == HierarchyQuery::Region::sphere)
+      query += ", \"sphere\": {\"centre\": [" + json_shortest(q.centre.x) + ", " + json_shortest(q.centre.y) + ", " +
+               json_shortest(q.centre.z) + "], \"radius\": " + json_shortest(q.radius) + "}";
+    query += ", \"placement\": " + json_string(name_of(hierarchy_placement_names(), q.placement)) +
+             ", \"ascii\": " + json_bool(a.ascii) + ", \"error_units\": " + json_string(kHierarchyErrorUnits) + "}";
+    write_stats(a.stats,
+                joined(joined(stats_head(a.in, a.out, a.stats),
+                              {json_field("options", query),
+                               json_field("input", "{\"vertices\": " + json_count(st.finest_vertices) +
+                                                       ", \"triangles\": " + json_count(st.finest_triangles) + "}"),
+                               json_field("output", "{\"vertices\": " + json_count(st.output_vertices) +
+                                                        ", \"triangles\": " + json_count(st.output_triangles) + "}")}),
+                       stats_tail({}, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+  }
   if (a.quiet) return kOk;
-  std::FILE* to = a.out == "-" ? stderr : stdout;
+  std::FILE* to = a.out == "-" || a.stats == "-" ? stderr : stdout;
   print_input_line(to, st.finest_vertices, st.finest_triangles, " (the hierarchy's finest level)");
   std::fprintf(to, "output  %" PRIu64 " vertices, %" PRIu64 " triangles\n", st.output_vertices, st.output_triangles);
   std::fprintf(to, "time    %.3f s\n", st.seconds);
@@ -526,6 +680,7 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
   cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
+  add_stats_option(cmd, &a.stats);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
 }
@@ -538,35 +693,67 @@ int run_curvature(CurvatureArgs& a) {
   if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
   if (a.at_scale.given()) o.at_scale = positive_number("--at-scale", a.at_scale.text);
   o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
+  check_stats_path(a.stats, a.in, a.out);
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   CurvatureStats st;
   curvature_file(a.in, a.out, a.ascii, o, &st);
-  if (st.at_scale == 0 && st.fitted + st.none > 0 && !a.quiet)
-    std::fprintf(stderr,
-                 "oocsimp: warning: %" PRIu64
-                 " vertices where the surface does not cover the disk of radius %g (an "
-                 "outline, a hole or a soup) were fitted with a quadric instead, and %" PRIu64
-                 " with no face, area or neighbours within it got 0\n",
-                 st.fitted, st.radius, st.none);
-  if (st.at_scale > 0 && st.none > 0 && !a.quiet)
-    std::fprintf(stderr, "oocsimp: warning: %" PRIu64 " vertices with no cell around them that has an estimate got 0\n",
-                 st.none);
-  if (a.quiet) return kOk;
-  print_input_line(stdout, st.vertices, st.triangles);
-  if (st.at_scale > 0) {
-    std::printf("scale   cells of side %g\n", st.at_scale);
-    std::printf("estimated %" PRIu64 " from the cells around them, %" PRIu64 " not at all\n", st.invariant, st.none);
-  } else {
-    std::printf("radius  %g (mean edge %g), %s\n", st.radius, st.mean_edge_length, a.neighbourhood.c_str());
-    std::printf("estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
-                st.invariant, st.fitted, st.none,
-                st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
+  std::vector<std::string> warnings;
+  char w[320];
+  if (st.at_scale == 0 && st.fitted + st.none > 0) {
+    std::snprintf(w, sizeof w,
+                  "%" PRIu64
+                  " vertices where the surface does not cover the disk of radius %g (an outline, a hole or a soup) "
+                  "were fitted with a quadric instead, and %" PRIu64
+                  " with no face, area or neighbours within it got 0",
+                  st.fitted, st.radius, st.none);
+    warnings.push_back(w);
   }
-  std::printf("output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.out.c_str(), st.vertices);
-  std::printf("time    %.3f s: %.2f M vertices/s\n", st.seconds,
-              st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0);
-  print_memory_line(stdout, st.peak_rss_bytes, st.peak_anon_bytes);
+  if (st.at_scale > 0 && st.none > 0) {
+    std::snprintf(w, sizeof w, "%" PRIu64 " vertices with no cell around them that has an estimate got 0", st.none);
+    warnings.push_back(w);
+  }
+  if (!a.quiet) print_warnings(warnings);
+  if (!a.stats.empty()) {
+    const std::string options =
+        "{\"radius\": " + json_shortest(st.radius) + ", \"neighbourhood\": " + json_string(a.neighbourhood) +
+        ", \"at_scale\": " + json_shortest(st.at_scale) + ", \"tile\": " + json_shortest(st.tile_side) +
+        ", \"mem_bytes\": " + json_count(o.memory_budget ? o.memory_budget : default_memory_budget()) +
+        ", \"threads\": " + json_count(o.threads) +
+        ", \"tmp\": " + json_string(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir) +
+        ", \"ascii\": " + json_bool(a.ascii) + "}";
+    const std::string work =
+        "{\"radius\": " + json_shortest(st.radius) + ", \"mean_edge_length\": " + json_shortest(st.mean_edge_length) +
+        ", \"at_scale\": " + json_shortest(st.at_scale) + ", \"tile_side\": " + json_shortest(st.tile_side) +
+        ", \"invariant\": " + json_count(st.invariant) + ", \"fitted\": " + json_count(st.fitted) +
+        ", \"none\": " + json_count(st.none) + "}";
+    write_stats(a.stats,
+                joined(joined(stats_head(a.in, a.out, a.stats),
+                              {json_field("options", options),
+                               json_field("input", "{\"vertices\": " + json_count(st.vertices) +
+                                                       ", \"triangles\": " + json_count(st.triangles) + "}"),
+                               json_field("curvature", work),
+                               json_field("output", "{\"vertices\": " + json_count(st.vertices) +
+                                                        ", \"triangles\": " + json_count(st.triangles) + "}")}),
+                       stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+  }
+  if (a.quiet) return kOk;
+  std::FILE* to = a.stats == "-" ? stderr : stdout;
+  print_input_line(to, st.vertices, st.triangles);
+  if (st.at_scale > 0) {
+    std::fprintf(to, "scale   cells of side %g\n", st.at_scale);
+    std::fprintf(to, "estimated %" PRIu64 " from the cells around them, %" PRIu64 " not at all\n", st.invariant,
+                 st.none);
+  } else {
+    std::fprintf(to, "radius  %g (mean edge %g), %s\n", st.radius, st.mean_edge_length, a.neighbourhood.c_str());
+    std::fprintf(to, "estimated %" PRIu64 " by the invariants, %" PRIu64 " by the fit, %" PRIu64 " not at all, %s\n",
+                 st.invariant, st.fitted, st.none,
+                 st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
+  }
+  std::fprintf(to, "output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.out.c_str(), st.vertices);
+  std::fprintf(to, "time    %.3f s: %.2f M vertices/s\n", st.seconds,
+               st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0);
+  print_memory_line(to, st.peak_rss_bytes, st.peak_anon_bytes);
   return kOk;
 }
 

@@ -15,7 +15,7 @@ struct MergeArgs {
 };
 
 struct HierarchyArgs {
-  std::string in, out;
+  std::string in, out, stats;
   Given levels, threads, mem, level_ratio, sets;
   HierarchyOptions options;
   bool quiet = false, sequential = false, reuse_quadrics = false, repair = true;
@@ -23,7 +23,7 @@ struct HierarchyArgs {
 };
 
 struct ExtractArgs {
-  std::string in, out;
+  std::string in, out, stats;
   Given level, tris, error, box, sphere;
   HierarchyPlacement placement = HierarchyPlacement::quadric;
   bool ascii = false, quiet = false;
@@ -50,7 +50,7 @@ struct MeasureArgs {
 };
 
 struct CurvatureArgs {
-  std::string in, out;
+  std::string in, out, stats;
   Given radius, threads, mem, tile, at_scale;
   std::string neighbourhood = "ball";
   CurvatureOptions options;

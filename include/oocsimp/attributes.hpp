@@ -73,7 +73,10 @@ struct AttributeArray {
 /// The attributes of a simplified mesh: `values` holds attributes.size() values per
 /// output vertex, in the attributes' order; integer types hold whole numbers in range.
 /// OBJ's materials: the library files its `mtllib` lines name, as written, and the
-/// materials its `usemtl` lines use, in the order of first use. A mesh carries them
+/// materials its `usemtl` lines use, in the order of first use; from a glTF file, the
+/// names of its primitives' materials in the order of first use ("materialI" for
+/// materials[I] without a name) and the library its writer kept (the root's
+/// extras.mtllib). A mesh carries them
 /// as one float vertex attribute per material, "material_K" for names[K]: 1 on the
 /// vertices of that material's faces, 0 elsewhere (a vertex where materials meet is
 /// split, one per material, as at a texture seam, and the edge collapse keeps such

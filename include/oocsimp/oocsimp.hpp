@@ -184,9 +184,10 @@ void write_mesh(const std::string& path, const std::vector<double>& positions,
 /// none.
 bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
 
-/// Whether `format` keeps OBJ materials (Materials): OBJ, as its mtllib line and usemtl
-/// groups. PLY keeps the material_K attributes as vertex properties but no library
-/// reference; glTF, STL and OFF keep neither.
+/// Whether `format` keeps materials (Materials): OBJ, as its mtllib line and usemtl
+/// groups, and glTF, as one primitive per material naming it (the library in the
+/// root's extras.mtllib). PLY keeps the material_K attributes as vertex properties but
+/// no library reference; STL and OFF keep neither.
 bool format_keeps_materials(MeshFormat format);
 
 /// Whether `format` stores thick edges and points with their thickness (PLY only; OBJ

@@ -500,7 +500,8 @@ std::string attributes_not_written(const std::string& path, MeshFormat format,
         (is(a, {"red", "green", "blue", "nx", "ny", "nz"}) || is_texture_coordinate(a.name)))
       continue;
     if (format == MeshFormat::glb && a.name == "alpha") continue;
-    if (format == MeshFormat::obj && is_material_attribute(a.name)) continue;  // usemtl groups
+    if ((format == MeshFormat::obj || format == MeshFormat::glb) && is_material_attribute(a.name))
+      continue;  // usemtl groups, glTF primitives
     names += (names.empty() ? "" : ", ") + a.name;
   }
   const char* what =
@@ -510,7 +511,8 @@ std::string attributes_not_written(const std::string& path, MeshFormat format,
   return path + ": " + what + "; " + names + " not written (write .ply to keep every attribute)";
 }
 
-// The warning for an output format that has no materials: OBJ's mtllib and usemtl.
+// The warning for an output format that has no materials: OBJ's mtllib and usemtl,
+// glTF's materials of primitives.
 std::string materials_not_written(const std::string& path, MeshFormat format, const Materials& materials) {
   std::string what;
   if (!materials.libraries.empty()) what = "the material library (mtllib " + materials.libraries.front() + ")";
@@ -518,9 +520,9 @@ std::string materials_not_written(const std::string& path, MeshFormat format, co
     what += std::string(what.empty() ? "" : " and ") + "the faces' " + std::to_string(materials.names.size()) +
             " materials (usemtl)";
   const bool ply = format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii;
-  return path + ": only OBJ has materials; " + what +
+  return path + ": only OBJ and glTF have materials; " + what +
          (ply && !materials.names.empty() ? " kept only as the vertex properties material_0..." : " not written") +
-         " (write .obj to keep them)";
+         " (write .obj or .glb to keep them)";
 }
 
 // Opens the input as `options` say (welding, attributes, budget, progress).

@@ -32,6 +32,10 @@ struct AttributeCandidate {
   AttributeType type = AttributeType::f32;
 };
 
+/// Materials past this many are not carried (OBJ's usemtl groups, glTF's primitives'
+/// materials): each is an attribute of every vertex.
+constexpr std::size_t kMostMaterials = 64;
+
 /// Whether any of `attributes` is a texture coordinate.
 bool carries_texture_coordinates(const std::vector<VertexAttribute>& attributes);
 

@@ -1,7 +1,11 @@
 // Binary glTF 2.0 reader (.glb; Khronos glTF 2.0 specification §4.4): the triangle
 // primitives of the default scene's nodes, each placed by its node's world transform
 // (§3.5.3), concatenated into one mesh: POSITION, and NORMAL, TEXCOORD_0 and COLOR_0
-// as the vertex attributes nx, ny, nz, u, v, and red, green, blue (alpha).
+// as the vertex attributes nx, ny, nz, u, v, and red, green, blue (alpha). A
+// primitive's material is carried as OBJ's usemtl groups are (Materials in
+// oocsimp/attributes.hpp): the material's name, and material_K on its vertices (each
+// placed primitive has vertices of its own, so no vertex is split); the root's
+// extras.mtllib, which the glb writer leaves there, is the material library.
 //
 // The JSON chunk is parsed whole (it describes, the data is elsewhere); the BIN chunk
 // is mapped, the input itself when it is an uncompressed regular file, else a copy in
@@ -185,6 +189,7 @@ struct Instance {
   // order is reversed, as glTF 2.0 §3.7.4 asks, and the normals' turn is negated.
   bool mirrored = false;
   std::uint64_t first_vertex = 0;  // its vertices' offset in the whole mesh
+  std::int64_t material = -1;      // its index into the JSON's materials, -1 for none
 };
 
 // Reads the JSON of a .glb and resolves what the mesh needs.
@@ -400,6 +405,11 @@ class GlbScene {
           fail(at + ".indices", std::to_string(in.indices.count) + " indices are not whole triangles");
       } else if (in.positions.count % 3 != 0) {
         fail(at, std::to_string(in.positions.count) + " unindexed vertices are not whole triangles");
+      }
+      if (primitive.contains("material")) {
+        const Json* materials = member(json_, "materials");
+        in.material = std::int64_t(index_of(primitive["material"], at + ".material",
+                                            materials && materials->is_array() ? materials->size() : 0));
       }
       if (out->size() == kMaxInstances)
         fail(at, "more than " + std::to_string(kMaxInstances) + " placed primitives (nodes naming meshes)");
@@ -667,6 +677,31 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
   } catch (const Json::exception& e) {  // a value of an unexpected type the checks let through
     throw InputError(src.path() + ": JSON chunk: " + e.what());
   }
+  // The primitives' materials by name, in the order of first use (two materials of one
+  // name are one group, as two usemtl lines of one name are), and the library.
+  std::vector<std::int64_t> group_of_material;  // the JSON's material index -> K, -1 when unused
+  if (const Json* materials = json.contains("materials") ? &json["materials"] : nullptr;
+      materials && materials->is_array())
+    group_of_material.assign(materials->size(), -1);
+  for (const Instance& in : *instances) {
+    if (in.material < 0 || group_of_material[std::size_t(in.material)] >= 0) continue;
+    const Json& material = json["materials"][std::size_t(in.material)];
+    std::string name = "material" + std::to_string(in.material);  // one without a name
+    if (material.is_object() && material.contains("name") && material["name"].is_string() &&
+        !material["name"].get_ref<const std::string&>().empty())
+      name = material["name"].get<std::string>();
+    std::vector<std::string>& names = out.info.materials.names;
+    const auto same = std::find(names.begin(), names.end(), name);
+    group_of_material[std::size_t(in.material)] = same - names.begin();
+    if (same == names.end()) names.push_back(name);
+  }
+  if (json.contains("extras") && json["extras"].is_object() && json["extras"].contains("mtllib")) {
+    const Json& libraries = json["extras"]["mtllib"];
+    if (libraries.is_string()) out.info.materials.libraries.push_back(libraries.get<std::string>());
+    if (libraries.is_array())
+      for (const Json& library : libraries)
+        if (library.is_string()) out.info.materials.libraries.push_back(library.get<std::string>());
+  }
   std::uint64_t vertices = 0, faces = 0;
   bool normals = false, texcoords = false, colours = false, alpha = false;
   for (Instance& in : *instances) {
@@ -690,6 +725,16 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
     for (const char* c : {"nx", "ny", "nz"}) offered.push_back({c, AttributeType::f32});
   if (texcoords)
     for (const char* c : {"u", "v"}) offered.push_back({c, AttributeType::f32});
+  const std::size_t first_material = offered.size(), material_count = out.info.materials.names.size();
+  std::size_t offered_materials = 0;
+  if (material_count > kMostMaterials) {
+    out.info.not_carried.push_back(src.path() + ": " + std::to_string(material_count) + " materials, more than the " +
+                                   std::to_string(kMostMaterials) + " carried; the faces' materials are dropped");
+  } else {
+    for (std::size_t k = 0; k < material_count; ++k)
+      offered.push_back({material_attribute_name(k), AttributeType::f32});
+    offered_materials = material_count;
+  }
   const std::vector<std::size_t> carried =
       carried_attributes(offered, options.attributes, src.path(), &out.info.not_carried);
   std::vector<VertexAttribute> attrs;
@@ -734,6 +779,8 @@ void open_glb(ByteSource& src, const OpenOptions& options, ProgressPhase& progre
         all[k++] = in.texcoords.data ? in.texcoords.get(i, 0) : 0.0;
         all[k++] = in.texcoords.data ? 1.0 - in.texcoords.get(i, 1) : 0.0;
       }
+      for (std::size_t g = 0; g < offered_materials; ++g)
+        all[first_material + g] = in.material >= 0 && group_of_material[std::size_t(in.material)] == std::int64_t(g);
       for (std::size_t j = 0; j < carried.size(); ++j) record[j] = all[carried[j]];
       attributes.add(record.data());
     }

@@ -167,6 +167,21 @@ std::vector<std::pair<std::size_t, std::size_t>> material_columns(const MeshArra
   return columns;
 }
 
+// The material of triangle t by the rule in Materials: the one of `columns` whose
+// attribute its corners sum highest, the first on a tie, `current` (the material of
+// the triangle before) when they carry none.
+std::size_t face_material(const MeshArrays& m, const std::vector<std::pair<std::size_t, std::size_t>>& columns,
+                          std::size_t t, std::size_t current) {
+  double best = 0;
+  std::size_t chosen = current;
+  for (const auto& [k, column] : columns) {
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += m.attribute(m.tri[3 * t + std::size_t(c)], column);
+    if (sum > best) best = sum, chosen = k;
+  }
+  return chosen;
+}
+
 void write_obj(ByteSink& sink, const MeshArrays& m) {
   TextOut out(sink);
   out.text() = "# oocsimp\n";
@@ -211,13 +226,7 @@ void write_obj(ByteSink& sink, const MeshArrays& m) {
   }
   for (std::size_t t = 0; t < m.triangles(); ++t) {
     if (!materials.empty()) {
-      double best = 0;
-      std::size_t chosen = current_material;
-      for (const auto& [k, column] : materials) {
-        double sum = 0;
-        for (int c = 0; c < 3; ++c) sum += m.attribute(m.tri[3 * t + std::size_t(c)], column);
-        if (sum > best) best = sum, chosen = k;
-      }
+      const std::size_t chosen = face_material(m, materials, t, current_material);
       if (chosen != current_material) {
         out.text() += "usemtl " + m.materials->names[chosen] + "\n";
         current_material = chosen;
@@ -420,6 +429,19 @@ void write_gltf(ByteSink& sink, const MeshArrays& m) {
     g.colour[k] = m.colour_index(colour[k]);
     if (g.colour[k] >= 0) g.colour_scale[k] = colour_scale(m.attribute_info(std::size_t(g.colour[k])).type);
   }
+  // The materials as OBJ writes them: each triangle's by the same rule, one primitive
+  // per material.
+  const std::vector<std::pair<std::size_t, std::size_t>> materials = material_columns(m);
+  std::vector<std::uint32_t> face_materials;
+  if (!materials.empty()) {
+    face_materials.resize(m.triangles());
+    std::size_t current = kNoMaterial;
+    for (std::size_t t = 0; t < m.triangles(); ++t)
+      face_materials[t] = std::uint32_t(current = face_material(m, materials, t, current));
+    g.face_materials = face_materials.data();
+    g.material_names = m.materials->names;
+  }
+  if (m.materials) g.material_libraries = m.materials->libraries;
   write_glb(sink, g);
 }
 
@@ -575,9 +597,9 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
   if (attributes.empty()) return true;
   if (format == MeshFormat::ply_binary || format == MeshFormat::ply_ascii) return true;
   if (format != MeshFormat::obj && format != MeshFormat::glb) return false;
-  // OBJ keeps the materials as usemtl groups (format_keeps_materials).
+  // OBJ keeps the materials as usemtl groups, glTF as a primitive each (format_keeps_materials).
   std::size_t material = 0;
-  if (format == MeshFormat::obj && !attributes.materials.names.empty())
+  if (!attributes.materials.names.empty())
     for (const VertexAttribute& a : attributes.attributes) material += is_material_attribute(a.name);
   // OBJ keeps colours ("v x y z r g b"), normals ("vn") and one pair of texture
   // coordinates ("vt"), each whole, and nothing else; glTF the same (COLOR_0 with
@@ -594,7 +616,7 @@ bool format_keeps_attributes(MeshFormat format, const AttributeValues& attribute
          std::size_t(colours + normals + alpha) + texture + material == attributes.attributes.size();
 }
 
-bool format_keeps_materials(MeshFormat format) { return format == MeshFormat::obj; }
+bool format_keeps_materials(MeshFormat format) { return format == MeshFormat::obj || format == MeshFormat::glb; }
 
 namespace {
 

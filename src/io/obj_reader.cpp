@@ -65,8 +65,6 @@ constexpr std::uint64_t kNoTexture = ~std::uint64_t(0);
 // It takes the top bits of a corner's key, the texture coordinate the rest.
 constexpr int kMaterialShift = 40;
 constexpr std::uint64_t kTextureKeyMask = (std::uint64_t(1) << kMaterialShift) - 1;
-// Materials past this many are not carried: each is an attribute of every vertex.
-constexpr std::size_t kMostMaterials = 64;
 
 // The rest of `line` after `keyword` and blanks when the line is that statement
 // ("usemtl wood"), trailing blanks removed; false otherwise.
