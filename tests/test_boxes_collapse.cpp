@@ -67,7 +67,7 @@ Collapsed collapse(const ScratchDir& d, const City& c, std::uint64_t target, dou
   o.target.triangles = target;
   o.target.max_error = max_error;
   const std::string out = d.file("out.ply");
-  simplify_file(c.path, out, false, o, nullptr);
+  simplify_file(c.path, out, o, nullptr);
   Collapsed r;
   r.mesh = load_mesh(out);
   MeasureOptions mo;

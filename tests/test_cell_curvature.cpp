@@ -419,7 +419,7 @@ TEST_CASE("a --mem too small for the cell tables exits 2 before reading a face, 
   s.temp_dir = d.path();
   phases.clear();
   s.progress = o.progress;
-  CHECK_THROWS_AS(simplify_file(in, d.file("z.ply"), false, s, nullptr), UsageError);
+  CHECK_THROWS_AS(simplify_file(in, d.file("z.ply"), s, nullptr), UsageError);
   CHECK(std::find(phases.begin(), phases.end(), std::string("curvature moments")) == phases.end());
   CHECK(d.entries() == std::vector<std::string>{"c-enough.ply", "c.ply", "enough.ply", "s.ply", "whole.ply"});
 }

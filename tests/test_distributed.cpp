@@ -308,7 +308,7 @@ TEST_CASE("curvature parts merged give one process's bytes for 1 to 4 parts, any
   o.method = oocsimp::ClusterMethod::curvature;
   o.sizing.grid = 40;
   o.curvature.representative = oocsimp::RepresentativeRule::vertex;
-  oocsimp::simplify_file(d.file("parts.ply"), d.file("one.ply"), false, o, nullptr);
+  oocsimp::simplify_file(d.file("parts.ply"), d.file("one.ply"), o, nullptr);
   o.curvature.tile_side = 0.15;
   ScratchDir work;
   for (std::uint32_t i = 0; i < 3; ++i) {
@@ -445,12 +445,12 @@ TEST_CASE("floating parts that exchange borders while they run give one process'
   o.floating.tile_side = 0.15;  // many tiles, so that borders cross parts everywhere
   o.threads = 1;
   o.memory_budget = std::uint64_t(40) << 20;  // the binary ranges in several steps
-  oocsimp::simplify_file(input, d.file("one.ply"), false, o, nullptr);
+  oocsimp::simplify_file(input, d.file("one.ply"), o, nullptr);
   // Ascii parts in one process convert their positions each: more memory.
   oocsimp::SimplifyOptions o_ascii = o;
   o_ascii.memory_budget = std::uint64_t(256) << 20;
   oocsimp::SimplifyStats whole;
-  oocsimp::simplify_file(ascii, d.file("one-ascii.ply"), false, o_ascii, &whole);
+  oocsimp::simplify_file(ascii, d.file("one-ascii.ply"), o_ascii, &whole);
   const std::uint64_t faces = whole.floating.faces_read;  // one process reads every face
   REQUIRE(faces >= whole.input_triangles);
   // Binary: each part reads its own range of the faces (with a delivery, or through
@@ -596,13 +596,12 @@ TEST_CASE("floating parts read their ranges only where every range can be read a
   } inputs[] = {{"mixed", mixed.size(), false}, {"nan", triangles.size(), false}, {"clean", triangles.size(), true}};
   for (const auto& in : inputs) {
     oocsimp::SimplifyStats whole;
-    oocsimp::simplify_file(d.file(in.name + std::string(".ply")), d.file(in.name + std::string("-one.ply")), false, o,
-                           &whole);
+    oocsimp::simplify_file(d.file(in.name + std::string(".ply")), d.file(in.name + std::string("-one.ply")), o, &whole);
     REQUIRE(whole.output_triangles > 0);
   }
   std::string one_error;
   try {
-    oocsimp::simplify_file(d.file("bad.ply"), d.file("bad-one.ply"), false, o, nullptr);
+    oocsimp::simplify_file(d.file("bad.ply"), d.file("bad-one.ply"), o, nullptr);
   } catch (const oocsimp::InputError& e) {
     one_error = e.what();
   }
@@ -647,7 +646,7 @@ TEST_CASE("merge_parts takes only how to run from its caller's options, the rest
   REQUIRE(run_cli("generate --shape parts --tris 30000 --seed 7 --quiet -o " + q(input)).exit_code == 0);
   oocsimp::SimplifyOptions o;
   o.target.triangles = 3000;
-  oocsimp::simplify_file(input, d.file("one.ply"), false, o, nullptr);
+  oocsimp::simplify_file(input, d.file("one.ply"), o, nullptr);
   for (std::uint32_t i = 0; i < 2; ++i) oocsimp::simplify_part(input, o, {i, 2, work.path()});
   // Options a caller might pass along that would change the result: not taken.
   oocsimp::SimplifyOptions runtime;

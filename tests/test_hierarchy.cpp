@@ -296,7 +296,7 @@ TEST_CASE("a sphere's levels are within 1.3x of the edge collapse's RMS at their
     SimplifyOptions o;
     o.method = ClusterMethod::qem;
     o.target.triangles = m.triangles.size() / 3;
-    simplify_file(sphere.path, qem, false, o, nullptr);
+    simplify_file(sphere.path, qem, o, nullptr);
     const double ours = distance_between(sphere.path, out).rms, collapse = distance_between(sphere.path, qem).rms;
     INFO("level " << j << ", " << m.triangles.size() / 3 << " faces: RMS " << ours << " against " << collapse);
     CHECK(ours < 1.3 * collapse);

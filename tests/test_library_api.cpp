@@ -112,7 +112,7 @@ TEST_CASE("one callback hears every phase of a run, balanced and one call at a t
     o.floating.tile_side = 0.3;  // several tiles
     if (method == ClusterMethod::qem) o.sizing = CellSizing(), o.target.triangles = 20000;
     o.progress = log.callback();
-    simplify_file(in, d.file("out.ply"), false, o, nullptr);
+    simplify_file(in, d.file("out.ply"), o, nullptr);
     CHECK_FALSE(log.overlapped);
     CHECK_FALSE(log.unmatched);
     CHECK_FALSE(log.beyond_total);
@@ -193,7 +193,7 @@ TEST_CASE("a callback that returns false cancels the run and leaves no file behi
     o.floating.tile_side = 0.3;
     o.progress = log.callback();
     const std::string out = d.file("cancelled.ply");
-    CHECK_THROWS_AS(simplify_file(in, out, false, o, nullptr), Cancelled);
+    CHECK_THROWS_AS(simplify_file(in, out, o, nullptr), Cancelled);
     CHECK_FALSE(file_exists(out));
     CHECK(tmp.entries().empty());
     CHECK(d.entries() == std::vector<std::string>{"sphere.ply"});
@@ -283,7 +283,7 @@ TEST_CASE("library errors name option fields, the CLI shows its flags instead", 
   const std::string in = sphere(d, 20000);
   auto message = [&](const SimplifyOptions& o) {
     try {
-      simplify_file(in, d.file("o.ply"), false, o, nullptr);
+      simplify_file(in, d.file("o.ply"), o, nullptr);
     } catch (const UsageError& e) {
       return std::string(e.what());
     }
@@ -322,7 +322,7 @@ TEST_CASE("a file simplified into memory is the mesh simplify_file writes, level
     INFO(method_name(method));
     SimplifyOptions o = small_run(method, tmp);
     if (method == ClusterMethod::qem) o.sizing = CellSizing(), o.target.triangles = 5000;
-    simplify_file(in, d.file("file.ply"), false, o, nullptr);
+    simplify_file(in, d.file("file.ply"), o, nullptr);
     SimplifyStats st;
     const SimplifiedMesh m = simplify_file_to_mesh(in, o, &st);
     CHECK(st.output_triangles == m.triangles.size() / 3);
@@ -350,7 +350,7 @@ TEST_CASE("a usage error about one option carries its field, which its message s
   const std::string in = sphere(d, 20000);
   auto error = [&](const SimplifyOptions& o) {
     try {
-      simplify_file(in, d.file("o.ply"), false, o, nullptr);
+      simplify_file(in, d.file("o.ply"), o, nullptr);
     } catch (const UsageError& e) {
       return std::make_pair(e.option(), std::string(e.what()));
     }

@@ -82,10 +82,9 @@ TEST_CASE("thin branches vanish without thick edges and come back as edges 2r th
   const double branch_area = kBranchCount * 2 * kPi * kBranchRadius * 0.25;
 
   SimplifyStats plain_stats, thick_stats;
-  simplify_file(d.file("tree.ply"), d.file("plain.ply"), false, clustering(ClusterMethod::floating, cell, false),
+  simplify_file(d.file("tree.ply"), d.file("plain.ply"), clustering(ClusterMethod::floating, cell, false),
                 &plain_stats);
-  simplify_file(d.file("tree.ply"), d.file("thick.ply"), false, clustering(ClusterMethod::floating, cell, true),
-                &thick_stats);
+  simplify_file(d.file("tree.ply"), d.file("thick.ply"), clustering(ClusterMethod::floating, cell, true), &thick_stats);
   const LoadedMesh plain = load_mesh(d.file("plain.ply")), thick = load_mesh(d.file("thick.ply"));
 
   // Without thick edges, what is left of the branches covers a few percent of them.
@@ -104,8 +103,7 @@ TEST_CASE("thin branches vanish without thick edges and come back as edges 2r th
   CHECK(thick_stats.output_points == thick.points.size());
 
   // The uniform grid makes edges of the same thickness.
-  simplify_file(d.file("tree.ply"), d.file("uniform.ply"), false, clustering(ClusterMethod::uniform, cell, true),
-                nullptr);
+  simplify_file(d.file("tree.ply"), d.file("uniform.ply"), clustering(ClusterMethod::uniform, cell, true), nullptr);
   const LoadedMesh uniform = load_mesh(d.file("uniform.ply"));
   CHECK(uniform.edges.size() >= std::size_t(kBranchCount));
   CHECK(std::fabs(median_thickness(uniform.edges) - 2 * kBranchRadius) <= 0.3 * 2 * kBranchRadius);
@@ -126,7 +124,7 @@ TEST_CASE("thick edges are byte-identical for any threads and tiles", "[thick][d
         SimplifyOptions o = clustering(method, 5 * kBranchRadius, true);
         o.threads = threads;
         o.floating.tile_side = tile;
-        simplify_file(d.file("tree.ply"), d.file("out.ply"), false, o, nullptr);
+        simplify_file(d.file("tree.ply"), d.file("out.ply"), o, nullptr);
         const std::string bytes = read_file(d.file("out.ply"));
         CHECK(bytes.find("element edge") != std::string::npos);
         if (first.empty()) first = bytes;
@@ -150,7 +148,7 @@ TEST_CASE("tiny closed objects become points twice their RMS radius wide", "[thi
   for (ClusterMethod method : {ClusterMethod::uniform, ClusterMethod::floating}) {
     INFO(method_name(method));
     SimplifyStats st;
-    simplify_file(d.file("octahedra.ply"), d.file("points.ply"), false, clustering(method, 1.0, true), &st);
+    simplify_file(d.file("octahedra.ply"), d.file("points.ply"), clustering(method, 1.0, true), &st);
     const LoadedMesh m = load_mesh(d.file("points.ply"));
     CHECK(m.triangle_count() == 0);
     CHECK(m.edges.empty());
@@ -166,7 +164,7 @@ TEST_CASE("tiny closed objects become points twice their RMS radius wide", "[thi
       CHECK(std::fabs(at.z - c.z) <= r);
     }
     // Without thick edges nothing is left of them.
-    simplify_file(d.file("octahedra.ply"), d.file("none.ply"), false, clustering(method, 1.0, false), nullptr);
+    simplify_file(d.file("octahedra.ply"), d.file("none.ply"), clustering(method, 1.0, false), nullptr);
     const LoadedMesh none = load_mesh(d.file("none.ply"));
     CHECK(none.vertex_count() == 0);
     CHECK(none.points.empty());
@@ -306,7 +304,7 @@ TEST_CASE("thick edges from a mesh in memory touch no temporary folder", "[thick
     const SimplifiedMesh m = simplify_mesh(view, o);
     // The same as from the file.
     o.temp_dir.clear();
-    simplify_file(d.file("tree.ply"), d.file("f.ply"), false, o, nullptr);
+    simplify_file(d.file("tree.ply"), d.file("f.ply"), o, nullptr);
     const LoadedMesh f = load_mesh(d.file("f.ply"));
     CHECK(m.primitives.edge_count() == f.edges.size());
     CHECK(m.primitives.point_count() == f.points.size());

@@ -18,9 +18,9 @@ namespace oocsimp {
 /// (Hua et al. eq. 8-14) or the sphere S_r(p) cut by it (eq. 15-18).
 enum class CurvatureNeighbourhood : std::uint8_t { ball, sphere };
 
-/// The default radius, in mean edge lengths of the mesh: on an icosphere (docs/curvature.md)
-/// the ball then errs by 2.0-2.5% and the sphere by 0.9-1.1%, where 3 edge lengths
-/// give 5.2% and 3.1% (the flat faces between vertices on the surface).
+/// The default radius, in mean edge lengths of the mesh: on an icosphere the error
+/// (the flat faces between vertices on the surface) falls steeply up to it and little
+/// beyond (docs/curvature.md, Accuracy, has the errors for each radius).
 constexpr double kDefaultCurvatureRadiusEdges = 5;
 
 struct CurvatureOptions {

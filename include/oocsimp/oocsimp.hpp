@@ -4,7 +4,7 @@
 // Files (simplify_file):
 //   oocsimp::SimplifyOptions o;            // floating cells, --ratio 0.1, all attributes
 //   o.sizing.grid = 512;
-//   oocsimp::simplify_file("scan.ply", "small.ply", false, o, nullptr);
+//   oocsimp::simplify_file("scan.ply", "small.ply", o);
 // A mesh in memory (simplify_mesh):
 //   oocsimp::MeshView v;
 //   v.positions = xyz; v.vertex_count = n; v.indices = idx; v.triangle_count = t;
@@ -53,9 +53,10 @@ namespace oocsimp {
 /// when given.
 void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
                    SimplifyStats* stats);
-/// The same with only a mesh output.
-void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
-                   const SimplifyOptions& options, SimplifyStats* stats);
+/// The same with only a mesh output; a PLY or STL is written binary (the overload
+/// above names an ascii one in OutputOptions::ascii).
+void simplify_file(const std::string& input_path, const std::string& output_path, const SimplifyOptions& options,
+                   SimplifyStats* stats = nullptr);
 
 // --- Distributed runs (docs/cluster.md) -----------------------------------------
 

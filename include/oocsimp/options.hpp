@@ -112,7 +112,7 @@ struct CurvatureClusterOptions {
   /// scans (docs/curvature.md, "Quality with the cell-scale octree").
   std::uint32_t max_depth = 0;
   /// Where a cluster's output vertex goes: quadric, the minimiser of its quadric in its
-  /// cell (the default: 0.5-0.7x the RMS of vertex, docs/curvature.md), or vertex, the
+  /// cell (the default: the lower RMS error of the two, docs/curvature.md), or vertex, the
   /// paper's matching input vertex.
   RepresentativeRule representative = RepresentativeRule::quadric;
   /// Side of the tiles the curvatures are estimated in (CurvatureOptions::tile_side);

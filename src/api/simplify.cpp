@@ -762,11 +762,10 @@ void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions&
   simplify_lods(input, options, lods, sink);
 }
 
-void simplify_file(const std::string& input_path, const std::string& output_path, bool ascii,
-                   const SimplifyOptions& options, SimplifyStats* stats) {
+void simplify_file(const std::string& input_path, const std::string& output_path, const SimplifyOptions& options,
+                   SimplifyStats* stats) {
   OutputOptions outputs;
   outputs.mesh = output_path;
-  outputs.ascii = ascii;
   simplify_file(input_path, outputs, options, stats);
 }
 

@@ -14,9 +14,8 @@ namespace oocsimp {
 namespace {
 
 // The ball's quadrature: Gauss-Legendre nodes in the radius, even ones in the angle.
-// On the icosphere of the tests (edges 0.23 r) the worst error is 2.48% with 8 x 32
-// nodes, 2.53% with 6 x 24 and 2.54% with 4 x 16: the mesh's facets, not the rule,
-// set it.
+// On an icosphere fewer nodes hardly change the worst error: the mesh's facets, not
+// the rule, set it (docs/curvature.md, Accuracy, has the errors for each rule).
 constexpr int kRadialNodes = LocalHeightField::kBallRadii;
 constexpr int kAngularNodes = LocalHeightField::kBallAngles;
 // The sphere's azimuths, and the fixed-point steps that find where the surface meets

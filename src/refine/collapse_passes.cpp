@@ -51,8 +51,8 @@ constexpr std::size_t kAheadLeast = 1024;
 // end was taken this pass may be far cheaper than the ones further down its list, and
 // without the limit it went on to those: on a block of boxes tessellated into thin
 // triangles, thousands of valid collapses of no error waited for the next pass while
-// a pass took ones that cut boxes' corners (at 12 triangles a box, RMS 0.3% and
-// Hausdorff 4% of the diagonal, where the strict order has none). The limit leaves
+// a pass took ones that cut boxes' corners, where the strict order cuts none (the
+// distances are in docs/design.md, "The collapse in core", Passes). The limit leaves
 // them to the next pass; a pass held back to a few collapses by it hands over to the
 // lazy queue (kPassLeastShare).
 class PassDriver {

@@ -131,9 +131,9 @@ class CollapseState {
   // A hub of more faces than this (the centre of a finely cut fan: a cylinder's cap, a
   // cone's apex) stays where it is, as an outline vertex does: moving it would check
   // every one of its faces for each collapse tried there, which made the collapse
-  // quadratic in its valence (a 64000-triangle cone took 31 s). Its edges collapse
-  // onto it. No generated shape nor scan of the benchmarks has a vertex of more than
-  // 168 faces.
+  // quadratic in its valence. Its edges collapse onto it. Of the generated shapes and
+  // the benchmarks' scans, only the generated sphere's poles reach it (docs/design.md,
+  // "The collapse in core", Hubs, has the cone's times and the largest valences).
   static constexpr std::size_t kStillHub = 1024;
   template <class F>
   void for_each_face(std::uint32_t v, const F& f) const {

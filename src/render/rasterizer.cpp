@@ -25,9 +25,9 @@ constexpr double kFacingShare = 0.1;
 // A closed surface's base: faces whose centroid lies within this share of the box's
 // extent from one of its sides and whose normal is within 25 degrees of that side's
 // outward direction. The base decides when it holds at least kBaseShare of the area
-// and kBaseMargin times the base of any other axis (measured: the armadillo's soles
-// 2.2% of its area, 4.6 times the next axis; the bunny's underside 6.0%, 6.5 times;
-// a sphere's sides within 1.1 times of each other).
+// and kBaseMargin times the base of any other axis: the scans' bases pass both by a
+// wide margin and a sphere's sides fail the second (docs/cli.md, render, has the
+// shares measured).
 constexpr double kBaseDepth = 0.02, kBaseCosine = 0.9063, kBaseShare = 0.005, kBaseMargin = 2.0;
 
 // The view: screen axes `right` and `up` and the direction `towards` the camera, all

@@ -18,11 +18,12 @@ void tune_allocator_for_tiles() {
 void keep_freed_heap(std::uint64_t budget_bytes) {
   // glibc gives the top of an arena back to the system once 128 KiB of it are free
   // (its default, fixed by tune_allocator_for_tiles's M_MMAP_THRESHOLD): every tile of
-  // the collapse's passes then faulted its buffers in afresh, about a quarter of a
-  // medium run's CPU in the kernel. A sixty-fourth of the budget per arena (at most
-  // 256 MiB) keeps a tile's buffers for the next tile on that thread. A budget under
-  // 512 MiB keeps the default: there the few MiB kept in each arena are a share of the
-  // budget that its tightest runs need.
+  // the collapse's passes then faulted its buffers in afresh, a large share of a
+  // run's CPU in the kernel (docs/benchmarks.md, "The collapse core", page faults).
+  // A sixty-fourth of the budget per arena (at most 256 MiB) keeps a tile's buffers
+  // for the next tile on that thread. A budget under 512 MiB keeps the default: there
+  // the few MiB kept in each arena are a share of the budget that its tightest runs
+  // need.
   constexpr std::uint64_t kLeastBudget = std::uint64_t(512) << 20;
   if (budget_bytes < kLeastBudget) return;
   const std::uint64_t keep = std::min<std::uint64_t>(budget_bytes / 64, std::uint64_t(256) << 20);

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   oocsimp::generate_mesh(in, g);
   oocsimp::SimplifyOptions o;
   o.progress = bar.callback();
-  oocsimp::simplify_file(in, out, false, o, nullptr);
+  oocsimp::simplify_file(in, out, o, nullptr);
   oocsimp::MeasureOptions m;
   m.samples = 10000;
   oocsimp::DistanceReport r = oocsimp::measure_surface_distance(in, out, m);
