@@ -15,12 +15,22 @@
 # the log is build-fuzz/logs/TARGET.log. Prints per target the executions, the CPU
 # seconds and whether it found anything; exits 1 when any artifact exists.
 # Reproduce a finding with: build-fuzz/TARGET build-fuzz/artifacts/TARGET/crash-...
+#
+# --ledger appends one row per target to tests/fuzz/hours.tsv (date, commit, target,
+# wall and CPU seconds, executions, findings) and rewrites the table of totals in
+# docs/building.md from it (scripts/fuzz-hours.sh). Two runs of different targets may
+# go at once: the build and the seeding take turns (a lock in build-fuzz/).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 all_targets=(fuzz_ply_reader fuzz_obj_reader fuzz_stl_reader fuzz_off_reader fuzz_glb_reader fuzz_gzip_input fuzz_simplify
   fuzz_hierarchy_file fuzz_hierarchy_build)
 
-usage() { echo "usage: scripts/fuzz.sh SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
+usage() { echo "usage: scripts/fuzz.sh [--ledger] SECONDS [TARGET...]  (targets: ${all_targets[*]})" >&2; exit 2; }
+ledger=""
+if [ "${1:-}" = --ledger ]; then
+  ledger="$root/tests/fuzz/hours.tsv"
+  shift
+fi
 [ $# -ge 1 ] || usage
 seconds="$1"
 shift
@@ -30,6 +40,13 @@ targets=("$@")
 for t in "${targets[@]}"; do
   [[ " ${all_targets[*]} " == *" $t "* ]] || { echo "fuzz.sh: unknown target $t" >&2; usage; }
 done
+
+# The setup below (installing, building, writing the seeds and dictionaries) is done by
+# one run at a time; the fuzzing itself is not.
+build="$root/build-fuzz"
+mkdir -p "$build"
+exec 9>"$build/.setup.lock"
+flock 9
 
 # --- dependencies -------------------------------------------------------------------
 "$root/scripts/setup-deps.sh"
@@ -52,12 +69,13 @@ fuzzer_runtime_present || install_pkgs libclang-rt-14-dev
 command -v perl >/dev/null 2>&1 || install_pkgs perl-base
 
 # --- build --------------------------------------------------------------------------
-build="$root/build-fuzz"
 OOCSIMP_BUILD_DIR="$build" "$root/scripts/build.sh" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DOOCSIMP_FUZZ=ON -DOOCSIMP_BUILD_TESTS=OFF -DOOCSIMP_BUILD_BENCH=OFF
 
 # --- seed corpora -------------------------------------------------------------------
 # Written afresh on every run (same names, so they replace themselves); never committed.
+# The minimised corpora of earlier runs that are kept in tests/fuzz/corpus/TARGET are
+# copied in too (at the end of this part).
 corpus="$build/corpus"
 seeds="$build/seeds"  # staging: every seed once, by format
 rm -rf "$seeds"
@@ -264,6 +282,14 @@ for f in "$seeds/ply"/* "$seeds/obj"/*; do
   done
 done
 
+# What earlier runs grew, minimised (libFuzzer's -merge=1) where it stayed small.
+for t in "${all_targets[@]}"; do
+  if [ -d "$root/tests/fuzz/corpus/$t" ]; then
+    mkdir -p "$corpus/$t"
+    cp -R "$root/tests/fuzz/corpus/$t/." "$corpus/$t/"
+  fi
+done
+
 # Dictionaries of the formats' keywords (libFuzzer -dict), so mutations speak them.
 dicts="$build/dict"
 mkdir -p "$dicts"
@@ -335,6 +361,9 @@ cat >>"$dicts/fuzz_hierarchy_file.dict" <<'EOF'
 "\x07\x00\x01\x00q"
 EOF
 
+flock -u 9
+exec 9>&-
+
 # --- runs ---------------------------------------------------------------------------
 mkdir -p "$build/logs"
 found=0
@@ -373,5 +402,16 @@ for t in "${targets[@]}"; do
     result="nothing found"
   fi
   printf '%-18s %12s %10s %8.1f  %s\n' "$t" "$execs" "$cpu" "$wall" "$result"
+  if [ -n "$ledger" ]; then
+    [ -s "$ledger" ] ||
+      printf 'date\tcommit\ttarget\twall_seconds\tcpu_seconds\texecutions\tfindings\n' >"$ledger"
+    commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')
+    [ -n "$(git -C "$root" status --porcelain -- src include 2>/dev/null)" ] && commit="$commit+"
+    findings="${artifacts:--}"
+    [ -z "$artifacts" ] && [ "$rc" -ne 0 ] && findings="exit-$rc"
+    printf '%s\t%s\t%s\t%.1f\t%s\t%s\t%s\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$commit" "$t" "$wall" "$cpu" "$execs" \
+      "${findings// /,}" >>"$ledger"
+    "$root/scripts/fuzz-hours.sh" --update
+  fi
 done
 exit "$found"
