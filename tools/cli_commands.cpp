@@ -70,6 +70,11 @@ std::string json_field(const char* name, const std::string& value) { return json
 
 std::string json_count(std::uint64_t n) { return std::to_string(n); }
 
+// A mesh's size as the stats' "input" and "output" give it.
+std::string counts_json(std::uint64_t vertices, std::uint64_t triangles) {
+  return "{\"vertices\": " + json_count(vertices) + ", \"triangles\": " + json_count(triangles) + "}";
+}
+
 // The shortest text that reads back as `v`, as simplify's --stats writes numbers; null
 // where JSON has no number.
 std::string json_shortest(double v) {
@@ -225,14 +230,12 @@ int run_hierarchy(HierarchyArgs& a) {
         ", \"swaps\": " + json_count(st.swaps) + ", \"removals\": " + json_count(st.records - st.swaps) +
         ", \"largest_error\": " + json_shortest(st.largest_error) +
         ", \"error_units\": " + json_string(kHierarchyErrorUnits) + "}";
-    write_stats(a.stats,
-                joined(joined(stats_head(a.in, a.out, a.stats),
-                              {json_field("options", options),
-                               json_field("input", "{\"vertices\": " + json_count(st.input_vertices) +
-                                                       ", \"triangles\": " + json_count(st.input_triangles) + "}"),
-                               json_field("hierarchy", work),
-                               json_field("output", "{\"bytes\": " + json_count(st.file_bytes) + "}")}),
-                       stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+    write_stats(a.stats, joined(joined(stats_head(a.in, a.out, a.stats),
+                                       {json_field("options", options),
+                                        json_field("input", counts_json(st.input_vertices, st.input_triangles)),
+                                        json_field("hierarchy", work),
+                                        json_field("output", "{\"bytes\": " + json_count(st.file_bytes) + "}")}),
+                                stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
   }
   if (a.quiet) return kOk;
   // stdout may carry the stats: then the summary goes to stderr.
@@ -340,14 +343,11 @@ int run_extract(const ExtractArgs& a) {
                json_shortest(q.centre.z) + "], \"radius\": " + json_shortest(q.radius) + "}";
     query += ", \"placement\": " + json_string(name_of(hierarchy_placement_names(), q.placement)) +
              ", \"ascii\": " + json_bool(a.ascii) + ", \"error_units\": " + json_string(kHierarchyErrorUnits) + "}";
-    write_stats(a.stats,
-                joined(joined(stats_head(a.in, a.out, a.stats),
-                              {json_field("options", query),
-                               json_field("input", "{\"vertices\": " + json_count(st.finest_vertices) +
-                                                       ", \"triangles\": " + json_count(st.finest_triangles) + "}"),
-                               json_field("output", "{\"vertices\": " + json_count(st.output_vertices) +
-                                                        ", \"triangles\": " + json_count(st.output_triangles) + "}")}),
-                       stats_tail({}, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+    write_stats(a.stats, joined(joined(stats_head(a.in, a.out, a.stats),
+                                       {json_field("options", query),
+                                        json_field("input", counts_json(st.finest_vertices, st.finest_triangles)),
+                                        json_field("output", counts_json(st.output_vertices, st.output_triangles))}),
+                                stats_tail({}, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
   }
   if (a.quiet) return kOk;
   std::FILE* to = a.out == "-" || a.stats == "-" ? stderr : stdout;
@@ -727,15 +727,12 @@ int run_curvature(CurvatureArgs& a) {
         ", \"at_scale\": " + json_shortest(st.at_scale) + ", \"tile_side\": " + json_shortest(st.tile_side) +
         ", \"invariant\": " + json_count(st.invariant) + ", \"fitted\": " + json_count(st.fitted) +
         ", \"none\": " + json_count(st.none) + "}";
-    write_stats(a.stats,
-                joined(joined(stats_head(a.in, a.out, a.stats),
-                              {json_field("options", options),
-                               json_field("input", "{\"vertices\": " + json_count(st.vertices) +
-                                                       ", \"triangles\": " + json_count(st.triangles) + "}"),
-                               json_field("curvature", work),
-                               json_field("output", "{\"vertices\": " + json_count(st.vertices) +
-                                                        ", \"triangles\": " + json_count(st.triangles) + "}")}),
-                       stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
+    write_stats(
+        a.stats,
+        joined(joined(stats_head(a.in, a.out, a.stats),
+                      {json_field("options", options), json_field("input", counts_json(st.vertices, st.triangles)),
+                       json_field("curvature", work), json_field("output", counts_json(st.vertices, st.triangles))}),
+               stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
   }
   if (a.quiet) return kOk;
   std::FILE* to = a.stats == "-" ? stderr : stdout;
