@@ -2,6 +2,8 @@
 // normals and any other scalar a vertex has (quality, confidence, intensity, ...).
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -14,11 +16,11 @@ namespace oocsimp {
 enum class AttributeType : std::uint8_t { i8, u8, i16, u16, i32, u32, f32, f64 };
 
 /// Bytes of one value of `t`.
-std::size_t attribute_type_size(AttributeType t);
+OOCSIMP_API std::size_t attribute_type_size(AttributeType t);
 /// PLY's name of `t` ("uchar", "float", ...).
-const char* attribute_type_name(AttributeType t);
+OOCSIMP_API const char* attribute_type_name(AttributeType t);
 /// Whether `t` is an integer type (values are rounded and clamped back to it).
-bool is_integer_type(AttributeType t);
+OOCSIMP_API bool is_integer_type(AttributeType t);
 
 /// One per-vertex scalar property.
 struct VertexAttribute {
@@ -44,11 +46,11 @@ struct AttributeSelection {
 /// Whether a vertex property is a texture coordinate (u, v, s, t, texture_u, texture_v,
 /// texcoord...): the edge collapse carries those, clustering drops them, since it
 /// merges vertices across texture seams.
-bool is_texture_coordinate(const std::string& name);
+OOCSIMP_API bool is_texture_coordinate(const std::string& name);
 
 /// Parses --attributes: "all", "none" or "NAME,NAME...". Throws UsageError for an empty
 /// name.
-AttributeSelection parse_attribute_selection(const std::string& text);
+OOCSIMP_API AttributeSelection parse_attribute_selection(const std::string& text);
 
 /// Read-only view of the carried attributes of every vertex, in mapped (or the
 /// caller's) memory: value k of vertex i is at base[k] + i*stride[k], stored as
@@ -93,9 +95,9 @@ struct Materials {
 };
 
 /// "material_K": the vertex attribute of material K (Materials).
-std::string material_attribute_name(std::size_t k);
+OOCSIMP_API std::string material_attribute_name(std::size_t k);
 /// Whether `name` is a material's vertex attribute, "material_" and digits.
-bool is_material_attribute(const std::string& name);
+OOCSIMP_API bool is_material_attribute(const std::string& name);
 
 struct AttributeValues {
   std::vector<VertexAttribute> attributes;

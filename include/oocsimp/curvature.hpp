@@ -5,6 +5,8 @@
 // docs/curvature.md.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -74,7 +76,7 @@ struct VertexCurvatures {
 /// read). A mesh larger than the budget is estimated tile by tile, each tile with a
 /// halo of the radius: the same values. UsageError for a bad radius, or a budget that
 /// cannot hold one tile and its halo (naming the smallest that can).
-VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options);
+OOCSIMP_API VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options);
 
 /// Reads the mesh at `input_path` (any format open_mesh_input reads), estimates its
 /// curvatures and writes `output_path`, a PLY file (ascii when `ascii`, ".zst"
@@ -83,7 +85,7 @@ VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOption
 /// file, so heap memory stays within the budget for any size. Renamed into place only
 /// when complete. Fills `stats` when given. Throws UsageError (options, a non-PLY
 /// output, a budget too small for one tile), InputError and IoError.
-void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
-                    const CurvatureOptions& options, CurvatureStats* stats = nullptr);
+OOCSIMP_API void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
+                                const CurvatureOptions& options, CurvatureStats* stats = nullptr);
 
 }  // namespace oocsimp

@@ -10,6 +10,8 @@
 // field (UsageError::option()).
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -17,7 +19,7 @@
 namespace oocsimp {
 
 /// Inconsistent or impossible options (exit code 2).
-class UsageError : public std::runtime_error {
+class OOCSIMP_API UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
   /// An error about one option: `message` starts with its field, `option`
@@ -35,21 +37,21 @@ class UsageError : public std::runtime_error {
 /// The input file is malformed: truncated, wrong counts, bad indices, a malformed
 /// number (exit code 3). NaN or infinite coordinates are not errors: such vertices are
 /// counted and ignored (see MeshInfo::non_finite_vertices). The message starts with "FILE: byte N:" or "FILE: line N:".
-class InputError : public std::runtime_error {
+class OOCSIMP_API InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
 /// Reading, writing, mapping or allocating failed for a reason outside the input's
 /// content: missing file, full disk, permissions, memory (exit code 4).
-class IoError : public std::runtime_error {
+class OOCSIMP_API IoError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
 /// The caller's ProgressCallback returned false: the run stopped, deleting its
 /// temporary files and writing no output.
-class Cancelled : public std::runtime_error {
+class OOCSIMP_API Cancelled : public std::runtime_error {
  public:
   Cancelled() : std::runtime_error("cancelled") {}
 };

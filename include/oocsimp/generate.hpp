@@ -2,6 +2,8 @@
 // the core library).
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <string>
 
@@ -86,9 +88,9 @@ struct GenerateResult {
 /// The vertices are then computed twice (the box first), still in O(1) memory.
 /// Written as an OutputFile (a regular file: to a temporary name, renamed when
 /// complete). Throws UsageError for options.triangles 0, IoError when writing fails.
-GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options);
+OOCSIMP_API GenerateResult generate_mesh(const std::string& path, const GenerateOptions& options);
 
 /// The shapes as the command line spells them, the default first.
-const EnumNames<SyntheticShape>& synthetic_shape_names();
+OOCSIMP_API const EnumNames<SyntheticShape>& synthetic_shape_names();
 
 }  // namespace oocsimp

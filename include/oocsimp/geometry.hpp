@@ -1,6 +1,8 @@
 // oocsimp — the plain geometry types of the public API: a point and a box.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cmath>
 
 namespace oocsimp {
@@ -17,7 +19,7 @@ struct Vec3d {
 inline bool is_finite(const Vec3d& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 /// Axis-aligned bounding box; empty when min > max.
-struct Box3d {
+struct OOCSIMP_API Box3d {
   Vec3d min{1e300, 1e300, 1e300};
   Vec3d max{-1e300, -1e300, -1e300};
   bool empty() const { return min.x > max.x; }

@@ -14,6 +14,8 @@
 // gives a conforming mesh (a multi-triangulation): extraction picks such a set.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -136,7 +138,7 @@ enum class HierarchyPlacement {
   /// Every vertex where the finest mesh has it.
   kept,
 };
-const EnumNames<HierarchyPlacement>& hierarchy_placement_names();
+OOCSIMP_API const EnumNames<HierarchyPlacement>& hierarchy_placement_names();
 
 /// What to extract: one of `level`, `triangles` or `error` (the first set), and
 /// optionally a region kept at the finest level.
@@ -156,24 +158,24 @@ struct HierarchyQuery {
 /// Algorithm 1). A vertex whose faces form several fans is split into one vertex per
 /// fan; an edge of three or more faces, or two faces that wind it the same way, is
 /// refused (InputError naming the edge). The result is the same for any thread count.
-MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options);
+OOCSIMP_API MeshHierarchy build_hierarchy(const MeshView& mesh, const HierarchyOptions& options);
 
 /// The mesh of the records `query` selects, vertices numbered in their order in the
 /// finest mesh, faces in the order they appear. UsageError (naming what is
 /// available) for a level beyond the last, a triangle count below the coarsest, a
 /// negative error, or a region that meets no face.
-SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery& query);
+OOCSIMP_API SimplifiedMesh extract_mesh(const MeshHierarchy& hierarchy, const HierarchyQuery& query);
 
 /// The longest chain of records each depending on the one before (Velho §3's
 /// height): how far a region's refinement can reach beyond it.
-std::uint64_t hierarchy_height(const MeshHierarchy& hierarchy);
+OOCSIMP_API std::uint64_t hierarchy_height(const MeshHierarchy& hierarchy);
 
 /// Writes `hierarchy` to a .4k file (docs/hierarchy.md: the format, version 2), under
 /// a temporary name renamed into place when complete. IoError.
-void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path);
+OOCSIMP_API void write_hierarchy(const MeshHierarchy& hierarchy, const std::string& path);
 /// Reads a .4k file. InputError naming the byte for a damaged, truncated or foreign
 /// file, and both versions for another version; IoError when it cannot be read.
-MeshHierarchy read_hierarchy(const std::string& path);
+OOCSIMP_API MeshHierarchy read_hierarchy(const std::string& path);
 
 struct HierarchyStats {
   std::uint64_t input_vertices = 0, input_triangles = 0;
@@ -197,8 +199,8 @@ struct HierarchyStats {
 };
 
 /// Reads the mesh at `input_path`, builds its hierarchy and writes `output_path`.
-void build_hierarchy_file(const std::string& input_path, const std::string& output_path,
-                          const HierarchyOptions& options, HierarchyStats* stats = nullptr);
+OOCSIMP_API void build_hierarchy_file(const std::string& input_path, const std::string& output_path,
+                                      const HierarchyOptions& options, HierarchyStats* stats = nullptr);
 
 /// What extract_file read, made and wrote.
 struct ExtractStats {
@@ -211,10 +213,11 @@ struct ExtractStats {
 /// Reads the .4k file at `hierarchy_path`, extracts `query` and writes the mesh to
 /// `output_path` (any format write_mesh writes), each a phase `progress` hears: "read
 /// hierarchy", "extract", "write".
-void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
-                  const HierarchyQuery& query, const ProgressCallback& progress = {}, ExtractStats* stats = nullptr);
+OOCSIMP_API void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
+                              const HierarchyQuery& query, const ProgressCallback& progress = {},
+                              ExtractStats* stats = nullptr);
 
 /// Whether the file at `path` starts like a .4k file (its magic bytes).
-bool is_hierarchy_file(const std::string& path);
+OOCSIMP_API bool is_hierarchy_file(const std::string& path);
 
 }  // namespace oocsimp

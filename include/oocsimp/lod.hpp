@@ -7,6 +7,8 @@
 // at most about X pixels on the screen.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -31,22 +33,22 @@ struct LodLevel {
 /// "triangles", "edges", "points", "seconds", "phases" {name: seconds}, and "rms" and
 /// "hausdorff" when
 /// measured}, ...]}, numbers written so that they read back exactly.
-std::string lod_levels_json(const std::vector<LodLevel>& levels);
+OOCSIMP_API std::string lod_levels_json(const std::vector<LodLevel>& levels);
 
 /// Writes lod_levels_json to `path` under a temporary name, renamed when complete.
 /// Throws IoError.
-void write_lod_levels(const std::string& path, const std::vector<LodLevel>& levels);
+OOCSIMP_API void write_lod_levels(const std::string& path, const std::vector<LodLevel>& levels);
 
 /// Reads OUT.lods.json: {"levels": [{"file": ..., "cell": ..., "vertices": ...,
 /// "triangles": ..., "edges": ..., "points": ...}, ...]} (other members are read past).
 /// Throws InputError naming the file and what is wrong, IoError when it cannot be read.
-std::vector<LodLevel> read_lod_levels(const std::string& path);
+OOCSIMP_API std::vector<LodLevel> read_lod_levels(const std::string& path);
 
 /// Low & Tan's object-space-to-pixel-space ratio R = 2 D tan(FOV / 2) / H: the model
 /// units one pixel spans at `distance` (model units) with a vertical field of view of
 /// `fov_degrees` over `height_pixels`. Throws UsageError unless D > 0, 0 < FOV < 180
 /// and H >= 1.
-double pixel_size_at(double distance, double fov_degrees, double height_pixels);
+OOCSIMP_API double pixel_size_at(double distance, double fov_degrees, double height_pixels);
 
 /// The level to draw for pixel size `pixel` (R) and relaxation `factor` (X >= 1): the
 /// coarsest level whose cell is at most X R (Low & Tan §4, "one-cell-width-to-X-pixel-
@@ -55,11 +57,12 @@ struct LodChoice {
   std::size_t level = 0;
   bool finest_too_coarse = false;
 };
-LodChoice choose_lod(const std::vector<LodLevel>& levels, double pixel, double factor);
+OOCSIMP_API LodChoice choose_lod(const std::vector<LodLevel>& levels, double pixel, double factor);
 
 /// The choice as one JSON object: level, file, cell, pixel_size (R), factor,
 /// thick_line_pixels_per_unit (1 / R: an edge of thickness T is drawn T / R pixels
 /// wide, Low & Tan §4) and finest_too_coarse.
-std::string lod_choice_json(const std::vector<LodLevel>& levels, const LodChoice& choice, double pixel, double factor);
+OOCSIMP_API std::string lod_choice_json(const std::vector<LodLevel>& levels, const LodChoice& choice, double pixel,
+                                        double factor);
 
 }  // namespace oocsimp

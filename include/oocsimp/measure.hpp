@@ -10,6 +10,8 @@
 // its simplification) is loaded into memory.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <string>
 
@@ -62,7 +64,7 @@ struct DistanceStats {
   double rms = 0;   ///< root of the mean squared distance
 };
 
-struct DistanceReport {
+struct OOCSIMP_API DistanceReport {
   DistanceStats a_to_b;  ///< samples on A, distances to surface B
   DistanceStats b_to_a;  ///< samples on B, distances to surface A
   /// The larger max of the two (the paper's Hausdorff distance d_inf); mean and rms over
@@ -94,12 +96,12 @@ struct DistanceReport {
 /// Throws InputError for a malformed mesh or one without area, IoError for an
 /// unreadable file, UsageError for options.samples outside 1 .. 2^32 - 1 or a B of
 /// 2^32 vertices or more.
-DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
-                                        const MeasureOptions& options);
+OOCSIMP_API DistanceReport measure_surface_distance(const std::string& a_path, const std::string& b_path,
+                                                    const MeasureOptions& options);
 
 /// `report` as a JSON object: per direction and symmetric, samples and the hausdorff,
 /// mean and rms distances, absolute and as fractions of A's diagonal; the meshes'
 /// triangle counts, areas and A's diagonal; seconds and peak memory.
-std::string distance_report_to_json(const DistanceReport& report);
+OOCSIMP_API std::string distance_report_to_json(const DistanceReport& report);
 
 }  // namespace oocsimp

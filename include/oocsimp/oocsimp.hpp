@@ -25,6 +25,8 @@
 // choosing a level of detail).
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -51,12 +53,12 @@ namespace oocsimp {
 /// input (unless replace_input) or each other, and opens every destination; the stats
 /// are committed before the mesh, so a failure leaves the mesh as it was. Fills `stats`
 /// when given.
-void simplify_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
-                   SimplifyStats* stats);
+OOCSIMP_API void simplify_file(const std::string& input_path, const OutputOptions& outputs,
+                               const SimplifyOptions& options, SimplifyStats* stats);
 /// The same with only a mesh output; a PLY or STL is written binary (the overload
 /// above names an ascii one in OutputOptions::ascii).
-void simplify_file(const std::string& input_path, const std::string& output_path, const SimplifyOptions& options,
-                   SimplifyStats* stats = nullptr);
+OOCSIMP_API void simplify_file(const std::string& input_path, const std::string& output_path,
+                               const SimplifyOptions& options, SimplifyStats* stats = nullptr);
 
 // --- Distributed runs (docs/cluster.md) -----------------------------------------
 
@@ -79,7 +81,7 @@ struct PartOptions {
 
 /// Throws UsageError naming the option when `options` ask for what a distributed run
 /// cannot do yet: thick edges, locks.
-void check_distributed_options(const SimplifyOptions& options);
+OOCSIMP_API void check_distributed_options(const SimplifyOptions& options);
 
 /// Part part.index of part.count of the run simplify_file(input_path, ..., options)
 /// would make: the share of its work the part owns, left in
@@ -94,35 +96,37 @@ void check_distributed_options(const SimplifyOptions& options);
 /// of the vertices (the merge builds the clusters). A target after one of those
 /// clustering methods spreads its phase 1 (its first attempt) the same way; the
 /// collapse runs in the merge. Fills the input counts of `stats` when given.
-void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
-                   SimplifyStats* stats = nullptr);
+OOCSIMP_API void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
+                               SimplifyStats* stats = nullptr);
 
 /// Finishes a distributed run from the part files in `work_dir`: writes `outputs` as
 /// simplify_file would with the parts' input and options, the same bytes for any
 /// part count and threads. From `options` only the memory budget, threads, temporary
 /// folder and progress apply. Throws InputError (exit 3) naming a missing, damaged or
 /// stale part (another input or other options), or an input changed since.
-void merge_parts(const std::string& work_dir, const OutputOptions& outputs, const SimplifyOptions& options,
-                 SimplifyStats* stats = nullptr);
+OOCSIMP_API void merge_parts(const std::string& work_dir, const OutputOptions& outputs, const SimplifyOptions& options,
+                             SimplifyStats* stats = nullptr);
 
 /// simplify_lods on the file at `input_path`, level k written to
 /// lod_level_path(outputs.mesh, k) (outputs.normals and outputs.ascii apply; not
 /// stdout, and outputs.stats is refused: the levels' figures are the caller's to
 /// describe). Every level file is opened before the work and renamed into place only
 /// when all levels are written. Fills `stats` with one entry per level.
-void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
-                        const LodOptions& lods, std::vector<SimplifyStats>* stats);
+OOCSIMP_API void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs,
+                                    const SimplifyOptions& options, const LodOptions& lods,
+                                    std::vector<SimplifyStats>* stats);
 
 /// Simplifies a mesh in memory: the mesh is read in place (with options.attributes), then simplified as a file would
 /// be. With a budget the spills fit in (the default, a quarter of memory, for any mesh that fits in memory), no file is
 /// written, and options.temp_dir is not touched. The result equals the one simplify_file gives for the same mesh stored
 /// in a file.
-SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options, SimplifyStats* stats = nullptr);
+OOCSIMP_API SimplifiedMesh simplify_mesh(const MeshView& mesh, const SimplifyOptions& options,
+                                         SimplifyStats* stats = nullptr);
 
 /// Simplifies the file at `input_path` into memory: what simplify_file writes, as a
 /// SimplifiedMesh (input opened as simplify_file opens it; no normals added).
-SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,
-                                     SimplifyStats* stats = nullptr);
+OOCSIMP_API SimplifiedMesh simplify_file_to_mesh(const std::string& input_path, const SimplifyOptions& options,
+                                                 SimplifyStats* stats = nullptr);
 
 /// Hears each level when it is done: its number, its mesh (which the sink may move
 /// from) and its stats.
@@ -132,8 +136,8 @@ using LodSink = std::function<void(std::uint32_t level, SimplifiedMesh& mesh, co
 /// first, handed to `sink` when it is done (the levels simplify_lods_file writes).
 /// With a target, the levels that go on from level 0's collapse are all done before
 /// level 0 is handed on.
-void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options, const LodOptions& lods,
-                           const LodSink& sink);
+OOCSIMP_API void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions& options,
+                                       const LodOptions& lods, const LodSink& sink);
 
 // --- Reading -------------------------------------------------------------------
 
@@ -143,8 +147,8 @@ void simplify_file_to_lods(const std::string& input_path, const SimplifyOptions&
 /// malformed file, IoError when it cannot be read.
 /// `progress` hears its phases: "read positions", and "read edges and points" when the
 /// faces are read through.
-MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string(),
-                          const ProgressCallback& progress = {});
+OOCSIMP_API MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir = std::string(),
+                                      const ProgressCallback& progress = {});
 
 // --- Writing -------------------------------------------------------------------
 
@@ -152,7 +156,7 @@ MeshSummary describe_mesh(const std::string& path, const std::string& temp_dir =
 /// (which compresses the stream): ".ply" (ascii PLY when `ascii`), ".obj", ".stl"
 /// (ascii STL when `ascii`), ".off" or ".glb" (glTF 2.0 binary). Any other name throws
 /// UsageError listing what can be written.
-MeshFormat format_for_path(const std::string& path, bool ascii);
+OOCSIMP_API MeshFormat format_for_path(const std::string& path, bool ascii);
 
 /// Writes a triangle mesh given as flat arrays: `positions` holds 3 coordinates per
 /// vertex, `triangles` 3 vertex indices per face. `precision` says how coordinates
@@ -174,31 +178,32 @@ MeshFormat format_for_path(const std::string& path, bool ascii);
 /// thickness), and to OBJ as "l a b" and "p a" lines, which have no room for the
 /// thickness; STL, OFF and glTF drop them (format_keeps_primitives).
 /// Throws IoError.
-void write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<std::uint32_t>& triangles, MeshFormat format, ScalarType precision = ScalarType::f32,
-                const AttributeValues* attributes = nullptr, const ThickPrimitives* primitives = nullptr);
+OOCSIMP_API void write_mesh(const std::string& path, const std::vector<double>& positions,
+                            const std::vector<std::uint32_t>& triangles, MeshFormat format,
+                            ScalarType precision = ScalarType::f32, const AttributeValues* attributes = nullptr,
+                            const ThickPrimitives* primitives = nullptr);
 
 /// Whether `format` can store vertex attributes: PLY every one (as "property TYPE
 /// NAME" after x, y, z), OBJ the colours red, green and blue ("v x y z r g b", in
 /// [0, 1]) and the normals nx, ny, nz ("vn", a line per vertex, which the faces name
 /// as "f a//a b//b c//c"), glTF the colours (with alpha) and the normals; STL and OFF
 /// none.
-bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
+OOCSIMP_API bool format_keeps_attributes(MeshFormat format, const AttributeValues& attributes);
 
 /// Whether `format` keeps materials (Materials): OBJ, as its mtllib line and usemtl
 /// groups, and glTF, as one primitive per material naming it (the library in the
 /// root's extras.mtllib). PLY keeps the material_K attributes as vertex properties but
 /// no library reference; STL and OFF keep neither.
-bool format_keeps_materials(MeshFormat format);
+OOCSIMP_API bool format_keeps_materials(MeshFormat format);
 
 /// Whether `format` stores thick edges and points with their thickness (PLY only; OBJ
 /// keeps the edges and points without it, STL, OFF and glTF drop them).
-bool format_keeps_primitives(MeshFormat format);
+OOCSIMP_API bool format_keeps_primitives(MeshFormat format);
 
 /// The format `outputs.mesh` is written in: format_for_path, except that stdout ("-"),
 /// a device, a FIFO or a socket whose name has no extension we write gets binary (or
 /// ascii) PLY. Throws UsageError for a regular or new file whose name we cannot write.
-MeshFormat output_format(const OutputOptions& outputs);
+OOCSIMP_API MeshFormat output_format(const OutputOptions& outputs);
 
 /// Sets float attributes nx, ny, nz on every vertex: the unit sum of the normals of its
 /// triangles, each weighted by its area (the cross product's length), so that a thin
@@ -206,65 +211,65 @@ MeshFormat output_format(const OutputOptions& outputs);
 /// are replaced (they were clusters' means); other attributes stay, nx, ny, nz last.
 /// For thick edges (Low & Tan 1997 §3.3.2) a renderer computes a dynamic normal
 /// instead: (V1 - C) x (V2 - C) x (V2 - V1), C the camera.
-void add_vertex_normals(SimplifiedMesh* mesh);
+OOCSIMP_API void add_vertex_normals(SimplifiedMesh* mesh);
 
 /// Where level k of `mesh_path` goes: ".lod<k>" before the extension ("out.ply" ->
 /// "out.lod0.ply", "a/b.obj.zst" -> "a/b.lod0.obj.zst").
-std::string lod_level_path(const std::string& mesh_path, std::uint32_t level);
+OOCSIMP_API std::string lod_level_path(const std::string& mesh_path, std::uint32_t level);
 /// Where the description of the levels goes: "out.ply" -> "out.lods.json".
-std::string lod_description_path(const std::string& mesh_path);
+OOCSIMP_API std::string lod_description_path(const std::string& mesh_path);
 
 // --- Options, names and reports --------------------------------------------------
 
 /// A quarter of physical memory: the default working-set budget.
-std::uint64_t default_memory_budget();
+OOCSIMP_API std::uint64_t default_memory_budget();
 
 /// The least memory budget a simplify run takes (32 MiB): below it a run cannot hold
 /// its I/O buffers, one tile's spill buffers and the pipeline's chunks, whatever the
 /// input.
-std::uint64_t minimum_memory_budget();
+OOCSIMP_API std::uint64_t minimum_memory_budget();
 
 /// Parses a byte size with an optional binary suffix: "256M", "2G", "512k", "1048576".
 /// Throws UsageError.
-std::uint64_t parse_byte_size(const std::string& text);
+OOCSIMP_API std::uint64_t parse_byte_size(const std::string& text);
 
 /// The default temporary directory: $TMPDIR if set and non-empty, else /tmp.
-std::string default_temp_dir();
+OOCSIMP_API std::string default_temp_dir();
 
 /// A run as a JSON object: the version, the paths, the method and every option, counts,
 /// seconds per phase, peak memory and input Mtri/s.
-std::string stats_to_json(const SimplifyStats& stats, const std::string& input_path, const OutputOptions& outputs,
-                          const SimplifyOptions& options);
+OOCSIMP_API std::string stats_to_json(const SimplifyStats& stats, const std::string& input_path,
+                                      const OutputOptions& outputs, const SimplifyOptions& options);
 
 /// The oocsimp version (the CMake project version).
-const char* version();
+OOCSIMP_API const char* version();
 
 /// Every clustering method, the default first.
-std::vector<ClusterMethod> cluster_methods();
+OOCSIMP_API std::vector<ClusterMethod> cluster_methods();
 
 /// Option values as the command line spells them ("floating", "cube", "nearest", ...).
-const char* method_name(ClusterMethod m);
-const char* cell_shape_name(CellShape s);
-const char* assign_name(AssignRule a);
-const char* representative_name(RepresentativeRule r);
-const char* spill_compression_name(SpillCompression c);
-const char* refine_name(RefineMethod r);
-const char* precision_name(Precision p);
+OOCSIMP_API const char* method_name(ClusterMethod m);
+OOCSIMP_API const char* cell_shape_name(CellShape s);
+OOCSIMP_API const char* assign_name(AssignRule a);
+OOCSIMP_API const char* representative_name(RepresentativeRule r);
+OOCSIMP_API const char* spill_compression_name(SpillCompression c);
+OOCSIMP_API const char* refine_name(RefineMethod r);
+OOCSIMP_API const char* precision_name(Precision p);
 
 /// The tables those names come from, one per enum, each in the order the command line
 /// lists the values (the default first).
-const EnumNames<ClusterMethod>& cluster_method_names();
-const EnumNames<CellShape>& cell_shape_names();
-const EnumNames<AssignRule>& assign_rule_names();
-const EnumNames<RepresentativeRule>& representative_rule_names();
-const EnumNames<SpillCompression>& spill_compression_names();
-const EnumNames<RefineMethod>& refine_method_names();
-const EnumNames<Precision>& precision_names();
+OOCSIMP_API const EnumNames<ClusterMethod>& cluster_method_names();
+OOCSIMP_API const EnumNames<CellShape>& cell_shape_names();
+OOCSIMP_API const EnumNames<AssignRule>& assign_rule_names();
+OOCSIMP_API const EnumNames<RepresentativeRule>& representative_rule_names();
+OOCSIMP_API const EnumNames<SpillCompression>& spill_compression_names();
+OOCSIMP_API const EnumNames<RefineMethod>& refine_method_names();
+OOCSIMP_API const EnumNames<Precision>& precision_names();
 
 /// One line (no newline) naming `input_path` and every count of skipped faces and
 /// ignored vertices in `stats`, with the first non-finite vertex; empty when the input
 /// lost nothing.
-std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& stats);
+OOCSIMP_API std::string skipped_input_summary(const std::string& input_path, const SimplifyStats& stats);
 
 // --- Process-wide settings for a program that runs oocsimp (the library sets none
 // itself; the CLI calls these) -------------------------------------------------------
@@ -273,19 +278,19 @@ std::string skipped_input_summary(const std::string& input_path, const SimplifyS
 /// free buffers of 0.1-10 MiB on every thread, and glibc's dynamic threshold would
 /// soon serve even the largest from its per-thread arenas, which keep freed memory.
 /// Call once at start-up, before other threads allocate.
-void tune_allocator_for_tiles();
+OOCSIMP_API void tune_allocator_for_tiles();
 
 /// Lets glibc keep up to a sixty-fourth of `budget_bytes` (at most 256 MiB) freed at
 /// the top of each arena, where it gives back all above 128 KiB by default: the
 /// collapse's tiles then reuse the buffers of the tile before them instead of
 /// faulting fresh pages in. Budgets under 512 MiB keep glibc's default. Call once the
 /// run's budget is known, before the run.
-void keep_freed_heap(std::uint64_t budget_bytes);
+OOCSIMP_API void keep_freed_heap(std::uint64_t budget_bytes);
 
 /// Gives the allocator's free memory back to the system (malloc_trim): freed memory
 /// in the per-thread arenas otherwise counts against the budget. For
 /// SimplifyOptions::release_memory.
-void release_free_heap();
+OOCSIMP_API void release_free_heap();
 
 /// Installs SIGINT, SIGTERM, SIGHUP and SIGQUIT handlers that delete all registered
 /// temporary files and then terminate the process with the conventional status
@@ -294,6 +299,6 @@ void release_free_heap();
 /// with EPIPE, and the run cleans up and exits 4 instead of being killed. A SIGBUS from reading a memory-mapped input
 /// that shrank during the run (truncated by another process) deletes them too and exits 4 with "oocsimp: FILE: input
 /// changed during the run"; any other SIGBUS is a crash after the clean-up.
-void install_signal_cleanup();
+OOCSIMP_API void install_signal_cleanup();
 
 }  // namespace oocsimp

@@ -2,6 +2,8 @@
 // part of the core library): what the command line shows.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -16,7 +18,7 @@ namespace oocsimp {
 /// ETA when stderr is a terminal; otherwise (batch logs) "oocsimp: NAME started", a
 /// plain line every few seconds and "oocsimp: NAME done in ..."; nothing when quiet.
 /// A thread of its own refreshes the line, so the library's threads never print.
-class ProgressReporter {
+class OOCSIMP_API ProgressReporter {
  public:
   explicit ProgressReporter(bool quiet);
   ~ProgressReporter();

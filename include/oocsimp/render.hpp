@@ -6,6 +6,8 @@
 // pixel) whatever the mesh's size. No GPU, display or OpenGL is involved.
 #pragma once
 
+#include "oocsimp/export.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -71,17 +73,17 @@ struct RenderStats {
 };
 
 /// `image` as PNG bytes (8-bit RGB, through libpng).
-std::string encode_png(const Image& image);
+OOCSIMP_API std::string encode_png(const Image& image);
 /// `image` as baseline JPEG bytes (JFIF, 8-bit YCbCr, through libjpeg) at `quality`,
 /// 1 to 100 (UsageError otherwise).
-std::string encode_jpeg(const Image& image, int quality = 90);
+OOCSIMP_API std::string encode_jpeg(const Image& image, int quality = 90);
 
 enum class ImageFormat : std::uint8_t { png, jpeg };
 
 /// The format a picture at `path` is written in, by its extension (any case): .png,
 /// or .jpg and .jpeg for JPEG; stdout ("-") and an existing device or FIFO get PNG.
 /// Throws UsageError for any other name, so that no file's bytes contradict its name.
-ImageFormat image_format_for_path(const std::string& path);
+OOCSIMP_API ImageFormat image_format_for_path(const std::string& path);
 
 /// Opens `input` (converted positions and stream copies go under `temp_dir`, empty:
 /// the default temporary directory), renders it and writes the picture, PNG or JPEG by
@@ -89,12 +91,12 @@ ImageFormat image_format_for_path(const std::string& path);
 /// temporary name, renamed when complete (the output is opened first: a bad folder
 /// fails before the work). Throws UsageError (output = input, a name of neither
 /// format), InputError, IoError.
-RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
-                        const std::string& temp_dir = {});
+OOCSIMP_API RenderStats render_file(const std::string& input, const std::string& output, const RenderOptions& options,
+                                    const std::string& temp_dir = {});
 
 /// The shadings as the command line spells them, the default first.
-const EnumNames<Shading>& shading_names();
+OOCSIMP_API const EnumNames<Shading>& shading_names();
 /// The up axes as the command line spells them ("auto", "z", "y", "x"), the default first.
-const EnumNames<UpAxis>& up_axis_names();
+OOCSIMP_API const EnumNames<UpAxis>& up_axis_names();
 
 }  // namespace oocsimp
