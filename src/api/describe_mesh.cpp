@@ -5,7 +5,7 @@
 
 #include "io/mesh_input.hpp"
 #include "runtime/progress_phase.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/formats.hpp"
 
 namespace oocsimp {
 

@@ -16,7 +16,7 @@
 #include "io/attribute_array.hpp"
 #include "io/temp_file.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/formats.hpp"
 #include "runtime/memory_budget.hpp"
 #include "runtime/memory_usage.hpp"
 #include "runtime/progress_phase.hpp"

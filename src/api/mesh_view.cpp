@@ -9,7 +9,7 @@
 #include "io/attribute_array.hpp"
 #include "io/position_array.hpp"
 #include "oocsimp/error.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
 

@@ -1,7 +1,8 @@
 // The spellings of the option values, each written here once: the command line's
 // flags, the stats JSON and the *_name() functions all read these tables.
 #include "oocsimp/hierarchy.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/error.hpp"
+#include "oocsimp/names.hpp"
 
 namespace oocsimp {
 

@@ -8,7 +8,10 @@
 #include "grid/grid_choice.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/formats.hpp"
+#include "oocsimp/names.hpp"
+#include "oocsimp/parts.hpp"
+#include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
 

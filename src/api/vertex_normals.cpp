@@ -2,7 +2,7 @@
 #include <utility>
 
 #include "io/output_mesh.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/formats.hpp"
 
 namespace oocsimp {
 

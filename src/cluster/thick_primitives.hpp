@@ -12,7 +12,7 @@
 #include "cluster/fixed_point_sums.hpp"
 #include "common/flat_hash_map.hpp"
 #include "common/vec3_math.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/mesh.hpp"
 
 namespace oocsimp {
 

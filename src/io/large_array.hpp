@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "io/mapped_file.hpp"
-#include "oocsimp/oocsimp.hpp"  // default_temp_dir
+#include "oocsimp/names.hpp"  // default_temp_dir
 
 namespace oocsimp {
 

@@ -8,7 +8,7 @@
 #include "io/byte_sink.hpp"
 #include "io/output_mesh.hpp"
 #include "io/temp_file.hpp"
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/formats.hpp"
 
 namespace oocsimp {
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/process.hpp"
 
 namespace oocsimp {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/names.hpp"
 #include "runtime/memory_budget.hpp"
 
 #ifndef OOCSIMP_VERSION

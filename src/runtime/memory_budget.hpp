@@ -9,7 +9,7 @@
 #include <string>
 
 #include "oocsimp/error.hpp"
-#include "oocsimp/oocsimp.hpp"  // default_memory_budget
+#include "oocsimp/names.hpp"  // default_memory_budget
 #include "runtime/memory_usage.hpp"
 
 // Under AddressSanitizer the process's anonymous memory is mostly shadow memory and

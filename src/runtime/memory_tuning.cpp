@@ -1,4 +1,4 @@
-#include "oocsimp/oocsimp.hpp"
+#include "oocsimp/process.hpp"
 
 #include <malloc.h>
 

@@ -7,7 +7,7 @@
 
 #include "runtime/memory_usage.hpp"
 
-#include "oocsimp/oocsimp.hpp"  // default_memory_budget
+#include "oocsimp/names.hpp"  // default_memory_budget
 
 namespace oocsimp {
 

@@ -32,8 +32,10 @@ RunJob load_mpi_module() {
     if (void* module = ::dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL))
       return reinterpret_cast<RunJob>(::dlsym(module, "oocsimp_mpi_run_job"));
   }
-  std::fprintf(stderr, "oocsimp: warning: started by an MPI launcher, but %s cannot be loaded (%s): this rank runs "
-               "the whole job alone\n", OOCSIMP_MPI_MODULE, ::dlerror());
+  std::fprintf(stderr,
+               "oocsimp: warning: started by an MPI launcher, but %s cannot be loaded (%s): this rank runs "
+               "the whole job alone\n",
+               OOCSIMP_MPI_MODULE, ::dlerror());
 #else
   std::fprintf(stderr,
                "oocsimp: warning: started by an MPI launcher, but built without MPI (libopenmpi-dev): this rank "

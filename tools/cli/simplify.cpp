@@ -1,39 +1,11 @@
-// oocsimp command line: a thin layer over the library (include/oocsimp/).
-//
-// Each subcommand is an args struct that CLI11 fills, add_<name>_command declaring its
-// options and run_<name> doing the work; main parses, dispatches and maps failures to
-// exit codes: 0 ok, 2 usage, 3 bad input, 4 I/O or resource failure.
-#include "cli_commands.hpp"
-#include "cli_common.hpp"
+// oocsimp simplify: one mesh, levels of detail, a part of a distributed run or, under
+// an MPI launcher, the whole distributed run (docs/cli.md).
+#include "commands.hpp"
 #include "mpi_run.hpp"
 
-using namespace oocsimp;
-using namespace oocsimp_cli;
+namespace oocsimp_cli {
 
 namespace {
-
-struct SimplifyArgs {
-  std::string in;
-  OutputOptions outputs;
-  // What CLI11 sets directly: the enums, the flags and --tmp. The numbers below are
-  // checked into a copy (check_simplify_args).
-  SimplifyOptions options;
-  std::string attributes = "all";
-  std::string lock_vertices;  // a file of vertex indices
-  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
-  Given lods, lod_factor;
-  CLI::Option* refine = nullptr;
-  std::vector<CLI::Option*> floating_only;
-  RepresentativeRule representative = RepresentativeRule::quadric;
-  CLI::Option* rep = nullptr;
-  Given radius, curvature_tolerance, max_depth;
-  std::string neighbourhood = "ball";
-  std::vector<CLI::Option*> curvature_only;
-  bool measure = false;
-  bool quiet = false;
-  Given part;
-  std::string work_dir;
-};
 
 // The size of the output: cell, grid or ratio, or an exact target, and levels of detail.
 void add_size_options(CLI::App* cmd, SimplifyArgs& a) {
@@ -118,75 +90,6 @@ void add_curvature_options(CLI::App* cmd, SimplifyArgs& a) {
       add_given(cmd, "--max-depth", &a.max_depth, "Splits of a grid cell, 0 to 6 (default 0)"),
   };
   for (CLI::Option* o : a.curvature_only) o->group("Curvature method only (--method curvature)");
-}
-
-CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
-  CLI::App* cmd =
-      app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)");
-  cmd->footer(
-      "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of the "
-      "triangles).\n");
-  cmd->add_option("input", a.in, "Input mesh")->required();
-  cmd->add_option("-o,--output", a.outputs.mesh,
-                  "Output mesh; the format from the name: .ply, .obj, .stl, .off or .glb, + .zst compresses; - writes "
-                  "binary PLY to stdout")
-      ->required();
-  add_size_options(cmd, a);
-  add_enum_option(cmd, "--method", &a.options.method, cluster_method_names(),
-                  value_list(cluster_method_names(),
-                             {{ClusterMethod::automatic, "the default: qem with a target, floating without"},
-                              {ClusterMethod::floating, "Low & Tan; with a target, clustering then collapse"},
-                              {ClusterMethod::uniform, "OoCS grid; the same"},
-                              {ClusterMethod::curvature,
-                               "Hua et al.: grid cells split where principal curvatures differ, one cluster per "
-                               "connected part of a cell; the same"},
-                              {ClusterMethod::qem,
-                               "edge collapse, out of core in tiles on a large input; with a target or --ratio's "
-                               "default share, exactly"}}));
-  add_threads_option(cmd, &a.threads);
-  add_tmp_option(cmd, &a.options.temp_dir);
-  cmd->add_option("--stats", a.outputs.stats,
-                  "Write statistics as JSON to this file (- for stdout; default: none written)");
-  cmd->add_flag("--force", a.outputs.replace_input,
-                "Allow the output to be the input (replaced only after a successful run)");
-  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
-  cmd->add_flag("--ascii", a.outputs.ascii, "Write ascii PLY or STL instead of binary");
-  cmd->add_flag(
-      "--normals", a.outputs.normals,
-      "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)");
-  cmd->add_flag("--lock-boundary", a.options.lock_boundary,
-                "Leave every vertex on the mesh's boundary (an edge of one face) where it is: open borders and holes "
-                "keep their exact outline (the edge collapse, the default with a target, and floating cells without "
-                "one)");
-  cmd->add_option("--lock-vertices", a.lock_vertices,
-                  "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) that stay "
-                  "where they are: fixed in the edge collapse, each its own cluster in clustering (default: none)");
-  cmd->add_flag("--thick-edges", a.options.thick_edges,
-                "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
-                "edge and point with a thickness, OBJ l and p lines)");
-  add_enum_option(
-      cmd, "--precision", &a.options.precision, precision_names(),
-      "Output coordinates: " +
-          value_list(precision_names(),
-                     {{Precision::float32, nullptr},
-                      {Precision::float64, nullptr},
-                      {Precision::automatic, "double when the input holds more than float precision, the default"}}));
-  add_given(cmd, "--mem", &a.mem,
-            "Memory budget of the whole process (its anonymous memory, output tables included), e.g. 256M or 2G, "
-            "at least 32M (default: a quarter of physical memory)");
-  cmd->add_option("--attributes", a.attributes,
-                  "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)");
-  cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
-  add_floating_options(cmd, a);
-  add_curvature_options(cmd, a);
-  add_given(cmd, "--part", &a.part,
-            "I/K: run part I (0 to K-1) of a run spread over K processes, leaving its share in --work-dir for "
-            "oocsimp merge (any method, with or without a target; not with thick edges, locks or --lods: see "
-            "docs/cluster.md; default: the whole run in this process)")
-      ->group("Distributed runs");
-  cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge (default: none)")
-      ->group("Distributed runs");
-  return cmd;
 }
 
 // Given with another method, the floating-only options would do nothing.
@@ -421,7 +324,6 @@ int run_simplify_part(const SimplifyArgs& a, const SimplifyPlan& p) {
   return kOk;
 }
 
-int report_failure();
 int run_simplify_one(const SimplifyArgs& a, const SimplifyPlan& p);
 
 // simplify under mpirun or srun: each rank a part, rank 0 the merge; a method that
@@ -491,6 +393,91 @@ int run_simplify_mpi(const SimplifyArgs& a, const SimplifyPlan& p) {
   return oocsimp_cli::run_mpi_job(job);
 }
 
+// simplify in one process.
+int run_simplify_one(const SimplifyArgs& a, const SimplifyPlan& p) {
+  SimplifyStats stats;
+  simplify_file(a.in, a.outputs, p.options, &stats);
+  // stdout may carry the mesh or the stats: then the summary goes to stderr.
+  if (!a.quiet)
+    print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, p.options, stats);
+  // Not silenced by --quiet: the output lacks part of the input.
+  const std::string skipped = skipped_input_summary(a.in, stats);
+  if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
+  print_warnings(stats.warnings);
+  return kOk;
+}
+
+}  // namespace
+
+CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a) {
+  CLI::App* cmd =
+      app.add_subcommand("simplify", "Simplify a mesh file (PLY, OBJ, STL, OFF, glTF .glb, optionally .zst or .gz)");
+  cmd->footer(
+      "Give at most one of --cell, --grid and --ratio; without any, --ratio 0.1 (keep about a tenth of the "
+      "triangles).\n");
+  cmd->add_option("input", a.in, "Input mesh")->required();
+  cmd->add_option("-o,--output", a.outputs.mesh,
+                  "Output mesh; the format from the name: .ply, .obj, .stl, .off or .glb, + .zst compresses; - writes "
+                  "binary PLY to stdout")
+      ->required();
+  add_size_options(cmd, a);
+  add_enum_option(cmd, "--method", &a.options.method, cluster_method_names(),
+                  value_list(cluster_method_names(),
+                             {{ClusterMethod::automatic, "the default: qem with a target, floating without"},
+                              {ClusterMethod::floating, "Low & Tan; with a target, clustering then collapse"},
+                              {ClusterMethod::uniform, "OoCS grid; the same"},
+                              {ClusterMethod::curvature,
+                               "Hua et al.: grid cells split where principal curvatures differ, one cluster per "
+                               "connected part of a cell; the same"},
+                              {ClusterMethod::qem,
+                               "edge collapse, out of core in tiles on a large input; with a target or --ratio's "
+                               "default share, exactly"}}));
+  add_threads_option(cmd, &a.threads);
+  add_tmp_option(cmd, &a.options.temp_dir);
+  cmd->add_option("--stats", a.outputs.stats,
+                  "Write statistics as JSON to this file (- for stdout; default: none written)");
+  cmd->add_flag("--force", a.outputs.replace_input,
+                "Allow the output to be the input (replaced only after a successful run)");
+  add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
+  cmd->add_flag("--ascii", a.outputs.ascii, "Write ascii PLY or STL instead of binary");
+  cmd->add_flag(
+      "--normals", a.outputs.normals,
+      "Write per-vertex normals nx, ny, nz (area-weighted from the output's triangles; carried ones replaced)");
+  cmd->add_flag("--lock-boundary", a.options.lock_boundary,
+                "Leave every vertex on the mesh's boundary (an edge of one face) where it is: open borders and holes "
+                "keep their exact outline (the edge collapse, the default with a target, and floating cells without "
+                "one)");
+  cmd->add_option("--lock-vertices", a.lock_vertices,
+                  "A text file of input vertex indices (from 0, separated by blanks or lines, # comments) that stay "
+                  "where they are: fixed in the edge collapse, each its own cluster in clustering (default: none)");
+  cmd->add_flag("--thick-edges", a.options.thick_edges,
+                "Keep parts thinner than a cell as thick edges and points (Low & Tan 1997 sec. 3.3; PLY element "
+                "edge and point with a thickness, OBJ l and p lines)");
+  add_enum_option(
+      cmd, "--precision", &a.options.precision, precision_names(),
+      "Output coordinates: " +
+          value_list(precision_names(),
+                     {{Precision::float32, nullptr},
+                      {Precision::float64, nullptr},
+                      {Precision::automatic, "double when the input holds more than float precision, the default"}}));
+  add_given(cmd, "--mem", &a.mem,
+            "Memory budget of the whole process (its anonymous memory, output tables included), e.g. 256M or 2G, "
+            "at least 32M (default: a quarter of physical memory)");
+  cmd->add_option("--attributes", a.attributes,
+                  "Vertex attributes to carry: all (the default), none, or NAME,NAME... (as info lists them)");
+  cmd->add_flag("--weld", a.options.weld, "Merge PLY/OBJ vertices at exactly the same position (STL always is)");
+  add_floating_options(cmd, a);
+  add_curvature_options(cmd, a);
+  add_given(cmd, "--part", &a.part,
+            "I/K: run part I (0 to K-1) of a run spread over K processes, leaving its share in --work-dir for "
+            "oocsimp merge (any method, with or without a target; not with thick edges, locks or --lods: see "
+            "docs/cluster.md; default: the whole run in this process)")
+      ->group("Distributed runs");
+  cmd->add_option("--work-dir", a.work_dir, "With --part: the folder shared by the parts and the merge (default: none)")
+      ->group("Distributed runs");
+  return cmd;
+}
+
 int run_simplify(const SimplifyArgs& a) {
   SimplifyPlan p = check_simplify_args(a);
   ProgressReporter progress(a.quiet);
@@ -507,177 +494,4 @@ int run_simplify(const SimplifyArgs& a) {
   return run_simplify_one(a, p);
 }
 
-// simplify in one process.
-int run_simplify_one(const SimplifyArgs& a, const SimplifyPlan& p) {
-  SimplifyStats stats;
-  simplify_file(a.in, a.outputs, p.options, &stats);
-  // stdout may carry the mesh or the stats: then the summary goes to stderr.
-  if (!a.quiet)
-    print_simplify_summary(a.outputs.mesh == "-" || a.outputs.stats == "-" ? stderr : stdout, p.options, stats);
-  // Not silenced by --quiet: the output lacks part of the input.
-  const std::string skipped = skipped_input_summary(a.in, stats);
-  if (!skipped.empty()) std::fprintf(stderr, "oocsimp: warning: %s\n", skipped.c_str());
-  print_warnings(stats.warnings);
-  return kOk;
-}
-
-// --- Parse errors and failures.
-
-// Levenshtein distance, for "did you mean".
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
-// " (did you mean --grid?)" for the first argument that names no flag of `command`
-// (or no subcommand of the app) but is within two edits of one; empty otherwise.
-std::string suggestion(const CLI::App& app, int argc, char** argv) {
-  std::vector<CLI::App*> parsed = app.get_subcommands();
-  const CLI::App* command = parsed.empty() ? nullptr : parsed.front();
-  std::vector<std::string> names;
-  if (command) {
-    for (const CLI::Option* o : command->get_options())
-      for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
-  } else {
-    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
-      names.push_back(sub->get_name());
-  }
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    arg = arg.substr(0, arg.find('='));
-    if (command ? arg.rfind("--", 0) != 0 : arg.rfind("-", 0) == 0) continue;
-    if (std::find(names.begin(), names.end(), arg) != names.end()) continue;
-    if (!command && i > 1) break;  // only the subcommand's own position
-    std::string best;
-    std::size_t best_distance = 3;
-    for (const std::string& n : names) {
-      std::size_t d = edit_distance(arg, n);
-      if (d < best_distance) best_distance = d, best = n;
-    }
-    if (!best.empty()) return " (did you mean " + best + "?)";
-  }
-  return "";
-}
-
-// CLI11's messages may span lines; a usage error is one line.
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n') c = ' ';
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
-
-// The exception being handled, reported on stderr as its exit code (called in a catch block).
-int report_failure() {
-  try {
-    throw;
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
-    return kUsage;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
-    return kBadInput;
-  } catch (const IoError& e) {
-    std::fprintf(stderr, "oocsimp: %s\n", with_flags(e.what()).c_str());
-    return kIo;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "oocsimp: out of memory\n");
-    return kIo;
-  } catch (const std::exception& e) {  // Cancelled among them
-    std::fprintf(stderr, "oocsimp: %s\n", e.what());
-    return kIo;
-  }
-}
-
-}  // namespace
-
-// What each option's value is, for --help: every value is taken as text and checked
-// later, which CLI11 would show as TEXT. Every positional argument is a path.
-void show_value_types(CLI::App& app) {
-  static const std::pair<const char*, const char*> kTypeOfOption[] = {
-      {"threads", "INT"},        {"sets", "INT"},           {"max-error", "FLOAT[%]"}, {"target-tris", "INT"},
-      {"tris", "INT"},           {"grid", "INT"},           {"lods", "INT"},           {"levels", "INT"},
-      {"samples", "INT"},        {"seed", "INT"},           {"level", "INT"},          {"max-depth", "INT"},
-      {"height", "INT"},         {"mem", "SIZE"},           {"part", "I/K"},           {"box", "X0,Y0,Z0,X1,Y1,Z1"},
-      {"sphere", "X,Y,Z,R"},     {"size", "WxH"},           {"view", "AZ,EL"},         {"attributes", "NAMES"},
-      {"tmp", "PATH"},           {"work-dir", "PATH"},      {"output", "PATH"},        {"stats", "PATH"},
-      {"lock-vertices", "PATH"}, {"error-colours", "PATH"},
-  };
-  for (CLI::App* command : app.get_subcommands({}))
-    for (CLI::Option* option : command->get_options()) {
-      const std::string shown = option->get_type_name();
-      if (option->get_type_size() == 0 || shown.empty()) continue;  // a flag
-      if (option->get_lnames().empty() && option->get_snames().empty()) {
-        option->type_name("PATH");
-        continue;
-      }
-      const std::string name = option->get_lnames().front();
-      const char* type = shown.find(':') != std::string::npos ? "NAME" : "FLOAT";  // a choice, or a number
-      for (const auto& [n, t] : kTypeOfOption)
-        if (name == n) type = t;
-      option->type_name(type);
-    }
-}
-
-int main(int argc, char** argv) {
-  install_signal_cleanup();
-  tune_allocator_for_tiles();
-  CLI::App app{"oocsimp: out-of-core simplification of huge triangle meshes"};
-  // Before the subcommands: each takes its parent's formatter when it is added.
-  app.formatter(std::make_shared<WrappingFormatter>(help_width()));
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("oocsimp ") + version());
-  SimplifyArgs simplify;
-  InfoArgs info;
-  GenerateArgs generate;
-  MeasureArgs measure;
-  CurvatureArgs curvature;
-  LodSelectArgs lod_select;
-  RenderArgs render;
-  HierarchyArgs hierarchy;
-  ExtractArgs extract;
-  MergeArgs merge;
-  const std::pair<CLI::App*, std::function<int()>> commands[] = {
-      {add_simplify_command(app, simplify), [&] { return run_simplify(simplify); }},
-      {add_info_command(app, info), [&] { return run_info(info); }},
-      {add_generate_command(app, generate), [&] { return run_generate(generate); }},
-      {add_measure_command(app, measure), [&] { return run_measure(measure); }},
-      {add_curvature_command(app, curvature), [&] { return run_curvature(curvature); }},
-      {add_lod_select_command(app, lod_select), [&] { return run_lod_select(lod_select); }},
-      {add_render_command(app, render), [&] { return run_render(render); }},
-      {add_hierarchy_command(app, hierarchy), [&] { return run_hierarchy(hierarchy); }},
-      {add_extract_command(app, extract), [&] { return run_extract(extract); }},
-      {add_merge_command(app, merge), [&] { return run_merge(merge); }},
-  };
-  show_value_types(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "oocsimp: %s%s (see oocsimp --help)\n", one_line(e.what()).c_str(),
-                 suggestion(app, argc, argv).c_str());
-    return kUsage;
-  }
-  try {
-    for (const auto& [command, run] : commands)
-      if (*command) return run();
-  } catch (...) {
-    return report_failure();
-  }
-  return kUsage;
-}
+}  // namespace oocsimp_cli

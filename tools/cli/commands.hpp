@@ -1,10 +1,42 @@
-// The oocsimp subcommands other than simplify (cli_commands.cpp), for main() to
-// declare and dispatch.
+// The oocsimp subcommands, one file each in tools/cli/, for main() (main.cpp) to
+// declare and dispatch. Each is an args struct that CLI11 fills, add_<name>_command
+// declaring its options and run_<name> doing the work.
 #pragma once
 
-#include "cli_common.hpp"
+#include "common.hpp"
 
 namespace oocsimp_cli {
+
+// The units of a 4-k record's error (HierarchyRecord::error), which info, hierarchy
+// and extract --error share.
+inline constexpr const char* kHierarchyErrorUnits = "area x squared distance, model units^4";
+
+/// The exception being handled, reported on stderr as its exit code (called in a
+/// catch block).
+int report_failure();
+
+struct SimplifyArgs {
+  std::string in;
+  OutputOptions outputs;
+  // What CLI11 sets directly: the enums, the flags and --tmp. The numbers below are
+  // checked into a copy (check_simplify_args).
+  SimplifyOptions options;
+  std::string attributes = "all";
+  std::string lock_vertices;  // a file of vertex indices
+  Given cell, grid, ratio, tile, mem, threads, target_tris, target_ratio, max_error, intermediate_factor;
+  Given lods, lod_factor;
+  CLI::Option* refine = nullptr;
+  std::vector<CLI::Option*> floating_only;
+  RepresentativeRule representative = RepresentativeRule::quadric;
+  CLI::Option* rep = nullptr;
+  Given radius, curvature_tolerance, max_depth;
+  std::string neighbourhood = "ball";
+  std::vector<CLI::Option*> curvature_only;
+  bool measure = false;
+  bool quiet = false;
+  Given part;
+  std::string work_dir;
+};
 
 struct MergeArgs {
   std::string dir;
@@ -68,6 +100,8 @@ struct RenderArgs {
   bool quiet = false;
 };
 
+CLI::App* add_simplify_command(CLI::App& app, SimplifyArgs& a);
+int run_simplify(const SimplifyArgs& a);
 CLI::App* add_merge_command(CLI::App& app, MergeArgs& a);
 int run_merge(const MergeArgs& a);
 CLI::App* add_hierarchy_command(CLI::App& app, HierarchyArgs& a);
@@ -75,7 +109,6 @@ int run_hierarchy(HierarchyArgs& a);
 CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a);
 int run_extract(const ExtractArgs& a);
 CLI::App* add_info_command(CLI::App& app, InfoArgs& a);
-int run_hierarchy_info(const InfoArgs& a);
 int run_info(const InfoArgs& a);
 CLI::App* add_generate_command(CLI::App& app, GenerateArgs& a);
 int run_generate(const GenerateArgs& a);
