@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/uninitialised_vector.hpp"
+
 typedef struct ZSTD_DCtx_s ZSTD_DCtx;
 
 struct z_stream_s;  // zlib's z_stream
@@ -131,7 +133,7 @@ class ByteSource {
   std::size_t pos_ = 0, end_ = 0;
   std::uint64_t line_ = 0;
   bool eof_ = false;
-  std::vector<unsigned char> buf_;
+  UninitialisedVector<unsigned char> buf_;  // bytes past end_ are never read
   ZSTD_DCtx* zstd_ = nullptr;
   z_stream_s* gzip_ = nullptr;
   std::vector<unsigned char> zin_;
