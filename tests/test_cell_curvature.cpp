@@ -394,7 +394,7 @@ TEST_CASE("a --mem too small for the cell tables exits 2 before reading a face, 
     if (p.event == Progress::Event::begin) phases.push_back(p.phase);
     return true;
   };
-  CHECK_THROWS_AS(curvature_file(in, d.file("y.ply"), false, o, nullptr), UsageError);
+  CHECK_THROWS_AS(curvature_file(in, d.file("y.ply"), o, nullptr), UsageError);
   CHECK(std::find(phases.begin(), phases.end(), std::string("cell moments")) == phases.end());
   // The octree of --method curvature: its first depth's moments (cells of side 1/400
   // of the box, about one a face), estimated up front. 32 MiB is the least budget a

@@ -155,7 +155,7 @@ TEST_CASE("the curvature estimate reports its survey then its binning in tiles t
     o.temp_dir = tmp.path();
     o.progress = log.callback();
     CurvatureStats st;
-    curvature_file(in, d.file("k.ply"), false, o, &st);
+    curvature_file(in, d.file("k.ply"), o, &st);
     CHECK_FALSE(log.overlapped);
     CHECK_FALSE(log.unmatched);
     CHECK_FALSE(log.beyond_total);
@@ -493,4 +493,44 @@ TEST_CASE("MeshView::vertex_lock keeps the marked vertices where they are", "[ap
   }
   CHECK(kept + left_out == marked);
   CHECK(left_out <= 2);
+}
+
+TEST_CASE("extract_file and curvature_file take their output as named fields, and refuse simplify_file's others",
+          "[api]") {
+  ScratchDir d, tmp;
+  const std::string in = sphere(d, 20000);
+  const auto starts_with = [](const std::string& path, const std::string& head) {
+    return read_file(path).compare(0, head.size(), head) == 0;
+  };
+  CurvatureOptions c;
+  c.temp_dir = tmp.path();
+  OutputOptions out;
+  out.mesh = d.file("k.ply");
+  out.ascii = true;
+  curvature_file(in, out, c);
+  CHECK(starts_with(out.mesh, "ply\nformat ascii 1.0\n"));
+  curvature_file(in, d.file("kb.ply"), c);  // the path alone: binary
+  CHECK(starts_with(d.file("kb.ply"), "ply\nformat binary_little_endian 1.0\n"));
+
+  HierarchyOptions h;
+  h.temp_dir = tmp.path();
+  build_hierarchy_file(in, d.file("s.4k"), h);
+  HierarchyQuery q;
+  q.triangles = 1000;
+  out.mesh = d.file("e.ply");
+  extract_file(d.file("s.4k"), out, q);
+  CHECK(starts_with(out.mesh, "ply\nformat ascii 1.0\n"));
+
+  // Fields only simplify_file honours are refused, naming the field, before any file is made.
+  OutputOptions normals = out, stats = out, replace = out;
+  normals.normals = true;
+  stats.stats = d.file("s.json");
+  replace.replace_input = true;
+  for (const OutputOptions* o : {&normals, &stats, &replace}) {
+    CHECK_THROWS_AS(curvature_file(in, *o, c), UsageError);
+    CHECK_THROWS_AS(extract_file(d.file("s.4k"), *o, q), UsageError);
+  }
+  CHECK_THROWS_WITH(curvature_file(in, normals, c), Catch::Contains("outputs.normals"));
+  CHECK_THROWS_WITH(extract_file(d.file("s.4k"), stats, q), Catch::Contains("outputs.stats"));
+  CHECK_FALSE(file_exists(d.file("s.json")));
 }

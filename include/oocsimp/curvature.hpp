@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "oocsimp/mesh.hpp"
+#include "oocsimp/options.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -79,13 +80,17 @@ struct VertexCurvatures {
 OOCSIMP_API VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOptions& options);
 
 /// Reads the mesh at `input_path` (any format open_mesh_input reads), estimates its
-/// curvatures and writes `output_path`, a PLY file (ascii when `ascii`, ".zst"
-/// compresses): the vertices with float properties k1 and k2 after x, y, z, and the
-/// faces. The output is written as a stream and the values kept in a mapped temporary
-/// file, so heap memory stays within the budget for any size. Renamed into place only
-/// when complete. Fills `stats` when given. Throws UsageError (options, a non-PLY
+/// curvatures and writes `outputs.mesh`, a PLY file (ascii with outputs.ascii, ".zst"
+/// compresses; the other fields of OutputOptions are simplify_file's, refused here):
+/// the vertices with float properties k1 and k2 after x, y, z, and the faces. The
+/// output is written as a stream and the values kept in a mapped temporary file, so
+/// heap memory stays within the budget for any size. Renamed into place only when
+/// complete. Fills `stats` when given. Throws UsageError (options, a non-PLY
 /// output, a budget too small for one tile), InputError and IoError.
-OOCSIMP_API void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
+OOCSIMP_API void curvature_file(const std::string& input_path, const OutputOptions& outputs,
+                                const CurvatureOptions& options, CurvatureStats* stats = nullptr);
+/// The same with only a mesh path, written as binary PLY.
+OOCSIMP_API void curvature_file(const std::string& input_path, const std::string& output_path,
                                 const CurvatureOptions& options, CurvatureStats* stats = nullptr);
 
 }  // namespace oocsimp

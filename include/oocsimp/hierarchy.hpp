@@ -24,6 +24,7 @@
 #include "oocsimp/enum_names.hpp"
 #include "oocsimp/geometry.hpp"
 #include "oocsimp/mesh.hpp"
+#include "oocsimp/options.hpp"
 #include "oocsimp/progress.hpp"
 
 namespace oocsimp {
@@ -211,9 +212,15 @@ struct ExtractStats {
 };
 
 /// Reads the .4k file at `hierarchy_path`, extracts `query` and writes the mesh to
-/// `output_path` (any format write_mesh writes), each a phase `progress` hears: "read
-/// hierarchy", "extract", "write".
-OOCSIMP_API void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
+/// `outputs.mesh` (any format write_mesh writes; a PLY or STL in ascii with
+/// outputs.ascii), each a phase `progress` hears: "read hierarchy", "extract",
+/// "write". The other fields of OutputOptions are simplify_file's: set here, they are
+/// refused (UsageError).
+OOCSIMP_API void extract_file(const std::string& hierarchy_path, const OutputOptions& outputs,
+                              const HierarchyQuery& query, const ProgressCallback& progress = {},
+                              ExtractStats* stats = nullptr);
+/// The same with only a mesh path; a PLY or STL is written binary.
+OOCSIMP_API void extract_file(const std::string& hierarchy_path, const std::string& output_path,
                               const HierarchyQuery& query, const ProgressCallback& progress = {},
                               ExtractStats* stats = nullptr);
 

@@ -236,11 +236,13 @@ void build_hierarchy_file(const std::string& input_path, const std::string& outp
   if (stats) *stats = st;
 }
 
-void extract_file(const std::string& hierarchy_path, const std::string& output_path, bool ascii,
-                  const HierarchyQuery& query, const ProgressCallback& progress, ExtractStats* stats) {
+void extract_file(const std::string& hierarchy_path, const OutputOptions& outputs, const HierarchyQuery& query,
+                  const ProgressCallback& progress, ExtractStats* stats) {
+  refuse_simplify_only_outputs(outputs, "extract_file");
   const double start = now_seconds();
   PeakAnonSampler peak_anon;
-  const MeshFormat format = format_for_path(output_path, ascii);
+  const std::string& output_path = outputs.mesh;
+  const MeshFormat format = format_for_path(output_path, outputs.ascii);
   MeshHierarchy h;
   {
     ProgressPhase phase(progress, "read hierarchy", 0, "B");
@@ -263,6 +265,13 @@ void extract_file(const std::string& hierarchy_path, const std::string& output_p
   stats->seconds = now_seconds() - start;
   stats->peak_rss_bytes = peak_rss_bytes();
   stats->peak_anon_bytes = peak_anon.peak();
+}
+
+void extract_file(const std::string& hierarchy_path, const std::string& output_path, const HierarchyQuery& query,
+                  const ProgressCallback& progress, ExtractStats* stats) {
+  OutputOptions outputs;
+  outputs.mesh = output_path;
+  extract_file(hierarchy_path, outputs, query, progress, stats);
 }
 
 }  // namespace oocsimp

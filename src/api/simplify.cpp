@@ -465,6 +465,16 @@ MeshFormat output_format(const OutputOptions& outputs) {
   return format_for_path(outputs.mesh, outputs.ascii);
 }
 
+void refuse_simplify_only_outputs(const OutputOptions& outputs, const char* function) {
+  const auto refuse = [&](const char* field) {
+    throw UsageError(std::string("outputs.") + field,
+                     std::string("outputs.") + field + " is simplify_file's; " + function + " writes the mesh alone");
+  };
+  if (!outputs.stats.empty()) refuse("stats");
+  if (outputs.normals) refuse("normals");
+  if (outputs.replace_input) refuse("replace_input");
+}
+
 namespace {
 
 // Writing over the input (or one output over the other) would lose it: refused before

@@ -30,6 +30,11 @@ namespace oocsimp {
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
                         std::vector<Quadric>* quadrics = nullptr);
 
+/// For the facade's functions that write one mesh (extract_file, curvature_file):
+/// refuses (UsageError, naming the field and `function`) the fields of `outputs` only
+/// simplify_file honours: stats, normals and replace_input.
+void refuse_simplify_only_outputs(const OutputOptions& outputs, const char* function);
+
 /// simplify() at K levels, finest first. Level 0 is what simplify() gives for
 /// `options`; level k clusters at cell C F^k (C the cell of level 0), and equals
 /// simplify() with options.sizing.cell = C F^k. Floating cells bin and grade the

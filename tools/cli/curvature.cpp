@@ -41,7 +41,10 @@ int run_curvature(CurvatureArgs& a) {
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   CurvatureStats st;
-  curvature_file(a.in, a.out, a.ascii, o, &st);
+  OutputOptions outputs;
+  outputs.mesh = a.out;
+  outputs.ascii = a.ascii;
+  curvature_file(a.in, outputs, o, &st);
   std::vector<std::string> warnings;
   char w[320];
   if (st.at_scale == 0 && st.fitted + st.none > 0) {

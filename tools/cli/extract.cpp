@@ -81,7 +81,10 @@ int run_extract(const ExtractArgs& a) {
   check_stats_path(a.stats, a.in, a.out);
   ProgressReporter progress(a.quiet);
   ExtractStats st;
-  extract_file(a.in, a.out, a.ascii, q, progress.callback(), &st);
+  OutputOptions outputs;
+  outputs.mesh = a.out;
+  outputs.ascii = a.ascii;
+  extract_file(a.in, outputs, q, progress.callback(), &st);
   if (!a.stats.empty()) {
     std::string query = "{";
     if (a.level.given()) query += "\"level\": " + json_count(q.level);

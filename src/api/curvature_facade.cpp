@@ -81,9 +81,11 @@ VertexCurvatures estimate_curvatures(const MeshView& mesh, const CurvatureOption
   return out;
 }
 
-void curvature_file(const std::string& input_path, const std::string& output_path, bool ascii,
-                    const CurvatureOptions& options, CurvatureStats* stats) {
-  const MeshFormat format = format_for_path(output_path, ascii);
+void curvature_file(const std::string& input_path, const OutputOptions& outputs, const CurvatureOptions& options,
+                    CurvatureStats* stats) {
+  refuse_simplify_only_outputs(outputs, "curvature_file");
+  const std::string& output_path = outputs.mesh;
+  const MeshFormat format = format_for_path(output_path, outputs.ascii);
   if (format != MeshFormat::ply_binary && format != MeshFormat::ply_ascii)
     throw UsageError("outputs.mesh", "outputs.mesh " + output_path +
                                          ": curvature writes PLY (k1 and k2 are vertex properties); name a .ply file");
@@ -101,6 +103,13 @@ void curvature_file(const std::string& input_path, const std::string& output_pat
     out.commit();
   }
   if (stats) *stats = st;
+}
+
+void curvature_file(const std::string& input_path, const std::string& output_path, const CurvatureOptions& options,
+                    CurvatureStats* stats) {
+  OutputOptions outputs;
+  outputs.mesh = output_path;
+  curvature_file(input_path, outputs, options, stats);
 }
 
 }  // namespace oocsimp
