@@ -241,9 +241,14 @@ echo "table $tsv (all rows, by shape, method and size):"
 } | column -t -s$'\t'
 
 echo
-# Linear cost: the spread of Mtri/s from 16M triangles up, per shape and method.
+# Linear cost: the spread of Mtri/s from the 16M rung up, per shape and method (by the
+# rung's size: a generated parts mesh holds a few triangles fewer than its rung).
 tail -n +2 "$tsv" | awk -F'\t' '
-  $7 != "-" && $4 >= 16000000 {
+  function rung_tris(r, n, s) {
+    n = r + 0; s = toupper(substr(r, length(r)))
+    return s == "K" ? n * 1e3 : s == "M" ? n * 1e6 : (s == "B" || s == "G") ? n * 1e9 : n
+  }
+  $7 != "-" && rung_tris($1) >= 16000000 {
     k = $2 " " $3; n[k]++
     if (!(k in lo) || $7 < lo[k]) lo[k] = $7
     if (!(k in hi) || $7 > hi[k]) hi[k] = $7
