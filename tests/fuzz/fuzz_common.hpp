@@ -33,6 +33,7 @@
 #include "io/byte_source.hpp"     // starts_zstd_frame
 #include "io/position_array.hpp"  // MeshInput::Impl: the mapping behind the positions
 #include "oocsimp/error.hpp"
+#include "oocsimp/names.hpp"  // default_temp_dir
 #include "io/mesh_input.hpp"
 
 namespace oocsimp_fuzz {
