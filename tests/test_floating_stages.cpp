@@ -113,7 +113,7 @@ TEST_CASE("binning files every triangle in exactly the tiles of its corners, wit
     for (std::uint32_t tile = 0; tile < tiles.count(); ++tile) {
       auto c = coord_array(tiles.grid.coord(tile));
       CHECK(tiles.grid.find(tiles.grid.coord(tile)) == std::int64_t(tile));
-      std::vector<TriangleRecord> r = tiles.load(tile);
+      const TriangleRecords r = tiles.load(tile);
       records += r.size();
       most = std::max<std::uint64_t>(most, r.size());
       for (std::size_t i = 0; i < r.size(); ++i) {
@@ -418,7 +418,7 @@ TEST_CASE("kept tiles: what one run keeps, the next reloads as the same binned a
   MeshInput in = open_mesh_input(f.path);
   std::vector<std::string> warnings;
   const double side = 3 * f.cell;
-  std::vector<std::vector<TriangleRecord>> records;
+  std::vector<TriangleRecords> records;
   std::vector<std::vector<GradedVertex>> graded_before;
   std::vector<GridCoord> coords;
   {
@@ -450,7 +450,7 @@ TEST_CASE("kept tiles: what one run keeps, the next reloads as the same binned a
   REQUIRE(tiles.count() == coords.size());
   for (std::uint32_t t = 0; t < tiles.count(); ++t) {
     CHECK(tiles.grid.coord(t) == coords[t]);
-    std::vector<TriangleRecord> r = tiles.load(t);
+    const TriangleRecords r = tiles.load(t);
     REQUIRE(r.size() == records[t].size());
     for (std::size_t i = 0; i < r.size(); ++i) CHECK(r[i].tm == records[t][i].tm);
     std::vector<GradedVertex> g;

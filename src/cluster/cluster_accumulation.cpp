@@ -145,9 +145,9 @@ struct Scratch {
 // neighbours' border centres), and cluster_of, per owned vertex, the position in
 // `near` of its cluster's centre.
 struct AssignedTile {
-  AssignedTile(std::vector<TriangleRecord> records, const PositionArray& positions)
+  AssignedTile(TriangleRecords records, const PositionArray& positions)
       : tris(std::move(records)), mesh(tris, positions) {}
-  std::vector<TriangleRecord> tris;
+  TriangleRecords tris;
   TileLocalMesh mesh;
   std::vector<GradedVertex> near;
   std::vector<std::uint32_t> cluster_of;

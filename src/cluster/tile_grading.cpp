@@ -9,7 +9,7 @@
 
 namespace oocsimp {
 
-std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions,
+std::vector<GradedVertex> grade_tile(const TriangleRecords& tris, const PositionArray& positions,
                                      std::vector<std::uint64_t>* boundary) {
   // The tile's vertices as local ids in order of first use, each position read
   // once; the owned ones (whose fans are complete here) are graded.

@@ -31,7 +31,7 @@ struct TileLocalMesh {
 
   FlatHashSet<std::uint64_t> ids;  // input indices, numbered by local id
 
-  TileLocalMesh(const std::vector<TriangleRecord>& tris, const PositionArray& pos)
+  TileLocalMesh(const TriangleRecords& tris, const PositionArray& pos)
       : corners(3 * tris.size()), ids(2 * tris.size() + 16) {
     for (std::size_t t = 0; t < tris.size(); ++t)
       for (int k = 0; k < 3; ++k) {
@@ -52,7 +52,7 @@ struct TileLocalMesh {
 /// The tile's owned vertices (those whose records say so) graded from the tile's
 /// triangles `tris` (input order), in `precedes` order. With `boundary`, also the
 /// input indices of those on the mesh's boundary, ascending (grade_local_vertices).
-std::vector<GradedVertex> grade_tile(const std::vector<TriangleRecord>& tris, const PositionArray& positions,
+std::vector<GradedVertex> grade_tile(const TriangleRecords& tris, const PositionArray& positions,
                                      std::vector<std::uint64_t>* boundary = nullptr);
 
 /// The first greedy of a tile over its graded vertices (in `precedes` order): the

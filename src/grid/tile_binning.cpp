@@ -55,8 +55,8 @@ struct BinChunk {
 
 }  // namespace
 
-std::vector<TriangleRecord> BinnedTiles::load(std::uint32_t tile) const {
-  std::vector<TriangleRecord> t;
+TriangleRecords BinnedTiles::load(std::uint32_t tile) const {
+  TriangleRecords t;
   triangles->read(tile, &t);
   // Input order matters: a vertex quadric sums its faces in this order. Binning
   // appends in input order, so this is normally sorted already; parts that read

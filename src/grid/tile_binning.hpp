@@ -8,18 +8,18 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <unordered_map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
-#include "grid/tile_grid.hpp"
-#include "io/mesh_input.hpp"
+#include "common/uninitialised_vector.hpp"
 #include "grid/grid_spec.hpp"
+#include "grid/tile_grid.hpp"
+#include "grid/tile_plan.hpp"
+#include "grid/work_share.hpp"
 #include "io/mesh_input.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
-#include "grid/tile_plan.hpp"
-#include "grid/work_share.hpp"
 #include "spill/spill_allowances.hpp"
 #include "spill/stream_spill.hpp"
 
@@ -35,6 +35,10 @@ struct TriangleRecord {
   /// Whether corner k lies in the tile holding this record (the binning knew).
   bool owned(int k) const { return (tm >> (kMaskShift + k)) & 1; }
 };
+
+/// A tile's records as read from the spill: not cleared before they are read in,
+/// since every byte is a record's.
+using TriangleRecords = UninitialisedVector<TriangleRecord>;
 
 /// Every occupied tile costs a binning buffer of at least kMinBufferRecords records
 /// and its bookkeeping (spill chains, coordinates, borders, neighbour lists: under
@@ -64,7 +68,7 @@ struct BinnedTiles {
   std::uint32_t count() const { return grid.count(); }
   /// The tile's triangles, sorted by input index (a vertex quadric sums its faces in
   /// this order; binning appends in input order, so this is normally sorted already).
-  std::vector<TriangleRecord> load(std::uint32_t tile) const;
+  TriangleRecords load(std::uint32_t tile) const;
   /// The most triangle records any tile holds.
   std::uint64_t largest_tile_records() const;
 };

@@ -279,7 +279,7 @@ std::uint32_t parts_of(std::uint64_t records, std::uint64_t most) {
 // the whole tile. The parts follow from the tile's records alone.
 TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input, const Vec3d& origin,
                          std::uint64_t most, std::uint32_t part) {
-  const std::vector<TriangleRecord> records = bins.load(t);
+  const auto records = bins.load(t);
   const std::uint32_t n = parts_of(records.size(), most);
   const Box3d box = bins.grid.box(t);
   auto part_of = [&](const Vec3d& p) {
@@ -328,7 +328,7 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
 // count: around a dense spot (a sphere's pole) one may hold most of the tile.
 std::vector<std::uint64_t> first_pass_part_faces(const BinnedTiles& bins, std::uint32_t t, const MeshInput& input,
                                                  std::uint64_t most) {
-  const std::vector<TriangleRecord> records = bins.load(t);
+  const auto records = bins.load(t);
   const std::uint32_t n = parts_of(records.size(), most);
   const Box3d box = bins.grid.box(t);
   const double side = bins.grid.side / double(n);

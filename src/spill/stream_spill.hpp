@@ -75,8 +75,8 @@ class StreamSpill {
   /// All records of `stream` in append order, into `out` (resized to the records;
   /// Record must be the record type, or bytes). Reads unflushed buffers too.
   /// Thread-safe.
-  template <class Record>
-  void read(std::uint32_t stream, std::vector<Record>* out) const {
+  template <class Record, class Allocator>
+  void read(std::uint32_t stream, std::vector<Record, Allocator>* out) const {
     out->resize(std::size_t(record_count(stream) * record_size_ / sizeof(Record)));
     read_into(stream, out->data(), out->size() * sizeof(Record));
   }
