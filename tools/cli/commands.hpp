@@ -55,10 +55,11 @@ struct HierarchyArgs {
 };
 
 struct ExtractArgs {
-  std::string in, out, stats;
+  std::string in, stats;  // stats: the CLI's own JSON, not OutputOptions::stats
+  OutputOptions output;   // CLI11 sets the mesh path and ascii
   Given level, tris, error, box, sphere;
   HierarchyPlacement placement = HierarchyPlacement::quadric;
-  bool ascii = false, quiet = false;
+  bool quiet = false;
 };
 
 struct InfoArgs {
@@ -82,11 +83,12 @@ struct MeasureArgs {
 };
 
 struct CurvatureArgs {
-  std::string in, out, stats;
+  std::string in, stats;  // stats: the CLI's own JSON, not OutputOptions::stats
+  OutputOptions output;   // CLI11 sets the mesh path and ascii
   Given radius, threads, mem, tile, at_scale;
   std::string neighbourhood = "ball";
   CurvatureOptions options;
-  bool ascii = false, quiet = false;
+  bool quiet = false;
 };
 
 struct LodSelectArgs {

@@ -9,7 +9,8 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
   CLI::App* cmd = app.add_subcommand(
       "curvature", "Principal curvatures k1, k2 of every vertex by integral invariants (Hua et al. §3.4), to PLY");
   cmd->add_option("input", a.in, "Input mesh")->required();
-  cmd->add_option("-o,--output", a.out, "Output PLY: the mesh with float vertex properties k1 and k2")->required();
+  cmd->add_option("-o,--output", a.output.mesh, "Output PLY: the mesh with float vertex properties k1 and k2")
+      ->required();
   add_given(cmd, "--radius", &a.radius, "Radius of the ball or sphere (default 5 mean edge lengths)");
   cmd->add_option("--neighbourhood", a.neighbourhood,
                   "ball: the ball cut by the solid (Hua et al. eq. 13-14, the default); sphere: the sphere cut by it "
@@ -23,7 +24,7 @@ CLI::App* add_curvature_command(CLI::App& app, CurvatureArgs& a) {
             "scale (default: the ball or sphere)");
   add_threads_option(cmd, &a.threads);
   add_tmp_option(cmd, &a.options.temp_dir);
-  cmd->add_flag("--ascii", a.ascii, "Write ascii PLY");
+  cmd->add_flag("--ascii", a.output.ascii, "Write ascii PLY");
   add_stats_option(cmd, &a.stats);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
@@ -37,14 +38,11 @@ int run_curvature(CurvatureArgs& a) {
   if (a.tile.given()) o.tile_side = positive_number("--tile", a.tile.text);
   if (a.at_scale.given()) o.at_scale = positive_number("--at-scale", a.at_scale.text);
   o.neighbourhood = a.neighbourhood == "sphere" ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
-  check_stats_path(a.stats, a.in, a.out);
+  check_stats_path(a.stats, a.in, a.output.mesh);
   ProgressReporter progress(a.quiet);
   o.progress = progress.callback();
   CurvatureStats st;
-  OutputOptions outputs;
-  outputs.mesh = a.out;
-  outputs.ascii = a.ascii;
-  curvature_file(a.in, outputs, o, &st);
+  curvature_file(a.in, a.output, o, &st);
   std::vector<std::string> warnings;
   char w[320];
   if (st.at_scale == 0 && st.fitted + st.none > 0) {
@@ -68,7 +66,7 @@ int run_curvature(CurvatureArgs& a) {
         ", \"mem_bytes\": " + json_count(o.memory_budget ? o.memory_budget : default_memory_budget()) +
         ", \"threads\": " + json_count(o.threads) +
         ", \"tmp\": " + json_string(o.temp_dir.empty() ? default_temp_dir() : o.temp_dir) +
-        ", \"ascii\": " + json_bool(a.ascii) + "}";
+        ", \"ascii\": " + json_bool(a.output.ascii) + "}";
     const std::string work =
         "{\"radius\": " + json_shortest(st.radius) + ", \"mean_edge_length\": " + json_shortest(st.mean_edge_length) +
         ", \"at_scale\": " + json_shortest(st.at_scale) + ", \"tile_side\": " + json_shortest(st.tile_side) +
@@ -76,7 +74,7 @@ int run_curvature(CurvatureArgs& a) {
         ", \"none\": " + json_count(st.none) + "}";
     write_stats(
         a.stats,
-        joined(joined(stats_head(a.in, a.out, a.stats),
+        joined(joined(stats_head(a.in, a.output.mesh, a.stats),
                       {json_field("options", options), json_field("input", counts_json(st.vertices, st.triangles)),
                        json_field("curvature", work), json_field("output", counts_json(st.vertices, st.triangles))}),
                stats_tail(warnings, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
@@ -94,7 +92,7 @@ int run_curvature(CurvatureArgs& a) {
                  st.invariant, st.fitted, st.none,
                  st.tile_side > 0 ? ("in tiles of side " + std::to_string(st.tile_side)).c_str() : "in memory");
   }
-  std::fprintf(to, "output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.out.c_str(), st.vertices);
+  std::fprintf(to, "output  %s: k1 and k2 of %" PRIu64 " vertices\n", a.output.mesh.c_str(), st.vertices);
   std::fprintf(to, "time    %.3f s: %.2f M vertices/s\n", st.seconds,
                st.seconds > 0 ? double(st.vertices) / st.seconds / 1e6 : 0.0);
   print_memory_line(to, st.peak_rss_bytes, st.peak_anon_bytes);

@@ -30,7 +30,7 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
 CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
   CLI::App* cmd = app.add_subcommand("extract", "Extract a conforming mesh from a .4k hierarchy");
   cmd->add_option("input", a.in, "Input .4k file (written by oocsimp hierarchy)")->required();
-  cmd->add_option("-o,--output", a.out, "Output mesh (PLY, OBJ, STL, OFF, glTF .glb; .zst or .gz compresses)")
+  cmd->add_option("-o,--output", a.output.mesh, "Output mesh (PLY, OBJ, STL, OFF, glTF .glb; .zst or .gz compresses)")
       ->required();
   add_given(cmd, "--level", &a.level, "Level J: 0 is the finest, higher is coarser (give one of the three)");
   add_given(cmd, "--tris", &a.tris, "The finest state with at most this many triangles (give one of the three)");
@@ -44,7 +44,7 @@ CLI::App* add_extract_command(CLI::App& app, ExtractArgs& a) {
   add_enum_option(cmd, "--placement", &a.placement, hierarchy_placement_names(),
                   "Where the kept vertices go: quadric (each at the minimum of the quadric it holds, the default) "
                   "or kept (where the finest mesh has them)");
-  cmd->add_flag("--ascii", a.ascii, "Write ascii PLY or STL");
+  cmd->add_flag("--ascii", a.output.ascii, "Write ascii PLY or STL");
   add_stats_option(cmd, &a.stats);
   add_quiet_flag(cmd, &a.quiet, "No progress and no summary");
   return cmd;
@@ -78,13 +78,10 @@ int run_extract(const ExtractArgs& a) {
     q.radius = s[3];
   }
   q.placement = a.placement;
-  check_stats_path(a.stats, a.in, a.out);
+  check_stats_path(a.stats, a.in, a.output.mesh);
   ProgressReporter progress(a.quiet);
   ExtractStats st;
-  OutputOptions outputs;
-  outputs.mesh = a.out;
-  outputs.ascii = a.ascii;
-  extract_file(a.in, outputs, q, progress.callback(), &st);
+  extract_file(a.in, a.output, q, progress.callback(), &st);
   if (!a.stats.empty()) {
     std::string query = "{";
     if (a.level.given()) query += "\"level\": " + json_count(q.level);
@@ -98,15 +95,16 @@ int run_extract(const ExtractArgs& a) {
       query += ", \"sphere\": {\"centre\": [" + json_shortest(q.centre.x) + ", " + json_shortest(q.centre.y) + ", " +
                json_shortest(q.centre.z) + "], \"radius\": " + json_shortest(q.radius) + "}";
     query += ", \"placement\": " + json_string(name_of(hierarchy_placement_names(), q.placement)) +
-             ", \"ascii\": " + json_bool(a.ascii) + ", \"error_units\": " + json_string(kHierarchyErrorUnits) + "}";
-    write_stats(a.stats, joined(joined(stats_head(a.in, a.out, a.stats),
+             ", \"ascii\": " + json_bool(a.output.ascii) + ", \"error_units\": " + json_string(kHierarchyErrorUnits) +
+             "}";
+    write_stats(a.stats, joined(joined(stats_head(a.in, a.output.mesh, a.stats),
                                        {json_field("options", query),
                                         json_field("input", counts_json(st.finest_vertices, st.finest_triangles)),
                                         json_field("output", counts_json(st.output_vertices, st.output_triangles))}),
                                 stats_tail({}, st.seconds, st.peak_rss_bytes, st.peak_anon_bytes)));
   }
   if (a.quiet) return kOk;
-  std::FILE* to = a.out == "-" || a.stats == "-" ? stderr : stdout;
+  std::FILE* to = a.output.mesh == "-" || a.stats == "-" ? stderr : stdout;
   print_input_line(to, st.finest_vertices, st.finest_triangles, " (the hierarchy's finest level)");
   std::fprintf(to, "output  %" PRIu64 " vertices, %" PRIu64 " triangles\n", st.output_vertices, st.output_triangles);
   std::fprintf(to, "time    %.3f s\n", st.seconds);
