@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "api/simplify.hpp"
 #include "common/vec3_math.hpp"
 #include "io/mesh_input.hpp"
 #include "methods/qem_passes.hpp"
@@ -71,7 +72,7 @@ Reduced reduce(const std::string& path, std::uint64_t target, std::uint64_t budg
   Reduced r;
   PassSizes sizes = small_tiles();
   sizes.part_above = part_above;
-  QuadricMesh rest = reduce_in_passes(input, options, origin, target, &r.stats, sizes);
+  QuadricMesh rest = reduce_in_passes(input, plan_run(input, options), origin, target, &r.stats, sizes);
   CollapseSettings last;
   last.target_triangles = target;
   last.boundary_weight = 0;  // in the quadrics already
@@ -237,7 +238,7 @@ TEST_CASE("a budget that cannot hold a tile of the passes is refused up front, n
   options.memory_budget = std::uint64_t(80) << 20;
   SimplifyStats stats;
   try {
-    reduce_in_passes(input, options, input.info.bounds.min, 2000, &stats);
+    reduce_in_passes(input, plan_run(input, options), input.info.bounds.min, 2000, &stats);
     FAIL("an 80 MiB budget was accepted");
   } catch (const UsageError& e) {
     const std::string message = e.what();
@@ -247,7 +248,7 @@ TEST_CASE("a budget that cannot hold a tile of the passes is refused up front, n
   CHECK(stats.input_triangles == 0);  // refused before the input was binned
   options.memory_budget = std::uint64_t(84) << 20;
   MeshInput again = open_mesh_input(in, open);
-  CHECK(reduce_in_passes(again, options, again.info.bounds.min, 2000, &stats).triangles.size() > 0);
+  CHECK(reduce_in_passes(again, plan_run(again, options), again.info.bounds.min, 2000, &stats).triangles.size() > 0);
 }
 
 namespace {
@@ -536,7 +537,8 @@ TEST_CASE("the first pass spread over parts leaves one process's remainder, for 
   const std::uint64_t target = 3000;
   MeshInput whole = open_mesh_input(in, OpenOptions());
   SimplifyStats one;
-  const QuadricMesh expected = reduce_in_passes(whole, options, whole.info.bounds.min, target, &one, sizes);
+  const QuadricMesh expected =
+      reduce_in_passes(whole, plan_run(whole, options), whole.info.bounds.min, target, &one, sizes);
   REQUIRE(one.refine.passes >= 2);
   for (std::uint32_t parts = 1; parts <= 5; ++parts) {
     // Each part's tiles, as a part file would keep them.
@@ -546,8 +548,8 @@ TEST_CASE("the first pass spread over parts leaves one process's remainder, for 
     for (std::uint32_t part = 0; part < parts; ++part) {
       MeshInput input = open_mesh_input(in, OpenOptions());
       const FirstPassPlan plan = first_pass_part(
-          input, options, input.info.bounds.min, target, part, parts, [&](const TileOutput& t) { tiles.push_back(t); },
-          sizes);
+          input, plan_run(input, options), input.info.bounds.min, target, part, parts,
+          [&](const TileOutput& t) { tiles.push_back(t); }, sizes);
       collapses += plan.collapses;
       if (part == 0) spread.plan = plan;
       CHECK(plan.threshold == spread.plan.threshold);
@@ -560,8 +562,8 @@ TEST_CASE("the first pass spread over parts leaves one process's remainder, for 
     };
     MeshInput input = open_mesh_input(in, OpenOptions());
     SimplifyStats merged;
-    const QuadricMesh rest = reduce_after_first_pass(input, options, input.info.bounds.min, target, spread.plan,
-                                                     spread.tiles, &merged, sizes);
+    const QuadricMesh rest = reduce_after_first_pass(input, plan_run(input, options), input.info.bounds.min, target,
+                                                     spread.plan, spread.tiles, &merged, sizes);
     INFO(parts << " parts");
     CHECK(merged.refine.pass_triangles == one.refine.pass_triangles);
     CHECK(merged.refine.collapses == one.refine.collapses);

@@ -35,25 +35,6 @@ namespace oocsimp {
 
 namespace {
 
-// The clusterers work, and a float output is written, within the float range: an
-// input coordinate beyond it (possible in double input) is rejected up front, naming
-// the first such vertex, whatever the output precision.
-void check_float_range(const MeshInput& input) {
-  const Box3d& b = input.info.bounds;
-  constexpr double kMax = std::numeric_limits<float>::max();
-  if (b.empty() || (std::max({-b.min.x, -b.min.y, -b.min.z, b.max.x, b.max.y, b.max.z}) <= kMax)) return;
-  for (std::uint64_t i = 0; i < input.positions.count; ++i) {
-    Vec3d p = input.positions.get(i);
-    for (double c : {p.x, p.y, p.z})
-      if (std::isfinite(c) && std::abs(c) > kMax) {  // non-finite vertices are skipped, not out of range
-        std::ostringstream msg;
-        msg << input.info.path << ": vertex " << i << " has the coordinate " << c
-            << ", beyond the float range oocsimp works in";
-        throw InputError(msg.str());
-      }
-  }
-}
-
 // Rounds the clusterers' double positions to float values for a float output. A
 // cluster's output vertex may lie up to a cell beyond the bounding box: for inputs
 // near the float limit it can overflow where the input did not.
@@ -84,74 +65,8 @@ ScalarType output_precision(const MeshInput& input, Precision precision) {
 
 namespace {
 
-// The representative rules and the curvature method's numbers, each refused naming
-// its option.
-void check_method_options(const MeshInput& input, const SimplifyOptions& options) {
-  const ClusterMethod m = resolved_method(options);
-  if (m == ClusterMethod::floating && options.floating.representative == RepresentativeRule::vertex)
-    throw UsageError("options.floating.representative",
-                     "options.floating.representative vertex applies to the curvature method; floating takes "
-                     "quadric, centre or mean");
-  if (m != ClusterMethod::curvature) return;
-  const CurvatureClusterOptions& c = options.curvature;
-  if (c.representative != RepresentativeRule::vertex && c.representative != RepresentativeRule::quadric)
-    throw UsageError("options.curvature.representative", std::string("options.curvature.representative ") +
-                                                             representative_name(c.representative) +
-                                                             ": the curvature method takes vertex or quadric");
-  if (!(c.tolerance > 0) || !std::isfinite(c.tolerance))
-    throw UsageError("options.curvature.tolerance", "options.curvature.tolerance must be a positive finite number");
-  if (c.max_depth > 6) throw UsageError("options.curvature.max_depth", "options.curvature.max_depth must be 0 to 6");
-  const Box3d& b = input.info.bounds;
-  const double diagonal = b.empty() ? 0 : length(b.max - b.min);
-  if (!(c.radius >= 0) || !std::isfinite(c.radius) || c.radius > diagonal) {
-    std::ostringstream msg;
-    msg << "options.curvature.radius " << c.radius
-        << ": expected a positive finite length no longer than the bounding box's diagonal (" << diagonal << ")";
-    throw UsageError("options.curvature.radius", msg.str());
-  }
-}
-
-// What every run checks and records before its work: the budget's minimum, thick
-// edges' methods, the float range, the input's counts and notes.
-SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) {
-  // Said before starting, in bytes when it is no whole MiB ("0 MiB" for 1K would
-  // not be what was given).
-  const std::uint64_t minimum = minimum_memory_budget(), budget = options.memory_budget;
-  if (budget != 0 && budget < minimum)
-    throw UsageError("options.memory_budget", "options.memory_budget " +
-                                                  (budget % (1u << 20) == 0 ? std::to_string(budget >> 20) + " MiB"
-                                                                            : std::to_string(budget) + " bytes") +
-                                                  " is below the minimum of " + std::to_string(minimum >> 20) + " MiB");
-  // Thick edges come from clustering; a collapse to a target does not make them (yet),
-  // and saying so beats dropping them.
-  if (options.thick_edges && (options.method == ClusterMethod::qem || options.target.given()))
-    throw UsageError("options.thick_edges",
-                     "options.thick_edges needs a clustering method without a target (options.method floating or "
-                     "uniform; exact targets do not make thick edges yet)");
-  // A locked vertex is the edge collapse's fixed point, and a clustering method's
-  // cluster of its own (in a phase 1 before a target too, whose collapse then holds it).
-  const ClusterMethod method = resolved_method(options);
-  for (std::uint64_t v : options.locked_vertices)
-    if (v >= input.positions.count)
-      throw UsageError("options.locked_vertices", "options.locked_vertices names vertex " + std::to_string(v) +
-                                                      ", not below the input's vertex count " +
-                                                      std::to_string(input.positions.count));
-  // Floating cells find the boundary in their tiles, which hold every face of the
-  // vertices they own; the uniform grid streams its faces and cannot.
-  if (options.lock_boundary && method != ClusterMethod::qem && method != ClusterMethod::floating)
-    throw UsageError("options.lock_boundary",
-                     std::string("options.lock_boundary holds the boundary in the edge collapse (options.method qem, "
-                                 "the default with a target) and in floating cells, not in ") +
-                         method_name(method) + " clustering, which does not find the mesh's boundary");
-  // A phase 1 keeps the boundary, but the collapse after it would hold its tears as
-  // boundary too, and stall.
-  if (options.lock_boundary && method == ClusterMethod::floating && options.target.given() &&
-      options.target.refine == RefineMethod::qem)
-    throw UsageError("options.lock_boundary",
-                     "options.lock_boundary with a target is held by the edge collapse (options.method qem, the "
-                     "default with a target), not by a floating phase 1, whose tears the collapse would hold too");
-  check_method_options(input, options);
-  check_float_range(input);
+// What every run records before its work: the input's counts and notes.
+SimplifyStats begin_run(const MeshInput& input) {
   SimplifyStats st;
   st.input_vertices = input.positions.count;
   st.unwelded_vertices = input.info.unwelded_vertex_count;
@@ -167,9 +82,9 @@ SimplifyStats begin_run(const MeshInput& input, const SimplifyOptions& options) 
 // the whole process: the plans that keep a run within it are estimates, and a run
 // that overran says so rather than passing for one that fits. Phase by phase where
 // the run has phases.
-void warn_of_overrun(const SimplifyOptions& options, SimplifyStats& st) {
-  if (!OOCSIMP_MEASURED_MEMORY_MEANINGFUL || !options.budget_counts_process) return;
-  const std::uint64_t budget = budget_bytes(options.memory_budget);
+void warn_of_overrun(const RunPlan& plan, SimplifyStats& st) {
+  if (!OOCSIMP_MEASURED_MEMORY_MEANINGFUL || !plan.budget_counts_process) return;
+  const std::uint64_t budget = plan.budget_bytes;
   std::string over;
   auto note = [&](const char* what, std::uint64_t peak) {
     if (peak <= budget) return;
@@ -188,11 +103,11 @@ void warn_of_overrun(const SimplifyOptions& options, SimplifyStats& st) {
 // A run whose output is not smaller than its input says so, naming the option that
 // would make it smaller: a run that removes nothing looks like one that worked. A
 // target at or above the input's count has its own warning (input_as_is).
-void warn_if_nothing_removed(const SimplifyOptions& options, std::uint64_t output_triangles, SimplifyStats& st) {
+void warn_if_nothing_removed(const RunPlan& plan, std::uint64_t output_triangles, SimplifyStats& st) {
   if (st.input_triangles == 0 || output_triangles < st.input_triangles) return;
-  const TargetOptions& t = options.target;
+  const TargetOptions& t = plan.target;
   if (t.triangles != 0 || t.ratio != 0) return;
-  const CellSizing& s = options.sizing;
+  const CellSizing& s = plan.sizing;
   std::ostringstream advice;
   if (t.max_error != 0)
     advice << "a larger options.target.max_error (now " << t.max_error << ")";
@@ -209,14 +124,14 @@ void warn_if_nothing_removed(const SimplifyOptions& options, std::uint64_t outpu
 }
 
 // The output's precision and the run's peak memory.
-void finish_run(const MeshInput& input, const SimplifyOptions& options, const PeakAnonSampler& memory, OutputMesh& m,
+void finish_run(const MeshInput& input, const RunPlan& plan, const PeakAnonSampler& memory, OutputMesh& m,
                 SimplifyStats& st) {
-  warn_if_nothing_removed(options, m.triangle_count(), st);
+  warn_if_nothing_removed(plan, m.triangle_count(), st);
   m.precision = ScalarType::f64;
-  if (output_precision(input, options.precision) == ScalarType::f32) round_to_float(input, m);
+  if (output_precision(input, plan.precision) == ScalarType::f32) round_to_float(input, m);
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
-  warn_of_overrun(options, st);
+  warn_of_overrun(plan, st);
 }
 
 void record_grid(const GridSpec& grid, SimplifyStats* st) {
@@ -230,8 +145,8 @@ namespace {
 
 // begin_run's stats into `st`, after the caller's phases so far (simplify_file's
 // "open") and warnings, which stay first.
-void begin_stats(const MeshInput& input, const SimplifyOptions& options, SimplifyStats* st) {
-  const SimplifyStats begun = begin_run(input, options);
+void begin_stats(const MeshInput& input, SimplifyStats* st) {
+  const SimplifyStats begun = begin_run(input);
   std::vector<PhaseTime> phases = std::move(st->phases);
   std::vector<std::string> warnings = std::move(st->warnings);
   *st = begun;
@@ -240,52 +155,26 @@ void begin_stats(const MeshInput& input, const SimplifyOptions& options, Simplif
   st->warnings = std::move(warnings);
 }
 
-// `options` with a max_error given as a fraction of the bounding box's diagonal
-// turned into the length it stands for on this input, which is what the collapse
-// compares its errors with.
-SimplifyOptions with_error_in_units(const MeshInput& input, SimplifyOptions options) {
-  TargetOptions& t = options.target;
-  if (t.max_error_of_diagonal == 0) return options;
-  if (t.max_error != 0)
-    throw UsageError("options.target.max_error",
-                     "give options.target.max_error in model units or as a fraction of the diagonal, not both");
-  if (!(t.max_error_of_diagonal > 0 && t.max_error_of_diagonal <= 1))
-    throw UsageError("options.target.max_error",
-                     "options.target.max_error as a fraction of the bounding box's diagonal must be above 0 and at "
-                     "most 1 (100%)");
-  const double diagonal = input.info.bounds.empty() ? 0 : input.info.bounds.diagonal();
-  t.max_error = t.max_error_of_diagonal * diagonal;
-  if (!(t.max_error > 0))
-    throw UsageError("options.target.max_error",
-                     input.info.path +
-                         ": the bounding box has no diagonal to take "
-                         "options.target.max_error as a fraction of; give it in model units");
-  t.max_error_of_diagonal = 0;
-  return options;
-}
-
 // simplify(), with the output's arrays where the clusterers put them (mapped files
 // for an output large next to the budget).
-OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, SimplifyStats* stats,
+OutputMesh simplify_output(MeshInput& input, const RunPlan& plan, SimplifyStats* stats,
                            std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
-  SimplifyOptions options = with_error_in_units(input, given);
-  options.method = resolved_method(given);
-  auto threads = limit_threads(options.threads);
+  auto threads = limit_threads(plan.threads);
   const PeakAnonSampler memory;
   const double t0 = now_seconds();
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
-  begin_stats(input, options, &st);
+  begin_stats(input, &st);
   OutputMesh m;
-  if (options.method == ClusterMethod::qem || options.target.given()) {
-    m = OutputMesh::of(simplify_to_target(input, options, &st, quadrics, coarser));
+  if (plan.target.given()) {
+    m = OutputMesh::of(simplify_to_target(input, plan, &st, quadrics, coarser));
   } else {
-    const GridSpec grid = choose_grid(input, options.sizing, options.threads);
+    const GridSpec grid = choose_grid(input, plan.sizing, plan.threads);
     record_grid(grid, &st);
     input.restart_triangles();
-    m = cluster_method(options.method).run(input, options, grid, &st, nullptr);
+    m = cluster_method(plan.method).run(input, plan, grid, &st, nullptr);
   }
-  finish_run(input, options, memory, m, st);
+  finish_run(input, plan, memory, m, st);
   // The simplification's time; a run from a file counts its opening and writing too.
   st.seconds_total = now_seconds() - t0;
   return m;
@@ -296,7 +185,7 @@ OutputMesh simplify_output(MeshInput& input, const SimplifyOptions& given, Simpl
 SimplifiedMesh simplify(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
                         std::vector<Quadric>* quadrics) {
   if (quadrics) quadrics->clear();
-  return simplify_output(input, options, stats, quadrics).take();
+  return simplify_output(input, plan_run(input, options), stats, quadrics).take();
 }
 
 namespace {
@@ -341,19 +230,19 @@ using OutputSink = std::function<void(std::uint32_t level, OutputMesh& mesh, con
 void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const LodOptions& lods,
                           const OutputSink& sink) {
   check_lods(given, lods);
-  SimplifyOptions options = given;  // with a target each level resolves the method itself (simplify())
-  if (!options.target.given()) options.method = resolved_method(given);
-  auto threads = limit_threads(options.threads);
-  if (options.target.given()) {
+  auto threads = limit_threads(given.threads);
+  if (given.target.given()) {
     // Level k aims at the target halved k times. The edge collapse that meets level
     // 0's target goes on to the coarser ones; a run that ends in no collapse (the
     // input given back, a clustering without refine) leaves them to runs of their own.
-    std::vector<SimplifyOptions> at(lods.levels, options);
+    std::vector<RunPlan> at;
     std::vector<CoarserLevel> coarser(lods.levels - 1);
-    for (std::uint32_t k = 1; k < lods.levels; ++k) {
-      at[k].target.triangles >>= k;
-      at[k].target.ratio = std::ldexp(options.target.ratio, -int(k));
-      coarser[k - 1].target = at[k].target;
+    for (std::uint32_t k = 0; k < lods.levels; ++k) {
+      SimplifyOptions level = given;
+      level.target.triangles >>= k;
+      level.target.ratio = std::ldexp(given.target.ratio, -int(k));
+      at.push_back(plan_run(input, level));
+      if (k > 0) coarser[k - 1].target = at[k].target;
     }
     SimplifyStats first;
     OutputMesh m = simplify_output(input, at[0], &first, nullptr, &coarser);
@@ -383,21 +272,22 @@ void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const 
     }
     return;
   }
-  const SimplifyStats base = begin_run(input, options);
-  const GridSpec first = choose_grid(input, options.sizing, options.threads);
+  const RunPlan plan = plan_run(input, given);
+  const SimplifyStats base = begin_run(input);
+  const GridSpec first = choose_grid(input, plan.sizing, plan.threads);
   std::vector<GridSpec> grids = {first};
   for (std::uint32_t k = 1; k < lods.levels; ++k)
     grids.push_back(GridSpec::with_cell(input.info.bounds, first.cell * std::pow(lods.factor, double(k))));
-  const ClusterMethodEntry& method = cluster_method(options.method);
+  const ClusterMethodEntry& method = cluster_method(plan.method);
   if (method.levels) {  // the work that does not depend on the grid, once
     const PeakAnonSampler memory;
     input.restart_triangles();
     method.levels(
-        input, options, grids,
+        input, plan, grids,
         [&](std::size_t k, OutputMesh& m, SimplifyStats& st) {
           record_grid(grids[k], &st);
           st.lod_cell = grids[k].cell;
-          finish_run(input, options, memory, m, st);
+          finish_run(input, plan, memory, m, st);
           sink(std::uint32_t(k), m, st);
         },
         base, nullptr);
@@ -409,8 +299,8 @@ void simplify_lods_output(MeshInput& input, const SimplifyOptions& given, const 
     record_grid(grids[k], &st);
     st.lod_cell = grids[k].cell;
     input.restart_triangles();
-    OutputMesh m = method.run(input, options, grids[k], &st, nullptr);
-    finish_run(input, options, memory, m, st);
+    OutputMesh m = method.run(input, plan, grids[k], &st, nullptr);
+    finish_run(input, plan, memory, m, st);
     sink(k, m, st);
   }
 }
@@ -550,11 +440,10 @@ MeshInput open_input(const std::string& input_path, const SimplifyOptions& optio
 // Writes `mesh` (normals added when asked) to `file`, with a warning in `st` for what
 // the format cannot keep, and records the "write" phase.
 void write_output(OutputFile& file, MeshFormat format, const OutputOptions& outputs, OutputMesh& mesh,
-                  const SimplifyOptions& options, SimplifyStats& st) {
-  if (outputs.normals)
-    add_vertex_normals(&mesh, ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir));
+                  const RunPlan& plan, SimplifyStats& st) {
+  if (outputs.normals) add_vertex_normals(&mesh, ArrayPlace::within(plan.budget_bytes, plan.temp_dir));
   const double t0 = now_seconds();
-  ProgressPhase phase(options.progress, "write", 0, "B");
+  ProgressPhase phase(plan.progress, "write", 0, "B");
   if (!format_keeps_attributes(format, AttributeValues{mesh.attributes, {}, mesh.materials}))
     st.warnings.push_back(attributes_not_written(file.path(), format, mesh.attributes));
   if (!mesh.materials.empty() && !format_keeps_materials(format))
@@ -578,10 +467,11 @@ namespace {
 
 // A run from the file at `input_path` to `outputs`: every destination opened before
 // the work (a missing folder fails in a moment, not after the run), the input opened
-// (the "open" phase), `produce` run on it, the mesh written; the stats committed
+// (the "open" phase) and its run planned, `produce` run on it, the mesh written; the
+// stats committed
 // first, so that when they cannot be written the mesh output stays as it was.
 void run_to_files(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
-                  SimplifyStats& st, const std::function<OutputMesh(MeshInput& input)>& produce) {
+                  SimplifyStats& st, const std::function<OutputMesh(MeshInput& input, const RunPlan& plan)>& produce) {
   const MeshFormat format = output_format(outputs);
   check_distinct_destinations(input_path, outputs);
   std::unique_ptr<OutputFile> stats_file;
@@ -592,9 +482,10 @@ void run_to_files(const std::string& input_path, const OutputOptions& outputs, c
   double t0 = now_seconds();
   MeshInput input = open_input(input_path, options);
   st.phases.push_back({"open", now_seconds() - t0});
-  OutputMesh mesh = produce(input);
+  const RunPlan plan = plan_run(input, options);
+  OutputMesh mesh = produce(input, plan);
   mesh.materials = input.info.materials;
-  write_output(mesh_file, format, outputs, mesh, options, st);
+  write_output(mesh_file, format, outputs, mesh, plan, st);
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
   st.peak_anon_bytes = std::max(st.peak_anon_bytes, memory.peak());
@@ -612,7 +503,7 @@ void simplify_file(const std::string& input_path, const OutputOptions& outputs, 
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   run_to_files(input_path, outputs, options, st,
-               [&](MeshInput& input) { return simplify_output(input, options, &st); });
+               [&](MeshInput& input, const RunPlan& plan) { return simplify_output(input, plan, &st); });
 }
 
 void simplify_lods_file(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
@@ -635,6 +526,7 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
   double t0 = now_seconds();
   MeshInput input = open_input(input_path, options);
   const double open_seconds = now_seconds() - t0;
+  const RunPlan plan = plan_run(input, options);  // for the writing; simplify_lods_output plans each level
   std::vector<SimplifyStats> local;
   std::vector<SimplifyStats>& st = stats ? *stats : local;
   st.clear();
@@ -645,7 +537,7 @@ void simplify_lods_file(const std::string& input_path, const OutputOptions& outp
     if (k == 0) s.phases.insert(s.phases.begin(), {"open", open_seconds});
     const double write_start = now_seconds();
     mesh.materials = input.info.materials;
-    write_output(*files[k], format, outputs, mesh, options, s);
+    write_output(*files[k], format, outputs, mesh, plan, s);
     const double now = now_seconds();
     // A level whose run timed itself (a target's levels, worked out before level 0
     // is handed on) keeps its time; the others took the time since the last.
@@ -669,7 +561,21 @@ std::string absolute_path(const std::string& path) {
 
 }  // namespace
 
-void check_distributed_options(const SimplifyOptions& options) { check_part_options(options); }
+void check_distributed_options(const SimplifyOptions& options) {
+  const ClusterMethod method = resolved_method(options);
+  if (method != ClusterMethod::uniform && method != ClusterMethod::qem && method != ClusterMethod::floating &&
+      method != ClusterMethod::curvature)
+    throw UsageError("options.method",
+                     std::string("a distributed run (options.part) takes options.method uniform, floating, curvature, "
+                                 "or qem (the default with a target); ") +
+                         method_name(method) + " runs in one process for now");
+  if (options.thick_edges)
+    throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
+  if (!options.locked_vertices.empty())
+    throw UsageError("options.locked_vertices", "a distributed run (options.part) keeps no locked vertices yet");
+  if (options.lock_boundary)
+    throw UsageError("options.lock_boundary", "a distributed run (options.part) keeps no boundary locked yet");
+}
 
 void simplify_part(const std::string& input_path, const SimplifyOptions& options, const PartOptions& part,
                    SimplifyStats* stats) {
@@ -682,32 +588,30 @@ void simplify_part(const std::string& input_path, const SimplifyOptions& options
     throw IoError(part.work_dir +
                   ": the work folder does not exist: make it first, where every part and the merge can reach it");
   if (input_path == "-") throw UsageError("", "a distributed run reads its input from a shared path, not stdin");
-  check_part_options(options);
+  check_distributed_options(options);
   SimplifyStats local;
   SimplifyStats& st = stats ? *stats : local;
   auto threads = limit_threads(options.threads);
   const PeakAnonSampler memory;
   const double t0 = now_seconds();
-  SimplifyOptions o = options;
-  o.method = resolved_method(options);
-  MeshInput input = open_input(input_path, o);
-  o = with_error_in_units(input, o);
-  st = begin_run(input, o);
+  MeshInput input = open_input(input_path, options);
+  const RunPlan plan = plan_run(input, options);
+  st = begin_run(input);
   PartManifest manifest;
   manifest.part = part.index;
   manifest.parts = part.count;
   manifest.input = absolute_path(input_path);
   manifest.key = input_key(input_path);
-  manifest.options = part_options_text(o);
-  if (o.method == ClusterMethod::qem) {
-    run_qem_part(input, o, manifest, part.work_dir, &st);
+  manifest.options = part_options_text(plan);
+  if (plan.method == ClusterMethod::qem) {
+    run_qem_part(input, plan, manifest, part.work_dir, &st);
   } else {
-    if (!o.target.given()) {
-      manifest.grid = choose_grid(input, o.sizing, o.threads);
+    if (!plan.target.given()) {
+      manifest.grid = choose_grid(input, plan.sizing, plan.threads);
       record_grid(manifest.grid, &st);
       input.restart_triangles();
     }
-    run_clustering_part(input, o, manifest, PartChannel{part.exchange, part.deliver}, part.work_dir, &st);
+    run_clustering_part(input, plan, manifest, PartChannel{part.exchange, part.deliver}, part.work_dir, &st);
   }
   st.seconds_total = now_seconds() - t0;
   st.peak_rss_bytes = peak_rss_bytes();
@@ -733,27 +637,27 @@ void merge_parts(const std::string& work_dir, const OutputOptions& outputs, cons
   options.floating.spill_compression = runtime.floating.spill_compression;
   if (!read_part_options(manifest.options, &options))
     throw InputError(work_dir + "/" + part_file_name(0, manifest.parts) + ": its options are malformed");
-  run_to_files(manifest.input, outputs, options, st, [&](MeshInput& input) {
+  run_to_files(manifest.input, outputs, options, st, [&](MeshInput& input, const RunPlan& plan) {
     const PeakAnonSampler memory;
-    begin_stats(input, options, &st);
+    begin_stats(input, &st);
     OutputMesh mesh;
-    if (options.method != ClusterMethod::qem && !options.target.given()) {
+    if (!plan.target.given()) {
       record_grid(manifest.grid, &st);
-      mesh = parts.clustering(input, options)(manifest.grid, &st, nullptr);
-    } else if (options.method != ClusterMethod::qem && manifest.grid.cell > 0) {
+      mesh = parts.clustering(input, plan)(manifest.grid, &st, nullptr);
+    } else if (plan.method != ClusterMethod::qem && manifest.grid.cell > 0) {
       // The curvature estimate serves phase 1 at any grid; the others' sums, only theirs.
-      const bool any_grid = options.method == ClusterMethod::curvature;
-      mesh = OutputMesh::of(simplify_to_target_after_clustering(input, options, manifest.grid,
-                                                                parts.clustering(input, options), any_grid, &st));
-    } else if (options.method != ClusterMethod::qem) {  // the parts clustered nothing: the run whole
-      mesh = OutputMesh::of(simplify_to_target(input, options, &st));
+      const bool any_grid = plan.method == ClusterMethod::curvature;
+      mesh = OutputMesh::of(simplify_to_target_after_clustering(input, plan, manifest.grid,
+                                                                parts.clustering(input, plan), any_grid, &st));
+    } else if (plan.method != ClusterMethod::qem) {  // the parts clustered nothing: the run whole
+      mesh = OutputMesh::of(simplify_to_target(input, plan, &st));
     } else if (parts.has_first_pass()) {
-      mesh = OutputMesh::of(
-          simplify_to_target_after_parts(input, options, parts.first_pass(input.attributes.size()), &st));
+      mesh =
+          OutputMesh::of(simplify_to_target_after_parts(input, plan, parts.first_pass(input.attributes.size()), &st));
     } else {  // the parts found no pass to spread: the run whole
-      mesh = OutputMesh::of(simplify_to_target(input, options, &st));
+      mesh = OutputMesh::of(simplify_to_target(input, plan, &st));
     }
-    finish_run(input, options, memory, mesh, st);
+    finish_run(input, plan, memory, mesh, st);
     return mesh;
   });
 }

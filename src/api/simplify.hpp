@@ -8,12 +8,18 @@
 #include "grid/grid_choice.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/run_plan.hpp"
 #include "oocsimp/formats.hpp"
 #include "oocsimp/names.hpp"
 #include "oocsimp/parts.hpp"
 #include "oocsimp/simplify.hpp"
 
 namespace oocsimp {
+
+/// The run `options` ask for on `input`, checked and settled (methods/run_plan.hpp):
+/// throws UsageError naming the option for a value the run cannot take, InputError
+/// for an input coordinate beyond the float range.
+RunPlan plan_run(const MeshInput& input, const SimplifyOptions& options);
 
 /// Clusters `input` by `options.method`: floating cells (the default; Low & Tan,
 /// see docs/design.md: cells centred on the heaviest vertices,

@@ -11,11 +11,11 @@
 
 namespace oocsimp {
 
-OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+OutputMesh single_level(ClusterLevels levels, MeshInput& input, const RunPlan& plan, const GridSpec& grid,
                         SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   OutputMesh out;
   levels(
-      input, options, {grid},
+      input, plan, {grid},
       [&](std::size_t, OutputMesh& m, SimplifyStats& s) {
         out = std::move(m);
         if (stats) *stats = std::move(s);

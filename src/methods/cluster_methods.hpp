@@ -11,6 +11,7 @@
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
 #include "io/output_mesh.hpp"
+#include "methods/run_plan.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
@@ -21,8 +22,8 @@ namespace oocsimp {
 /// fields of `stats` (counts, the method's phases). With `quadrics`, it also gives
 /// each output vertex its cluster's summed quadric, in model units relative to
 /// grid.origin (multiphase simplification's phase 1, Garland & Shaffer 2002).
-using ClusterRun = OutputMesh (*)(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                  SimplifyStats* stats, std::vector<Quadric>* quadrics);
+using ClusterRun = OutputMesh (*)(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
+                                  std::vector<Quadric>* quadrics);
 /// Hears each level of a ClusterLevels run when it is done: its number, its mesh
 /// (which the sink may move from) and its stats.
 using LevelSink = std::function<void(std::size_t level, OutputMesh& mesh, SimplifyStats& stats)>;
@@ -30,10 +31,10 @@ using LevelSink = std::function<void(std::size_t level, OutputMesh& mesh, Simpli
 /// on the grid (floating: binning and grading; curvature: the estimate) is done once.
 /// Each level equals `run` at its grid; its stats start as a copy of `base`, and the
 /// first level's phases include the shared work. With `quadrics`, as for ClusterRun.
-using ClusterLevels = void (*)(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+using ClusterLevels = void (*)(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
                                const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics);
 /// A ClusterRun from a method's ClusterLevels: `levels` at the one grid `grid`.
-OutputMesh single_level(ClusterLevels levels, MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+OutputMesh single_level(ClusterLevels levels, MeshInput& input, const RunPlan& plan, const GridSpec& grid,
                         SimplifyStats* stats, std::vector<Quadric>* quadrics);
 /// The positions of the input vertices `locked`, sorted, each once: the places that
 /// stay where they are.

@@ -29,18 +29,17 @@ namespace oocsimp {
 namespace {
 
 // What the estimator may hold: the budget less what the process holds now.
-CurvatureOptions curvature_options(const SimplifyOptions& options, const MemoryBudget& budget) {
+CurvatureOptions curvature_options(const RunPlan& plan, const MemoryBudget& budget) {
   constexpr std::uint64_t kLeast = 1 << 20;  // 0 would mean "the default budget"
   CurvatureOptions o;
-  o.radius = options.curvature.radius;
-  o.neighbourhood =
-      options.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
-  o.tile_side = options.curvature.tile_side;
-  o.threads = options.threads;
+  o.radius = plan.curvature.radius;
+  o.neighbourhood = plan.curvature.sphere_neighbourhood ? CurvatureNeighbourhood::sphere : CurvatureNeighbourhood::ball;
+  o.tile_side = plan.curvature.tile_side;
+  o.threads = plan.threads;
   const std::uint64_t held = budget.held();
   o.memory_budget = std::max(kLeast, budget.bytes() > held ? budget.bytes() - held : 0);
-  o.temp_dir = options.temp_dir;
-  o.progress = options.progress;
+  o.temp_dir = plan.temp_dir;
+  o.progress = plan.progress;
   return o;
 }
 
@@ -64,59 +63,56 @@ void note_estimates(const CurvatureStats& c, SimplifyStats* stats) {
 
 // Steps 2-4 at one grid, from the curvatures `k`; the phases go to `clock`'s stages
 // and then to `stats`.
-OutputMesh cluster_at(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, const float* k,
+OutputMesh cluster_at(MeshInput& input, const RunPlan& plan, const GridSpec& grid, const float* k,
                       const MemoryBudget& budget, const std::string& temp, PhaseTimer* clock, SimplifyStats* stats,
                       std::vector<Quadric>* quadrics) {
   CurvatureCellSettings settings;
-  settings.tolerance = options.curvature.tolerance;
-  settings.max_depth = options.curvature.max_depth;
+  settings.tolerance = plan.curvature.tolerance;
+  settings.max_depth = plan.curvature.max_depth;
   VertexClusters clusters(grid, settings, input.positions.count, temp);
-  const bool vertex_rule = options.curvature.representative == RepresentativeRule::vertex;
-  clusters.find_leaves(input, vertex_rule ? k : nullptr, budget, options.progress);
+  const bool vertex_rule = plan.curvature.representative == RepresentativeRule::vertex;
+  clusters.find_leaves(input, vertex_rule ? k : nullptr, budget, plan.progress);
   clock->end("octree");
 
-  clusters.join_components(input, options.progress);
+  clusters.join_components(input, plan.progress);
   clock->end("parts");
 
   const MatchContext context{&clusters, k};
   ClusterCellSource source;
   source.clusters = &clusters;
-  if (options.curvature.representative == RepresentativeRule::vertex) {
+  if (plan.curvature.representative == RepresentativeRule::vertex) {
     source.matches = vertex_matches;
     source.context = &context;
   }
   clock->move_to(&stats->phases);  // the uniform passes' phases follow
-  return cluster_cells(input, options, grid, source, stats, quadrics);
+  return cluster_cells(input, plan, grid, source, stats, quadrics);
 }
 
 // Whether the run reads the vertices' own curvatures: only the vertex representatives
 // do; the octree reads the cells' (find_leaves), at the uniform grid's pace.
-bool reads_curvatures(const SimplifyOptions& options) {
-  return options.curvature.representative == RepresentativeRule::vertex;
-}
+bool reads_curvatures(const RunPlan& plan) { return plan.curvature.representative == RepresentativeRule::vertex; }
 
 // The levels, with the curvatures from `fill`.
 using BudgetedFill = std::function<CurvatureStats(float* k, const MemoryBudget& budget)>;
-void run_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
-                const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics,
-                const BudgetedFill& fill) {
-  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+void run_levels(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids, const LevelSink& sink,
+                const SimplifyStats& base, std::vector<Quadric>* quadrics, const BudgetedFill& fill) {
+  const MemoryBudget budget(plan.budget_bytes, plan.budget_counts_process);
   PhaseTimer clock;
-  const std::string temp = options.temp_dir.empty() ? default_temp_dir() : options.temp_dir;
+  const std::string& temp = plan.temp_dir;
   MappedCurvatures k(temp, input.positions.count);
   CurvatureStats estimated;
-  if (reads_curvatures(options)) {
+  if (reads_curvatures(plan)) {
     estimated = fill(k.data(), budget);
     // The tiles' buffers were freed on several threads: let the allocator give them
     // back before the tables come (see SimplifyOptions::release_memory).
-    if (options.release_memory) options.release_memory();
+    if (plan.release_memory) plan.release_memory();
     clock.end("curvatures");
   }
   for (std::size_t level = 0; level < grids.size(); ++level) {
     if (level > 0) clock.restart();
     input.restart_triangles();
     SimplifyStats stats = base;
-    OutputMesh mesh = cluster_at(input, options, grids[level], k.data(), budget, temp, &clock, &stats, quadrics);
+    OutputMesh mesh = cluster_at(input, plan, grids[level], k.data(), budget, temp, &clock, &stats, quadrics);
     if (level == 0) note_estimates(estimated, &stats);
     sink(level, mesh, stats);
   }
@@ -124,43 +120,43 @@ void run_levels(MeshInput& input, const SimplifyOptions& options, const std::vec
 
 }  // namespace
 
-OutputMesh cluster_curvature(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                             SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  return single_level(cluster_curvature_levels, input, options, grid, stats, quadrics);
+OutputMesh cluster_curvature(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
+                             std::vector<Quadric>* quadrics) {
+  return single_level(cluster_curvature_levels, input, plan, grid, stats, quadrics);
 }
 
-void cluster_curvature_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+void cluster_curvature_levels(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
                               const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
-  run_levels(input, options, grids, sink, base, quadrics, [&](float* k, const MemoryBudget& budget) {
-    return estimate_mesh_curvatures(input, curvature_options(options, budget), k);
+  run_levels(input, plan, grids, sink, base, quadrics, [&](float* k, const MemoryBudget& budget) {
+    return estimate_mesh_curvatures(input, curvature_options(plan, budget), k);
   });
 }
 
-CurvaturePartPlan estimate_curvature_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part,
+CurvaturePartPlan estimate_curvature_part(MeshInput& input, const RunPlan& plan, std::uint32_t part,
                                           std::uint32_t parts, const CurvatureSink& sink, SimplifyStats* stats) {
-  CurvaturePartPlan plan;
-  plan.vertices = input.positions.count;
-  plan.triangles = input.info.face_count;  // as the header says, where nothing is estimated
-  if (!reads_curvatures(options)) return plan;
+  CurvaturePartPlan estimate;
+  estimate.vertices = input.positions.count;
+  estimate.triangles = input.info.face_count;  // as the header says, where nothing is estimated
+  if (!reads_curvatures(plan)) return estimate;
   PhaseTimer clock;
-  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+  const MemoryBudget budget(plan.budget_bytes, plan.budget_counts_process);
   const VertexDeal deal(input.positions, input.info.bounds, part, parts);
-  const CurvatureStats c = estimate_dealt_curvatures(input, curvature_options(options, budget), deal, sink);
+  const CurvatureStats c = estimate_dealt_curvatures(input, curvature_options(plan, budget), deal, sink);
   clock.end("curvatures");
-  plan.triangles = c.triangles;
-  plan.radius = c.radius;
-  plan.invariant = c.invariant;
-  plan.fitted = c.fitted;
-  plan.estimated = 1;
+  estimate.triangles = c.triangles;
+  estimate.radius = c.radius;
+  estimate.invariant = c.invariant;
+  estimate.fitted = c.fitted;
+  estimate.estimated = 1;
   if (stats) clock.move_to(&stats->phases);
-  return plan;
+  return estimate;
 }
 
-OutputMesh merge_curvature_parts(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const CurvatureFill& fill, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+OutputMesh merge_curvature_parts(MeshInput& input, const RunPlan& plan, const GridSpec& grid, const CurvatureFill& fill,
+                                 SimplifyStats* stats, std::vector<Quadric>* quadrics) {
   OutputMesh out;
   run_levels(
-      input, options, {grid},
+      input, plan, {grid},
       [&](std::size_t, OutputMesh& m, SimplifyStats& s) {
         out = std::move(m);
         if (stats) *stats = std::move(s);

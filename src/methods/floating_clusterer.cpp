@@ -49,8 +49,8 @@ namespace {
 
 // The tiles' buffers of a phase are freed at its end; let the caller's allocator
 // give them back before the next (see SimplifyOptions::release_memory).
-void release_memory(const SimplifyOptions& options) {
-  if (options.release_memory) options.release_memory();
+void release_memory(const RunPlan& plan) {
+  if (plan.release_memory) plan.release_memory();
 }
 
 // The graded vertices of every tile, kept for --keep-tmp. They barely compress
@@ -85,7 +85,7 @@ void check_fullest_tile_fits(const MemoryBudget& budget, const BinnedTiles& tile
 // level clusters the same graded tiles (Low & Tan 1997 §3.2.2 and §4, "sort once").
 class FloatingRun {
  public:
-  FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+  FloatingRun(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
               std::vector<Quadric>* quadrics);
   FloatingRun(const FloatingRun&) = delete;
   FloatingRun& operator=(const FloatingRun&) = delete;
@@ -111,14 +111,15 @@ class FloatingRun {
               SimplifyStats* stats) const;
 
  private:
-  FloatingCellShape cell(std::size_t level) const { return {grids_[level].cell, options_.floating.cell_shape}; }
+  FloatingCellShape cell(std::size_t level) const { return {grids_[level].cell, plan_.floating.cell_shape}; }
 
   MeshInput& input_;
   const std::vector<GridSpec>& grids_;
   std::vector<Quadric>* quadrics_;
-  SimplifyOptions options_;
+  const RunPlan& plan_;
   const MemoryBudget budget_;  // the output's check, at the end
   const ArrayPlace place_;     // of the kept triangles and the output's arrays
+  bool keep_temp_;             // plan_.floating.keep_temp, but never in a part
   double coarsest_ = 0;
   std::vector<std::string> warnings_;  // the kept tiles', reported with the first level
   KeptTileStore kept_;
@@ -128,27 +129,23 @@ class FloatingRun {
   SpillSettings spill_;
   std::unique_ptr<BorderDecisions> decisions_;  // the level's
   FirstChoice first_;                           // the level's first greedy, by decisions_
-  std::vector<std::uint64_t> locked_;           // options_.locked_vertices, sorted
   std::unique_ptr<BlockStore> blocks_;          // the level's graded vertex blocks
   TileShare share_;                             // the tiles this run owns (every tile but in a part of several)
 };
 
-FloatingRun::FloatingRun(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+FloatingRun::FloatingRun(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
                          std::vector<Quadric>* quadrics)
     : input_(input),
       grids_(grids),
       quadrics_(quadrics),
-      options_(given),
-      budget_(budget_bytes(given.memory_budget), given.budget_counts_process),
-      place_(ArrayPlace::within(budget_.bytes(), given.temp_dir)),
-      kept_(input, given.temp_dir.empty() ? default_temp_dir() : given.temp_dir, &warnings_),
+      plan_(plan),
+      budget_(plan.budget_bytes, plan.budget_counts_process),
+      place_(ArrayPlace::within(plan.budget_bytes, plan.temp_dir)),
+      keep_temp_(plan.floating.keep_temp),
+      kept_(input, plan.temp_dir, &warnings_),
       first_([this](std::uint32_t tile, const std::vector<GradedVertex>& sorted) {
         return decisions_->choose_first(tile, sorted);
       }) {
-  options_.memory_budget = budget_.bytes();  // the stages take the bytes, never 0
-  locked_ = given.locked_vertices;
-  std::sort(locked_.begin(), locked_.end());
-  locked_.erase(std::unique(locked_.begin(), locked_.end()), locked_.end());
   for (const GridSpec& g : grids) coarsest_ = std::max(coarsest_, g.cell);
 }
 
@@ -157,20 +154,20 @@ void FloatingRun::run_as_part(std::uint32_t part, std::uint32_t parts, const Par
   share_.parts = parts;
   share_.exchange = channel.exchange;
   share_.deliver = channel.deliver;
-  options_.floating.keep_temp = false;  // the kept tiles are one process's cache
+  keep_temp_ = false;  // the kept tiles are one process's cache
 }
 
 // The tiled mesh: kept by an earlier run (--keep-tmp), or binned. A part's tiles are
 // dealt by their records, which every part counts alike.
 void FloatingRun::tile_mesh() {
-  resumed_ = options_.floating.keep_temp && kept_.resume(coarsest_, &tiles_, &graded_);
-  keeping_ = options_.floating.keep_temp && !resumed_ && kept_.start();
+  resumed_ = keep_temp_ && kept_.resume(coarsest_, &tiles_, &graded_);
+  keeping_ = keep_temp_ && !resumed_ && kept_.start();
   // The tiles' share of the budget holds the fullest tile as planned (known exactly
   // when resumed); the spills' allowances come after it.
-  const TileSettings tiling{options_.memory_budget, options_.floating.tile_side, options_.floating.keep_temp,
-                            options_.floating.spill_compression, options_.temp_dir};
+  const TileSettings tiling{plan_.budget_bytes, plan_.floating.tile_side, keep_temp_, plan_.floating.spill_compression,
+                            plan_.temp_dir};
   // Planning reads every position (a pass of its own on a large input): a phase.
-  std::optional<ProgressPhase> planning(std::in_place, options_.progress, "plan tiles", 0, "vtx");
+  std::optional<ProgressPhase> planning(std::in_place, plan_.progress, "plan tiles", 0, "vtx");
   const double tile_side = resumed_ ? 0 : plan_tile_side(input_, tiling, coarsest_);
   const std::uint64_t fullest =
       resumed_ ? tiles_.largest_tile_records() : estimate_fullest_tile_records(input_, std::max(tile_side, coarsest_));
@@ -186,14 +183,14 @@ void FloatingRun::tile_mesh() {
     owners = tile_owners(input_.positions, tile_side, share_.parts, &share_);
     keep = [&owners, this](const GridCoord& c) { return tile_owner(owners, c) == share_.part; };
     std::optional<BinnedTiles> own =
-        bin_own_face_range(input_, tile_side, options_.memory_budget, spill_, options_.progress, owners, share_);
+        bin_own_face_range(input_, tile_side, plan_.budget_bytes, spill_, plan_.progress, owners, share_);
     if (own) {
       tiles_ = std::move(*own);
     } else {
-      tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress, keep);
+      tiles_ = bin_triangles(input_, tile_side, plan_.budget_bytes, spill_, plan_.progress, keep);
     }
   } else if (!resumed_) {
-    tiles_ = bin_triangles(input_, tile_side, options_.memory_budget, spill_, options_.progress);
+    tiles_ = bin_triangles(input_, tile_side, plan_.budget_bytes, spill_, plan_.progress);
   }
   if (keep) {
     share_.owned.resize(tiles_.count());
@@ -239,37 +236,38 @@ FloatingPartPlan FloatingRun::part_plan() const {
 // Graded vertex blocks (Low & Tan 1997 §3.1, sorted as §3.2 visits them) with the
 // first level's first greedy; kept for a later run with --keep-tmp.
 void FloatingRun::grade() {
-  release_memory(options_);  // the binning chunks
+  release_memory(plan_);  // the binning chunks
   // The fullest tile is known now; it must fit in the budget next to what the run
   // holds, even alone (TileMemoryGate runs it alone).
   check_fullest_tile_fits(budget_, tiles_, input_.info.path, "grade");
   const FloatingCellShape first_cell = cell(0);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, first_cell);
-  const BlockSettings blocks{first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &locked_, options_.lock_boundary};
+  const BlockSettings blocks{first_cell.size, spill_.dir, spill_.allow.vertex_blocks, &plan_.locked_vertices,
+                             plan_.lock_boundary};
   // The kept graded vertices do not say which are on the boundary: with a locked
   // boundary, the kept tiles are graded again.
-  if (resumed_ && !options_.lock_boundary) {
+  if (resumed_ && !plan_.lock_boundary) {
     blocks_ = blocks_from_kept(tiles_.grid, *graded_, first_, blocks);
   } else {
-    if (options_.floating.keep_temp && !resumed_) graded_ = graded_vertex_spill(tiles_, spill_);
+    if (keep_temp_ && !resumed_) graded_ = graded_vertex_spill(tiles_, spill_);
     GradingSettings grading;
     grading.blocks = blocks;
     grading.keep = resumed_ ? nullptr : graded_.get();
-    grading.progress = &options_.progress;
+    grading.progress = &plan_.progress;
     grading.work_share = spill_.work_share;
     grading.budget = &budget_;
-    grading.release_memory = options_.release_memory;
+    grading.release_memory = plan_.release_memory;
     grading.only = share_.exchanging() ? &share_ : nullptr;
     blocks_ = grade_tiles(tiles_, input_.positions, first_, grading);
     if (grading.only) decisions_->gather_borders(share_);
     if (keeping_) kept_.keep(tiles_, *graded_);
   }
-  release_memory(options_);  // the tiles' grading buffers
+  release_memory(plan_);  // the tiles' grading buffers
 }
 
 // A later level's first greedy over the graded vertices of the level before.
 void FloatingRun::regrade(std::size_t level) {
-  ProgressPhase phase(options_.progress, "regrade tiles", 0, "tile");
+  ProgressPhase phase(plan_.progress, "regrade tiles", 0, "tile");
   const FloatingCellShape c = cell(level);
   decisions_ = std::make_unique<BorderDecisions>(tiles_.grid, c);
   // Both levels' blocks exist at once: the new ones get what the old ones leave
@@ -283,20 +281,20 @@ void FloatingRun::regrade(std::size_t level) {
 
 // The sweeps of border decisions after the first greedy, until no border changes.
 void FloatingRun::sweep(SimplifyStats* stats) {
-  ProgressPhase phase(options_.progress, "rounds", 0, "round");
+  ProgressPhase phase(plan_.progress, "rounds", 0, "round");
   decisions_->sweep(*blocks_, stats ? &stats->floating : nullptr, &share_);
 }
 
 // Cluster shares and kept triangles, per tile against the decided centres.
 ClusterShares FloatingRun::accumulate(std::size_t level) {
   TileBorders borders = decisions_->take_borders();
-  release_memory(options_);
+  release_memory(plan_);
   // The borders and the vertex blocks have grown since grading began: the fullest
   // tile must still fit next to them.
   check_fullest_tile_fits(budget_, tiles_, input_.info.path, "cluster");
-  AccumulationSettings settings{
-      cell(level),        options_.floating.assign, options_.memory_budget, spill_,   &options_.progress,
-      &input_.attributes, spill_.work_share,        options_.thick_edges,   &budget_, options_.release_memory};
+  AccumulationSettings settings{cell(level),     plan_.floating.assign, plan_.budget_bytes, spill_,
+                                &plan_.progress, &input_.attributes,    spill_.work_share,  plan_.thick_edges,
+                                &budget_,        plan_.release_memory};
   settings.only = &share_;
   ClusterShares shares =
       accumulate_clusters(tiles_, input_.positions, *blocks_, borders, input_.positions.count, settings);
@@ -308,24 +306,17 @@ ClusterShares FloatingRun::accumulate(std::size_t level) {
     tiles_.triangles->discard();
     blocks_->discard();
   }
-  release_memory(options_);
+  release_memory(plan_);
   return shares;
 }
 
 ClusterShares FloatingRun::open_shares(const FloatingPartPlan& plan) {
-  const TileSettings tiling{options_.memory_budget, options_.floating.tile_side, false,
-                            options_.floating.spill_compression, options_.temp_dir};
+  const TileSettings tiling{plan_.budget_bytes, plan_.floating.tile_side, false, plan_.floating.spill_compression,
+                            plan_.temp_dir};
   spill_ = spill_settings(input_, tiling, sizeof(GradedVertex));
-  AccumulationSettings settings{cell(0),
-                                options_.floating.assign,
-                                options_.memory_budget,
-                                spill_,
-                                &options_.progress,
-                                &input_.attributes,
-                                spill_.work_share,
-                                false,
-                                &budget_,
-                                options_.release_memory};
+  AccumulationSettings settings{cell(0),         plan_.floating.assign, plan_.budget_bytes, spill_,
+                                &plan_.progress, &input_.attributes,    spill_.work_share,  false,
+                                &budget_,        plan_.release_memory};
   return open_cluster_shares(plan.triangles, input_.positions.count, settings);
 }
 
@@ -333,10 +324,10 @@ ClusterShares FloatingRun::open_shares(const FloatingPartPlan& plan) {
 LargeArray<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& shares) {
   LargeArray<KeptTriangle> kept;
   {
-    ProgressPhase phase(options_.progress, "stitch", 0, "bucket");
+    ProgressPhase phase(plan_.progress, "stitch", 0, "bucket");
     CrossTileEdges cross{&input_.positions, cell(level).size, shares.edge_shares.get(), shares.cluster_span};
-    kept = stitch_kept_triangles(*shares.inside, *shares.corners, place_, budget_,
-                                 options_.thick_edges ? &cross : nullptr);
+    kept =
+        stitch_kept_triangles(*shares.inside, *shares.corners, place_, budget_, plan_.thick_edges ? &cross : nullptr);
   }
   shares.corners->discard();  // read into kept
   shares.inside->discard();
@@ -346,15 +337,15 @@ LargeArray<KeptTriangle> FloatingRun::stitch(std::size_t level, ClusterShares& s
 // Representatives, and the output triangles in input order of first occurrence.
 OutputMesh FloatingRun::assemble(std::size_t level, LargeArray<KeptTriangle> kept, ClusterShares& shares,
                                  AssemblyCounts* counts) {
-  ProgressPhase phase(options_.progress, "assemble", 0, "cell");
+  ProgressPhase phase(plan_.progress, "assemble", 0, "cell");
   const ThickAssembly thick{shares.edge_shares.get(), &input_.positions};
   AssemblySettings settings;
   settings.cell = cell(level);
-  settings.rule = options_.floating.representative;
+  settings.rule = plan_.floating.representative;
   settings.budget = budget_;
   settings.attribute_shares = shares.attribute_shares.get();
   settings.attributes = &shares.attributes;
-  settings.thick = options_.thick_edges ? &thick : nullptr;
+  settings.thick = plan_.thick_edges ? &thick : nullptr;
   settings.origin = grids_[level].origin;
   settings.cluster_span = input_.positions.count;
   settings.place = place_;
@@ -398,15 +389,15 @@ void FloatingRun::report(std::size_t level, const ClusterShares& shares, const A
 
 }  // namespace
 
-OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                            SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  return single_level(cluster_floating_levels, input, options, grid, stats, quadrics);
+OutputMesh cluster_floating(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
+                            std::vector<Quadric>* quadrics) {
+  return single_level(cluster_floating_levels, input, plan, grid, stats, quadrics);
 }
 
-void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, const std::vector<GridSpec>& grids,
+void cluster_floating_levels(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
                              const LevelSink& sink, const SimplifyStats& base, std::vector<Quadric>* quadrics) {
   PhaseTimer clock;  // the first level's phases begin with the binning (or resumption) and grading
-  FloatingRun run(input, given, grids, quadrics);
+  FloatingRun run(input, plan, grids, quadrics);
   run.tile_mesh();
   clock.end(run.resumed() ? "resume" : "bin");
   run.grade();
@@ -433,12 +424,12 @@ void cluster_floating_levels(MeshInput& input, const SimplifyOptions& given, con
   }
 }
 
-void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
+void cluster_floating_part(MeshInput& input, const RunPlan& plan, const GridSpec& grid, std::uint32_t part,
                            std::uint32_t parts, const PartChannel& channel, const ClusterShareSink& sink,
-                           FloatingPartPlan* plan, SimplifyStats* stats) {
+                           FloatingPartPlan* tiling, SimplifyStats* stats) {
   PhaseTimer clock;
   const std::vector<GridSpec> grids{grid};
-  FloatingRun run(input, options, grids, nullptr);
+  FloatingRun run(input, plan, grids, nullptr);
   run.run_as_part(part, parts, channel);
   run.tile_mesh();
   clock.end("bin");
@@ -450,22 +441,22 @@ void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, con
   clock.end("cluster");
   for_each_share_run(shares, sink);
   clock.end("hand on");
-  *plan = run.part_plan();
+  *tiling = run.part_plan();
   if (stats) {
-    stats->input_triangles = plan->triangles;
-    stats->skipped = plan->skipped;
+    stats->input_triangles = tiling->triangles;
+    stats->skipped = tiling->skipped;
     stats->floating.faces_read = run.faces_read();
     clock.move_to(&stats->phases);
   }
 }
 
-OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const FloatingPartPlan& plan, const ClusterShareSource& source, SimplifyStats* stats,
+OutputMesh merge_floating_shares(MeshInput& input, const RunPlan& plan, const GridSpec& grid,
+                                 const FloatingPartPlan& tiling, const ClusterShareSource& source, SimplifyStats* stats,
                                  std::vector<Quadric>* quadrics) {
   PhaseTimer clock;
   const std::vector<GridSpec> grids{grid};
-  FloatingRun run(input, options, grids, quadrics);
-  ClusterShares shares = run.open_shares(plan);
+  FloatingRun run(input, plan, grids, quadrics);
+  ClusterShares shares = run.open_shares(tiling);
   source([&](ShareKind kind, const void* records, std::size_t count) {
     add_share_records(&shares, kind, records, count, input.info.path);
   });
@@ -476,12 +467,12 @@ OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& option
   AssemblyCounts counts;
   OutputMesh m = run.assemble(0, std::move(kept), shares, &counts);
   clock.end("assemble");
-  stats->input_triangles = plan.triangles;
-  stats->skipped = plan.skipped;
+  stats->input_triangles = tiling.triangles;
+  stats->skipped = tiling.skipped;
   stats->occupied_cells = counts.clusters;
   stats->output_vertices = m.vertex_count();
   stats->output_triangles = m.triangle_count();
-  stats->floating.tiles = plan.tiles;
+  stats->floating.tiles = tiling.tiles;
   clock.move_to(&stats->phases);
   return m;
 }

@@ -11,18 +11,19 @@
 #include "methods/cluster_methods.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/run_plan.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 
 /// Clusters `input` (triangle stream at its start) with floating cells of side
-/// `grid.cell` as `options` say (shape, assignment, representative, memory budget,
+/// `grid.cell` as `plan` says (shape, assignment, representative, memory budget,
 /// tile side, temp folder); fills the clustering fields of `stats`. The result equals
 /// the sequential algorithm of Low & Tan on the whole mesh, for any tiling and thread
 /// count. Only vertices used by a triangle take part.
-OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                            SimplifyStats* stats, std::vector<Quadric>* quadrics = nullptr);
+OutputMesh cluster_floating(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
+                            std::vector<Quadric>* quadrics = nullptr);
 
 /// cluster_floating at each of `grids` (levels of detail, Low & Tan 1997 §3.2.2 and
 /// §4: "sort once"): the input is binned and graded once, with tiles that fit the
@@ -31,7 +32,7 @@ OutputMesh cluster_floating(MeshInput& input, const SimplifyOptions& options, co
 /// accumulation, stitch and assembly. Each level equals cluster_floating with its
 /// grid, since the result does not depend on the tiling. Each level's stats start as
 /// a copy of `base`; the first level's phases include the binning and grading.
-void cluster_floating_levels(MeshInput& input, const SimplifyOptions& options, const std::vector<GridSpec>& grids,
+void cluster_floating_levels(MeshInput& input, const RunPlan& plan, const std::vector<GridSpec>& grids,
                              const LevelSink& sink, const SimplifyStats& base,
                              std::vector<Quadric>* quadrics = nullptr);
 
@@ -54,17 +55,17 @@ using ClusterShareSource = std::function<void(const ClusterShareSink&)>;
 /// (by triangle records), handed to `sink`. The centres need every tile's grading and
 /// the border sweeps: with `channel` (parts running at once) each part grades and
 /// sweeps its own tiles, exchanging borders; without, each part grades and sweeps
-/// every tile itself. `plan` gets the tiling and counts; `stats` the part's phases.
-void cluster_floating_part(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, std::uint32_t part,
+/// every tile itself. `tiling` gets the tiling and counts; `stats` the part's phases.
+void cluster_floating_part(MeshInput& input, const RunPlan& plan, const GridSpec& grid, std::uint32_t part,
                            std::uint32_t parts, const PartChannel& channel, const ClusterShareSink& sink,
-                           FloatingPartPlan* plan, SimplifyStats* stats);
+                           FloatingPartPlan* tiling, SimplifyStats* stats);
 
-/// The merge of a floating run's parts: their shares (`shares`, of the run `plan`
+/// The merge of a floating run's parts: their shares (`shares`, of the run `tiling`
 /// says) stitched and assembled as cluster_floating does; the same mesh for any
 /// number of parts, and with `quadrics` as for cluster_floating. Throws InputError for
 /// a share that does not fit the input.
-OutputMesh merge_floating_shares(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                                 const FloatingPartPlan& plan, const ClusterShareSource& shares, SimplifyStats* stats,
+OutputMesh merge_floating_shares(MeshInput& input, const RunPlan& plan, const GridSpec& grid,
+                                 const FloatingPartPlan& tiling, const ClusterShareSource& shares, SimplifyStats* stats,
                                  std::vector<Quadric>* quadrics = nullptr);
 
 }  // namespace oocsimp

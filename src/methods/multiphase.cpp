@@ -31,9 +31,6 @@ namespace oocsimp {
 
 namespace {
 
-// The least target: the fewest triangles of a closed surface (a tetrahedron).
-constexpr std::uint64_t kLeastTarget = 4;
-
 // Garland & Shaffer 2002 §3 size phase 1's intermediate at a few times the target;
 // these bound it from below and by the budget, and say when to retry it finer.
 //
@@ -77,24 +74,24 @@ bool whole_fits(const MeshInput& input, const MemoryBudget& budget) {
 
 // The whole input, relative to `origin`, with its carried attributes, after a check
 // that it fits in the budget next to what the run holds.
-QuadricMesh load_whole(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, const char* why,
+QuadricMesh load_whole(MeshInput& input, const RunPlan& plan, const Vec3d& origin, const char* why,
                        SimplifyStats* stats) {
   const std::size_t k = input.attributes.size();
-  const MemoryBudget budget(budget_bytes(options.memory_budget), options.budget_counts_process);
+  const MemoryBudget budget(plan.budget_bytes, plan.budget_counts_process);
   const std::uint64_t v = input.positions.count, f = input.info.face_count;
   budget.check(budget.held(), collapse_memory_bytes(v, f, k),
                "the whole mesh of " + input.info.path + " (" + std::to_string(v) + " vertices, " + std::to_string(f) +
                    " faces) " + why,
                "give options.memory_budget " + whole_mib(budget.held() + collapse_memory_bytes(v, f, k)) +
                    " MiB or more, or a clustering method with the target");
-  ProgressPhase phase(options.progress, "load mesh", input.file_size, "B");
+  ProgressPhase phase(plan.progress, "load mesh", input.file_size, "B");
   QuadricMesh m;
   reserve_huge(&m.positions, v);
   m.positions.resize(v);
   for (std::uint64_t i = 0; i < v; ++i) m.positions[i] = input.positions.get(i) - origin;
-  if (!options.locked_vertices.empty()) {
+  if (!plan.locked_vertices.empty()) {
     m.locked.assign(v, 0);
-    for (std::uint64_t i : options.locked_vertices) m.locked[i] = 1;  // below v: checked at the start
+    for (std::uint64_t i : plan.locked_vertices) m.locked[i] = 1;  // below v: checked at the start
   }
   m.attribute_count = k;
   m.attributes.resize(v * k);
@@ -228,15 +225,15 @@ std::string stuck_reason(const CollapseStats::StuckEdges& w) {
 // The collapse's figures in `stats`, and whether it missed the target; the warning
 // of a missed count when no finer phase 1 follows or none could help. Returns
 // CollapseResult::finer_may_help.
-bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGoal& goal,
-                   const SimplifyOptions& options, SimplifyStats* stats) {
+bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGoal& goal, const RunPlan& plan,
+                   SimplifyStats* stats) {
   stats->refine.collapses = cs.collapses;
   stats->refine.largest_collapse_cost = cs.largest_cost;
   stats->refine.largest_collapse_error = cs.largest_error;
   // max_error alone asks for no count: stopping at it is the aim, not a miss.
   // (qem with no target at all keeps the default share, a count.)
-  const bool count_asked = options.target.triangles != 0 || options.target.ratio != 0 ||
-                           (options.method == ClusterMethod::qem && options.target.max_error == 0);
+  const bool count_asked = plan.target.triangles != 0 || plan.target.ratio != 0 ||
+                           (plan.method == ClusterMethod::qem && plan.target.max_error == 0);
   stats->refine.target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
   if (stats->refine.target_missed && count_asked && (goal.last || cs.parity)) {
     std::string why = cs.parity             ? "the surface is closed, so its triangle count is even"
@@ -253,8 +250,7 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
 // goal.coarser, the collapse then goes on to each coarser level, whose stats are
 // `stats` as they were before phase 2 with that level's collapse and output, and as
 // its only phase "refine", the time since the finer level.
-CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const SimplifyOptions& options,
-                      SimplifyStats* stats) {
+CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const RunPlan& plan, SimplifyStats* stats) {
   PhaseTimer clock;
   const PeakAnonSampler memory;
   QuadricMesh& m = in.mesh;
@@ -263,14 +259,14 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   if (m.quadrics.size() != m.positions.size()) m.quadrics = face_quadrics(m.positions, m.triangles);
   CollapseSettings settings;
   settings.target_triangles = goal.target;
-  if (options.target.max_error > 0) settings.max_error = options.target.max_error;
+  if (plan.target.max_error > 0) settings.max_error = plan.target.max_error;
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
   // --max-error alone asks for no count: its target (the least) says nothing of which
   // holes the output can show.
-  settings.soften_holes = options.target.triangles != 0 || options.target.ratio != 0 ||
-                          (options.method == ClusterMethod::qem && options.target.max_error == 0);
+  settings.soften_holes = plan.target.triangles != 0 || plan.target.ratio != 0 ||
+                          (plan.method == ClusterMethod::qem && plan.target.max_error == 0);
   settings.result_quadrics = goal.quadrics != nullptr;  // the output's
-  settings.lock_boundary = options.lock_boundary;
+  settings.lock_boundary = plan.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);
   // Each coarser level's count, from the input's triangles as the run's own (never
   // above the finer level's).
@@ -283,7 +279,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
   CollapseResult out;
   CollapseStats cs;
   ProgressPhase phase(
-      options.progress, "collapse",
+      plan.progress, "collapse",
       stats->refine.intermediate_triangles - std::min(stats->refine.intermediate_triangles, last_target), "tri");
   // A coarser level that missed its count where a finer phase 1 could meet it is left
   // to a run of its own, and so are the levels after it.
@@ -301,7 +297,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
           st = &level.stats;
         }
         const std::uint64_t target = k > 0 ? coarser[k - 1] : goal.target;
-        const bool missed = note_collapse(so_far, done.triangles.size() / 3, {target, goal.last}, options, st);
+        const bool missed = note_collapse(so_far, done.triangles.size() / 3, {target, goal.last}, plan, st);
         if (k > 0 && missed && !goal.last) {
           going_on = false;
           return;
@@ -327,10 +323,9 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const Simplify
 }
 
 // The input as it is, for a target at or above its triangle count.
-SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std::uint64_t target,
-                           SimplifyStats* stats) {
+SimplifiedMesh input_as_is(MeshInput& input, const RunPlan& plan, std::uint64_t target, SimplifyStats* stats) {
   const Vec3d origin;  // no shift: the positions come back exactly
-  QuadricMesh m = load_whole(input, options, origin, "to give back", stats);
+  QuadricMesh m = load_whole(input, plan, origin, "to give back", stats);
   // Only the vertices a triangle uses, numbered by first use, as the collapse does.
   CollapseSettings keep_all;
   keep_all.target_triangles = m.triangles.size() / 3;
@@ -347,40 +342,40 @@ SimplifiedMesh input_as_is(MeshInput& input, const SimplifyOptions& options, std
 
 // Phase 2 alone, on the whole input: --method qem, and a target so near the input's
 // count that phase 1 would keep nearly everything.
-SimplifiedMesh collapse_whole(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, SimplifyStats* stats,
+SimplifiedMesh collapse_whole(MeshInput& input, const RunPlan& plan, const Vec3d& origin, SimplifyStats* stats,
                               std::vector<Quadric>* quadrics, std::vector<CoarserLevel>* coarser) {
   PhaseTimer clock;
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
-  QuadricMesh whole = load_whole(input, o, origin, "for quadric edge collapse", stats);
+  QuadricMesh whole = load_whole(input, plan, origin, "for quadric edge collapse", stats);
   clock.end("load");
   clock.move_to(&stats->phases);
-  const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
+  const std::uint64_t target = resolve_target(plan.target, stats->input_triangles);
   {
-    ProgressPhase phase(o.progress, "face quadrics", 0, "tri");
+    ProgressPhase phase(plan.progress, "face quadrics", 0, "tri");
     whole.quadrics = face_quadrics(whole.positions, whole.triangles);
   }
   return refine({std::move(whole), origin, &input.attributes.attributes, false,
-                 locked_positions(input.positions, o.locked_vertices)},
-                {target, true, quadrics, coarser}, o, stats)
+                 locked_positions(input.positions, plan.locked_vertices)},
+                {target, true, quadrics, coarser}, plan, stats)
       .mesh;
 }
 
 // --method qem: the collapse whole, or out of core in passes (methods/qem_passes)
 // down to a few times the target, then whole.
 // With `parts`, the parts of a distributed run did the passes' first.
-SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Vec3d& origin, std::uint64_t estimate,
+SimplifiedMesh collapse_qem(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t estimate,
                             SimplifyStats* stats, const FirstPassParts* parts = nullptr,
                             std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
   if (!collapses_in_passes(input.info.face_count, estimate))
-    return collapse_whole(input, o, origin, stats, quadrics, coarser);
+    return collapse_whole(input, plan, origin, stats, quadrics, coarser);
   stats->cell_size = 0;  // no grid
   for (std::uint32_t& d : stats->grid_dims) d = 0;
   CollapseInput rest;
   {
     const PeakAnonSampler memory;
-    rest.mesh = parts ? reduce_after_first_pass(input, o, origin, estimate, parts->plan, parts->tiles, stats)
-                      : reduce_in_passes(input, o, origin, estimate, stats);
+    rest.mesh = parts ? reduce_after_first_pass(input, plan, origin, estimate, parts->plan, parts->tiles, stats)
+                      : reduce_in_passes(input, plan, origin, estimate, stats);
     stats->refine.phase1_peak_anon_bytes = memory.peak();
   }
   const std::uint64_t pass_collapses = stats->refine.collapses;
@@ -388,9 +383,9 @@ SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Ve
   rest.origin = origin;
   rest.attributes = &input.attributes.attributes;
   rest.boundary_planes_in_quadrics = true;
-  rest.locked = locked_positions(input.positions, o.locked_vertices);
-  const std::uint64_t target = resolve_target(o.target, stats->input_triangles);
-  SimplifiedMesh out = refine(std::move(rest), {target, true, quadrics, coarser}, o, stats).mesh;
+  rest.locked = locked_positions(input.positions, plan.locked_vertices);
+  const std::uint64_t target = resolve_target(plan.target, stats->input_triangles);
+  SimplifiedMesh out = refine(std::move(rest), {target, true, quadrics, coarser}, plan, stats).mesh;
   stats->refine.collapses += pass_collapses;
   stats->refine.largest_collapse_error = std::max(stats->refine.largest_collapse_error, pass_error);
   if (coarser)
@@ -405,9 +400,9 @@ SimplifiedMesh collapse_qem(MeshInput& input, const SimplifyOptions& o, const Ve
 // collapses instead.
 class IntermediatePlan {
  public:
-  IntermediatePlan(const MeshInput& input, const SimplifyOptions& o, std::uint64_t estimate)
-      : k_(o.target.intermediate_factor), estimate_(double(estimate)), faces_(double(input.info.face_count)) {
-    const MemoryBudget budget(budget_bytes(o.memory_budget), o.budget_counts_process);
+  IntermediatePlan(const MeshInput& input, const RunPlan& plan, std::uint64_t estimate)
+      : k_(plan.target.intermediate_factor), estimate_(double(estimate)), faces_(double(input.info.face_count)) {
+    const MemoryBudget budget(plan.budget_bytes, plan.budget_counts_process);
     budget_intermediate_ = budget.bytes() ? double(budget.bytes()) / kPhase1BytesPerIntermediateTriangle
                                           : std::numeric_limits<double>::infinity();
     whole_possible_ = whole_fits(input, budget);
@@ -442,14 +437,12 @@ struct Intermediate {
   std::vector<Quadric> quadrics;
 };
 
-// Phase 1 (Garland & Shaffer 2002 §3): the clustering method at the cell the vertex
-// sample gives for about `want` triangles (o->sizing is set to it); with
-// `with_quadrics`, handing on each cluster's quadric.
-// The grid phase 1 clusters at for about `want` triangles (o->sizing is set to it).
-GridSpec phase_grid(MeshInput& input, SimplifyOptions* o, double want) {
-  o->sizing = CellSizing();
-  o->sizing.ratio = want / double(std::max<std::uint64_t>(input.info.face_count, 1));
-  return choose_grid(input, o->sizing, o->threads);
+// The grid phase 1 clusters at for about `want` triangles: the cell the vertex sample
+// gives for that share of the input's.
+GridSpec phase_grid(MeshInput& input, const RunPlan& plan, double want) {
+  CellSizing sizing;
+  sizing.ratio = want / double(std::max<std::uint64_t>(input.info.face_count, 1));
+  return choose_grid(input, sizing, plan.threads);
 }
 
 // Where phase 1's first attempt comes from in a merge: the parts' clustering at their
@@ -465,11 +458,14 @@ bool same_grid(const GridSpec& a, const GridSpec& b) {
          a.dims[0] == b.dims[0] && a.dims[1] == b.dims[1] && a.dims[2] == b.dims[2];
 }
 
-Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bool with_quadrics, SimplifyStats* stats,
+// Phase 1 (Garland & Shaffer 2002 §3): the clustering method at the cell the vertex
+// sample gives for about `want` triangles; with `with_quadrics`, handing on each
+// cluster's quadric.
+Intermediate cluster_phase(MeshInput& input, const RunPlan& plan, double want, bool with_quadrics, SimplifyStats* stats,
                            const PartsPhaseOne* parts = nullptr) {
-  const ClusterMethodEntry& method = cluster_method(o->method);
+  const ClusterMethodEntry& method = cluster_method(plan.method);
   Intermediate out;
-  out.grid = phase_grid(input, o, want);
+  out.grid = phase_grid(input, plan, want);
   stats->cell_size = out.grid.cell;
   for (int a = 0; a < 3; ++a) stats->grid_dims[a] = out.grid.dims[a];
   input.restart_triangles();
@@ -482,7 +478,7 @@ Intermediate cluster_phase(MeshInput& input, SimplifyOptions* o, double want, bo
       stats->warnings.push_back(
           "the parts clustered phase 1 at another cell than this merge chooses (another --mem?): phase 1 ran again "
           "in the merge");
-    out.mesh = method.run(input, *o, out.grid, stats, quadrics).take();
+    out.mesh = method.run(input, plan, out.grid, stats, quadrics).take();
   }
   stats->refine.phase1_peak_anon_bytes = phase1_memory.peak();
   return out;
@@ -526,152 +522,117 @@ CollapseInput collapse_input(Intermediate* p1, const std::vector<std::array<doub
 // closed surface one triangle short: its count is even at any cell); only the last
 // attempt's phases and warnings stay in the stats.
 // With `parts`, the first attempt's phase 1 comes from the parts of a distributed run.
-SimplifiedMesh multiphase(MeshInput& input, SimplifyOptions* o, const Vec3d& origin, std::uint64_t estimate,
+SimplifiedMesh multiphase(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t estimate,
                           SimplifyStats* stats, const PartsPhaseOne* parts = nullptr,
                           std::vector<Quadric>* quadrics = nullptr, std::vector<CoarserLevel>* coarser = nullptr) {
-  const IntermediatePlan plan(input, *o, estimate);
-  const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, o->locked_vertices);
+  const IntermediatePlan intermediates(input, plan, estimate);
+  const std::vector<std::array<double, 3>> locked = locked_positions(input.positions, plan.locked_vertices);
   const std::size_t phases_before = stats->phases.size(), warnings_before = stats->warnings.size();
   for (int attempt = 0;; ++attempt) {
-    const double want = plan.intermediate(attempt);
+    const double want = intermediates.intermediate(attempt);
     stats->phases.resize(phases_before);
     stats->warnings.resize(warnings_before);
     if (coarser)
       for (CoarserLevel& level : *coarser) level.done = false;  // an earlier attempt's go
 
-    if (plan.whole_instead(want, attempt)) {
+    if (intermediates.whole_instead(want, attempt)) {
       stats->refine.phase1_peak_anon_bytes = 0;
       // The method asked for did not run: say so, and why.
-      stats->warnings.push_back(std::string("options.method ") + method_name(o->method) +
+      stats->warnings.push_back(std::string("options.method ") + method_name(plan.method) +
                                 ": no clustering ran; the whole input (" + std::to_string(input.info.face_count) +
                                 " triangles) was collapsed instead, since " +
                                 (attempt > 0 ? "clustering finer still missed the target"
                                              : "clustering to the " + std::to_string(std::uint64_t(want)) +
                                                    " triangles phase 1 aims at would keep most of it"));
-      return collapse_whole(input, *o, origin, stats, quadrics, coarser);
+      return collapse_whole(input, plan, origin, stats, quadrics, coarser);
     }
-    const bool finest = plan.finest(attempt);
+    const bool finest = intermediates.finest(attempt);
     const bool from_parts = parts && (attempt == 0 || parts->any_grid);
-    Intermediate p1 = cluster_phase(input, o, want, true, stats, from_parts ? parts : nullptr);
-    const std::uint64_t target = resolve_target(o->target, stats->input_triangles);
-    if (o->target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, *o, target, stats);
+    Intermediate p1 = cluster_phase(input, plan, want, true, stats, from_parts ? parts : nullptr);
+    const std::uint64_t target = resolve_target(plan.target, stats->input_triangles);
+    if (plan.target.max_error == 0 && target >= stats->input_triangles) return input_as_is(input, plan, target, stats);
     if (p1.mesh.triangles.size() / 3 < target && !finest) continue;  // too coarse: finer
-    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest, quadrics, coarser}, *o, stats);
+    CollapseResult out = refine(collapse_input(&p1, locked), {target, finest, quadrics, coarser}, plan, stats);
     if (!out.finer_may_help || finest) return std::move(out.mesh);
   }
 }
 
 }  // namespace
 
-void check_target_options(const SimplifyOptions& o) {
-  const TargetOptions& t = o.target;
-  if (t.triangles != 0 && t.ratio != 0)
-    throw UsageError("give at most one of options.target.triangles and options.target.ratio");
-  const CellSizing& s = o.sizing;
-  if (t.given() && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
-    throw UsageError(
-        "a target (options.target.triangles, options.target.ratio, options.target.max_error) sets the cell itself: "
-        "give no options.sizing.cell, options.sizing.grid or options.sizing.ratio with it");
-  if (o.method == ClusterMethod::qem && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
-    throw UsageError(
-        "options.sizing.cell",
-        "options.sizing.cell, options.sizing.grid and options.sizing.ratio apply to the clustering methods; the qem "
-        "method takes options.target.triangles, options.target.ratio or options.target.max_error");
-  if (t.triangles != 0 && t.triangles < kLeastTarget)
-    throw UsageError("options.target.triangles", "options.target.triangles must be at least 4");
-  if (t.ratio != 0 && !(t.ratio > 0 && t.ratio <= 1))
-    throw UsageError("options.target.ratio", "options.target.ratio must be in (0, 1]");
-  if (t.max_error != 0 && !(t.max_error > 0 && std::isfinite(t.max_error)))
-    throw UsageError("options.target.max_error", "options.target.max_error must be a positive number");
-  if (!(t.intermediate_factor >= 1 && std::isfinite(t.intermediate_factor)))
-    throw UsageError("options.target.intermediate_factor", "options.target.intermediate_factor must be at least 1");
-}
-
 namespace {
 
-// What a run to a target settles first: its options, its frame and its count.
+// What a run to a target settles first: its frame and its count.
 struct TargetRun {
-  SimplifyOptions o;
   Vec3d origin;
   std::uint64_t estimate = 0;
   /// The input is given back as it is.
   bool as_is = false;
 };
 
-TargetRun prepare_target(const MeshInput& input, const SimplifyOptions& options) {
-  check_target_options(options);
+TargetRun prepare_target(const MeshInput& input, const RunPlan& plan) {
   TargetRun run;
-  SimplifyOptions& o = run.o;
-  o = options;
-  // Sorted, once: the passes look vertices up in it.
-  std::sort(o.locked_vertices.begin(), o.locked_vertices.end());
-  o.locked_vertices.erase(std::unique(o.locked_vertices.begin(), o.locked_vertices.end()), o.locked_vertices.end());
-  // --method qem alone keeps the default share, now exactly.
-  if (!o.target.given()) o.target.ratio = kDefaultRatio;
   const std::uint64_t faces = input.info.face_count;
   run.origin = input.info.bounds.empty() ? Vec3d{} : input.info.bounds.min;
-  run.estimate = resolve_target(o.target, faces);
-  run.as_is = o.target.max_error == 0 && run.estimate >= faces;
+  run.estimate = resolve_target(plan.target, faces);
+  run.as_is = plan.target.max_error == 0 && run.estimate >= faces;
   return run;
 }
 
 }  // namespace
 
-SimplifiedMesh simplify_to_target(MeshInput& input, const SimplifyOptions& options, SimplifyStats* stats,
+SimplifiedMesh simplify_to_target(MeshInput& input, const RunPlan& plan, SimplifyStats* stats,
                                   std::vector<Quadric>* quadrics, std::vector<CoarserLevel>* coarser) {
   if (quadrics) quadrics->clear();
   if (coarser)
     for (CoarserLevel& level : *coarser) level.done = false;
-  TargetRun run = prepare_target(input, options);
-  SimplifyOptions& o = run.o;
-  if (run.as_is) return input_as_is(input, o, run.estimate, stats);
-  if (o.method == ClusterMethod::qem)
-    return collapse_qem(input, o, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
+  const TargetRun run = prepare_target(input, plan);
+  if (run.as_is) return input_as_is(input, plan, run.estimate, stats);
+  if (plan.method == ClusterMethod::qem)
+    return collapse_qem(input, plan, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
   // --refine none: phase 1 alone, at the cell for about the target itself.
-  if (o.target.refine != RefineMethod::qem) return cluster_phase(input, &o, double(run.estimate), false, stats).mesh;
-  return multiphase(input, &o, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
+  if (plan.target.refine != RefineMethod::qem)
+    return cluster_phase(input, plan, double(run.estimate), false, stats).mesh;
+  return multiphase(input, plan, run.origin, run.estimate, stats, nullptr, quadrics, coarser);
 }
 
-bool target_clustering_grid(MeshInput& input, const SimplifyOptions& options, GridSpec* grid) {
-  TargetRun run = prepare_target(input, options);
-  if (run.as_is || run.o.method == ClusterMethod::qem) return false;
+bool target_clustering_grid(MeshInput& input, const RunPlan& plan, GridSpec* grid) {
+  const TargetRun run = prepare_target(input, plan);
+  if (run.as_is || plan.method == ClusterMethod::qem) return false;
   double want = double(run.estimate);  // --refine none: phase 1 alone, at about the target
-  if (run.o.target.refine == RefineMethod::qem) {
-    const IntermediatePlan plan(input, run.o, run.estimate);
-    want = plan.intermediate(0);
-    if (plan.whole_instead(want, 0)) return false;
+  if (plan.target.refine == RefineMethod::qem) {
+    const IntermediatePlan intermediates(input, plan, run.estimate);
+    want = intermediates.intermediate(0);
+    if (intermediates.whole_instead(want, 0)) return false;
   }
-  *grid = phase_grid(input, &run.o, want);
+  *grid = phase_grid(input, plan, want);
   return true;
 }
 
-SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const SimplifyOptions& options,
-                                                   const GridSpec& parts_grid, const MergedPhaseOne& merged,
-                                                   bool any_grid, SimplifyStats* stats) {
-  TargetRun run = prepare_target(input, options);
-  SimplifyOptions& o = run.o;
-  if (run.as_is) return input_as_is(input, o, run.estimate, stats);
+SimplifiedMesh simplify_to_target_after_clustering(MeshInput& input, const RunPlan& plan, const GridSpec& parts_grid,
+                                                   const MergedPhaseOne& merged, bool any_grid, SimplifyStats* stats) {
+  const TargetRun run = prepare_target(input, plan);
+  if (run.as_is) return input_as_is(input, plan, run.estimate, stats);
   const PartsPhaseOne parts{&parts_grid, &merged, any_grid};
-  if (o.target.refine != RefineMethod::qem)
-    return cluster_phase(input, &o, double(run.estimate), false, stats, &parts).mesh;
-  return multiphase(input, &o, run.origin, run.estimate, stats, &parts);
+  if (plan.target.refine != RefineMethod::qem)
+    return cluster_phase(input, plan, double(run.estimate), false, stats, &parts).mesh;
+  return multiphase(input, plan, run.origin, run.estimate, stats, &parts);
 }
 
-bool simplify_to_target_part(MeshInput& input, const SimplifyOptions& options, std::uint32_t part, std::uint32_t parts,
-                             const TileOutputSink& out, FirstPassPlan* plan) {
-  const TargetRun run = prepare_target(input, options);
-  if (run.as_is || run.o.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
+bool simplify_to_target_part(MeshInput& input, const RunPlan& plan, std::uint32_t part, std::uint32_t parts,
+                             const TileOutputSink& out, FirstPassPlan* first_pass) {
+  const TargetRun run = prepare_target(input, plan);
+  if (run.as_is || plan.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
     return false;
-  *plan = first_pass_part(input, run.o, run.origin, run.estimate, part, parts, out);
+  *first_pass = first_pass_part(input, plan, run.origin, run.estimate, part, parts, out);
   return true;
 }
 
-SimplifiedMesh simplify_to_target_after_parts(MeshInput& input, const SimplifyOptions& options,
-                                              const FirstPassParts& parts, SimplifyStats* stats) {
-  const TargetRun run = prepare_target(input, options);
-  if (run.as_is || run.o.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
+SimplifiedMesh simplify_to_target_after_parts(MeshInput& input, const RunPlan& plan, const FirstPassParts& parts,
+                                              SimplifyStats* stats) {
+  const TargetRun run = prepare_target(input, plan);
+  if (run.as_is || plan.method != ClusterMethod::qem || !collapses_in_passes(input.info.face_count, run.estimate))
     throw std::logic_error("simplify_to_target_after_parts: the run has no passes");
-  return collapse_qem(input, run.o, run.origin, run.estimate, stats, &parts);
+  return collapse_qem(input, plan, run.origin, run.estimate, stats, &parts);
 }
 
 }  // namespace oocsimp

@@ -637,30 +637,29 @@ namespace {
 // The passes of one run, as the file comment lists their steps.
 class PassRun {
  public:
-  PassRun(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin, std::uint64_t target,
-          const PassSizes& sizes, SimplifyStats* stats)
+  PassRun(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target, const PassSizes& sizes,
+          SimplifyStats* stats)
       : input_(input),
-        options_(options),
+        plan_(plan),
         origin_(origin),
         target_(target),
         sizes_(sizes),
         stats_(stats),
-        budget_(budget_bytes(options.memory_budget)),
+        budget_(plan.budget_bytes),
         attributes_(input.attributes.size()),
         final_faces_(kFinalShare * double(target)),
-        memory_(budget_, options.budget_counts_process) {
+        memory_(budget_, plan.budget_counts_process) {
     settings_.target_triangles = 4;
     settings_.exact_count = false;
-    if (options.target.max_error > 0) settings_.max_error = options.target.max_error;
-    settings_.lock_boundary = options.lock_boundary;
+    if (plan.target.max_error > 0) settings_.max_error = plan.target.max_error;
+    settings_.lock_boundary = plan.lock_boundary;
     settings_.lock_coincident = carries_texture_coordinates(input.attributes.attributes);
     // A hole is judged against the input and the run's target, as in the whole mesh
     // (a tile's own count is not the mesh's); with no count asked, there are none.
-    settings_.soften_holes =
-        options.target.triangles != 0 || options.target.ratio != 0 || !(options.target.max_error > 0);
+    settings_.soften_holes = plan.target.triangles != 0 || plan.target.ratio != 0 || !(plan.target.max_error > 0);
     settings_.hole_faces = input.info.face_count;
     settings_.hole_target = target;
-    if (!options.locked_vertices.empty()) settings_.locked_ids = &options.locked_vertices;  // sorted by the caller
+    if (!plan.locked_vertices.empty()) settings_.locked_ids = &plan.locked_vertices;  // sorted by the plan
   }
 
   QuadricMesh run() {
@@ -687,35 +686,35 @@ class PassRun {
         },
         &collapse_stats_, progress_.get(), mine);
     progress_.reset();
-    FirstPassPlan plan;
-    plan.input_triangles = binned_.triangle_count;
-    plan.skipped = binned_.skipped;
-    plan.tiles = source_.order.size();
-    plan.side = side_;
-    plan.threshold = threshold_;
-    plan.collapses = collapse_stats_.collapses;
-    plan.largest_cost = collapse_stats_.largest_cost;
-    plan.largest_error = collapse_stats_.largest_error;
-    return plan;
+    FirstPassPlan first_pass;
+    first_pass.input_triangles = binned_.triangle_count;
+    first_pass.skipped = binned_.skipped;
+    first_pass.tiles = source_.order.size();
+    first_pass.side = side_;
+    first_pass.threshold = threshold_;
+    first_pass.collapses = collapse_stats_.collapses;
+    first_pass.largest_cost = collapse_stats_.largest_cost;
+    first_pass.largest_error = collapse_stats_.largest_error;
+    return first_pass;
   }
 
   // The passes after a first pass that the parts of a distributed run did: the state
   // one process has after its first pass, from their plan and tiles.
-  QuadricMesh after_first_pass(const FirstPassPlan& plan, const TileOutputSource& tiles) {
+  QuadricMesh after_first_pass(const FirstPassPlan& first_pass, const TileOutputSource& tiles) {
     check_last_collapse_fits();
-    side_ = plan.side;
-    faces_ = double(plan.input_triangles);
-    stats_->input_triangles = plan.input_triangles;
-    stats_->skipped = plan.skipped;
-    const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
+    side_ = first_pass.side;
+    faces_ = double(first_pass.input_triangles);
+    stats_->input_triangles = first_pass.input_triangles;
+    stats_->skipped = first_pass.skipped;
+    const TileSettings tiling{budget_, side_, false, plan_.floating.spill_compression, plan_.temp_dir};
     spill_ = spill_settings(input_, tiling, sizeof(PassVertex), 0, work_share());
-    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, options_.release_memory);
-    threshold_ = plan.threshold;
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, plan_.release_memory);
+    threshold_ = first_pass.threshold;
     settings_.max_cost = threshold_;
-    collapse_stats_.collapses = plan.collapses;
-    collapse_stats_.largest_cost = plan.largest_cost;
-    collapse_stats_.largest_error = plan.largest_error;
-    start_next_bins(double(plan.tiles));
+    collapse_stats_.collapses = first_pass.collapses;
+    collapse_stats_.largest_cost = first_pass.largest_cost;
+    collapse_stats_.largest_error = first_pass.largest_error;
+    start_next_bins(double(first_pass.tiles));
     tiles([this](const TileOutput& out) { next_->add(out); });
     ++passes_;
     take_next_tiles();
@@ -744,7 +743,7 @@ class PassRun {
 
   // The last collapse holds the remainder whole: refused up front when it cannot.
   void check_last_collapse_fits() const {
-    const MemoryBudget memory(budget_, options_.budget_counts_process);
+    const MemoryBudget memory(budget_, plan_.budget_counts_process);
     const std::uint64_t last =
         collapse_memory_bytes(std::uint64_t(final_faces_ / 2), std::uint64_t(final_faces_), attributes_);
     memory.check(memory.held(), last,
@@ -779,14 +778,14 @@ class PassRun {
   // The first pass's tiles: the input binned, each face in the tile of each corner.
   void bin_input() {
     side_ = first_tile_side(input_, sizes_.tile_faces);
-    const TileSettings tiling{budget_, side_, false, options_.floating.spill_compression, options_.temp_dir};
+    const TileSettings tiling{budget_, side_, false, plan_.floating.spill_compression, plan_.temp_dir};
     spill_ = spill_settings(input_, tiling, sizeof(PassVertex), 0, work_share());
     input_.restart_triangles();
-    binned_ = bin_triangles(input_, side_, budget_, spill_, options_.progress);
+    binned_ = bin_triangles(input_, side_, budget_, spill_, plan_.progress);
     stats_->input_triangles = binned_.triangle_count;
     stats_->skipped = binned_.skipped;
     faces_ = double(binned_.triangle_count);
-    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, options_.release_memory);
+    gate_ = std::make_unique<TileMemoryGate>(spill_.work_share, &memory_, plan_.release_memory);
     for (std::uint32_t t = 0; t < binned_.count(); ++t) source_.order.push_back(t);
     std::sort(source_.order.begin(), source_.order.end(),
               [&](std::uint32_t a, std::uint32_t b) { return binned_.grid.coord(a) < binned_.grid.coord(b); });
@@ -798,7 +797,7 @@ class PassRun {
     source_.parts = [this, most](std::uint32_t t) { return parts_of(binned_.triangles->record_count(t), most); };
     // The binning buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
-    if (options_.release_memory) options_.release_memory();
+    if (plan_.release_memory) plan_.release_memory();
     count_part_faces();
     source_.bytes = [this](std::uint32_t t, std::uint32_t part) {
       const std::uint64_t records = binned_.triangles->record_count(t);
@@ -869,7 +868,7 @@ class PassRun {
     ++passes_;
     // The tiles' buffers were freed on several threads: give them back (see
     // SimplifyOptions::release_memory).
-    if (options_.release_memory) options_.release_memory();
+    if (plan_.release_memory) plan_.release_memory();
   }
 
   // The next pass's tiles, to bin this pass's `tiles` tiles into.
@@ -927,8 +926,8 @@ class PassRun {
     for (const TileWork& w : sample_work(source_)) total += w.faces;
     for (std::uint32_t t : source_.order) total += source_.faces(t);
     const std::string in = std::to_string(std::uint64_t(faces_));
-    progress_ = std::make_unique<ProgressPhase>(options_.progress, "collapse pass " + std::to_string(passes_ + 1),
-                                                total, "tri", in + " triangles in");
+    progress_ = std::make_unique<ProgressPhase>(plan_.progress, "collapse pass " + std::to_string(passes_ + 1), total,
+                                                "tri", in + " triangles in");
     pass_in_ = in;
   }
   void end_pass_progress() {
@@ -937,7 +936,7 @@ class PassRun {
   }
 
   MeshInput& input_;
-  const SimplifyOptions& options_;
+  const RunPlan& plan_;
   const Vec3d origin_;
   const std::uint64_t target_;
   const PassSizes sizes_;
@@ -965,27 +964,27 @@ class PassRun {
 
 }  // namespace
 
-QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                             std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes) {
-  QuadricMesh rest = PassRun(input, options, origin, target, sizes, stats).run();
+QuadricMesh reduce_in_passes(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                             SimplifyStats* stats, const PassSizes& sizes) {
+  QuadricMesh rest = PassRun(input, plan, origin, target, sizes, stats).run();
   // The passes' bins and buffers, freed on several threads, go back before the last
   // collapse.
-  if (options.release_memory) options.release_memory();
+  if (plan.release_memory) plan.release_memory();
   return rest;
 }
 
-FirstPassPlan first_pass_part(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                              std::uint64_t target, std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
+FirstPassPlan first_pass_part(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                              std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
                               const PassSizes& sizes) {
   SimplifyStats stats;
-  return PassRun(input, options, origin, target, sizes, &stats).first_pass_part({part, parts}, out);
+  return PassRun(input, plan, origin, target, sizes, &stats).first_pass_part({part, parts}, out);
 }
 
-QuadricMesh reduce_after_first_pass(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                                    std::uint64_t target, const FirstPassPlan& plan, const TileOutputSource& tiles,
+QuadricMesh reduce_after_first_pass(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                                    const FirstPassPlan& first_pass, const TileOutputSource& tiles,
                                     SimplifyStats* stats, const PassSizes& sizes) {
-  QuadricMesh rest = PassRun(input, options, origin, target, sizes, stats).after_first_pass(plan, tiles);
-  if (options.release_memory) options.release_memory();
+  QuadricMesh rest = PassRun(input, plan, origin, target, sizes, stats).after_first_pass(first_pass, tiles);
+  if (plan.release_memory) plan.release_memory();
   return rest;
 }
 

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "io/mesh_input.hpp"
+#include "methods/run_plan.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 #include "refine/edge_collapse.hpp"
@@ -41,8 +42,8 @@ bool collapses_in_passes(std::uint64_t faces, std::uint64_t target, const PassSi
 /// in them, each face's input normal, faces in input order. Fills the stats' input
 /// counts and refine.passes. Throws UsageError (exit 2) up front when the budget
 /// cannot hold a tile or the last collapse.
-QuadricMesh reduce_in_passes(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                             std::uint64_t target, SimplifyStats* stats, const PassSizes& sizes = {});
+QuadricMesh reduce_in_passes(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                             SimplifyStats* stats, const PassSizes& sizes = {});
 
 // The first pass spread over the parts of a distributed run (parts/, docs/cluster.md).
 // Every part bins the input and takes the pass's threshold from the same sample, as
@@ -79,15 +80,15 @@ struct FirstPassParts {
 /// Part `part` of `parts` of reduce_in_passes's first pass: the tiles whose work falls
 /// to the part (the work balanced over the parts by face records, largest first),
 /// each collapsed and handed to `out`.
-FirstPassPlan first_pass_part(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                              std::uint64_t target, std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
+FirstPassPlan first_pass_part(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                              std::uint32_t part, std::uint32_t parts, const TileOutputSink& out,
                               const PassSizes& sizes = {});
 
-/// reduce_in_passes, its first pass done by the parts: `plan` their plan (the
+/// reduce_in_passes, its first pass done by the parts: `first_pass` their plan (the
 /// collapses added up) and `tiles` their tiles. The same remainder and stats as
 /// reduce_in_passes.
-QuadricMesh reduce_after_first_pass(MeshInput& input, const SimplifyOptions& options, const Vec3d& origin,
-                                    std::uint64_t target, const FirstPassPlan& plan, const TileOutputSource& tiles,
+QuadricMesh reduce_after_first_pass(MeshInput& input, const RunPlan& plan, const Vec3d& origin, std::uint64_t target,
+                                    const FirstPassPlan& first_pass, const TileOutputSource& tiles,
                                     SimplifyStats* stats, const PassSizes& sizes = {});
 
 }  // namespace oocsimp

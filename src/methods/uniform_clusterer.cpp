@@ -93,15 +93,15 @@ void fill_stats(const SkippedFaces& skipped, std::uint64_t triangles, const Unif
 }
 
 // After the passes: the output vertices numbered and placed.
-OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const TableBudget& budget,
-                 std::vector<Quadric>* quadrics, std::size_t locked, SimplifyStats* stats) {
+OutputMesh solve(UniformCells& cells, const RunPlan& plan, const TableBudget& budget, std::vector<Quadric>* quadrics,
+                 std::size_t locked, SimplifyStats* stats) {
   // The hash indexes are not needed any more; free them before the output arrays
   // are allocated, which keeps the peak down.
   cells.release_indexes();
   // The chunks' tables were freed on several threads: let the caller's allocator give
-  // that memory back before the output arrays come (see SimplifyOptions::release_memory).
-  if (options.release_memory) options.release_memory();
-  const ArrayPlace place = ArrayPlace::within(budget_bytes(options.memory_budget), options.temp_dir);
+  // that memory back before the output arrays come (see RunPlan::release_memory).
+  if (plan.release_memory) plan.release_memory();
+  const ArrayPlace place = ArrayPlace::within(plan.budget_bytes, plan.temp_dir);
   check_numbering_fits(budget, cells, place);
   OutputMesh mesh;
   const std::vector<std::uint32_t> order = cells.number_output_vertices(&mesh, place);
@@ -115,19 +115,19 @@ OutputMesh solve(UniformCells& cells, const SimplifyOptions& options, const Tabl
 
 }  // namespace
 
-OutputMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, SimplifyStats* stats,
+OutputMesh cluster_uniform(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
                            std::vector<Quadric>* quadrics) {
-  return cluster_cells(input, options, grid, ClusterCellSource(), stats, quadrics);
+  return cluster_cells(input, plan, grid, ClusterCellSource(), stats, quadrics);
 }
 
-OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                         const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-  const ProgressCallback& progress = options.progress;
+OutputMesh cluster_cells(MeshInput& input, const RunPlan& plan, const GridSpec& grid, const ClusterCellSource& source,
+                         SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+  const ProgressCallback& progress = plan.progress;
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
-  const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
-                           occupancy, input.positions.count);
+  const TableBudget budget(MemoryBudget(plan.budget_bytes, plan.budget_counts_process), grid, occupancy,
+                           input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
-  const LockedVertices locked(options.locked_vertices, input.positions, grid);
+  const LockedVertices locked(plan.locked_vertices, input.positions, grid);
   UniformCells cells(grid, input.attributes, source.clusters, &locked);
 
   PhaseTimer clock;
@@ -136,7 +136,7 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   clock.end("vertices");
 
   check_attribute_sums_fit(budget, cells);
-  cells.start_face_sums(options.thick_edges);
+  cells.start_face_sums(plan.thick_edges);
   const std::uint64_t triangles = cells.add_triangles(input, budget, progress);
   clock.end("faces");
   if (source.matches) {
@@ -145,24 +145,24 @@ OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const
   }
 
   ProgressPhase solve_phase(progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, quadrics, locked.size(), stats);
+  OutputMesh mesh = solve(cells, plan, budget, quadrics, locked.size(), stats);
   clock.end("solve");
   if (stats) fill_stats(input.triangles->skipped(), triangles, cells, mesh, &clock, stats);
   return mesh;
 }
 
-OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+OutputMesh merge_uniform_chunks(MeshInput& input, const RunPlan& plan, const GridSpec& grid,
                                 const UniformChunkSource& chunks, SimplifyStats* stats,
                                 std::vector<Quadric>* quadrics) {
   const OccupancyGrowth occupancy = sampled_occupancy_growth(input.positions, input.info.bounds);
-  const TableBudget budget(MemoryBudget(budget_bytes(options.memory_budget), options.budget_counts_process), grid,
-                           occupancy, input.positions.count);
+  const TableBudget budget(MemoryBudget(plan.budget_bytes, plan.budget_counts_process), grid, occupancy,
+                           input.positions.count);
   check_estimated_cells_fit(budget, occupancy, grid, input.positions.count);
   UniformCells cells(grid, input.attributes);
 
   PhaseTimer clock;
   {
-    ProgressPhase phase(options.progress, "merge cell means", chunks.vertex_chunks, "chunk");
+    ProgressPhase phase(plan.progress, "merge cell means", chunks.vertex_chunks, "chunk");
     VertexChunkSums v;
     for (std::uint64_t j = 0; j < chunks.vertex_chunks; ++j) {
       chunks.vertices(j, &v);
@@ -177,7 +177,7 @@ OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options
   cells.start_face_sums(false);
   std::uint64_t triangles = 0;
   {
-    ProgressPhase phase(options.progress, "merge cell quadrics", chunks.face_chunks, "chunk");
+    ProgressPhase phase(plan.progress, "merge cell quadrics", chunks.face_chunks, "chunk");
     FaceChunkSums f;
     for (std::uint64_t j = 0; j < chunks.face_chunks; ++j) {
       chunks.faces(j, &f);
@@ -190,8 +190,8 @@ OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options
     }
   }
   clock.end("faces");
-  ProgressPhase solve_phase(options.progress, "solve", 0, "cell");
-  OutputMesh mesh = solve(cells, options, budget, quadrics, 0, stats);
+  ProgressPhase solve_phase(plan.progress, "solve", 0, "cell");
+  OutputMesh mesh = solve(cells, plan, budget, quadrics, 0, stats);
   clock.end("solve");
   if (stats) fill_stats(chunks.skipped, triangles, cells, mesh, &clock, stats);
   return mesh;

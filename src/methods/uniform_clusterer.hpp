@@ -9,15 +9,16 @@
 #include "cluster/uniform_cells.hpp"
 #include "grid/grid_spec.hpp"
 #include "io/mesh_input.hpp"
+#include "methods/run_plan.hpp"
 #include "oocsimp/options.hpp"
 #include "oocsimp/stats.hpp"
 
 namespace oocsimp {
 
-/// Clusters `input` (triangle stream at its start) on `grid`, reporting to
-/// options.progress (no other option applies); fills the clustering fields of `stats`
-/// (counts and the vertices / faces / solve seconds).
-OutputMesh cluster_uniform(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid, SimplifyStats* stats,
+/// Clusters `input` (triangle stream at its start) on `grid` within plan.budget_bytes,
+/// reporting to plan.progress; fills the clustering fields of `stats` (counts and the
+/// vertices / faces / solve seconds).
+OutputMesh cluster_uniform(MeshInput& input, const RunPlan& plan, const GridSpec& grid, SimplifyStats* stats,
                            std::vector<Quadric>* quadrics = nullptr);
 
 /// What another method changes in the uniform run: its clusters in place of the grid
@@ -43,12 +44,12 @@ struct UniformChunkSource {
 /// order, as cluster_uniform merges its own, so the output is the same bytes.
 /// `input` gives the attributes' layout; its triangles are not read. With `quadrics`,
 /// as for cluster_uniform.
-OutputMesh merge_uniform_chunks(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
+OutputMesh merge_uniform_chunks(MeshInput& input, const RunPlan& plan, const GridSpec& grid,
                                 const UniformChunkSource& chunks, SimplifyStats* stats,
                                 std::vector<Quadric>* quadrics = nullptr);
 
 /// cluster_uniform over the cells of `source`.
-OutputMesh cluster_cells(MeshInput& input, const SimplifyOptions& options, const GridSpec& grid,
-                         const ClusterCellSource& source, SimplifyStats* stats, std::vector<Quadric>* quadrics);
+OutputMesh cluster_cells(MeshInput& input, const RunPlan& plan, const GridSpec& grid, const ClusterCellSource& source,
+                         SimplifyStats* stats, std::vector<Quadric>* quadrics);
 
 }  // namespace oocsimp

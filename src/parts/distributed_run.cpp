@@ -13,9 +13,9 @@
 
 namespace oocsimp {
 
-std::string part_options_text(const SimplifyOptions& options) {
+std::string part_options_text(const RunPlan& plan) {
   std::string attributes;
-  switch (options.attributes.mode) {
+  switch (plan.attributes.mode) {
     case AttributeSelection::Mode::all:
       attributes = "all";
       break;
@@ -23,16 +23,16 @@ std::string part_options_text(const SimplifyOptions& options) {
       attributes = "none";
       break;
     case AttributeSelection::Mode::named:
-      for (const std::string& n : options.attributes.names) attributes += (attributes.empty() ? "" : ",") + n;
+      for (const std::string& n : plan.attributes.names) attributes += (attributes.empty() ? "" : ",") + n;
       break;
   }
-  const TargetOptions& t = options.target;
-  const CurvatureClusterOptions& c = options.curvature;
-  return std::string("method ") + method_name(resolved_method(options)) + " target " + std::to_string(t.triangles) +
-         " ratio " + part_hex_double(t.ratio) + " max_error " + part_hex_double(t.max_error) + " weld " +
-         std::to_string(int(options.weld)) + " precision " + std::to_string(int(options.precision)) + " attributes " +
-         attributes + " cells " + std::to_string(int(options.floating.cell_shape)) + " " +
-         std::to_string(int(options.floating.assign)) + " " + std::to_string(int(options.floating.representative)) +
+  const TargetOptions& t = plan.target;
+  const CurvatureClusterOptions& c = plan.curvature;
+  return std::string("method ") + method_name(plan.method) + " target " + std::to_string(t.triangles) + " ratio " +
+         part_hex_double(t.ratio) + " max_error " + part_hex_double(t.max_error) + " weld " +
+         std::to_string(int(plan.weld)) + " precision " + std::to_string(int(plan.precision)) + " attributes " +
+         attributes + " cells " + std::to_string(int(plan.floating.cell_shape)) + " " +
+         std::to_string(int(plan.floating.assign)) + " " + std::to_string(int(plan.floating.representative)) +
          " curvature " + part_hex_double(c.radius) + " " + std::to_string(int(c.sphere_neighbourhood)) + " " +
          part_hex_double(c.tolerance) + " " + std::to_string(c.max_depth) + " " +
          std::to_string(int(c.representative)) + " refine " + std::to_string(int(t.refine)) + " " +
@@ -83,24 +83,8 @@ bool read_part_options(const std::string& text, SimplifyOptions* options) {
   return true;
 }
 
-void check_part_options(const SimplifyOptions& options) {
-  const ClusterMethod method = resolved_method(options);
-  if (method != ClusterMethod::uniform && method != ClusterMethod::qem && method != ClusterMethod::floating &&
-      method != ClusterMethod::curvature)
-    throw UsageError("options.method",
-                     std::string("a distributed run (options.part) takes options.method uniform, floating, curvature, "
-                                 "or qem (the default with a target); ") +
-                         method_name(method) + " runs in one process for now");
-  if (options.thick_edges)
-    throw UsageError("options.thick_edges", "a distributed run (options.part) makes no thick edges yet");
-  if (!options.locked_vertices.empty())
-    throw UsageError("options.locked_vertices", "a distributed run (options.part) keeps no locked vertices yet");
-  if (options.lock_boundary)
-    throw UsageError("options.lock_boundary", "a distributed run (options.part) keeps no boundary locked yet");
-}
-
-void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                      const std::string& dir, SimplifyStats* stats) {
+void run_uniform_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                      SimplifyStats* stats) {
   PartWriter writer(dir, manifest);
   UniformCells cells(manifest.grid, input.attributes);
   ChunkPart part;
@@ -112,7 +96,7 @@ void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const Pa
     triangles += sums.triangles;
     writer.faces(chunk, sums);
   };
-  const auto [vertex_chunks, face_chunks] = cells.sum_part(input, part, options.progress);
+  const auto [vertex_chunks, face_chunks] = cells.sum_part(input, part, plan.progress);
   writer.commit(vertex_chunks, face_chunks, input.triangles->skipped());
   if (stats) {
     stats->input_triangles = triangles;  // the part's own
@@ -120,45 +104,45 @@ void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const Pa
   }
 }
 
-void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                  const std::string& dir, SimplifyStats* stats) {
+void run_qem_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                  SimplifyStats* stats) {
   PartWriter writer(dir, manifest);
-  FirstPassPlan plan;
+  FirstPassPlan first_pass;
   const bool spread = simplify_to_target_part(
-      input, options, manifest.part, manifest.parts, [&](const TileOutput& tile) { writer.tile(tile); }, &plan);
-  if (spread) writer.plan(plan);
-  writer.commit(0, 0, plan.skipped);
+      input, plan, manifest.part, manifest.parts, [&](const TileOutput& tile) { writer.tile(tile); }, &first_pass);
+  if (spread) writer.plan(first_pass);
+  writer.commit(0, 0, first_pass.skipped);
   if (stats) {
     // A run with no pass to spread reads the input's count from its header.
-    stats->input_triangles = spread ? plan.input_triangles : input.info.face_count;
-    stats->skipped = plan.skipped;
-    stats->refine.collapses = plan.collapses;  // the part's own
+    stats->input_triangles = spread ? first_pass.input_triangles : input.info.face_count;
+    stats->skipped = first_pass.skipped;
+    stats->refine.collapses = first_pass.collapses;  // the part's own
   }
 }
 
-void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                       const PartChannel& channel, const std::string& dir, SimplifyStats* stats) {
+void run_floating_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const PartChannel& channel,
+                       const std::string& dir, SimplifyStats* stats) {
   PartWriter writer(dir, manifest);
-  FloatingPartPlan plan;
+  FloatingPartPlan tiling;
   const AttributeLayout layout(input.attributes);
   cluster_floating_part(
-      input, options, manifest.grid, manifest.part, manifest.parts, channel,
+      input, plan, manifest.grid, manifest.part, manifest.parts, channel,
       [&](ShareKind kind, const void* records, std::size_t count) {
         writer.shares(kind, records, count * share_record_bytes(kind, layout));
       },
-      &plan, stats);
-  writer.floating_plan(plan);
-  writer.commit(0, 0, plan.skipped);
+      &tiling, stats);
+  writer.floating_plan(tiling);
+  writer.commit(0, 0, tiling.skipped);
 }
 
-void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                        const std::string& dir, SimplifyStats* stats) {
+void run_curvature_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                        SimplifyStats* stats) {
   PartWriter writer(dir, manifest);
   constexpr std::size_t kRunValues = 1 << 16;  // values per record
   std::vector<VertexCurvatureValue> run;
   run.reserve(kRunValues);
-  const CurvaturePartPlan plan = estimate_curvature_part(
-      input, options, manifest.part, manifest.parts,
+  const CurvaturePartPlan estimate = estimate_curvature_part(
+      input, plan, manifest.part, manifest.parts,
       [&](const std::uint64_t* vertices, const float* k1, const float* k2, std::size_t n) {
         for (std::size_t i = 0; i < n; ++i) {
           run.push_back({std::uint32_t(vertices[i]), k1[i], k2[i]});
@@ -170,18 +154,18 @@ void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const 
       },
       stats);
   if (!run.empty()) writer.curvatures(run);
-  writer.curvature_plan(plan);
+  writer.curvature_plan(estimate);
   writer.commit(0, 0, input.triangles->skipped());
   if (stats) {
-    stats->input_triangles = plan.triangles;
+    stats->input_triangles = estimate.triangles;
     stats->skipped = input.triangles->skipped();
   }
 }
 
-void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
-                         const PartChannel& channel, const std::string& dir, SimplifyStats* stats) {
-  if (options.target.given()) {
-    if (!target_clustering_grid(input, options, &manifest.grid)) {
+void run_clustering_part(MeshInput& input, const RunPlan& plan, PartManifest manifest, const PartChannel& channel,
+                         const std::string& dir, SimplifyStats* stats) {
+  if (plan.target.given()) {
+    if (!target_clustering_grid(input, plan, &manifest.grid)) {
       manifest.grid = GridSpec();
       manifest.grid.cell = 0;  // nothing clustered: the merge runs the target whole
       PartWriter(dir, manifest).commit(0, 0, SkippedFaces());
@@ -190,15 +174,15 @@ void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartM
     }
     input.restart_triangles();
   }
-  switch (options.method) {
+  switch (plan.method) {
     case ClusterMethod::floating:
-      run_floating_part(input, options, manifest, channel, dir, stats);
+      run_floating_part(input, plan, manifest, channel, dir, stats);
       break;
     case ClusterMethod::curvature:
-      run_curvature_part(input, options, manifest, dir, stats);
+      run_curvature_part(input, plan, manifest, dir, stats);
       break;
     default:
-      run_uniform_part(input, options, manifest, dir, stats);
+      run_uniform_part(input, plan, manifest, dir, stats);
   }
 }
 
@@ -377,17 +361,17 @@ CurvatureFill PartSet::curvatures(std::uint64_t vertices) const {
   };
 }
 
-MergedPhaseOne PartSet::clustering(MeshInput& input, const SimplifyOptions& options) const {
-  return [this, &input, options](const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
-    switch (options.method) {
+MergedPhaseOne PartSet::clustering(MeshInput& input, const RunPlan& plan) const {
+  return [this, &input, plan](const GridSpec& grid, SimplifyStats* stats, std::vector<Quadric>* quadrics) {
+    switch (plan.method) {
       case ClusterMethod::floating:
-        return merge_floating_shares(input, options, grid, floating_plan(),
+        return merge_floating_shares(input, plan, grid, floating_plan(),
                                      floating_shares(AttributeLayout(input.attributes)), stats, quadrics);
       case ClusterMethod::curvature:
         curvature_plan();  // a stale part is named before any work
-        return merge_curvature_parts(input, options, grid, curvatures(input.positions.count), stats, quadrics);
+        return merge_curvature_parts(input, plan, grid, curvatures(input.positions.count), stats, quadrics);
       default:
-        return merge_uniform_chunks(input, options, grid, chunks(), stats, quadrics);
+        return merge_uniform_chunks(input, plan, grid, chunks(), stats, quadrics);
     }
   };
 }

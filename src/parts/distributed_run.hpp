@@ -21,47 +21,43 @@
 
 namespace oocsimp {
 
-/// The options that shape the output, as one line for the manifest (and the test of
+/// The plan's options that shape the output, as one line for the manifest (and the test of
 /// a stale part): the method, welding, the attribute selection and the precision.
-std::string part_options_text(const SimplifyOptions& options);
+std::string part_options_text(const RunPlan& plan);
 /// The same options back from that text into `options` (the rest untouched); false
 /// when the text is malformed.
 bool read_part_options(const std::string& text, SimplifyOptions* options);
 
-/// Throws UsageError naming the option for what a part cannot run with yet: thick
-/// edges, locks.
-void check_part_options(const SimplifyOptions& options);
-
 /// Part manifest.part of manifest.parts of a uniform run on `input` (at its start)
 /// with `grid`: the chunks it owns summed (UniformCells::sum_part) into its part file
 /// in `dir`, renamed into place when complete. Fills the input counts of `stats`.
-void run_uniform_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                      const std::string& dir, SimplifyStats* stats);
+void run_uniform_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                      SimplifyStats* stats);
 
-/// The same for a run to a target with options.method qem (the default with a
+/// The same for a run to a target with plan.method qem (the default with a
 /// target): the part's share of the first out-of-core pass (simplify_to_target_part),
 /// or nothing but its manifest when the run has no such pass.
-void run_qem_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                  const std::string& dir, SimplifyStats* stats);
+void run_qem_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                  SimplifyStats* stats);
 
-/// The same for options.method floating: the part's tiles' cluster shares
+/// The same for plan.method floating: the part's tiles' cluster shares
 /// (cluster_floating_part), grading and sweeping with the other parts through
 /// `channel` when given (parts that run at once), alone otherwise.
-void run_floating_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                       const PartChannel& channel, const std::string& dir, SimplifyStats* stats);
+void run_floating_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const PartChannel& channel,
+                       const std::string& dir, SimplifyStats* stats);
 
-/// The same for options.method curvature: the curvatures of the vertices dealt to the
+/// The same for plan.method curvature: the curvatures of the vertices dealt to the
 /// part (estimate_curvature_part), nearly all of the method's time, with the plan.
-void run_curvature_part(MeshInput& input, const SimplifyOptions& options, const PartManifest& manifest,
-                        const std::string& dir, SimplifyStats* stats);
+void run_curvature_part(MeshInput& input, const RunPlan& plan, const PartManifest& manifest, const std::string& dir,
+                        SimplifyStats* stats);
 
 /// Part manifest.part of a clustering run (uniform, floating, curvature) on `input`,
-/// at manifest.grid; with a target (options.target), the part's share of phase 1's
+/// at manifest.grid; with a target (plan.target), the part's share of phase 1's
 /// first attempt at the grid target_clustering_grid chooses (it overrides
 /// manifest.grid), or, when the run clusters nothing there, a part with no work and
 /// a grid of cell 0: the merge runs that target whole.
-void run_clustering_part(MeshInput& input, const SimplifyOptions& options, PartManifest manifest,
-                         const PartChannel& channel, const std::string& dir, SimplifyStats* stats);
+void run_clustering_part(MeshInput& input, const RunPlan& plan, PartManifest manifest, const PartChannel& channel,
+                         const std::string& dir, SimplifyStats* stats);
 
 /// The part files of a work folder, checked to make one run: every part of the count
 /// present, each whole (its checksum), all with the same manifest but for the part
@@ -88,9 +84,9 @@ class PartSet {
   /// The fill of the curvatures of `vertices` input vertices from every part's values
   /// (throws InputError when the parts counted another number of vertices).
   CurvatureFill curvatures(std::uint64_t vertices) const;
-  /// The clustering the parts of options.method shared, merged at the grid it is
+  /// The clustering the parts of plan.method shared, merged at the grid it is
   /// given (the manifest's), with quadrics when asked; `input` must outlive it.
-  MergedPhaseOne clustering(MeshInput& input, const SimplifyOptions& options) const;
+  MergedPhaseOne clustering(MeshInput& input, const RunPlan& plan) const;
 
  private:
   bool has_floating() const;
