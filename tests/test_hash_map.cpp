@@ -113,6 +113,17 @@ TEST_CASE("flat hash map agrees with std::unordered_map on random keys", "[hash_
   }
 }
 
+TEST_CASE("a reserved index numbers keys as a grown one does", "[hash_map]") {
+  std::mt19937_64 rng(7);
+  std::vector<std::uint64_t> keys(20000);
+  for (std::uint64_t& k : keys) k = rng() % 15000;  // repeats among them
+  FlatHashMap<std::uint64_t, std::uint64_t> grown(16), reserved(16);
+  reserved.reserve_index(keys.size());
+  for (std::uint64_t k : keys) REQUIRE(grown.insert(k) == reserved.insert(k));
+  REQUIRE(grown.size() == reserved.size());
+  for (std::size_t i = 0; i < grown.size(); ++i) REQUIRE(grown.key(i) == reserved.key(i));
+}
+
 TEST_CASE("flat hash map clears to empty and numbers again from 0", "[hash_map]") {
   FlatHashMap<std::uint64_t, int> map(1 << 12);
   for (std::size_t round = 0; round < 3; ++round) {

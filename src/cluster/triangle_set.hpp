@@ -37,6 +37,8 @@ class TriangleSet {
   /// Heap bytes held, and at most while `more` triangles are added (FlatHashMap).
   std::size_t bytes() const { return set_.bytes(); }
   std::size_t bytes_with(std::size_t more) const { return set_.bytes_with(more); }
+  /// Grows the index now for `triangles` in all (FlatHashMap::reserve_index).
+  void reserve_index(std::size_t triangles) { set_.reserve_index(triangles); }
   /// Frees the hash index; insert() must not be called afterwards.
   void release_index() { set_.release_index(); }
 

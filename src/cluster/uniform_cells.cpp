@@ -321,7 +321,7 @@ ThickPrimitives thick_primitives(const ThickSums& thick, const TriangleSet& kept
 }  // namespace
 
 void TableBudget::check(std::uint64_t bytes, const std::string& what) const {
-  if (held_ + bytes <= budget_.bytes()) return;
+  if (fits(bytes)) return;
   // The advice: the whole run at about kRunBytesPerCell per occupied cell, and a
   // grid with a tenth fewer cells than that fit in the budget.
   const double room = budget_.bytes() > held_ ? double(budget_.bytes() - held_) : 0.0;
@@ -618,6 +618,11 @@ std::uint64_t UniformCells::add_triangles(MeshInput& input, const TableBudget& b
   std::vector<std::uint32_t> to_global;
   std::uint64_t total = 0;
   ChunkTables chunks(pipeline_tokens());
+  // A closed surface clustered to n cells keeps about 2n triangles (Euler), and no run
+  // keeps more than the input has: the index grows once, where it fits, rather than
+  // doubling a dozen times on the pipeline's serial stage.
+  const std::size_t expected = std::size_t(std::min<std::uint64_t>(2 * cells.size(), input.info.face_count));
+  if (budget.fits(cells.bytes() + kept_.bytes_with(expected))) kept_.reserve_index(expected);
   ProgressPhase phase(progress, "cell quadrics", input.file_size, "B");
   run_ordered_pipeline<FaceChunk>(
       pipeline_tokens(),

@@ -63,6 +63,8 @@ class TableBudget {
   /// Throws UsageError unless tables of `bytes` fit next to what was held at the
   /// start; `what` names what they hold ("about 3000000 occupied cells").
   void check(std::uint64_t bytes, const std::string& what) const;
+  /// Whether tables of `bytes` fit next to what was held at the start.
+  bool fits(std::uint64_t bytes) const { return held_ + bytes <= budget_.bytes(); }
 
  private:
   std::uint32_t coarser_resolution(double cells) const;

@@ -57,6 +57,11 @@ class FlatHashMap {
   }
   /// The number of `key`, inserting it when absent.
   std::uint32_t insert(const Key& key) { return try_insert(key).first; }
+  /// Grows the index now for `keys` entries in all, so that inserting up to that many
+  /// rehashes no more (the numbering does not depend on the index's size).
+  void reserve_index(std::size_t keys) {
+    if (keys * 2 > slots_.size()) rehash(keys * 2);
+  }
   /// The number of `key`, or -1 when absent.
   std::int64_t find(const Key& key) const {
     std::size_t s = slot_of(key);
