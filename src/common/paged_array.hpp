@@ -3,6 +3,8 @@
 
 #include <cstddef>
 #include <memory>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 namespace oocsimp {
@@ -10,28 +12,54 @@ namespace oocsimp {
 /// Like std::vector for push_back and indexing, but grows one page at a time: no
 /// reallocation copies and at most one partly used page, so a table of millions of
 /// records never holds twice its size while it grows. Elements do not move.
+/// A page is raw storage: each element is value-initialised when it is appended, where
+/// it is about to be written, not a whole page at a time beforehand.
 template <class T, std::size_t kPageBits = 12>
 class PagedArray {
  public:
   static constexpr std::size_t kPage = std::size_t(1) << kPageBits;
 
-  T& operator[](std::size_t i) { return pages_[i >> kPageBits][i & (kPage - 1)]; }
-  const T& operator[](std::size_t i) const { return pages_[i >> kPageBits][i & (kPage - 1)]; }
+  PagedArray() = default;
+  PagedArray(PagedArray&& other) noexcept : pages_(std::move(other.pages_)), size_(other.size_) { other.size_ = 0; }
+  PagedArray& operator=(PagedArray&& other) noexcept {
+    if (this != &other) {
+      destroy_elements();
+      pages_ = std::move(other.pages_);
+      size_ = other.size_;
+      other.size_ = 0;
+    }
+    return *this;
+  }
+  ~PagedArray() { destroy_elements(); }
+
+  T& operator[](std::size_t i) { return pages_[i >> kPageBits].get()[i & (kPage - 1)]; }
+  const T& operator[](std::size_t i) const { return pages_[i >> kPageBits].get()[i & (kPage - 1)]; }
   std::size_t size() const { return size_; }
   /// Appends a value-initialised element and returns it.
   T& emplace_back() {
-    if ((size_ >> kPageBits) == pages_.size()) pages_.push_back(std::make_unique<T[]>(kPage));
-    T& e = (*this)[size_++];
-    e = T{};
-    return e;
+    if ((size_ >> kPageBits) == pages_.size())
+      pages_.emplace_back(static_cast<T*>(::operator new(kPage * sizeof(T), std::align_val_t(alignof(T)))));
+    T* slot = pages_[size_ >> kPageBits].get() + (size_ & (kPage - 1));
+    ++size_;
+    return *::new (static_cast<void*>(slot)) T();
   }
   void push_back(const T& v) { emplace_back() = v; }
   /// Empties the array, keeping its pages for reuse.
-  void clear() { size_ = 0; }
+  void clear() {
+    destroy_elements();
+    size_ = 0;
+  }
   std::size_t capacity() const { return pages_.size() * kPage; }
 
  private:
-  std::vector<std::unique_ptr<T[]>> pages_;
+  void destroy_elements() {
+    if constexpr (!std::is_trivially_destructible<T>::value)
+      for (std::size_t i = 0; i < size_; ++i) (*this)[i].~T();
+  }
+  struct FreePage {
+    void operator()(T* page) const { ::operator delete(page, std::align_val_t(alignof(T))); }
+  };
+  std::vector<std::unique_ptr<T, FreePage>> pages_;
   std::size_t size_ = 0;
 };
 
