@@ -390,6 +390,23 @@ for t in "${targets[@]}"; do
   wall=0 user=0 sys=0
   read -r wall user sys <"$timefile" || true
   cpu=$(awk "BEGIN { printf \"%.1f\", $user + $sys }")
+  # libFuzzer's -timeout counts wall time, so a run at low priority beside other work
+  # can save a timeout that is only the fuzzer starved of CPU. Each timeout is replayed
+  # alone; one that then finishes in under 10 s of CPU time is no finding, and its file
+  # is renamed starved-* (kept for a look). A replay cut off at 60 s stays a finding.
+  for f in "$art"/timeout-*; do
+    [ -e "$f" ] || continue
+    set +e
+    { TIMEFORMAT='%U %S'; time timeout 60 "$build/$t" "$f" >/dev/null 2>&1; } 2>"$build/logs/$t.replay"
+    replay_rc=$?
+    set -e
+    ru=0 rs=0
+    read -r ru rs <"$build/logs/$t.replay" || true
+    if [ "$replay_rc" -eq 0 ] && awk "BEGIN { exit !($ru + $rs < 10) }"; then
+      mv "$f" "$art/starved-${f##*/timeout-}"
+      echo "fuzz.sh: ${f##*/} replayed alone in $(awk "BEGIN { print $ru + $rs }") s of CPU: starved, not a hang" >>"$log"
+    fi
+  done
   artifacts=$(find "$art" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
     -printf '%f ' | sed 's/ $//')
   if [ -n "$artifacts" ]; then
