@@ -20,13 +20,14 @@ class TriangleSet {
   /// whether it was added.
   bool insert(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     if ((a | b | c) & kOddBit) throw std::length_error("more than 2^31 cells");
-    Key k = {a, b, c};
-    std::sort(k.begin(), k.end());
+    Key k = sorted(a, b, c);
     // (a, b, c) is an even permutation of the sorted triple iff it is one of its rotations.
     bool even = (a == k[0] && b == k[1]) || (a == k[1] && b == k[2]) || (a == k[2] && b == k[0]);
     if (!even) k[0] |= kOddBit;
     return set_.try_insert(k).second;
   }
+  /// FlatHashMap::prefetch for the triangle (a, b, c), ahead of its insert().
+  void prefetch(std::uint32_t a, std::uint32_t b, std::uint32_t c) const { set_.prefetch(sorted(a, b, c)); }
   std::size_t size() const { return set_.size(); }
   /// Triangle i (cell indices) in the orientation of its first insertion.
   std::array<std::uint32_t, 3> operator[](std::size_t i) const {
@@ -45,6 +46,12 @@ class TriangleSet {
  private:
   using Key = std::array<std::uint32_t, 3>;  // sorted triple, kOddBit set in [0] for odd orientation
   static constexpr std::uint32_t kOddBit = 0x80000000u;
+
+  static Key sorted(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    Key k = {a, b, c};
+    std::sort(k.begin(), k.end());
+    return k;
+  }
 
   // Hash and equality of the three cells, whatever the orientation bit.
   struct SameCellsHash {

@@ -33,6 +33,9 @@ namespace {
 // must not depend on the thread count.
 constexpr std::uint64_t kVertexChunk = 1 << 16;
 constexpr std::size_t kFaceChunk = 1 << 15;
+// How many entries ahead the serial merges ask for a table's slot: far enough that the
+// fetch is done when the entry comes, near enough that it is still in the cache.
+constexpr std::size_t kPrefetchAhead = 8;
 
 struct VertexChunk {
   std::uint64_t begin = 0, end = 0;
@@ -423,6 +426,7 @@ namespace {
 template <class KeyAt, class SumAt>
 void add_vertex_sums(CellMap<CellRecord>& cells, std::size_t n, KeyAt key, SumAt sum) {
   for (std::size_t i = 0; i < n; ++i) {
+    if (i + kPrefetchAhead < n) cells.prefetch(key(i + kPrefetchAhead));
     VertexSum& dst = cells.value(cells.insert(key(i))).vertices;
     const VertexSum& src = sum(i);
     dst.sum += src.sum;
@@ -593,6 +597,7 @@ void UniformCells::merge_faces(const Chunk& c, std::vector<std::uint32_t>* to_gl
   const std::size_t n = chunk_cells(c);
   to_global.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
+    if (i + kPrefetchAhead < n) cells_.prefetch(chunk_key(c, i + kPrefetchAhead));
     std::uint32_t g = cells_.insert(chunk_key(c, i));
     cells_.value(g).q.add(chunk_quadric(c, i));
     to_global[i] = g;
@@ -604,8 +609,12 @@ void UniformCells::merge_faces(const Chunk& c, std::vector<std::uint32_t>* to_gl
       for (std::size_t j = 0; j < attributes.width(); ++j) dst[j] += src[j];
     }
   }
-  for (std::size_t t = 0; t < c.kept.size(); t += 3)
+  const std::size_t ahead = 3 * kPrefetchAhead;
+  for (std::size_t t = 0; t < c.kept.size(); t += 3) {
+    if (t + ahead < c.kept.size())
+      kept_.prefetch(to_global[c.kept[t + ahead]], to_global[c.kept[t + ahead + 1]], to_global[c.kept[t + ahead + 2]]);
     kept_.insert(to_global[c.kept[t]], to_global[c.kept[t + 1]], to_global[c.kept[t + 2]]);
+  }
   if (thick_ && chunk_thick(c)) merge_thick_sums(*chunk_thick(c), to_global, thick_.get());
 }
 

@@ -57,6 +57,9 @@ class FlatHashMap {
   }
   /// The number of `key`, inserting it when absent.
   std::uint32_t insert(const Key& key) { return try_insert(key).first; }
+  /// Asks the processor to fetch `key`'s first slot ahead of a lookup, so that a loop
+  /// over many keys waits on several cache misses at once rather than one at a time.
+  void prefetch(const Key& key) const { __builtin_prefetch(&slots_[slot_of(key)]); }
   /// Grows the index now for `keys` entries in all, so that inserting up to that many
   /// rehashes no more (the numbering does not depend on the index's size).
   void reserve_index(std::size_t keys) {
