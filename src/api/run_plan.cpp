@@ -39,19 +39,17 @@ TargetOptions target_in_units(const MeshInput& input, TargetOptions t) {
   return t;
 }
 
-// Throws UsageError unless the target is consistent: at most one of triangles and
-// ratio, no CellSizing beside them, triangles at least 4, ratio in (0, 1], max_error
-// positive and finite.
-void check_target_options(const SimplifyOptions& o) {
-  const TargetOptions& t = o.target;
+// Throws UsageError unless target `t` of a run by `method` is consistent: at most one
+// of triangles and ratio, no CellSizing `s` beside them, triangles at least 4, ratio in
+// (0, 1], max_error positive and finite.
+void check_target(const TargetOptions& t, const CellSizing& s, ClusterMethod method) {
   if (t.triangles != 0 && t.ratio != 0)
     throw UsageError("give at most one of options.target.triangles and options.target.ratio");
-  const CellSizing& s = o.sizing;
   if (t.given() && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
     throw UsageError(
         "a target (options.target.triangles, options.target.ratio, options.target.max_error) sets the cell itself: "
         "give no options.sizing.cell, options.sizing.grid or options.sizing.ratio with it");
-  if (o.method == ClusterMethod::qem && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
+  if (method == ClusterMethod::qem && (s.cell != 0 || s.grid != 0 || s.ratio != 0))
     throw UsageError(
         "options.sizing.cell",
         "options.sizing.cell, options.sizing.grid and options.sizing.ratio apply to the clustering methods; the qem "
@@ -168,10 +166,7 @@ RunPlan plan_run(const MeshInput& input, const SimplifyOptions& options) {
   plan.threads = options.threads;
   plan.target = target;
   if (plan.method == ClusterMethod::qem || plan.target.given()) {
-    SimplifyOptions checked = options;
-    checked.method = plan.method;
-    checked.target = plan.target;
-    check_target_options(checked);
+    check_target(plan.target, options.sizing, plan.method);
     // The qem method alone keeps the default share, now exactly.
     if (!plan.target.given()) plan.target.ratio = kDefaultRatio;
   }
