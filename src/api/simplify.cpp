@@ -468,8 +468,8 @@ namespace {
 // A run from the file at `input_path` to `outputs`: every destination opened before
 // the work (a missing folder fails in a moment, not after the run), the input opened
 // (the "open" phase) and its run planned, `produce` run on it, the mesh written; the
-// stats committed
-// first, so that when they cannot be written the mesh output stays as it was.
+// stats committed first, so that when they cannot be written the mesh output stays as
+// it was.
 void run_to_files(const std::string& input_path, const OutputOptions& outputs, const SimplifyOptions& options,
                   SimplifyStats& st, const std::function<OutputMesh(MeshInput& input, const RunPlan& plan)>& produce) {
   const MeshFormat format = output_format(outputs);

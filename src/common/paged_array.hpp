@@ -37,8 +37,11 @@ class PagedArray {
   std::size_t size() const { return size_; }
   /// Appends a value-initialised element and returns it.
   T& emplace_back() {
-    if ((size_ >> kPageBits) == pages_.size())
-      pages_.emplace_back(static_cast<T*>(::operator new(kPage * sizeof(T), std::align_val_t(alignof(T)))));
+    if ((size_ >> kPageBits) == pages_.size()) {
+      std::unique_ptr<T, FreePage> page(
+          static_cast<T*>(::operator new(kPage * sizeof(T), std::align_val_t(alignof(T)))));
+      pages_.push_back(std::move(page));  // owned first: a failed push_back frees it
+    }
     T* slot = pages_[size_ >> kPageBits].get() + (size_ & (kPage - 1));
     ++size_;
     return *::new (static_cast<void*>(slot)) T();
