@@ -22,6 +22,30 @@ TEST_CASE("OBJ v and f lines", "[readers][obj]") {
   CHECK(m.triangles == kTris);
 }
 
+TEST_CASE("a non-finite OBJ vertex split by its texture coordinates is counted once per vertex it becomes",
+          "[readers][obj]") {
+  // Found by fuzz_obj_reader: the split vertices were stored, but the count and the
+  // first index were the file's (one NaN `v` line), not the arrays' (two vertices).
+  ScratchDir dir;
+  std::string path = dir.file("nan-seam.obj");
+  write_file(path,
+             "v 0 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\n"
+             "vt 0 0\nvt 1 0\nvt 0 1\n"
+             "f 1/1 2/2 3/3\n"    // vertices 0 1 2
+             "f 3/3 2/1 4/2\n");  // 2/1 is a new pair: vertex 4 (after 4/2, vertex 3), also NaN
+  oocsimp::OpenOptions o;
+  o.temp_dir = dir.path();
+  o.attributes.texture_coordinates = true;
+  oocsimp::MeshInput in = oocsimp::open_mesh_input(path, o);
+  std::uint64_t non_finite = 0, first = ~std::uint64_t(0);
+  for (std::uint64_t i = 0; i < in.positions.count; ++i)
+    if (!oocsimp::is_finite(in.positions.get(i))) first = std::min(first, i), ++non_finite;
+  CHECK(non_finite == 2);
+  CHECK(in.info.non_finite_vertices == non_finite);
+  CHECK(in.info.first_non_finite_vertex == first);
+  CHECK(in.info.first_non_finite_position == "line 2");  // the file's first, where it is the arrays' first
+}
+
 TEST_CASE("OBJ face index forms v and v/vt and v//vn and v/vt/vn", "[readers][obj]") {
   ScratchDir dir;
   std::string path = dir.file("mesh.obj");

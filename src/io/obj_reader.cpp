@@ -406,14 +406,18 @@ void add_split_positions(MeshInput& positions, const CornerVertices& corners, co
                          const std::string& path, MeshInput& out) {
   PositionArrayBuilder builder(temp_dir, path);
   builder.declare(positions.info.double_precision ? ScalarType::f64 : ScalarType::f32);
+  // The builder counts the non-finite vertices as the split numbers them (a `v` line
+  // used with several attributes is several vertices); the first is placed by its line
+  // where it is the file's first, else by its `v` line's number.
   for (std::uint64_t i = 0; i < corners.vertex_count(); ++i) {
-    const Vec3d p = positions.positions.get(corners.position_of(i));
-    builder.add(p.x, p.y, p.z, [&] { return "vertex " + std::to_string(i); });
+    const std::uint64_t source = corners.position_of(i);
+    const Vec3d p = positions.positions.get(source);
+    builder.add(p.x, p.y, p.z, [&] {
+      return source == positions.info.first_non_finite_vertex ? positions.info.first_non_finite_position
+                                                              : "the file's vertex " + std::to_string(source);
+    });
   }
   builder.finish(out);
-  out.info.first_non_finite_vertex = positions.info.first_non_finite_vertex;
-  out.info.first_non_finite_position = positions.info.first_non_finite_position;
-  out.info.non_finite_vertices = positions.info.non_finite_vertices;
 }
 
 }  // namespace
