@@ -231,9 +231,7 @@ bool note_collapse(const CollapseStats& cs, std::uint64_t left, const CollapseGo
   stats->refine.largest_collapse_cost = cs.largest_cost;
   stats->refine.largest_collapse_error = cs.largest_error;
   // max_error alone asks for no count: stopping at it is the aim, not a miss.
-  // (qem with no target at all keeps the default share, a count.)
-  const bool count_asked = plan.target.triangles != 0 || plan.target.ratio != 0 ||
-                           (plan.method == ClusterMethod::qem && plan.target.max_error == 0);
+  const bool count_asked = asks_count(plan);
   stats->refine.target_missed = left != goal.target && (count_asked || !cs.stopped_by_error);
   if (stats->refine.target_missed && count_asked && (goal.last || cs.parity)) {
     std::string why = cs.parity             ? "the surface is closed, so its triangle count is even"
@@ -263,8 +261,7 @@ CollapseResult refine(CollapseInput in, const CollapseGoal& goal, const RunPlan&
   if (in.boundary_planes_in_quadrics) settings.boundary_weight = 0;
   // --max-error alone asks for no count: its target (the least) says nothing of which
   // holes the output can show.
-  settings.soften_holes = plan.target.triangles != 0 || plan.target.ratio != 0 ||
-                          (plan.method == ClusterMethod::qem && plan.target.max_error == 0);
+  settings.soften_holes = asks_count(plan);
   settings.result_quadrics = goal.quadrics != nullptr;  // the output's
   settings.lock_boundary = plan.lock_boundary;
   settings.lock_coincident = carries_texture_coordinates(*in.attributes);

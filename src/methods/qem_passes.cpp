@@ -656,7 +656,7 @@ class PassRun {
     settings_.lock_coincident = carries_texture_coordinates(input.attributes.attributes);
     // A hole is judged against the input and the run's target, as in the whole mesh
     // (a tile's own count is not the mesh's); with no count asked, there are none.
-    settings_.soften_holes = plan.target.triangles != 0 || plan.target.ratio != 0 || !(plan.target.max_error > 0);
+    settings_.soften_holes = asks_count(plan);
     settings_.hole_faces = input.info.face_count;
     settings_.hole_target = target;
     if (!plan.locked_vertices.empty()) settings_.locked_ids = &plan.locked_vertices;  // sorted by the plan

@@ -39,4 +39,8 @@ struct RunPlan {
   void (*release_memory)() = nullptr;
 };
 
+/// Whether the plan's target asks for a count (triangles, or a ratio: the qem method's
+/// default share included), not a maximum error alone.
+inline bool asks_count(const RunPlan& plan) { return plan.target.triangles != 0 || plan.target.ratio != 0; }
+
 }  // namespace oocsimp
