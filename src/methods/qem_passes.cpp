@@ -115,12 +115,18 @@ void sort_faces(std::vector<PassFace>* faces) {
 
 // Vertices by ascending id, their `k` attribute values each moved with them.
 void sort_vertices(std::vector<PassVertex>* owned, std::vector<double>* attributes, std::size_t k) {
-  std::vector<std::uint32_t> order(owned->size());
+  std::vector<std::uint32_t> order;
+  reserve_filled(&order, owned->size());
+  order.resize(owned->size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return (*owned)[a].id < (*owned)[b].id; });
-  std::vector<PassVertex> sorted(order.size());
-  std::vector<double> values(attributes->size());
+  std::vector<PassVertex> sorted;
+  reserve_filled(&sorted, order.size());
+  sorted.resize(order.size());
+  std::vector<double> values;
+  reserve_filled(&values, attributes->size());
+  values.resize(attributes->size());
   for (std::size_t i = 0; i < order.size(); ++i) {
     sorted[i] = (*owned)[order[i]];
     std::copy(attributes->begin() + std::ptrdiff_t(order[i] * k),
@@ -202,6 +208,14 @@ class PassBins {
     if (tiles.size() == 1) return load(tiles[0]);
     TileMesh m;
     m.attribute_count = attributes_;
+    std::size_t faces = 0, vertices = 0;
+    for (std::uint32_t t : tiles) {
+      faces += std::size_t(faces_.record_count(t));
+      vertices += std::size_t(vertices_.record_count(t));
+    }
+    reserve_filled(&m.faces, faces);
+    reserve_filled(&m.owned, vertices);
+    reserve_filled(&m.attributes, vertices * attributes_);
     for (std::uint32_t t : tiles) {
       TileMesh part = load(t);
       m.faces.insert(m.faces.end(), part.faces.begin(), part.faces.end());
@@ -222,7 +236,7 @@ class PassBins {
     TileMesh m;
     m.attribute_count = attributes_;
     if (with_faces) {
-      reserve_huge(&m.faces, std::size_t(faces_.record_count(tile)));
+      reserve_filled(&m.faces, std::size_t(faces_.record_count(tile)));
       faces_.read(tile, &m.faces);
       sort_faces(&m.faces);
     }
@@ -230,7 +244,9 @@ class PassBins {
     std::vector<unsigned char> bytes;
     vertices_.read(tile, &bytes);
     const std::size_t record = vertex_record_bytes(attributes_), n = bytes.size() / record;
+    reserve_filled(&m.owned, n);
     m.owned.resize(n);
+    reserve_filled(&m.attributes, n * attributes_);
     m.attributes.resize(n * attributes_);
     for (std::size_t i = 0; i < n; ++i) {
       std::memcpy(&m.owned[i], &bytes[i * record], sizeof(PassVertex));
@@ -288,10 +304,16 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   };
   TileMesh m;
   m.first_pass = true;
-  reserve_huge(&m.faces, records.size());
+  // Whole, the tile keeps every record (each has a corner in it); in parts, a share.
+  if (n == 1) {
+    reserve_filled(&m.faces, records.size());
+  } else {
+    reserve_huge(&m.faces, records.size());
+  }
   const std::size_t k = input.attributes.size();
   m.attribute_count = k;
   std::vector<std::uint64_t> owned;
+  owned.reserve(3 * records.size());  // a corner at a time: no regrowth
   for (const TriangleRecord& r : records) {
     // The corners this part owns: the tile's, and in the part's slab.
     bool mine[3];
@@ -313,7 +335,9 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   }
   std::sort(owned.begin(), owned.end());
   owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
+  reserve_filled(&m.owned, owned.size());
   m.owned.resize(owned.size());
+  reserve_filled(&m.attributes, owned.size() * k);
   m.attributes.resize(owned.size() * k);
   for (std::size_t i = 0; i < owned.size(); ++i) {
     m.owned[i].id = owned[i];
@@ -529,8 +553,12 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
   QuadricMesh m;
   m.attribute_count = attributes;
   m.attributes = std::move(values);
-  std::vector<std::uint64_t> ids(owned.size());
+  std::vector<std::uint64_t> ids;
+  reserve_filled(&ids, owned.size());
+  ids.resize(owned.size());
+  reserve_filled(&m.positions, owned.size());
   m.positions.resize(owned.size());
+  reserve_filled(&m.quadrics, owned.size());
   m.quadrics.resize(owned.size());
   for (std::size_t i = 0; i < owned.size(); ++i) {
     ids[i] = owned[i].id;
@@ -558,7 +586,9 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
       if (bins.holds(t, f.p[0])) faces.push_back({f.index, {local(f.v[0]), local(f.v[1]), local(f.v[2])}, f.normal});
   }
   std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.index < b.index; });
+  reserve_filled(&m.triangles, 3 * faces.size());
   m.triangles.resize(3 * faces.size());
+  reserve_filled(&m.face_normals, faces.size());
   m.face_normals.resize(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     std::copy(faces[f].v, faces[f].v + 3, m.triangles.begin() + std::ptrdiff_t(3 * f));

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/huge_pages.hpp"
 #include "io/temp_file.hpp"
 #include "spill/memory_slabs.hpp"
 
@@ -77,7 +78,9 @@ class StreamSpill {
   /// Thread-safe.
   template <class Record, class Allocator>
   void read(std::uint32_t stream, std::vector<Record, Allocator>* out) const {
-    out->resize(std::size_t(record_count(stream) * record_size_ / sizeof(Record)));
+    const std::size_t count = std::size_t(record_count(stream) * record_size_ / sizeof(Record));
+    reserve_filled(out, count);
+    out->resize(count);
     read_into(stream, out->data(), out->size() * sizeof(Record));
   }
   /// The same into `bytes` bytes at `out` (exactly the stream's records' size).
