@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "common/huge_pages.hpp"
+#include "common/radix_sort.hpp"
 #include "common/vec3_math.hpp"
 #include "grid/grid_coord.hpp"
 #include "grid/occupancy.hpp"
@@ -119,8 +120,10 @@ void sort_vertices(std::vector<PassVertex>* owned, std::vector<double>* attribut
   reserve_filled(&order, owned->size());
   order.resize(owned->size());
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return (*owned)[a].id < (*owned)[b].id; });
+  {
+    std::vector<std::uint32_t> scratch;
+    radix_sort(&order, &scratch, [&](std::uint32_t a) { return (*owned)[a].id; });
+  }
   std::vector<PassVertex> sorted;
   reserve_filled(&sorted, order.size());
   sorted.resize(order.size());
@@ -333,7 +336,10 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
     f.normal = unit_normal(cross(f.p[1] - f.p[0], f.p[2] - f.p[0]));
     m.faces.push_back(f);
   }
-  std::sort(owned.begin(), owned.end());
+  {
+    std::vector<std::uint64_t> scratch;
+    radix_sort(&owned, &scratch, [](std::uint64_t id) { return id; });
+  }
   owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
   reserve_filled(&m.owned, owned.size());
   m.owned.resize(owned.size());

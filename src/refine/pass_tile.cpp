@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "common/huge_pages.hpp"
+#include "common/radix_sort.hpp"
 
 namespace oocsimp {
 
@@ -22,7 +23,9 @@ void number_vertices(const TileMesh& tile, std::vector<std::uint64_t>* ids, std:
   sorted.resize(3 * tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f)
     for (std::size_t c = 0; c < 3; ++c) sorted[3 * f + c] = {tile.faces[f].v[c], std::uint32_t(3 * f + c)};
-  std::sort(sorted.begin(), sorted.end(), [](const Corner& a, const Corner& b) { return a.id < b.id; });
+  std::vector<Corner> scratch;
+  radix_sort(&sorted, &scratch, [](const Corner& c) { return c.id; });
+  std::vector<Corner>().swap(scratch);
   ids->clear();
   reserve_filled(corners, sorted.size());
   corners->resize(sorted.size());
