@@ -4,12 +4,29 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <new>
 
 namespace oocsimp {
 
 namespace {
 const std::size_t kPage = std::size_t(::sysconf(_SC_PAGESIZE));
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
+// An anonymous mapping of `size` bytes (a multiple of kHugePage) that starts on a
+// huge page, with huge pages asked for: a larger one mapped, its ends cut off.
+void* map_huge(std::size_t size) {
+  void* raw = ::mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (raw == MAP_FAILED) throw std::bad_alloc();
+  const auto at = reinterpret_cast<std::uintptr_t>(raw);
+  const std::uintptr_t begin = (at + kHugePage - 1) & ~(kHugePage - 1);
+  if (begin > at) ::munmap(raw, begin - at);
+  if (at + kHugePage > begin) ::munmap(reinterpret_cast<void*>(begin + size), at + kHugePage - begin);
+#ifdef MADV_HUGEPAGE
+  ::madvise(reinterpret_cast<void*>(begin), size, MADV_HUGEPAGE);
+#endif
+  return reinterpret_cast<void*>(begin);
+}
 }  // namespace
 
 unsigned char* MemorySlabs::allocate(std::size_t bytes) {
@@ -17,8 +34,9 @@ unsigned char* MemorySlabs::allocate(std::size_t bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (bytes > left_) {
     // A new slab; the rest of the last one is never touched, so never resident.
-    const std::size_t size = std::max(kSlabBytes, (bytes + kPage - 1) / kPage * kPage);
-    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    const std::size_t unit = huge_ ? kHugePage : kPage;
+    const std::size_t size = std::max(kSlabBytes, (bytes + unit - 1) / unit * unit);
+    void* p = huge_ ? map_huge(size) : ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     maps_.emplace_back(p, size);
     next_ = static_cast<unsigned char*>(p);
@@ -34,8 +52,9 @@ unsigned char* MemorySlabs::allocate(std::size_t bytes) {
   // 5.14) the pages fault in as they are written.
   if (populate_ && next_ > populated_) {
     const std::size_t to_end = std::size_t(next_ + left_ - populated_);  // whole pages: so is a slab
-    const std::size_t ahead = std::max(kPopulateBytes, std::size_t(next_ - populated_));
-    const std::size_t n = std::min((ahead + kPage - 1) / kPage * kPage, to_end);
+    const std::size_t unit = huge_ ? kHugePage : kPage;
+    const std::size_t ahead = std::max(huge_ ? kHugePage : kPopulateBytes, std::size_t(next_ - populated_));
+    const std::size_t n = std::min((ahead + unit - 1) / unit * unit, to_end);
 #ifdef MADV_POPULATE_WRITE
     ::madvise(populated_, n, MADV_POPULATE_WRITE);
 #endif

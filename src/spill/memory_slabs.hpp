@@ -22,8 +22,10 @@ class MemorySlabs {
 
   /// `populate`: fault pages in ahead of the blocks (blocks written whole, at once);
   /// without it, a page is resident only once written (buffers filled bit by bit,
-  /// many of them partly).
-  explicit MemorySlabs(bool populate = true) : populate_(populate) {}
+  /// many of them partly). `huge` (with `populate`): slabs over 2 MiB pages, faulted
+  /// in a huge page ahead; first writes to fresh memory ran many times faster over them
+  /// (docs/benchmarks.md, "Fresh memory"), for up to a huge page more resident ahead.
+  explicit MemorySlabs(bool populate = true, bool huge = false) : populate_(populate), huge_(populate && huge) {}
   MemorySlabs(const MemorySlabs&) = delete;
   MemorySlabs& operator=(const MemorySlabs&) = delete;
   ~MemorySlabs() { release(); }
@@ -41,6 +43,7 @@ class MemorySlabs {
   unsigned char* populated_ = nullptr;  // pages before it are faulted in
   std::size_t left_ = 0;
   bool populate_ = true;
+  bool huge_ = false;
 };
 
 }  // namespace oocsimp

@@ -55,6 +55,10 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 
 }  // namespace
 
+// From this allowance on the memory blocks lie on huge pages (MemorySlabs): the
+// huge page faulted in ahead is then at most a thirty-second of it.
+constexpr std::uint64_t kHugeSlabAllowance = std::uint64_t(64) << 20;
+
 struct StreamSpill::Stream {
   // Where records are appended: a block of memory_ being filled in place (in_block),
   // or the staging buffer, whose records are copied out when it is full.
@@ -80,7 +84,8 @@ StreamSpill::StreamSpill(const std::string& temp_dir, const std::string& name, s
       record_size_(record_size),
       buffer_records_(buffer_records < 1 ? 1 : buffer_records),
       compress_(compress),
-      memory_allowance_(memory_allowance) {
+      memory_allowance_(memory_allowance),
+      memory_(true, memory_allowance >= kHugeSlabAllowance) {
   // Without an allowance every block goes to the file: create it now, so that a
   // folder that cannot hold it is reported before any work.
   if (memory_allowance_ == 0) create_file();
