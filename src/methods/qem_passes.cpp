@@ -190,6 +190,8 @@ class PassBins {
     return out;
   }
   std::uint64_t faces_in(std::uint32_t tile) const { return faces_.record_count(tile); }
+  /// The vertices handed on (each owned by one tile).
+  std::uint64_t vertex_count() const { return vertices_.bytes_appended() / vertex_record_bytes(attributes_); }
   /// The distinct faces handed on.
   std::uint64_t face_count() const { return face_count_; }
 
@@ -315,8 +317,13 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   }
   const std::size_t k = input.attributes.size();
   m.attribute_count = k;
+  // A corner at a time, each owned one (whole, nearly three a record): no regrowth.
   std::vector<std::uint64_t> owned;
-  owned.reserve(3 * records.size());  // a corner at a time: no regrowth
+  if (n == 1) {
+    reserve_filled(&owned, 3 * records.size());
+  } else {
+    owned.reserve(3 * records.size());
+  }
   for (const TriangleRecord& r : records) {
     // The corners this part owns: the tile's, and in the part's slab.
     bool mine[3];
@@ -550,6 +557,8 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
   // In order of id: the order of the vertices whatever the tiles.
   std::vector<PassVertex> owned;
   std::vector<double> values;
+  reserve_filled(&owned, std::size_t(bins.vertex_count()));
+  reserve_filled(&values, std::size_t(bins.vertex_count()) * attributes);
   for (std::uint32_t t : bins.tiles()) {
     const TileMesh tile = bins.load(t, false, true);
     owned.insert(owned.end(), tile.owned.begin(), tile.owned.end());
@@ -583,6 +592,7 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
     UnitNormal normal;
   };
   std::vector<Face> faces;
+  reserve_filled(&faces, std::size_t(bins.face_count()));  // each face once, from one tile
   auto local = [&](std::uint64_t id) {
     return std::uint32_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
   };
