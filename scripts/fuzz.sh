@@ -394,6 +394,9 @@ for t in "${targets[@]}"; do
   # can save a timeout that is only the fuzzer starved of CPU. Each timeout is replayed
   # alone; one that then finishes in under 10 s of CPU time is no finding, and its file
   # is renamed starved-* (kept for a look). A replay cut off at 60 s stays a finding.
+  # libFuzzer stops at its first timeout (exit 70): a run stopped by a starved one
+  # found nothing, and its hours up to there count.
+  starved=0
   for f in "$art"/timeout-*; do
     [ -e "$f" ] || continue
     set +e
@@ -404,6 +407,7 @@ for t in "${targets[@]}"; do
     read -r ru rs <"$build/logs/$t.replay" || true
     if [ "$replay_rc" -eq 0 ] && awk "BEGIN { exit !($ru + $rs < 10) }"; then
       mv "$f" "$art/starved-${f##*/timeout-}"
+      starved=1
       echo "fuzz.sh: ${f##*/} replayed alone in $(awk "BEGIN { print $ru + $rs }") s of CPU: starved, not a hang" >>"$log"
     fi
   done
@@ -412,6 +416,8 @@ for t in "${targets[@]}"; do
   if [ -n "$artifacts" ]; then
     result="FOUND: $artifacts (see $log)"
     found=1
+  elif [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ]; then
+    result="nothing found (stopped early by a starved timeout, see $log)"
   elif [ "$rc" -ne 0 ]; then
     result="FAILED: exit $rc without an artifact (see $log)"
     found=1
@@ -425,7 +431,7 @@ for t in "${targets[@]}"; do
     commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')
     [ -n "$(git -C "$root" status --porcelain -- src include 2>/dev/null)" ] && commit="$commit+"
     findings="${artifacts:--}"
-    [ -z "$artifacts" ] && [ "$rc" -ne 0 ] && findings="exit-$rc"
+    [ -z "$artifacts" ] && [ "$rc" -ne 0 ] && ! { [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ]; } && findings="exit-$rc"
     printf '%s\t%s\t%s\t%.1f\t%s\t%s\t%s\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$commit" "$t" "$wall" "$cpu" "$execs" \
       "${findings// /,}" >>"$ledger"
     "$root/scripts/fuzz-hours.sh" --update

@@ -38,7 +38,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   first_normal_ = std::move(mesh_.face_normals);
   mesh_.face_normals.clear();
   if (first_normal_.size() != face_dead_.size()) {
-    reserve_huge(&first_normal_, face_dead_.size());
+    reserve_filled(&first_normal_, face_dead_.size());
     first_normal_.resize(face_dead_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, face_dead_.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -65,8 +65,10 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
 
 void CollapseState::build_adjacency() {
   const std::size_t n = mesh_.positions.size();
+  reserve_filled(&face_count_, n);
   face_count_.assign(n, 0);
   for (std::uint32_t v : mesh_.triangles) ++face_count_[v];
+  reserve_filled(&face_start_, n);
   face_start_.assign(n, 0);
   std::uint32_t at = 0;
   for (std::size_t v = 0; v < n; ++v) {
@@ -74,8 +76,11 @@ void CollapseState::build_adjacency() {
     at += face_count_[v];
   }
   reserve_huge(&faces_, list_room(at));
+  populate_pages(faces_.data(), at * sizeof(std::uint32_t));  // the room past them fills as collapses append
   faces_.assign(at, 0);
-  std::vector<std::uint32_t> fill(n, 0);
+  std::vector<std::uint32_t> fill;
+  reserve_filled(&fill, n);
+  fill.assign(n, 0);
   for (std::size_t f = 0; f < face_dead_.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = mesh_.triangles[3 * f + std::size_t(k)];
