@@ -60,12 +60,8 @@ void pread_all(int fd, void* dst, std::size_t n, std::uint64_t offset, const std
 constexpr std::uint64_t kHugeSlabAllowance = std::uint64_t(64) << 20;
 
 struct StreamSpill::Stream {
-  // Where records are appended: a block of memory_ being filled in place (in_block),
-  // or the staging buffer, whose records are copied out when it is full.
-  unsigned char* buffer = nullptr;
-  bool in_block = false;
-  unsigned char* staging = nullptr;  // in buffers_, once the allowance has had no room
-  std::size_t buffered = 0;          // records in buffer
+  unsigned char* buffer = nullptr;  // in buffers_, once the stream has had a record
+  std::size_t buffered = 0;         // records in buffer
   // Blocks kept in memory (in memory_), in append order, as (where, bytes): the
   // first records of the stream.
   std::vector<std::pair<const unsigned char*, std::size_t>> memory;
@@ -257,30 +253,8 @@ std::uint64_t StreamSpill::write_disk_block(int fd, std::uint64_t* end, std::uin
   return at;
 }
 
-void StreamSpill::start_buffer(Stream& t) {
-  const std::size_t bytes = buffer_records_ * record_size_;
-  t.in_block = !t.to_disk && reserve_memory(bytes);
-  if (t.in_block) {
-    t.buffer = memory_.allocate(bytes);
-    return;
-  }
-  if (!t.staging) t.staging = buffers_.allocate(bytes);
-  t.buffer = t.staging;
-}
-
 void StreamSpill::write_block(Stream& t) {
   const std::size_t raw = t.buffered * record_size_;
-  if (t.in_block) {
-    // The block was filled in place, its room reserved when it was started.
-    t.memory.emplace_back(t.buffer, raw);
-    t.memory_bytes += raw;
-    t.buffered = 0;
-    t.buffer = nullptr;
-    t.in_block = false;
-    std::lock_guard<std::mutex> lock(write_mutex_);
-    memory_appended_ += raw;
-    return;
-  }
   if (!t.to_disk && reserve_memory(raw)) {
     unsigned char* block = memory_.allocate(raw);
     std::memcpy(block, t.buffer, raw);
@@ -310,7 +284,7 @@ void StreamSpill::append(std::uint32_t stream, const void* records, std::size_t 
     appended_ += count * record_size_;
   }
   while (count > 0) {
-    if (!t.buffer) start_buffer(t);
+    if (!t.buffer) t.buffer = buffers_.allocate(buffer_records_ * record_size_);
     std::size_t k = std::min(count, buffer_records_ - t.buffered);
     std::memcpy(t.buffer + t.buffered * record_size_, p, k * record_size_);
     t.buffered += k;
@@ -325,8 +299,7 @@ void StreamSpill::flush() {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     if (t.buffered > 0) write_block(t);
-    t.buffer = t.staging = nullptr;
-    t.in_block = false;
+    t.buffer = nullptr;
   }
   buffers_.release();
 }
@@ -336,8 +309,7 @@ void StreamSpill::discard() {
     Stream& t = *tp;
     std::lock_guard<std::mutex> lock(t.mutex);
     std::vector<std::pair<const unsigned char*, std::size_t>>().swap(t.memory);
-    t.buffer = t.staging = nullptr;
-    t.in_block = false;
+    t.buffer = nullptr;
     t.buffered = 0;
   }
   buffers_.release();

@@ -19,11 +19,10 @@
 
 namespace oocsimp {
 
-/// Many append-only streams of fixed-size records, kept in blocks. While the blocks
-/// held in memory stay within `memory_allowance` bytes, a stream appends into its next
-/// block in memory (MemorySlabs) directly, the block's room reserved when it starts;
-/// beyond it, a stream buffers its records and each full buffer becomes a block at
-/// the end of one temporary file, each pointing back to the
+/// Many append-only streams of fixed-size records. Each stream buffers its records;
+/// a full buffer becomes a block. While the blocks held in memory stay within
+/// `memory_allowance` bytes, a block is copied into memory (MemorySlabs); beyond
+/// it, blocks go to the end of one temporary file, each pointing back to the
 /// stream's previous block, so the file is written strictly sequentially. A stream
 /// that once went to the file keeps going there, so its memory blocks are a prefix
 /// of its records. The file is created only when a first block goes to it (at once
@@ -33,8 +32,7 @@ namespace oocsimp {
 class StreamSpill {
  public:
   /// `buffer_records`: records per buffer (and per block). `memory_allowance`: bytes
-  /// of blocks held in memory at most, a block being filled counted whole (the
-  /// buffers staging blocks for the file not counted).
+  /// of blocks held in memory at most (the buffers being filled not counted).
   StreamSpill(const std::string& temp_dir, const std::string& name, std::size_t record_size, std::size_t buffer_records,
               bool compress, std::uint64_t memory_allowance = 0);
   ~StreamSpill();
@@ -71,8 +69,7 @@ class StreamSpill {
   /// Appends `count` records to stream `stream`. Throws IoError (naming the folder and
   /// the bytes written so far) when the disk is full.
   void append(std::uint32_t stream, const void* records, std::size_t count);
-  /// Ends every partly filled block (in memory, or buffered and written to the
-  /// file when the allowance has no room) and frees the buffers, not while
+  /// Writes every partly filled buffer to disk and frees the buffers, not while
   /// another thread appends; append() may still be called afterwards (buffers are
   /// recreated on demand).
   void flush();
@@ -111,9 +108,6 @@ class StreamSpill {
 
  private:
   struct Stream;
-  // A stream's next buffer: a block of memory_ while the allowance has room for a
-  // whole one (filled in place, no copy), else its staging buffer.
-  void start_buffer(Stream& s);
   void write_block(Stream& s);
   bool reserve_memory(std::size_t bytes);
   void create_file();  // with write_mutex_ held
@@ -142,7 +136,7 @@ class StreamSpill {
   std::uint64_t memory_appended_ = 0;  // record bytes that went to memory blocks
   std::uint64_t disk_appended_ = 0;    // record bytes that went to disk blocks
   std::uint64_t expected_bytes_ = 0;
-  // The streams' staging buffers, in mappings of their own for the reason MemorySlabs gives:
+  // The streams' buffers, in mappings of their own for the reason MemorySlabs gives:
   // a buffer per tile, freed together by flush(), left the heap fragmented between
   // the streams' bookkeeping (about 4 KiB a tile resident after a flush and a trim).
   // Not faulted in ahead: a buffer's pages are resident only once written, as in the
