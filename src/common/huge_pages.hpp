@@ -29,9 +29,9 @@ inline void advise_huge_pages(const void* data, std::size_t bytes) {
 }
 
 /// Faults the pages of [data, data + bytes) in by one call, for memory about to be
-/// written whole: a fault per 4 KiB page costs about three times as much in a virtual
-/// machine (docs/benchmarks.md, "Fresh memory"). A hint: where the
-/// kernel has no MADV_POPULATE_WRITE (before Linux 5.14) the pages fault in as written.
+/// written whole: a fault per 4 KiB page cost about twice as much in a virtual machine
+/// (docs/benchmarks.md, "Fresh memory"). A hint: where the kernel has no
+/// MADV_POPULATE_WRITE (before Linux 5.14) the pages fault in as written.
 inline void populate_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
   const std::uintptr_t page = 4096;

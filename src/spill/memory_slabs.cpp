@@ -36,7 +36,8 @@ unsigned char* MemorySlabs::allocate(std::size_t bytes) {
     // A new slab; the rest of the last one is never touched, so never resident.
     const std::size_t unit = huge_ ? kHugePage : kPage;
     const std::size_t size = std::max(kSlabBytes, (bytes + unit - 1) / unit * unit);
-    void* p = huge_ ? map_huge(size) : ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    void* p =
+        huge_ ? map_huge(size) : ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     maps_.emplace_back(p, size);
     next_ = static_cast<unsigned char*>(p);
