@@ -776,7 +776,9 @@ std::vector<std::uint32_t> UniformCells::number_output_vertices(OutputMesh* out,
   const CellMap<CellRecord>& cells = cells_;
   TriangleSet& kept = kept_;
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> out_index(cells.size(), kUnused);
+  std::vector<std::uint32_t> out_index;
+  reserve_filled(&out_index, cells.size());
+  out_index.assign(cells.size(), kUnused);
   std::vector<std::uint32_t> order;
   order.reserve(cells.size());  // no doubling past the budget
   OutputMesh& mesh = *out;

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/huge_pages.hpp"
 #include "io/mapped_file.hpp"
 #include "oocsimp/names.hpp"  // default_temp_dir
 
@@ -53,6 +54,7 @@ class LargeArray {
   void assign_zeroed(std::size_t count, const ArrayPlace& place, const char* name) {
     clear();
     if (std::uint64_t(count) * sizeof(T) <= place.heap_limit) {
+      reserve_filled(&heap_, count);
       heap_.assign(count, T());
     } else {
       file_ = std::make_unique<MappedScratch>(place.temp_dir, std::string("oocsimp-") + name,
