@@ -411,12 +411,14 @@ for t in "${targets[@]}"; do
       echo "fuzz.sh: ${f##*/} replayed alone in $(awk "BEGIN { print $ru + $rs }") s of CPU: starved, not a hang" >>"$log"
     fi
   done
+  stopped_starved=0
+  [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ] && stopped_starved=1
   artifacts=$(find "$art" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
     -printf '%f ' | sed 's/ $//')
   if [ -n "$artifacts" ]; then
     result="FOUND: $artifacts (see $log)"
     found=1
-  elif [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ]; then
+  elif [ "$stopped_starved" -eq 1 ]; then
     result="nothing found (stopped early by a starved timeout, see $log)"
   elif [ "$rc" -ne 0 ]; then
     result="FAILED: exit $rc without an artifact (see $log)"
@@ -431,7 +433,7 @@ for t in "${targets[@]}"; do
     commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')
     [ -n "$(git -C "$root" status --porcelain -- src include 2>/dev/null)" ] && commit="$commit+"
     findings="${artifacts:--}"
-    [ -z "$artifacts" ] && [ "$rc" -ne 0 ] && ! { [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ]; } && findings="exit-$rc"
+    [ -z "$artifacts" ] && [ "$rc" -ne 0 ] && [ "$stopped_starved" -eq 0 ] && findings="exit-$rc"
     printf '%s\t%s\t%s\t%.1f\t%s\t%s\t%s\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)" "$commit" "$t" "$wall" "$cpu" "$execs" \
       "${findings// /,}" >>"$ledger"
     "$root/scripts/fuzz-hours.sh" --update

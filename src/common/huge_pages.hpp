@@ -64,4 +64,12 @@ void reserve_filled(std::vector<T, Allocator>* v, std::size_t count) {
   populate_pages(v->data(), count * sizeof(T));
 }
 
+/// An empty vector resized to `count` elements, its room faulted in first
+/// (reserve_filled).
+template <class T, class Allocator>
+void resize_filled(std::vector<T, Allocator>* v, std::size_t count) {
+  reserve_filled(v, count);
+  v->resize(count);
+}
+
 }  // namespace oocsimp

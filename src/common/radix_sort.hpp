@@ -15,10 +15,10 @@ namespace oocsimp {
 
 /// Sorts `items` by key(item), an unsigned integer, ascending; items of equal keys keep
 /// their order (stable). Least significant digit first, 11 bits a pass over the keys'
-/// span (max - min), so that ids spread over 2^22 take two passes. `scratch` is working
-/// room (its contents are lost). Small arrays go to std::stable_sort.
+/// span (max - min), so that ids spread over 2^22 take two passes, through a second
+/// array of the same size, freed on return. Small arrays go to std::stable_sort.
 template <class T, class Key>
-void radix_sort(std::vector<T>* items, std::vector<T>* scratch, Key key) {
+void radix_sort(std::vector<T>* items, Key key) {
   constexpr std::size_t kSmall = 2048;
   constexpr int kBits = 11;
   constexpr std::size_t kBuckets = std::size_t(1) << kBits;
@@ -36,9 +36,8 @@ void radix_sort(std::vector<T>* items, std::vector<T>* scratch, Key key) {
   int bits = 0;
   for (std::uint64_t span = hi - lo; span != 0; span >>= 1) ++bits;
   if (bits == 0) return;  // one key: already in order
-  scratch->clear();
-  reserve_filled(scratch, n);
-  scratch->resize(n);
+  std::vector<T> scratch;
+  resize_filled(&scratch, n);
   std::vector<std::size_t> start(kBuckets);
   for (int shift = 0; shift < bits; shift += kBits) {
     const auto digit = [&](const T& x) { return std::size_t(((key(x) - lo) >> shift) & (kBuckets - 1)); };
@@ -46,9 +45,9 @@ void radix_sort(std::vector<T>* items, std::vector<T>* scratch, Key key) {
     for (const T& x : *items) ++start[digit(x)];
     std::size_t at = 0;
     for (std::size_t& s : start) at += std::exchange(s, at);
-    T* out = scratch->data();
+    T* out = scratch.data();
     for (const T& x : *items) out[start[digit(x)]++] = x;
-    items->swap(*scratch);
+    items->swap(scratch);
   }
 }
 

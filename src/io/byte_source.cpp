@@ -157,8 +157,7 @@ ByteSource::ByteSource(std::shared_ptr<InputFile> file) : file_(std::move(file))
   // clearing 1 MiB per pass would dominate reading it, a few times per input.
   std::size_t size = kBufferSize;
   if (content_size_known() && file_->size() < kBufferSize) size = std::max<std::size_t>(file_->size() + 1, 4096);
-  reserve_filled(&buf_, size);  // filled by the first reads
-  buf_.resize(size);
+  resize_filled(&buf_, size);  // filled by the first reads
 }
 
 ByteSource::~ByteSource() {

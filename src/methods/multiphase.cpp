@@ -86,22 +86,19 @@ QuadricMesh load_whole(MeshInput& input, const RunPlan& plan, const Vec3d& origi
                    " MiB or more, or a clustering method with the target");
   ProgressPhase phase(plan.progress, "load mesh", input.file_size, "B");
   QuadricMesh m;
-  reserve_filled(&m.positions, v);
-  m.positions.resize(v);
+  resize_filled(&m.positions, v);
   for (std::uint64_t i = 0; i < v; ++i) m.positions[i] = input.positions.get(i) - origin;
   if (!plan.locked_vertices.empty()) {
     m.locked.assign(v, 0);
     for (std::uint64_t i : plan.locked_vertices) m.locked[i] = 1;  // below v: checked at the start
   }
   m.attribute_count = k;
-  reserve_filled(&m.attributes, v * k);
-  m.attributes.resize(v * k);
+  resize_filled(&m.attributes, v * k);
   for (std::uint64_t i = 0; i < v; ++i)
     for (std::size_t j = 0; j < k; ++j) m.attributes[i * k + j] = attribute_value(input.attributes, i, j);
   input.restart_triangles();
   std::vector<std::uint64_t> chunk;
-  reserve_filled(&chunk, 3 * kLoadChunkTriangles);
-  chunk.resize(3 * kLoadChunkTriangles);
+  resize_filled(&chunk, 3 * kLoadChunkTriangles);
   reserve_filled(&m.triangles, 3 * f);  // every face but those the stream skips
   while (std::size_t n = input.triangles->read(chunk.data(), kLoadChunkTriangles)) {
     for (std::size_t i = 0; i < 3 * n; ++i) m.triangles.push_back(std::uint32_t(chunk[i]));

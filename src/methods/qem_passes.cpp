@@ -117,19 +117,13 @@ void sort_faces(std::vector<PassFace>* faces) {
 // Vertices by ascending id, their `k` attribute values each moved with them.
 void sort_vertices(std::vector<PassVertex>* owned, std::vector<double>* attributes, std::size_t k) {
   std::vector<std::uint32_t> order;
-  reserve_filled(&order, owned->size());
-  order.resize(owned->size());
+  resize_filled(&order, owned->size());
   std::iota(order.begin(), order.end(), 0u);
-  {
-    std::vector<std::uint32_t> scratch;
-    radix_sort(&order, &scratch, [&](std::uint32_t a) { return (*owned)[a].id; });
-  }
+  radix_sort(&order, [&](std::uint32_t a) { return (*owned)[a].id; });
   std::vector<PassVertex> sorted;
-  reserve_filled(&sorted, order.size());
-  sorted.resize(order.size());
+  resize_filled(&sorted, order.size());
   std::vector<double> values;
-  reserve_filled(&values, attributes->size());
-  values.resize(attributes->size());
+  resize_filled(&values, attributes->size());
   for (std::size_t i = 0; i < order.size(); ++i) {
     sorted[i] = (*owned)[order[i]];
     std::copy(attributes->begin() + std::ptrdiff_t(order[i] * k),
@@ -249,10 +243,8 @@ class PassBins {
     std::vector<unsigned char> bytes;
     vertices_.read(tile, &bytes);
     const std::size_t record = vertex_record_bytes(attributes_), n = bytes.size() / record;
-    reserve_filled(&m.owned, n);
-    m.owned.resize(n);
-    reserve_filled(&m.attributes, n * attributes_);
-    m.attributes.resize(n * attributes_);
+    resize_filled(&m.owned, n);
+    resize_filled(&m.attributes, n * attributes_);
     for (std::size_t i = 0; i < n; ++i) {
       std::memcpy(&m.owned[i], &bytes[i * record], sizeof(PassVertex));
       if (attributes_)
@@ -309,19 +301,17 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
   };
   TileMesh m;
   m.first_pass = true;
-  // Whole, the tile keeps every record (each has a corner in it); in parts, a share.
-  if (n == 1) {
-    reserve_filled(&m.faces, records.size());
-  } else {
-    reserve_huge(&m.faces, records.size());
-  }
   const std::size_t k = input.attributes.size();
   m.attribute_count = k;
-  // A corner at a time, each owned one (whole, nearly three a record): no regrowth.
+  // Its faces, and its owned corners a corner at a time: no regrowth. Whole, the tile
+  // keeps every record (each has a corner in it) and owns nearly three corners a
+  // record, so the room is filled; in parts, a share of it.
   std::vector<std::uint64_t> owned;
   if (n == 1) {
+    reserve_filled(&m.faces, records.size());
     reserve_filled(&owned, 3 * records.size());
   } else {
+    reserve_huge(&m.faces, records.size());
     owned.reserve(3 * records.size());
   }
   for (const TriangleRecord& r : records) {
@@ -343,15 +333,10 @@ TileMesh first_pass_tile(const BinnedTiles& bins, std::uint32_t t, const MeshInp
     f.normal = unit_normal(cross(f.p[1] - f.p[0], f.p[2] - f.p[0]));
     m.faces.push_back(f);
   }
-  {
-    std::vector<std::uint64_t> scratch;
-    radix_sort(&owned, &scratch, [](std::uint64_t id) { return id; });
-  }
+  radix_sort(&owned, [](std::uint64_t id) { return id; });
   owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
-  reserve_filled(&m.owned, owned.size());
-  m.owned.resize(owned.size());
-  reserve_filled(&m.attributes, owned.size() * k);
-  m.attributes.resize(owned.size() * k);
+  resize_filled(&m.owned, owned.size());
+  resize_filled(&m.attributes, owned.size() * k);
   for (std::size_t i = 0; i < owned.size(); ++i) {
     m.owned[i].id = owned[i];
     m.owned[i].position = input.positions.get(owned[i]) - origin;
@@ -569,12 +554,9 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
   m.attribute_count = attributes;
   m.attributes = std::move(values);
   std::vector<std::uint64_t> ids;
-  reserve_filled(&ids, owned.size());
-  ids.resize(owned.size());
-  reserve_filled(&m.positions, owned.size());
-  m.positions.resize(owned.size());
-  reserve_filled(&m.quadrics, owned.size());
-  m.quadrics.resize(owned.size());
+  resize_filled(&ids, owned.size());
+  resize_filled(&m.positions, owned.size());
+  resize_filled(&m.quadrics, owned.size());
   for (std::size_t i = 0; i < owned.size(); ++i) {
     ids[i] = owned[i].id;
     m.positions[i] = owned[i].position;
@@ -602,10 +584,8 @@ QuadricMesh gather(const PassBins& bins, std::size_t attributes, const std::vect
       if (bins.holds(t, f.p[0])) faces.push_back({f.index, {local(f.v[0]), local(f.v[1]), local(f.v[2])}, f.normal});
   }
   std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.index < b.index; });
-  reserve_filled(&m.triangles, 3 * faces.size());
-  m.triangles.resize(3 * faces.size());
-  reserve_filled(&m.face_normals, faces.size());
-  m.face_normals.resize(faces.size());
+  resize_filled(&m.triangles, 3 * faces.size());
+  resize_filled(&m.face_normals, faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     std::copy(faces[f].v, faces[f].v + 3, m.triangles.begin() + std::ptrdiff_t(3 * f));
     m.face_normals[f] = faces[f].normal;

@@ -38,8 +38,7 @@ CollapseState::CollapseState(QuadricMesh mesh, const CollapseSettings& settings)
   first_normal_ = std::move(mesh_.face_normals);
   mesh_.face_normals.clear();
   if (first_normal_.size() != face_dead_.size()) {
-    reserve_filled(&first_normal_, face_dead_.size());
-    first_normal_.resize(face_dead_.size());
+    resize_filled(&first_normal_, face_dead_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, face_dead_.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         for (std::size_t f = r.begin(); f != r.end(); ++f) {

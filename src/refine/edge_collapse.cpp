@@ -28,8 +28,7 @@ UnitNormal unit_normal(const Vec3d& normal) {
 // faces use nearby indices).
 std::vector<Quadric> face_quadrics(const std::vector<Vec3d>& positions, const std::vector<std::uint32_t>& triangles) {
   std::vector<Quadric> q;
-  reserve_filled(&q, positions.size());
-  q.resize(positions.size());
+  resize_filled(&q, positions.size());
   const std::size_t n = positions.size();
   const std::size_t ranges = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
   tbb::parallel_for(

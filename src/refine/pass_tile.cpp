@@ -19,16 +19,12 @@ void number_vertices(const TileMesh& tile, std::vector<std::uint64_t>* ids, std:
     std::uint32_t slot;
   };
   std::vector<Corner> sorted;
-  reserve_filled(&sorted, 3 * tile.faces.size());
-  sorted.resize(3 * tile.faces.size());
+  resize_filled(&sorted, 3 * tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f)
     for (std::size_t c = 0; c < 3; ++c) sorted[3 * f + c] = {tile.faces[f].v[c], std::uint32_t(3 * f + c)};
-  std::vector<Corner> scratch;
-  radix_sort(&sorted, &scratch, [](const Corner& c) { return c.id; });
-  std::vector<Corner>().swap(scratch);
+  radix_sort(&sorted, [](const Corner& c) { return c.id; });
   ids->clear();
-  reserve_filled(corners, sorted.size());
-  corners->resize(sorted.size());
+  resize_filled(corners, sorted.size());
   for (const Corner& c : sorted) {
     if (ids->empty() || ids->back() != c.id) ids->push_back(c.id);
     (*corners)[c.slot] = std::uint32_t(ids->size() - 1);
@@ -42,14 +38,10 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
                        std::vector<std::uint8_t>* owned) {
   const std::size_t n = ids.size(), k = tile.attribute_count;
   QuadricMesh m;
-  reserve_filled(&m.positions, n);
-  m.positions.resize(n);
+  resize_filled(&m.positions, n);
   // The first pass sums the quadrics from the faces (below); the others take the owned
   // vertices' own.
-  if (!tile.first_pass) {
-    reserve_filled(&m.quadrics, n);
-    m.quadrics.resize(n);
-  }
+  if (!tile.first_pass) resize_filled(&m.quadrics, n);
   m.attribute_count = k;
   reserve_filled(&m.attributes, n * k);
   m.attributes.assign(n * k, 0.0);
@@ -69,10 +61,8 @@ QuadricMesh local_mesh(const TileMesh& tile, const std::vector<std::uint64_t>& i
     std::copy(tile.attributes.begin() + std::ptrdiff_t(i * k), tile.attributes.begin() + std::ptrdiff_t((i + 1) * k),
               m.attributes.begin() + std::ptrdiff_t(l * k));
   }
-  reserve_filled(&m.triangles, 3 * tile.faces.size());
-  m.triangles.resize(3 * tile.faces.size());
-  reserve_filled(&m.face_normals, tile.faces.size());
-  m.face_normals.resize(tile.faces.size());
+  resize_filled(&m.triangles, 3 * tile.faces.size());
+  resize_filled(&m.face_normals, tile.faces.size());
   for (std::size_t f = 0; f < tile.faces.size(); ++f) {
     const PassFace& face = tile.faces[f];
     const std::uint32_t* v = &corners[3 * f];

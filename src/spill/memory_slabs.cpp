@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <new>
 
+#include "common/huge_pages.hpp"
+
 namespace oocsimp {
 
 namespace {
@@ -21,10 +23,8 @@ void* map_huge(std::size_t size) {
   const auto at = reinterpret_cast<std::uintptr_t>(raw);
   const std::uintptr_t begin = (at + kHugePage - 1) & ~(kHugePage - 1);
   if (begin > at) ::munmap(raw, begin - at);
-  if (at + kHugePage > begin) ::munmap(reinterpret_cast<void*>(begin + size), at + kHugePage - begin);
-#ifdef MADV_HUGEPAGE
-  ::madvise(reinterpret_cast<void*>(begin), size, MADV_HUGEPAGE);
-#endif
+  ::munmap(reinterpret_cast<void*>(begin + size), at + kHugePage - begin);  // begin - at < kHugePage
+  advise_huge_pages(reinterpret_cast<void*>(begin), size);
   return reinterpret_cast<void*>(begin);
 }
 }  // namespace
@@ -32,9 +32,9 @@ void* map_huge(std::size_t size) {
 unsigned char* MemorySlabs::allocate(std::size_t bytes) {
   bytes = (bytes + 7) & ~std::size_t(7);
   std::lock_guard<std::mutex> lock(mutex_);
+  const std::size_t unit = huge_ ? kHugePage : kPage;
   if (bytes > left_) {
     // A new slab; the rest of the last one is never touched, so never resident.
-    const std::size_t unit = huge_ ? kHugePage : kPage;
     const std::size_t size = std::max(kSlabBytes, (bytes + unit - 1) / unit * unit);
     void* p =
         huge_ ? map_huge(size) : ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
@@ -47,18 +47,14 @@ unsigned char* MemorySlabs::allocate(std::size_t bytes) {
   unsigned char* at = next_;
   next_ += bytes;
   left_ -= bytes;
-  // Fault the pages about to be written in, kPopulateBytes at a time: one call
-  // instead of a page fault per page (this shortens binning, whose serial stage
-  // copies the blocks). Where the kernel has no MADV_POPULATE_WRITE (before Linux
-  // 5.14) the pages fault in as they are written.
+  // Fault the pages about to be written in, kPopulateBytes (or a huge page) at a time:
+  // one call instead of a page fault per page (this shortens binning, whose serial
+  // stage copies the blocks).
   if (populate_ && next_ > populated_) {
     const std::size_t to_end = std::size_t(next_ + left_ - populated_);  // whole pages: so is a slab
-    const std::size_t unit = huge_ ? kHugePage : kPage;
     const std::size_t ahead = std::max(huge_ ? kHugePage : kPopulateBytes, std::size_t(next_ - populated_));
     const std::size_t n = std::min((ahead + unit - 1) / unit * unit, to_end);
-#ifdef MADV_POPULATE_WRITE
-    ::madvise(populated_, n, MADV_POPULATE_WRITE);
-#endif
+    populate_pages(populated_, n);
     populated_ += n;
   }
   return at;

@@ -79,8 +79,7 @@ class StreamSpill {
   template <class Record, class Allocator>
   void read(std::uint32_t stream, std::vector<Record, Allocator>* out) const {
     const std::size_t count = std::size_t(record_count(stream) * record_size_ / sizeof(Record));
-    reserve_filled(out, count);
-    out->resize(count);
+    resize_filled(out, count);
     read_into(stream, out->data(), out->size() * sizeof(Record));
   }
   /// The same into `bytes` bytes at `out` (exactly the stream's records' size).
