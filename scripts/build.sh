@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Configures (once) and builds oocsimp under build/ (or $OOCSIMP_BUILD_DIR); make only
-# rebuilds what is stale. Extra arguments go to cmake's configure step.
+# rebuilds what is stale. Extra arguments go to cmake's configure step. A configure
+# that failed (a package missing) leaves a cache but no Makefile: it is run again.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${OOCSIMP_BUILD_DIR:-$root/build}"
 mkdir -p "$build"
-if [ ! -f "$build/CMakeCache.txt" ] || [ $# -gt 0 ]; then
+if [ ! -f "$build/CMakeCache.txt" ] || [ ! -f "$build/Makefile" ] || [ $# -gt 0 ]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "$@" >"$build/configure.log" 2>&1 ||
     { cat "$build/configure.log" >&2; exit 1; }
 fi
