@@ -3,7 +3,6 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "common/huge_pages.hpp"
+#include "common/radix_sort.hpp"
 #include "common/uninitialised_vector.hpp"
 #include "refine/collapse_queue.hpp"
 #include "runtime/progress_phase.hpp"
@@ -167,7 +167,7 @@ class PassDriver {
     auto earlier = [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); };
     QueueEntry* const first = entries_.data();
     if (look < edges) std::nth_element(first, first + look, first + edges, earlier);
-    tbb::parallel_sort(first, first + look, earlier);
+    msd_radix_sort(first, first + look, cost_key, earlier);
     // The cost limit: past the sorted entries the goal's cost is at least the last
     // one's, which then bounds none of them.
     const std::uint64_t goal = std::max<std::uint64_t>(1, (state_.triangle_count() - stop_at) / 2);

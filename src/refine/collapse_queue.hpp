@@ -31,6 +31,15 @@ constexpr Later later{};
 
 inline bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
 
+// A key for msd_radix_sort (common/radix_sort.hpp) in Later's order, cheapest first:
+// the cost's bits. A cost is never below 0 (an infinity at most, for a NaN), and the
+// bits of doubles of one sign order as the numbers do; -0, equal to 0, keys as 0.
+inline std::uint64_t cost_key(const QueueEntry& e) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &e.cost, sizeof bits);
+  return bits & ~(std::uint64_t(1) << 63);
+}
+
 // A min-heap with four children per node: the queue holds millions of entries, most
 // of them stale, and a pop walks its depth; four 16-byte children share a cache line,
 // so a level costs one miss where a binary heap's two levels cost two. The order is
