@@ -75,6 +75,7 @@ TEST_CASE("msd radix sort gives std::sort's order, ties of the key broken by the
   // tie-break, so that the order is a strict total one).
   const auto key = [](const Item& x) { return x.key; };
   const auto less = [](const Item& a, const Item& b) { return a.key != b.key ? a.key < b.key : a.place < b.place; };
+  const auto tie = [](const Item& x) { return std::uint64_t(x.place); };
   for (std::size_t n :
        {std::size_t(0), std::size_t(1), std::size_t(255), std::size_t(256), std::size_t(5000), std::size_t(300000)})
     for (const auto& [least, span] : {std::pair<std::uint64_t, std::uint64_t>{0, 0},
@@ -88,7 +89,7 @@ TEST_CASE("msd radix sort gives std::sort's order, ties of the key broken by the
       for (std::size_t i = 0; i < got.size(); ++i) got[i].place = std::uint32_t((i * 2654435761u) % 1000003);
       std::vector<Item> expected = got;
       std::sort(expected.begin(), expected.end(), less);
-      msd_radix_sort(got.data(), got.data() + got.size(), key, less);
+      msd_radix_sort(got.data(), got.data() + got.size(), key, tie, less);
       CHECK(same(got, expected));
     }
 }
@@ -107,7 +108,7 @@ TEST_CASE("the collapse's queue entries sort by cost_key as by Later", "[radix_s
   const auto earlier = [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); };
   std::vector<QueueEntry> expected = got;
   std::sort(expected.begin(), expected.end(), earlier);
-  msd_radix_sort(got.data(), got.data() + got.size(), cost_key, earlier);
+  msd_radix_sort(got.data(), got.data() + got.size(), cost_key, vertices_key, earlier);
   bool equal = true;
   for (std::size_t i = 0; i < got.size(); ++i) equal = equal && got[i].a == expected[i].a && got[i].b == expected[i].b;
   CHECK(equal);

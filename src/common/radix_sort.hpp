@@ -57,29 +57,33 @@ void radix_sort(std::vector<T>* items, Key key) {
 namespace radix_detail {
 
 // One level of msd_radix_sort: [first, last) by the 8 bits below the highest bit in
-// which its keys differ, then each bucket alike. Buckets are sorted in parallel when
-// `parallel`.
-template <class T, class Key, class Less>
-void msd_level(T* first, T* last, const Key& key, const Less& less, bool parallel) {
+// which its keys differ (key's, or tie's where all of key's are equal), then each
+// bucket alike. Buckets are sorted in parallel when `parallel`.
+template <class T, class Key, class TieKey, class Less>
+void msd_level(T* first, T* last, const Key& key, const TieKey& tie, const Less& less, bool on_tie, bool parallel) {
   constexpr std::ptrdiff_t kSmall = 256;
   if (last - first < kSmall) {
     std::sort(first, last, less);
     return;
   }
-  std::uint64_t lo = key(*first), hi = lo;
+  const auto key_of = [&](const T& x) -> std::uint64_t { return on_tie ? tie(x) : key(x); };
+  std::uint64_t lo = key_of(*first), hi = lo;
   for (const T* p = first; p != last; ++p) {
-    const std::uint64_t k = key(*p);
+    const std::uint64_t k = key_of(*p);
     lo = std::min(lo, k);
     hi = std::max(hi, k);
   }
   if (lo == hi) {
-    std::sort(first, last, less);  // ties of the key, by `less`
+    if (on_tie)
+      std::sort(first, last, less);  // equal by both keys: `less` says
+    else
+      msd_level(first, last, key, tie, less, true, parallel);
     return;
   }
   int bits = 0;
   for (std::uint64_t span = hi - lo; span != 0; span >>= 1) ++bits;
   const int shift = std::max(bits - 8, 0);
-  const auto digit = [&](const T& x) { return std::size_t((key(x) - lo) >> shift); };
+  const auto digit = [&](const T& x) { return std::size_t((key_of(x) - lo) >> shift); };
   std::size_t start[257] = {}, next[256];
   for (const T* p = first; p != last; ++p) ++start[digit(*p) + 1];
   for (std::size_t d = 0; d < 256; ++d) start[d + 1] += start[d];
@@ -93,7 +97,7 @@ void msd_level(T* first, T* last, const Key& key, const Less& less, bool paralle
       first[next[d]++] = x;
     }
   const auto bucket = [&](std::size_t d) {
-    if (start[d + 1] - start[d] > 1) msd_level(first + start[d], first + start[d + 1], key, less, false);
+    if (start[d + 1] - start[d] > 1) msd_level(first + start[d], first + start[d + 1], key, tie, less, on_tie, false);
   };
   if (parallel)
     tbb::parallel_for(std::size_t(0), std::size_t(256), bucket);
@@ -103,16 +107,17 @@ void msd_level(T* first, T* last, const Key& key, const Less& less, bool paralle
 
 }  // namespace radix_detail
 
-/// Sorts [first, last) by `less`, a strict weak order, given key(item), an unsigned
-/// integer such that key(x) < key(y) implies less(x, y): most significant digit first,
-/// 8 bits a level below the highest bit in which a range's keys differ, in place (the
-/// American flag sort of McIlroy, Bostic & McIlroy 1993, "Engineering radix sort"), so
-/// that it needs no second array; items of equal keys, and ranges of a few hundred, are
-/// sorted by std::sort with `less`. The result is std::sort's for a strict total order.
-/// The buckets below the first level are sorted on TBB's threads.
-template <class T, class Key, class Less>
-void msd_radix_sort(T* first, T* last, Key key, Less less) {
-  radix_detail::msd_level(first, last, key, less, true);
+/// Sorts [first, last) by `less`, a strict weak order, given two unsigned integer keys
+/// that follow it: key(x) < key(y) implies less(x, y), and where the keys are equal,
+/// tie(x) < tie(y) implies less(x, y). Most significant digit first, 8 bits a level
+/// below the highest bit in which a range's keys differ, in place (the American flag
+/// sort of McIlroy, Bostic & McIlroy 1993, "Engineering radix sort"), so that it needs
+/// no second array; ranges of a few hundred, and items equal by both keys, are sorted
+/// by std::sort with `less`. The result is std::sort's for a strict total order. The
+/// buckets below the first level are sorted on TBB's threads.
+template <class T, class Key, class TieKey, class Less>
+void msd_radix_sort(T* first, T* last, Key key, TieKey tie, Less less) {
+  radix_detail::msd_level(first, last, key, tie, less, false, true);
 }
 
 }  // namespace oocsimp

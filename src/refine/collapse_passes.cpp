@@ -167,7 +167,7 @@ class PassDriver {
     auto earlier = [](const QueueEntry& x, const QueueEntry& y) { return later(y, x); };
     QueueEntry* const first = entries_.data();
     if (look < edges) std::nth_element(first, first + look, first + edges, earlier);
-    msd_radix_sort(first, first + look, cost_key, earlier);
+    msd_radix_sort(first, first + look, cost_key, vertices_key, earlier);
     // The cost limit: past the sorted entries the goal's cost is at least the last
     // one's, which then bounds none of them.
     const std::uint64_t goal = std::max<std::uint64_t>(1, (state_.triangle_count() - stop_at) / 2);

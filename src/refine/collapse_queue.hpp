@@ -39,6 +39,8 @@ inline std::uint64_t cost_key(const QueueEntry& e) {
   std::memcpy(&bits, &e.cost, sizeof bits);
   return bits & ~(std::uint64_t(1) << 63);
 }
+// Later's order among equal costs: by the vertices.
+inline std::uint64_t vertices_key(const QueueEntry& e) { return std::uint64_t(e.a) << 32 | e.b; }
 
 // A min-heap with four children per node: the queue holds millions of entries, most
 // of them stale, and a pop walks its depth; four 16-byte children share a cache line,
