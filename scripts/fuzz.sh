@@ -373,46 +373,63 @@ for t in "${targets[@]}"; do
   rm -rf "$art" "$build/tmp/$t"
   mkdir -p "$art" "$build/tmp/$t"
   log="$build/logs/$t.log"
+  : >"$log"
   extra=()
   [ "$t" = fuzz_simplify ] || [ "$t" = fuzz_hierarchy_build ] && extra=(-max_len=65537)
   timefile="$build/logs/$t.time"
-  set +e
-  TIMEFORMAT='%R %U %S'
-  { time TMPDIR="$build/tmp/$t" "$build/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-      -artifact_prefix="$art/" -print_final_stats=1 -dict="$dicts/$t.dict" "${extra[@]}" "$corpus/$t" >"$log" 2>&1; } \
-    2>"$timefile"
-  rc=$?
-  set -e
-  rm -rf "$build/tmp/$t"
-  # Executions: the final statistics, or after a crash the last status line ("#N ...").
-  execs=$(awk '/^stat::number_of_executed_units:/ { s = $2 } /^#[0-9]+/ { n = substr($1, 2) }
-               END { print (s != "" ? s : (n != "" ? n : "?")) }' "$log")
-  wall=0 user=0 sys=0
-  read -r wall user sys <"$timefile" || true
-  cpu=$(awk "BEGIN { printf \"%.1f\", $user + $sys }")
+  part="$build/logs/$t.part"
   # libFuzzer's -timeout counts wall time, so a run at low priority beside other work
   # can save a timeout that is only the fuzzer starved of CPU. Each timeout is replayed
   # alone; one that then finishes in under 10 s of CPU time is no finding, and its file
   # is renamed starved-* (kept for a look). A replay cut off at 60 s stays a finding.
   # libFuzzer stops at its first timeout (exit 70): a run stopped by a starved one
-  # found nothing, and its hours up to there count.
-  starved=0
-  for f in "$art"/timeout-*; do
-    [ -e "$f" ] || continue
+  # found nothing, and it goes on for the wall time left (a minute or more), so that a
+  # long run in the background is not cut short by one busy moment beside it. The
+  # ledger's row sums the parts.
+  left="$seconds" wall_sum=0 cpu_sum=0 execs_sum=0 stopped_starved=0
+  while :; do
     set +e
-    { TIMEFORMAT='%U %S'; time timeout 60 "$build/$t" "$f" >/dev/null 2>&1; } 2>"$build/logs/$t.replay"
-    replay_rc=$?
+    TIMEFORMAT='%R %U %S'
+    { time TMPDIR="$build/tmp/$t" "$build/$t" -max_total_time="$left" -timeout=10 -rss_limit_mb=2048 \
+        -artifact_prefix="$art/" -print_final_stats=1 -dict="$dicts/$t.dict" "${extra[@]}" "$corpus/$t" >"$part" 2>&1; } \
+      2>"$timefile"
+    rc=$?
     set -e
-    ru=0 rs=0
-    read -r ru rs <"$build/logs/$t.replay" || true
-    if [ "$replay_rc" -eq 0 ] && awk "BEGIN { exit !($ru + $rs < 10) }"; then
-      mv "$f" "$art/starved-${f##*/timeout-}"
-      starved=1
-      echo "fuzz.sh: ${f##*/} replayed alone in $(awk "BEGIN { print $ru + $rs }") s of CPU: starved, not a hang" >>"$log"
+    cat "$part" >>"$log"
+    # Executions: the final statistics, or after a crash the last status line ("#N ...").
+    execs=$(awk '/^stat::number_of_executed_units:/ { s = $2 } /^#[0-9]+/ { n = substr($1, 2) }
+                 END { print (s != "" ? s : (n != "" ? n : 0)) }' "$part")
+    wall=0 user=0 sys=0
+    read -r wall user sys <"$timefile" || true
+    wall_sum=$(awk "BEGIN { printf \"%.1f\", $wall_sum + $wall }")
+    cpu_sum=$(awk "BEGIN { printf \"%.1f\", $cpu_sum + $user + $sys }")
+    execs_sum=$((execs_sum + execs))
+    starved=0
+    for f in "$art"/timeout-*; do
+      [ -e "$f" ] || continue
+      set +e
+      { TIMEFORMAT='%U %S'; time timeout 60 "$build/$t" "$f" >/dev/null 2>&1; } 2>"$build/logs/$t.replay"
+      replay_rc=$?
+      set -e
+      ru=0 rs=0
+      read -r ru rs <"$build/logs/$t.replay" || true
+      if [ "$replay_rc" -eq 0 ] && awk "BEGIN { exit !($ru + $rs < 10) }"; then
+        mv "$f" "$art/starved-${f##*/timeout-}"
+        starved=1
+        echo "fuzz.sh: ${f##*/} replayed alone in $(awk "BEGIN { print $ru + $rs }") s of CPU: starved, not a hang" >>"$log"
+      fi
+    done
+    stopped_starved=0
+    [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ] && stopped_starved=1
+    left=$(awk "BEGIN { printf \"%d\", $seconds - $wall_sum }")
+    if [ "$stopped_starved" -eq 1 ] && [ "$left" -ge 60 ]; then
+      echo "fuzz.sh: going on after the starved timeout, $left s of wall time left" >>"$log"
+      continue
     fi
+    break
   done
-  stopped_starved=0
-  [ "$rc" -eq 70 ] && [ "$starved" -eq 1 ] && stopped_starved=1
+  rm -rf "$build/tmp/$t" "$part"
+  wall="$wall_sum" cpu="$cpu_sum" execs="$execs_sum"
   artifacts=$(find "$art" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
     -printf '%f ' | sed 's/ $//')
   if [ -n "$artifacts" ]; then
