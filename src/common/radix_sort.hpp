@@ -4,13 +4,13 @@
 // branches took a few percent of a run.
 #pragma once
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
-
-#include <tbb/parallel_for.h>
 
 #include "common/huge_pages.hpp"
 
