@@ -258,16 +258,16 @@ bool CollapseState::closes_hole(std::uint32_t a, std::uint32_t b) const {
 // Around an anchored (non-manifold) vertex the link condition is not checked: merging
 // b into a joins each edge (b, x) with (a, x), and two edges of at most two faces each
 // must not become one of three or more. An edge that already had three or more may
-// take more (it is no new non-manifold edge).
+// take more (it is no new non-manifold edge). Only a common neighbour x of a and b has
+// both edges: the neighbours of the end with fewer faces are looked at, so that around
+// a hub of a thousand faces each check costs what its other end's few faces do.
 bool CollapseState::joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t b) const {
   thread_local std::vector<std::uint32_t> around;
-  distinct_neighbours(b, &around);
+  distinct_neighbours(face_count_[a] < face_count_[b] ? a : b, &around);
   for (const std::uint32_t x : around) {
-    if (x == a) continue;
-    const int fa = faces_on_edge(a, x);
-    if (fa == 0) continue;
-    const int fb = faces_on_edge(b, x);
-    if (fa > 2 || fb > 2) continue;
+    if (x == a || x == b) continue;
+    const int fa = faces_on_edge(a, x), fb = faces_on_edge(b, x);
+    if (fa == 0 || fb == 0 || fa > 2 || fb > 2) continue;
     // The faces with a, b and x go with the edge (a, b).
     int shared = 0;
     for_each_edge_face(a, b, [&](std::uint32_t f) {
@@ -334,22 +334,25 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
   return link;
 }
 
-// Whether some face of b, moved to a, would have the corners of a face a has already.
+// Whether some face of b, moved to a, would have the corners of a face a has already:
+// whether faces (a, x, y) and (b, x, y) both exist. That reads the same from either
+// end, so the faces of the end with fewer are walked, and for each the faces on its
+// edge (x, y) are looked at for the other end: around a hub, its few neighbours' faces
+// rather than all of the hub's for each of theirs.
 bool CollapseState::doubles_a_face(std::uint32_t a, std::uint32_t b) const {
+  const std::uint32_t walked = face_count_[a] < face_count_[b] ? a : b, other = walked == a ? b : a;
   bool doubled = false;
-  for_each_face(b, [&](std::uint32_t f) {
+  for_each_face(walked, [&](std::uint32_t f) {
     if (doubled) return;
     const std::uint32_t* t = &mesh_.triangles[3 * f];
-    if (t[0] == a || t[1] == a || t[2] == a) return;  // removed
+    if (t[0] == other || t[1] == other || t[2] == other) return;  // removed
     std::uint32_t x = 0, y = 0;
     int n = 0;
     for (int k = 0; k < 3; ++k)
-      if (t[k] != b) (n++ == 0 ? x : y) = t[k];
-    for_each_face(a, [&](std::uint32_t g) {
+      if (t[k] != walked) (n++ == 0 ? x : y) = t[k];
+    for_each_edge_face(x, y, [&](std::uint32_t g) {
       const std::uint32_t* s = &mesh_.triangles[3 * g];
-      const bool has_x = s[0] == x || s[1] == x || s[2] == x;
-      const bool has_y = s[0] == y || s[1] == y || s[2] == y;
-      doubled = doubled || (has_x && has_y);
+      doubled = doubled || s[0] == other || s[1] == other || s[2] == other;
     });
   });
   return doubled;
