@@ -572,6 +572,60 @@ TEST_CASE("non-manifold vertices are anchored: the count is met, their positions
   }
 }
 
+TEST_CASE("a non-manifold hub of a thousand faces: the count is met, no edge of three faces made, nothing doubled",
+          "[refine][collapse]") {
+  // The shape of fuzz_simplify's slow input of 2026-12-08: two cones of 500 faces each
+  // whose apexes are one vertex, so that it has 1000 faces in two fans (non-manifold,
+  // anchored). Each check of an edge there used to walk the hub's faces and sort its
+  // neighbours; now it walks the other end's. The hub is numbered in the middle, so it
+  // is the lower end of some edges and the higher of others.
+  constexpr std::uint32_t kRim = 500;
+  QuadricMesh m;
+  for (int cone = 0; cone < 2; ++cone)
+    for (std::uint32_t i = 0; i < kRim; ++i) {
+      const double t = 2 * 3.14159265358979323846 * i / kRim, r = 1 + 0.05 * std::sin(7 * t);
+      m.positions.push_back({r * std::cos(t), r * std::sin(t), cone == 0 ? 1.0 : -1.0});
+      if (cone == 0 && i == kRim / 2 - 1) m.positions.push_back({0, 0, 0});  // the hub, index kRim / 2
+    }
+  const std::uint32_t hub = kRim / 2;
+  const auto rim = [&](int cone, std::uint32_t i) {
+    const std::uint32_t at = std::uint32_t(cone) * kRim + i % kRim;
+    return at < hub ? at : at + 1;
+  };
+  for (int cone = 0; cone < 2; ++cone)
+    for (std::uint32_t i = 0; i < kRim; ++i) {
+      const std::uint32_t u = rim(cone, i), w = rim(cone, i + 1);
+      m.triangles.insert(m.triangles.end(), {hub, cone == 0 ? u : w, cone == 0 ? w : u});
+    }
+  m.quadrics = face_quadrics(m.positions, m.triangles);
+  for (const std::uint64_t target : {std::uint64_t(500), std::uint64_t(101)}) {
+    INFO("to " << target);
+    CollapseSettings s;
+    s.target_triangles = target;
+    CollapseStats st;
+    const QuadricMesh out = collapse_edges(m, s, &st);
+    CHECK(st.non_manifold_vertices >= 1);
+    CHECK(out.triangles.size() / 3 == target);
+    // The input has no edge of three faces and none may appear; nor two faces on the
+    // same three vertices.
+    int most = 0;
+    for (const auto& e : edge_faces(out)) most = std::max(most, e.second);
+    CHECK(most <= 2);
+    std::set<std::array<std::uint32_t, 3>> faces;
+    bool doubled = false;
+    for (std::size_t f = 0; f < out.triangles.size(); f += 3) {
+      std::array<std::uint32_t, 3> k = {out.triangles[f], out.triangles[f + 1], out.triangles[f + 2]};
+      std::sort(k.begin(), k.end());
+      doubled = doubled || !faces.insert(k).second;
+    }
+    CHECK_FALSE(doubled);
+    // The anchored hub stays where it was.
+    bool hub_kept = false;
+    for (const Vec3d& p : out.positions) hub_kept = hub_kept || (p.x == 0 && p.y == 0 && p.z == 0);
+    CHECK(hub_kept);
+  }
+}
+
 TEST_CASE("the collapse is the same for any thread count", "[refine][collapse]") {
   // Tiles of 4096 faces collapse in parallel first, and the edges of a pass are
   // costed in parallel: tiles and passes follow from the mesh, not from the threads.
