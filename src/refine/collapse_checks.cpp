@@ -220,7 +220,7 @@ bool CollapseState::valid_one(const Candidate& c, std::uint32_t* blamed) const {
   const bool closing = on_edge == 1 && link.common == 2 && closes_hole(a, b);
   if (int(link.common) != on_edge && !closing) return false;
   // A tetrahedron has no edge left to collapse (nor one with a hole for a face).
-  return !(link.ring_a == 3 && link.ring_b == 3 && (on_edge == 2 || closing));
+  return !(link.rings_of_three && (on_edge == 2 || closing));
 }
 
 // Dey et al. 1999 (Topology preserving edge contraction) check a surface with a
@@ -281,23 +281,45 @@ bool CollapseState::joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t 
 
 // The neighbours of a and of b, made distinct, and those they share counted: in small
 // tables on the stack (no per-vertex marks, so that valid() may run on several threads
-// at once), or, around a hub, in sorted lists of this thread's.
+// at once). Around a hub (a long list) with a short other end, the short end's
+// neighbours are each looked up at the hub by the faces on their edge with it, and the
+// hub's own neighbours are listed only when the short end's ring is a tetrahedron's:
+// listing and sorting them for each edge tried there made the collapse cubic in the
+// hub's valence. Two hubs: sorted lists of this thread's.
 CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
-  if (2 * std::size_t(face_count_[a]) <= kScannedList && 2 * std::size_t(face_count_[b]) <= kScannedList) {
+  const auto short_list = [&](std::uint32_t v) { return 2 * std::size_t(face_count_[v]) <= kScannedList; };
+  LinkCounts link;
+  if (short_list(a) && short_list(b)) {
     SmallVertexSet ring_a, ring_b;
-    LinkCounts link;
+    std::size_t size_a = 1, size_b = 1;  // each ring holds the other end
     for_each_corner(a, [&](std::uint32_t u) {
-      if (u != a && u != b) link.ring_a += ring_a.insert(u);
+      if (u != a && u != b) size_a += ring_a.insert(u);
     });
     for_each_corner(b, [&](std::uint32_t u) {
       if (u != a && u != b && ring_b.insert(u)) {
-        ++link.ring_b;
+        ++size_b;
         link.common += ring_a.contains(u);
       }
     });
-    // a's ring holds b when an edge joins them; b's ring holds a, then its others.
-    ++link.ring_a;
-    ++link.ring_b;
+    link.rings_of_three = size_a == 3 && size_b == 3;
+    return link;
+  }
+  const std::uint32_t few = face_count_[a] <= face_count_[b] ? a : b, hub = few == a ? b : a;
+  if (short_list(few)) {
+    SmallVertexSet ring;
+    std::size_t few_size = 1;
+    for_each_corner(few, [&](std::uint32_t u) {
+      if (u != a && u != b && ring.insert(u)) {
+        ++few_size;
+        link.common += faces_on_edge(u, hub) > 0;
+      }
+    });
+    if (few_size == 3) {
+      thread_local std::vector<std::uint32_t> around;
+      distinct_neighbours(hub, &around);
+      const std::size_t hub_size = around.size() + (std::find(around.begin(), around.end(), few) == around.end());
+      link.rings_of_three = hub_size == 3;
+    }
     return link;
   }
   thread_local std::vector<std::uint32_t> around_a, around_b;
@@ -305,7 +327,6 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
   // Each without the other end (removing keeps a sorted list sorted).
   around_a.erase(std::remove(around_a.begin(), around_a.end(), b), around_a.end());
   around_b.erase(std::remove(around_b.begin(), around_b.end(), a), around_b.end());
-  LinkCounts link;
   if (sorted_a && sorted_b) {
     std::size_t i = 0, j = 0;
     while (i < around_a.size() && j < around_b.size()) {
@@ -319,18 +340,17 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
     }
   } else {
     // One list is short: each of its values looked for in the other.
-    const std::vector<std::uint32_t>& few = sorted_a ? around_b : around_a;
-    const std::vector<std::uint32_t>& many = sorted_a ? around_a : around_b;
+    const std::vector<std::uint32_t>& short_list = sorted_a ? around_b : around_a;
+    const std::vector<std::uint32_t>& long_list = sorted_a ? around_a : around_b;
     if (sorted_a || sorted_b) {
-      for (const std::uint32_t u : few) link.common += std::binary_search(many.begin(), many.end(), u);
+      for (const std::uint32_t u : short_list) link.common += std::binary_search(long_list.begin(), long_list.end(), u);
     } else {
-      for (const std::uint32_t u : few)
-        for (const std::uint32_t w : many) link.common += u == w;
+      for (const std::uint32_t u : short_list)
+        for (const std::uint32_t w : long_list) link.common += u == w;
     }
   }
   // a's ring holds b when an edge joins them; b's ring holds a, then its others.
-  link.ring_a = around_a.size() + 1;
-  link.ring_b = around_b.size() + 1;
+  link.rings_of_three = around_a.size() + 1 == 3 && around_b.size() + 1 == 3;
   return link;
 }
 

@@ -170,10 +170,12 @@ class CollapseState {
   bool closes_hole(std::uint32_t a, std::uint32_t b) const;
   // Whether merging b into a would join two edges of at most two faces into one of more.
   bool joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t b) const;
-  // For edge (a, b): how many distinct vertices share a face with a (b among them),
-  // with b (a among them), and with both.
+  // For edge (a, b): how many distinct vertices other than a and b share a face with
+  // both, and whether a and b each share a face with exactly three (the other end
+  // among them), as in a tetrahedron.
   struct LinkCounts {
-    std::size_t ring_a = 0, ring_b = 0, common = 0;
+    std::size_t common = 0;
+    bool rings_of_three = false;
   };
   LinkCounts link_counts(std::uint32_t a, std::uint32_t b) const;
   bool keeps_faces(const Candidate& c, std::uint32_t* blamed) const;
