@@ -287,9 +287,9 @@ bool CollapseState::joins_into_non_manifold_edge(std::uint32_t a, std::uint32_t 
 // listing and sorting them for each edge tried there made the collapse cubic in the
 // hub's valence. Two hubs: sorted lists of this thread's.
 CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint32_t b) const {
-  const auto short_list = [&](std::uint32_t v) { return 2 * std::size_t(face_count_[v]) <= kScannedList; };
+  const auto scanned = [&](std::uint32_t v) { return 2 * std::size_t(face_count_[v]) <= kScannedList; };
   LinkCounts link;
-  if (short_list(a) && short_list(b)) {
+  if (scanned(a) && scanned(b)) {
     SmallVertexSet ring_a, ring_b;
     std::size_t size_a = 1, size_b = 1;  // each ring holds the other end
     for_each_corner(a, [&](std::uint32_t u) {
@@ -305,7 +305,7 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
     return link;
   }
   const std::uint32_t few = face_count_[a] <= face_count_[b] ? a : b, hub = few == a ? b : a;
-  if (short_list(few)) {
+  if (scanned(few)) {
     SmallVertexSet ring;
     std::size_t few_size = 1;
     for_each_corner(few, [&](std::uint32_t u) {
@@ -340,13 +340,13 @@ CollapseState::LinkCounts CollapseState::link_counts(std::uint32_t a, std::uint3
     }
   } else {
     // One list is short: each of its values looked for in the other.
-    const std::vector<std::uint32_t>& short_list = sorted_a ? around_b : around_a;
-    const std::vector<std::uint32_t>& long_list = sorted_a ? around_a : around_b;
+    const std::vector<std::uint32_t>& shorter = sorted_a ? around_b : around_a;
+    const std::vector<std::uint32_t>& longer = sorted_a ? around_a : around_b;
     if (sorted_a || sorted_b) {
-      for (const std::uint32_t u : short_list) link.common += std::binary_search(long_list.begin(), long_list.end(), u);
+      for (const std::uint32_t u : shorter) link.common += std::binary_search(longer.begin(), longer.end(), u);
     } else {
-      for (const std::uint32_t u : short_list)
-        for (const std::uint32_t w : long_list) link.common += u == w;
+      for (const std::uint32_t u : shorter)
+        for (const std::uint32_t w : longer) link.common += u == w;
     }
   }
   // a's ring holds b when an edge joins them; b's ring holds a, then its others.
